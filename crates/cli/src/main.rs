@@ -1,0 +1,2 @@
+//! The `beltrami` command-line tool.
+fn main() {}

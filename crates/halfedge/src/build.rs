@@ -1,0 +1,603 @@
+//! Building a [`HalfedgeMesh`] from a polygon list, with validation and opt-in repairs.
+
+use std::collections::HashMap;
+
+use petgraph::unionfind::UnionFind;
+
+use crate::error::TopologyError;
+use crate::ids::VertexId;
+use crate::mesh::{HalfedgeMesh, INVALID};
+use crate::polygons::PolygonList;
+
+/// The largest number of elements of one kind (handles are `u32`; `u32::MAX` is
+/// reserved internally).
+pub const MAX_ELEMENTS: usize = u32::MAX as usize;
+
+/// Opt-in repairs applied while building. All are off by default: without them every
+/// problem is an error. Each repair that acts is recorded in the [`BuildReport`].
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::{BuildOptions, HalfedgeMesh};
+/// // Face 1 is wound the other way round.
+/// let faces = [[0u32, 1, 2], [0, 1, 3]];
+/// assert!(HalfedgeMesh::from_polygons(4, &faces).is_err());
+/// let (mesh, report) =
+///     HalfedgeMesh::build(4, &faces, &BuildOptions::new().reorient(true)).unwrap();
+/// assert_eq!(report.flipped_faces, [1]);
+/// assert_eq!(mesh.n_faces(), 2);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BuildOptions {
+    drop_degenerate_faces: bool,
+    reorient: bool,
+    split_nonmanifold_vertices: bool,
+}
+
+impl BuildOptions {
+    /// No repairs: every problem is an error.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Every repair enabled.
+    #[must_use]
+    pub fn repair_all() -> Self {
+        Self {
+            drop_degenerate_faces: true,
+            reorient: true,
+            split_nonmanifold_vertices: true,
+        }
+    }
+
+    /// Drop faces with fewer than three vertices or with a repeated vertex instead of
+    /// failing. Out-of-range indices are still an error (the file is broken, not
+    /// degenerate).
+    #[must_use]
+    pub fn drop_degenerate_faces(mut self, yes: bool) -> Self {
+        self.drop_degenerate_faces = yes;
+        self
+    }
+
+    /// Re-orient faces so that each connected component is consistently oriented. The
+    /// lowest-numbered face of a component keeps its orientation; a flipped face keeps
+    /// its first vertex and reverses the rest. Fails with
+    /// [`TopologyError::NonOrientable`] when no consistent orientation exists.
+    #[must_use]
+    pub fn reorient(mut self, yes: bool) -> Self {
+        self.reorient = yes;
+        self
+    }
+
+    /// Give every extra fan of faces around a pinched vertex its own copy of the vertex.
+    /// New vertices are numbered after the input vertices; the caller appends their
+    /// positions (copies of the originals) in the order of
+    /// [`BuildReport::split_vertices`].
+    #[must_use]
+    pub fn split_nonmanifold_vertices(mut self, yes: bool) -> Self {
+        self.split_nonmanifold_vertices = yes;
+        self
+    }
+
+    /// Whether degenerate faces are dropped.
+    #[must_use]
+    pub fn drops_degenerate_faces(&self) -> bool {
+        self.drop_degenerate_faces
+    }
+
+    /// Whether faces are re-oriented.
+    #[must_use]
+    pub fn reorients(&self) -> bool {
+        self.reorient
+    }
+
+    /// Whether non-manifold vertices are split.
+    #[must_use]
+    pub fn splits_nonmanifold_vertices(&self) -> bool {
+        self.split_nonmanifold_vertices
+    }
+}
+
+/// A vertex added by splitting a non-manifold vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VertexSplit {
+    /// The new vertex (numbered after all input vertices).
+    pub vertex: VertexId,
+    /// The input vertex it copies.
+    pub original: VertexId,
+}
+
+/// What the opt-in repairs of [`HalfedgeMesh::build`] changed. Empty when the input
+/// needed no repair.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct BuildReport {
+    /// Input indices of faces dropped as degenerate, ascending.
+    pub dropped_faces: Vec<usize>,
+    /// Input indices of faces whose orientation was reversed, ascending.
+    pub flipped_faces: Vec<usize>,
+    /// Vertices added by splitting non-manifold vertices, in the order of their ids.
+    pub split_vertices: Vec<VertexSplit>,
+    /// For each face of the built mesh, its input index. Empty when no face was dropped
+    /// (then face `f` is input face `f`).
+    pub face_origin: Vec<usize>,
+}
+
+impl BuildReport {
+    /// Whether no repair acted.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.dropped_faces.is_empty()
+            && self.flipped_faces.is_empty()
+            && self.split_vertices.is_empty()
+    }
+}
+
+impl HalfedgeMesh {
+    /// Builds the connectivity of `n_vertices` vertices and the given faces, rejecting
+    /// anything that is not an oriented 2-manifold (with boundary).
+    ///
+    /// Faces list vertex indices (0-based) counter-clockwise; triangles and larger
+    /// polygons are accepted. Vertices used by no face are kept as isolated vertices.
+    /// Edge `e` is numbered by the first appearance of its vertex pair when walking the
+    /// faces in order, and its halfedge `2e` runs in that first direction (as in OpenMesh).
+    ///
+    /// # Errors
+    /// The first problem found, with input indices: [`TopologyError::VertexOutOfRange`],
+    /// [`FaceTooSmall`](TopologyError::FaceTooSmall),
+    /// [`RepeatedVertex`](TopologyError::RepeatedVertex),
+    /// [`NonManifoldEdge`](TopologyError::NonManifoldEdge),
+    /// [`InconsistentOrientation`](TopologyError::InconsistentOrientation),
+    /// [`NonManifoldVertex`](TopologyError::NonManifoldVertex),
+    /// [`TooManyElements`](TopologyError::TooManyElements). Among edge problems, the one
+    /// whose first face comes first in the input is reported.
+    ///
+    /// # Complexity
+    /// O(C log C) time and O(C) memory for C face corners.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::{HalfedgeMesh, TopologyError};
+    /// let tet = [[0u32, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+    /// let mesh = HalfedgeMesh::from_polygons(4, &tet).unwrap();
+    /// assert!(mesh.is_closed());
+    /// assert_eq!(mesh.euler_characteristic(), 2);
+    ///
+    /// let err = HalfedgeMesh::from_polygons(3, &[[0u32, 1, 5]]).unwrap_err();
+    /// assert_eq!(err.to_string(), "face 0 refers to vertex 5, but there are only 3 vertices");
+    /// ```
+    pub fn from_polygons<F: AsRef<[u32]>>(
+        n_vertices: usize,
+        faces: impl IntoIterator<Item = F>,
+    ) -> Result<Self, TopologyError> {
+        Self::build(n_vertices, faces, &BuildOptions::new()).map(|(mesh, _)| mesh)
+    }
+
+    /// Like [`from_polygons`](Self::from_polygons), with the opt-in repairs of `options`.
+    /// Returns the mesh and a report of what was repaired.
+    ///
+    /// # Errors
+    /// As [`from_polygons`](Self::from_polygons) for every problem that the enabled
+    /// repairs do not fix, and [`TopologyError::NonOrientable`] when re-orientation is
+    /// asked of a non-orientable component.
+    pub fn build<F: AsRef<[u32]>>(
+        n_vertices: usize,
+        faces: impl IntoIterator<Item = F>,
+        options: &BuildOptions,
+    ) -> Result<(Self, BuildReport), TopologyError> {
+        check_count("vertex", n_vertices)?;
+        let mut report = BuildReport::default();
+        let mut list = PolygonList::new();
+        let mut origin = Vec::new();
+        let mut scratch = Vec::new();
+        for (fi, face) in faces.into_iter().enumerate() {
+            let face = face.as_ref();
+            if let Some(&v) = face.iter().find(|&&v| v as usize >= n_vertices) {
+                return Err(TopologyError::VertexOutOfRange {
+                    face: fi,
+                    vertex: v,
+                    n_vertices,
+                });
+            }
+            let problem = if face.len() < 3 {
+                Some(TopologyError::FaceTooSmall {
+                    face: fi,
+                    len: face.len(),
+                })
+            } else {
+                repeated_vertex(face, &mut scratch)
+                    .map(|vertex| TopologyError::RepeatedVertex { face: fi, vertex })
+            };
+            match problem {
+                Some(_) if options.drop_degenerate_faces => report.dropped_faces.push(fi),
+                Some(err) => return Err(err),
+                None => {
+                    list.push(face);
+                    origin.push(fi);
+                }
+            }
+        }
+        check_count("face", list.len())?;
+        check_count("halfedge", 2 * list.n_corners())?;
+
+        if options.reorient {
+            reorient(&mut list, &origin, &mut report)?;
+        }
+        let mut n_vertices = n_vertices;
+        if options.split_nonmanifold_vertices {
+            split_nonmanifold_vertices(&mut list, &mut n_vertices, &mut report)?;
+        }
+        let mesh = assemble(n_vertices, &list, &origin)?;
+        if !report.dropped_faces.is_empty() {
+            report.face_origin = origin;
+        }
+        Ok((mesh, report))
+    }
+}
+
+fn check_count(kind: &'static str, count: usize) -> Result<(), TopologyError> {
+    if count > MAX_ELEMENTS {
+        return Err(TopologyError::TooManyElements {
+            kind,
+            count,
+            max: MAX_ELEMENTS,
+        });
+    }
+    Ok(())
+}
+
+/// The first vertex that appears twice in `face` (in order of its second appearance).
+fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
+    if face.len() <= 16 {
+        for (i, &v) in face.iter().enumerate() {
+            if face[..i].contains(&v) {
+                return Some(v);
+            }
+        }
+        None
+    } else {
+        scratch.clear();
+        scratch.extend_from_slice(face);
+        scratch.sort_unstable();
+        scratch.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+    }
+}
+
+/// Per-corner facts of a polygon list. Corner `k` is entry `k` of the flat index
+/// buffer; it starts the directed edge `indices[k] -> indices[next[k]]`.
+struct Corners<'a> {
+    indices: &'a [u32],
+    face: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl<'a> Corners<'a> {
+    fn new(list: &'a PolygonList) -> Self {
+        let n = list.n_corners();
+        let mut face = Vec::with_capacity(n);
+        let mut next = Vec::with_capacity(n);
+        for (f, w) in list.offsets().windows(2).enumerate() {
+            for k in w[0]..w[1] {
+                face.push(f as u32);
+                next.push(if k + 1 == w[1] { w[0] } else { k + 1 } as u32);
+            }
+        }
+        Self {
+            indices: list.indices(),
+            face,
+            next,
+        }
+    }
+
+    fn from(&self, k: u32) -> u32 {
+        self.indices[k as usize]
+    }
+
+    fn to(&self, k: u32) -> u32 {
+        self.indices[self.next[k as usize] as usize]
+    }
+
+    fn face(&self, k: u32) -> usize {
+        self.face[k as usize] as usize
+    }
+
+    /// Directed edges grouped by their undirected vertex pair: a list of corners sorted
+    /// by (pair, corner), and the start of each group (plus the end).
+    fn edge_groups(&self) -> (Vec<u32>, Vec<usize>) {
+        let mut keyed: Vec<(u64, u32)> = (0..self.indices.len() as u32)
+            .map(|k| {
+                let (a, b) = (self.from(k), self.to(k));
+                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                ((u64::from(lo) << 32) | u64::from(hi), k)
+            })
+            .collect();
+        keyed.sort_unstable();
+        let mut starts = Vec::new();
+        for i in 0..keyed.len() {
+            if i == 0 || keyed[i].0 != keyed[i - 1].0 {
+                starts.push(i);
+            }
+        }
+        starts.push(keyed.len());
+        (keyed.into_iter().map(|(_, k)| k).collect(), starts)
+    }
+}
+
+/// Flip faces so that every component is consistently oriented (breadth-first from the
+/// lowest face of each component).
+fn reorient(
+    list: &mut PolygonList,
+    origin: &[usize],
+    report: &mut BuildReport,
+) -> Result<(), TopologyError> {
+    let corners = Corners::new(list);
+    let (sorted, starts) = corners.edge_groups();
+    let n_faces = list.len();
+    // Face adjacency across manifold edges: (neighbour, whether the two faces traverse
+    // the edge in the same direction, i.e. disagree).
+    let mut adjacency: Vec<Vec<(u32, bool)>> = vec![Vec::new(); n_faces];
+    for g in starts.windows(2) {
+        if let [k1, k2] = sorted[g[0]..g[1]] {
+            let same = corners.from(k1) == corners.from(k2);
+            let (f1, f2) = (corners.face(k1), corners.face(k2));
+            adjacency[f1].push((f2 as u32, same));
+            adjacency[f2].push((f1 as u32, same));
+        }
+    }
+    let mut flip: Vec<Option<bool>> = vec![None; n_faces];
+    let mut queue = std::collections::VecDeque::new();
+    for start in 0..n_faces {
+        if flip[start].is_some() {
+            continue;
+        }
+        flip[start] = Some(false);
+        queue.push_back(start);
+        while let Some(f) = queue.pop_front() {
+            let flip_f = flip[f].unwrap_or(false);
+            for &(n, same) in &adjacency[f] {
+                let want = flip_f ^ same;
+                match flip[n as usize] {
+                    None => {
+                        flip[n as usize] = Some(want);
+                        queue.push_back(n as usize);
+                    }
+                    Some(have) if have != want => {
+                        return Err(TopologyError::NonOrientable {
+                            face: origin[start],
+                        });
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+    }
+    if flip.iter().all(|f| *f != Some(true)) {
+        return Ok(());
+    }
+    let mut fixed = PolygonList::with_capacity(list.len(), list.n_corners());
+    let mut buf = Vec::new();
+    for (f, face) in list.iter().enumerate() {
+        buf.clear();
+        buf.extend_from_slice(face);
+        if flip[f] == Some(true) {
+            buf[1..].reverse();
+            report.flipped_faces.push(origin[f]);
+        }
+        fixed.push(&buf);
+    }
+    *list = fixed;
+    Ok(())
+}
+
+/// Union-find over corners: two corners at the same vertex are joined when their faces
+/// share a consistently oriented manifold edge at that vertex. Each class is one fan.
+fn corner_fans(corners: &Corners<'_>, sorted: &[u32], starts: &[usize]) -> UnionFind<u32> {
+    let mut fans = UnionFind::new(corners.indices.len());
+    for g in starts.windows(2) {
+        if let [k1, k2] = sorted[g[0]..g[1]] {
+            if corners.from(k1) == corners.to(k2) {
+                // k1: a -> b, k2: b -> a. The corner of a in k2's face is next(k2).
+                fans.union(k1, corners.next[k2 as usize]);
+                fans.union(corners.next[k1 as usize], k2);
+            }
+        }
+    }
+    fans
+}
+
+/// The number of fans of faces around vertex `v`.
+fn count_fans(list: &PolygonList, v: u32) -> usize {
+    let corners = Corners::new(list);
+    let (sorted, starts) = corners.edge_groups();
+    let fans = corner_fans(&corners, &sorted, &starts);
+    let mut roots: Vec<u32> = (0..corners.indices.len() as u32)
+        .filter(|&k| corners.from(k) == v)
+        .map(|k| fans.find(k))
+        .collect();
+    roots.sort_unstable();
+    roots.dedup();
+    roots.len()
+}
+
+fn split_nonmanifold_vertices(
+    list: &mut PolygonList,
+    n_vertices: &mut usize,
+    report: &mut BuildReport,
+) -> Result<(), TopologyError> {
+    let corners = Corners::new(list);
+    let (sorted, starts) = corners.edge_groups();
+    let fans = corner_fans(&corners, &sorted, &starts);
+    let mut first_root = vec![INVALID; *n_vertices];
+    let mut new_vertex: HashMap<u32, u32> = HashMap::new();
+    let mut rewritten = list.indices().to_vec();
+    for k in 0..corners.indices.len() as u32 {
+        let v = corners.from(k);
+        let root = fans.find(k);
+        let first = &mut first_root[v as usize];
+        if *first == INVALID {
+            *first = root;
+        } else if *first != root {
+            let id = match new_vertex.get(&root) {
+                Some(&id) => id,
+                None => {
+                    check_count("vertex", *n_vertices + 1)?;
+                    let id = *n_vertices as u32;
+                    *n_vertices += 1;
+                    new_vertex.insert(root, id);
+                    report.split_vertices.push(VertexSplit {
+                        vertex: VertexId::new(id),
+                        original: VertexId::new(v),
+                    });
+                    id
+                }
+            };
+            rewritten[k as usize] = id;
+        }
+    }
+    if report.split_vertices.is_empty() {
+        return Ok(());
+    }
+    let offsets = list.offsets();
+    let mut fixed = PolygonList::with_capacity(list.len(), rewritten.len());
+    for w in offsets.windows(2) {
+        fixed.push(&rewritten[w[0]..w[1]]);
+    }
+    *list = fixed;
+    Ok(())
+}
+
+/// Builds the half-edge arrays from a list whose faces are individually valid.
+fn assemble(
+    n_vertices: usize,
+    list: &PolygonList,
+    origin: &[usize],
+) -> Result<HalfedgeMesh, TopologyError> {
+    let corners = Corners::new(list);
+    let (sorted, starts) = corners.edge_groups();
+
+    // Validate edge groups; among violations report the one met first in face order.
+    let mut worst: Option<(u32, TopologyError)> = None;
+    // (first corner, group index) per edge, to number edges by first appearance.
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(starts.len());
+    for (gi, g) in starts.windows(2).enumerate() {
+        let group = &sorted[g[0]..g[1]];
+        let first = group[0];
+        let problem = match *group {
+            [_] => None,
+            [k1, k2] if corners.from(k1) == corners.from(k2) => {
+                Some(TopologyError::InconsistentOrientation {
+                    from: corners.from(k1),
+                    to: corners.to(k1),
+                    faces: [origin[corners.face(k1)], origin[corners.face(k2)]],
+                })
+            }
+            [_, _] => None,
+            _ => {
+                let (a, b) = (corners.from(first), corners.to(first));
+                Some(TopologyError::NonManifoldEdge {
+                    a: a.min(b),
+                    b: a.max(b),
+                    faces: group.iter().map(|&k| origin[corners.face(k)]).collect(),
+                })
+            }
+        };
+        if let Some(err) = problem {
+            if worst.as_ref().is_none_or(|(k, _)| first < *k) {
+                worst = Some((first, err));
+            }
+        }
+        edges.push((first, gi as u32));
+    }
+    if let Some((_, err)) = worst {
+        return Err(err);
+    }
+    check_count("halfedge", 2 * edges.len())?;
+    edges.sort_unstable();
+
+    let n_corners = corners.indices.len();
+    let n_halfedges = 2 * edges.len();
+    let mut corner_he = vec![INVALID; n_corners];
+    let mut h_to = vec![INVALID; n_halfedges];
+    let mut h_face = vec![INVALID; n_halfedges];
+    let mut h_next = vec![INVALID; n_halfedges];
+    let mut h_prev = vec![INVALID; n_halfedges];
+    let mut v_out = vec![INVALID; n_vertices];
+
+    for (e, &(first, gi)) in edges.iter().enumerate() {
+        let h = 2 * e as u32;
+        corner_he[first as usize] = h;
+        let g = &sorted[starts[gi as usize]..starts[gi as usize + 1]];
+        if let [_, k2] = *g {
+            // The group is sorted by corner, so `first` is g[0] and k2 runs the other way.
+            corner_he[k2 as usize] = h | 1;
+        } else {
+            // Boundary edge: the twin of the inner halfedge a -> b is b -> a, without face.
+            let t = h | 1;
+            h_to[t as usize] = corners.from(first);
+            let b = corners.to(first) as usize;
+            if v_out[b] != INVALID {
+                let fans = count_fans(list, b as u32).max(2);
+                return Err(TopologyError::NonManifoldVertex {
+                    vertex: b as u32,
+                    fans,
+                });
+            }
+            v_out[b] = t;
+        }
+    }
+    for k in 0..n_corners {
+        let h = corner_he[k] as usize;
+        let nk = corners.next[k] as usize;
+        h_to[h] = corners.indices[nk];
+        h_face[h] = corners.face[k];
+        h_next[h] = corner_he[nk];
+        h_prev[corner_he[nk] as usize] = h as u32;
+    }
+    // Link boundary loops: after b -> a comes the boundary halfedge leaving a.
+    for t in (1..n_halfedges).step_by(2) {
+        if h_face[t] == INVALID && h_to[t] != INVALID {
+            let n = v_out[h_to[t] as usize];
+            h_next[t] = n;
+            h_prev[n as usize] = t as u32;
+        }
+    }
+    // Interior vertices: the halfedge leaving the vertex in its first face.
+    for k in 0..n_corners {
+        let v = corners.indices[k] as usize;
+        if v_out[v] == INVALID {
+            v_out[v] = corner_he[k];
+        }
+    }
+    let f_he: Vec<u32> = list.offsets()[1..]
+        .iter()
+        .map(|&end| corner_he[end - 1])
+        .collect();
+
+    let mesh = HalfedgeMesh {
+        v_out,
+        h_to,
+        h_next,
+        h_prev,
+        h_face,
+        f_he,
+    };
+
+    // A vertex whose fans are all closed (or one open fan plus closed ones) shows up as
+    // a circulation shorter than its degree.
+    let mut degree = vec![0u32; n_vertices];
+    for h in 0..n_halfedges {
+        degree[mesh.h_to[h ^ 1] as usize] += 1;
+    }
+    for v in mesh.vertices() {
+        let d = degree[v.index()] as usize;
+        if d > 0 && mesh.halfedges_around_vertex(v).take(d + 1).count() != d {
+            let fans = count_fans(list, v.raw()).max(2);
+            return Err(TopologyError::NonManifoldVertex {
+                vertex: v.raw(),
+                fans,
+            });
+        }
+    }
+    Ok(mesh)
+}

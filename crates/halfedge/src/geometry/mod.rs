@@ -1,0 +1,1 @@
+//! Geometry helpers over a positions slice (`&[DVec3]`, f64).

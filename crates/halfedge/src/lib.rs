@@ -1,0 +1,58 @@
+//! # beltrami-halfedge
+//!
+//! Half-edge connectivity for polygon meshes (triangles first), with validation that
+//! names the offending face or vertex, counter-clockwise circulators, boundary loops,
+//! connected components, dense attribute maps and geometry helpers over a positions
+//! slice.
+//!
+//! Topology and geometry are kept apart: a [`HalfedgeMesh`] holds connectivity only,
+//! and positions are a `&[DVec3]` (glam, f64) passed beside it.
+//!
+//! ## Quick start
+//!
+//! ```
+//! use beltrami_halfedge::{HalfedgeMesh, VertexId};
+//!
+//! // A square split into two triangles, counter-clockwise seen from +z.
+//! let faces = [[0u32, 1, 2], [0, 2, 3]];
+//! let mesh = HalfedgeMesh::from_polygons(4, &faces)?;
+//! mesh.check_integrity()?;
+//!
+//! assert_eq!((mesh.n_vertices(), mesh.n_edges(), mesh.n_faces()), (4, 5, 2));
+//! assert!(mesh.is_boundary_vertex(VertexId::new(0)));
+//! let ring: Vec<u32> = mesh.vertices_around_vertex(VertexId::new(0)).map(|v| v.raw()).collect();
+//! // Counter-clockwise, starting across the boundary edge that leaves vertex 0.
+//! assert_eq!(ring, [3, 1, 2]);
+//! assert_eq!(mesh.boundary_loops().count(), 1);
+//! # Ok::<(), beltrami_halfedge::TopologyError>(())
+//! ```
+//!
+//! See `docs/conventions.md` in the repository for the half-edge conventions with a
+//! diagram.
+
+mod boundary;
+mod build;
+mod circulators;
+mod components;
+mod error;
+pub mod geometry;
+mod ids;
+mod integrity;
+mod map;
+mod mesh;
+mod polygons;
+pub mod primitives;
+
+pub use boundary::BoundaryLoops;
+pub use build::{BuildOptions, BuildReport, MAX_ELEMENTS, VertexSplit};
+pub use circulators::{
+    FacesAroundFace, FacesAroundVertex, HalfedgesAroundFace, HalfedgesAroundVertex,
+    VerticesAroundFace, VerticesAroundVertex,
+};
+pub use components::{ComponentSummary, Components};
+pub use error::TopologyError;
+pub use glam::DVec3;
+pub use ids::{EdgeId, ElementId, FaceId, HalfedgeId, IdRange, VertexId};
+pub use map::{EdgeMap, FaceMap, HalfedgeMap, IdMap, VertexMap};
+pub use mesh::HalfedgeMesh;
+pub use polygons::PolygonList;

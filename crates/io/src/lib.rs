@@ -1,0 +1,3 @@
+//! # beltrami-io
+//!
+//! Mesh readers and writers (PLY, STL, OBJ). Work in progress.
