@@ -186,7 +186,7 @@ impl HalfedgeMesh {
         faces: impl IntoIterator<Item = F>,
         options: &BuildOptions,
     ) -> Result<(Self, BuildReport), TopologyError> {
-        check_count("vertex", n_vertices)?;
+        check_count("vertices", n_vertices)?;
         let mut report = BuildReport::default();
         let mut list = PolygonList::new();
         let mut origin = Vec::new();
@@ -218,8 +218,8 @@ impl HalfedgeMesh {
                 }
             }
         }
-        check_count("face", list.len())?;
-        check_count("halfedge", 2 * list.n_corners())?;
+        check_count("faces", list.len())?;
+        check_count("halfedges", 2 * list.n_corners())?;
 
         if options.reorient {
             reorient(&mut list, &origin, &mut report)?;
@@ -441,7 +441,7 @@ fn split_nonmanifold_vertices(
             let id = match new_vertex.get(&root) {
                 Some(&id) => id,
                 None => {
-                    check_count("vertex", *n_vertices + 1)?;
+                    check_count("vertices", *n_vertices + 1)?;
                     let id = *n_vertices as u32;
                     *n_vertices += 1;
                     new_vertex.insert(root, id);
@@ -512,7 +512,7 @@ fn assemble(
     if let Some((_, err)) = worst {
         return Err(err);
     }
-    check_count("halfedge", 2 * edges.len())?;
+    check_count("halfedges", 2 * edges.len())?;
     edges.sort_unstable();
 
     let n_corners = corners.indices.len();

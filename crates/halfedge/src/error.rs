@@ -7,9 +7,9 @@
 #[non_exhaustive]
 pub enum TopologyError {
     /// More elements than a `u32` handle can address.
-    #[error("too many {kind}s: {count} (at most {max} are supported)")]
+    #[error("too many {kind}: {count} (at most {max} are supported)")]
     TooManyElements {
-        /// `"vertex"`, `"face"`, `"halfedge"` …
+        /// `"vertices"`, `"faces"` or `"halfedges"`.
         kind: &'static str,
         /// How many were asked for.
         count: usize,
