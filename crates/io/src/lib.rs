@@ -1,3 +1,65 @@
 //! # beltrami-io
 //!
-//! Mesh readers and writers (PLY, STL, OBJ). Work in progress.
+//! Readers and writers for the mesh files of surface metrology: Stanford PLY (ascii,
+//! binary little- and big-endian), STL (binary and ascii) and Wavefront OBJ.
+//!
+//! A file is read into a [`MeshData`]: `f64` positions and a [`PolygonList`] of faces,
+//! ready for [`HalfedgeMesh::from_polygons`]. Coordinates are whatever the file
+//! holds — typically millimetres for scans — and are never scaled.
+//!
+//! ## Quick start
+//!
+//! ```
+//! use beltrami_io::{read_mesh, write_mesh, MeshData, WriteOptions};
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let dir = tempfile::tempdir()?;
+//! let path = dir.path().join("torus.ply");
+//!
+//! let torus = MeshData::from(beltrami_halfedge::primitives::torus(2.0, 0.5, 12, 8));
+//! // Binary little-endian, double precision: exact to the last bit.
+//! write_mesh(&path, &torus, &WriteOptions::default())?;
+//!
+//! let back = read_mesh(&path)?;
+//! assert_eq!(back, torus);
+//! let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(back.positions.len(), back.faces.iter())?;
+//! assert_eq!(mesh.n_faces(), 12 * 8 * 2);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## Guarantees
+//!
+//! - **Exact round trips.** Binary PLY in double precision keeps every bit; ascii PLY
+//!   and OBJ write the shortest decimal that reads back to the same `f64`. STL holds
+//!   `f32` by definition, so it is exact only for coordinates that are.
+//! - **Validation.** Every reader rejects non-finite coordinates and face indices that
+//!   name no vertex, with the vertex or face (and the line in text formats). Faces
+//!   with fewer than three vertices or repeated vertices pass through for the
+//!   half-edge builder to report.
+//! - **No panics, no runaway allocation.** Malformed input gives an [`IoError`].
+//!   Element counts in headers are checked against the size of the file before
+//!   anything is allocated, so a header claiming billions of vertices in a small file
+//!   fails at once.
+//! - **Atomic writes.** [`write_mesh`] and [`write_ply`] write a temporary file beside
+//!   the target and rename it over the target; on any error the target is untouched.
+//!
+//! [`HalfedgeMesh::from_polygons`]: beltrami_halfedge::HalfedgeMesh::from_polygons
+
+mod atomic;
+mod error;
+mod format;
+mod mesh;
+mod obj;
+mod ply;
+mod read;
+mod stl;
+mod text;
+mod validate;
+mod write;
+
+pub use beltrami_halfedge::PolygonList;
+pub use error::IoError;
+pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
+pub use mesh::MeshData;
+pub use read::{read_mesh, read_mesh_from};
+pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};

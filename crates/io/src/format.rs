@@ -1,0 +1,130 @@
+//! File formats and write options.
+
+use std::fmt;
+use std::path::Path;
+
+use crate::error::IoError;
+
+/// A mesh file format.
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshFormat {
+    /// Stanford PLY (ascii, binary little-endian or binary big-endian).
+    Ply,
+    /// STL (binary or ascii): a triangle soup, welded on read.
+    Stl,
+    /// Wavefront OBJ (text): positions and polygon faces only.
+    Obj,
+}
+
+impl MeshFormat {
+    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, in any
+    /// letter case).
+    ///
+    /// # Examples
+    /// ```
+    /// use std::path::Path;
+    /// use beltrami_io::MeshFormat;
+    /// assert_eq!(MeshFormat::from_path(Path::new("scan.PLY"))?, MeshFormat::Ply);
+    /// assert!(MeshFormat::from_path(Path::new("scan.xyz")).is_err());
+    /// # Ok::<(), beltrami_io::IoError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`IoError::MissingExtension`] without an extension,
+    /// [`IoError::UnsupportedExtension`] for any other extension.
+    pub fn from_path(path: &Path) -> Result<Self, IoError> {
+        let extension = path.extension().ok_or(IoError::MissingExtension)?;
+        let extension = extension.to_string_lossy();
+        match extension.to_ascii_lowercase().as_str() {
+            "ply" => Ok(Self::Ply),
+            "stl" => Ok(Self::Stl),
+            "obj" => Ok(Self::Obj),
+            _ => Err(IoError::UnsupportedExtension {
+                extension: extension.into_owned(),
+            }),
+        }
+    }
+}
+
+impl fmt::Display for MeshFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Ply => "ply",
+            Self::Stl => "stl",
+            Self::Obj => "obj",
+        })
+    }
+}
+
+/// How a file is encoded when written.
+///
+/// PLY supports all three. STL supports [`Ascii`](Self::Ascii) and
+/// [`BinaryLittleEndian`](Self::BinaryLittleEndian) (binary STL is little-endian by
+/// definition). OBJ is always text and ignores the encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    /// Human-readable text; numbers in their shortest exact decimal form.
+    Ascii,
+    /// Binary, least significant byte first (the default: compact and exact).
+    #[default]
+    BinaryLittleEndian,
+    /// Binary, most significant byte first.
+    BinaryBigEndian,
+}
+
+impl fmt::Display for Encoding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Ascii => "ascii",
+            Self::BinaryLittleEndian => "binary little-endian",
+            Self::BinaryBigEndian => "binary big-endian",
+        })
+    }
+}
+
+/// The floating-point precision of written coordinates.
+///
+/// STL always stores 32-bit floats and ignores this setting.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Precision {
+    /// 64-bit floats: coordinates are written exactly (the default).
+    #[default]
+    Double,
+    /// 32-bit floats: half the size, coordinates rounded to the nearest `f32`.
+    Single,
+}
+
+/// Options for the writers.
+///
+/// The default writes binary little-endian with double precision, which round-trips
+/// every coordinate bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct WriteOptions {
+    /// Text or binary (see [`Encoding`] for what each format supports).
+    pub encoding: Encoding,
+    /// Coordinate precision (PLY and OBJ).
+    pub precision: Precision,
+}
+
+/// Per-vertex data written beside the positions by [`write_ply`](crate::write_ply).
+///
+/// Every attribute must hold exactly one value per vertex.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::VertexAttributes;
+/// let attributes = VertexAttributes {
+///     scalars: vec![("deviation".to_owned(), vec![0.0, 0.01, -0.02])],
+///     colors: Some(vec![[255, 0, 0], [0, 255, 0], [0, 0, 255]]),
+/// };
+/// assert_eq!(attributes.scalars.len(), 1);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VertexAttributes {
+    /// Named scalar fields, each written as `property double <name>`. Names must be
+    /// PLY identifiers (a letter or `_`, then letters, digits, `_` or `-`).
+    pub scalars: Vec<(String, Vec<f64>)>,
+    /// Vertex colours, written as `red green blue` (`uchar`).
+    pub colors: Option<Vec<[u8; 3]>>,
+}

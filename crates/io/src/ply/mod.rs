@@ -1,0 +1,9 @@
+//! Stanford PLY, through `ply-rs-bw` (an implementation detail: none of its types
+//! appear in the public API).
+
+mod read;
+mod records;
+mod write;
+
+pub(crate) use read::read_ply;
+pub(crate) use write::write_ply_to;

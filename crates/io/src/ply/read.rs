@@ -1,0 +1,478 @@
+//! PLY reader on top of `ply-rs-bw`, with guards against lying headers.
+//!
+//! `ply-rs-bw` parses the header and decodes one element at a time; this module
+//! checks the schema, checks that the declared counts fit in the file before any
+//! element is decoded, and turns each element into a position or a face directly
+//! (no intermediate `Vec` of records).
+
+use std::io::ErrorKind;
+
+use beltrami_halfedge::{MAX_ELEMENTS, PolygonList};
+use glam::DVec3;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
+
+use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
+use crate::error::IoError;
+use crate::mesh::MeshData;
+use crate::text::{Lines, count_lines, token_text};
+use crate::validate::check_faces;
+
+/// Reads a whole PLY file held in memory.
+pub(crate) fn read_ply(bytes: &[u8]) -> Result<MeshData, IoError> {
+    if bytes.is_empty() {
+        return Err(IoError::Empty);
+    }
+    check_magic(bytes)?;
+    let mut reader = Reader::new(bytes);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| header_error(&e, bytes))?;
+    let payload = reader.into_inner();
+    let header_lines = count_lines(&bytes[..bytes.len() - payload.len()]);
+    check_schema(&header)?;
+    let mut mesh = MeshData::default();
+    let face_line = match header.encoding {
+        Encoding::Ascii => {
+            check_counts(&header, count_lines(payload), |_| 1)?;
+            read_ascii(&header, payload, header_lines, &mut mesh)?
+        }
+        Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
+            check_counts(&header, payload.len(), min_record_size)?;
+            let big_endian = header.encoding == Encoding::BinaryBigEndian;
+            read_binary(&header, payload, big_endian, &mut mesh)?;
+            None
+        }
+    };
+    check_faces(&mesh, face_line)?;
+    Ok(mesh)
+}
+
+/// The first line must be `ply`: anything else is not a PLY file at all.
+fn check_magic(bytes: &[u8]) -> Result<(), IoError> {
+    let first = Lines::new(bytes).next().map_or(&b""[..], |(_, line)| line);
+    if first.trim_ascii_end() == b"ply" {
+        Ok(())
+    } else {
+        Err(IoError::PlyHeader {
+            line: Some(1),
+            reason: "not a ply file (the first line must be \"ply\")".to_owned(),
+        })
+    }
+}
+
+/// The `vertex` element with scalar `x`, `y`, `z`; a `face` element, when present,
+/// with an integer list `vertex_indices` (or `vertex_index`).
+fn check_schema(header: &Header) -> Result<(), IoError> {
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or(IoError::MissingElement { element: "vertex" })?;
+    for name in ["x", "y", "z"] {
+        let property = vertex
+            .properties
+            .get(name)
+            .ok_or_else(|| IoError::MissingProperty {
+                element: "vertex".to_owned(),
+                property: name.to_owned(),
+            })?;
+        if let PropertyType::List(..) = property.data_type {
+            return Err(type_error("vertex", name, &property.data_type, "a number"));
+        }
+    }
+    if vertex.count > MAX_ELEMENTS {
+        return Err(IoError::TooManyVertices {
+            declared: vertex.count,
+            max: MAX_ELEMENTS,
+        });
+    }
+    if let Some(face) = header.elements.get("face") {
+        let property = face
+            .properties
+            .values()
+            .find(|p| is_index_list_name(&p.name))
+            .ok_or_else(|| IoError::MissingProperty {
+                element: "face".to_owned(),
+                property: "vertex_indices".to_owned(),
+            })?;
+        let integer_list = matches!(
+            &property.data_type,
+            PropertyType::List(count, item) if is_integer(count) && is_integer(item)
+        );
+        if !integer_list {
+            return Err(type_error(
+                "face",
+                &property.name,
+                &property.data_type,
+                "a list of integers",
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn type_error(
+    element: &str,
+    property: &str,
+    found: &PropertyType,
+    expected: &'static str,
+) -> IoError {
+    IoError::PropertyType {
+        element: element.to_owned(),
+        property: property.to_owned(),
+        found: type_name(found),
+        expected,
+    }
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+fn scalar_name(t: &ScalarType) -> &'static str {
+    match t {
+        ScalarType::Char => "char",
+        ScalarType::UChar => "uchar",
+        ScalarType::Short => "short",
+        ScalarType::UShort => "ushort",
+        ScalarType::Int => "int",
+        ScalarType::UInt => "uint",
+        ScalarType::Float => "float",
+        ScalarType::Double => "double",
+    }
+}
+
+/// A property type in header syntax, e.g. `list uchar int`.
+fn type_name(t: &PropertyType) -> String {
+    match t {
+        PropertyType::Scalar(s) => scalar_name(s).to_owned(),
+        PropertyType::List(count, item) => {
+            format!("list {} {}", scalar_name(count), scalar_name(item))
+        }
+    }
+}
+
+fn scalar_size(t: &ScalarType) -> usize {
+    match t {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
+}
+
+/// The fewest bytes one binary record of `element` can take (lists empty).
+fn min_record_size(element: &ElementDef) -> usize {
+    element
+        .properties
+        .values()
+        .map(|p| match &p.data_type {
+            PropertyType::Scalar(t) | PropertyType::List(t, _) => scalar_size(t),
+        })
+        .sum()
+}
+
+/// Checks, before anything is decoded or allocated, that every declared element fits
+/// in what is left of the file: `units` is the number of bytes (binary) or lines
+/// (ascii) after the header, `cost` the fewest units one record takes.
+fn check_counts(
+    header: &Header,
+    units: usize,
+    cost: impl Fn(&ElementDef) -> usize,
+) -> Result<(), IoError> {
+    let mut remaining = units;
+    for element in header.elements.values() {
+        let cost = cost(element);
+        if cost == 0 {
+            continue;
+        }
+        let available = remaining / cost;
+        if element.count > available {
+            return Err(IoError::CountExceedsFile {
+                element: element.name.clone(),
+                declared: element.count,
+                available,
+            });
+        }
+        remaining -= element.count * cost;
+    }
+    Ok(())
+}
+
+/// Reads the ascii payload; returns the line of the first face, if any.
+fn read_ascii(
+    header: &Header,
+    payload: &[u8],
+    header_lines: usize,
+    mesh: &mut MeshData,
+) -> Result<Option<usize>, IoError> {
+    let vertex_parser = Parser::<VertexRecord>::new();
+    let face_parser = Parser::<FaceRecord>::new();
+    let mut scratch = Vec::new();
+    let mut face_line = None;
+    let mut lines = Lines::new(payload);
+    for element in header.elements.values() {
+        let name = element.name.as_str();
+        if name == "face" {
+            face_line = Some(header_lines + lines.clone().next().map_or(1, |(n, _)| n));
+        }
+        if name == "vertex" {
+            // Capacities are hints bounded by the file size: "0 0 0" and "3 0 1 2"
+            // are the shortest lines a vertex and a triangle take.
+            mesh.positions
+                .reserve_exact(element.count.min(payload.len() / 6));
+        } else if name == "face" {
+            let faces = element.count.min(payload.len() / 8);
+            mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
+        }
+        for index in 0..element.count {
+            // The line count was checked against the header before.
+            let Some((number, line)) = lines.next() else {
+                return Err(IoError::Truncated {
+                    element: element.name.clone(),
+                    index,
+                });
+            };
+            let line_number = Some(header_lines + number);
+            if name != "vertex" && name != "face" {
+                continue;
+            }
+            let text = std::str::from_utf8(line).map_err(|_| IoError::PlyData {
+                line: line_number,
+                element: element.name.clone(),
+                index,
+                reason: "the line is not valid text".to_owned(),
+            })?;
+            if name == "vertex" {
+                let record = vertex_parser
+                    .read_ascii_element(text, element)
+                    .map_err(|e| element_error(&e, line_number, name, index))?;
+                push_vertex(&mut mesh.positions, &record, line_number)?;
+            } else {
+                let record = face_parser
+                    .read_ascii_element(text, element)
+                    .map_err(|e| element_error(&e, line_number, name, index))?;
+                push_face(&mut mesh.faces, &mut scratch, &record, line_number)?;
+            }
+        }
+    }
+    Ok(face_line)
+}
+
+fn read_binary(
+    header: &Header,
+    payload: &[u8],
+    big_endian: bool,
+    mesh: &mut MeshData,
+) -> Result<(), IoError> {
+    let mut cursor = payload;
+    let mut scratch = Vec::new();
+    for element in header.elements.values() {
+        let name = element.name.as_str();
+        match name {
+            "vertex" => {
+                let parser = Parser::<VertexRecord>::new();
+                // Capacities are hints bounded by the file size: 12 and 13 bytes are
+                // the usual smallest vertex (3 floats) and triangle records.
+                mesh.positions
+                    .reserve_exact(element.count.min(payload.len() / 12));
+                for index in 0..element.count {
+                    let record = read_binary_element(&parser, &mut cursor, element, big_endian)
+                        .map_err(|e| element_error(&e, None, name, index))?;
+                    push_vertex(&mut mesh.positions, &record, None)?;
+                }
+            }
+            "face" => {
+                let parser = Parser::<FaceRecord>::new();
+                let faces = element.count.min(payload.len() / 13);
+                mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
+                for index in 0..element.count {
+                    let record = read_binary_element(&parser, &mut cursor, element, big_endian)
+                        .map_err(|e| element_error(&e, None, name, index))?;
+                    push_face(&mut mesh.faces, &mut scratch, &record, None)?;
+                }
+            }
+            _ => skip_binary_element(&mut cursor, element, big_endian)?,
+        }
+    }
+    Ok(())
+}
+
+fn read_binary_element<E: ply_rs_bw::ply::PropertyAccess>(
+    parser: &Parser<E>,
+    cursor: &mut &[u8],
+    element: &ElementDef,
+    big_endian: bool,
+) -> Result<E, ParseError> {
+    if big_endian {
+        parser.read_big_endian_element(cursor, element)
+    } else {
+        parser.read_little_endian_element(cursor, element)
+    }
+}
+
+/// Skips an element the mesh does not use: in one step when its records have a
+/// fixed size, else record by record.
+fn skip_binary_element(
+    cursor: &mut &[u8],
+    element: &ElementDef,
+    big_endian: bool,
+) -> Result<(), IoError> {
+    let has_lists = element
+        .properties
+        .values()
+        .any(|p| matches!(p.data_type, PropertyType::List(..)));
+    if has_lists {
+        let parser = Parser::<Skip>::new();
+        for index in 0..element.count {
+            read_binary_element(&parser, cursor, element, big_endian)
+                .map_err(|e| element_error(&e, None, &element.name, index))?;
+        }
+    } else {
+        let size = min_record_size(element);
+        let bytes = element.count.saturating_mul(size);
+        *cursor = cursor.get(bytes..).ok_or_else(|| IoError::Truncated {
+            element: element.name.clone(),
+            index: cursor.len() / size.max(1),
+        })?;
+    }
+    Ok(())
+}
+
+fn push_vertex(
+    positions: &mut Vec<DVec3>,
+    record: &VertexRecord,
+    line: Option<usize>,
+) -> Result<(), IoError> {
+    if let Some(&value) = record.position.iter().find(|c| !c.is_finite()) {
+        return Err(IoError::NonFiniteCoordinate {
+            line,
+            vertex: positions.len(),
+            value,
+        });
+    }
+    positions.push(DVec3::from_array(record.position));
+    Ok(())
+}
+
+fn push_face(
+    faces: &mut PolygonList,
+    scratch: &mut Vec<u32>,
+    record: &FaceRecord,
+    line: Option<usize>,
+) -> Result<(), IoError> {
+    scratch.clear();
+    record
+        .indices
+        .append_to(scratch)
+        .map_err(|index| IoError::NegativeIndex {
+            line,
+            face: faces.len(),
+            index,
+        })?;
+    faces.push(scratch);
+    Ok(())
+}
+
+/// The message of a `ply-rs-bw` error without its `Line N:` prefix.
+fn message(e: &ParseError) -> String {
+    let text = e.to_string();
+    match e.line() {
+        Some(line) => text
+            .strip_prefix(&format!("Line {line}: "))
+            .map_or_else(|| text.clone(), str::to_owned),
+        None => text,
+    }
+}
+
+/// The first line of a `ply-rs-bw` message, lowercase first letter, no final period.
+fn sanitize(message: &str) -> String {
+    let first = message.lines().next().unwrap_or("").trim();
+    let first = first.strip_suffix('.').unwrap_or(first);
+    let mut chars = first.chars();
+    match chars.next() {
+        Some(c) => c.to_lowercase().chain(chars).collect(),
+        None => "malformed data".to_owned(),
+    }
+}
+
+fn header_error(e: &ParseError, bytes: &[u8]) -> IoError {
+    let line = e.line();
+    if e.kind() == ErrorKind::InvalidData {
+        return IoError::PlyHeader {
+            line,
+            reason: "the header is not valid text".to_owned(),
+        };
+    }
+    let message = message(e);
+    let line_text = || {
+        line.and_then(|n| Lines::new(bytes).nth(n.saturating_sub(1)))
+            .map(|(_, text)| token_text(text))
+    };
+    let reason = if message.starts_with("Couldn't parse line") || message == "Invalid element" {
+        match line_text() {
+            Some(text) => format!("cannot parse {text:?}"),
+            None => "cannot parse a header line".to_owned(),
+        }
+    } else if message.starts_with("Unexpected end of file while reading header") {
+        "the file ends before \"end_header\"".to_owned()
+    } else if message.starts_with("No format line") {
+        "no \"format\" line".to_owned()
+    } else {
+        sanitize(&message)
+    };
+    IoError::PlyHeader { line, reason }
+}
+
+/// Maps an element decoding error; an early end of file is a truncated file.
+fn element_error(e: &ParseError, line: Option<usize>, element: &str, index: usize) -> IoError {
+    if e.kind() == ErrorKind::UnexpectedEof {
+        return IoError::Truncated {
+            element: element.to_owned(),
+            index,
+        };
+    }
+    let message = message(e);
+    let reason = if message.starts_with("Couldn't parse element line") {
+        "expected numbers separated by spaces".to_owned()
+    } else if message.starts_with("Expected element of type") {
+        "too few values on the line".to_owned()
+    } else if let Some(value) = message
+        .strip_prefix("Parse error.")
+        .and_then(|rest| rest.split('\'').nth(1))
+    {
+        format!("cannot parse {value:?} as the declared type")
+    } else {
+        sanitize(&message)
+    };
+    IoError::PlyData {
+        line,
+        element: element.to_owned(),
+        index,
+        reason,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sanitize_lowercases_and_drops_the_period() {
+        assert_eq!(
+            sanitize("List length cannot be negative (i8).\n\tmore"),
+            "list length cannot be negative (i8)"
+        );
+        assert_eq!(sanitize(""), "malformed data");
+    }
+
+    #[test]
+    fn type_names_use_header_syntax() {
+        let t = PropertyType::List(ScalarType::UChar, ScalarType::Int);
+        assert_eq!(type_name(&t), "list uchar int");
+        assert_eq!(
+            type_name(&PropertyType::Scalar(ScalarType::Double)),
+            "double"
+        );
+    }
+}

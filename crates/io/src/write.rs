@@ -1,0 +1,155 @@
+//! Writing entry points.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::atomic::write_atomic;
+use crate::error::IoError;
+use crate::format::{Encoding, MeshFormat, VertexAttributes, WriteOptions};
+use crate::mesh::MeshData;
+use crate::{obj, ply, stl};
+
+/// Writes a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`).
+///
+/// The file is replaced atomically: the data goes to a temporary file in the same
+/// directory, which is flushed to disk and then renamed over `path`. On any error
+/// nothing is left behind and an existing file is untouched.
+///
+/// Per format:
+/// - PLY: see [`write_ply`] (no attributes).
+/// - STL: binary unless [`Encoding::Ascii`]. STL stores `f32` coordinates, so writing
+///   is lossy for `f64` values that are not exactly representable. Polygons are
+///   fan-triangulated around their first vertex (faces with fewer than three
+///   vertices produce no triangle), facet normals are computed from the triangles.
+///   The precision option is ignored.
+/// - OBJ: always text; `v` lines with the shortest decimal that reads back to the
+///   same `f64` (or `f32` with [`Precision::Single`](crate::Precision::Single)),
+///   1-based `f` lines. The encoding option is ignored.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_mesh, write_mesh, Encoding, MeshData, WriteOptions};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("cube.stl");
+/// let cube = MeshData::from(beltrami_halfedge::primitives::cube());
+/// let ascii = WriteOptions { encoding: Encoding::Ascii, ..WriteOptions::default() };
+/// write_mesh(&path, &cube, &ascii)?;
+/// // The cube's coordinates are exact in f32, and welding restores the 8 corners.
+/// assert_eq!(read_mesh(&path)?.positions.len(), 8);
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// An unsupported extension; [`IoError::UnsupportedEncoding`] for big-endian STL;
+/// [`IoError::NonFiniteCoordinate`] and [`IoError::FaceIndexOutOfRange`] for a mesh
+/// no reader would accept; [`IoError::CoordinateOutOfRange`] when a coordinate
+/// exceeds `f32` (STL, single precision); [`IoError::TooManyTriangles`] for a binary
+/// STL; [`IoError::Io`] when the file cannot be created, written or renamed.
+pub fn write_mesh(path: &Path, mesh: &MeshData, options: &WriteOptions) -> Result<(), IoError> {
+    let format = MeshFormat::from_path(path)?;
+    check_encoding(format, options.encoding)?;
+    write_atomic(path, |file| write_mesh_to(file, mesh, format, options))
+}
+
+/// Writes a mesh in the given format to any writer (see [`write_mesh`] for what each
+/// format stores). The writer is buffered internally.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{write_mesh_to, MeshData, MeshFormat, WriteOptions};
+/// let mesh = MeshData::from(beltrami_halfedge::primitives::triangle());
+/// let mut obj = Vec::new();
+/// write_mesh_to(&mut obj, &mesh, MeshFormat::Obj, &WriteOptions::default())?;
+/// assert!(String::from_utf8_lossy(&obj).ends_with("v 0 1 0\nf 1 2 3\n"));
+/// # Ok::<(), beltrami_io::IoError>(())
+/// ```
+///
+/// # Errors
+/// As [`write_mesh`], except that nothing is atomic here: on an error the writer
+/// may have received part of the data.
+pub fn write_mesh_to<W: Write>(
+    writer: W,
+    mesh: &MeshData,
+    format: MeshFormat,
+    options: &WriteOptions,
+) -> Result<(), IoError> {
+    check_encoding(format, options.encoding)?;
+    match format {
+        MeshFormat::Ply => ply::write_ply_to(writer, mesh, &VertexAttributes::default(), options),
+        MeshFormat::Stl => stl::write_stl_to(writer, mesh, options.encoding),
+        MeshFormat::Obj => obj::write_obj_to(writer, mesh, options.precision),
+    }
+}
+
+/// Writes a PLY file with per-vertex attributes, whatever the extension of `path`,
+/// replacing the file atomically as [`write_mesh`] does.
+///
+/// The vertex element holds `x y z` (`double`, or `float` with
+/// [`Precision::Single`](crate::Precision::Single)), then one `double` property per
+/// scalar attribute, then `red green blue` (`uchar`) when colours are given. Faces
+/// are `list uchar int vertex_indices` (`list uint …` when a face has more than 255
+/// vertices). Binary double precision round-trips every bit; ascii writes the
+/// shortest decimal that reads back to the same value, so it round-trips too.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{write_ply, MeshData, VertexAttributes, WriteOptions};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let mesh = MeshData::from(beltrami_halfedge::primitives::triangle());
+/// let attributes = VertexAttributes {
+///     scalars: vec![("deviation".to_owned(), vec![0.0, 0.25, -0.5])],
+///     colors: None,
+/// };
+/// write_ply(&dir.path().join("deviation.ply"), &mesh, &attributes, &WriteOptions::default())?;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// [`IoError::AttributeLength`] when an attribute does not have one value per
+/// vertex; [`IoError::AttributeName`] for a name that is not a PLY identifier, is
+/// used twice or is one of `x y z red green blue`; [`IoError::NonFiniteAttribute`]
+/// for NaN or infinite attribute values in ascii; the mesh errors and
+/// [`IoError::Io`] of [`write_mesh`].
+pub fn write_ply(
+    path: &Path,
+    mesh: &MeshData,
+    attributes: &VertexAttributes,
+    options: &WriteOptions,
+) -> Result<(), IoError> {
+    write_atomic(path, |file| write_ply_to(file, mesh, attributes, options))
+}
+
+/// Writes a PLY file with per-vertex attributes to any writer (see [`write_ply`]).
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{write_ply_to, Encoding, MeshData, VertexAttributes, WriteOptions};
+/// let mesh = MeshData::from(beltrami_halfedge::primitives::triangle());
+/// let ascii = WriteOptions { encoding: Encoding::Ascii, ..WriteOptions::default() };
+/// let mut ply = Vec::new();
+/// write_ply_to(&mut ply, &mesh, &VertexAttributes::default(), &ascii)?;
+/// assert!(String::from_utf8_lossy(&ply).ends_with("end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+/// # Ok::<(), beltrami_io::IoError>(())
+/// ```
+///
+/// # Errors
+/// As [`write_ply`], except that nothing is atomic here.
+pub fn write_ply_to<W: Write>(
+    writer: W,
+    mesh: &MeshData,
+    attributes: &VertexAttributes,
+    options: &WriteOptions,
+) -> Result<(), IoError> {
+    ply::write_ply_to(writer, mesh, attributes, options)
+}
+
+fn check_encoding(format: MeshFormat, encoding: Encoding) -> Result<(), IoError> {
+    if format == MeshFormat::Stl && encoding == Encoding::BinaryBigEndian {
+        return Err(IoError::UnsupportedEncoding { format, encoding });
+    }
+    Ok(())
+}
