@@ -1,0 +1,135 @@
+//! Vertex normals: mean, area-weighted and angle-weighted averages of face normals.
+
+use glam::DVec3;
+
+use super::Geometry;
+use super::kernel::unit_or_zero;
+use crate::ids::{FaceId, HalfedgeId, VertexId};
+use crate::map::{FaceMap, VertexMap};
+
+/// How face normals are averaged into a vertex normal.
+///
+/// Every weighting sums its terms over the faces around the vertex and normalises the sum
+/// (`n * (1.0 / |n|)`, as OpenMesh does); the result is a unit vector, or
+/// [`DVec3::ZERO`] when the sum vanishes (an isolated vertex, a vertex whose faces are all
+/// degenerate, or normals that cancel).
+///
+/// The faces are visited in OpenMesh's order: clockwise, starting from the face of
+/// [`outgoing_halfedge`](crate::HalfedgeMesh::outgoing_halfedge) (at a boundary vertex,
+/// the face beside the boundary edge that leaves the vertex). This matters only for the
+/// last bit of the sum.
+///
+/// # References
+/// G. Thürmer, C. A. Wüthrich: *Computing vertex normals from polygonal facets*. Journal
+/// of Graphics Tools 3(1), 1998.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum NormalWeighting {
+    /// The unweighted sum of the unit face normals
+    /// ([`face_normal`](Geometry::face_normal)): what OpenMesh's `update_normals` computes
+    /// (`calc_vertex_normal_fast`), bit for bit on the same connectivity. A degenerate face
+    /// adds its normal like any other face (the zero vector when its vertices are exactly
+    /// collinear).
+    Mean,
+    /// The sum of the face vector areas ([`face_vector_area`](Geometry::face_vector_area)):
+    /// each unit normal weighted by its face's area. Degenerate faces add nothing.
+    Area,
+    /// The sum of the unit face normals each weighted by the face's interior angle at the
+    /// vertex ([`corner_angle`](Geometry::corner_angle)), after Thürmer and Wüthrich: the
+    /// result does not depend on how the surface around the vertex is triangulated.
+    /// Degenerate faces add nothing.
+    Angle,
+}
+
+impl Geometry<'_> {
+    /// The unit normal of vertex `v` under `weighting`, or [`DVec3::ZERO`] for an isolated
+    /// vertex or when the weighted sum vanishes. Never NaN.
+    ///
+    /// # Panics
+    /// If `v` is not a vertex of the mesh.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::geometry::{Geometry, NormalWeighting};
+    /// use beltrami_halfedge::{primitives, DVec3, VertexId};
+    /// let cube = primitives::cube();
+    /// let mesh = cube.mesh()?;
+    /// let geometry = Geometry::new(&mesh, &cube.positions)?;
+    /// // Vertex 1 = (1, 0, 0) has two triangles on the x = 1 side and one each on y = 0 and
+    /// // z = 0: the mean leans towards +x, the angle-weighted normal is the cube diagonal.
+    /// let v = VertexId::new(1);
+    /// let mean = geometry.vertex_normal(v, NormalWeighting::Mean);
+    /// let angle = geometry.vertex_normal(v, NormalWeighting::Angle);
+    /// assert!((mean - DVec3::new(2.0, -1.0, -1.0) / 6f64.sqrt()).length() < 1e-15);
+    /// assert!((angle - DVec3::new(1.0, -1.0, -1.0) / 3f64.sqrt()).length() < 1e-15);
+    /// # Ok::<(), beltrami_halfedge::TopologyError>(())
+    /// ```
+    ///
+    /// # References
+    /// Thürmer and Wüthrich 1998 for [`NormalWeighting::Angle`].
+    #[must_use]
+    pub fn vertex_normal(&self, v: VertexId, weighting: NormalWeighting) -> DVec3 {
+        self.vertex_normal_with(v, weighting, |f| self.face_normal(f))
+    }
+
+    /// The unit normal of every vertex under `weighting` (see
+    /// [`vertex_normal`](Self::vertex_normal)); each entry is bit-identical to the
+    /// per-vertex query.
+    ///
+    /// # Complexity
+    /// O(V + H); face normals are computed once.
+    #[must_use]
+    pub fn vertex_normals(&self, weighting: NormalWeighting) -> VertexMap<DVec3> {
+        let normals: Option<FaceMap<DVec3>> = match weighting {
+            NormalWeighting::Area => None,
+            _ => Some(self.face_normals()),
+        };
+        let normal = |f: FaceId| normals.as_ref().map_or(DVec3::ZERO, |n| n[f]);
+        VertexMap::from_vec(
+            self.mesh
+                .vertices()
+                .map(|v| self.vertex_normal_with(v, weighting, normal))
+                .collect(),
+        )
+    }
+
+    /// The outgoing halfedges of `v` that have a face, in OpenMesh's vertex-face order:
+    /// clockwise from the outgoing halfedge.
+    fn face_halfedges_clockwise(&self, v: VertexId) -> impl Iterator<Item = HalfedgeId> + '_ {
+        let m = self.mesh;
+        let start = m.outgoing_halfedge(v);
+        std::iter::successors(start, move |&h| {
+            let n = m.cw_rotated(h);
+            (Some(n) != start).then_some(n)
+        })
+        .filter(move |&h| !m.is_boundary_halfedge(h))
+    }
+
+    fn vertex_normal_with(
+        &self,
+        v: VertexId,
+        weighting: NormalWeighting,
+        face_normal: impl Fn(FaceId) -> DVec3,
+    ) -> DVec3 {
+        let m = self.mesh;
+        let mut sum = DVec3::ZERO;
+        for h in self.face_halfedges_clockwise(v) {
+            let Some(f) = m.face(h) else { continue };
+            match weighting {
+                NormalWeighting::Mean => sum += face_normal(f),
+                NormalWeighting::Area => {
+                    if !self.is_degenerate_face(f) {
+                        sum += self.face_vector_area(f);
+                    }
+                }
+                NormalWeighting::Angle => {
+                    if !self.is_degenerate_face(f) {
+                        // The corner at v is the one at the end of the halfedge entering v.
+                        sum += face_normal(f) * self.corner_angle(m.prev(h));
+                    }
+                }
+            }
+        }
+        unit_or_zero(sum)
+    }
+}
