@@ -57,7 +57,7 @@ pub enum IoError {
     },
 
     /// A PLY element lacks a property the mesh needs.
-    #[error("element {element:?} has no property {property}")]
+    #[error("element {element:?} has no property {property:?}")]
     MissingProperty {
         /// The element, e.g. `"vertex"`.
         element: String,
@@ -151,8 +151,9 @@ pub enum IoError {
 
     /// A face refers to a vertex that does not exist.
     #[error(
-        "{}face {face} refers to vertex {index}, but only {n_vertices} vertices are defined",
-        at(.line)
+        "{}face {face} refers to vertex {index}, but only {} defined",
+        at(.line),
+        vertices_are(*.n_vertices)
     )]
     FaceIndexOutOfRange {
         /// Line of a text file.
@@ -262,7 +263,7 @@ pub enum IoError {
     },
 
     /// A coordinate is too large for a 32-bit float (STL, or single precision).
-    #[error("vertex {vertex} has coordinate {value}, beyond the range of a 32-bit float")]
+    #[error("vertex {vertex} has coordinate {value:e}, beyond the range of a 32-bit float")]
     CoordinateOutOfRange {
         /// The vertex, 0-based.
         vertex: usize,
@@ -334,6 +335,14 @@ fn plural(element: &str) -> String {
         "vertex" => "vertices".to_owned(),
         "face" => "faces".to_owned(),
         other => format!("{other:?} elements"),
+    }
+}
+
+fn vertices_are(n: usize) -> String {
+    if n == 1 {
+        "1 vertex is".to_owned()
+    } else {
+        format!("{n} vertices are")
     }
 }
 

@@ -91,7 +91,9 @@ pub enum Precision {
     /// 64-bit floats: coordinates are written exactly (the default).
     #[default]
     Double,
-    /// 32-bit floats: half the size, coordinates rounded to the nearest `f32`.
+    /// 32-bit floats: half the size, coordinates rounded to the nearest `f32`. OBJ
+    /// writes the shortest decimal that identifies that `f32` (at most 9 significant
+    /// digits); read back as `f64` it is not the `f32` itself but rounds to it.
     Single,
 }
 

@@ -24,12 +24,22 @@ use glam::DVec3;
 /// };
 /// assert_eq!(mesh.faces.len(), 1);
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MeshData {
     /// Vertex positions.
     pub positions: Vec<DVec3>,
     /// Faces as vertex-index lists.
     pub faces: PolygonList,
+}
+
+impl Default for MeshData {
+    /// No vertices, no faces (the face list of [`PolygonList::new`]).
+    fn default() -> Self {
+        Self {
+            positions: Vec::new(),
+            faces: PolygonList::new(),
+        }
+    }
 }
 
 impl From<Primitive> for MeshData {

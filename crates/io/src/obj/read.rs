@@ -14,7 +14,7 @@ use crate::validate::check_faces;
 /// ignored); `f` adds a polygon whose corners are `a`, `a/b`, `a//c` or `a/b/c`, of
 /// which only the vertex index `a` is used: 1-based, or negative to count back from
 /// the last vertex defined so far. Every other statement (`vt`, `vn`, `g`, `usemtl`,
-/// comments, …) is ignored. Line continuations (`\` at the end of a line) are not
+/// …) is ignored, and so is everything after a `#`. Line continuations (`\` at the end of a line) are not
 /// supported.
 pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
     if bytes.is_empty() {
@@ -24,7 +24,12 @@ pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
     let mut faces = PolygonList::new();
     let mut corners = Vec::new();
     for (line, text) in Lines::new(bytes) {
-        let mut words = tokens(text);
+        // `#` starts a comment, also after a statement.
+        let statement = text
+            .iter()
+            .position(|&b| b == b'#')
+            .map_or(text, |start| &text[..start]);
+        let mut words = tokens(statement);
         match words.next() {
             Some(b"v") => {
                 let mut p = [0.0_f64; 3];
@@ -116,7 +121,7 @@ fn vertex_index(corner: &[u8], defined: usize, line: usize, face: usize) -> Resu
 /// The line of the `face`-th `f` statement (0-based).
 fn face_line(bytes: &[u8], face: usize) -> Option<usize> {
     Lines::new(bytes)
-        .filter(|(_, text)| tokens(text).next() == Some(b"f"))
+        .filter(|(_, text)| tokens(text).next() == Some(&b"f"[..]))
         .nth(face)
         .map(|(line, _)| line)
 }

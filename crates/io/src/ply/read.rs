@@ -246,12 +246,12 @@ fn read_ascii(
             if name == "vertex" {
                 let record = vertex_parser
                     .read_ascii_element(text, element)
-                    .map_err(|e| element_error(&e, line_number, name, index))?;
+                    .map_err(|e| element_error(&e, line_number, name, index, text))?;
                 push_vertex(&mut mesh.positions, &record, line_number)?;
             } else {
                 let record = face_parser
                     .read_ascii_element(text, element)
-                    .map_err(|e| element_error(&e, line_number, name, index))?;
+                    .map_err(|e| element_error(&e, line_number, name, index, text))?;
                 push_face(&mut mesh.faces, &mut scratch, &record, line_number)?;
             }
         }
@@ -278,7 +278,7 @@ fn read_binary(
                     .reserve_exact(element.count.min(payload.len() / 12));
                 for index in 0..element.count {
                     let record = read_binary_element(&parser, &mut cursor, element, big_endian)
-                        .map_err(|e| element_error(&e, None, name, index))?;
+                        .map_err(|e| element_error(&e, None, name, index, ""))?;
                     push_vertex(&mut mesh.positions, &record, None)?;
                 }
             }
@@ -288,7 +288,7 @@ fn read_binary(
                 mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
                 for index in 0..element.count {
                     let record = read_binary_element(&parser, &mut cursor, element, big_endian)
-                        .map_err(|e| element_error(&e, None, name, index))?;
+                        .map_err(|e| element_error(&e, None, name, index, ""))?;
                     push_face(&mut mesh.faces, &mut scratch, &record, None)?;
                 }
             }
@@ -326,7 +326,7 @@ fn skip_binary_element(
         let parser = Parser::<Skip>::new();
         for index in 0..element.count {
             read_binary_element(&parser, cursor, element, big_endian)
-                .map_err(|e| element_error(&e, None, &element.name, index))?;
+                .map_err(|e| element_error(&e, None, &element.name, index, ""))?;
         }
     } else {
         let size = min_record_size(element);
@@ -409,23 +409,31 @@ fn header_error(e: &ParseError, bytes: &[u8]) -> IoError {
         line.and_then(|n| Lines::new(bytes).nth(n.saturating_sub(1)))
             .map(|(_, text)| token_text(text))
     };
-    let reason = if message.starts_with("Couldn't parse line") || message == "Invalid element" {
-        match line_text() {
-            Some(text) => format!("cannot parse {text:?}"),
-            None => "cannot parse a header line".to_owned(),
-        }
-    } else if message.starts_with("Unexpected end of file while reading header") {
-        "the file ends before \"end_header\"".to_owned()
-    } else if message.starts_with("No format line") {
-        "no \"format\" line".to_owned()
-    } else {
-        sanitize(&message)
-    };
+    let reason =
+        if message.starts_with("Couldn't parse line") || message.starts_with("Invalid element") {
+            match line_text() {
+                Some(text) => format!("cannot parse {text:?}"),
+                None => "cannot parse a header line".to_owned(),
+            }
+        } else if message.starts_with("Unexpected end of file while reading header") {
+            "the file ends before \"end_header\"".to_owned()
+        } else if message.starts_with("No format line") {
+            "no \"format\" line".to_owned()
+        } else {
+            sanitize(&message)
+        };
     IoError::PlyHeader { line, reason }
 }
 
-/// Maps an element decoding error; an early end of file is a truncated file.
-fn element_error(e: &ParseError, line: Option<usize>, element: &str, index: usize) -> IoError {
+/// Maps an element decoding error; an early end of file is a truncated file. `text`
+/// is the line of an ascii element.
+fn element_error(
+    e: &ParseError,
+    line: Option<usize>,
+    element: &str,
+    index: usize,
+    text: &str,
+) -> IoError {
     if e.kind() == ErrorKind::UnexpectedEof {
         return IoError::Truncated {
             element: element.to_owned(),
@@ -434,9 +442,15 @@ fn element_error(e: &ParseError, line: Option<usize>, element: &str, index: usiz
     }
     let message = message(e);
     let reason = if message.starts_with("Couldn't parse element line") {
-        "expected numbers separated by spaces".to_owned()
+        match text.split_ascii_whitespace().find(|w| !is_ply_number(w)) {
+            Some(word) => format!("{:?} is not a number", token_text(word.as_bytes())),
+            None => "expected numbers separated by spaces".to_owned(),
+        }
     } else if message.starts_with("Expected element of type") {
         "too few values on the line".to_owned()
+    } else if let Some(rest) = message.strip_prefix("Couldn't parse element at index ") {
+        let entry: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        format!("cannot parse list entry {entry} as the declared type")
     } else if let Some(value) = message
         .strip_prefix("Parse error.")
         .and_then(|rest| rest.split('\'').nth(1))
@@ -453,6 +467,42 @@ fn element_error(e: &ParseError, line: Option<usize>, element: &str, index: usiz
     }
 }
 
+/// Whether `word` is a number in the ascii PLY grammar of `ply-rs-bw`:
+/// `[+-]digits[.digits][(e|E)[+-]digits]` (no `nan`, `inf`, `.5` or `5.`).
+fn is_ply_number(word: &str) -> bool {
+    fn digits(s: &[u8]) -> usize {
+        s.iter().take_while(|b| b.is_ascii_digit()).count()
+    }
+    let mut s = word.as_bytes();
+    if let [b'+' | b'-', rest @ ..] = s {
+        s = rest;
+    }
+    let n = digits(s);
+    if n == 0 {
+        return false;
+    }
+    s = &s[n..];
+    if let [b'.', rest @ ..] = s {
+        let n = digits(rest);
+        if n == 0 {
+            return false;
+        }
+        s = &rest[n..];
+    }
+    if let [b'e' | b'E', rest @ ..] = s {
+        s = rest;
+        if let [b'+' | b'-', rest @ ..] = s {
+            s = rest;
+        }
+        let n = digits(s);
+        if n == 0 {
+            return false;
+        }
+        s = &s[n..];
+    }
+    s.is_empty()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -464,6 +514,16 @@ mod tests {
             "list length cannot be negative (i8)"
         );
         assert_eq!(sanitize(""), "malformed data");
+    }
+
+    #[test]
+    fn ply_numbers_follow_the_grammar() {
+        for ok in ["0", "-1", "+2.5", "1e-7", "1.5E+10", "-0.0"] {
+            assert!(is_ply_number(ok), "{ok}");
+        }
+        for bad in ["nan", "inf", ".5", "5.", "1e", "--1", "", "1.0.0"] {
+            assert!(!is_ply_number(bad), "{bad}");
+        }
     }
 
     #[test]

@@ -54,9 +54,10 @@ fn triangles(mesh: &MeshData) -> impl Iterator<Item = [DVec3; 3]> + '_ {
     })
 }
 
-/// The unit normal of a counter-clockwise triangle, zero when degenerate.
+/// The unit normal of a counter-clockwise triangle, zero when degenerate (and `0`
+/// rather than `-0` in every component).
 fn normal([a, b, c]: &[DVec3; 3]) -> DVec3 {
-    (*b - *a).cross(*c - *a).normalize_or_zero()
+    (*b - *a).cross(*c - *a).normalize_or_zero() + DVec3::ZERO
 }
 
 #[allow(
