@@ -32,8 +32,9 @@ pub enum VertexAreaKind {
 
 impl Geometry<'_> {
     /// The area of vertex `v` in unit² under `kind`: the sum of its shares of the incident
-    /// faces, added counter-clockwise ([`faces_around_vertex`]
-    /// (crate::HalfedgeMesh::faces_around_vertex) order). 0.0 for an isolated vertex.
+    /// faces, added counter-clockwise (in
+    /// [`faces_around_vertex`](crate::HalfedgeMesh::faces_around_vertex) order). 0.0 for an
+    /// isolated vertex.
     ///
     /// A face that is not a triangle contributes its barycentric share `A/k` under either
     /// kind; [`vertex_areas`](Self::vertex_areas) rejects such meshes for

@@ -30,35 +30,67 @@ fn max_abs(v: DVec3) -> f64 {
     }
 }
 
-/// The largest power of two not above `m` (`m` finite and positive), read off the bits.
+/// `floor(log2 m)` for finite positive `m`, read off the bits (subnormals included).
 #[inline]
-fn pow2_floor(m: f64) -> f64 {
+fn exponent_floor(m: f64) -> i32 {
     debug_assert!(m.is_finite() && m > 0.0);
     let bits = m.to_bits();
-    let exponent = (bits >> 52) & 0x7ff;
-    if exponent == 0 {
-        // Subnormal: keep the highest set bit of the mantissa.
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    if biased == 0 {
         let mantissa = bits & ((1 << 52) - 1);
-        f64::from_bits(1 << (63 - mantissa.leading_zeros()))
+        63 - mantissa.leading_zeros() as i32 - 1074
     } else {
-        f64::from_bits(exponent << 52)
+        biased - 1023
     }
 }
 
+/// `2^e` for `e` in `[-1074, 1023]`, exactly.
+#[inline]
+fn pow2(e: i32) -> f64 {
+    debug_assert!((-1074..=1023).contains(&e));
+    if e >= -1022 {
+        f64::from_bits(((e + 1023) as u64) << 52)
+    } else {
+        f64::from_bits(1 << (e + 1074))
+    }
+}
+
+/// `x · 2^e` for any `e`, exact unless the result overflows or underflows.
+#[inline]
+pub(super) fn ldexp(mut x: f64, mut e: i32) -> f64 {
+    while e > 1023 {
+        x *= pow2(1023);
+        e -= 1023;
+    }
+    while e < -1022 {
+        x *= pow2(-1022);
+        e += 1022;
+    }
+    x * pow2(e)
+}
+
+/// The largest power of two not above `m` (`m` finite and positive).
+#[inline]
+fn pow2_floor(m: f64) -> f64 {
+    pow2(exponent_floor(m))
+}
+
 /// Differences `p − origin` of points around an origin, expressed as
-/// `unit × span(p)` with every span component at most a few units in magnitude, so that
-/// dot and cross products of spans (and their squared lengths) neither overflow nor
+/// `2^exponent × span(p)` with every span component at most a few units in magnitude, so
+/// that dot and cross products of spans (and their squared lengths) neither overflow nor
 /// underflow.
 ///
 /// In the common case (largest difference component within 2^±200) the spans are the
-/// plain differences and `unit` is 1, so the arithmetic is exactly the textbook one.
-/// Otherwise the differences are divided by a power of two (exact), after halving the
+/// plain differences and the exponent is 0, so the arithmetic is exactly the textbook
+/// one. Otherwise the differences are divided by a power of two (exact), after halving the
 /// points first when the plain differences overflow.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Frame {
     origin: DVec3,
     halve: bool,
+    /// `2^shift`, the power of two the (possibly halved) differences are divided by.
     divisor: f64,
+    shift: i32,
 }
 
 impl Frame {
@@ -71,13 +103,16 @@ impl Frame {
             origin,
             halve: false,
             divisor: 1.0,
+            shift: 0,
         };
         if m.is_nan() || m == 0.0 || (SAFE_LO..=SAFE_HI).contains(&m) {
             return plain;
         }
         if m.is_finite() {
+            let shift = exponent_floor(m);
             return Self {
-                divisor: pow2_floor(m),
+                divisor: pow2(shift),
+                shift,
                 ..plain
             };
         }
@@ -90,14 +125,16 @@ impl Frame {
             // Non-finite input: leave it to propagate.
             return plain;
         }
+        let shift = exponent_floor(h);
         Self {
             origin,
             halve: true,
-            divisor: pow2_floor(h),
+            divisor: pow2(shift),
+            shift,
         }
     }
 
-    /// The scaled difference `(p − origin) / unit`.
+    /// The scaled difference `(p − origin) / 2^exponent`.
     #[inline]
     pub(super) fn span(&self, p: DVec3) -> DVec3 {
         let d = if self.halve {
@@ -115,15 +152,11 @@ impl Frame {
         self.origin
     }
 
-    /// The length that one span unit stands for, in the positions' unit (a power of two;
-    /// 1 in the common case).
+    /// The exponent of the length that one span unit stands for, in the positions' unit
+    /// (0 in the common case): a span length `l` is the length `l · 2^exponent`.
     #[inline]
-    pub(super) fn unit(&self) -> f64 {
-        if self.halve {
-            2.0 * self.divisor
-        } else {
-            self.divisor
-        }
+    pub(super) fn exponent(&self) -> i32 {
+        self.shift + i32::from(self.halve)
     }
 }
 
@@ -187,8 +220,8 @@ pub(super) struct Corner {
     pub(super) uu: f64,
     /// `|v|²` in span units².
     pub(super) vv: f64,
-    /// The length of one span unit.
-    pub(super) unit: f64,
+    /// The exponent of one span unit (see [`Frame::exponent`]).
+    pub(super) exponent: i32,
 }
 
 impl Corner {
@@ -203,7 +236,7 @@ impl Corner {
             cross: u.cross(v).length(),
             uu: u.dot(u),
             vv: v.dot(v),
-            unit: frame.unit(),
+            exponent: frame.exponent(),
         }
     }
 
@@ -241,26 +274,26 @@ impl Triangle {
         unit_or_zero(frame.span(p2).cross(frame.span(p0)))
     }
 
-    /// `(p1 − p0) × (p2 − p0)` in span units², with the frame's unit.
+    /// `(p1 − p0) × (p2 − p0)` in span units², with the frame's exponent.
     #[inline]
-    fn double_vector_area(&self) -> (DVec3, f64) {
+    pub(super) fn double_vector_area(&self) -> (DVec3, i32) {
         let [p0, p1, p2] = self.0;
         let frame = Frame::new(p0, &[p1, p2]);
-        (frame.span(p1).cross(frame.span(p2)), frame.unit())
+        (frame.span(p1).cross(frame.span(p2)), frame.exponent())
     }
 
     /// The vector area `½ (p1 − p0) × (p2 − p0)`.
     #[inline]
     pub(super) fn vector_area(&self) -> DVec3 {
-        let (c, unit) = self.double_vector_area();
-        c * (0.5 * unit) * unit
+        let (c, e) = self.double_vector_area();
+        scale_area(c * 0.5, e)
     }
 
     /// The area `½ |(p1 − p0) × (p2 − p0)|`.
     #[inline]
     pub(super) fn area(&self) -> f64 {
-        let (c, unit) = self.double_vector_area();
-        c.length() * (0.5 * unit) * unit
+        let (c, e) = self.double_vector_area();
+        ldexp(c.length() * 0.5, 2 * e)
     }
 
     /// Whether twice the area is at most [`DEGENERACY_RATIO`] times the squared longest
@@ -299,7 +332,10 @@ impl Triangle {
             self.area() * 0.25
         } else {
             // In corner i's frame: uu = |p_i p_j|², vv = |p_i p_k|².
-            (ci.vv * cj.cot() + ci.uu * ck.cot()) * 0.125 * ci.unit * ci.unit
+            ldexp(
+                (ci.vv * cj.cot() + ci.uu * ck.cot()) * 0.125,
+                2 * ci.exponent,
+            )
         }
     }
 }
@@ -331,47 +367,90 @@ impl Polygon {
         unit_or_zero(c)
     }
 
-    /// `Σ (p_i − p_0) × (p_{i+1} − p_0)` in span units², with the frame's unit. This is
+    /// `Σ (p_i − p_0) × (p_{i+1} − p_0)` in span units², with the frame's exponent. This is
     /// twice the vector area (Newell's vector), evaluated around the first vertex so that
     /// it does not lose digits far from the origin.
-    fn double_vector_area(&self) -> (DVec3, f64) {
+    pub(super) fn double_vector_area(&self) -> (DVec3, i32) {
         let ps = &self.0;
         let frame = Frame::new(ps[0], &ps[1..]);
         let mut c = DVec3::ZERO;
         for w in ps[1..].windows(2) {
             c += frame.span(w[0]).cross(frame.span(w[1]));
         }
-        (c, frame.unit())
+        (c, frame.exponent())
     }
 
     /// The vector area: half of Newell's vector.
     pub(super) fn vector_area(&self) -> DVec3 {
-        let (c, unit) = self.double_vector_area();
-        c * (0.5 * unit) * unit
+        let (c, e) = self.double_vector_area();
+        scale_area(c * 0.5, e)
     }
 
     /// The area: half the length of Newell's vector.
     pub(super) fn area(&self) -> f64 {
-        let (c, unit) = self.double_vector_area();
-        c.length() * (0.5 * unit) * unit
+        let (c, e) = self.double_vector_area();
+        ldexp(c.length() * 0.5, 2 * e)
     }
 
     /// Whether twice the area is at most [`DEGENERACY_RATIO`] times the squared longest
     /// edge.
     pub(super) fn is_degenerate(&self) -> bool {
         let ps = &self.0;
+        // The same frame as in `double_vector_area`.
         let frame = Frame::new(ps[0], &ps[1..]);
-        let mut longest2 = 0.0f64;
-        let mut c = DVec3::ZERO;
-        for (i, &p) in ps.iter().enumerate() {
-            let e = frame.span(ps[(i + 1) % ps.len()]) - frame.span(p);
-            longest2 = longest2.max(e.dot(e));
-        }
-        for w in ps[1..].windows(2) {
-            c += frame.span(w[0]).cross(frame.span(w[1]));
-        }
-        let two_area = c.length();
+        let longest2 = ps
+            .iter()
+            .zip(ps.iter().cycle().skip(1))
+            .map(|(&p, &q)| {
+                let e = frame.span(q) - frame.span(p);
+                e.dot(e)
+            })
+            .fold(0.0f64, f64::max);
+        let two_area = self.double_vector_area().0.length();
         two_area <= DEGENERACY_RATIO * longest2 || two_area.is_nan()
+    }
+}
+
+/// `a · 4^e`: an area in span units² back in the positions' unit².
+#[inline]
+fn scale_area(a: DVec3, e: i32) -> DVec3 {
+    if e == 0 {
+        a
+    } else {
+        DVec3::new(ldexp(a.x, 2 * e), ldexp(a.y, 2 * e), ldexp(a.z, 2 * e))
+    }
+}
+
+/// A sum of vectors given as `4^e × v` (areas in span units with their frame exponents),
+/// kept as `4^max_e × sum`, so that terms far beyond the range of `f64` add up to a finite
+/// vector with the right direction. When every exponent is 0 this is the plain sum.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct ScaledSum {
+    sum: DVec3,
+    exponent: Option<i32>,
+}
+
+impl ScaledSum {
+    /// Adds `4^e × v`.
+    #[inline]
+    pub(super) fn add(&mut self, v: DVec3, e: i32) {
+        let top = match self.exponent {
+            Some(top) if top >= e => top,
+            Some(top) => {
+                // Rescaling by a power of two is exact (or underflows to 0).
+                self.sum = scale_area(self.sum, top - e);
+                e
+            }
+            None => e,
+        };
+        self.exponent = Some(top);
+        self.sum += scale_area(v, e - top);
+    }
+
+    /// The direction of the sum ([`unit_or_zero`]).
+    #[inline]
+    pub(super) fn direction(&self) -> DVec3 {
+        unit_or_zero(self.sum)
     }
 }
 
@@ -434,7 +513,7 @@ mod tests {
     #[test]
     fn frame_is_plain_in_the_common_range() {
         let f = Frame::new(DVec3::new(1.0, 2.0, 3.0), &[DVec3::new(4.0, 6.0, 3.0)]);
-        assert_eq!(f.unit(), 1.0);
+        assert_eq!(f.exponent(), 0);
         assert_eq!(f.span(DVec3::new(4.0, 6.0, 3.0)), DVec3::new(3.0, 4.0, 0.0));
     }
 
@@ -443,16 +522,41 @@ mod tests {
         let big = Frame::new(DVec3::ZERO, &[DVec3::new(3e200, 0.0, 0.0)]);
         let s = big.span(DVec3::new(3e200, 0.0, 0.0));
         assert!((1.0..2.0).contains(&s.x));
-        assert_eq!(s.x * big.unit(), 3e200);
+        assert_eq!(ldexp(s.x, big.exponent()), 3e200);
 
         let over = Frame::new(DVec3::splat(-1.5e308), &[DVec3::splat(1.5e308)]);
         let s = over.span(DVec3::splat(1.5e308));
         assert!(s.is_finite() && (1.0..2.0).contains(&s.x));
-        assert!((s.x * over.unit()).is_infinite()); // 3e308 is not representable
+        assert!(ldexp(s.x, over.exponent()).is_infinite()); // 3e308 is not representable
 
         let tiny = Frame::new(DVec3::ZERO, &[DVec3::new(0.0, 5e-300, 0.0)]);
         let s = tiny.span(DVec3::new(0.0, 5e-300, 0.0));
         assert!((1.0..2.0).contains(&s.y));
+    }
+
+    #[test]
+    fn powers_of_two() {
+        for m in [1.0, 1.5, 3e200, f64::MAX, f64::MIN_POSITIVE, 5e-324, 3e-310] {
+            let p = pow2_floor(m);
+            assert!(p <= m && m < 2.0 * p, "{m}");
+        }
+        assert_eq!(ldexp(1.5, 2000), f64::INFINITY);
+        assert_eq!(ldexp(ldexp(ldexp(1.5, 1000), -2000), 1000), 1.5);
+        assert_eq!(ldexp(ldexp(1.5, -1050), 1050), 1.5);
+        assert_eq!(ldexp(3.0, -1100), 0.0);
+    }
+
+    #[test]
+    fn scaled_sum_keeps_the_direction() {
+        let mut s = ScaledSum::default();
+        s.add(DVec3::X, 600);
+        s.add(DVec3::Y, 600);
+        s.add(DVec3::Z, -600);
+        let d = s.direction();
+        assert!((d - DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-16);
+        let mut plain = ScaledSum::default();
+        plain.add(DVec3::new(1.0, 2.0, 2.0), 0);
+        assert_eq!(plain.direction(), DVec3::new(1.0, 2.0, 2.0) * (1.0 / 3.0));
     }
 
     #[test]

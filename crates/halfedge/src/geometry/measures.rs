@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use super::Geometry;
-use super::kernel::{Frame, Sum, VecSum};
+use super::kernel::{Frame, Sum, VecSum, ldexp};
 use crate::error::TopologyError;
 use crate::ids::FaceId;
 
@@ -44,8 +44,8 @@ impl Geometry<'_> {
     ///
     /// The result is exact for any closed polyhedral surface and does not depend on the
     /// origin. To keep it accurate far from the origin, positions are taken relative to
-    /// the centre of the bounding box; the triple products are added with compensated
-    /// summation.
+    /// the centre of the bounding box of the vertices that have edges; the triple products
+    /// are added with compensated summation.
     ///
     /// # Errors
     /// [`TopologyError::NotClosed`] when the mesh has a boundary (isolated vertices do not
@@ -82,14 +82,13 @@ impl Geometry<'_> {
         for f in self.mesh.faces() {
             self.fan(f, &frame, |q0, q1, q2| sum.add(q0.dot(q1.cross(q2))));
         }
-        let unit = frame.unit();
-        Ok(sum.value() / 6.0 * unit * unit * unit)
+        Ok(ldexp(sum.value() / 6.0, 3 * frame.exponent()))
     }
 
     /// The centre of area of the surface: the area-weighted mean of the triangle centroids
     /// (larger faces fanned from their first vertex), or `None` when the total area is
-    /// zero. Positions are taken relative to the centre of the bounding box and summed
-    /// with compensation.
+    /// zero. Positions are taken relative to the centre of the bounding box of the vertices
+    /// that have edges and summed with compensation.
     ///
     /// # Complexity
     /// O(V + H).
@@ -120,12 +119,24 @@ impl Geometry<'_> {
         if w.is_nan() || w <= 0.0 {
             return None;
         }
-        Some(frame.origin() + moment.value() / w * frame.unit())
+        let offset = moment.value() / w;
+        let e = frame.exponent();
+        Some(
+            frame.origin() + DVec3::new(ldexp(offset.x, e), ldexp(offset.y, e), ldexp(offset.z, e)),
+        )
     }
 
-    /// A frame around the centre of the bounding box, `None` without vertices.
+    /// A frame around the centre of the bounding box of the vertices that have edges
+    /// (isolated vertices, possibly far away, would only cost digits), `None` when there
+    /// are none.
     fn centred_frame(&self) -> Option<Frame> {
-        let (lo, hi) = self.bounding_box()?;
+        let m = self.mesh;
+        let mut used = m
+            .vertices()
+            .filter(|&v| !m.is_isolated(v))
+            .map(|v| self.position(v));
+        let first = used.next()?;
+        let (lo, hi) = used.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
         let centre = lo * 0.5 + hi * 0.5;
         Some(Frame::new(centre, &[lo, hi]))
     }

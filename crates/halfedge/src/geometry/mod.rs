@@ -22,15 +22,17 @@
 //! - **Finite results.** For finite positions no query returns NaN and none panics on
 //!   geometry: degenerate faces, coincident vertices and isolated vertices give 0 or the
 //!   zero vector as documented per query. Lengths, areas and volumes are infinite only
-//!   when their exact value exceeds `f64::MAX`. Differences are rescaled by a power of two
-//!   when their products could overflow or underflow (coordinates beyond about 10^±60),
-//!   so that scale-invariant results (normals, angles, cotangents, degeneracy) stay exact
-//!   at any scale; in the usual range the arithmetic is the plain textbook one. Positions
-//!   are assumed finite (the readers reject NaN and infinite coordinates).
-//! - **Agreement with OpenMesh.** Face normals and the
+//!   when their exact value exceeds `f64::MAX`. Edge vectors are rescaled by a power of
+//!   two (exactly) when their products could overflow or underflow (components beyond
+//!   about 10^±60), so that scale-invariant results (normals, angles, cotangents,
+//!   degeneracy) stay accurate at any scale; in the usual range the arithmetic is the
+//!   plain textbook one. Positions are assumed finite.
+//! - **Agreement with OpenMesh.** Face normals, edge lengths and the
 //!   [`Mean`](NormalWeighting::Mean) vertex normal follow OpenMesh's arithmetic operation
-//!   by operation (`update_normals` of a `TriMesh` or `PolyMesh` with `f64` points), so the
-//!   two agree to the last bit on the same connectivity.
+//!   by operation (`calc_face_normal`, `calc_edge_length` and `update_normals` of a
+//!   `TriMesh` or `PolyMesh` with `f64` points; vertex normals sum the faces in the order
+//!   of OpenMesh's clockwise vertex-face circulator), so results agree to the last bit
+//!   (see [`NormalWeighting::Mean`] for the one condition on the circulation start).
 //! - **Sums.** Whole-mesh sums (surface area, volume, centroid, mean edge length) are
 //!   compensated (Neumaier), so they are accurate to about one rounding on meshes of any
 //!   size. Per-vertex sums are plain, in circulation order.

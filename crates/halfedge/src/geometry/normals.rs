@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use super::Geometry;
-use super::kernel::unit_or_zero;
+use super::kernel::{ScaledSum, unit_or_zero};
 use crate::ids::{FaceId, HalfedgeId, VertexId};
 use crate::map::{FaceMap, VertexMap};
 
@@ -14,10 +14,11 @@ use crate::map::{FaceMap, VertexMap};
 /// [`DVec3::ZERO`] when the sum vanishes (an isolated vertex, a vertex whose faces are all
 /// degenerate, or normals that cancel).
 ///
-/// The faces are visited in OpenMesh's order: clockwise, starting from the face of
+/// The faces are visited in OpenMesh's order (its default vertex-face circulator):
+/// clockwise, starting from the face of
 /// [`outgoing_halfedge`](crate::HalfedgeMesh::outgoing_halfedge) (at a boundary vertex,
-/// the face beside the boundary edge that leaves the vertex). This matters only for the
-/// last bit of the sum.
+/// the face beside the boundary edge that leaves the vertex). The order matters only for
+/// the last bit of the sum.
 ///
 /// # References
 /// G. Thürmer, C. A. Wüthrich: *Computing vertex normals from polygonal facets*. Journal
@@ -27,17 +28,21 @@ use crate::map::{FaceMap, VertexMap};
 pub enum NormalWeighting {
     /// The unweighted sum of the unit face normals
     /// ([`face_normal`](Geometry::face_normal)): what OpenMesh's `update_normals` computes
-    /// (`calc_vertex_normal_fast`), bit for bit on the same connectivity. A degenerate face
-    /// adds its normal like any other face (the zero vector when its vertices are exactly
-    /// collinear).
+    /// (`calc_vertex_normal_fast`). The two agree bit for bit wherever the circulation
+    /// starts at the same halfedge: always at boundary vertices (both start at the
+    /// boundary halfedge), at interior vertices when OpenMesh's outgoing halfedge is the
+    /// one chosen by [`HalfedgeMesh::from_polygons`](crate::HalfedgeMesh::from_polygons).
+    /// A degenerate face adds its normal like any other face (the zero vector when its
+    /// vertices are exactly collinear).
     Mean,
     /// The sum of the face vector areas ([`face_vector_area`](Geometry::face_vector_area)):
     /// each unit normal weighted by its face's area. Degenerate faces add nothing.
     Area,
     /// The sum of the unit face normals each weighted by the face's interior angle at the
     /// vertex ([`corner_angle`](Geometry::corner_angle)), after Thürmer and Wüthrich: the
-    /// result does not depend on how the surface around the vertex is triangulated.
-    /// Degenerate faces add nothing.
+    /// result does not change when a planar face is split into triangles (the cube's
+    /// corners get the diagonal however their sides are split). Degenerate faces add
+    /// nothing.
     Angle,
 }
 
@@ -93,16 +98,16 @@ impl Geometry<'_> {
         )
     }
 
-    /// The outgoing halfedges of `v` that have a face, in OpenMesh's vertex-face order:
-    /// clockwise from the outgoing halfedge.
-    fn face_halfedges_clockwise(&self, v: VertexId) -> impl Iterator<Item = HalfedgeId> + '_ {
+    /// The faces around `v` with the outgoing halfedge of `v` in each, in OpenMesh's
+    /// vertex-face order: clockwise from the outgoing halfedge, boundary gaps skipped.
+    fn faces_clockwise(&self, v: VertexId) -> impl Iterator<Item = (HalfedgeId, FaceId)> + '_ {
         let m = self.mesh;
         let start = m.outgoing_halfedge(v);
         std::iter::successors(start, move |&h| {
             let n = m.cw_rotated(h);
             (Some(n) != start).then_some(n)
         })
-        .filter(move |&h| !m.is_boundary_halfedge(h))
+        .filter_map(move |h| m.face(h).map(|f| (h, f)))
     }
 
     fn vertex_normal_with(
@@ -112,24 +117,46 @@ impl Geometry<'_> {
         face_normal: impl Fn(FaceId) -> DVec3,
     ) -> DVec3 {
         let m = self.mesh;
-        let mut sum = DVec3::ZERO;
-        for h in self.face_halfedges_clockwise(v) {
-            let Some(f) = m.face(h) else { continue };
-            match weighting {
-                NormalWeighting::Mean => sum += face_normal(f),
-                NormalWeighting::Area => {
-                    if !self.is_degenerate_face(f) {
-                        sum += self.face_vector_area(f);
-                    }
+        let faces = self.faces_clockwise(v);
+        match weighting {
+            NormalWeighting::Mean => {
+                let mut sum = DVec3::ZERO;
+                for (_, f) in faces {
+                    sum += face_normal(f);
                 }
-                NormalWeighting::Angle => {
+                unit_or_zero(sum)
+            }
+            NormalWeighting::Area => {
+                // Twice the vector areas, each in its own power-of-two unit, so that the
+                // direction survives areas beyond the range of f64. With unit 1 (the
+                // usual case) this is the plain sum.
+                let mut sum = ScaledSum::default();
+                for (_, f) in faces {
+                    let (c, unit) = match self.triangle(f) {
+                        Some(t) if t.is_degenerate() => continue,
+                        Some(t) => t.double_vector_area(),
+                        None => {
+                            let p = self.polygon(f);
+                            if p.is_degenerate() {
+                                continue;
+                            }
+                            p.double_vector_area()
+                        }
+                    };
+                    sum.add(c, unit);
+                }
+                sum.direction()
+            }
+            NormalWeighting::Angle => {
+                let mut sum = DVec3::ZERO;
+                for (h, f) in faces {
                     if !self.is_degenerate_face(f) {
                         // The corner at v is the one at the end of the halfedge entering v.
                         sum += face_normal(f) * self.corner_angle(m.prev(h));
                     }
                 }
+                unit_or_zero(sum)
             }
         }
-        unit_or_zero(sum)
     }
 }
