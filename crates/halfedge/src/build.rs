@@ -563,10 +563,9 @@ fn assemble(
         }
     }
     // Interior vertices: the halfedge leaving the vertex in its first face.
-    for k in 0..n_corners {
-        let v = corners.indices[k] as usize;
-        if v_out[v] == INVALID {
-            v_out[v] = corner_he[k];
+    for (&v, &h) in corners.indices.iter().zip(&corner_he) {
+        if v_out[v as usize] == INVALID {
+            v_out[v as usize] = h;
         }
     }
     let f_he: Vec<u32> = list.offsets()[1..]

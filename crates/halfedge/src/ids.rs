@@ -198,8 +198,8 @@ mod tests {
 
     #[test]
     fn id_range_counts() {
-        let r: IdRange<FaceId> = IdRange::new(3);
+        let mut r: IdRange<FaceId> = IdRange::new(3);
         assert_eq!(r.len(), 3);
-        assert_eq!(r.rev().next(), Some(FaceId::new(2)));
+        assert_eq!(r.next_back(), Some(FaceId::new(2)));
     }
 }

@@ -48,7 +48,16 @@ fn every_fixture_builds_and_passes_integrity() {
 #[test]
 fn euler_characteristic_genus_and_boundary() {
     // (name, V, E, F, χ, boundary loop lengths, genus of the single component)
-    let expected: &[(&str, usize, usize, usize, i64, &[usize], Option<u32>)] = &[
+    type Row = (
+        &'static str,
+        usize,
+        usize,
+        usize,
+        i64,
+        &'static [usize],
+        Option<u32>,
+    );
+    let expected: &[Row] = &[
         ("triangle", 3, 3, 1, 1, &[3], Some(0)),
         ("hexagon_fan", 7, 12, 6, 1, &[6], Some(0)),
         ("grid_4x3", 20, 43, 24, 1, &[14], Some(0)),
@@ -239,7 +248,7 @@ fn boundary_circulation_starts_at_the_boundary_halfedge() {
 
 #[test]
 fn edges_are_numbered_by_first_appearance() {
-    let mesh = HalfedgeMesh::from_polygons(4, &[[0u32, 1, 2], [0, 2, 3]]).unwrap();
+    let mesh = HalfedgeMesh::from_polygons(4, [[0u32, 1, 2], [0, 2, 3]]).unwrap();
     let pairs: Vec<[u32; 2]> = mesh
         .edges()
         .map(|e| mesh.edge_vertices(e).map(VertexId::raw))
@@ -256,7 +265,7 @@ fn edges_are_numbered_by_first_appearance() {
 
 #[test]
 fn isolated_vertices_are_kept() {
-    let mesh = HalfedgeMesh::from_polygons(5, &[[0u32, 1, 2]]).unwrap();
+    let mesh = HalfedgeMesh::from_polygons(5, [[0u32, 1, 2]]).unwrap();
     mesh.check_integrity().unwrap();
     let v = VertexId::new(4);
     assert!(mesh.is_isolated(v));
@@ -273,7 +282,7 @@ fn isolated_vertices_are_kept() {
 #[test]
 fn components_are_labelled_by_lowest_vertex() {
     // Two separate triangles, listed with the higher one first.
-    let mesh = HalfedgeMesh::from_polygons(6, &[[3u32, 4, 5], [0, 1, 2]]).unwrap();
+    let mesh = HalfedgeMesh::from_polygons(6, [[3u32, 4, 5], [0, 1, 2]]).unwrap();
     let comps = mesh.connected_components();
     assert_eq!(comps.count(), 2);
     assert_eq!(comps.vertex_component.as_slice(), &[0, 0, 0, 1, 1, 1]);

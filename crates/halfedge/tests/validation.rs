@@ -98,7 +98,7 @@ fn non_manifold_vertex_with_closed_and_open_fan() {
 
 #[test]
 fn too_many_vertices() {
-    let e = HalfedgeMesh::from_polygons(u32::MAX as usize + 1, &[[0u32, 1, 2]]).unwrap_err();
+    let e = HalfedgeMesh::from_polygons(u32::MAX as usize + 1, [[0u32, 1, 2]]).unwrap_err();
     assert_snapshot!(e, @"too many vertices: 4294967296 (at most 4294967295 are supported)");
 }
 
@@ -112,7 +112,7 @@ fn drop_degenerate_faces() {
     assert_eq!(report.dropped_faces, [1, 3]);
     assert_eq!(report.face_origin, [0, 2]);
     // Out of range stays an error even with the repair.
-    let e = HalfedgeMesh::build(3, &[[0u32, 1, 9]], &options).unwrap_err();
+    let e = HalfedgeMesh::build(3, [[0u32, 1, 9]], &options).unwrap_err();
     assert!(matches!(e, TopologyError::VertexOutOfRange { .. }));
 }
 
@@ -141,7 +141,7 @@ fn reorient_fixes_a_flipped_cube_face() {
 fn reorient_rejects_a_moebius_strip() {
     // A strip of 4 quads, closed with a half twist.
     let faces = [[0u32, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 4, 0, 7]];
-    let e = HalfedgeMesh::build(8, &faces, &BuildOptions::new().reorient(true)).unwrap_err();
+    let e = HalfedgeMesh::build(8, faces, &BuildOptions::new().reorient(true)).unwrap_err();
     assert_snapshot!(e, @"the component of face 0 is not orientable: no consistent orientation exists");
 }
 
@@ -151,7 +151,7 @@ fn split_non_manifold_vertices() {
     // here: three fans at vertex 0.
     let faces = [[0u32, 1, 2], [0, 3, 4], [0, 5, 6]];
     let options = BuildOptions::new().split_nonmanifold_vertices(true);
-    let (mesh, report) = HalfedgeMesh::build(7, &faces, &options).unwrap();
+    let (mesh, report) = HalfedgeMesh::build(7, faces, &options).unwrap();
     mesh.check_integrity().unwrap();
     assert_eq!(mesh.n_vertices(), 9);
     assert_eq!(
@@ -179,7 +179,7 @@ fn split_closed_fans() {
     let mut faces: Vec<[u32; 3]> = t.to_vec();
     faces.extend(t.iter().map(|f| f.map(|v| if v == 0 { 0 } else { v + 3 })));
     let options = BuildOptions::new().split_nonmanifold_vertices(true);
-    let (mesh, report) = HalfedgeMesh::build(7, &faces, &options).unwrap();
+    let (mesh, report) = HalfedgeMesh::build(7, faces, &options).unwrap();
     mesh.check_integrity().unwrap();
     assert_eq!(report.split_vertices.len(), 1);
     let comps = mesh.connected_components();

@@ -1,0 +1,58 @@
+//! Reading a mesh file and building its connectivity, the way every command does.
+
+use std::path::Path;
+
+use beltrami_halfedge::{BuildOptions, BuildReport, DVec3, HalfedgeMesh, TopologyError};
+use beltrami_io::{MeshFormat, read_mesh};
+
+use crate::error::CliError;
+
+/// A mesh read from a file: connectivity, positions and what repairs changed.
+pub(crate) struct LoadedMesh {
+    pub(crate) format: MeshFormat,
+    pub(crate) mesh: HalfedgeMesh,
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) report: BuildReport,
+}
+
+/// Reads `path` and builds its half-edge connectivity, applying every repair when
+/// `repair` is set (the report says what changed).
+pub(crate) fn load(path: &Path, repair: bool) -> Result<LoadedMesh, CliError> {
+    let io = |source| CliError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let format = MeshFormat::from_path(path).map_err(io)?;
+    let data = read_mesh(path).map_err(io)?;
+    let options = if repair {
+        BuildOptions::repair_all()
+    } else {
+        BuildOptions::new()
+    };
+    let (mesh, report) = HalfedgeMesh::build(data.positions.len(), data.faces.iter(), &options)
+        .map_err(|source| CliError::Topology {
+            path: path.to_path_buf(),
+            repairable: !repair && is_repairable(&source),
+            source,
+        })?;
+    let mut positions = data.positions;
+    for split in &report.split_vertices {
+        positions.push(positions[split.original.index()]);
+    }
+    Ok(LoadedMesh {
+        format,
+        mesh,
+        positions,
+        report,
+    })
+}
+
+fn is_repairable(e: &TopologyError) -> bool {
+    matches!(
+        e,
+        TopologyError::FaceTooSmall { .. }
+            | TopologyError::RepeatedVertex { .. }
+            | TopologyError::InconsistentOrientation { .. }
+            | TopologyError::NonManifoldVertex { .. }
+    )
+}

@@ -1,0 +1,197 @@
+//! `beltrami info` as a user runs it: real files in, numbers or one error line out.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use insta::assert_snapshot;
+use serde_json::Value;
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+}
+
+fn beltrami(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_beltrami"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn info_json(path: &Path) -> Value {
+    let out = beltrami(&["info", path.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+/// The one stderr line of a failed run, with the temporary directory replaced.
+fn error_line(out: &Output, dir: &Path) -> String {
+    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
+    assert!(stderr.starts_with("error: "), "{stderr:?}");
+    assert!(out.stdout.is_empty(), "nothing on stdout");
+    stderr
+        .trim_end()
+        .replace(&format!("{}/", dir.display()), "")
+}
+
+fn close(value: &Value, expected: f64, tol: f64) -> bool {
+    (value.as_f64().expect("a number") - expected).abs() <= tol
+}
+
+#[test]
+fn cube_in_every_format_gives_the_same_numbers() {
+    for name in [
+        "cube_binary.stl",
+        "cube_ascii.stl",
+        "cube.obj",
+        "cube_ascii.ply",
+    ] {
+        let j = info_json(&fixture(name));
+        assert_eq!(j["vertices"], 8, "{name}");
+        assert_eq!(j["faces"], 12, "{name}");
+        assert_eq!(j["edges"], 18, "{name}");
+        assert_eq!(j["boundary_loops"], 0, "{name}");
+        assert_eq!(j["components"], 1, "{name}");
+        assert_eq!(j["euler_characteristic"], 2, "{name}");
+        assert_eq!(j["closed"], true, "{name}");
+        assert_eq!(j["genus"], 0, "{name}");
+        assert!(close(&j["area"], 6.0, 1e-12), "{name}");
+        assert!(close(&j["volume"], 1.0, 1e-12), "{name}");
+        assert_eq!(j["bbox_min"], serde_json::json!([0.0, 0.0, 0.0]), "{name}");
+        assert_eq!(j["bbox_max"], serde_json::json!([1.0, 1.0, 1.0]), "{name}");
+        // 12 unit edges and 6 face diagonals of length √2.
+        let mean = (12.0 + 6.0 * 2f64.sqrt()) / 18.0;
+        assert!(close(&j["mean_edge_length"], mean, 1e-12), "{name}");
+    }
+}
+
+#[test]
+fn open_mesh_reports_boundary_and_null_volume() {
+    let j = info_json(&fixture("grid_4x3.obj"));
+    assert_eq!(j["vertices"], 20);
+    assert_eq!(j["faces"], 24);
+    assert_eq!(j["boundary_loops"], 1);
+    assert_eq!(j["boundary_loop_lengths"], serde_json::json!([14]));
+    assert_eq!(j["closed"], false);
+    assert_eq!(j["volume"], Value::Null);
+    assert_eq!(j["genus"], Value::Null);
+    assert!(close(&j["area"], 12.0, 1e-12));
+}
+
+#[test]
+fn torus_has_genus_one() {
+    let j = info_json(&fixture("torus_12x8.ply"));
+    assert_eq!(j["euler_characteristic"], 0);
+    assert_eq!(j["genus"], 1);
+    assert!(j["volume"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn table_output_lists_the_counts() {
+    let out = beltrami(&["info", fixture("tetrahedron_ascii.ply").to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for expected in [
+        "vertices              4",
+        "faces                 4 (triangles)",
+        "edges                 6",
+        "closed                yes",
+        "genus                 0",
+    ] {
+        assert!(text.contains(expected), "missing {expected:?} in\n{text}");
+    }
+}
+
+#[test]
+fn invalid_topology_is_one_error_line_and_exit_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let bowtie = dir.path().join("bowtie.obj");
+    std::fs::write(
+        &bowtie,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
+    )
+    .unwrap();
+    let out = beltrami(&["info", bowtie.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_snapshot!(error_line(&out, dir.path()), @"error: bowtie.obj: non-manifold vertex 0: its faces form 2 separate fans (--repair can fix this)");
+
+    let out = beltrami(&["info", bowtie.to_str().unwrap(), "--repair", "--json"]);
+    assert!(out.status.success());
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["vertices"], 6);
+    assert_eq!(j["components"], 2);
+    assert_eq!(j["repairs"]["split_vertices"], serde_json::json!([0]));
+}
+
+#[test]
+fn flipped_face_is_reported_and_repairable() {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = dir.path().join("quad.obj");
+    std::fs::write(
+        &quad,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 4 3\n",
+    )
+    .unwrap();
+    let out = beltrami(&["info", quad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_snapshot!(error_line(&out, dir.path()), @"error: quad.obj: inconsistent orientation: faces 0 and 1 both traverse edge 2 -> 0 (--repair can fix this)");
+    let out = beltrami(&["info", quad.to_str().unwrap(), "--repair"]);
+    assert!(out.status.success());
+    assert!(
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .contains("repaired: flipped 1 face(s): [1]")
+    );
+}
+
+#[test]
+fn unreadable_files_are_one_error_line_and_exit_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.ply");
+    let out = beltrami(&["info", missing.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out, dir.path());
+    assert!(line.starts_with("error: missing.ply: "), "{line}");
+
+    let garbage = dir.path().join("garbage.stl");
+    std::fs::write(&garbage, [0xffu8, 0x00, 0x13, 0x37, 0x42]).unwrap();
+    let out = beltrami(&["info", garbage.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(error_line(&out, dir.path()).starts_with("error: garbage.stl: "));
+
+    let unknown = dir.path().join("mesh.xyz");
+    std::fs::write(&unknown, "1 2 3\n").unwrap();
+    let out = beltrami(&["info", unknown.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(error_line(&out, dir.path()).starts_with("error: mesh.xyz: "));
+}
+
+#[test]
+fn bad_usage_is_one_error_line_and_exit_2() {
+    let dir = Path::new("/nonexistent");
+    for args in [
+        &["info"][..],
+        &["info", "a.ply", "--frobnicate"],
+        &["smoosh"],
+    ] {
+        let out = beltrami(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        error_line(&out, dir);
+    }
+    let out = beltrami(&["info", "--frobnicate", "a.ply"]);
+    assert_snapshot!(error_line(&out, dir), @"error: unexpected argument '--frobnicate' found (see 'beltrami --help')");
+}
+
+#[test]
+fn help_goes_to_stdout_with_exit_0() {
+    let out = beltrami(&["info", "--help"]);
+    assert!(out.status.success());
+    assert!(String::from_utf8(out.stdout).unwrap().contains("--json"));
+}
