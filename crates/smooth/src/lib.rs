@@ -1,0 +1,40 @@
+//! # beltrami-smooth
+//!
+//! Laplacian diffusion smoothing, `x ← x + λ L x`, with any
+//! [`WeightScheme`](beltrami_weights::WeightScheme): explicit Jacobi iterations, fixed,
+//! free or curve-constrained boundaries, pinned vertices, weights recomputed every
+//! iteration or frozen, and an observer that sees every iteration.
+//!
+//! Three layers: [`smooth`] for one call, [`Smoother::step`] to drive iterations
+//! yourself, and [`Smoother::run`] with an observer
+//! `FnMut(&Iteration) -> ControlFlow<()>` (metrics, progress, early stop).
+//!
+//! ## Quick start
+//!
+//! ```
+//! use std::ops::ControlFlow;
+//! use beltrami_halfedge::primitives;
+//! use beltrami_smooth::{SmoothConfig, Smoother};
+//! use beltrami_weights::InverseDistance;
+//!
+//! let grid = primitives::grid(8, 8);
+//! let mesh = grid.mesh().unwrap();
+//! let mut max_moves = Vec::new();
+//! let out = Smoother::new(&mesh, &grid.positions, &InverseDistance, SmoothConfig::new(0.8, 20))?
+//!     .run(|it| {
+//!         max_moves.push(it.stats.max_displacement);
+//!         ControlFlow::Continue(())
+//!     })?;
+//! assert_eq!(max_moves.len(), 20);
+//! // A flat, regular grid with a fixed boundary is already smooth: nothing moves.
+//! assert!(out.positions.iter().zip(&grid.positions).all(|(a, b)| (*a - *b).length() < 1e-12));
+//! # Ok::<(), beltrami_smooth::SmoothError>(())
+//! ```
+
+mod config;
+mod error;
+mod smoother;
+
+pub use config::{Boundary, SmoothConfig, WeightUpdate};
+pub use error::SmoothError;
+pub use smoother::{Iteration, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth};
