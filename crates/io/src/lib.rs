@@ -27,6 +27,14 @@
 //! # }
 //! ```
 //!
+//! ## Formats
+//!
+//! | format | read | written by [`write_mesh`] |
+//! |---|---|---|
+//! | PLY | ascii, binary little- and big-endian; `x y z` of any numeric type; faces from `vertex_indices` or `vertex_index` lists; other elements and properties ignored | `x y z` as `double` (or `float`), faces as `list uchar int vertex_indices`; [`write_ply`] adds scalar attributes and colours |
+//! | STL | binary or ascii, told apart by content; the triangle soup is welded exactly | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
+//! | OBJ | `v` and `f` (all corner forms, negative indices); everything else ignored | `v` and `f` lines |
+//!
 //! ## Guarantees
 //!
 //! - **Exact round trips.** Binary PLY in double precision keeps every bit; ascii PLY

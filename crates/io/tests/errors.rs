@@ -367,6 +367,17 @@ fn ply_unknown_elements_and_properties_are_ignored() {
     assert_eq!(binary, mesh);
 }
 
+#[test]
+fn ply_crlf_comments_and_obj_info_are_accepted() {
+    let text = "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nobj_info scanner 7\r\n\
+                element vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n\
+                element face 1\r\nproperty list uchar uint vertex_indices\r\nend_header\r\n\
+                0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n";
+    let mesh = read_mesh_from(text.as_bytes(), MeshFormat::Ply).expect("read");
+    assert_eq!(mesh.positions[1], DVec3::X);
+    assert_eq!(mesh.faces.get(0), Some(&[0, 1, 2][..]));
+}
+
 // ---------------------------------------------------------------- STL
 
 fn binary_stl(count: u32, triangles: &[[f32; 9]]) -> Vec<u8> {
