@@ -773,25 +773,63 @@ proptest! {
 }
 
 #[test]
-fn mean_vertex_normal_sums_in_openmesh_order() {
-    // An open fan around vertex 0 with three faces f0 = [0,1,2], f1 = [0,2,3],
-    // f2 = [0,3,4]. OpenMesh's vertex-face circulator runs clockwise from the outgoing
-    // halfedge 0 → 4 (the boundary one): f2, f1, f0.
+fn mean_vertex_normal_matches_openmesh_at_a_boundary_vertex() {
+    // An open fan around vertex 0: f0 = [0,1,2], f1 = [0,2,3], f2 = [0,3,4]. OpenMesh's
+    // vertex-face circulator runs clockwise from the outgoing boundary halfedge 0 → 4:
+    // f2, f1, f0.
     let positions = vec![
-        DVec3::new(0.1, -0.2, 0.3),
-        DVec3::new(1.0, 0.1, 0.05),
-        DVec3::new(0.3, 0.9, -0.2),
-        DVec3::new(-0.8, 0.7, 0.4),
-        DVec3::new(-0.6, -0.7, -0.1),
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(0.35, 0.93, 0.09),
+        DVec3::new(-0.76, 0.73, 0.0),
+        DVec3::new(-0.89, -0.53, 0.2),
+        DVec3::new(0.03, -0.95, 0.02),
     ];
     let fx = Fixture::from_faces(positions, &[[0u32, 1, 2], [0, 2, 3], [0, 3, 4]]);
     let g = fx.geometry();
     let n = |i| g.face_normal(f(i));
-    let sum = n(2) + n(1) + n(0);
-    let expected = openmesh_normalize(sum.to_array());
+    let clockwise = openmesh_normalize((n(2) + n(1) + n(0)).to_array());
+    let counter_clockwise = openmesh_normalize((n(0) + n(1) + n(2)).to_array());
+    // These positions are chosen so that the two orders round differently.
+    assert_ne!(bits(clockwise), bits(counter_clockwise));
+    // OpenMesh 9.0 (TriMesh with Vec3d points, these faces added in order,
+    // update_normals) gives vertex 0 this normal.
+    let openmesh = DVec3::new(0.09159282423302725, 0.03298322814883433, 0.9952501500677605);
+    assert_eq!(bits(clockwise), bits(openmesh));
     assert_eq!(
         bits(g.vertex_normal(v(0), NormalWeighting::Mean)),
-        bits(expected)
+        bits(openmesh)
+    );
+}
+
+#[test]
+fn mean_vertex_normal_matches_openmesh_at_an_interior_vertex() {
+    // A closed, non-planar fan of five triangles fk = [0, k+1, (k+1) % 5 + 1] around
+    // vertex 0. OpenMesh's outgoing halfedge of an interior vertex lies in the face that
+    // closed its fan, the last one added (f4), so its circulator visits f4, f3, f2, f1, f0.
+    let positions = vec![
+        DVec3::new(0.0, 0.0, 0.5),
+        DVec3::new(0.24, 0.91, 0.14),
+        DVec3::new(-0.83, 0.62, -0.07),
+        DVec3::new(-0.82, -0.57, 0.03),
+        DVec3::new(0.32, -0.86, 0.23),
+        DVec3::new(0.95, 0.02, 0.24),
+    ];
+    let faces: Vec<[u32; 3]> = (1..=5).map(|k| [0, k, k % 5 + 1]).collect();
+    let fx = Fixture::from_faces(positions, &faces);
+    let g = fx.geometry();
+    assert!(!fx.mesh.is_boundary_vertex(v(0)));
+    let n = |i| g.face_normal(f(i));
+    let from_last = openmesh_normalize((n(4) + n(3) + n(2) + n(1) + n(0)).to_array());
+    let from_first = openmesh_normalize((n(0) + n(4) + n(3) + n(2) + n(1)).to_array());
+    let counter_clockwise = openmesh_normalize((n(0) + n(1) + n(2) + n(3) + n(4)).to_array());
+    assert_ne!(bits(from_last), bits(from_first));
+    assert_ne!(bits(from_last), bits(counter_clockwise));
+    // OpenMesh 9.0, as above.
+    let openmesh = DVec3::new(-0.1234060185707186, 0.046606697966278, 0.9912612018460137);
+    assert_eq!(bits(from_last), bits(openmesh));
+    assert_eq!(
+        bits(g.vertex_normal(v(0), NormalWeighting::Mean)),
+        bits(openmesh)
     );
 }
 

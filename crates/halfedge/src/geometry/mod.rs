@@ -31,8 +31,8 @@
 //!   [`Mean`](NormalWeighting::Mean) vertex normal follow OpenMesh's arithmetic operation
 //!   by operation (`calc_face_normal`, `calc_edge_length` and `update_normals` of a
 //!   `TriMesh` or `PolyMesh` with `f64` points; vertex normals sum the faces in the order
-//!   of OpenMesh's clockwise vertex-face circulator), so results agree to the last bit
-//!   (see [`NormalWeighting::Mean`] for the one condition on the circulation start).
+//!   of OpenMesh's clockwise vertex-face circulator, from the same start), so results agree
+//!   to the last bit when OpenMesh built the mesh from the same face list.
 //! - **Sums.** Whole-mesh sums (surface area, volume, centroid, mean edge length) are
 //!   compensated (Neumaier), so they are accurate to about one rounding on meshes of any
 //!   size. Per-vertex sums are plain, in circulation order.

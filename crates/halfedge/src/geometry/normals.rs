@@ -14,11 +14,12 @@ use crate::map::{FaceMap, VertexMap};
 /// [`DVec3::ZERO`] when the sum vanishes (an isolated vertex, a vertex whose faces are all
 /// degenerate, or normals that cancel).
 ///
-/// The faces are visited in OpenMesh's order (its default vertex-face circulator):
-/// clockwise, starting from the face of
-/// [`outgoing_halfedge`](crate::HalfedgeMesh::outgoing_halfedge) (at a boundary vertex,
-/// the face beside the boundary edge that leaves the vertex). The order matters only for
-/// the last bit of the sum.
+/// The faces are visited in OpenMesh's order, that of its default vertex-face circulator
+/// started at OpenMesh's outgoing halfedge: clockwise, starting at a boundary vertex from
+/// the face beside the boundary edge that leaves the vertex, and at an interior vertex
+/// from the face with the largest id (OpenMesh's `add_face` leaves the outgoing halfedge
+/// of an interior vertex in the face that closed its fan, the last one added). The order
+/// matters only for the last bit of the sum.
 ///
 /// # References
 /// G. Thürmer, C. A. Wüthrich: *Computing vertex normals from polygonal facets*. Journal
@@ -28,12 +29,9 @@ use crate::map::{FaceMap, VertexMap};
 pub enum NormalWeighting {
     /// The unweighted sum of the unit face normals
     /// ([`face_normal`](Geometry::face_normal)): what OpenMesh's `update_normals` computes
-    /// (`calc_vertex_normal_fast`). The two agree bit for bit wherever the circulation
-    /// starts at the same halfedge: always at boundary vertices (both start at the
-    /// boundary halfedge), at interior vertices when OpenMesh's outgoing halfedge is the
-    /// one chosen by [`HalfedgeMesh::from_polygons`](crate::HalfedgeMesh::from_polygons).
-    /// A degenerate face adds its normal like any other face (the zero vector when its
-    /// vertices are exactly collinear).
+    /// (`calc_vertex_normal_fast`), bit for bit when OpenMesh built the mesh from the same
+    /// face list in the same order. A degenerate face adds its normal like any other face
+    /// (the zero vector when its vertices are exactly collinear).
     Mean,
     /// The sum of the face vector areas ([`face_vector_area`](Geometry::face_vector_area)):
     /// each unit normal weighted by its face's area. Degenerate faces add nothing.
@@ -99,10 +97,17 @@ impl Geometry<'_> {
     }
 
     /// The faces around `v` with the outgoing halfedge of `v` in each, in OpenMesh's
-    /// vertex-face order: clockwise from the outgoing halfedge, boundary gaps skipped.
+    /// vertex-face order: clockwise, boundary gaps skipped, starting where OpenMesh's
+    /// outgoing halfedge of `v` is after building the mesh face by face: at a boundary
+    /// vertex the outgoing boundary halfedge, at an interior vertex the halfedge leaving
+    /// `v` in the face with the largest id (the face added last closes the fan).
     fn faces_clockwise(&self, v: VertexId) -> impl Iterator<Item = (HalfedgeId, FaceId)> + '_ {
         let m = self.mesh;
-        let start = m.outgoing_halfedge(v);
+        let start = if m.is_boundary_vertex(v) {
+            m.outgoing_halfedge(v)
+        } else {
+            m.halfedges_around_vertex(v).max_by_key(|&h| m.face(h))
+        };
         std::iter::successors(start, move |&h| {
             let n = m.cw_rotated(h);
             (Some(n) != start).then_some(n)
