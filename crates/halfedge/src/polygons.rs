@@ -17,7 +17,7 @@
 /// assert_eq!(faces.get(1), Some(&[0, 2, 3, 4][..]));
 /// assert!(!faces.is_triangles());
 /// ```
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PolygonList {
     indices: Vec<u32>,
     /// `offsets[f]..offsets[f + 1]` is the range of face `f` in `indices`.
@@ -117,6 +117,13 @@ impl PolygonList {
     #[must_use]
     pub fn offsets(&self) -> &[usize] {
         &self.offsets
+    }
+}
+
+impl Default for PolygonList {
+    /// An empty list (the same as [`PolygonList::new`]).
+    fn default() -> Self {
+        Self::new()
     }
 }
 
