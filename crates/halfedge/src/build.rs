@@ -562,9 +562,11 @@ fn assemble(
             h_prev[n as usize] = t as u32;
         }
     }
-    // Interior vertices: the halfedge leaving the vertex in its first face.
+    // Interior vertices: the halfedge leaving the vertex in its last face (where
+    // OpenMesh's `add_face` leaves it, so circulators start at the same neighbour).
+    let on_boundary: Vec<bool> = v_out.iter().map(|&h| h != INVALID).collect();
     for (&v, &h) in corners.indices.iter().zip(&corner_he) {
-        if v_out[v as usize] == INVALID {
+        if !on_boundary[v as usize] {
             v_out[v as usize] = h;
         }
     }

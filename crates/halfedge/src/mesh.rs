@@ -128,7 +128,8 @@ impl HalfedgeMesh {
     }
 
     /// An outgoing halfedge of `v`, `None` for an isolated vertex. For a boundary vertex
-    /// it is the outgoing boundary halfedge.
+    /// it is the outgoing boundary halfedge; for an interior vertex, the halfedge leaving
+    /// it in its last face in input order (as in OpenMesh).
     #[inline]
     #[must_use]
     pub fn outgoing_halfedge(&self, v: VertexId) -> Option<HalfedgeId> {
