@@ -10,6 +10,8 @@
 //! |---|---|---|
 //! | [`halfedge`] | `beltrami-halfedge` | connectivity, validation, circulators, geometry helpers |
 //! | [`io`] | `beltrami-io` | PLY, STL and OBJ readers and writers |
+//! | [`weights`] | `beltrami-weights` | the `WeightScheme` plug-in trait, built-in schemes, the Laplacian |
+//! | [`smooth`] | `beltrami-smooth` | explicit diffusion smoothing with boundary handling and observers |
 //!
 //! ```
 //! use beltrami::halfedge::HalfedgeMesh;
@@ -22,3 +24,5 @@
 
 pub use beltrami_halfedge as halfedge;
 pub use beltrami_io as io;
+pub use beltrami_smooth as smooth;
+pub use beltrami_weights as weights;

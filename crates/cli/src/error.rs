@@ -5,11 +5,13 @@ use std::path::PathBuf;
 
 use beltrami_halfedge::TopologyError;
 use beltrami_io::IoError;
+use beltrami_smooth::SmoothError;
+use beltrami_weights::WeightError;
 
 /// A failed command. Displayed as one line, without the leading `error: `.
 #[derive(Debug)]
 pub(crate) enum CliError {
-    /// A mesh file could not be read or written.
+    /// A file could not be read or written.
     Io { path: PathBuf, source: IoError },
     /// A mesh file was read but is not a valid oriented 2-manifold.
     Topology {
@@ -17,14 +19,25 @@ pub(crate) enum CliError {
         source: TopologyError,
         repairable: bool,
     },
+    /// Bad usage found after parsing (an unknown scheme name, a bad vertex list).
+    Usage(String),
+    /// Smoothing could not run or had to stop.
+    Smooth { path: PathBuf, source: SmoothError },
     /// Writing to stdout failed.
     Stdout(std::io::Error),
 }
 
 impl CliError {
-    /// 1 for bad input or a failed write; usage errors (2) never reach this type.
+    /// 2 for bad usage, 1 for everything else.
     pub(crate) fn exit_code(&self) -> u8 {
-        1
+        match self {
+            Self::Usage(_)
+            | Self::Smooth {
+                source: SmoothError::InvalidLambda { .. } | SmoothError::CurveNeedsWeightSum,
+                ..
+            } => 2,
+            _ => 1,
+        }
     }
 }
 
@@ -43,6 +56,8 @@ impl fmt::Display for CliError {
                 }
                 Ok(())
             }
+            Self::Usage(message) => write!(f, "{message} (see 'beltrami --help')"),
+            Self::Smooth { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
         }
     }
@@ -51,5 +66,11 @@ impl fmt::Display for CliError {
 impl From<std::io::Error> for CliError {
     fn from(e: std::io::Error) -> Self {
         Self::Stdout(e)
+    }
+}
+
+impl From<WeightError> for CliError {
+    fn from(e: WeightError) -> Self {
+        Self::Usage(e.to_string())
     }
 }

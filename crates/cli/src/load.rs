@@ -2,7 +2,9 @@
 
 use std::path::Path;
 
-use beltrami_halfedge::{BuildOptions, BuildReport, DVec3, HalfedgeMesh, TopologyError};
+use beltrami_halfedge::{
+    BuildOptions, BuildReport, DVec3, HalfedgeMesh, PolygonList, TopologyError,
+};
 use beltrami_io::{MeshFormat, read_mesh};
 
 use crate::error::CliError;
@@ -12,6 +14,8 @@ pub(crate) struct LoadedMesh {
     pub(crate) format: MeshFormat,
     pub(crate) mesh: HalfedgeMesh,
     pub(crate) positions: Vec<DVec3>,
+    /// The faces as read (before any repair), to write results with the input's faces.
+    pub(crate) faces: PolygonList,
     pub(crate) report: BuildReport,
 }
 
@@ -43,6 +47,7 @@ pub(crate) fn load(path: &Path, repair: bool) -> Result<LoadedMesh, CliError> {
         format,
         mesh,
         positions,
+        faces: data.faces,
         report,
     })
 }

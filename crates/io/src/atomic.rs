@@ -50,3 +50,18 @@ pub(crate) fn write_atomic(
     })?;
     Ok(())
 }
+
+/// Writes `bytes` to `path` atomically: the bytes go to a temporary file beside `path`,
+/// which is flushed to disk and renamed over `path`. On any error an existing file is
+/// left untouched and no temporary file remains. Use it for reports (JSON, CSV) that
+/// must never be half-written.
+///
+/// # Errors
+/// [`IoError::Io`] naming the operation that failed (creating the temporary file in
+/// the target's directory, writing, flushing, renaming).
+pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    use std::io::Write;
+    write_atomic(path, |file| {
+        file.write_all(bytes).map_err(IoError::io("write the file"))
+    })
+}

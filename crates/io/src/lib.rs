@@ -65,6 +65,7 @@ mod text;
 mod validate;
 mod write;
 
+pub use atomic::write_bytes_atomic;
 pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};

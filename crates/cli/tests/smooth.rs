@@ -1,0 +1,220 @@
+//! `beltrami smooth` as a user runs it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use beltrami_halfedge::primitives;
+use beltrami_io::{MeshData, WriteOptions, read_mesh, write_mesh};
+use beltrami_smooth::{Boundary, SmoothConfig, WeightUpdate, smooth};
+use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
+use insta::assert_snapshot;
+use serde_json::Value;
+
+fn beltrami(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_beltrami"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A noisy icosphere written as binary PLY; returns its path and data.
+fn noisy_sphere(dir: &Path) -> (PathBuf, MeshData) {
+    let p = primitives::icosphere(3);
+    let mut state = 17u64;
+    let positions = p
+        .positions
+        .iter()
+        .map(|&x| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let r = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            x * (1.0 + 0.02 * r)
+        })
+        .collect();
+    let data = MeshData {
+        positions,
+        faces: p.faces,
+    };
+    let path = dir.join("noisy.ply");
+    write_mesh(&path, &data, &WriteOptions::default()).unwrap();
+    (path, data)
+}
+
+fn error_line(out: &Output, dir: &Path) -> String {
+    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
+    assert!(stderr.starts_with("error: "), "{stderr:?}");
+    stderr
+        .trim_end()
+        .replace(&format!("{}/", dir.display()), "")
+}
+
+#[test]
+fn cli_output_equals_the_library_for_every_scheme_update_and_boundary() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, data) = noisy_sphere(dir.path());
+    // Open the sphere by dropping a face so the boundary modes differ.
+    let faces: Vec<&[u32]> = data.faces.iter().skip(1).collect();
+    let open = MeshData {
+        positions: data.positions.clone(),
+        faces: faces.into_iter().collect(),
+    };
+    let open_path = dir.path().join("open.ply");
+    write_mesh(&open_path, &open, &WriteOptions::default()).unwrap();
+    let mesh =
+        beltrami_halfedge::HalfedgeMesh::from_polygons(open.positions.len(), open.faces.iter())
+            .unwrap();
+
+    let schemes: [(&str, &dyn WeightScheme); 3] = [
+        ("uniform", &Uniform),
+        ("distance", &InverseDistance),
+        ("cotangent", &Cotangent),
+    ];
+    for (name, scheme) in schemes {
+        for (update, u) in [("every", WeightUpdate::Every), ("once", WeightUpdate::Once)] {
+            for (boundary, b) in [
+                ("fixed", Boundary::Fixed),
+                ("free", Boundary::Free),
+                ("curve", Boundary::Curve),
+            ] {
+                let output = dir.path().join(format!("{name}-{update}-{boundary}.ply"));
+                let out = beltrami(&[
+                    "smooth",
+                    s(&open_path),
+                    s(&output),
+                    "--weights",
+                    name,
+                    "--update",
+                    update,
+                    "--boundary",
+                    boundary,
+                    "--iterations",
+                    "6",
+                    "--lambda",
+                    "0.7",
+                ]);
+                assert!(
+                    out.status.success(),
+                    "{}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                let got = read_mesh(&output).unwrap();
+                let want = smooth(
+                    &mesh,
+                    &open.positions,
+                    scheme,
+                    SmoothConfig::new(0.7, 6).update(u).boundary(b),
+                )
+                .unwrap();
+                assert_eq!(got.faces, open.faces, "faces are kept exactly");
+                assert_eq!(got.positions, want.positions, "{name} {update} {boundary}");
+                assert_ne!(got.positions, open.positions);
+            }
+        }
+    }
+    let _ = input;
+}
+
+#[test]
+fn report_json_has_parameters_and_per_iteration_stats() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _) = noisy_sphere(dir.path());
+    let output = dir.path().join("out.obj");
+    let report = dir.path().join("report.json");
+    let out = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&output),
+        "--weights",
+        "distance",
+        "--iterations",
+        "4",
+        "--report",
+        s(&report),
+    ]);
+    assert!(out.status.success());
+    let j: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(j["parameters"]["weights"], "distance");
+    assert_eq!(j["parameters"]["lambda"], 0.8);
+    assert_eq!(j["parameters"]["boundary"], "fixed");
+    assert_eq!(j["parameters"]["update"], "every");
+    assert_eq!(j["iterations"], 4);
+    assert_eq!(j["stop"], "completed");
+    assert_eq!(j["steps"].as_array().unwrap().len(), 4);
+    assert_eq!(j["vertices"], 642);
+    // Diffusion damps the noise: each iteration moves less than the one before.
+    let moves: Vec<f64> = j["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["mean_displacement"].as_f64().unwrap())
+        .collect();
+    assert!(moves.windows(2).all(|w| w[1] < w[0]), "{moves:?}");
+    // OBJ output keeps the vertex count.
+    assert_eq!(read_mesh(&output).unwrap().positions.len(), 642);
+}
+
+#[test]
+fn bad_parameters_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _) = noisy_sphere(dir.path());
+    let output = dir.path().join("out.ply");
+    let out = beltrami(&["smooth", s(&input), s(&output), "--weights", "cot"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_snapshot!(error_line(&out, dir.path()), @r#"error: unknown weight scheme "cot" (known: uniform, distance, cotangent) (see 'beltrami --help')"#);
+    let out = beltrami(&["smooth", s(&input), s(&output), "--lambda", "1.5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_snapshot!(error_line(&out, dir.path()), @"error: noisy.ply: lambda must be in (0, 1] with weight-sum normalisation, got 1.5");
+    let out = beltrami(&["smooth", s(&input), s(&output), "--boundary", "sideways"]);
+    assert_eq!(out.status.code(), Some(2));
+    error_line(&out, dir.path());
+    assert!(!output.exists(), "no output after a failed run");
+}
+
+#[test]
+fn a_failed_run_leaves_an_existing_output_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _) = noisy_sphere(dir.path());
+    let output = dir.path().join("out.ply");
+    std::fs::write(&output, b"precious").unwrap();
+    // A pinned vertex that does not exist fails after the input was read.
+    let out = beltrami(&["smooth", s(&input), s(&output), "--pin", "1,100000"]);
+    assert_eq!(out.status.code(), Some(1));
+    error_line(&out, dir.path());
+    assert_eq!(std::fs::read(&output).unwrap(), b"precious");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(leftovers.len(), 2, "{leftovers:?}");
+}
+
+#[test]
+fn pinned_vertices_do_not_move() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, data) = noisy_sphere(dir.path());
+    let output = dir.path().join("out.ply");
+    let out = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&output),
+        "--pin",
+        "0,5,7",
+        "--iterations",
+        "3",
+    ]);
+    assert!(out.status.success());
+    let got = read_mesh(&output).unwrap();
+    for i in [0, 5, 7] {
+        assert_eq!(got.positions[i], data.positions[i]);
+    }
+    assert_ne!(got.positions[1], data.positions[1]);
+    let out = beltrami(&["smooth", s(&input), s(&output), "--pin", "9999"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_snapshot!(error_line(&out, dir.path()), @"error: noisy.ply: pinned vertex 9999 does not exist (the mesh has 642 vertices)");
+}
