@@ -36,6 +36,7 @@ impl HalfedgeMesh {
                 invariant: "the number of halfedges is even",
             });
         }
+        // Ranges first, so that the structural checks below never index out of bounds.
         for h in self.halfedges() {
             let i = h.index();
             if self.h_to[i] as usize >= nv
@@ -45,6 +46,19 @@ impl HalfedgeMesh {
             {
                 return fail(h, "links are in range");
             }
+        }
+        for f in self.faces() {
+            if self.f_he[f.index()] as usize >= nh {
+                return fail(f, "links are in range");
+            }
+        }
+        for v in self.vertices() {
+            let h = self.v_out[v.index()];
+            if h != INVALID && h as usize >= nh {
+                return fail(v, "links are in range");
+            }
+        }
+        for h in self.halfedges() {
             if self.prev(self.next(h)) != h {
                 return fail(h, "prev(next(h)) == h");
             }
@@ -63,7 +77,7 @@ impl HalfedgeMesh {
         }
         for f in self.faces() {
             let h = self.face_halfedge(f);
-            if h.index() >= nh || self.face(h) != Some(f) {
+            if self.face(h) != Some(f) {
                 return fail(f, "the face's halfedge belongs to the face");
             }
             let len = self.halfedges_around_face(f).take(nh + 1).count();
@@ -83,7 +97,7 @@ impl HalfedgeMesh {
                 None if degree[v.index()] == 0 => {}
                 None => return fail(v, "a vertex with edges has an outgoing halfedge"),
                 Some(h) => {
-                    if h.index() >= nh || self.from_vertex(h) != v {
+                    if self.from_vertex(h) != v {
                         return fail(v, "the outgoing halfedge starts at the vertex");
                     }
                     if has_boundary_out[v.index()] && !self.is_boundary_halfedge(h) {
@@ -97,5 +111,80 @@ impl HalfedgeMesh {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::HalfedgeMesh;
+    use crate::error::TopologyError;
+
+    fn quad() -> HalfedgeMesh {
+        HalfedgeMesh::from_polygons(4, [[0u32, 1, 2], [0, 2, 3]]).unwrap()
+    }
+
+    fn message(mesh: &HalfedgeMesh) -> String {
+        match mesh.check_integrity() {
+            Err(e @ TopologyError::Integrity { .. }) => e.to_string(),
+            other => panic!("expected an integrity error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_valid_mesh_passes() {
+        quad().check_integrity().unwrap();
+    }
+
+    #[test]
+    fn broken_next_is_found() {
+        let mut m = quad();
+        m.h_next.swap(0, 2);
+        assert_eq!(
+            message(&m),
+            "integrity violated at halfedge 0: prev(next(h)) == h"
+        );
+    }
+
+    #[test]
+    fn interior_outgoing_at_a_boundary_vertex_is_found() {
+        let mut m = quad();
+        // Vertex 0 is on the boundary; point it at its interior outgoing halfedge 0 -> 1.
+        m.v_out[0] = 0;
+        assert_eq!(
+            message(&m),
+            "integrity violated at vertex 0: a boundary vertex's outgoing halfedge is a boundary one"
+        );
+    }
+
+    #[test]
+    fn wrong_face_halfedge_is_found() {
+        let mut m = quad();
+        m.f_he[0] = m.f_he[1];
+        assert_eq!(
+            message(&m),
+            "integrity violated at face 0: the face's halfedge belongs to the face"
+        );
+    }
+
+    #[test]
+    fn out_of_range_links_are_found_without_panicking() {
+        let mut m = quad();
+        m.h_to[3] = 99;
+        assert_eq!(
+            message(&m),
+            "integrity violated at halfedge 3: links are in range"
+        );
+        let mut m = quad();
+        m.h_next[5] = 1000;
+        assert_eq!(
+            message(&m),
+            "integrity violated at halfedge 5: links are in range"
+        );
+        let mut m = quad();
+        m.v_out[2] = 1000;
+        assert_eq!(
+            message(&m),
+            "integrity violated at vertex 2: links are in range"
+        );
     }
 }
