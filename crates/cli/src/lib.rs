@@ -22,6 +22,7 @@ use beltrami_weights::WeightRegistry;
 use clap::{Parser, Subcommand};
 
 mod error;
+mod generate;
 mod info;
 mod load;
 mod smooth;
@@ -42,6 +43,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Smooth a mesh by Laplacian diffusion, x <- x + lambda * L x.
     Smooth(smooth::SmoothArgs),
+    /// Write one of the paper's test surfaces, optionally with seeded normal noise.
+    Generate(generate::GenerateArgs),
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
@@ -65,6 +68,7 @@ where
     let result = match &cli.command {
         Command::Info(args) => info::run(args, &mut stdout),
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
+        Command::Generate(args) => generate::run(args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

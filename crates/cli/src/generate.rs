@@ -1,0 +1,122 @@
+//! `beltrami generate`: the paper's test surfaces, optionally with seeded noise.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use beltrami_io::{MeshData, WriteOptions, write_mesh};
+use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise};
+use clap::ValueEnum;
+
+use crate::error::CliError;
+
+/// Arguments of `beltrami generate`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct GenerateArgs {
+    /// The surface: flens (open free-form lens, mm), sphere (unit icosphere), block
+    /// (genus-3 part with sharp edges, mm), golfball (dimpled ball, mm).
+    surface: SurfaceArg,
+    /// The output mesh (.ply, .stl or .obj).
+    output: PathBuf,
+    /// Add Gaussian noise along the vertex normals with this standard deviation (in the
+    /// surface's unit, or relative to the mean edge length with --relative).
+    #[arg(long)]
+    noise: Option<f64>,
+    /// Read --noise as a multiple of the mean edge length.
+    #[arg(long, requires = "noise")]
+    relative: bool,
+    /// Seed of the noise (the same seed gives the same numbers on every platform).
+    #[arg(long, default_value_t = 1, requires = "noise")]
+    seed: u64,
+    /// Also write the clean surface (the reference) to this file.
+    #[arg(long, requires = "noise")]
+    clean: Option<PathBuf>,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SurfaceArg {
+    Flens,
+    Sphere,
+    Block,
+    Golfball,
+}
+
+impl SurfaceArg {
+    fn kind(self) -> SurfaceKind {
+        match self {
+            Self::Flens => SurfaceKind::FLens,
+            Self::Sphere => SurfaceKind::Sphere,
+            Self::Block => SurfaceKind::Block,
+            Self::Golfball => SurfaceKind::GolfBall,
+        }
+    }
+}
+
+fn write(
+    path: &PathBuf,
+    surface: &Surface,
+    positions: Vec<beltrami_halfedge::DVec3>,
+    ascii: bool,
+) -> Result<(), CliError> {
+    let data = MeshData {
+        positions,
+        faces: surface.faces.clone(),
+    };
+    let options = WriteOptions {
+        encoding: if ascii {
+            beltrami_io::Encoding::Ascii
+        } else {
+            beltrami_io::Encoding::BinaryLittleEndian
+        },
+        ..WriteOptions::default()
+    };
+    write_mesh(path, &data, &options).map_err(|source| CliError::Io {
+        path: path.clone(),
+        source,
+    })
+}
+
+/// Runs `beltrami generate`.
+pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
+    let surface = args.surface.kind().generate();
+    let mesh = surface
+        .mesh()
+        .map_err(|e| CliError::Usage(format!("internal: generated surface is invalid: {e}")))?;
+    let mut note = String::new();
+    let positions = match args.noise {
+        None => surface.positions.clone(),
+        Some(level) => {
+            let level = if args.relative {
+                NoiseLevel::RelativeToMeanEdge(level)
+            } else {
+                NoiseLevel::Absolute(level)
+            };
+            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, level, args.seed)
+                .map_err(|e| CliError::Usage(e.to_string()))?;
+            note = format!(
+                ", normal noise sigma = {sigma} {} (seed {})",
+                surface.unit, args.seed
+            );
+            noisy
+        }
+    };
+    if let Some(clean) = &args.clean {
+        write(clean, &surface, surface.positions.clone(), args.ascii)?;
+    }
+    write(&args.output, &surface, positions, args.ascii)?;
+    writeln!(
+        out,
+        "generated {} ({} vertices, {} faces, unit {}){note} -> {}",
+        surface.name,
+        mesh.n_vertices(),
+        mesh.n_faces(),
+        surface.unit,
+        args.output.display()
+    )?;
+    if let Some(clean) = &args.clean {
+        writeln!(out, "clean reference -> {}", clean.display())?;
+    }
+    Ok(())
+}
