@@ -1,7 +1,7 @@
 //! `beltrami generate`: the paper's test surfaces, optionally with seeded noise.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use beltrami_io::{MeshData, WriteOptions, write_mesh};
 use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise};
@@ -55,7 +55,7 @@ impl SurfaceArg {
 }
 
 fn write(
-    path: &PathBuf,
+    path: &Path,
     surface: &Surface,
     positions: Vec<beltrami_halfedge::DVec3>,
     ascii: bool,
@@ -73,7 +73,7 @@ fn write(
         ..WriteOptions::default()
     };
     write_mesh(path, &data, &options).map_err(|source| CliError::Io {
-        path: path.clone(),
+        path: path.to_path_buf(),
         source,
     })
 }
