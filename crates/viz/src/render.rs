@@ -1,0 +1,1 @@
+//! Mesh renders (in progress).
