@@ -332,7 +332,7 @@ impl<'a> Smoother<'a> {
                     if !new.is_finite() && bad.is_none() {
                         bad = Some(i as u32);
                     }
-                    let d = (new - xi).length();
+                    let d = beltrami_halfedge::geometry::distance(xi, new);
                     sum += d;
                     max = max.max(d);
                     *x = new;

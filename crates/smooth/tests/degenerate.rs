@@ -1087,8 +1087,6 @@ fn power_of_two_scaling_commutes_bit_for_bit() {
 }
 
 #[test]
-#[ignore = "library bug: StepStats displacements use DVec3::length, which overflows to inf \
-            above ~1.3e154 and underflows to 0 below ~1.5e-154 although positions are finite"]
 fn step_statistics_are_finite_when_positions_are() {
     // Uniform smoothing commutes with 2^k scaling bit for bit (test above), so the
     // displacement statistics must scale by 2^k too. At 2^520 the library reports
@@ -1148,9 +1146,6 @@ fn step_statistics_are_finite_when_positions_are() {
 }
 
 #[test]
-#[ignore = "library bug: InverseDistance::weight and the default WeightScheme::curve_weight use \
-            DVec3::length, which overflows to inf for edges longer than ~1.3e154, so the \
-            weights become 0 and every vertex is stuck"]
 fn inverse_distance_weights_survive_extreme_scales() {
     // Far above ε = 1e-12, inverse-distance smoothing is scale-invariant up to the
     // rounding of the ε term: smoothing 2^k x gives 2^k times the result for x, to about

@@ -93,14 +93,50 @@ impl SurfaceKind {
             })
     }
 
-    /// Generates the surface with its default parameters.
+    /// Generates the surface with its default parameters (the paper's sizes).
     #[must_use]
     pub fn generate(self) -> Surface {
-        match self {
-            Self::FLens => flens(&FLensParams::default()),
-            Self::Sphere => sphere(6),
-            Self::Block => block(&BlockParams::default()),
-            Self::GolfBall => golf_ball(&GolfBallParams::default()),
+        self.generate_sized(Size::Paper)
+    }
+
+    /// Generates the surface at the paper's size or as a small, fast variant of the same
+    /// shape (for tests and quick looks).
+    #[must_use]
+    pub fn generate_sized(self, size: Size) -> Surface {
+        match (self, size) {
+            (Self::FLens, Size::Paper) => flens(&FLensParams::default()),
+            (Self::FLens, Size::Small) => flens(&FLensParams {
+                nx: 24,
+                ny: 12,
+                ..FLensParams::default()
+            }),
+            (Self::Sphere, Size::Paper) => sphere(6),
+            (Self::Sphere, Size::Small) => sphere(3),
+            (Self::Block, Size::Paper) => block(&BlockParams::default()),
+            (Self::Block, Size::Small) => block(&BlockParams {
+                cells: [9, 9, 17],
+                pitch: 20.0 / 9.0,
+                hole: [2, 2],
+                ..BlockParams::default()
+            }),
+            (Self::GolfBall, Size::Paper) => golf_ball(&GolfBallParams::default()),
+            (Self::GolfBall, Size::Small) => golf_ball(&GolfBallParams {
+                mesh_frequency: 24,
+                dimple_frequency: 2,
+                dimple_diameter: 8.0,
+                dimple_depth: 0.4,
+                ..GolfBallParams::default()
+            }),
         }
     }
+}
+
+/// The size of a generated surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Size {
+    /// The paper's vertex counts (Table 1).
+    #[default]
+    Paper,
+    /// A few hundred to a few thousand vertices: the same shapes, coarser.
+    Small,
 }

@@ -140,6 +140,21 @@ fn golf_ball_is_a_dimpled_regulation_sphere() {
 }
 
 #[test]
+fn small_variants_are_valid_and_small() {
+    for k in SurfaceKind::ALL {
+        let s = k.generate_sized(beltrami_surfaces::Size::Small);
+        let mesh = check(&s);
+        assert!(
+            mesh.n_vertices() < 6000,
+            "{}: {}",
+            s.name,
+            mesh.n_vertices()
+        );
+        assert_eq!(mesh.is_closed(), k != SurfaceKind::FLens, "{}", s.name);
+    }
+}
+
+#[test]
 fn names_round_trip() {
     for k in SurfaceKind::ALL {
         assert_eq!(SurfaceKind::from_name(k.name()).unwrap(), k);

@@ -27,6 +27,6 @@ impl WeightScheme for InverseDistance {
     }
 
     fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
-        1.0 / (ctx.edge_vector(h).length() + DISTANCE_EPSILON)
+        1.0 / (ctx.edge_length(h) + DISTANCE_EPSILON)
     }
 }

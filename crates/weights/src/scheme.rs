@@ -67,7 +67,7 @@ pub trait WeightScheme: Send + Sync {
     /// along its boundary curve only (1-D smoothing, `--boundary curve`). The default is
     /// the inverse edge length `1 / (|x_j − x_i| + ε)`; uniform weights use 1.
     fn curve_weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
-        1.0 / (ctx.edge_vector(h).length() + crate::DISTANCE_EPSILON)
+        1.0 / (ctx.edge_length(h) + crate::DISTANCE_EPSILON)
     }
 }
 
@@ -113,6 +113,13 @@ impl<'a> WeightContext<'a> {
     #[must_use]
     pub fn edge_vector(&self, h: HalfedgeId) -> DVec3 {
         self.geometry.edge_vector(h)
+    }
+
+    /// `|x_j − x_i|` for `h = (i → j)`, in the positions' unit; finite wherever the
+    /// distance is representable (see [`Geometry::halfedge_length`]).
+    #[must_use]
+    pub fn edge_length(&self, h: HalfedgeId) -> f64 {
+        self.geometry.halfedge_length(h)
     }
 
     /// The cotangent of the angle opposite `h` in its triangle, `(u·v)/|u×v|` with `u`,

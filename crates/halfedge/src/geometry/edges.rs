@@ -18,6 +18,21 @@ impl Geometry<'_> {
         self.position(self.mesh.to_vertex(h)) - self.position(self.mesh.from_vertex(h))
     }
 
+    /// The length of halfedge `h`, `|x_to − x_from|`, in the positions' unit: the same
+    /// bits as `edge_vector(h).length()` wherever that is accurate, and finite (rescaled
+    /// by a power of two) where the plain expression would overflow or underflow.
+    ///
+    /// # Panics
+    /// If `h` is not a halfedge of the mesh.
+    #[inline]
+    #[must_use]
+    pub fn halfedge_length(&self, h: HalfedgeId) -> f64 {
+        kernel::distance(
+            self.position(self.mesh.from_vertex(h)),
+            self.position(self.mesh.to_vertex(h)),
+        )
+    }
+
     /// The length of edge `e` in the positions' unit: `sqrt(x² + y² + z²)` of the vector
     /// of its halfedge `2e` (OpenMesh's `calc_edge_length`), rescaled only where that
     /// expression would overflow or underflow. Zero for coincident end points.

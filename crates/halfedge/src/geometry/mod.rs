@@ -84,6 +84,21 @@ mod normals;
 use glam::DVec3;
 
 pub use areas::VertexAreaKind;
+
+/// The distance `|q − p|`: the same bits as `(q - p).length()` wherever that is
+/// accurate, and finite (rescaled by a power of two) whenever the distance is
+/// representable, even where squaring the components would overflow or underflow.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::{geometry::distance, DVec3};
+/// assert_eq!(distance(DVec3::ZERO, DVec3::new(3.0, 4.0, 0.0)), 5.0);
+/// assert_eq!(distance(DVec3::ZERO, DVec3::splat(1e300)), 1e300 * 3f64.sqrt());
+/// ```
+#[must_use]
+pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
+    kernel::distance(p, q)
+}
 pub use normals::NormalWeighting;
 
 use crate::error::TopologyError;
