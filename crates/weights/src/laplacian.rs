@@ -64,8 +64,8 @@ pub struct LaplacianOptions {
 /// row `i` lists the neighbours of vertex `i` in counter-clockwise one-ring order with
 /// their weights, plus the row's scale (`1/W_i` or `1/A_i`).
 ///
-/// A row whose scale is not positive and finite (weights summing to ≤ 0, an isolated
-/// vertex, zero vertex area) is *stuck*: its vertex must not move, and
+/// A row whose weights do not sum to a positive finite value, or whose scale is not
+/// positive and finite (an isolated vertex, zero vertex area), is *stuck*: its vertex must not move, and
 /// [`laplacian_at`](Self::laplacian_at) returns `None`.
 ///
 /// Sign convention: `L x_i` points from `x_i` towards its (weighted) neighbours, so
@@ -191,10 +191,11 @@ impl Laplacian {
                 None => 1.0 / sum,
                 Some(a) => 1.0 / a.as_slice()[i],
             };
-            let movable = !row.is_empty()
-                && scale.is_finite()
-                && scale > 0.0
-                && (areas.is_none() || sum.is_finite());
+            // A row moves only when its weights sum to a positive finite value (for
+            // either normalisation: a non-positive sum would push the vertex away from
+            // its neighbours) and its scale is positive and finite.
+            let movable =
+                !row.is_empty() && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
             self.scales[i] = movable.then_some(scale);
             self.stuck += usize::from(!movable);
         }

@@ -286,3 +286,40 @@ fn registry_rejects_duplicates_and_bad_names() {
     let err = r.get("cot").err().unwrap();
     insta::assert_snapshot!(err, @r#"unknown weight scheme "cot" (known: uniform, distance, cotangent, gauss-2)"#);
 }
+
+#[test]
+fn rows_with_a_non_positive_weight_sum_are_stuck_in_both_normalisations() {
+    struct Negative;
+    impl WeightScheme for Negative {
+        fn name(&self) -> &str {
+            "negative"
+        }
+        fn weight(&self, _: &WeightContext<'_>, _: beltrami_halfedge::HalfedgeId) -> f64 {
+            -1.0
+        }
+    }
+    let p = primitives::hexagon_fan();
+    let mesh = p.mesh().unwrap();
+    for normalization in [
+        Normalization::WeightSum,
+        Normalization::Area(VertexAreaKind::Barycentric),
+    ] {
+        let lap = Laplacian::new(
+            &mesh,
+            &p.positions,
+            &Negative,
+            opts(normalization, NegativeWeights::Keep),
+        )
+        .unwrap();
+        assert_eq!(lap.stuck_rows(), mesh.n_vertices(), "{normalization:?}");
+        // Abs makes every row movable again.
+        let abs = Laplacian::new(
+            &mesh,
+            &p.positions,
+            &Negative,
+            opts(normalization, NegativeWeights::Abs),
+        )
+        .unwrap();
+        assert_eq!(abs.stuck_rows(), 0, "{normalization:?}");
+    }
+}
