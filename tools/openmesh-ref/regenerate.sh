@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Regenerates the OpenMesh references: builds openmesh-ref, then for every fixture named
+# in fixtures.txt runs it on fixtures/<name>.ply into OUT_ROOT/<name>/ (default:
+# fixtures/openmesh, the committed references).
+#
+#   tools/openmesh-ref/regenerate.sh [OUT_ROOT]
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+out_root="$(mkdir -p "${1:-$root/fixtures/openmesh}" && cd "${1:-$root/fixtures/openmesh}" && pwd)"
+bin="$root/target/openmesh-ref/openmesh-ref"
+
+"$here/build.sh" "$bin" >/dev/null
+
+# Paths inside the references are relative to the repository root.
+cd "$root"
+grep -v -e '^#' -e '^[[:space:]]*$' "$here/fixtures.txt" | while read -r name; do
+  rm -rf "${out_root:?}/$name"
+  "$bin" "fixtures/$name.ply" "$out_root/$name" "$name"
+  echo "$out_root/$name"
+done
