@@ -105,7 +105,7 @@ impl Plane {
         // Divide by the largest component first, so that very long or very short normals
         // normalise without overflow or underflow.
         let largest = normal.abs().max_element();
-        if !(largest.is_finite() && largest > 0.0) {
+        if !(normal.is_finite() && largest > 0.0) {
             return Err(MetricsError::InvalidParameter {
                 name: "plane normal",
                 reason: "must be finite and non-zero",
