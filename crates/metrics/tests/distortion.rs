@@ -87,7 +87,7 @@ fn closed_meshes_and_isolated_vertices_have_no_ring() {
     assert_eq!(profile.unreached, mesh.n_vertices());
 
     // A triangle with an isolated fourth vertex.
-    let mesh = HalfedgeMesh::from_polygons(4, &[[0u32, 1, 2]]).expect("valid");
+    let mesh = HalfedgeMesh::from_polygons(4, [[0u32, 1, 2]]).expect("valid");
     let rings = boundary_rings(&mesh);
     assert_eq!(rings.as_slice(), &[Some(0), Some(0), Some(0), None]);
 }
@@ -286,8 +286,8 @@ fn mismatched_topologies_are_named() {
 
     // Same counts, one face listed differently.
     let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE];
-    let m1 = HalfedgeMesh::from_polygons(4, &[[0u32, 1, 2], [1, 3, 2]]).expect("valid");
-    let m2 = HalfedgeMesh::from_polygons(4, &[[0u32, 1, 2], [2, 1, 3]]).expect("valid");
+    let m1 = HalfedgeMesh::from_polygons(4, [[0u32, 1, 2], [1, 3, 2]]).expect("valid");
+    let m2 = HalfedgeMesh::from_polygons(4, [[0u32, 1, 2], [2, 1, 3]]).expect("valid");
     let err = feature_edge_distortion(
         &Geometry::new(&m1, &positions).expect("positions"),
         &Geometry::new(&m2, &positions).expect("positions"),
@@ -325,7 +325,7 @@ fn hinge(fold: f64) -> (HalfedgeMesh, Vec<DVec3>) {
         DVec3::new(0.5, 1.0, 0.0),
         DVec3::new(0.5, -fold.cos(), fold.sin()),
     ];
-    let mesh = HalfedgeMesh::from_polygons(4, &[[0u32, 1, 2], [1, 0, 3]]).expect("valid");
+    let mesh = HalfedgeMesh::from_polygons(4, [[0u32, 1, 2], [1, 0, 3]]).expect("valid");
     (mesh, positions)
 }
 

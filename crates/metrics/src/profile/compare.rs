@@ -139,12 +139,13 @@ fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let ap = p - a;
     let len_sq = ab.length_squared();
-    // `max` before `min` also maps a NaN quotient (overflowing products) to 0.
-    let t = if len_sq > 0.0 {
-        (ap.dot(ab) / len_sq).max(0.0).min(1.0)
+    // A NaN quotient (products overflowing at extreme coordinates) counts as 0.
+    let q = if len_sq > 0.0 {
+        ap.dot(ab) / len_sq
     } else {
         0.0
     };
+    let t = if q.is_nan() { 0.0 } else { q.clamp(0.0, 1.0) };
     // The closest point measured from the nearer end keeps the rounding small at t ≈ 1.
     if t <= 0.5 {
         robust_length(ap - t * ab)

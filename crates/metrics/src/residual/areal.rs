@@ -190,8 +190,8 @@ pub fn areal_parameters(
 
     let mut moments = [Sum::default(); 4];
     let mut absolute = Sum::default();
-    let mut slope_sq = Sum::default();
-    let mut developed = Sum::default();
+    // (weight, |∇r|) of every non-degenerate face, for Sdq and Sdr.
+    let mut slopes = Vec::with_capacity(mesh.n_faces());
     for (f, &w) in mesh.faces().zip(&weights) {
         let r = values(f).map(|r| r - shift);
         for (m, p) in moments.iter_mut().zip(mean_powers(r)) {
@@ -204,16 +204,10 @@ pub fn areal_parameters(
         let corners = mesh.triangle_vertices(f).map(|v| geometry.position(v));
         if let Some((g, edge_scale)) = gradient(corners, r) {
             // ∇r = g · edge_scale / scale: the field was scaled by `scale`.
-            let slope = g.length() * (edge_scale / scale);
-            let sq = slope * slope;
-            slope_sq.add(w * sq);
-            developed.add(if sq.is_finite() {
-                w * sq / ((1.0 + sq).sqrt() + 1.0)
-            } else {
-                f64::INFINITY
-            });
+            slopes.push((w, g.length() * (edge_scale / scale)));
         }
     }
+    let (sdq, sdr) = slope_parameters(&slopes, weight_total);
     let mean_of = |s: &Sum| s.value() / weight_total;
     let m2 = mean_of(&moments[1]).max(0.0);
     let m3 = mean_of(&moments[2]);
@@ -234,12 +228,44 @@ pub fn areal_parameters(
         sz: sp + sv,
         ssk: (m2 > 0.0).then(|| m3 / (m2 * m2.sqrt())),
         sku: (m2 > 0.0).then(|| m4 / (m2 * m2)),
-        sdq: mean_of(&slope_sq).sqrt(),
-        sdr: mean_of(&developed),
+        sdq,
+        sdr,
         area,
         mean: mean_scaled / scale,
         datum,
     })
+}
+
+/// `Sdq = sqrt(Σ w s² / W)` and `Sdr = Σ w (sqrt(1 + s²) − 1) / W` from the face weights
+/// `w` and slopes `s = |∇r|`. The squares are taken relative to the largest slope, so
+/// that Sdq is finite whenever the slopes are; a developed-area term is evaluated as
+/// `s² / (sqrt(1 + s²) + 1)` (no cancellation for small slopes), and as `s − 1` beyond
+/// 10¹⁵⁰ where `sqrt(1 + s²)` equals `s` in `f64`.
+fn slope_parameters(slopes: &[(f64, f64)], weight_total: f64) -> (f64, f64) {
+    let steepest = slopes.iter().fold(0.0f64, |m, &(_, s)| m.max(s));
+    if steepest == 0.0 {
+        return (0.0, 0.0);
+    }
+    if !steepest.is_finite() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let mut relative_sq = Sum::default();
+    let mut developed = Sum::default();
+    for &(w, s) in slopes {
+        let q = s / steepest;
+        relative_sq.add(w * q * q);
+        developed.add(
+            w * if s <= 1e150 {
+                s * s / ((1.0 + s * s).sqrt() + 1.0)
+            } else {
+                s - 1.0
+            },
+        );
+    }
+    (
+        steepest * (relative_sq.value() / weight_total).sqrt(),
+        developed.value() / weight_total,
+    )
 }
 
 /// Checks the mesh (non-empty, triangles) and the field (length, finite values).
