@@ -323,6 +323,30 @@ fn icosphere_equator_is_a_loop_of_length_near_two_pi() {
 }
 
 #[test]
+fn torus_cut_through_its_hole_gives_two_loops_of_opposite_turn() {
+    // The torus R = 2, r = 0.5 about the z-axis cut by z = 0: an outer loop near radius
+    // 2.5 running counter-clockwise about +z and an inner loop near radius 1.5 running
+    // clockwise, the boundary of the annulus the plane cuts from the solid torus.
+    let torus = primitives::torus(2.0, 0.5, 48, 16);
+    let mesh = build(&torus);
+    let lines = section(&mesh, &torus.positions, DVec3::ZERO, DVec3::Z);
+    assert_eq!(lines.len(), 2);
+    assert!(lines.iter().all(|l| l.closed));
+    let mut areas: Vec<f64> = lines.iter().map(|l| shoelace_xy(l) / 2.0).collect();
+    areas.sort_by(f64::total_cmp);
+    // Both loops are the regular 48-gons through the torus's vertices on the equators: the
+    // outer vertices lie on z = 0; the inner ones at z = r sin π ≈ 6·10⁻¹⁷, just above, so
+    // the inner loop cuts their edges a hair below them. Area (n/2) ρ² sin(2π/n).
+    let polygon = |rho: f64| 24.0 * rho * rho * (TAU / 48.0).sin();
+    assert!(close_rel(areas[0], -polygon(1.5), 1e-12), "{areas:?}");
+    assert!(close_rel(areas[1], polygon(2.5), 1e-12), "{areas:?}");
+}
+
+fn close_rel(got: f64, want: f64, relative: f64) -> bool {
+    (got - want).abs() <= relative * want.abs()
+}
+
+#[test]
 fn profile_deviation_between_offset_planes_is_the_offset() {
     let grid = primitives::grid(4, 4);
     let mesh = build(&grid);

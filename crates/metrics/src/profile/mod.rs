@@ -21,12 +21,15 @@
 //!   negative side, and where no part of the surface is strictly below the plane the
 //!   section is empty even if faces lie in it (flip the normal to get the border on the
 //!   other side). A vertex where the section touches itself (the surface crosses the
-//!   plane twice through one vertex on it) appears once per passage.
+//!   plane twice through one vertex on it) appears once per passage. A vertex a rounding
+//!   error off the plane is not on it: each cut edge at it gives its own point, those
+//!   points a rounding error apart.
 //! - **Orientation.** Every segment runs along `n × n_f`, with `n_f` the normal of the
-//!   triangle it crosses (counter-clockwise vertex order). Seen from the side the plane
-//!   normal points to, a closed section of a closed, outward-oriented surface therefore
-//!   runs counter-clockwise (right-hand rule about `n`), the boundary orientation of the
-//!   cross-sectional area; an open chain on a surface whose normals point to the viewer
+//!   triangle it crosses (counter-clockwise vertex order). For a closed, outward-oriented
+//!   surface the loops therefore run as the boundary of the cross-sectional area seen
+//!   from the side the plane normal points to: counter-clockwise around the area
+//!   (right-hand rule about `n`), clockwise around its holes (the inner loop of a torus
+//!   cut through its hole). An open chain on a surface whose normals point to the viewer
 //!   runs with the negative side on its right.
 //! - **Closed polylines** do not repeat their first point at the end; their length
 //!   includes the closing segment.
