@@ -164,8 +164,8 @@ pub struct FeatureEdgeDistortion {
 ///
 /// # References
 /// X. Sun, P. L. Rosin, R. R. Martin, F. C. Langbein: *Fast and effective
-/// feature-preserving mesh denoising*. IEEE TVCG 13(5), 2007 (sharp-edge preservation on
-/// the Block model).
+/// feature-preserving mesh denoising*. IEEE TVCG 13(5), 2007 (sharp features under
+/// smoothing).
 pub fn feature_edge_distortion(
     reference: &Geometry<'_>,
     smoothed: &Geometry<'_>,

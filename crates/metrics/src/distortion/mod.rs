@@ -53,8 +53,8 @@
 //!   equation*. Proc. R. Soc. A 467 (2011) 841, doi 10.1098/rspa.2010.0307 (the diffusion
 //!   filter whose boundary and edge behaviour these quantities measure).
 //! - X. Sun, P. L. Rosin, R. R. Martin, F. C. Langbein: *Fast and effective
-//!   feature-preserving mesh denoising*. IEEE TVCG 13(5), 2007 (edge blurring on the
-//!   Block model).
+//!   feature-preserving mesh denoising*. IEEE TVCG 13(5), 2007 (sharp features under
+//!   smoothing, judged by normals).
 
 mod boundary;
 mod dihedral;
