@@ -605,6 +605,41 @@ fn legend_corner(
     Ok(best.1)
 }
 
+fn font(size: f64) -> FontDesc<'static> {
+    FontDesc::new(FontFamily::SansSerif, size, FontStyle::Normal)
+}
+
+/// Draws the title and returns the area below it.
+fn titled_area<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    plot: &LinePlot,
+    layout: &Layout,
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+    if plot.title.is_empty() {
+        Ok(root.clone())
+    } else {
+        // plotters' ab_glyph text sits higher than its top anchor: leave room above.
+        root.margin(title_offset(layout.title), 0, 0, 0)
+            .titled(&plot.title, font(layout.title).color(&BLACK))
+    }
+}
+
+/// A chart with our axes.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+/// The chart on `area`, with margins and label areas; draws nothing.
+fn chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    prepared: &Prepared,
+) -> Result<Chart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let layout = &prepared.layout;
+    ChartBuilder::on(area)
+        .margin(layout.margin)
+        .x_label_area_size(layout.x_label_area)
+        .y_label_area_size(layout.y_label_area)
+        .build_cartesian_2d(prepared.x.clone(), prepared.y.clone())
+}
+
 fn draw<'a, DB: DrawingBackend + 'a>(
     root: &'a DrawingArea<DB, Shift>,
     plot: &LinePlot,
@@ -612,19 +647,8 @@ fn draw<'a, DB: DrawingBackend + 'a>(
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let layout = &prepared.layout;
     root.fill(&WHITE)?;
-    let font = |size: f64| FontDesc::new(FontFamily::SansSerif, size, FontStyle::Normal);
-    let area = if plot.title.is_empty() {
-        root.clone()
-    } else {
-        // plotters' ab_glyph text sits higher than its top anchor: leave room above.
-        root.margin(title_offset(layout.title), 0, 0, 0)
-            .titled(&plot.title, font(layout.title).color(&BLACK))?
-    };
-    let mut chart = ChartBuilder::on(&area)
-        .margin(layout.margin)
-        .x_label_area_size(layout.x_label_area)
-        .y_label_area_size(layout.y_label_area)
-        .build_cartesian_2d(prepared.x.clone(), prepared.y.clone())?;
+    let area = titled_area(root, plot, layout)?;
+    let mut chart = chart(&area, prepared)?;
     chart
         .configure_mesh()
         .x_desc(plot.x_label.as_str())
@@ -675,4 +699,45 @@ fn draw<'a, DB: DrawingBackend + 'a>(
         .label_font(font(layout.tick).color(&BLACK))
         .draw()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The plotting area computed for equal aspect ratios is the one plotters lays out.
+    #[test]
+    fn plot_area_size_matches_plotters_layout() {
+        for (width, height, title) in [(800, 500, "profile"), (1600, 1000, "t"), (333, 211, "")] {
+            let mut plot = LinePlot::new(title, "x (mm)", "z (mm)");
+            plot.series.push(Series::new("s", [(0.0, 0.0), (3.0, 1.0)]));
+            let prepared = Prepared::new(&plot, width, height).unwrap();
+            let expected = plot_area_size(&prepared.layout, &plot, width, height);
+            let mut rgb = vec![255u8; width as usize * height as usize * 3];
+            let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+            let area = titled_area(&root, &plot, &prepared.layout).unwrap();
+            let chart = chart(&area, &prepared).unwrap();
+            let (w, h) = chart.plotting_area().dim_in_pixel();
+            assert_eq!(
+                (f64::from(w), f64::from(h)),
+                expected,
+                "{width}×{height} {title:?}"
+            );
+        }
+    }
+
+    /// With equal aspect, one unit spans as many pixels on both axes.
+    #[test]
+    fn equal_aspect_gives_equal_units() {
+        let mut plot = LinePlot::new("profile", "x (mm)", "z (mm)");
+        plot.aspect_equal = true;
+        plot.series
+            .push(Series::new("s", [(-2.0, 0.0), (2.0, 0.5)]));
+        let prepared = Prepared::new(&plot, 800, 500).unwrap();
+        let (w, h) = plot_area_size(&prepared.layout, &plot, 800, 500);
+        let (x, y) = (prepared.x.range, prepared.y.range);
+        let (per_x, per_y) = ((x.1 - x.0) / w, (y.1 - y.0) / h);
+        assert!((per_x - per_y).abs() < 1e-12 * per_x, "{per_x} {per_y}");
+        assert!(x.0 < -2.0 && x.1 > 2.0 && y.0 < 0.0 && y.1 > 0.5);
+    }
 }

@@ -39,7 +39,7 @@ pub use colormap::ColorMap;
 pub use grid::{MAX_GRID_SIZE, grid};
 pub use image::Image;
 pub use raster::{
-    AMBIENT, BACKGROUND, FRAME_MARGIN, MAX_RENDER_SIZE, MAX_SAMPLES, NEUTRAL, RenderOptions,
-    render_mesh, render_mesh_with,
+    AMBIENT, BACKGROUND, FRAME_MARGIN, HEAD_LIGHT, KEY_LIGHT, MAX_RENDER_SIZE, MAX_SAMPLES,
+    NEUTRAL, RenderOptions, render_mesh, render_mesh_with,
 };
 pub use view::View;

@@ -39,8 +39,9 @@ pub(crate) fn nice_step(lo: f64, hi: f64, target: usize) -> f64 {
 /// The multiples of a nice step (see [`nice_step`]) inside `[lo, hi]`, and the step.
 pub(crate) fn linear_ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, f64) {
     let step = nice_step(lo, hi, target);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
+    // A relative tolerance keeps ends that rounding puts a hair outside (3e-4 / 5e-5).
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
     // A multiple computed as k·step (no accumulation), snapped to 0 when it should be.
     let ticks = (first..=last)
         .map(|k| k as f64 * step)
@@ -140,7 +141,7 @@ mod tests {
 
     #[test]
     fn linear_ticks_are_round_multiples() {
-        let (ticks, step) = linear_ticks(-0.05, 1.05, 5);
+        let (ticks, step) = linear_ticks(-0.05, 1.05, 6);
         assert_eq!(step, 0.2);
         assert_eq!(ticks.len(), 6);
         assert_eq!(ticks[0], 0.0);

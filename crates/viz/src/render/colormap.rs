@@ -87,7 +87,7 @@ impl ColorMap {
             return Self::NAN;
         }
         // An empty (or inverted, or NaN) range: below, inside, above.
-        if !(self.max > self.min) {
+        if self.max.partial_cmp(&self.min) != Some(std::cmp::Ordering::Greater) {
             return if value < self.min {
                 Self::LOW
             } else if value > self.max {

@@ -3,7 +3,8 @@
 //! Rasterisation fills a visibility buffer (depth, triangle, barycentric coordinates)
 //! per sample, so every visible sample is shaded exactly once. Shading interpolates the
 //! vertex normals and the vertex scalars at the sample, maps the scalar through the
-//! colour map and multiplies by ambient plus two-sided Lambert light. With
+//! colour map and multiplies by ambient plus two-sided Lambert light (a key light and a
+//! head light). With
 //! supersampling, the samples of a pixel are averaged (box filter).
 
 use beltrami_halfedge::HalfedgeMesh;
@@ -24,9 +25,13 @@ pub const MAX_SAMPLES: u64 = 1 << 26;
 pub const NEUTRAL: [u8; 3] = [200, 200, 200];
 /// The background colour: white.
 pub const BACKGROUND: [u8; 3] = [255, 255, 255];
-/// The light that reaches every surface, as a fraction of full brightness; the rest is
-/// Lambert light from one direction.
-pub const AMBIENT: f64 = 0.25;
+/// The light that reaches every surface, as a fraction of full brightness.
+pub const AMBIENT: f64 = 0.3;
+/// The weight of the key light, from the upper left behind the camera (Lambert).
+pub const KEY_LIGHT: f64 = 0.4;
+/// The weight of the head light, from the camera (Lambert): every visible surface gets
+/// some, so that its colour stays readable on the side away from the key light.
+pub const HEAD_LIGHT: f64 = 0.3;
 
 /// Options of [`render_mesh_with`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,10 +88,11 @@ pub fn render_mesh(
 /// - **Colour.** With `scalars` (one per vertex), the scalar interpolated at the sample
 ///   through `colors`; a face with a NaN scalar at a vertex is grey. Without, the
 ///   neutral grey [`NEUTRAL`].
-/// - **Shading.** Colour × ([`AMBIENT`] + (1 − [`AMBIENT`]) · max(0, n · l)), with `n`
-///   the interpolated area-weighted vertex normal turned towards the camera (two-sided
-///   lighting: open surfaces are lit from both sides) and `l` a light from the upper
-///   left behind the camera. White background.
+/// - **Shading.** Colour × ([`AMBIENT`] + [`KEY_LIGHT`] · max(0, n · l) +
+///   [`HEAD_LIGHT`] · n · v), with `n` the interpolated area-weighted vertex normal
+///   turned towards the camera (two-sided lighting: open surfaces are lit from both
+///   sides), `l` a light from the upper left behind the camera and `v` towards the
+///   camera. The weights sum to 1. White background.
 /// - **Determinism.** Single-threaded with a fixed order of operations: identical input
 ///   gives identical bytes.
 ///
@@ -394,7 +400,7 @@ impl Shader<'_> {
         let (wb, wc) = (f64::from(wb), f64::from(wc));
         let wa = 1.0 - wb - wc;
         let mut normal = wa * self.normals[a] + wb * self.normals[b] + wc * self.normals[c];
-        if !(normal.length_squared() > 1e-24) || !normal.is_finite() {
+        if !normal.is_finite() || normal.length_squared() <= 1e-24 {
             let (pa, pb, pc) = (self.positions[a], self.positions[b], self.positions[c]);
             normal = (pb - pa).cross(pc - pa);
         }
@@ -405,8 +411,9 @@ impl Shader<'_> {
         } else {
             normal
         };
-        let diffuse = normal.dot(self.light).max(0.0);
-        let intensity = AMBIENT + (1.0 - AMBIENT) * diffuse;
+        let key = normal.dot(self.light).max(0.0);
+        let head = -normal.dot(self.basis.forward);
+        let intensity = AMBIENT + KEY_LIGHT * key + HEAD_LIGHT * head;
         let base = match self.scalars {
             Some(s) => self.colors.color(wa * s[a] + wb * s[b] + wc * s[c]),
             None => NEUTRAL,
