@@ -5,9 +5,9 @@
 //!
 //! - **Stable summaries** for snapshots (`Display` for humans, `serde` for JSON):
 //!   [`MeshSummary`] (counts, boundary loops, bounding box, area, volume),
-//!   [`SmoothingSummary`] (what a smoothing run did, without times) and
-//!   [`ComparisonTable`] (deviations from a reference in units of the bounding-box
-//!   diagonal). Measured values are rounded to a documented number of significant
+//!   [`SmoothingSummary`] (what a smoothing run did, without times),
+//!   [`MetricsTable`] (named measurements with units) and [`ComparisonTable`]
+//!   (deviations from a reference in units of the bounding-box diagonal). Measured values are rounded to a documented number of significant
 //!   digits — [`SUMMARY_DIGITS`] (6) for measures, [`DEVIATION_DIGITS`] (2) for
 //!   deviations — with [`round_significant`], which rounds half to even on the exact
 //!   decimal value and gives the same digits on every platform. A change in the last
@@ -57,6 +57,7 @@
 mod comparison;
 mod conformance;
 pub mod fixtures;
+mod metrics;
 pub mod openmesh;
 mod rng;
 mod round;
@@ -68,6 +69,7 @@ pub use conformance::{
     Check, ConformanceReport, SYMMETRY_TOLERANCE, SchemeClaims, TRANSLATION_TOLERANCE,
     assert_scheme_conforms, check_scheme,
 };
+pub use metrics::{MetricRow, MetricsTable};
 pub use rng::SplitMix64;
 pub use round::{DEVIATION_DIGITS, SUMMARY_DIGITS, format_significant, round_significant};
 pub use smoothing::SmoothingSummary;

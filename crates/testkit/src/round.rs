@@ -1,6 +1,7 @@
 //! Rounding to significant digits, the one rule every summary uses.
 
-/// Significant digits of the measured quantities in [`MeshSummary`](crate::MeshSummary)
+/// Significant digits of the measured quantities in [`MeshSummary`](crate::MeshSummary),
+/// [`MetricsTable`](crate::MetricsTable)
 /// and [`SmoothingSummary`](crate::SmoothingSummary): six, enough to see any real change
 /// of a bounding box, an area or a displacement, few enough that a last-bit difference
 /// (a different summation order, another platform's `libm`) almost never shows.
