@@ -1,0 +1,387 @@
+//! A bounding-volume hierarchy of axis-aligned boxes for nearest-point queries.
+//!
+//! # Why our own hierarchy
+//!
+//! parry3d-f64 has a good BVH, but its types are nalgebra's: every position and every
+//! query would be converted from glam, and its point–triangle projection reports a
+//! feature id in its own numbering, which we would map back to the mesh's edges and
+//! vertices for the pseudo-normal sign. A nearest-point query over a static set of
+//! triangles needs little: a median-split build (deterministic, parallel over subtrees
+//! with identical output for any thread count), nodes flattened in depth-first order
+//! (56 bytes each, one box per node), and an iterative traversal that visits the nearer
+//! child first and prunes by the best squared distance so far. That is this file; the
+//! exact point–triangle distance and the feature classification stay in our hands.
+//!
+//! # Layout
+//!
+//! Items (triangles) are permuted into leaf order by [`Bvh::build`]. A node is a leaf when
+//! `count > 0` and then holds items `first .. first + count` (in leaf order); otherwise its
+//! left child is the next node and its right child is node `first`.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// At most this many items in a leaf.
+const LEAF_SIZE: usize = 4;
+/// Subtrees with at least this many items are built in parallel.
+const PARALLEL_MIN: usize = 1 << 15;
+/// Traversal stack size: a median split halves the item count at each level, so the depth
+/// is at most `ceil(log2(n))` ≤ 32 for `u32` item counts, and at most one node per level is
+/// on the stack.
+const STACK: usize = 64;
+
+/// A node of the flattened hierarchy.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    /// Leaf: the first item (leaf order). Interior: the index of the right child.
+    first: u32,
+    /// Leaf: the number of items (≥ 1). Interior: 0.
+    count: u32,
+}
+
+impl Node {
+    /// The squared distance from `p` to the box (0 inside).
+    #[inline]
+    fn distance_squared(&self, p: DVec3) -> f64 {
+        let d = (self.lo - p).max(p - self.hi).max(DVec3::ZERO);
+        d.length_squared()
+    }
+}
+
+/// A static bounding-volume hierarchy over boxes.
+#[derive(Clone, Debug)]
+pub(crate) struct Bvh {
+    nodes: Vec<Node>,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `boxes` (`[lo, hi]` per item) and returns it with the leaf
+    /// order: `order[k]` is the item stored at leaf position `k`. Object-median split on the
+    /// longest axis of the box centres; deterministic, independent of the thread count.
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` items (callers check).
+    pub(crate) fn build(n: usize, bounds: impl Fn(usize) -> [DVec3; 2] + Sync) -> (Self, Vec<u32>) {
+        let _ = u32::try_from(n).expect("at most u32::MAX items");
+        let mut items: Vec<Item> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let [lo, hi] = bounds(i);
+                Item {
+                    centre: lo + hi,
+                    index: i as u32,
+                }
+            })
+            .collect();
+        if n == 0 {
+            return (Self { nodes: Vec::new() }, Vec::new());
+        }
+        let sizes = SubtreeSizes::new(n);
+        let mut nodes = vec![
+            Node {
+                lo: DVec3::ZERO,
+                hi: DVec3::ZERO,
+                first: 0,
+                count: 0,
+            };
+            sizes.nodes(n)
+        ];
+        let build = Build {
+            sizes: &sizes,
+            bounds: &bounds,
+        };
+        build.subtree(&mut nodes, 0, &mut items, 0);
+        (
+            Self { nodes },
+            items.iter().map(|item| item.index).collect(),
+        )
+    }
+
+    /// Finds the nearest item to `p`. `bound` is an upper bound of the answer's squared
+    /// distance (`f64::INFINITY` when none is known); `visit(k)` is called for every item
+    /// (leaf position `k`) whose box is within the current bound and returns the new
+    /// bound (the caller keeps the best item). Returns the final bound.
+    ///
+    /// Boxes at exactly the bound are visited, so a caller can break ties by its own rule.
+    #[inline]
+    pub(crate) fn nearest(
+        &self,
+        p: DVec3,
+        mut bound: f64,
+        mut visit: impl FnMut(usize) -> f64,
+    ) -> f64 {
+        let Some(root) = self.nodes.first() else {
+            return bound;
+        };
+        if root.distance_squared(p) > bound {
+            return bound;
+        }
+        let mut stack = [(0u32, 0.0f64); STACK];
+        let mut top = 0usize;
+        let mut index = 0usize;
+        loop {
+            let node = &self.nodes[index];
+            let mut descend = None;
+            if node.count > 0 {
+                let first = node.first as usize;
+                for k in first..first + node.count as usize {
+                    bound = visit(k);
+                }
+            } else {
+                let (left, right) = (index + 1, node.first as usize);
+                let dl = self.nodes[left].distance_squared(p);
+                let dr = self.nodes[right].distance_squared(p);
+                let ((near, dn), (far, df)) = if dl <= dr {
+                    ((left, dl), (right, dr))
+                } else {
+                    ((right, dr), (left, dl))
+                };
+                if df <= bound {
+                    stack[top] = (far as u32, df);
+                    top += 1;
+                }
+                if dn <= bound {
+                    descend = Some(near);
+                }
+            }
+            index = match descend {
+                Some(next) => next,
+                None => loop {
+                    if top == 0 {
+                        return bound;
+                    }
+                    top -= 1;
+                    let (next, d) = stack[top];
+                    if d <= bound {
+                        break next as usize;
+                    }
+                },
+            };
+        }
+    }
+
+    /// The number of nodes.
+    #[cfg(test)]
+    fn len(&self) -> usize {
+        self.nodes.len()
+    }
+}
+
+/// An item with (twice) its box centre, moved around by the build.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    centre: DVec3,
+    index: u32,
+}
+
+/// The number of nodes of the subtree over `n` items. Median splits make it a function of
+/// `n` alone, so the node array is allocated once and subtrees are built in place, in
+/// parallel, into disjoint slices of it.
+struct SubtreeSizes(Vec<(usize, usize)>);
+
+impl SubtreeSizes {
+    /// The sizes of every subtree of a tree over `n` items (at most two item counts per
+    /// level).
+    fn new(n: usize) -> Self {
+        let mut sizes = Self(Vec::new());
+        sizes.fill(n);
+        sizes
+    }
+
+    fn fill(&mut self, n: usize) -> usize {
+        if let Some(&(_, count)) = self.0.iter().find(|&&(m, _)| m == n) {
+            return count;
+        }
+        let count = if n <= LEAF_SIZE {
+            1
+        } else {
+            1 + self.fill(n / 2) + self.fill(n - n / 2)
+        };
+        self.0.push((n, count));
+        count
+    }
+
+    /// The node count of a subtree over `n` items (`n` a subtree size of the tree).
+    fn nodes(&self, n: usize) -> usize {
+        self.0
+            .iter()
+            .find(|&&(m, _)| m == n)
+            .map_or(0, |&(_, count)| count)
+    }
+}
+
+/// What a build needs besides the items: the subtree sizes and the item boxes.
+struct Build<'a, F> {
+    sizes: &'a SubtreeSizes,
+    bounds: &'a F,
+}
+
+impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
+    /// Builds the subtree over `items` (at leaf positions `offset ..`) into `nodes`, whose
+    /// first node has the global index `base`, and returns its bounds. Node boxes are
+    /// unions of their children's, computed on the way back up; large subtrees build their
+    /// halves in parallel.
+    fn subtree(&self, nodes: &mut [Node], base: usize, items: &mut [Item], offset: u32) -> Node {
+        if items.len() <= LEAF_SIZE {
+            let (lo, hi) =
+                items
+                    .iter()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
+                        let [a, b] = (self.bounds)(item.index as usize);
+                        (lo.min(a), hi.max(b))
+                    });
+            nodes[0] = Node {
+                lo,
+                hi,
+                first: offset,
+                count: items.len() as u32,
+            };
+            return nodes[0];
+        }
+        split(items);
+        let mid = items.len() / 2;
+        let left_nodes = self.sizes.nodes(mid);
+        let (root, rest) = nodes.split_at_mut(1);
+        let (left, right) = rest.split_at_mut(left_nodes);
+        let right_base = base + 1 + left_nodes;
+        let parallel = items.len() >= PARALLEL_MIN;
+        let (left_items, right_items) = items.split_at_mut(mid);
+        let right_offset = offset + mid as u32;
+        let (l, r) = if parallel {
+            rayon::join(
+                || self.subtree(left, base + 1, left_items, offset),
+                || self.subtree(right, right_base, right_items, right_offset),
+            )
+        } else {
+            (
+                self.subtree(left, base + 1, left_items, offset),
+                self.subtree(right, right_base, right_items, right_offset),
+            )
+        };
+        root[0] = Node {
+            lo: l.lo.min(r.lo),
+            hi: l.hi.max(r.hi),
+            first: right_base as u32,
+            count: 0,
+        };
+        root[0]
+    }
+}
+
+/// Reorders `items` so that the first half has the smaller centres along the longest axis
+/// of the centres' extent (ties by item index, so the split is a deterministic function of
+/// the input).
+fn split(items: &mut [Item]) {
+    let (clo, chi) = items
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
+            (lo.min(item.centre), hi.max(item.centre))
+        });
+    let extent = chi - clo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |x, y| {
+        x.centre[axis]
+            .total_cmp(&y.centre[axis])
+            .then(x.index.cmp(&y.index))
+    });
+}
+
+/// Cells per axis of the Morton grid (21 bits).
+const MORTON_CELLS: u32 = (1 << 21) - 1;
+
+/// The Morton code of a point given in grid cells (`[0, MORTON_CELLS]` per axis).
+fn morton_code(q: DVec3) -> u64 {
+    let q = q.clamp(DVec3::ZERO, DVec3::splat(f64::from(MORTON_CELLS)));
+    spread(q.x as u64) | (spread(q.y as u64) << 1) | (spread(q.z as u64) << 2)
+}
+
+/// Spreads the low 21 bits of `x` to every third bit.
+fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1F_FFFF;
+    x = (x | (x << 32)) & 0x001F_0000_0000_FFFF;
+    x = (x | (x << 16)) & 0x001F_0000_FF00_00FF;
+    x = (x | (x << 8)) & 0x100F_00F0_0F00_F00F;
+    x = (x | (x << 4)) & 0x10C3_0C30_C30C_30C3;
+    x = (x | (x << 2)) & 0x1249_2492_4924_9249;
+    x
+}
+
+/// The indices of `points` sorted along a Morton curve over their bounding box (ties by
+/// index): an order in which consecutive points are mostly close.
+pub(crate) fn morton_order(points: &[DVec3]) -> Vec<u32> {
+    let (lo, hi) = points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let extent = hi - lo;
+    let scale = DVec3::select(
+        extent.cmpgt(DVec3::ZERO),
+        DVec3::splat(f64::from(MORTON_CELLS)) / extent,
+        DVec3::ZERO,
+    );
+    let mut keyed: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| (morton_code((p - lo) * scale), i as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_point_matches_a_scan() {
+        // A deterministic scatter of points on a helix.
+        let points: Vec<DVec3> = (0..1000)
+            .map(|i| {
+                let t = f64::from(i) * 0.37;
+                DVec3::new(t.cos(), t.sin(), 0.01 * t)
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
+        assert!(bvh.len() < points.len());
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+        for q in [
+            DVec3::ZERO,
+            DVec3::new(0.3, -2.0, 1.0),
+            DVec3::new(5.0, 5.0, 5.0),
+        ] {
+            let mut best = (f64::INFINITY, usize::MAX);
+            bvh.nearest(q, f64::INFINITY, |k| {
+                let i = order[k] as usize;
+                let d = (points[i] - q).length_squared();
+                if d < best.0 || (d == best.0 && i < best.1) {
+                    best = (d, i);
+                }
+                best.0
+            });
+            let scan = points
+                .iter()
+                .map(|p| (p - q).length_squared())
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(best.0, scan);
+        }
+    }
+
+    #[test]
+    fn an_empty_hierarchy_finds_nothing() {
+        let (bvh, order) = Bvh::build(0, |_| [DVec3::ZERO; 2]);
+        assert!(order.is_empty());
+        assert_eq!(bvh.nearest(DVec3::ZERO, 1.0, |_| 0.0), 1.0);
+    }
+}
