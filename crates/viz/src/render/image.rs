@@ -20,6 +20,9 @@ pub struct Image {
 impl Image {
     /// A white image of `width × height` pixels.
     ///
+    /// # Panics
+    /// If `width × height × 3` bytes cannot be allocated (as any `Vec`).
+    ///
     /// # Examples
     /// ```
     /// use beltrami_viz::render::Image;
@@ -33,6 +36,9 @@ impl Image {
     }
 
     /// An image of `width × height` pixels, all of `color`.
+    ///
+    /// # Panics
+    /// If `width × height × 3` bytes cannot be allocated (as any `Vec`).
     #[must_use]
     pub fn filled(width: u32, height: u32, color: [u8; 3]) -> Self {
         let n = width as usize * height as usize;
@@ -151,6 +157,9 @@ impl Image {
     /// Copies `other` with its top-left corner at `(x, y)` (clipped).
     pub(crate) fn blit(&mut self, other: &Image, x: i64, y: i64) {
         let width = other.width as usize;
+        if width == 0 {
+            return;
+        }
         for (row, source) in other.rgb.chunks_exact(width * 3).enumerate() {
             let yy = y + row as i64;
             if yy < 0 || yy >= i64::from(self.height) {
