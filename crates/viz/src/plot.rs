@@ -2,7 +2,8 @@
 //! PNG, drawn with [plotters].
 //!
 //! Text in PNG output is rasterised from the bundled DejaVu Sans (registered with
-//! plotters' `ab_glyph` support), so plots look the same on machines without fonts; SVG
+//! plotters' `ab_glyph` support for measuring, and laid out with kerning and side
+//! bearings by a thin backend wrapper), so plots look the same on machines without fonts; SVG
 //! output names the `sans-serif` family and leaves the font to the viewer. Output is
 //! deterministic: the same plot gives the same bytes.
 //!
@@ -36,10 +37,12 @@ use plotters_backend::BackendCoord;
 use crate::VizError;
 
 mod axis;
+mod backend;
 mod glyph;
 mod layout;
 
 use axis::Axis;
+use backend::FontBackend;
 use glyph::{Glyph, MARKERS, PALETTE};
 use layout::{Layout, Prepared, title_offset};
 
@@ -133,7 +136,8 @@ pub fn plot_png(plot: &LinePlot, width: u32, height: u32) -> Result<Vec<u8>, Viz
     let prepared = Prepared::new(plot, width, height)?;
     let mut rgb = vec![255u8; width as usize * height as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        let bitmap = BitMapBackend::with_buffer(&mut rgb, (width, height));
+        let root = FontBackend(bitmap).into_drawing_area();
         draw(&root, plot, &prepared).map_err(|e| draw_error(plot, e))?;
         root.present().map_err(|e| draw_error(plot, e))?;
     }
