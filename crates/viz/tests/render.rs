@@ -397,3 +397,28 @@ fn supersampling_smooths_edges_only() {
         "{a:?} {b:?}"
     );
 }
+
+#[test]
+fn isolated_vertices_do_not_move_the_frame() {
+    let faces = [[0u32, 1, 2]];
+    let mut positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
+    let alone = HalfedgeMesh::from_polygons(3, faces).unwrap();
+    let with_isolated = HalfedgeMesh::from_polygons(4, faces).unwrap();
+    let render = |mesh: &HalfedgeMesh, positions: &[DVec3]| {
+        let view = View::from_above();
+        render_mesh(
+            mesh,
+            positions,
+            None,
+            &ColorMap::default(),
+            &view,
+            None,
+            80,
+            80,
+        )
+        .unwrap()
+    };
+    let reference = render(&alone, &positions);
+    positions.push(DVec3::new(100.0, 100.0, 0.0));
+    assert_eq!(render(&with_isolated, &positions), reference);
+}

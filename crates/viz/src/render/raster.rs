@@ -19,7 +19,7 @@ pub const FRAME_MARGIN: f64 = 0.05;
 /// The largest accepted render width or height, in pixels.
 pub const MAX_RENDER_SIZE: u32 = 8192;
 /// The largest number of samples (pixels × supersampling²) of one render.
-pub const MAX_SAMPLES: u64 = 1 << 26;
+pub const MAX_SAMPLES: u64 = 1 << 25;
 
 /// The surface colour without scalars: a neutral light grey.
 pub const NEUTRAL: [u8; 3] = [200, 200, 200];
@@ -81,7 +81,9 @@ pub fn render_mesh(
 /// - **Projection.** Orthographic along `view`. The bounding box `frame` (corners
 ///   `(min, max)`), or without it the vertices' own extent, is centred and scaled to fill
 ///   the image less [`FRAME_MARGIN`] on each side; give all panels of a figure the same
-///   frame so that they share one scale.
+///   frame so that they share one scale. Everything inside the box is visible; in an
+///   oblique view the box's corners reach further than a round object inside it, so
+///   such an object fills less of the image.
 /// - **Visibility.** A depth buffer per sample; of two samples at exactly the same depth
 ///   the face drawn first (lower id) stays. Faces with more than three vertices are
 ///   fanned into triangles.
@@ -96,8 +98,8 @@ pub fn render_mesh(
 /// - **Determinism.** Single-threaded with a fixed order of operations: identical input
 ///   gives identical bytes.
 ///
-/// Faces with a non-finite vertex position are not drawn; a mesh without faces gives a
-/// white image.
+/// Faces with a non-finite vertex position are not drawn, and without a frame the
+/// extent is that of the drawn faces' vertices; a mesh without faces gives a white image.
 ///
 /// # Errors
 /// [`VizError::Invalid`] when `positions` or `scalars` do not have one entry per vertex,
@@ -173,9 +175,9 @@ pub fn render_mesh_with(
 
     let ss = options.supersample;
     let (sw, sh) = (width * ss, height * ss);
-    let projection = Projection::fit(&basis, positions, frame, sw, sh);
-    let projected: Vec<DVec3> = positions.iter().map(|&p| projection.apply(p)).collect();
     let triangles = triangles(mesh);
+    let projection = Projection::fit(&basis, &triangles, positions, frame, sw, sh);
+    let projected: Vec<DVec3> = positions.iter().map(|&p| projection.apply(p)).collect();
     let buffer = rasterise(&triangles, &projected, sw, sh);
 
     let normals = vertex_normals(&triangles, positions);
@@ -227,6 +229,7 @@ struct Projection {
 impl Projection {
     fn fit(
         basis: &Basis,
+        triangles: &[[u32; 3]],
         positions: &[DVec3],
         frame: Option<(DVec3, DVec3)>,
         width: u32,
@@ -250,10 +253,14 @@ impl Projection {
                     ));
                 }
             }
-            None => positions
+            // The vertices of drawable faces: isolated vertices and faces with a
+            // non-finite vertex do not move the frame.
+            None => triangles
                 .iter()
-                .filter(|p| p.is_finite())
-                .for_each(|&p| include(p)),
+                .map(|t| t.map(|v| positions[v as usize]))
+                .filter(|t| t.iter().all(|p| p.is_finite()))
+                .flatten()
+                .for_each(&mut include),
         }
         let [x0, x1, y0, y1] = extent.unwrap_or([0.0; 4]);
         let (w, h) = (f64::from(width), f64::from(height));
