@@ -97,7 +97,7 @@ pub fn face_angles_deg(
 ///
 /// # Errors
 /// - [`MetricsError::TopologyMismatch`] when the meshes do not have the same vertices and
-///   faces (see [`check_same_topology`](crate::distance::check_same_topology));
+///   faces (see [`check_same_topology`]);
 /// - [`MetricsError::Topology`] when a positions slice does not match its mesh;
 /// - [`MetricsError::NonFinite`] for a non-finite position;
 /// - [`MetricsError::Empty`] when there is no face, or every face is degenerate.

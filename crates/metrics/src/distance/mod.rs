@@ -56,5 +56,6 @@ pub use displacement::{check_same_topology, displacement_stats, displacements};
 pub use hausdorff::{HausdorffDistance, HausdorffSampling, hausdorff};
 pub use index::{ClosestPoint, Feature, MAX_COORDINATE, SurfaceIndex};
 pub use measures::{surface_area, volume};
+pub(crate) use stats::vertex_areas;
 pub use stats::{DistanceStats, SignedDistanceStats, distance_stats, signed_distance_stats};
 pub use triangle::{TriangleFeature, TrianglePoint, closest_point_on_triangle};
