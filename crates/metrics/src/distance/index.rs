@@ -68,8 +68,9 @@ struct PseudoNormals {
 /// closest points and signed distances of any number of points.
 ///
 /// It owns copies of what it needs (the triangles in hierarchy order, the face–vertex and
-/// face–edge incidences, the positions), about 130 bytes per face, so the reference mesh
-/// can be dropped. Queries take `&self` and run in parallel with rayon; batch results are
+/// face–edge incidences, the positions), about 150 bytes per face, so the reference mesh
+/// can be dropped; the first signed query adds the pseudo-normals, about 70 bytes per
+/// face. Queries take `&self` and run in parallel with rayon; batch results are
 /// identical for any thread count.
 ///
 /// # Examples

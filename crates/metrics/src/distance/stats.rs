@@ -171,8 +171,9 @@ impl SignedDistanceStats {
 ///
 /// # Errors
 /// [`MetricsError::Topology`] when `positions` does not match the mesh;
-/// [`MetricsError::Empty`] for a mesh without vertices; the errors of
-/// [`SurfaceIndex::distances`] (`"query point"` names a vertex index).
+/// [`MetricsError::Empty`] for a mesh without vertices; [`MetricsError::NonFinite`]
+/// (`"position"`, with the vertex index) or [`MetricsError::InvalidParameter`] for a bad
+/// position.
 ///
 /// # References
 /// Cignoni, Rocchini, Scopigno, *Metro*, CGF 17(2), 1998 (vertex sampling, RMS/mean/max);
@@ -201,6 +202,7 @@ pub fn signed_distance_stats(
     if positions.is_empty() {
         return Err(MetricsError::Empty { what: "mesh" });
     }
+    super::index::check_points(positions, "position")?;
     let signed = reference.signed_distances(positions)?;
     SignedDistanceStats::new(&signed)
 }
