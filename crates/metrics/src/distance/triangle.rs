@@ -72,14 +72,13 @@ pub fn closest_point_on_triangle(p: DVec3, triangle: [DVec3; 3]) -> TrianglePoin
     let aa = e0.dot(e0);
     let cc = e1.dot(e1);
     let longest2 = aa.max(cc).max(e2.dot(e2));
-    // |E0 × E1|² equals Eberly's det = aa·cc − bb² (Lagrange's identity), without the
-    // cancellation of the difference.
-    let two_area = e0.cross(e1).length();
-    let ratio = beltrami_halfedge::geometry::DEGENERACY_RATIO;
-    if two_area <= ratio * longest2 || two_area.is_nan() {
+    // |E0 × E1|² (twice the area, squared) equals Eberly's det = aa·cc − bb² (Lagrange's
+    // identity), without the cancellation of the difference.
+    let det = e0.cross(e1).length_squared();
+    let bound = beltrami_halfedge::geometry::DEGENERACY_RATIO * longest2;
+    if det <= bound * bound || det.is_nan() {
         return closest_on_edges(p, triangle);
     }
-    let det = two_area * two_area;
     let d = a - p;
     let bb = e0.dot(e1);
     let dd = e0.dot(d);
