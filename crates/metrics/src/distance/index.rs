@@ -403,8 +403,13 @@ impl SurfaceIndex {
             }
             best.distance_squared
         });
-        // The hierarchy has at least one triangle and every distance is finite, so a best
-        // triangle was found.
+        if best_k == usize::MAX {
+            // Unreachable for validated input (every distance is finite, so the search
+            // finds a triangle); kept so that no input can index out of range.
+            best_k = 0;
+            best_face = self.leaf_faces[0];
+            best = closest_point_on_triangle(p, self.triangles[0]);
+        }
         *hint = Some(best_k);
         let face = best_face as usize;
         let feature = match best.feature {
