@@ -23,6 +23,8 @@ pub(crate) enum CliError {
     Usage(String),
     /// Smoothing could not run or had to stop.
     Smooth { path: PathBuf, source: SmoothError },
+    /// The study failed.
+    Study(beltrami_study::StudyError),
     /// Writing to stdout failed.
     Stdout(std::io::Error),
 }
@@ -58,6 +60,7 @@ impl fmt::Display for CliError {
             }
             Self::Usage(message) => write!(f, "{message} (see 'beltrami --help')"),
             Self::Smooth { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Study(e) => write!(f, "study: {e}"),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
         }
     }

@@ -26,6 +26,7 @@ mod generate;
 mod info;
 mod load;
 mod smooth;
+mod study;
 
 use error::CliError;
 
@@ -45,6 +46,8 @@ enum Command {
     Smooth(smooth::SmoothArgs),
     /// Write one of the paper's test surfaces, optionally with seeded normal noise.
     Generate(generate::GenerateArgs),
+    /// Run the whole comparison study and write its report, plots and renders.
+    Study(study::StudyArgs),
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
@@ -69,6 +72,7 @@ where
         Command::Info(args) => info::run(args, &mut stdout),
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
         Command::Generate(args) => generate::run(args, &mut stdout),
+        Command::Study(args) => study::run(args, registry, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

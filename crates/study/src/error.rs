@@ -1,0 +1,64 @@
+//! Errors of `beltrami-study`.
+
+use std::path::PathBuf;
+
+/// Why a study (or one of its outputs) failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StudyError {
+    /// Writing an output file failed.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        source: beltrami_io::IoError,
+    },
+    /// Creating an output directory failed.
+    #[error("{}: cannot create the directory: {source}", path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+    /// Drawing a plot failed.
+    #[error("plot {name}: {reason}")]
+    Plot {
+        /// The plot's file stem.
+        name: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// Encoding an image failed.
+    #[error("image {name}: {reason}")]
+    Image {
+        /// The image's file stem.
+        name: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// An invalid study configuration.
+    #[error("{0}")]
+    Config(String),
+    /// Smoothing failed.
+    #[error("{surface} / {scheme}: {source}")]
+    Smooth {
+        /// The surface.
+        surface: String,
+        /// The scheme.
+        scheme: String,
+        /// What went wrong.
+        source: beltrami_smooth::SmoothError,
+    },
+    /// A metric could not be computed.
+    #[error("{surface} / {scheme}: {source}")]
+    Metrics {
+        /// The surface.
+        surface: String,
+        /// The scheme.
+        scheme: String,
+        /// What went wrong.
+        source: beltrami_metrics::MetricsError,
+    },
+}

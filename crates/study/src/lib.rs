@@ -1,0 +1,33 @@
+//! # beltrami-study
+//!
+//! Runs the Laplace–Beltrami comparison — surfaces × weight schemes × iteration counts —
+//! and writes its results (CSV, JSON), the paper's figures as plots, renders of the
+//! smoothed meshes, and a report that checks the paper's findings against the numbers.
+//!
+//! ```no_run
+//! use beltrami_study::{StudyConfig, run_study, write_study};
+//! use beltrami_weights::WeightRegistry;
+//!
+//! let config = StudyConfig::paper(&WeightRegistry::with_builtins());
+//! let results = run_study(&config, &mut |_| {})?;
+//! write_study(&results, std::path::Path::new("study"))?;
+//! # Ok::<(), beltrami_study::StudyError>(())
+//! ```
+
+mod config;
+mod error;
+mod figures;
+mod findings;
+mod measure;
+mod report;
+mod results;
+mod run;
+
+pub use config::{StudyConfig, paper_iterations};
+pub use error::StudyError;
+pub use figures::{Figure, write_figures};
+pub use findings::{Finding, Verdict, findings};
+pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
+pub use report::{Written, write_study};
+pub use results::{CSV_HEADER, Row, to_csv};
+pub use run::{Progress, SchemeRun, Snapshot, StudyResults, SurfaceCase, SurfaceResult, run_study};

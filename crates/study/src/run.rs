@@ -1,0 +1,235 @@
+//! Running the study: one smoothing run per surface and scheme, observed at every
+//! requested iteration.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_smooth::{SmoothConfig, Smoother};
+use beltrami_surfaces::{Surface, SurfaceKind, add_normal_noise};
+use beltrami_weights::{LaplacianOptions, Normalization};
+use rayon::prelude::*;
+
+use crate::config::StudyConfig;
+use crate::error::StudyError;
+use crate::measure::{Measured, Reference};
+use crate::results::Row;
+
+/// A surface as the study uses it: clean reference, noisy input, connectivity.
+#[derive(Debug)]
+pub struct SurfaceCase {
+    /// Which surface.
+    pub kind: SurfaceKind,
+    /// The clean surface (the reference).
+    pub clean: Surface,
+    /// The noisy input every scheme smooths.
+    pub noisy: Vec<DVec3>,
+    /// The noise's standard deviation, in the surface's unit.
+    pub sigma: f64,
+    /// The connectivity (shared by clean, noisy and smoothed positions).
+    pub mesh: HalfedgeMesh,
+}
+
+/// The positions of one run at one observed iteration.
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    /// Iterations done.
+    pub iteration: usize,
+    /// Cumulative smoothing wall time, seconds.
+    pub time_s: f64,
+    /// Vertices that could not move in that iteration.
+    pub stuck_vertices: usize,
+    /// The positions.
+    pub positions: Vec<DVec3>,
+}
+
+/// One scheme's run on one surface.
+#[derive(Clone, Debug)]
+pub struct SchemeRun {
+    /// The scheme's name.
+    pub scheme: String,
+    /// The observed iterations, ascending.
+    pub snapshots: Vec<Snapshot>,
+}
+
+/// Everything the study computed for one surface.
+#[derive(Debug)]
+pub struct SurfaceResult {
+    /// The surface.
+    pub case: SurfaceCase,
+    /// One run per scheme, in the configured order.
+    pub runs: Vec<SchemeRun>,
+    /// The metrics of the noisy input and of every snapshot.
+    pub measured: Vec<Measured>,
+}
+
+/// The study's results.
+#[derive(Debug)]
+pub struct StudyResults {
+    /// The configuration that produced them.
+    pub config: StudyConfig,
+    /// Per surface, in the configured order.
+    pub surfaces: Vec<SurfaceResult>,
+    /// Wall time of the whole study, seconds.
+    pub wall_time_s: f64,
+}
+
+impl StudyResults {
+    /// One row per surface, scheme and iteration (the noisy input as iteration 0 with
+    /// scheme `"input"`), in the configured order.
+    #[must_use]
+    pub fn rows(&self) -> Vec<Row> {
+        self.surfaces
+            .iter()
+            .flat_map(|s| s.measured.iter().map(|m| m.row.clone()))
+            .collect()
+    }
+}
+
+/// What the study reports while it runs.
+#[derive(Clone, Copy, Debug)]
+pub enum Progress<'a> {
+    /// A run starts: surface, scheme, number of iterations.
+    RunStarted(&'a str, &'a str, usize),
+    /// An iteration of the current run is done.
+    Iteration(usize),
+    /// The current run is done.
+    RunFinished,
+}
+
+fn prepare(kind: SurfaceKind, config: &StudyConfig) -> Result<SurfaceCase, StudyError> {
+    let clean = kind.generate_sized(config.size);
+    let mesh = clean
+        .mesh()
+        .map_err(|e| StudyError::Config(format!("surface {}: {e}", clean.name)))?;
+    let (noisy, sigma) = add_normal_noise(&mesh, &clean.positions, config.noise, config.seed)
+        .map_err(|e| StudyError::Config(format!("noise on {}: {e}", clean.name)))?;
+    Ok(SurfaceCase {
+        kind,
+        clean,
+        noisy,
+        sigma,
+        mesh,
+    })
+}
+
+fn smooth_config(config: &StudyConfig) -> SmoothConfig {
+    SmoothConfig::new(config.lambda, config.max_iterations())
+        .boundary(config.boundary)
+        .update(config.update)
+        .laplacian(LaplacianOptions {
+            normalization: Normalization::WeightSum,
+            negative: config.negative,
+        })
+}
+
+/// Runs the study. Smoothing runs one after the other (so their timings are not
+/// disturbed); metrics are computed afterwards, in parallel.
+///
+/// # Errors
+/// [`StudyError::Config`] for an invalid configuration, [`StudyError::Smooth`] and
+/// [`StudyError::Metrics`] naming the surface and scheme that failed.
+pub fn run_study(
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<StudyResults, StudyError> {
+    config.validate()?;
+    let start = Instant::now();
+    let mut surfaces = Vec::with_capacity(config.surfaces.len());
+    for &kind in &config.surfaces {
+        let case = prepare(kind, config)?;
+        let mut runs = Vec::with_capacity(config.schemes.len());
+        for scheme in &config.schemes {
+            progress(Progress::RunStarted(
+                case.clean.name,
+                scheme.name(),
+                config.max_iterations(),
+            ));
+            let run = run_one(&case, scheme.as_ref(), config, progress).map_err(|source| {
+                StudyError::Smooth {
+                    surface: case.clean.name.to_string(),
+                    scheme: scheme.name().to_string(),
+                    source,
+                }
+            })?;
+            progress(Progress::RunFinished);
+            runs.push(run);
+        }
+        let reference = Reference::new(&case).map_err(|source| StudyError::Metrics {
+            surface: case.clean.name.to_string(),
+            scheme: "input".to_string(),
+            source,
+        })?;
+        let mut jobs: Vec<(&str, usize, f64, usize, &[DVec3])> =
+            vec![("input", 0, 0.0, 0, &case.noisy)];
+        for run in &runs {
+            for s in &run.snapshots {
+                jobs.push((
+                    &run.scheme,
+                    s.iteration,
+                    s.time_s,
+                    s.stuck_vertices,
+                    &s.positions,
+                ));
+            }
+        }
+        let measured = jobs
+            .par_iter()
+            .map(|&(scheme, iteration, time_s, stuck, positions)| {
+                reference
+                    .measure(scheme, iteration, time_s, stuck, positions)
+                    .map_err(|source| StudyError::Metrics {
+                        surface: case.clean.name.to_string(),
+                        scheme: scheme.to_string(),
+                        source,
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        surfaces.push(SurfaceResult {
+            case,
+            runs,
+            measured,
+        });
+    }
+    Ok(StudyResults {
+        config: config.clone(),
+        surfaces,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn run_one(
+    case: &SurfaceCase,
+    scheme: &dyn beltrami_weights::WeightScheme,
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<SchemeRun, beltrami_smooth::SmoothError> {
+    let mut snapshots = Vec::with_capacity(config.iterations.len());
+    let mut wanted = config.iterations.iter().copied().peekable();
+    // Smoothing time only: the clock runs while the smoother works and stops while the
+    // observer copies positions.
+    let mut elapsed = 0.0;
+    let mut resumed = Instant::now();
+    let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config(config))?;
+    elapsed += resumed.elapsed().as_secs_f64();
+    resumed = Instant::now();
+    smoother.run(|it| {
+        elapsed += resumed.elapsed().as_secs_f64();
+        progress(Progress::Iteration(it.index));
+        if wanted.peek() == Some(&it.index) {
+            wanted.next();
+            snapshots.push(Snapshot {
+                iteration: it.index,
+                time_s: elapsed,
+                stuck_vertices: it.stats.stuck_vertices,
+                positions: it.positions.to_vec(),
+            });
+        }
+        resumed = Instant::now();
+        ControlFlow::Continue(())
+    })?;
+    Ok(SchemeRun {
+        scheme: scheme.name().to_string(),
+        snapshots,
+    })
+}

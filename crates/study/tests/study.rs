@@ -1,0 +1,214 @@
+//! A reduced study (small surfaces, few iterations) run end to end.
+
+use std::sync::Arc;
+
+use beltrami_halfedge::HalfedgeId;
+use beltrami_study::{CSV_HEADER, StudyConfig, Verdict, run_study, write_study};
+use beltrami_surfaces::Size;
+use beltrami_weights::{WeightContext, WeightRegistry, WeightScheme};
+
+/// A plug-in scheme the study has never heard of.
+struct Squared;
+impl WeightScheme for Squared {
+    fn name(&self) -> &str {
+        "inverse-squared"
+    }
+    fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
+        let d = ctx.edge_length(h) + 1e-12;
+        1.0 / (d * d)
+    }
+}
+
+fn small_config(registry: &WeightRegistry) -> StudyConfig {
+    let mut config = StudyConfig::paper(registry);
+    config.size = Size::Small;
+    config.iterations = vec![2, 5, 10];
+    config
+}
+
+/// Rounds every number of a CSV line to 3 significant digits (times are dropped:
+/// they differ between runs).
+fn rounded(csv: &str) -> String {
+    csv.lines()
+        .map(|line| {
+            line.split(',')
+                .enumerate()
+                .map(|(i, field)| {
+                    if i == 3 && field != "time_s" {
+                        return "t".to_string();
+                    }
+                    match field.parse::<f64>() {
+                        Ok(x) if field.contains('e') || field.contains('.') => format!("{x:.3e}"),
+                        _ => field.to_string(),
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
+    let mut registry = WeightRegistry::with_builtins();
+    registry.register(Squared).unwrap();
+    let config = small_config(&registry);
+    let mut runs = Vec::new();
+    let results = run_study(&config, &mut |p| {
+        if let beltrami_study::Progress::RunStarted(s, w, n) = p {
+            runs.push((s.to_string(), w.to_string(), n));
+        }
+    })
+    .unwrap();
+    // One run per surface and scheme, each to the largest iteration count.
+    assert_eq!(runs.len(), 4 * 4);
+    assert!(runs.iter().all(|r| r.2 == 10));
+    assert!(runs.iter().any(|r| r.1 == "inverse-squared"));
+
+    let dir = tempfile::tempdir().unwrap();
+    let written = write_study(&results, dir.path()).unwrap();
+    // 4 surfaces × (1 input + 4 schemes × 3 iterations).
+    assert_eq!(written.rows.len(), 4 * (1 + 4 * 3));
+    for name in ["results.csv", "results.json", "report.md"] {
+        let len = std::fs::metadata(dir.path().join(name)).unwrap().len();
+        assert!(len > 100, "{name} is {len} bytes");
+    }
+    for f in &written.figures {
+        let files: Vec<String> = if f.path.ends_with(".png") {
+            vec![f.path.clone()]
+        } else {
+            vec![format!("{}.svg", f.path), format!("{}.png", f.path)]
+        };
+        for file in files {
+            let len = std::fs::metadata(dir.path().join(&file)).unwrap().len();
+            assert!(len > 1000, "{file} is {len} bytes");
+        }
+    }
+    // The paper's figures are there: RMS, time, radius, volume, boundary, profiles, renders.
+    for stem in [
+        "plots/rms_flens",
+        "plots/time_sphere",
+        "plots/radius_sphere",
+        "plots/radius_golfball",
+        "plots/volume_block",
+        "plots/boundary_flens",
+        "plots/rings_flens",
+        "plots/profile_flens",
+        "plots/profile_block",
+        "plots/dihedral_block",
+        "renders/flens.png",
+        "renders/golfball.png",
+    ] {
+        assert!(
+            written.figures.iter().any(|f| f.path == stem),
+            "missing {stem}"
+        );
+    }
+    let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(report.contains("inverse-squared"));
+    assert!(report.contains("](renders/flens.png)"));
+    for f in &written.findings {
+        assert!(report.contains(f.claim));
+    }
+    let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
+    assert!(csv.starts_with(CSV_HEADER));
+    assert!(csv.contains("flens,inverse-squared,10,"));
+
+    // Smoothing reduces the distance to the clean surface on every surface.
+    for s in ["flens", "sphere", "block"] {
+        let input = written
+            .rows
+            .iter()
+            .find(|r| r.surface == s && r.scheme == "input")
+            .unwrap();
+        let cot = written
+            .rows
+            .iter()
+            .find(|r| r.surface == s && r.scheme == "cotangent" && r.iteration == 2)
+            .unwrap();
+        assert!(cot.rms < input.rms, "{s}: {} !< {}", cot.rms, input.rms);
+    }
+    // Every metric is finite.
+    for r in &written.rows {
+        for v in [
+            r.rms,
+            r.mean,
+            r.max,
+            r.area_rms,
+            r.normal_mean_deg,
+            r.normal_rms_deg,
+        ] {
+            assert!(v.is_finite(), "{r:?}");
+        }
+    }
+    insta::assert_snapshot!("reduced_study_csv", rounded(&csv));
+}
+
+#[test]
+fn verdicts_come_from_the_data() {
+    let registry = WeightRegistry::with_builtins();
+    let mut config = small_config(&registry);
+    config.surfaces = vec![beltrami_surfaces::SurfaceKind::Sphere];
+    config.iterations = vec![3];
+    let results = run_study(&config, &mut |_| {}).unwrap();
+    let rows = results.rows();
+    let findings = beltrami_study::findings(&rows);
+    // Only the sphere was studied: F-lens, block and golf-ball findings are not evaluated.
+    for f in &findings {
+        let sphere = f.id.starts_with("sphere") || f.id == "cotangent_much_slower";
+        assert_eq!(
+            f.verdict == Verdict::NotEvaluated,
+            !sphere,
+            "{}: {:?}",
+            f.id,
+            f.verdict
+        );
+    }
+    // Flip the data and the verdict flips with it.
+    let rms = |rows: &[beltrami_study::Row], s: &str| {
+        rows.iter()
+            .find(|r| r.scheme == s && r.iteration == 3)
+            .unwrap()
+            .rms
+    };
+    let before = findings
+        .iter()
+        .find(|f| f.id == "sphere_rms_cotangent_best")
+        .unwrap()
+        .verdict;
+    let mut swapped = rows.clone();
+    let (u, c) = (rms(&rows, "uniform"), rms(&rows, "cotangent"));
+    for r in &mut swapped {
+        if r.iteration == 3 && r.scheme == "uniform" {
+            r.rms = c.min(u) * 0.5;
+        }
+    }
+    let after = beltrami_study::findings(&swapped)
+        .into_iter()
+        .find(|f| f.id == "sphere_rms_cotangent_best")
+        .unwrap()
+        .verdict;
+    assert_eq!(after, Verdict::NotReproduced);
+    assert_ne!(before, Verdict::NotEvaluated);
+}
+
+#[test]
+fn invalid_configurations_are_errors() {
+    let registry = WeightRegistry::with_builtins();
+    let mut config = small_config(&registry);
+    config.iterations = vec![5, 3];
+    let err = run_study(&config, &mut |_| {}).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "iteration counts must be strictly ascending"
+    );
+    config.iterations = vec![];
+    assert!(run_study(&config, &mut |_| {}).is_err());
+    config.iterations = vec![1];
+    config.schemes = Vec::<Arc<dyn WeightScheme>>::new();
+    assert_eq!(
+        run_study(&config, &mut |_| {}).unwrap_err().to_string(),
+        "no weight scheme selected"
+    );
+}
