@@ -1,6 +1,7 @@
 //! Cotangent weights (the paper's Eq. 5).
 
 use beltrami_halfedge::HalfedgeId;
+use rayon::prelude::*;
 
 use crate::scheme::{WeightContext, WeightScheme};
 
@@ -37,9 +38,19 @@ impl WeightScheme for Cotangent {
     }
 
     fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {
-        // One cotangent per halfedge, then one sum per edge (half the work of `weight`).
-        for (h, w) in ctx.mesh().halfedges().zip(out.iter_mut()) {
-            *w = ctx.opposite_cotangent(h);
+        // One degeneracy test per triangle, then one sum per edge; the same bits as
+        // `weight` for every halfedge.
+        // Faces are independent: computed in parallel, written back in face order, so
+        // the result does not depend on the thread count.
+        out.fill(0.0);
+        let geometry = ctx.geometry();
+        let faces: Vec<_> = ctx.mesh().faces().collect();
+        let cots: Vec<_> = faces
+            .par_iter()
+            .map(|&f| geometry.face_opposite_cotangents(f))
+            .collect();
+        for (h, cot) in cots.into_iter().flatten().flatten() {
+            out[h.index()] = cot;
         }
         for pair in out.chunks_exact_mut(2) {
             let w = 0.5 * (pair[0] + pair[1]);

@@ -2,7 +2,7 @@
 
 use super::Geometry;
 use super::kernel::Corner;
-use crate::ids::HalfedgeId;
+use crate::ids::{FaceId, HalfedgeId};
 
 impl Geometry<'_> {
     /// The interior angle of the face corner at `to_vertex(h)`, in radians in `[0, π]`:
@@ -100,6 +100,32 @@ impl Geometry<'_> {
             Some(t) if !t.is_degenerate() => self.corner(self.mesh.next(h)).cot(),
             _ => 0.0,
         }
+    }
+
+    /// The cotangents opposite the three halfedges of triangle `f`, as `(h, cot)` pairs
+    /// in face order: bit for bit what [`opposite_cotangent`](Self::opposite_cotangent)
+    /// gives for each `h`, with the degeneracy test done once per face. `None` when `f`
+    /// is not a triangle (its cotangents are then 0).
+    ///
+    /// # Panics
+    /// If `f` is not a face of the mesh.
+    #[must_use]
+    pub fn face_opposite_cotangents(&self, f: FaceId) -> Option<[(HalfedgeId, f64); 3]> {
+        let t = self.triangle(f)?;
+        let h0 = self.mesh.face_halfedge(f);
+        let h1 = self.mesh.next(h0);
+        let h2 = self.mesh.next(h1);
+        if t.is_degenerate() {
+            return Some([(h0, 0.0), (h1, 0.0), (h2, 0.0)]);
+        }
+        // h0 ends at vertex 0, so the corner opposite it is vertex 1; likewise h1 ↔ 2 and
+        // h2 ↔ 0. A corner's products do not depend on the order of its two edges, so
+        // these are the bits `opposite_cotangent` computes.
+        Some([
+            (h0, t.corner(1).cot()),
+            (h1, t.corner(2).cot()),
+            (h2, t.corner(0).cot()),
+        ])
     }
 
     /// The products of the edge vectors leaving the corner at `to_vertex(h)`: towards

@@ -95,10 +95,27 @@ pub(super) struct Frame {
 
 impl Frame {
     /// The frame for the given points around `origin`.
+    #[inline]
     pub(super) fn new(origin: DVec3, points: &[DVec3]) -> Self {
         let m = points
             .iter()
             .fold(0.0f64, |m, &p| nan_max(m, max_abs(p - origin)));
+        if (SAFE_LO..=SAFE_HI).contains(&m) {
+            // The common case, kept small so that it inlines into the hot loops.
+            return Self {
+                origin,
+                halve: false,
+                divisor: 1.0,
+                shift: 0,
+            };
+        }
+        Self::unusual(origin, points, m)
+    }
+
+    /// [`Frame::new`] for differences outside the safe range (zero, huge, tiny or NaN).
+    #[cold]
+    #[inline(never)]
+    fn unusual(origin: DVec3, points: &[DVec3], m: f64) -> Self {
         let plain = Self {
             origin,
             halve: false,
