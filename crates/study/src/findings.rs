@@ -229,6 +229,12 @@ pub fn findings(rows: &[Row]) -> Vec<Finding> {
             },
         ),
     ];
+    let golf_note = "On the golf ball the schemes' fitted radii differ by far less than the dimple depth: once the dimples are smoothed away every scheme converges to nearly the same sphere, so the ranking is decided by tiny differences. The paper measured a real ball (78 721 vertices, unknown noise); ours is a synthetic regulation ball (see crates/surfaces).";
+    for f in &mut out {
+        if f.id.starts_with("golfball_radius") && f.verdict == Verdict::NotReproduced {
+            f.note = golf_note.to_string();
+        }
+    }
     out.push(sphere_radius_finding(rows));
     out.push(timing_finding(rows));
     out
