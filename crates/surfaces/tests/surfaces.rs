@@ -208,3 +208,29 @@ fn the_generator_is_pinned() {
         .collect();
     insta::assert_snapshot!(first.join(" "), @"0.127934838314746 0.316696632002961 -1.095928063849364 1.925649042090921");
 }
+
+#[test]
+fn noise_does_not_depend_on_the_thread_count() {
+    let s = SurfaceKind::Block.generate_sized(beltrami_surfaces::Size::Small);
+    let mesh = s.mesh().unwrap();
+    let noisy = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                add_normal_noise(&mesh, &s.positions, NoiseLevel::RelativeToMeanEdge(0.3), 9)
+                    .unwrap()
+                    .0
+            })
+    };
+    let one = noisy(1);
+    for threads in [2, 3] {
+        let other = noisy(threads);
+        assert!(
+            one.iter()
+                .zip(&other)
+                .all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits))
+        );
+    }
+}
