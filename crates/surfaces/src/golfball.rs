@@ -6,50 +6,12 @@ use beltrami_halfedge::{DVec3, PolygonList};
 
 use crate::surface::Surface;
 
-/// The 12 icosahedron vertices (cyclic permutations of (0, ±1, ±φ)), normalised, and its
-/// 20 counter-clockwise faces.
-fn icosahedron() -> (Vec<DVec3>, [[u32; 3]; 20]) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let v = [
-        (-1.0, t, 0.0),
-        (1.0, t, 0.0),
-        (-1.0, -t, 0.0),
-        (1.0, -t, 0.0),
-        (0.0, -1.0, t),
-        (0.0, 1.0, t),
-        (0.0, -1.0, -t),
-        (0.0, 1.0, -t),
-        (t, 0.0, -1.0),
-        (t, 0.0, 1.0),
-        (-t, 0.0, -1.0),
-        (-t, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
-    .collect();
-    let f = [
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    (v, f)
+/// The regular icosahedron on the unit sphere (the level-0 icosphere) as positions and
+/// its 20 counter-clockwise faces.
+fn icosahedron() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let p = beltrami_halfedge::primitives::icosphere(0);
+    let faces = p.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
+    (p.positions, faces)
 }
 
 /// Where a lattice point of a subdivided icosahedron face lies, named so that points on

@@ -472,17 +472,30 @@ impl ScaledSum {
 }
 
 /// A compensated (Neumaier) sum: the error of each addition is carried along, so the
-/// result is accurate to about one rounding however many terms are added.
+/// result is accurate to about one rounding however many terms are added. Sequential, so
+/// a sum over a fixed order of terms does not depend on the thread count.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::geometry::CompensatedSum;
+/// let mut s = CompensatedSum::default();
+/// for x in [1e16, 1.0, -1e16] {
+///     s.add(x);
+/// }
+/// assert_eq!(s.value(), 1.0); // a plain sum gives 0
+/// ```
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Sum {
+pub struct CompensatedSum {
     sum: f64,
     compensation: f64,
 }
 
-impl Sum {
+pub(super) type Sum = CompensatedSum;
+
+impl CompensatedSum {
     /// Adds a term.
     #[inline]
-    pub(super) fn add(&mut self, x: f64) {
+    pub fn add(&mut self, x: f64) {
         let t = self.sum + x;
         if self.sum.abs() >= x.abs() {
             self.compensation += (self.sum - t) + x;
@@ -492,9 +505,10 @@ impl Sum {
         self.sum = t;
     }
 
-    /// The sum so far.
+    /// The sum so far (the plain running sum when it is not finite).
     #[inline]
-    pub(super) fn value(&self) -> f64 {
+    #[must_use]
+    pub fn value(&self) -> f64 {
         if self.sum.is_finite() {
             self.sum + self.compensation
         } else {

@@ -84,6 +84,7 @@ mod normals;
 use glam::DVec3;
 
 pub use areas::VertexAreaKind;
+pub use kernel::CompensatedSum;
 
 /// The distance `|q − p|`: the same bits as `(q - p).length()` wherever that is
 /// accurate, and finite (rescaled by a power of two) whenever the distance is

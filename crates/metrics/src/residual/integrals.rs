@@ -123,35 +123,7 @@ pub(super) fn pow2_inverse(m: f64) -> f64 {
     }
 }
 
-/// A compensated (Neumaier) sum: accurate to about one rounding however many terms are
-/// added; sequential, so the result does not depend on thread counts.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Sum {
-    sum: f64,
-    compensation: f64,
-}
-
-impl Sum {
-    /// Adds a term.
-    pub(super) fn add(&mut self, x: f64) {
-        let t = self.sum + x;
-        if self.sum.abs() >= x.abs() {
-            self.compensation += (self.sum - t) + x;
-        } else {
-            self.compensation += (x - t) + self.sum;
-        }
-        self.sum = t;
-    }
-
-    /// The sum so far.
-    pub(super) fn value(&self) -> f64 {
-        if self.sum.is_finite() {
-            self.sum + self.compensation
-        } else {
-            self.sum
-        }
-    }
-}
+pub(super) use beltrami_halfedge::geometry::CompensatedSum as Sum;
 
 #[cfg(test)]
 mod tests {
