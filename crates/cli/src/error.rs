@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use beltrami_halfedge::TopologyError;
 use beltrami_io::IoError;
+use beltrami_metrics::MetricsError;
 use beltrami_smooth::SmoothError;
 use beltrami_weights::WeightError;
 
@@ -23,6 +24,16 @@ pub(crate) enum CliError {
     Usage(String),
     /// Smoothing could not run or had to stop.
     Smooth { path: PathBuf, source: SmoothError },
+    /// A metric could not be computed; `subject` names the file or the pair of files.
+    Metrics {
+        subject: String,
+        source: MetricsError,
+    },
+    /// A mesh without faces where a command needs a surface.
+    NoFaces {
+        path: PathBuf,
+        needed_by: &'static str,
+    },
     /// The study failed.
     Study(beltrami_study::StudyError),
     /// Writing to stdout failed.
@@ -60,6 +71,12 @@ impl fmt::Display for CliError {
             }
             Self::Usage(message) => write!(f, "{message} (see 'beltrami --help')"),
             Self::Smooth { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Metrics { subject, source } => write!(f, "{subject}: {source}"),
+            Self::NoFaces { path, needed_by } => write!(
+                f,
+                "{}: the mesh has no faces ({needed_by} needs a surface)",
+                path.display()
+            ),
             Self::Study(e) => write!(f, "study: {e}"),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
         }

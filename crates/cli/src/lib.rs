@@ -21,10 +21,13 @@ use std::process::ExitCode;
 use beltrami_weights::WeightRegistry;
 use clap::{Parser, Subcommand};
 
+mod compare;
 mod error;
+mod fit;
 mod generate;
 mod info;
 mod load;
+mod residual;
 mod smooth;
 mod study;
 
@@ -48,6 +51,14 @@ enum Command {
     Generate(generate::GenerateArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
+    /// Measure a mesh against a reference surface: distances, Hausdorff, normals,
+    /// areas, volumes.
+    Compare(compare::CompareArgs),
+    /// Fit a least-squares sphere, circle or cylinder to a mesh's vertices.
+    Fit(fit::FitArgs),
+    /// The ISO 25178-2 areal parameters of a measured mesh's residual from its smoothed
+    /// version.
+    Residual(residual::ResidualArgs),
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
@@ -73,6 +84,9 @@ where
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
         Command::Generate(args) => generate::run(args, &mut stdout),
         Command::Study(args) => study::run(args, registry, &mut stdout),
+        Command::Compare(args) => compare::run(args, &mut stdout),
+        Command::Fit(args) => fit::run(args, &mut stdout),
+        Command::Residual(args) => residual::run(args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

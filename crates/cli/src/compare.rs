@@ -1,0 +1,545 @@
+//! `beltrami compare`: distances, normals, areas and volumes of a mesh against a
+//! reference surface.
+//!
+//! Also holds what the metric commands (`compare`, `fit`, `residual`) share: loading an
+//! input that must not be empty, the number format of their tables, and writing a
+//! per-vertex scalar with a diverging colour map to a PLY file.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
+use beltrami_halfedge::{DVec3, TopologyError};
+use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, write_ply};
+use beltrami_metrics::MetricsError;
+use beltrami_metrics::distance::{
+    DistanceStats, HausdorffSampling, SignedDistanceStats, SurfaceIndex, check_same_topology,
+    displacement_stats, hausdorff, surface_area, volume,
+};
+use beltrami_metrics::normals::normal_deviation;
+use beltrami_viz::render::ColorMap;
+use serde::Serialize;
+
+use crate::error::CliError;
+use crate::load::{LoadedMesh, load};
+
+/// The seed of the surface samples of `--samples`: fixed, so that a run is repeatable.
+const SAMPLE_SEED: u64 = 1;
+
+/// Arguments of `beltrami compare`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct CompareArgs {
+    /// The mesh to judge (.ply, .stl or .obj), e.g. a smoothed or measured surface.
+    mesh: PathBuf,
+    /// The reference surface (.ply, .stl or .obj), e.g. the clean or nominal surface.
+    reference: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Write MESH to this PLY file with the signed distance of every vertex as the
+    /// property `signed_distance` and a colour map (blue inside, white on, red outside).
+    #[arg(long, value_name = "OUT.ply")]
+    scalars: Option<PathBuf>,
+    /// Also measure the Hausdorff distance from N points per surface spread uniformly
+    /// by area (fixed seed), not only from the vertices.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    samples: Option<u64>,
+}
+
+/// Everything `compare` reports; also the JSON schema of `compare --json`.
+#[derive(Debug, Serialize)]
+struct Comparison {
+    mesh: MeshSummary,
+    reference: MeshSummary,
+    /// RMS of the unsigned vertex distances to the reference surface.
+    rms: f64,
+    /// Mean unsigned vertex distance.
+    mean: f64,
+    /// Largest unsigned vertex distance.
+    max: f64,
+    /// Area-weighted RMS (barycentric vertex areas of MESH).
+    area_rms: f64,
+    signed: Signed,
+    /// The symmetric Hausdorff distance, max of the two one-sided ones.
+    hausdorff: f64,
+    hausdorff_mesh_to_reference: f64,
+    hausdorff_reference_to_mesh: f64,
+    /// Surface samples per surface on top of the vertices (0: vertices only).
+    hausdorff_samples: u64,
+    /// Whether both meshes have the same vertices and faces.
+    same_topology: bool,
+    /// Plain per-vertex displacement `|x_i − y_i|`; null unless the topologies match.
+    displacement: Option<Displacement>,
+    /// Angles between corresponding face normals; null unless the topologies match.
+    normal_deviation_deg: Option<NormalAngles>,
+    /// The area-weighted normal error E_a (dimensionless); null with the angles.
+    normal_area_weighted_error: Option<f64>,
+    /// Enclosed volumes; null unless both meshes are closed.
+    volume: Option<Volumes>,
+    area: Areas,
+    /// The `--scalars` output, or null.
+    scalars: Option<Scalars>,
+}
+
+#[derive(Debug, Serialize)]
+struct MeshSummary {
+    file: String,
+    vertices: usize,
+    faces: usize,
+    closed: bool,
+}
+
+#[derive(Debug, Serialize)]
+struct Signed {
+    mean: f64,
+    min: f64,
+    max: f64,
+    std_dev: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Displacement {
+    rms: f64,
+    mean: f64,
+    max: f64,
+    area_rms: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct NormalAngles {
+    mean: f64,
+    rms: f64,
+    max: f64,
+    /// Faces compared (degenerate ones are skipped).
+    faces: usize,
+}
+
+#[derive(Debug, Serialize)]
+struct Volumes {
+    mesh: f64,
+    reference: f64,
+    /// `mesh / reference`.
+    ratio: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Areas {
+    mesh: f64,
+    reference: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Scalars {
+    file: String,
+    /// The signed distance shown in full red (its negative in full blue).
+    color_range: f64,
+}
+
+/// Runs `beltrami compare`.
+pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliError> {
+    if let Some(path) = &args.scalars {
+        check_ply_path("--scalars", path)?;
+    }
+    let mesh = load_input(&args.mesh, Some("compare"))?;
+    let reference = load_input(&args.reference, Some("compare"))?;
+    let on_mesh = metrics_error(&args.mesh);
+    let on_reference = metrics_error(&args.reference);
+
+    let reference_index =
+        SurfaceIndex::new(&reference.mesh, &reference.positions).map_err(&on_reference)?;
+    let mesh_index = SurfaceIndex::new(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?;
+
+    // One closest-point query per vertex gives both the signed and the unsigned distance.
+    let signed = reference_index
+        .signed_distances(&mesh.positions)
+        .map_err(&on_mesh)?;
+    let unsigned: Vec<f64> = signed.iter().map(|s| s.abs()).collect();
+    let areas = Geometry::new(&mesh.mesh, &mesh.positions)
+        .and_then(|g| g.vertex_areas(VertexAreaKind::Barycentric))
+        .map_err(|e| on_mesh(e.into()))?;
+    let stats = DistanceStats::new(&unsigned, areas.as_slice()).map_err(&on_mesh)?;
+    let signed_stats = SignedDistanceStats::new(&signed).map_err(&on_mesh)?;
+
+    let samples = args.samples.unwrap_or(0);
+    let sampling = match usize::try_from(samples) {
+        Ok(0) => HausdorffSampling::Vertices,
+        Ok(samples) => HausdorffSampling::VerticesAndSurface {
+            samples,
+            seed: SAMPLE_SEED,
+        },
+        Err(_) => return Err(CliError::Usage(format!("--samples {samples} is too large"))),
+    };
+    let h = hausdorff(&mesh_index, &reference_index, sampling).map_err(&on_mesh)?;
+
+    let pair = pair_subject(&args.mesh, &args.reference);
+    let on_pair = |source| CliError::Metrics {
+        subject: pair.clone(),
+        source,
+    };
+    let mut notes = Notes::default();
+    let (displacement, normals) = match check_same_topology(&mesh.mesh, &reference.mesh) {
+        Ok(()) => {
+            let d = displacement_stats(
+                &mesh.mesh,
+                &mesh.positions,
+                &reference.mesh,
+                &reference.positions,
+            )
+            .map_err(&on_pair)?;
+            let n = match normal_deviation(
+                &mesh.mesh,
+                &mesh.positions,
+                &reference.mesh,
+                &reference.positions,
+            ) {
+                Ok(n) => Some(n),
+                Err(MetricsError::Empty { .. }) => {
+                    notes.normals = "every face is degenerate".to_string();
+                    None
+                }
+                Err(e) => return Err(on_pair(e)),
+            };
+            (Some(d), n)
+        }
+        Err(MetricsError::TopologyMismatch { detail }) => {
+            notes.topology = format!("the meshes do not share their topology: {detail}");
+            notes.normals.clone_from(&notes.topology);
+            (None, None)
+        }
+        Err(e) => return Err(on_pair(e)),
+    };
+
+    let mesh_volume = closed_volume(&mesh).map_err(&on_mesh)?;
+    let reference_volume = closed_volume(&reference).map_err(&on_reference)?;
+    notes.volume = match (mesh_volume, reference_volume) {
+        (Some(_), Some(_)) => String::new(),
+        (None, Some(_)) => format!("{} is open", args.mesh.display()),
+        (Some(_), None) => format!("{} is open", args.reference.display()),
+        (None, None) => "both meshes are open".to_string(),
+    };
+    let area = Areas {
+        mesh: surface_area(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?,
+        reference: surface_area(&reference.mesh, &reference.positions).map_err(&on_reference)?,
+    };
+
+    let scalars = match &args.scalars {
+        Some(path) => Some(write_scalar_ply(path, &mesh, "signed_distance", &signed)?),
+        None => None,
+    };
+
+    let comparison = Comparison {
+        mesh: summary(&args.mesh, &mesh),
+        reference: summary(&args.reference, &reference),
+        rms: stats.rms,
+        mean: stats.mean,
+        max: stats.max,
+        area_rms: stats.area_weighted_rms,
+        signed: Signed {
+            mean: signed_stats.mean,
+            min: signed_stats.min,
+            max: signed_stats.max,
+            std_dev: signed_stats.std_dev,
+        },
+        hausdorff: h.symmetric,
+        hausdorff_mesh_to_reference: h.forward,
+        hausdorff_reference_to_mesh: h.backward,
+        hausdorff_samples: samples,
+        same_topology: displacement.is_some(),
+        displacement: displacement.map(|d| Displacement {
+            rms: d.rms,
+            mean: d.mean,
+            max: d.max,
+            area_rms: d.area_weighted_rms,
+        }),
+        normal_deviation_deg: normals.map(|n| NormalAngles {
+            mean: n.mean_deg,
+            rms: n.rms_deg,
+            max: n.max_deg,
+            faces: n.compared,
+        }),
+        normal_area_weighted_error: normals.map(|n| n.area_weighted_error),
+        volume: mesh_volume
+            .zip(reference_volume)
+            .map(|(mesh, reference)| Volumes {
+                mesh,
+                reference,
+                ratio: mesh / reference,
+            }),
+        area,
+        scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
+    };
+    if args.json {
+        serde_json::to_writer_pretty(&mut *out, &comparison).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+    } else {
+        write_table(&comparison, &notes, out)?;
+    }
+    Ok(())
+}
+
+/// Why a row of the table is empty.
+#[derive(Debug, Default)]
+struct Notes {
+    topology: String,
+    normals: String,
+    volume: String,
+}
+
+fn summary(path: &Path, loaded: &LoadedMesh) -> MeshSummary {
+    MeshSummary {
+        file: path.display().to_string(),
+        vertices: loaded.mesh.n_vertices(),
+        faces: loaded.mesh.n_faces(),
+        closed: loaded.mesh.is_closed(),
+    }
+}
+
+/// The enclosed volume of a closed mesh, `None` for an open one.
+fn closed_volume(loaded: &LoadedMesh) -> Result<Option<f64>, MetricsError> {
+    match volume(&loaded.mesh, &loaded.positions) {
+        Ok(v) => Ok(Some(v)),
+        Err(MetricsError::Topology(TopologyError::NotClosed { .. })) => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::Result<()> {
+    let n = |x: f64| number(x);
+    let describe = |m: &MeshSummary| {
+        format!(
+            "{} ({} vertices, {} faces, {})",
+            m.file,
+            m.vertices,
+            m.faces,
+            if m.closed { "closed" } else { "open" }
+        )
+    };
+    let hausdorff_points = if c.hausdorff_samples == 0 {
+        "vertices".to_string()
+    } else {
+        format!("vertices and {} surface samples", c.hausdorff_samples)
+    };
+    let sections: [(&str, Vec<(&str, String)>); 4] = [
+        (
+            "", // the files, unindented
+            vec![
+                ("mesh", describe(&c.mesh)),
+                ("reference", describe(&c.reference)),
+                (
+                    "unit",
+                    "the files' length unit (areas in unit², volumes in unit³), not scaled"
+                        .to_string(),
+                ),
+            ],
+        ),
+        (
+            "distance of the mesh's vertices to the reference surface (closest point on the closest triangle)",
+            vec![
+                ("rms", n(c.rms)),
+                ("mean", n(c.mean)),
+                ("max", n(c.max)),
+                ("area-weighted rms", n(c.area_rms)),
+            ],
+        ),
+        (
+            "signed distance (positive on the side the reference's normals point to: outside)",
+            vec![
+                ("mean", n(c.signed.mean)),
+                ("min", n(c.signed.min)),
+                ("max", n(c.signed.max)),
+                ("std dev", n(c.signed.std_dev)),
+            ],
+        ),
+        (
+            "surfaces",
+            vec![
+                (
+                    "hausdorff",
+                    format!(
+                        "{} (mesh -> reference {}, reference -> mesh {}; from {hausdorff_points})",
+                        n(c.hausdorff),
+                        n(c.hausdorff_mesh_to_reference),
+                        n(c.hausdorff_reference_to_mesh),
+                    ),
+                ),
+                (
+                    "displacement",
+                    c.displacement.as_ref().map_or_else(
+                        || format!("- ({})", notes.topology),
+                        |d| {
+                            format!(
+                                "rms {}, mean {}, max {}, area-weighted rms {} (vertex i to vertex i)",
+                                n(d.rms),
+                                n(d.mean),
+                                n(d.max),
+                                n(d.area_rms)
+                            )
+                        },
+                    ),
+                ),
+                (
+                    "normal deviation",
+                    match (&c.normal_deviation_deg, c.normal_area_weighted_error) {
+                        (Some(a), Some(e)) => format!(
+                            "mean {}°, rms {}°, max {}° over {} faces; area-weighted error {}",
+                            n(a.mean),
+                            n(a.rms),
+                            n(a.max),
+                            a.faces,
+                            n(e)
+                        ),
+                        _ => format!("- ({})", notes.normals),
+                    },
+                ),
+                (
+                    "area",
+                    format!("mesh {}, reference {}", n(c.area.mesh), n(c.area.reference)),
+                ),
+                (
+                    "volume",
+                    c.volume.as_ref().map_or_else(
+                        || format!("- ({})", notes.volume),
+                        |v| {
+                            format!(
+                                "mesh {}, reference {}, ratio {}",
+                                n(v.mesh),
+                                n(v.reference),
+                                n(v.ratio)
+                            )
+                        },
+                    ),
+                ),
+            ],
+        ),
+    ];
+    for (title, rows) in sections {
+        let indent = if title.is_empty() { "" } else { "  " };
+        if !title.is_empty() {
+            writeln!(out, "{title}")?;
+        }
+        for (key, value) in rows {
+            writeln!(out, "{indent}{key:<w$} {value}", w = 21 - indent.len())?;
+        }
+    }
+    if let Some(s) = &c.scalars {
+        writeln!(
+            out,
+            "signed distances -> {} (signed_distance; colours: blue {}, white 0, red {})",
+            s.file,
+            n(-s.color_range),
+            n(s.color_range)
+        )?;
+    }
+    Ok(())
+}
+
+/// `"a.ply vs b.ply"`: the subject of an error about a pair of files.
+pub(crate) fn pair_subject(a: &Path, b: &Path) -> String {
+    format!("{} vs {}", a.display(), b.display())
+}
+
+/// Turns a metrics error about the file at `path` into a CLI error.
+pub(crate) fn metrics_error(path: &Path) -> impl Fn(MetricsError) -> CliError + '_ {
+    move |source| CliError::Metrics {
+        subject: path.display().to_string(),
+        source,
+    }
+}
+
+/// Reads a mesh for a metric command (no repairs: the numbers are about the file as it
+/// is). An input without vertices is an error; so is one without faces when
+/// `needs_surface` names what needs them.
+pub(crate) fn load_input(
+    path: &Path,
+    needs_surface: Option<&'static str>,
+) -> Result<LoadedMesh, CliError> {
+    let loaded = load(path, false)?;
+    if loaded.mesh.n_vertices() == 0 {
+        return Err(metrics_error(path)(MetricsError::Empty { what: "mesh" }));
+    }
+    if let Some(needed_by) = needs_surface {
+        if loaded.mesh.n_faces() == 0 {
+            return Err(CliError::NoFaces {
+                path: path.to_path_buf(),
+                needed_by,
+            });
+        }
+    }
+    Ok(loaded)
+}
+
+/// Fails with a usage error unless `path` names a PLY file (an option that writes
+/// per-vertex scalars, which only PLY holds).
+pub(crate) fn check_ply_path(option: &str, path: &Path) -> Result<(), CliError> {
+    if MeshFormat::from_path(path).ok() == Some(MeshFormat::Ply) {
+        Ok(())
+    } else {
+        Err(CliError::Usage(format!(
+            "{option} writes a PLY file (per-vertex scalars need PLY), got '{}'",
+            path.display()
+        )))
+    }
+}
+
+/// Writes `loaded` (its positions and faces as read) to the PLY file `path` with one
+/// scalar per vertex as `property double <name>` and vertex colours from a diverging
+/// map symmetric about 0 (blue at `−m`, white at 0, red at `m`, with `m` the largest
+/// absolute value), atomically. Returns the file name and `m`.
+pub(crate) fn write_scalar_ply(
+    path: &Path,
+    loaded: &LoadedMesh,
+    name: &str,
+    values: &[f64],
+) -> Result<(String, f64), CliError> {
+    let map = ColorMap::symmetric_for(values);
+    let data = MeshData {
+        positions: loaded.positions.clone(),
+        faces: loaded.faces.clone(),
+    };
+    let attributes = VertexAttributes {
+        scalars: vec![(name.to_string(), values.to_vec())],
+        colors: Some(values.iter().map(|&v| map.color(v)).collect()),
+    };
+    write_ply(path, &data, &attributes, &WriteOptions::default()).map_err(|source| {
+        CliError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })?;
+    Ok((path.display().to_string(), map.max))
+}
+
+/// A number for a table: six significant digits, without trailing zeros; scientific
+/// notation below 10⁻⁴ and from 10⁶ on.
+pub(crate) fn number(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    let magnitude = x.abs().log10().floor();
+    if (-4.0..6.0).contains(&magnitude) {
+        let decimals = (5.0 - magnitude).max(0.0) as usize;
+        trim_zeros(&format!("{x:.decimals$}")).to_string()
+    } else {
+        let text = format!("{x:.5e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim_zeros(mantissa)),
+            None => text,
+        }
+    }
+}
+
+fn trim_zeros(text: &str) -> &str {
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        text
+    }
+}
+
+/// A point or direction as `(x, y, z)` with [`number`]s.
+pub(crate) fn vector(v: DVec3) -> String {
+    format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
+}
