@@ -41,8 +41,8 @@ pub(crate) struct CompareArgs {
     #[arg(long, value_name = "OUT.ply")]
     scalars: Option<PathBuf>,
     /// Also measure the Hausdorff distance from N points per surface spread uniformly
-    /// by area (fixed seed), not only from the vertices.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    /// by area (fixed seed), not only from the vertices (N up to 10 million).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
 }
 

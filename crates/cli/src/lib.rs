@@ -56,8 +56,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Fit a least-squares sphere, circle or cylinder to a mesh's vertices.
     Fit(fit::FitArgs),
-    /// The ISO 25178-2 areal parameters of a measured mesh's residual from its smoothed
-    /// version.
+    /// Compute the ISO 25178-2 areal parameters of a measured mesh's residual from its
+    /// smoothed version.
     Residual(residual::ResidualArgs),
 }
 
