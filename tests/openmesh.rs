@@ -13,6 +13,10 @@
 //!   and its weight sums edge by edge, beltrami both counter-clockwise, so the last bits
 //!   differ.
 //!
+//! Every comparison runs on every fixture listed in `tools/openmesh-ref/fixtures.txt`,
+//! with the same tolerances; a fixture listed with `--max-iterations N` (the F-lens, 10)
+//! has no cases beyond N iterations, and the tests expect exactly the cases up to N.
+//!
 //! The snapshots in `tests/snapshots/openmesh__*.snap` hold each fixture's summary and
 //! the comparison tables; `docs/testing.md` explains how to read them.
 
@@ -35,19 +39,47 @@ use beltrami_testkit::{
 /// diagonal.
 const TOLERANCE: f64 = 1e-12;
 
+/// The iteration counts of OpenMesh's smoother the tool writes (`kSmootherIterations`).
+const SMOOTHER_ITERATIONS: [usize; 3] = [1, 10, 100];
+
+/// The iteration counts of the paper's experiment the tool writes (`kPaperIterations`).
+const PAPER_ITERATIONS: [usize; 2] = [10, 100];
+
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The fixture names, from the list the generator reads.
-fn fixture_names() -> Vec<String> {
+/// A line of the list the generator reads: a fixture name and the largest iteration
+/// count written for it (`--max-iterations N`, unlimited without).
+struct Listed {
+    name: String,
+    max_iterations: usize,
+}
+
+/// The fixtures, from the list the generator reads.
+fn listed_fixtures() -> Vec<Listed> {
     let list = std::fs::read_to_string(root().join("tools/openmesh-ref/fixtures.txt"))
         .expect("tools/openmesh-ref/fixtures.txt");
     list.lines()
         .map(str::trim)
         .filter(|l| !l.is_empty() && !l.starts_with('#'))
-        .map(String::from)
+        .map(|l| {
+            let words: Vec<&str> = l.split_whitespace().collect();
+            let max_iterations = match words[1..] {
+                [] => usize::MAX,
+                ["--max-iterations", n] => n.parse().expect("--max-iterations N"),
+                _ => panic!("fixtures.txt: unknown options in {l:?}"),
+            };
+            Listed {
+                name: words[0].to_string(),
+                max_iterations,
+            }
+        })
         .collect()
+}
+
+fn fixture_names() -> Vec<String> {
+    listed_fixtures().into_iter().map(|l| l.name).collect()
 }
 
 struct Fixture {
@@ -55,6 +87,7 @@ struct Fixture {
     reference: Reference,
     input: MeshData,
     mesh: HalfedgeMesh,
+    max_iterations: usize,
 }
 
 impl Fixture {
@@ -62,12 +95,29 @@ impl Fixture {
         self.reference.summary.bbox_diagonal
     }
 
+    /// The iteration counts of OpenMesh's smoother the reference holds.
+    fn smoother_iterations(&self) -> Vec<usize> {
+        SMOOTHER_ITERATIONS
+            .into_iter()
+            .filter(|&n| n <= self.max_iterations)
+            .collect()
+    }
+
+    /// The iteration counts of the paper's experiment the reference holds.
+    fn paper_iterations(&self) -> Vec<usize> {
+        PAPER_ITERATIONS
+            .into_iter()
+            .filter(|&n| n <= self.max_iterations)
+            .collect()
+    }
+
     fn geometry(&self) -> Geometry<'_> {
         Geometry::new(&self.mesh, &self.input.positions).expect("positions match")
     }
 }
 
-fn load(name: &str) -> Fixture {
+fn load(listed: &Listed) -> Fixture {
+    let name = listed.name.as_str();
     let dir: PathBuf = root().join("fixtures/openmesh").join(name);
     let reference = Reference::load(&dir).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(reference.summary.fixture, name);
@@ -81,11 +131,12 @@ fn load(name: &str) -> Fixture {
         reference,
         input,
         mesh,
+        max_iterations: listed.max_iterations,
     }
 }
 
 fn fixtures() -> Vec<Fixture> {
-    fixture_names().iter().map(|n| load(n)).collect()
+    listed_fixtures().iter().map(load).collect()
 }
 
 fn bits(v: DVec3) -> [u64; 3] {
@@ -289,11 +340,19 @@ fn paper_table(f: &Fixture) -> ComparisonTable {
         .iter()
         .filter(|c| c.starts_with("paper/"))
         .collect();
-    let expected = if f.mesh.is_closed() { 12 } else { 24 };
+    // 3 schemes × 2 weight updates × (1 or 2 boundaries) per iteration count.
+    let per_count = if f.mesh.is_closed() { 6 } else { 12 };
+    let expected = per_count * f.paper_iterations().len();
+    assert!(expected > 0, "{}", f.name);
     assert_eq!(ids.len(), expected, "{}: paper cases", f.name);
     for id in ids {
         let case = f.reference.case(id).unwrap_or_else(|e| panic!("{e}"));
         let s = &case.summary;
+        assert!(
+            f.paper_iterations().contains(&s.iterations),
+            "{}: {id}",
+            f.name
+        );
         let scheme_name = s.scheme.as_deref().expect("scheme");
         let scheme = paper_scheme(scheme_name);
         let boundaries: &[&str] = if f.mesh.is_closed() {
@@ -383,10 +442,16 @@ fn smoother_table(f: &Fixture) -> ComparisonTable {
         .iter()
         .filter(|c| c.starts_with("openmesh_smoother/"))
         .collect();
-    assert_eq!(ids.len(), 6, "{}", f.name);
+    // 2 components per iteration count.
+    assert_eq!(ids.len(), 2 * f.smoother_iterations().len(), "{}", f.name);
     for id in ids {
         let case = f.reference.case(id).unwrap_or_else(|e| panic!("{e}"));
         let s = &case.summary;
+        assert!(
+            f.smoother_iterations().contains(&s.iterations),
+            "{}: {id}",
+            f.name
+        );
         let component = SmootherComponent::from_name(s.component.as_deref().expect("component"))
             .expect("known component");
         assert_eq!(
@@ -580,7 +645,7 @@ fn in_openmesh_order_the_smoother_is_reproduced_bit_for_bit() {
             SmootherComponent::TangentialAndNormal,
             SmootherComponent::Normal,
         ] {
-            for n in [1, 10, 100] {
+            for n in f.smoother_iterations() {
                 let id = format!("openmesh_smoother/{}_c0_{n}", component.name());
                 let case = f.reference.case(&id).expect("case");
                 let ours =

@@ -1,6 +1,10 @@
 // openmesh-ref: reference results for beltrami, computed with OpenMesh.
 //
-//   openmesh-ref INPUT.ply OUTPUT_DIR NAME
+//   openmesh-ref INPUT.ply OUTPUT_DIR NAME [--max-iterations N]
+//
+// --max-iterations N leaves out the cases with more than N iterations (of both the
+// smoother and the paper's experiment); fixtures.txt uses it to keep a large fixture's
+// references small.
 //
 // Reads a mesh from a binary little-endian PLY with double coordinates (the layout
 // beltrami-io writes), builds an OpenMesh TriMesh from the exact doubles with
@@ -50,9 +54,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -490,7 +496,14 @@ std::string case_json(const std::string& kind, const std::string& name, const st
   return j.str();
 }
 
-int run(const std::string& input_path, const std::string& out_dir, const std::string& name) {
+int run(const std::string& input_path, const std::string& out_dir, const std::string& name,
+        int max_iterations) {
+  // The paper's iteration counts that are written (checked before anything is).
+  std::vector<int> checkpoints;
+  for (int n : kPaperIterations)
+    if (n <= max_iterations) checkpoints.push_back(n);
+  if (checkpoints.empty()) fail("--max-iterations leaves no case of the paper's experiment");
+
   const Input data = read_ply(input_path);
   Mesh base = build_mesh(data);
   const std::vector<Vec> input = points_of(base);
@@ -535,6 +548,7 @@ int run(const std::string& input_path, const std::string& out_dir, const std::st
   };
   for (const Component& c : components) {
     for (int n : kSmootherIterations) {
+      if (n > max_iterations) continue;
       Mesh mesh = base;
       Smoother smoother(mesh);
       smoother.initialize(c.component, Smoother::C0);
@@ -556,7 +570,6 @@ int run(const std::string& input_path, const std::string& out_dir, const std::st
   }
 
   // The paper's experiment.
-  std::vector<int> checkpoints(std::begin(kPaperIterations), std::end(kPaperIterations));
   for (Scheme scheme : {Scheme::Uniform, Scheme::Distance, Scheme::Cotangent}) {
     for (Update update : {Update::Every, Update::Once}) {
       for (BoundaryMode boundary : {BoundaryMode::Fixed, BoundaryMode::Free}) {
@@ -629,12 +642,21 @@ int run(const std::string& input_path, const std::string& out_dir, const std::st
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: %s INPUT.ply OUTPUT_DIR NAME\n", argv[0]);
+  int max_iterations = std::numeric_limits<int>::max();
+  bool usage = argc != 4 && argc != 6;
+  if (argc == 6) {
+    char* end = nullptr;
+    long n = std::strtol(argv[5], &end, 10);
+    usage = std::strcmp(argv[4], "--max-iterations") != 0 || *argv[5] == '\0' || *end != '\0' ||
+            n < 1 || n > std::numeric_limits<int>::max();
+    max_iterations = static_cast<int>(n);
+  }
+  if (usage) {
+    std::fprintf(stderr, "usage: %s INPUT.ply OUTPUT_DIR NAME [--max-iterations N]\n", argv[0]);
     return 2;
   }
   try {
-    return run(argv[1], argv[2], argv[3]);
+    return run(argv[1], argv[2], argv[3], max_iterations);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "openmesh-ref: %s\n", e.what());
     return 1;

@@ -2,12 +2,16 @@
 //!
 //! Every function returns the same positions to the last bit on every platform: the
 //! noise comes from [`SplitMix64`] (integer arithmetic) and only `+ − ×` and exact
-//! operations are applied to it. The meshes of [`openmesh_inputs`] are committed in
+//! operations are applied to it — except [`noisy_flens`], which takes the paper's
+//! F-lens and its seeded Gaussian noise from `beltrami-surfaces` (ChaCha8 bits, `libm`'s
+//! pure-Rust logarithm and correctly rounded `sqrt`, also identical everywhere). The
+//! meshes of [`openmesh_inputs`] are committed in
 //! `fixtures/` (written by `cargo run -p beltrami-testkit --example make_openmesh_inputs`)
 //! and are the inputs of the OpenMesh references in `fixtures/openmesh/`.
 
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, PolygonList};
+use beltrami_surfaces::{FLensParams, NoiseLevel, add_normal_noise, flens};
 
 use crate::rng::SplitMix64;
 
@@ -20,7 +24,42 @@ pub fn openmesh_inputs() -> Vec<(&'static str, Primitive)> {
         ("noisy_icosphere_4", noisy_icosphere()),
         ("noisy_torus_36x12", noisy_torus()),
         ("holes_30x20", holes_patch()),
+        ("flens_68x33", noisy_flens()),
     ]
+}
+
+/// The seed of [`noisy_flens`]'s noise: that of `beltrami study`'s default configuration.
+pub const FLENS_NOISE_SEED: u64 = 1;
+
+/// The standard deviation of [`noisy_flens`]'s noise, as a multiple of the mean edge
+/// length: that of `beltrami study`'s default configuration.
+pub const FLENS_NOISE_LEVEL: f64 = 0.2;
+
+/// The paper's F-lens, `beltrami_surfaces::flens(&FLensParams::default())` (a 68 × 33
+/// grid: 2244 vertices, 4288 triangles, one boundary loop of 198 edges, millimetres),
+/// with Gaussian noise along the area-weighted vertex normals of standard deviation
+/// [`FLENS_NOISE_LEVEL`] × the mean edge length (0.2105 mm), seed
+/// [`FLENS_NOISE_SEED`] — `beltrami_surfaces::add_normal_noise`, boundary vertices
+/// included. This is the noisy F-lens `beltrami study` smooths by default. The noise
+/// tips the grid's right angles, so 688 edges have negative cotangent weights.
+///
+/// # Panics
+/// Never: the F-lens is a valid mesh and the noise level is valid (both are tested).
+#[must_use]
+pub fn noisy_flens() -> Primitive {
+    let lens = flens(&FLensParams::default());
+    let mesh = lens.mesh().expect("the F-lens is a valid mesh");
+    let (positions, _sigma) = add_normal_noise(
+        &mesh,
+        &lens.positions,
+        NoiseLevel::RelativeToMeanEdge(FLENS_NOISE_LEVEL),
+        FLENS_NOISE_SEED,
+    )
+    .expect("a valid noise level");
+    Primitive {
+        positions,
+        faces: lens.faces,
+    }
 }
 
 /// An open, irregular 24 × 16 grid with many obtuse triangles, so that cotangent weights
@@ -261,6 +300,20 @@ mod tests {
         loops.sort_unstable();
         assert_eq!(loops, [3, 4, 14, 18, 20, 100]);
         assert_eq!(holes.connected_components().count(), 1);
+
+        let lens = noisy_flens();
+        let lens_mesh = lens.mesh().unwrap();
+        assert_eq!((lens_mesh.n_vertices(), lens_mesh.n_faces()), (2244, 4288));
+        let loops: Vec<usize> = lens_mesh.boundary_loops().map(|l| l.len()).collect();
+        assert_eq!(loops, [198]);
+        // Every vertex moved, boundary vertices included.
+        let clean = flens(&FLensParams::default());
+        assert!(
+            lens.positions
+                .iter()
+                .zip(&clean.positions)
+                .all(|(a, b)| a != b)
+        );
     }
 
     #[test]
@@ -276,6 +329,29 @@ mod tests {
             })
             .count();
         assert!(negative >= 10, "only {negative} negative edges");
+    }
+
+    #[test]
+    fn the_noisy_flens_has_the_documented_noise_and_negative_weights() {
+        let clean = flens(&FLensParams::default());
+        let mesh = clean.mesh().unwrap();
+        let sigma = FLENS_NOISE_LEVEL
+            * Geometry::new(&mesh, &clean.positions)
+                .unwrap()
+                .mean_edge_length()
+                .unwrap();
+        assert!((sigma - 0.2105).abs() < 5e-5, "{sigma}");
+
+        let noisy = noisy_flens();
+        let g = Geometry::new(&mesh, &noisy.positions).unwrap();
+        let negative = mesh
+            .edges()
+            .filter(|e| {
+                let [h0, h1] = e.halfedges();
+                g.opposite_cotangent(h0) + g.opposite_cotangent(h1) < 0.0
+            })
+            .count();
+        assert_eq!(negative, 688);
     }
 
     #[test]
@@ -295,5 +371,6 @@ mod tests {
     fn fixtures_are_deterministic() {
         assert_eq!(obtuse_grid(), obtuse_grid());
         assert_eq!(holes_patch(), holes_patch());
+        assert_eq!(noisy_flens(), noisy_flens());
     }
 }

@@ -17,8 +17,8 @@
 //!   degenerate fixtures, agreement of the bulk and per-halfedge paths, symmetry where
 //!   claimed, translation invariance and position independence where claimed.
 //! - **Deterministic fixtures** ([`fixtures`]): irregular meshes with obtuse triangles,
-//!   noise, genus and several boundary loops, identical to the last bit on every
-//!   platform ([`SplitMix64`]).
+//!   noise, genus and several boundary loops, and the paper's noisy F-lens, identical to
+//!   the last bit on every platform ([`SplitMix64`], `beltrami-surfaces`' seeded noise).
 //! - **OpenMesh references** ([`openmesh`]): readers for what `tools/openmesh-ref`
 //!   writes, and the configuration that reproduces OpenMesh's `JacobiLaplaceSmootherT`.
 //!
