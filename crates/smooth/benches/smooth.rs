@@ -1,14 +1,15 @@
 //! Explicit smoothing: 10 iterations on a noisy icosphere (level 6, 40 962 vertices;
 //! level 8, 655 362 vertices) for each built-in scheme, with weights recomputed every
-//! iteration and computed once. `cargo bench -p beltrami-smooth --bench smooth`.
+//! iteration and computed once; `NAME_steps` times the iterations alone, `NAME` a whole
+//! `smooth` call (operator assembly included). `cargo bench -p beltrami-smooth --bench smooth`.
 
 #![allow(missing_docs)]
 
 use beltrami_halfedge::DVec3;
 use beltrami_halfedge::primitives;
-use beltrami_smooth::{SmoothConfig, WeightUpdate, smooth};
+use beltrami_smooth::{SmoothConfig, Smoother, WeightUpdate, smooth};
 use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
 const ITERATIONS: usize = 10;
@@ -45,6 +46,28 @@ fn bench_smooth(c: &mut Criterion) {
         for scheme in schemes {
             for (policy, update) in [("every", WeightUpdate::Every), ("once", WeightUpdate::Once)] {
                 let config = SmoothConfig::new(0.8, ITERATIONS).update(update);
+                // The iterations alone: the smoother (operator assembly, first weights)
+                // is built outside the timed part.
+                group.bench_with_input(
+                    BenchmarkId::new(format!("{}_steps", scheme.name()), policy),
+                    &config,
+                    |b, config| {
+                        b.iter_batched(
+                            || {
+                                Smoother::new(&mesh, &sphere.positions, scheme, config.clone())
+                                    .expect("valid configuration")
+                            },
+                            |mut smoother| {
+                                for _ in 0..ITERATIONS {
+                                    smoother.step().expect("finite step");
+                                }
+                                smoother
+                            },
+                            BatchSize::LargeInput,
+                        );
+                    },
+                );
+                // A whole run, assembly included.
                 group.bench_with_input(
                     BenchmarkId::new(scheme.name(), policy),
                     &config,

@@ -15,16 +15,27 @@ use crate::error::SmoothError;
 /// the reported statistics) do not depend on the number of threads.
 const CHUNK: usize = 4096;
 
-/// How one vertex moves.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How one vertex moves (one byte per vertex, so the sweep streams little).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Role {
     /// Never moves (fixed boundary, pinned, isolated).
     Still,
     /// Moves with its Laplacian row.
     Row,
-    /// Moves along the boundary polyline towards its two boundary neighbours; the
-    /// weights are refreshed with the Laplacian.
-    Curve { a: u32, b: u32, wa: f64, wb: f64 },
+    /// Moves along the boundary polyline towards its two boundary neighbours (see
+    /// [`CurveRow`]).
+    Curve,
+}
+
+/// A vertex that moves along the boundary polyline towards its two boundary
+/// neighbours `a` and `b`; the weights are refreshed with the Laplacian.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CurveRow {
+    v: u32,
+    a: u32,
+    b: u32,
+    wa: f64,
+    wb: f64,
 }
 
 /// Statistics of one iteration.
@@ -116,6 +127,7 @@ pub struct Smoother<'a> {
     config: SmoothConfig,
     laplacian: Laplacian,
     roles: Vec<Role>,
+    curve: Vec<CurveRow>,
     positions: Vec<DVec3>,
     next: Vec<DVec3>,
     iteration: usize,
@@ -189,31 +201,37 @@ impl<'a> Smoother<'a> {
                 match (mesh.is_boundary_vertex(v), config.boundary) {
                     (false, _) | (true, Boundary::Free) => Role::Row,
                     (true, Boundary::Fixed) => Role::Still,
-                    (true, Boundary::Curve) => {
-                        // Outgoing boundary halfedge v -> b; the boundary halfedge before
-                        // it comes from a.
-                        let out = mesh.outgoing_halfedge(v).expect("not isolated");
-                        let b = mesh.to_vertex(out).raw();
-                        let a = mesh.from_vertex(mesh.prev(out)).raw();
-                        Role::Curve {
-                            a,
-                            b,
-                            wa: 0.0,
-                            wb: 0.0,
-                        }
-                    }
+                    (true, Boundary::Curve) => Role::Curve,
                 }
             })
             .collect();
         for v in &config.pinned {
             roles[v.index()] = Role::Still;
         }
+        // In increasing vertex order, so that a sweep finds them with a cursor.
+        let curve: Vec<CurveRow> = mesh
+            .vertices()
+            .filter(|v| roles[v.index()] == Role::Curve)
+            .map(|v| {
+                // Outgoing boundary halfedge v -> b; the boundary halfedge before it
+                // comes from a.
+                let out = mesh.outgoing_halfedge(v).expect("not isolated");
+                CurveRow {
+                    v: v.raw(),
+                    a: mesh.from_vertex(mesh.prev(out)).raw(),
+                    b: mesh.to_vertex(out).raw(),
+                    wa: 0.0,
+                    wb: 0.0,
+                }
+            })
+            .collect();
         let mut smoother = Self {
             mesh,
             scheme,
             config,
             laplacian,
             roles,
+            curve,
             positions: positions.to_vec(),
             next: positions.to_vec(),
             iteration: 0,
@@ -235,27 +253,25 @@ impl<'a> Smoother<'a> {
             .map_err(beltrami_weights::WeightError::from)?;
         let ctx = WeightContext::new(geometry);
         let mesh = self.mesh;
-        for (i, role) in self.roles.iter_mut().enumerate() {
-            if let Role::Curve { a, b, wa, wb } = role {
-                let v = VertexId::new(i as u32);
-                let ha = mesh
-                    .find_halfedge(v, VertexId::new(*a))
-                    .expect("boundary neighbour");
-                let hb = mesh
-                    .find_halfedge(v, VertexId::new(*b))
-                    .expect("boundary neighbour");
-                *wa = self.scheme.curve_weight(&ctx, ha);
-                *wb = self.scheme.curve_weight(&ctx, hb);
-                for (w, h) in [(*wa, ha), (*wb, hb)] {
-                    if !w.is_finite() {
-                        return Err(beltrami_weights::WeightError::NonFiniteWeight {
-                            scheme: self.scheme.name().to_string(),
-                            from: i as u32,
-                            to: mesh.to_vertex(h).raw(),
-                            value: w,
-                        }
-                        .into());
+        for row in &mut self.curve {
+            let v = VertexId::new(row.v);
+            let ha = mesh
+                .find_halfedge(v, VertexId::new(row.a))
+                .expect("boundary neighbour");
+            let hb = mesh
+                .find_halfedge(v, VertexId::new(row.b))
+                .expect("boundary neighbour");
+            row.wa = self.scheme.curve_weight(&ctx, ha);
+            row.wb = self.scheme.curve_weight(&ctx, hb);
+            for (w, h) in [(row.wa, ha), (row.wb, hb)] {
+                if !w.is_finite() {
+                    return Err(beltrami_weights::WeightError::NonFiniteWeight {
+                        scheme: self.scheme.name().to_string(),
+                        from: row.v,
+                        to: mesh.to_vertex(h).raw(),
+                        value: w,
                     }
+                    .into());
                 }
             }
         }
@@ -294,7 +310,8 @@ impl<'a> Smoother<'a> {
 
         let start = Instant::now();
         let lambda = self.config.lambda;
-        let (laplacian, roles, old) = (&self.laplacian, &self.roles, &self.positions);
+        let (laplacian, roles, curve, old) =
+            (&self.laplacian, &self.roles, &self.curve, &self.positions);
         // Each chunk returns (sum of displacements, max displacement, stuck count, first
         // non-finite vertex).
         let partials: Vec<(f64, f64, usize, Option<u32>)> = self
@@ -302,23 +319,25 @@ impl<'a> Smoother<'a> {
             .par_chunks_mut(CHUNK)
             .enumerate()
             .map(|(c, out)| {
+                let first = c * CHUNK;
                 let mut sum = 0.0;
                 let mut max: f64 = 0.0;
                 let mut stuck = 0;
                 let mut bad = None;
-                for (k, x) in out.iter_mut().enumerate() {
-                    let i = c * CHUNK + k;
-                    let xi = old[i];
+                let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
+                laplacian.for_each_row(first..first + out.len(), old, |i, xi, l| {
                     let new = match roles[i] {
                         Role::Still => xi,
-                        Role::Row => match laplacian.laplacian_at(VertexId::new(i as u32), old) {
+                        Role::Row => match l {
                             Some(l) => xi + l * lambda,
                             None => {
                                 stuck += 1;
                                 xi
                             }
                         },
-                        Role::Curve { a, b, wa, wb } => {
+                        Role::Curve => {
+                            let CurveRow { a, b, wa, wb, .. } = curve[cursor];
+                            cursor += 1;
                             let s = old[a as usize] * wa + old[b as usize] * wb;
                             let inv = 1.0 / (wa + wb);
                             if inv.is_finite() && inv > 0.0 {
@@ -335,8 +354,8 @@ impl<'a> Smoother<'a> {
                     let d = beltrami_halfedge::geometry::distance(xi, new);
                     sum += d;
                     max = max.max(d);
-                    *x = new;
-                }
+                    out[i - first] = new;
+                });
                 (sum, max, stuck, bad)
             })
             .collect();

@@ -52,10 +52,12 @@ impl WeightScheme for Cotangent {
         for (h, cot) in cots.into_iter().flatten().flatten() {
             out[h.index()] = cot;
         }
-        for pair in out.chunks_exact_mut(2) {
-            let w = 0.5 * (pair[0] + pair[1]);
-            pair[0] = w;
-            pair[1] = w;
-        }
+        out.par_chunks_mut(crate::PAR_CHUNK).for_each(|chunk| {
+            for pair in chunk.chunks_exact_mut(2) {
+                let w = 0.5 * (pair[0] + pair[1]);
+                pair[0] = w;
+                pair[1] = w;
+            }
+        });
     }
 }

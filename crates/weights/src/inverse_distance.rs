@@ -1,6 +1,7 @@
 //! Inverse-distance weights (the paper's Eq. 4).
 
 use beltrami_halfedge::HalfedgeId;
+use rayon::prelude::*;
 
 use crate::scheme::{WeightContext, WeightScheme};
 
@@ -28,5 +29,18 @@ impl WeightScheme for InverseDistance {
 
     fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
         1.0 / (ctx.edge_length(h) + DISTANCE_EPSILON)
+    }
+
+    fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {
+        // Halfedges are independent: fixed-size chunks in parallel, each weight the
+        // bits of `weight`, whatever the thread count.
+        out.par_chunks_mut(crate::PAR_CHUNK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                let first = c * crate::PAR_CHUNK;
+                for (k, w) in chunk.iter_mut().enumerate() {
+                    *w = self.weight(ctx, HalfedgeId::new((first + k) as u32));
+                }
+            });
     }
 }

@@ -3,6 +3,9 @@
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 
+use rayon::prelude::*;
+
+use crate::PAR_CHUNK;
 use crate::error::WeightError;
 use crate::scheme::{WeightContext, WeightScheme};
 
@@ -86,16 +89,16 @@ pub struct LaplacianOptions {
 #[derive(Clone, Debug)]
 pub struct Laplacian {
     options: LaplacianOptions,
-    /// Row `i` is `offsets[i]..offsets[i + 1]`.
-    offsets: Vec<usize>,
+    /// Row `i` is `offsets[i]..offsets[i + 1]` (halfedge counts fit in `u32`).
+    offsets: Vec<u32>,
     neighbours: Vec<u32>,
     halfedges: Vec<u32>,
     weights: Vec<f64>,
     /// Per-halfedge scratch for [`WeightScheme::fill_weights`].
     halfedge_weights: Vec<f64>,
     weight_sums: Vec<f64>,
-    /// `1/W_i` or `1/A_i`; `None` for a stuck row.
-    scales: Vec<Option<f64>>,
+    /// `1/W_i` or `1/A_i`, positive and finite; 0 for a stuck row.
+    scales: Vec<f64>,
     stuck: usize,
 }
 
@@ -125,7 +128,7 @@ impl Laplacian {
                 neighbours.push(mesh.to_vertex(h).raw());
                 halfedges.push(h.raw());
             }
-            offsets.push(neighbours.len());
+            offsets.push(u32::try_from(neighbours.len()).expect("halfedge ids are u32"));
         }
         let mut lap = Self {
             options,
@@ -135,7 +138,7 @@ impl Laplacian {
             halfedges,
             halfedge_weights: vec![0.0; mesh.n_halfedges()],
             weight_sums: vec![0.0; n],
-            scales: vec![None; n],
+            scales: vec![0.0; n],
             stuck: 0,
         };
         lap.update(mesh, positions, scheme)?;
@@ -165,7 +168,16 @@ impl Laplacian {
         let geometry = Geometry::new(mesh, positions)?;
         let ctx = WeightContext::new(geometry);
         scheme.fill_weights(&ctx, &mut self.halfedge_weights);
-        if let Some(h) = self.halfedge_weights.iter().position(|w| !w.is_finite()) {
+        let bad = self
+            .halfedge_weights
+            .par_chunks(PAR_CHUNK)
+            .any(|c| c.iter().any(|w| !w.is_finite()));
+        if bad {
+            let h = self
+                .halfedge_weights
+                .iter()
+                .position(|w| !w.is_finite())
+                .expect("a non-finite weight");
             let h = HalfedgeId::new(h as u32);
             return Err(WeightError::NonFiniteWeight {
                 scheme: scheme.name().to_string(),
@@ -175,30 +187,55 @@ impl Laplacian {
             });
         }
         let negative = self.options.negative;
-        for (w, &h) in self.weights.iter_mut().zip(&self.halfedges) {
-            *w = negative.apply(self.halfedge_weights[h as usize]);
-        }
+        let halfedge_weights = &self.halfedge_weights;
+        self.weights
+            .par_chunks_mut(PAR_CHUNK)
+            .zip(self.halfedges.par_chunks(PAR_CHUNK))
+            .for_each(|(ws, hs)| {
+                for (w, &h) in ws.iter_mut().zip(hs) {
+                    *w = negative.apply(halfedge_weights[h as usize]);
+                }
+            });
         let areas = match self.options.normalization {
             Normalization::WeightSum => None,
             Normalization::Area(kind) => Some(geometry.vertex_areas(kind)?),
         };
-        self.stuck = 0;
-        for i in 0..self.scales.len() {
-            let row = &self.weights[self.offsets[i]..self.offsets[i + 1]];
-            let sum: f64 = row.iter().sum();
-            self.weight_sums[i] = sum;
-            let scale = match &areas {
-                None => 1.0 / sum,
-                Some(a) => 1.0 / a.as_slice()[i],
-            };
-            // A row moves only when its weights sum to a positive finite value (for
-            // either normalisation: a non-positive sum would push the vertex away from
-            // its neighbours) and its scale is positive and finite.
-            let movable =
-                !row.is_empty() && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
-            self.scales[i] = movable.then_some(scale);
-            self.stuck += usize::from(!movable);
-        }
+        let areas = areas.as_ref().map(|a| a.as_slice());
+        let (offsets, weights) = (&self.offsets, &self.weights);
+        // Rows are independent: fixed-size chunks in parallel, each row summed in row
+        // order, so the bits do not depend on the thread count.
+        self.stuck = self
+            .weight_sums
+            .par_chunks_mut(PAR_CHUNK)
+            .zip(self.scales.par_chunks_mut(PAR_CHUNK))
+            .enumerate()
+            .map(|(c, (sums, scales))| {
+                let first = c * PAR_CHUNK;
+                let mut stuck = 0;
+                for (k, (sum_out, scale_out)) in sums.iter_mut().zip(scales).enumerate() {
+                    let i = first + k;
+                    let row = &weights[offsets[i] as usize..offsets[i + 1] as usize];
+                    let sum: f64 = row.iter().sum();
+                    *sum_out = sum;
+                    let scale = match areas {
+                        None => 1.0 / sum,
+                        Some(a) => 1.0 / a[i],
+                    };
+                    // A row moves only when its weights sum to a positive finite value
+                    // (for either normalisation: a non-positive sum would push the
+                    // vertex away from its neighbours) and its scale is positive and
+                    // finite.
+                    let movable = !row.is_empty()
+                        && sum.is_finite()
+                        && sum > 0.0
+                        && scale.is_finite()
+                        && scale > 0.0;
+                    *scale_out = if movable { scale } else { 0.0 };
+                    stuck += usize::from(!movable);
+                }
+                stuck
+            })
+            .sum();
         Ok(())
     }
 
@@ -217,7 +254,7 @@ impl Laplacian {
     /// `(neighbour, weight)` pairs of row `v`, counter-clockwise, after the
     /// negative-weight policy.
     pub fn row(&self, v: VertexId) -> impl ExactSizeIterator<Item = (VertexId, f64)> + '_ {
-        let range = self.offsets[v.index()]..self.offsets[v.index() + 1];
+        let range = self.range(v.index());
         self.neighbours[range.clone()]
             .iter()
             .zip(&self.weights[range])
@@ -227,7 +264,7 @@ impl Laplacian {
     /// The halfedges of row `v` (`v → j`), in the order of [`row`](Self::row).
     #[must_use]
     pub fn row_halfedges(&self, v: VertexId) -> &[u32] {
-        &self.halfedges[self.offsets[v.index()]..self.offsets[v.index() + 1]]
+        &self.halfedges[self.range(v.index())]
     }
 
     /// `W_i = Σ_j w_ij` of row `v` (after the negative-weight policy).
@@ -239,7 +276,14 @@ impl Laplacian {
     /// The row scale, `1/W_i` (weight sum) or `1/A_i` (area); `None` when the row is stuck.
     #[must_use]
     pub fn scale(&self, v: VertexId) -> Option<f64> {
-        self.scales[v.index()]
+        let s = self.scales[v.index()];
+        (s > 0.0).then_some(s)
+    }
+
+    /// The slots of row `i` in `neighbours`, `halfedges` and `weights`.
+    #[inline]
+    fn range(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
     }
 
     /// The number of stuck rows (vertices that cannot move).
@@ -259,28 +303,75 @@ impl Laplacian {
     #[inline]
     #[must_use]
     pub fn laplacian_at(&self, v: VertexId, positions: &[DVec3]) -> Option<DVec3> {
-        let scale = self.scales[v.index()]?;
-        let range = self.offsets[v.index()]..self.offsets[v.index() + 1];
-        let xi = positions[v.index()];
-        let pairs = self.neighbours[range.clone()]
+        let i = v.index();
+        match self.options.normalization {
+            Normalization::WeightSum => self.weight_sum_row(i, positions),
+            Normalization::Area(_) => self.area_row(i, positions),
+        }
+    }
+
+    /// `L x_i` of a weight-sum row (see [`laplacian_at`](Self::laplacian_at)).
+    #[inline]
+    fn weight_sum_row(&self, i: usize, positions: &[DVec3]) -> Option<DVec3> {
+        let scale = self.scales[i];
+        if scale <= 0.0 {
+            return None;
+        }
+        let range = self.range(i);
+        let mut s = DVec3::ZERO;
+        for (&j, &w) in self.neighbours[range.clone()]
             .iter()
-            .zip(&self.weights[range]);
-        Some(match self.options.normalization {
+            .zip(&self.weights[range])
+        {
+            s += positions[j as usize] * w;
+        }
+        Some(s * scale - positions[i])
+    }
+
+    /// `L x_i` of an area row (see [`laplacian_at`](Self::laplacian_at)).
+    #[inline]
+    fn area_row(&self, i: usize, positions: &[DVec3]) -> Option<DVec3> {
+        let scale = self.scales[i];
+        if scale <= 0.0 {
+            return None;
+        }
+        let range = self.range(i);
+        let xi = positions[i];
+        let mut s = DVec3::ZERO;
+        for (&j, &w) in self.neighbours[range.clone()]
+            .iter()
+            .zip(&self.weights[range])
+        {
+            s += (positions[j as usize] - xi) * w;
+        }
+        Some(s * scale)
+    }
+
+    /// Calls `f(i, x_i, L x_i)` for every row `i` in `rows`, in increasing order, with
+    /// `L x_i` exactly as [`laplacian_at`](Self::laplacian_at) computes it (`None` for a
+    /// stuck row). The normalisation is chosen once for the whole range, which makes
+    /// this the fast path for sweeps over many rows.
+    ///
+    /// # Panics
+    /// If `rows` reaches past the last row or `positions` is shorter than the mesh's
+    /// vertex count.
+    #[inline]
+    pub fn for_each_row<F>(&self, rows: std::ops::Range<usize>, positions: &[DVec3], mut f: F)
+    where
+        F: FnMut(usize, DVec3, Option<DVec3>),
+    {
+        match self.options.normalization {
             Normalization::WeightSum => {
-                let mut s = DVec3::ZERO;
-                for (&j, &w) in pairs {
-                    s += positions[j as usize] * w;
+                for i in rows {
+                    f(i, positions[i], self.weight_sum_row(i, positions));
                 }
-                s * scale - xi
             }
             Normalization::Area(_) => {
-                let mut s = DVec3::ZERO;
-                for (&j, &w) in pairs {
-                    s += (positions[j as usize] - xi) * w;
+                for i in rows {
+                    f(i, positions[i], self.area_row(i, positions));
                 }
-                s * scale
             }
-        })
+        }
     }
 
     /// `L x` for every vertex into `out` (zero for stuck rows).

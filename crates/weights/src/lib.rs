@@ -32,6 +32,10 @@ mod registry;
 mod scheme;
 mod uniform;
 
+/// Items per parallel work unit (even, so that a chunk of halfedges holds whole twin
+/// pairs). Fixed, so that results do not depend on the thread count.
+const PAR_CHUNK: usize = 8192;
+
 pub use cotangent::Cotangent;
 pub use error::WeightError;
 pub use inverse_distance::{DISTANCE_EPSILON, InverseDistance};
