@@ -1,6 +1,8 @@
 //! Cotangent weights (the paper's Eq. 5).
 
-use beltrami_halfedge::HalfedgeId;
+use std::cell::RefCell;
+
+use beltrami_halfedge::{FaceId, HalfedgeId};
 use rayon::prelude::*;
 
 use crate::scheme::{WeightContext, WeightScheme};
@@ -24,6 +26,13 @@ use crate::scheme::{WeightContext, WeightScheme};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cotangent;
 
+/// Per-face cotangent triples of [`Cotangent::fill_weights`], reused between calls.
+type FaceCotangents = Vec<Option<[(HalfedgeId, f64); 3]>>;
+
+thread_local! {
+    static FACE_COTANGENTS: RefCell<FaceCotangents> = const { RefCell::new(Vec::new()) };
+}
+
 impl WeightScheme for Cotangent {
     fn name(&self) -> &str {
         "cotangent"
@@ -44,14 +53,19 @@ impl WeightScheme for Cotangent {
         // the result does not depend on the thread count.
         out.fill(0.0);
         let geometry = ctx.geometry();
-        let faces: Vec<_> = ctx.mesh().faces().collect();
-        let cots: Vec<_> = faces
-            .par_iter()
-            .map(|&f| geometry.face_opposite_cotangents(f))
-            .collect();
-        for (h, cot) in cots.into_iter().flatten().flatten() {
-            out[h.index()] = cot;
-        }
+        let n_faces = ctx.mesh().n_faces();
+        // The per-face buffer is kept between calls on the same thread, so that a run
+        // that refreshes the weights every iteration does not allocate (and fault in)
+        // tens of megabytes each time.
+        FACE_COTANGENTS.with_borrow_mut(|cots| {
+            (0..n_faces)
+                .into_par_iter()
+                .map(|f| geometry.face_opposite_cotangents(FaceId::new(f as u32)))
+                .collect_into_vec(cots);
+            for &(h, cot) in cots.iter().flatten().flatten() {
+                out[h.index()] = cot;
+            }
+        });
         out.par_chunks_mut(crate::PAR_CHUNK).for_each(|chunk| {
             for pair in chunk.chunks_exact_mut(2) {
                 let w = 0.5 * (pair[0] + pair[1]);
