@@ -1,7 +1,10 @@
 //! `beltrami compare` as a user runs it: mesh files in, distances out.
 
+mod common;
+
+use common::{beltrami, error_line, f, json, s};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use beltrami_halfedge::{DVec3, primitives};
 use beltrami_io::{MeshData, WriteOptions, write_mesh};
@@ -10,17 +13,6 @@ use beltrami_viz::render::ColorMap;
 use insta::assert_snapshot;
 use ply_rs_bw::ply::{DefaultElement, Property};
 use serde_json::Value;
-
-fn beltrami(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beltrami"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 fn write(
     dir: &Path,
@@ -37,16 +29,6 @@ fn write(
     path
 }
 
-fn json(args: &[&str]) -> Value {
-    let out = beltrami(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
 fn text(args: &[&str], dir: &Path) -> String {
     let out = beltrami(args);
     assert!(
@@ -59,21 +41,7 @@ fn text(args: &[&str], dir: &Path) -> String {
         .replace(&format!("{}/", dir.display()), "")
 }
 
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
 /// The one stderr line of a failed run, with the temporary directory removed.
-fn error_line(out: &Output, dir: &Path) -> String {
-    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
-    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
-    assert!(stderr.starts_with("error: "), "{stderr:?}");
-    assert!(out.stdout.is_empty(), "nothing on stdout");
-    stderr
-        .trim_end()
-        .replace(&format!("{}/", dir.display()), "")
-}
-
 /// The smallest distance from the origin to the plane of a face of an icosphere: the
 /// polyhedron lies between this radius and 1 (the chordal bound).
 fn inradius(sphere: &primitives::Primitive) -> f64 {

@@ -1,8 +1,11 @@
 //! `beltrami fit` as a user runs it: a mesh file in, a fitted shape out.
 
+mod common;
+
+use common::{beltrami, error_line, f, json, s, write};
+
 use std::f64::consts::TAU;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use beltrami_halfedge::{DVec3, PolygonList, primitives};
 use beltrami_io::{MeshData, WriteOptions, read_mesh, write_mesh};
@@ -11,54 +14,8 @@ use beltrami_surfaces::{GolfBallParams, golf_ball};
 use insta::assert_snapshot;
 use serde_json::Value;
 
-fn beltrami(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beltrami"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn write(dir: &Path, name: &str, positions: Vec<DVec3>, faces: PolygonList) -> PathBuf {
-    let path = dir.join(name);
-    write_mesh(
-        &path,
-        &MeshData { positions, faces },
-        &WriteOptions::default(),
-    )
-    .unwrap();
-    path
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = beltrami(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
 fn vec3(v: &Value) -> DVec3 {
     DVec3::new(f(&v[0]), f(&v[1]), f(&v[2]))
-}
-
-fn error_line(out: &Output, dir: &Path) -> String {
-    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
-    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
-    assert!(stderr.starts_with("error: "), "{stderr:?}");
-    assert!(out.stdout.is_empty(), "nothing on stdout");
-    stderr
-        .trim_end()
-        .replace(&format!("{}/", dir.display()), "")
 }
 
 /// An open tube of radius `radius` around the axis through `base` along unit `axis`,

@@ -1,61 +1,17 @@
 //! `beltrami residual` as a user runs it: a measured and a smoothed mesh in, areal
 //! parameters out.
 
+mod common;
+
+use common::{beltrami, error_line, f, json, s, write};
+
 use std::f64::consts::{PI, SQRT_2, TAU};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use beltrami_halfedge::{DVec3, PolygonList, primitives};
-use beltrami_io::{MeshData, WriteOptions, write_mesh};
 use insta::assert_snapshot;
 use ply_rs_bw::ply::{DefaultElement, Property};
 use serde_json::Value;
-
-fn beltrami(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beltrami"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn write(dir: &Path, name: &str, positions: Vec<DVec3>, faces: PolygonList) -> PathBuf {
-    let path = dir.join(name);
-    write_mesh(
-        &path,
-        &MeshData { positions, faces },
-        &WriteOptions::default(),
-    )
-    .unwrap();
-    path
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = beltrami(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
-fn error_line(out: &Output, dir: &Path) -> String {
-    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
-    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
-    assert!(stderr.starts_with("error: "), "{stderr:?}");
-    assert!(out.stdout.is_empty(), "nothing on stdout");
-    stderr
-        .trim_end()
-        .replace(&format!("{}/", dir.display()), "")
-}
 
 fn close(got: f64, want: f64, relative: f64) -> bool {
     (got - want).abs() <= relative * want.abs().max(1e-300)

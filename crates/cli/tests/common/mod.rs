@@ -1,0 +1,57 @@
+//! Helpers shared by the CLI integration tests: run the binary, write a mesh, read its
+//! JSON output or its one error line.
+
+#![allow(dead_code)] // each test file uses a different subset
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use beltrami_halfedge::{DVec3, PolygonList};
+use beltrami_io::{MeshData, WriteOptions, write_mesh};
+use serde_json::Value;
+
+pub(crate) fn beltrami(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_beltrami"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+pub(crate) fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+pub(crate) fn write(dir: &Path, name: &str, positions: Vec<DVec3>, faces: PolygonList) -> PathBuf {
+    let path = dir.join(name);
+    write_mesh(
+        &path,
+        &MeshData { positions, faces },
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    path
+}
+
+pub(crate) fn json(args: &[&str]) -> Value {
+    let out = beltrami(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+pub(crate) fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+pub(crate) fn error_line(out: &Output, dir: &Path) -> String {
+    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "exactly one line: {stderr:?}");
+    assert!(stderr.starts_with("error: "), "{stderr:?}");
+    assert!(out.stdout.is_empty(), "nothing on stdout");
+    stderr
+        .trim_end()
+        .replace(&format!("{}/", dir.display()), "")
+}
