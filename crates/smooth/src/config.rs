@@ -34,6 +34,142 @@ pub enum WeightUpdate {
     Once,
 }
 
+/// How each iteration moves the vertices.
+///
+/// Every method is built from the same Jacobi sweep `x ← x + s·L x` (see
+/// [`Smoother`](crate::Smoother)); they differ in the steps `s` and in what happens
+/// between sweeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub enum Method {
+    /// One sweep with step λ per iteration: plain diffusion (the paper's method). Shrinks.
+    #[default]
+    Laplacian,
+    /// Taubin's λ|μ filter (Taubin 1995, "A signal processing approach to fair surface
+    /// design"): each iteration is two sweeps, first with λ > 0, then with `mu` < −λ.
+    ///
+    /// With weight-sum normalisation and non-negative weights, the operator `K = −L` has
+    /// eigenvalues `k ∈ [0, 2]` and one iteration multiplies the mode `k` by
+    /// `f(k) = (1 − λk)(1 − μk)`. `f(0) = f(k_PB) = 1` at the pass-band frequency
+    /// `k_PB = 1/λ + 1/μ`, which must be positive (`μ < −λ`): low frequencies (the form)
+    /// pass with a gain between 1 and `1 + (λ + μ)² / (−4λμ)`, high frequencies
+    /// (`k > k_PB`, the noise) are damped. Stability of the highest mode needs
+    /// `f(2) > −1`, i.e. `(1 − 2λ)(1 − 2μ) > −1`; both conditions are checked. Typical:
+    /// `k_PB` between 0.01 and 0.1, e.g. λ = 0.33, μ = −0.34.
+    Taubin {
+        /// The negative (inflating) step μ, < −λ.
+        mu: f64,
+    },
+    /// The HC algorithm (Vollmer, Mencl, Müller 1999, "Improved Laplacian smoothing of
+    /// noisy surface meshes"): after each sweep from `q` to `p`, every moving vertex is
+    /// pushed back by `b_i = p_i − (α o_i + (1 − α) q_i)` (`o` the input positions):
+    /// `p_i ← p_i − (β b_i + (1 − β) b̄_i)`, with `b̄_i` the average of `b` over the
+    /// one-ring with the scheme's weights. A local correction, so it works on open
+    /// patches, where a global volume rescale is undefined. Typical α = 0.1, β = 0.6.
+    Hc {
+        /// The pull towards the input positions, in [0, 1].
+        alpha: f64,
+        /// The weight of a vertex's own correction against its neighbours', in [0, 1].
+        beta: f64,
+    },
+}
+
+impl Method {
+    /// Taubin's filter with μ chosen for a pass-band frequency `k_pb`:
+    /// `μ = 1 / (k_pb − 1/λ)`.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_smooth::Method;
+    /// let Method::Taubin { mu } = Method::taubin_pass_band(0.33, 0.1) else { unreachable!() };
+    /// assert!((1.0 / 0.33 + 1.0 / mu - 0.1).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn taubin_pass_band(lambda: f64, k_pb: f64) -> Self {
+        Self::Taubin {
+            mu: 1.0 / (k_pb - 1.0 / lambda),
+        }
+    }
+
+    /// The HC algorithm with the published defaults α = 0.1, β = 0.6.
+    #[must_use]
+    pub fn hc() -> Self {
+        Self::Hc {
+            alpha: 0.1,
+            beta: 0.6,
+        }
+    }
+
+    /// A short name: `laplacian`, `taubin` or `hc`.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Laplacian => "laplacian",
+            Self::Taubin { .. } => "taubin",
+            Self::Hc { .. } => "hc",
+        }
+    }
+}
+
+/// How long to diffuse, in physical units, instead of λ × iterations.
+///
+/// The heat equation `∂x/∂t = Δx` run for a time `t` convolves with a Gaussian of
+/// variance `σ² = 2t` per axis. Matching the ISO 16610 Gaussian filter (50 % amplitude
+/// transmission at the cut-off wavelength λc) gives `σ = 0.18739 λc` and
+/// `t = ln 2 · λc² / (4π²) = 0.017558 λc²`.
+///
+/// The [`Smoother`](crate::Smoother) turns a duration into iterations and a step:
+/// - area normalisation (`L = M⁻¹ Σ w_ij (x_j − x_i)`, the cotangent Laplace–Beltrami
+///   operator with [`Cotangent`](beltrami_weights::Cotangent)): λ is a time per
+///   iteration; `n = ⌈t / τ⌉` iterations of `λ = t / n`, where
+///   `τ = min(λ_config, 0.5 / max_i (W_i / A_i))` keeps every vertex's own coefficient
+///   at least ½ (stable for non-negative weights);
+/// - weight-sum normalisation: a normalised row applied to `½|x − x_i|²` gives half the
+///   weighted mean squared edge length `⟨ℓ²⟩_i = Σ_j w_ij ℓ_ij² / Σ_j w_ij`, and `Δ` of
+///   that function is 2, so the row approximates `(⟨ℓ²⟩_i / 4) Δ` (on a regular mesh
+///   with edge length ℓ every normalised operator equals `(ℓ²/4) Δ`). One iteration
+///   with step λ advances the time by `λ ⟨ℓ²⟩ / 4`, with `⟨ℓ²⟩` the mean of `⟨ℓ²⟩_i`
+///   over the moving vertices, weighted with the scheme's input weights;
+///   `n = ⌈4t / (λ_config ⟨ℓ²⟩)⌉` iterations of `λ = 4t / (n ⟨ℓ²⟩)`. Exact on regular
+///   meshes; on irregular ones the local time varies with `⟨ℓ²⟩_i` (use area
+///   normalisation there).
+///
+/// Either way the result no longer depends on the mesh density or the scale of the
+/// coordinates, only on `t` (length²) or λc (length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum DiffusionTime {
+    /// A diffusion time `t`, in length² (e.g. mm²).
+    Time(f64),
+    /// A Gaussian-filter cut-off wavelength λc, in length (e.g. mm): `t = 0.017558 λc²`.
+    Cutoff(f64),
+}
+
+impl DiffusionTime {
+    /// The diffusion time in length²: `t`, or `ln 2 · λc² / (4π²)`.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_smooth::DiffusionTime;
+    /// assert!((DiffusionTime::Cutoff(1.0).time() - 0.017558).abs() < 1e-6);
+    /// ```
+    #[must_use]
+    pub fn time(self) -> f64 {
+        match self {
+            Self::Time(t) => t,
+            Self::Cutoff(lc) => {
+                std::f64::consts::LN_2 * lc * lc / (4.0 * std::f64::consts::PI.powi(2))
+            }
+        }
+    }
+
+    /// The Gaussian's standard deviation per axis, `σ = √(2t)`, in length.
+    #[must_use]
+    pub fn sigma(self) -> f64 {
+        (2.0 * self.time()).sqrt()
+    }
+}
+
 /// The parameters of a smoothing run.
 ///
 /// # Examples
@@ -58,6 +194,21 @@ pub struct SmoothConfig {
     pub laplacian: LaplacianOptions,
     /// Vertices that never move, whatever the boundary mode.
     pub pinned: Vec<VertexId>,
+    /// How each iteration moves the vertices (plain diffusion, Taubin, HC).
+    pub method: Method,
+    /// After every iteration, rescale the mesh about its surface centroid by
+    /// `β = (V₀/V)^(1/3)` so that the enclosed volume stays the input's (Desbrun et al.
+    /// 1999). Needs a closed mesh and no pinned vertices.
+    pub preserve_volume: bool,
+    /// Diffuse for this physical time instead of [`iterations`](Self::iterations)
+    /// steps of [`lambda`](Self::lambda); then `lambda` is the largest step allowed and
+    /// the smoother chooses the iteration count (see [`DiffusionTime`]). Only with
+    /// [`Method::Laplacian`].
+    pub duration: Option<DiffusionTime>,
+    /// Stop early, with [`StopReason::Converged`](crate::StopReason::Converged), once an
+    /// iteration moves no vertex farther than this distance (in the positions' unit);
+    /// `iterations` stays the upper limit.
+    pub until_change: Option<f64>,
 }
 
 impl Default for SmoothConfig {
@@ -79,7 +230,39 @@ impl SmoothConfig {
             update: WeightUpdate::default(),
             laplacian: LaplacianOptions::default(),
             pinned: Vec::new(),
+            method: Method::Laplacian,
+            preserve_volume: false,
+            duration: None,
+            until_change: None,
         }
+    }
+
+    /// Sets the method (plain diffusion, Taubin, HC).
+    #[must_use]
+    pub fn method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+
+    /// Switches the volume-preserving rescale on or off.
+    #[must_use]
+    pub fn preserve_volume(mut self, yes: bool) -> Self {
+        self.preserve_volume = yes;
+        self
+    }
+
+    /// Diffuses for a physical time or cut-off wavelength instead of a fixed count.
+    #[must_use]
+    pub fn duration(mut self, duration: DiffusionTime) -> Self {
+        self.duration = Some(duration);
+        self
+    }
+
+    /// Stops once an iteration moves no vertex farther than `eps` (positions' unit).
+    #[must_use]
+    pub fn until_change(mut self, eps: f64) -> Self {
+        self.until_change = Some(eps);
+        self
     }
 
     /// Sets the boundary mode.

@@ -41,6 +41,59 @@ pub enum SmoothError {
         /// The iteration (1-based).
         iteration: usize,
     },
+    /// Taubin's μ violates the pass-band or stability condition (see
+    /// [`Method::Taubin`](crate::Method::Taubin)).
+    #[error("Taubin's mu = {mu} with lambda = {lambda} is invalid: {reason}")]
+    InvalidTaubin {
+        /// λ.
+        lambda: f64,
+        /// μ.
+        mu: f64,
+        /// The violated condition in words.
+        reason: &'static str,
+    },
+    /// An HC parameter outside [0, 1].
+    #[error("HC parameters must lie in [0, 1], got alpha = {alpha}, beta = {beta}")]
+    InvalidHc {
+        /// α.
+        alpha: f64,
+        /// β.
+        beta: f64,
+    },
+    /// Volume preservation asked of a mesh with a boundary.
+    #[error(
+        "volume preservation needs a closed mesh, this one has {boundary_loops} boundary loop(s); use the HC or Taubin method on open patches"
+    )]
+    VolumeNeedsClosedMesh {
+        /// The number of boundary loops.
+        boundary_loops: usize,
+    },
+    /// Volume preservation together with pinned vertices (the rescale would move them).
+    #[error("volume preservation cannot be combined with pinned vertices")]
+    VolumeWithPinned,
+    /// The enclosed volume is zero, negative or not finite, so it cannot be preserved.
+    #[error(
+        "the enclosed volume is {volume} in iteration {iteration}; volume preservation needs a positive volume (outward-oriented faces)"
+    )]
+    DegenerateVolume {
+        /// The signed volume.
+        volume: f64,
+        /// The iteration (0 for the input).
+        iteration: usize,
+    },
+    /// A diffusion time or cut-off that is negative or not finite, or one given for a
+    /// method other than plain diffusion.
+    #[error("invalid diffusion time: {reason}")]
+    InvalidDuration {
+        /// The problem in words.
+        reason: String,
+    },
+    /// A convergence threshold that is negative or not finite.
+    #[error("the convergence threshold must be positive and finite, got {value}")]
+    InvalidUntilChange {
+        /// The value given.
+        value: f64,
+    },
     /// The weights could not be computed.
     #[error(transparent)]
     Weights(#[from] WeightError),

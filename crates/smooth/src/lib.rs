@@ -5,6 +5,13 @@
 //! free or curve-constrained boundaries, pinned vertices, weights recomputed every
 //! iteration or frozen, and an observer that sees every iteration.
 //!
+//! Beyond plain diffusion ([`Method::Laplacian`]), which shrinks: Taubin's λ|μ filter
+//! ([`Method::Taubin`]), the HC push-back towards the input, which works on open patches
+//! ([`Method::Hc`]), and a volume-preserving rescale for closed meshes
+//! ([`SmoothConfig::preserve_volume`]). A run can be given in physical units — a
+//! diffusion time in length² or a Gaussian cut-off wavelength ([`DiffusionTime`]) — and
+//! can stop once it has converged ([`SmoothConfig::until_change`]).
+//!
 //! Three layers: [`smooth`] for one call, [`Smoother::step`] to drive iterations
 //! yourself, and [`Smoother::run`] with an observer
 //! `FnMut(&Iteration) -> ControlFlow<()>` (metrics, progress, early stop).
@@ -35,6 +42,6 @@ mod config;
 mod error;
 mod smoother;
 
-pub use config::{Boundary, SmoothConfig, WeightUpdate};
+pub use config::{Boundary, DiffusionTime, Method, SmoothConfig, WeightUpdate};
 pub use error::SmoothError;
 pub use smoother::{Iteration, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth};

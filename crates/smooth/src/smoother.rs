@@ -8,7 +8,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, SmoothConfig, WeightUpdate};
+use crate::config::{Boundary, Method, SmoothConfig, WeightUpdate};
 use crate::error::SmoothError;
 
 /// Vertices per parallel work unit. Fixed, so that per-chunk partial sums (and hence
@@ -69,6 +69,21 @@ pub enum StopReason {
     Completed,
     /// The observer returned `ControlFlow::Break`.
     Observer,
+    /// An iteration moved no vertex farther than
+    /// [`SmoothConfig::until_change`](crate::SmoothConfig::until_change).
+    Converged,
+}
+
+impl StopReason {
+    /// A short name: `completed`, `observer` or `converged`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Completed => "completed",
+            Self::Observer => "observer",
+            Self::Converged => "converged",
+        }
+    }
 }
 
 /// What a run did.
@@ -76,7 +91,8 @@ pub enum StopReason {
 pub struct SmoothReport {
     /// The scheme's name.
     pub scheme: String,
-    /// The configuration used.
+    /// The configuration used. With a [`duration`](SmoothConfig::duration), `lambda` and
+    /// `iterations` are the step and count the smoother chose.
     pub config: SmoothConfig,
     /// Iterations done.
     pub iterations: usize,
@@ -130,6 +146,13 @@ pub struct Smoother<'a> {
     curve: Vec<CurveRow>,
     positions: Vec<DVec3>,
     next: Vec<DVec3>,
+    /// The positions at the start of a compound step (Taubin, HC, volume rescale);
+    /// empty for plain diffusion.
+    start: Vec<DVec3>,
+    /// The input positions (HC only; empty otherwise).
+    original: Vec<DVec3>,
+    /// The input volume (volume preservation only).
+    volume: f64,
     iteration: usize,
     weights_fresh: bool,
     weight_time: Duration,
@@ -177,6 +200,7 @@ impl<'a> Smoother<'a> {
         if config.boundary == Boundary::Curve && !weight_sum {
             return Err(SmoothError::CurveNeedsWeightSum);
         }
+        validate_method(&config, mesh, weight_sum)?;
         if let Some(v) = config
             .pinned
             .iter()
@@ -225,15 +249,54 @@ impl<'a> Smoother<'a> {
                 }
             })
             .collect();
+        let compound = config.method != Method::Laplacian || config.preserve_volume;
+        let volume = if config.preserve_volume {
+            let volume = Geometry::new(mesh, positions)
+                .and_then(|g| g.volume())
+                .map_err(beltrami_weights::WeightError::from)?;
+            if !(volume > 0.0 && volume.is_finite()) {
+                return Err(SmoothError::DegenerateVolume {
+                    volume,
+                    iteration: 0,
+                });
+            }
+            volume
+        } else {
+            0.0
+        };
+        let mut config = config;
+        if let Some(duration) = config.duration {
+            let (lambda, iterations) = resolve_duration(
+                mesh,
+                positions,
+                &laplacian,
+                &roles,
+                config.lambda,
+                duration.time(),
+            )?;
+            config.lambda = lambda;
+            config.iterations = iterations;
+        }
         let mut smoother = Self {
             mesh,
             scheme,
-            config,
             laplacian,
             roles,
             curve,
             positions: positions.to_vec(),
             next: positions.to_vec(),
+            start: if compound {
+                positions.to_vec()
+            } else {
+                Vec::new()
+            },
+            original: if matches!(config.method, Method::Hc { .. }) {
+                positions.to_vec()
+            } else {
+                Vec::new()
+            },
+            volume,
+            config,
             iteration: 0,
             weights_fresh: true,
             weight_time: Duration::ZERO,
@@ -298,6 +361,151 @@ impl<'a> Smoother<'a> {
     /// [`SmoothError::NonFinite`] when a position would become NaN or infinite (the
     /// positions are then left as they were before the step).
     pub fn step(&mut self) -> Result<StepStats, SmoothError> {
+        self.iteration += 1;
+        let method = self.config.method;
+        if method == Method::Laplacian && !self.config.preserve_volume {
+            return self.sweep(self.config.lambda);
+        }
+        self.start.copy_from_slice(&self.positions);
+        let result = self.compound_step(method);
+        if result.is_err() {
+            self.positions.copy_from_slice(&self.start);
+        }
+        result
+    }
+
+    /// One iteration of a method other than plain diffusion, or with a volume rescale:
+    /// the sweeps, the corrections, then statistics measured from `start`.
+    fn compound_step(&mut self, method: Method) -> Result<StepStats, SmoothError> {
+        let lambda = self.config.lambda;
+        let stuck = match method {
+            Method::Laplacian => self.sweep(lambda)?.stuck_vertices,
+            Method::Taubin { mu } => {
+                let first = self.sweep(lambda)?.stuck_vertices;
+                first.max(self.sweep(mu)?.stuck_vertices)
+            }
+            Method::Hc { alpha, beta } => {
+                let stuck = self.sweep(lambda)?.stuck_vertices;
+                self.hc_correct(alpha, beta);
+                stuck
+            }
+        };
+        if self.config.preserve_volume {
+            self.rescale_volume()?;
+        }
+        let start = Instant::now();
+        let (before, after) = (&self.start, &self.positions);
+        let partials: Vec<(f64, f64, Option<u32>)> = after
+            .par_chunks(CHUNK)
+            .zip(before.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(c, (a, b))| {
+                let mut sum = 0.0;
+                let mut max: f64 = 0.0;
+                let mut bad = None;
+                for (k, (p, q)) in a.iter().zip(b).enumerate() {
+                    if !p.is_finite() && bad.is_none() {
+                        bad = Some((c * CHUNK + k) as u32);
+                    }
+                    let d = beltrami_halfedge::geometry::distance(*q, *p);
+                    sum += d;
+                    max = max.max(d);
+                }
+                (sum, max, bad)
+            })
+            .collect();
+        self.update_time += start.elapsed();
+        let mut stats = StepStats::default();
+        let mut sum = 0.0;
+        for (s, m, bad) in partials {
+            if let Some(vertex) = bad {
+                return Err(SmoothError::NonFinite {
+                    vertex,
+                    iteration: self.iteration,
+                });
+            }
+            sum += s;
+            stats.max_displacement = stats.max_displacement.max(m);
+        }
+        stats.stuck_vertices = stuck;
+        let n = self.positions.len();
+        stats.mean_displacement = if n == 0 { 0.0 } else { sum / n as f64 };
+        Ok(stats)
+    }
+
+    /// The HC push-back (see [`Method::Hc`]): `positions` holds `p` (after the sweep),
+    /// `next` holds `q` (before it).
+    fn hc_correct(&mut self, alpha: f64, beta: f64) {
+        let start = Instant::now();
+        let (p, q, o) = (&self.positions, &self.next, &self.original);
+        let b: Vec<DVec3> = p
+            .par_iter()
+            .zip(q.par_iter())
+            .zip(o.par_iter())
+            .map(|((p, q), o)| *p - (*o * alpha + *q * (1.0 - alpha)))
+            .collect();
+        let (laplacian, roles) = (&self.laplacian, &self.roles);
+        self.next
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| {
+                for (k, slot) in out.iter_mut().enumerate() {
+                    let i = c * CHUNK + k;
+                    let pi = p[i];
+                    *slot = if roles[i] == Role::Row {
+                        let v = VertexId::new(i as u32);
+                        let w = laplacian.weight_sum(v);
+                        let mut s = DVec3::ZERO;
+                        for (j, wij) in laplacian.row(v) {
+                            s += b[j.index()] * wij;
+                        }
+                        let mean = s / w;
+                        if w > 0.0 && mean.is_finite() {
+                            pi - (b[i] * beta + mean * (1.0 - beta))
+                        } else {
+                            pi - b[i]
+                        }
+                    } else {
+                        pi
+                    };
+                }
+            });
+        std::mem::swap(&mut self.positions, &mut self.next);
+        self.update_time += start.elapsed();
+    }
+
+    /// Rescales about the surface centroid so that the volume is the input's.
+    fn rescale_volume(&mut self) -> Result<(), SmoothError> {
+        let start = Instant::now();
+        let geometry = Geometry::new(self.mesh, &self.positions)
+            .map_err(beltrami_weights::WeightError::from)?;
+        let volume = geometry
+            .volume()
+            .map_err(beltrami_weights::WeightError::from)?;
+        let centre = geometry.surface_centroid().unwrap_or(DVec3::ZERO);
+        let beta = (self.volume / volume).cbrt();
+        if !(volume > 0.0 && beta.is_finite()) {
+            return Err(SmoothError::DegenerateVolume {
+                volume,
+                iteration: self.iteration,
+            });
+        }
+        let mesh = self.mesh;
+        self.positions
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, x)| {
+                if !mesh.is_isolated(VertexId::new(i as u32)) {
+                    *x = centre + (*x - centre) * beta;
+                }
+            });
+        self.update_time += start.elapsed();
+        Ok(())
+    }
+
+    /// One Jacobi sweep `x ← x + step · L x` over the moving vertices, refreshing the
+    /// weights first when they are stale. On error the positions are unchanged.
+    fn sweep(&mut self, lambda: f64) -> Result<StepStats, SmoothError> {
         if self.weights_stale() {
             let start = Instant::now();
             self.laplacian
@@ -306,10 +514,8 @@ impl<'a> Smoother<'a> {
             self.weight_time += start.elapsed();
         }
         self.weights_fresh = false;
-        self.iteration += 1;
 
         let start = Instant::now();
-        let lambda = self.config.lambda;
         let (laplacian, roles, curve, old) =
             (&self.laplacian, &self.roles, &self.curve, &self.positions);
         // Each chunk returns (sum of displacements, max displacement, stuck count, first
@@ -404,6 +610,14 @@ impl<'a> Smoother<'a> {
                 stop = StopReason::Observer;
                 break;
             }
+            if self
+                .config
+                .until_change
+                .is_some_and(|eps| stats.max_displacement <= eps)
+            {
+                stop = StopReason::Converged;
+                break;
+            }
         }
         let report = SmoothReport {
             scheme: self.scheme.name().to_string(),
@@ -466,4 +680,137 @@ pub fn smooth(
     config: SmoothConfig,
 ) -> Result<Smoothed, SmoothError> {
     Smoother::new(mesh, positions, scheme, config)?.run(|_| ControlFlow::Continue(()))
+}
+
+/// Checks the method, volume, duration and convergence settings of `config`.
+fn validate_method(
+    config: &SmoothConfig,
+    mesh: &HalfedgeMesh,
+    weight_sum: bool,
+) -> Result<(), SmoothError> {
+    let lambda = config.lambda;
+    match config.method {
+        Method::Laplacian => {}
+        Method::Taubin { mu } => {
+            let invalid = |reason| SmoothError::InvalidTaubin { lambda, mu, reason };
+            if !(mu.is_finite() && mu < -lambda) {
+                return Err(invalid(
+                    "the pass band 1/lambda + 1/mu must be positive, i.e. mu < -lambda",
+                ));
+            }
+            if weight_sum && (1.0 - 2.0 * lambda) * (1.0 - 2.0 * mu) <= -1.0 {
+                return Err(invalid(
+                    "the highest frequency would grow: (1 - 2 lambda)(1 - 2 mu) must exceed -1",
+                ));
+            }
+        }
+        Method::Hc { alpha, beta } => {
+            if !((0.0..=1.0).contains(&alpha) && (0.0..=1.0).contains(&beta)) {
+                return Err(SmoothError::InvalidHc { alpha, beta });
+            }
+        }
+    }
+    if config.preserve_volume {
+        if !mesh.is_closed() {
+            return Err(SmoothError::VolumeNeedsClosedMesh {
+                boundary_loops: mesh.boundary_loops().count(),
+            });
+        }
+        if !config.pinned.is_empty() {
+            return Err(SmoothError::VolumeWithPinned);
+        }
+    }
+    if let Some(duration) = config.duration {
+        let t = duration.time();
+        if !(t >= 0.0 && t.is_finite()) {
+            return Err(SmoothError::InvalidDuration {
+                reason: format!("{duration:?} gives the time {t}; it must be finite and >= 0"),
+            });
+        }
+        if config.method != Method::Laplacian {
+            return Err(SmoothError::InvalidDuration {
+                reason: format!(
+                    "a diffusion time applies to plain Laplacian diffusion only, not to method '{}'",
+                    config.method.name()
+                ),
+            });
+        }
+    }
+    if let Some(eps) = config.until_change
+        && !(eps > 0.0 && eps.is_finite())
+    {
+        return Err(SmoothError::InvalidUntilChange { value: eps });
+    }
+    Ok(())
+}
+
+/// The step and iteration count that diffuse for the time `t` (length²); see
+/// [`DiffusionTime`](crate::DiffusionTime).
+fn resolve_duration(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    laplacian: &Laplacian,
+    roles: &[Role],
+    max_lambda: f64,
+    t: f64,
+) -> Result<(f64, usize), SmoothError> {
+    if t == 0.0 {
+        return Ok((max_lambda, 0));
+    }
+    let (time_per_unit, max_step) = match laplacian.options().normalization {
+        Normalization::WeightSum => {
+            // A normalised row acting on f = ½|x − x_i|² gives ½⟨ℓ²⟩_w, the
+            // weighted mean squared edge length; Δf = 2 on a surface, so the row is
+            // ≈ (⟨ℓ²⟩_w / 4) Δ: one step λ advances vertex i's time by λ⟨ℓ²⟩_w / 4.
+            // The mean over the moving rows is the mesh's time per unit step.
+            let mut sum = 0.0;
+            let mut count = 0usize;
+            for v in mesh.vertices() {
+                if roles[v.index()] != Role::Row {
+                    continue;
+                }
+                let xi = positions[v.index()];
+                let w = laplacian.weight_sum(v);
+                let mut s = 0.0;
+                for (j, wij) in laplacian.row(v) {
+                    s += wij * positions[j.index()].distance_squared(xi);
+                }
+                let mean = s / w;
+                if w > 0.0 && mean.is_finite() && mean > 0.0 {
+                    sum += mean;
+                    count += 1;
+                }
+            }
+            let mean = if count == 0 { 0.0 } else { sum / count as f64 };
+            if !(mean > 0.0 && mean.is_finite()) {
+                return Err(SmoothError::InvalidDuration {
+                    reason: "the mesh has no moving vertex with edges of positive length to measure time by".into(),
+                });
+            }
+            // One step λ advances the time by λ ⟨ℓ²⟩ / 4.
+            (mean / 4.0, max_lambda)
+        }
+        // Area normalisation: λ is a time per iteration.
+        _ => {
+            let mut rate: f64 = 0.0;
+            for v in mesh.vertices() {
+                if roles[v.index()] == Role::Row
+                    && let Some(scale) = laplacian.scale(v)
+                {
+                    rate = rate.max(laplacian.weight_sum(v) * scale);
+                }
+            }
+            let cap = if rate > 0.0 { 0.5 / rate } else { max_lambda };
+            (1.0, max_lambda.min(cap))
+        }
+    };
+    let units = t / time_per_unit;
+    let iterations = (units / max_step).ceil();
+    if !(iterations.is_finite() && iterations <= 1e9) {
+        return Err(SmoothError::InvalidDuration {
+            reason: format!("the time {t} would need {iterations} iterations"),
+        });
+    }
+    let iterations = (iterations as usize).max(1);
+    Ok((units / iterations as f64, iterations))
 }
