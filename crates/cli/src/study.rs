@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use beltrami_smooth::{Boundary, WeightUpdate};
-use beltrami_study::{Progress, StudyConfig, Verdict, paper_iterations, run_study, write_study};
+use beltrami_study::{
+    Countermeasure, Progress, StudyConfig, Verdict, paper_iterations, run_study, write_study,
+};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
 use clap::ValueEnum;
@@ -58,6 +60,13 @@ pub(crate) struct StudyArgs {
     /// Small variants of the surfaces (a quick look; not the paper's sizes).
     #[arg(long)]
     small: bool,
+    /// The weight scheme of the shrinkage counter-measure runs (Taubin, HC, volume
+    /// rescale beside plain diffusion on the F-lens, sphere and block).
+    #[arg(long, default_value = "cotangent")]
+    countermeasure_weights: String,
+    /// Skip the shrinkage counter-measure runs.
+    #[arg(long)]
+    no_countermeasures: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -113,6 +122,16 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             UpdateArg::Once => WeightUpdate::Once,
         },
         negative: NegativeWeights::Keep,
+        countermeasures: if args.no_countermeasures {
+            Vec::new()
+        } else {
+            Countermeasure::defaults(args.lambda)
+        },
+        countermeasure_scheme: if args.no_countermeasures {
+            None
+        } else {
+            Some(registry.get(&args.countermeasure_weights)?)
+        },
     };
     config
         .validate()

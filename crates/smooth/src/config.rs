@@ -63,8 +63,8 @@ pub enum Method {
     /// The HC algorithm (Vollmer, Mencl, Müller 1999, "Improved Laplacian smoothing of
     /// noisy surface meshes"): after each sweep from `q` to `p`, every moving vertex is
     /// pushed back by `b_i = p_i − (α o_i + (1 − α) q_i)` (`o` the input positions):
-    /// `p_i ← p_i − (β b_i + (1 − β) b̄_i)`, with `b̄_i` the average of `b` over the
-    /// one-ring with the scheme's weights. A local correction, so it works on open
+    /// `p_i ← p_i − (β b_i + (1 − β) b̄_i)`, with `b̄_i` the plain average of `b` over
+    /// the one-ring. A local correction, so it works on open
     /// patches, where a global volume rescale is undefined. Typical α = 0.1, β = 0.6.
     Hc {
         /// The pull towards the input positions, in [0, 1].

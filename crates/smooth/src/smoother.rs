@@ -453,14 +453,15 @@ impl<'a> Smoother<'a> {
                     let i = c * CHUNK + k;
                     let pi = p[i];
                     *slot = if roles[i] == Role::Row {
-                        let v = VertexId::new(i as u32);
-                        let w = laplacian.weight_sum(v);
+                        // The plain neighbour average, as Vollmer et al.: weights
+                        // that can be negative (cotangent) would amplify b.
+                        let row = laplacian.row_halfedges(VertexId::new(i as u32));
                         let mut s = DVec3::ZERO;
-                        for (j, wij) in laplacian.row(v) {
-                            s += b[j.index()] * wij;
+                        for (j, _) in laplacian.row(VertexId::new(i as u32)) {
+                            s += b[j.index()];
                         }
-                        let mean = s / w;
-                        if w > 0.0 && mean.is_finite() {
+                        let mean = s / row.len() as f64;
+                        if !row.is_empty() && mean.is_finite() {
                             pi - (b[i] * beta + mean * (1.0 - beta))
                         } else {
                             pi - b[i]

@@ -6,6 +6,7 @@ use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
 
+use crate::countermeasures::Countermeasure;
 use crate::error::StudyError;
 
 /// The parameters of a study: which surfaces, schemes and iteration counts, and how
@@ -35,6 +36,11 @@ pub struct StudyConfig {
     pub update: WeightUpdate,
     /// The negative-weight policy (default keep).
     pub negative: NegativeWeights,
+    /// Shrinkage counter-measures run beside plain diffusion on the sphere, the block
+    /// and the F-lens (empty: none), with [`countermeasure_scheme`](Self::countermeasure_scheme).
+    pub countermeasures: Vec<Countermeasure>,
+    /// The weight scheme of the counter-measure runs (`None`: skip them).
+    pub countermeasure_scheme: Option<Arc<dyn WeightScheme>>,
 }
 
 impl std::fmt::Debug for StudyConfig {
@@ -53,6 +59,14 @@ impl std::fmt::Debug for StudyConfig {
             .field("boundary", &self.boundary)
             .field("update", &self.update)
             .field("negative", &self.negative)
+            .field("countermeasures", &self.countermeasures)
+            .field(
+                "countermeasure_scheme",
+                &self
+                    .countermeasure_scheme
+                    .as_ref()
+                    .map(|s| s.name().to_string()),
+            )
             .finish()
     }
 }
@@ -80,6 +94,8 @@ impl StudyConfig {
             boundary: Boundary::Free,
             update: WeightUpdate::Every,
             negative: NegativeWeights::Keep,
+            countermeasures: Countermeasure::defaults(0.8),
+            countermeasure_scheme: registry.get("cotangent").ok(),
         }
     }
 
@@ -110,6 +126,14 @@ impl StudyConfig {
                 "lambda must be in (0, 1], got {}",
                 self.lambda
             )));
+        }
+        for c in &self.countermeasures {
+            if !(c.lambda > 0.0 && c.lambda <= 1.0) {
+                return Err(StudyError::Config(format!(
+                    "counter-measure '{}': lambda must be in (0, 1], got {}",
+                    c.label, c.lambda
+                )));
+            }
         }
         Ok(())
     }

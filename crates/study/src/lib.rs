@@ -15,6 +15,7 @@
 //! ```
 
 mod config;
+mod countermeasures;
 mod error;
 mod figures;
 mod findings;
@@ -24,6 +25,7 @@ mod results;
 mod run;
 
 pub use config::{StudyConfig, paper_iterations};
+pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::StudyError;
 pub use figures::{Figure, write_figures};
 pub use findings::{Finding, Verdict, findings};

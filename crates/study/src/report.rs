@@ -65,6 +65,7 @@ struct Json<'a> {
     findings: &'a [Finding],
     figures: &'a [Figure],
     rows: &'a [Row],
+    countermeasure_rows: &'a [Row],
 }
 
 #[derive(Serialize)]
@@ -130,6 +131,18 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
     let findings = findings(&rows);
     let figures = write_figures(results, &rows, dir)?;
     write(dir, "results.csv", to_csv(&rows).as_bytes())?;
+    let countermeasure_rows: Vec<Row> = results
+        .surfaces
+        .iter()
+        .flat_map(|s| s.countermeasures.iter().map(|m| m.row.clone()))
+        .collect();
+    if !countermeasure_rows.is_empty() {
+        write(
+            dir,
+            "countermeasures.csv",
+            to_csv(&countermeasure_rows).as_bytes(),
+        )?;
+    }
     let surfaces = results
         .surfaces
         .iter()
@@ -162,6 +175,7 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
         findings: &findings,
         figures: &figures,
         rows: &rows,
+        countermeasure_rows: &countermeasure_rows,
     };
     let mut text =
         serde_json::to_string_pretty(&json).map_err(|e| StudyError::Config(e.to_string()))?;
@@ -327,6 +341,7 @@ fn markdown(
             let _ = writeln!(s, "![{}]({file})\n\n*{}*\n", f.caption, f.caption);
         }
     }
+    countermeasure_section(&mut s, results, shown);
     let _ = writeln!(s, "## Where this study differs from the paper\n");
     let _ = writeln!(
         s,
@@ -345,4 +360,92 @@ fn markdown(
         "\nThe full data are in `results.csv` and `results.json` next to this report."
     );
     s
+}
+
+/// The iterations shown in the counter-measure tables: 10, 50, 100 and 200 where
+/// observed, else the first, middle and last observed.
+fn countermeasure_iterations(observed: &[usize]) -> Vec<usize> {
+    let preferred: Vec<usize> = [10, 50, 100, 200]
+        .into_iter()
+        .filter(|i| observed.contains(i))
+        .collect();
+    if preferred.len() >= 2 {
+        return preferred;
+    }
+    let mut picked = vec![
+        observed[0],
+        observed[observed.len() / 2],
+        observed[observed.len() - 1],
+    ];
+    picked.dedup();
+    picked
+}
+
+/// The section on shrinkage counter-measures: per surface, the metric that shows
+/// shrinkage (sphere radius, volume ratio or boundary displacement) against iterations.
+fn countermeasure_section(s: &mut String, results: &StudyResults, shown: usize) {
+    let with: Vec<_> = results
+        .surfaces
+        .iter()
+        .filter(|r| !r.countermeasures.is_empty())
+        .collect();
+    if with.is_empty() {
+        return;
+    }
+    let columns = countermeasure_iterations(&results.config.iterations);
+    let _ = writeln!(s, "## Shrinkage counter-measures\n");
+    let _ = writeln!(
+        s,
+        "Plain diffusion shrinks (a discrete mean-curvature flow). Beside it, with the same scheme and noisy input: Taubin's λ|μ filter (λ = 0.6307, μ = −0.6732, pass band k_PB = 0.1), the HC push-back towards the input (α = 0.1, β = 0.6; local, so it works on open patches), and the volume-preserving rescale about the surface centroid (closed surfaces only). Each Taubin iteration is two sweeps. Labels are `scheme/method`; all rows are in `countermeasures.csv`.\n"
+    );
+    for r in with {
+        let name = r.case.clean.name;
+        let rows: Vec<&Row> = r.countermeasures.iter().map(|m| &m.row).collect();
+        let (metric, pick): (&str, fn(&Row) -> Option<f64>) =
+            if rows.iter().any(|x| x.sphere_radius.is_some()) {
+                ("fitted sphere radius (clean: 1)", |x| x.sphere_radius)
+            } else if rows.iter().any(|x| x.volume_ratio.is_some()) {
+                ("volume / clean volume", |x| x.volume_ratio)
+            } else {
+                ("mean boundary displacement", |x| x.boundary_mean)
+            };
+        let _ = writeln!(s, "### {name}: {metric}\n");
+        let mut header = String::from("| method |");
+        let mut rule = String::from("|---|");
+        for i in &columns {
+            let _ = write!(header, " {i} it. |");
+            rule.push_str("---|");
+        }
+        let _ = write!(header, " RMS at {shown} it. |");
+        rule.push_str("---|");
+        let has_dihedral = rows.iter().any(|x| x.feature_dihedral_deg.is_some());
+        if has_dihedral {
+            let _ = write!(header, " feature dihedral at {shown} it. (°) |");
+            rule.push_str("---|");
+        }
+        let _ = writeln!(s, "{header}\n{rule}");
+        let mut labels: Vec<&str> = Vec::new();
+        for x in &rows {
+            if !labels.contains(&x.scheme.as_str()) {
+                labels.push(&x.scheme);
+            }
+        }
+        for label in labels {
+            let of = |i: usize| rows.iter().find(|x| x.scheme == label && x.iteration == i);
+            let mut line = format!("| {label} |");
+            for &i in &columns {
+                let _ = write!(line, " {} |", opt(of(i).and_then(|x| pick(x))));
+            }
+            let _ = write!(line, " {} |", opt(of(shown).map(|x| x.rms)));
+            if has_dihedral {
+                let _ = write!(
+                    line,
+                    " {} |",
+                    opt(of(shown).and_then(|x| x.feature_dihedral_deg))
+                );
+            }
+            let _ = writeln!(s, "{line}");
+        }
+        let _ = writeln!(s);
+    }
 }

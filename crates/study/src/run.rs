@@ -11,6 +11,7 @@ use beltrami_weights::{LaplacianOptions, Normalization};
 use rayon::prelude::*;
 
 use crate::config::StudyConfig;
+use crate::countermeasures::countermeasure_surface;
 use crate::error::StudyError;
 use crate::measure::{Measured, Reference};
 use crate::results::Row;
@@ -61,6 +62,10 @@ pub struct SurfaceResult {
     pub runs: Vec<SchemeRun>,
     /// The metrics of the noisy input and of every snapshot.
     pub measured: Vec<Measured>,
+    /// The metrics of the counter-measure runs (see
+    /// [`StudyConfig::countermeasures`]); their rows name the scheme as
+    /// `scheme/label`, e.g. `cotangent/taubin`. Empty for surfaces without them.
+    pub countermeasures: Vec<Measured>,
 }
 
 /// The study's results.
@@ -145,15 +150,58 @@ pub fn run_study(
                 scheme.name(),
                 config.max_iterations(),
             ));
-            let run = run_one(&case, scheme.as_ref(), config, progress).map_err(|source| {
-                StudyError::Smooth {
-                    surface: case.clean.name.to_string(),
-                    scheme: scheme.name().to_string(),
-                    source,
-                }
+            let run = run_one(
+                &case,
+                scheme.as_ref(),
+                scheme.name(),
+                &config.iterations,
+                smooth_config(config),
+                progress,
+            )
+            .map_err(|source| StudyError::Smooth {
+                surface: case.clean.name.to_string(),
+                scheme: scheme.name().to_string(),
+                source,
             })?;
             progress(Progress::RunFinished);
             runs.push(run);
+        }
+        let mut cm_runs = Vec::new();
+        if let Some(scheme) = &config.countermeasure_scheme
+            && countermeasure_surface(kind)
+        {
+            for cm in &config.countermeasures {
+                if !cm.applies(case.mesh.is_closed()) {
+                    continue;
+                }
+                let label = format!("{}/{}", scheme.name(), cm.label);
+                progress(Progress::RunStarted(
+                    case.clean.name,
+                    &label,
+                    config.max_iterations(),
+                ));
+                let smooth = SmoothConfig {
+                    lambda: cm.lambda,
+                    method: cm.method,
+                    preserve_volume: cm.preserve_volume,
+                    ..smooth_config(config)
+                };
+                let run = run_one(
+                    &case,
+                    scheme.as_ref(),
+                    &label,
+                    &config.iterations,
+                    smooth,
+                    progress,
+                )
+                .map_err(|source| StudyError::Smooth {
+                    surface: case.clean.name.to_string(),
+                    scheme: label.clone(),
+                    source,
+                })?;
+                progress(Progress::RunFinished);
+                cm_runs.push(run);
+            }
         }
         let reference = Reference::new(&case).map_err(|source| StudyError::Metrics {
             surface: case.clean.name.to_string(),
@@ -185,10 +233,31 @@ pub fn run_study(
                     })
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let countermeasures = cm_runs
+            .par_iter()
+            .flat_map_iter(|run| run.snapshots.iter().map(move |s| (run, s)))
+            .map(|(run, s)| {
+                reference
+                    .measure(
+                        &run.scheme,
+                        s.iteration,
+                        s.time_s,
+                        s.stuck_vertices,
+                        &s.positions,
+                    )
+                    .map_err(|source| StudyError::Metrics {
+                        surface: case.clean.name.to_string(),
+                        scheme: run.scheme.clone(),
+                        source,
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        drop(reference);
         surfaces.push(SurfaceResult {
             case,
             runs,
             measured,
+            countermeasures,
         });
     }
     Ok(StudyResults {
@@ -201,16 +270,18 @@ pub fn run_study(
 fn run_one(
     case: &SurfaceCase,
     scheme: &dyn beltrami_weights::WeightScheme,
-    config: &StudyConfig,
+    label: &str,
+    iterations: &[usize],
+    smooth_config: SmoothConfig,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<SchemeRun, beltrami_smooth::SmoothError> {
-    let mut snapshots = Vec::with_capacity(config.iterations.len());
-    let mut wanted = config.iterations.iter().copied().peekable();
+    let mut snapshots = Vec::with_capacity(iterations.len());
+    let mut wanted = iterations.iter().copied().peekable();
     // Smoothing time only: the clock runs while the smoother works and stops while the
     // observer copies positions.
     let mut elapsed = 0.0;
     let mut resumed = Instant::now();
-    let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config(config))?;
+    let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config)?;
     elapsed += resumed.elapsed().as_secs_f64();
     resumed = Instant::now();
     smoother.run(|it| {
@@ -229,7 +300,7 @@ fn run_one(
         ControlFlow::Continue(())
     })?;
     Ok(SchemeRun {
-        scheme: scheme.name().to_string(),
+        scheme: label.to_string(),
         snapshots,
     })
 }

@@ -61,8 +61,16 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
         }
     })
     .unwrap();
-    // One run per surface and scheme, each to the largest iteration count.
-    assert_eq!(runs.len(), 4 * 4);
+    // One run per surface and scheme, each to the largest iteration count, plus the
+    // counter-measures: plain, Taubin, HC on the F-lens; and the volume rescale too on
+    // the sphere and the block.
+    assert_eq!(runs.len(), 4 * 4 + 3 + 4 + 4);
+    assert!(runs.iter().any(|r| r.0 == "flens" && r.1 == "cotangent/hc"));
+    assert!(
+        !runs
+            .iter()
+            .any(|r| r.0 == "flens" && r.1 == "cotangent/volume")
+    );
     assert!(runs.iter().all(|r| r.2 == 10));
     assert!(runs.iter().any(|r| r.1 == "inverse-squared"));
 
@@ -143,6 +151,41 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
         }
     }
     insta::assert_snapshot!("reduced_study_csv", rounded(&csv));
+
+    // The counter-measures, measured and reported.
+    let cm = |surface: &str, label: &str| -> Vec<&beltrami_study::Row> {
+        results
+            .surfaces
+            .iter()
+            .flat_map(|s| s.countermeasures.iter().map(|m| &m.row))
+            .filter(|r| r.surface == surface && r.scheme == format!("cotangent/{label}"))
+            .collect()
+    };
+    assert!(report.contains("## Shrinkage counter-measures"));
+    let cm_csv = std::fs::read_to_string(dir.path().join("countermeasures.csv")).unwrap();
+    assert!(cm_csv.starts_with(CSV_HEADER));
+    assert!(cm_csv.contains("block,cotangent/taubin,10,"));
+    // The volume rescale keeps the volume of the noisy input at every observation.
+    for surface in ["sphere", "block"] {
+        let volume = cm(surface, "volume");
+        assert_eq!(volume.len(), 3);
+        let first = volume[0].volume.unwrap();
+        for r in &volume {
+            assert!((r.volume.unwrap() / first - 1.0).abs() < 1e-9, "{r:?}");
+        }
+        // Plain diffusion loses volume, Taubin and HC much less.
+        let last = |label| cm(surface, label)[2].volume.unwrap();
+        let lost = |v: f64| (1.0 - v / first).abs();
+        assert!(lost(last("hc")) < 0.25 * lost(last("plain")), "{surface}");
+        assert!(
+            lost(last("taubin")) < 0.25 * lost(last("plain")),
+            "{surface}"
+        );
+    }
+    // On the open F-lens, HC moves the boundary less than plain diffusion.
+    let hc = cm("flens", "hc")[2].boundary_mean.unwrap();
+    let plain = cm("flens", "plain")[2].boundary_mean.unwrap();
+    assert!(hc < 0.75 * plain, "HC {hc}, plain {plain}");
 }
 
 #[test]
