@@ -132,6 +132,10 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
         } else {
             Some(registry.get(&args.countermeasure_weights)?)
         },
+        edge_comparison: registry
+            .get("bilateral")
+            .ok()
+            .zip(registry.get("cotangent").ok()),
     };
     config
         .validate()

@@ -166,7 +166,7 @@ fn bad_parameters_are_usage_errors() {
     let output = dir.path().join("out.ply");
     let out = beltrami(&["smooth", s(&input), s(&output), "--weights", "cot"]);
     assert_eq!(out.status.code(), Some(2));
-    assert_snapshot!(error_line(&out, dir.path()), @r#"error: unknown weight scheme "cot" (known: uniform, distance, cotangent) (see 'beltrami --help')"#);
+    assert_snapshot!(error_line(&out, dir.path()), @r#"error: unknown weight scheme "cot" (known: uniform, distance, cotangent, bilateral) (see 'beltrami --help')"#);
     let out = beltrami(&["smooth", s(&input), s(&output), "--lambda", "1.5"]);
     assert_eq!(out.status.code(), Some(2));
     assert_snapshot!(error_line(&out, dir.path()), @"error: noisy.ply: lambda must be in (0, 1] with weight-sum normalisation, got 1.5");

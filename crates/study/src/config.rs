@@ -41,6 +41,11 @@ pub struct StudyConfig {
     pub countermeasures: Vec<Countermeasure>,
     /// The weight scheme of the counter-measure runs (`None`: skip them).
     pub countermeasure_scheme: Option<Arc<dyn WeightScheme>>,
+    /// An edge-preserving scheme and the reference it is compared with on the block at
+    /// equal smoothness of the flat sides (see
+    /// [`beltrami_schemes::edge_preservation`]); `None`, or no block among the
+    /// surfaces: skipped.
+    pub edge_comparison: Option<(Arc<dyn WeightScheme>, Arc<dyn WeightScheme>)>,
 }
 
 impl std::fmt::Debug for StudyConfig {
@@ -96,6 +101,10 @@ impl StudyConfig {
             negative: NegativeWeights::Keep,
             countermeasures: Countermeasure::defaults(0.8),
             countermeasure_scheme: registry.get("cotangent").ok(),
+            edge_comparison: registry
+                .get("bilateral")
+                .ok()
+                .zip(registry.get("cotangent").ok()),
         }
     }
 

@@ -38,6 +38,9 @@ pub enum StudyError {
         /// What went wrong.
         reason: String,
     },
+    /// The edge-preservation comparison on the block failed.
+    #[error("block / edge preservation: {0}")]
+    EdgePreservation(#[from] beltrami_schemes::SchemesError),
     /// An invalid study configuration.
     #[error("{0}")]
     Config(String),

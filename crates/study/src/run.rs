@@ -5,6 +5,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_schemes::{EdgePreservation, EdgePreservationOptions};
 use beltrami_smooth::{SmoothConfig, Smoother};
 use beltrami_surfaces::{Surface, SurfaceKind, add_normal_noise};
 use beltrami_weights::{LaplacianOptions, Normalization};
@@ -75,6 +76,9 @@ pub struct StudyResults {
     pub config: StudyConfig,
     /// Per surface, in the configured order.
     pub surfaces: Vec<SurfaceResult>,
+    /// The edge-preserving scheme against its reference on the block, at equal
+    /// smoothness of the flat sides (see [`StudyConfig::edge_comparison`]).
+    pub edge_preservation: Option<EdgePreservation>,
     /// Wall time of the whole study, seconds.
     pub wall_time_s: f64,
 }
@@ -141,6 +145,7 @@ pub fn run_study(
     config.validate()?;
     let start = Instant::now();
     let mut surfaces = Vec::with_capacity(config.surfaces.len());
+    let mut edge_preservation = None;
     for &kind in &config.surfaces {
         let case = prepare(kind, config)?;
         let mut runs = Vec::with_capacity(config.schemes.len());
@@ -253,6 +258,22 @@ pub fn run_study(
             })
             .collect::<Result<Vec<_>, _>>()?;
         drop(reference);
+        if kind == SurfaceKind::Block
+            && let Some((scheme, reference)) = &config.edge_comparison
+        {
+            let options = EdgePreservationOptions {
+                lambda: config.lambda,
+                ..EdgePreservationOptions::default()
+            };
+            edge_preservation = Some(beltrami_schemes::edge_preservation(
+                &case.mesh,
+                &case.clean.positions,
+                &case.noisy,
+                scheme.as_ref(),
+                reference.as_ref(),
+                &options,
+            )?);
+        }
         surfaces.push(SurfaceResult {
             case,
             runs,
@@ -263,6 +284,7 @@ pub fn run_study(
     Ok(StudyResults {
         config: config.clone(),
         surfaces,
+        edge_preservation,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }
