@@ -23,6 +23,7 @@ mod measure;
 mod report;
 mod results;
 mod run;
+mod units;
 
 pub use config::{StudyConfig, paper_iterations};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
@@ -32,4 +33,8 @@ pub use findings::{Finding, Verdict, findings};
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};
-pub use run::{Progress, SchemeRun, Snapshot, StudyResults, SurfaceCase, SurfaceResult, run_study};
+pub use run::{
+    Progress, SchemeRun, Snapshot, StudyResults, SurfaceCase, SurfaceResult, UNITS_CUTOFF,
+    run_study,
+};
+pub use units::{UnitsComparison, UnitsRow, units_comparison};

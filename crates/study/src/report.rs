@@ -66,6 +66,7 @@ struct Json<'a> {
     figures: &'a [Figure],
     rows: &'a [Row],
     countermeasure_rows: &'a [Row],
+    units: Option<&'a crate::units::UnitsComparison>,
 }
 
 #[derive(Serialize)]
@@ -176,6 +177,7 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
         figures: &figures,
         rows: &rows,
         countermeasure_rows: &countermeasure_rows,
+        units: results.units.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&json).map_err(|e| StudyError::Config(e.to_string()))?;
@@ -343,6 +345,7 @@ fn markdown(
     }
     countermeasure_section(&mut s, results, shown);
     edge_section(&mut s, results);
+    units_section(&mut s, results);
     let _ = writeln!(s, "## Where this study differs from the paper\n");
     let _ = writeln!(
         s,
@@ -507,5 +510,49 @@ fn edge_section(s: &mut String, results: &StudyResults) {
                 e.reference.scheme
             )
         }
+    );
+}
+
+/// The section on physical units: one cut-off wavelength on spheres of several densities.
+fn units_section(s: &mut String, results: &StudyResults) {
+    let Some(u) = &results.units else {
+        return;
+    };
+    let _ = writeln!(s, "## Physical units: one cut-off, any mesh density\n");
+    let _ = writeln!(
+        s,
+        "Clean unit icospheres of several densities, smoothed with `{}` (weight-sum normalisation, largest step λ = {}) for a Gaussian cut-off wavelength λc = {} radii, i.e. a diffusion time t = 0.017558 λc² = {}; the continuous mean-curvature flow ends at radius √(1 − 4t) = {}. Beside it, the same λ × {} iterations (the finest sphere's count) on every sphere.\n",
+        u.scheme,
+        u.lambda,
+        u.cutoff,
+        num(u.time),
+        num(u.expected_radius),
+        u.iterations_fixed
+    );
+    let _ = writeln!(
+        s,
+        "| level | vertices | iterations for λc | radius, λc | radius, fixed λ × iterations |\n|---|---|---|---|---|"
+    );
+    for r in &u.rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.level,
+            r.vertices,
+            r.iterations_cutoff,
+            num(r.radius_cutoff),
+            num(r.radius_fixed)
+        );
+    }
+    let spread = |f: fn(&crate::units::UnitsRow) -> f64| {
+        let v: Vec<f64> = u.rows.iter().map(f).collect();
+        v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - v.iter().copied().fold(f64::INFINITY, f64::min)
+    };
+    let _ = writeln!(
+        s,
+        "\nSpread of the radii over the densities: {} with the cut-off, {} with a fixed λ × iterations.\n",
+        num(spread(|r| r.radius_cutoff)),
+        num(spread(|r| r.radius_fixed))
     );
 }

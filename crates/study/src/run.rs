@@ -7,12 +7,16 @@ use std::time::Instant;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_schemes::{EdgePreservation, EdgePreservationOptions};
 use beltrami_smooth::{SmoothConfig, Smoother};
-use beltrami_surfaces::{Surface, SurfaceKind, add_normal_noise};
+use beltrami_surfaces::{Size, Surface, SurfaceKind, add_normal_noise};
 use beltrami_weights::{LaplacianOptions, Normalization};
 use rayon::prelude::*;
 
 use crate::config::StudyConfig;
 use crate::countermeasures::countermeasure_surface;
+use crate::units::{UnitsComparison, units_comparison};
+
+/// The cut-off wavelength of the density comparison on unit spheres, in radii.
+pub const UNITS_CUTOFF: f64 = 0.5;
 use crate::error::StudyError;
 use crate::measure::{Measured, Reference};
 use crate::results::Row;
@@ -79,6 +83,10 @@ pub struct StudyResults {
     /// The edge-preserving scheme against its reference on the block, at equal
     /// smoothness of the flat sides (see [`StudyConfig::edge_comparison`]).
     pub edge_preservation: Option<EdgePreservation>,
+    /// Filtering unit spheres of several densities with one cut-off wavelength against
+    /// one λ × iterations (with the counter-measure scheme; `None` without it or
+    /// without the sphere).
+    pub units: Option<UnitsComparison>,
     /// Wall time of the whole study, seconds.
     pub wall_time_s: f64,
 }
@@ -146,6 +154,7 @@ pub fn run_study(
     let start = Instant::now();
     let mut surfaces = Vec::with_capacity(config.surfaces.len());
     let mut edge_preservation = None;
+    let mut units = None;
     for &kind in &config.surfaces {
         let case = prepare(kind, config)?;
         let mut runs = Vec::with_capacity(config.schemes.len());
@@ -258,6 +267,23 @@ pub fn run_study(
             })
             .collect::<Result<Vec<_>, _>>()?;
         drop(reference);
+        if kind == SurfaceKind::Sphere
+            && let Some(scheme) = &config.countermeasure_scheme
+        {
+            let levels: &[u32] = match config.size {
+                Size::Paper => &[3, 4, 5, 6],
+                _ => &[2, 3, 4],
+            };
+            units = Some(
+                units_comparison(scheme.as_ref(), config.lambda, UNITS_CUTOFF, levels).map_err(
+                    |source| StudyError::Smooth {
+                        surface: "sphere (cut-off)".to_string(),
+                        scheme: scheme.name().to_string(),
+                        source,
+                    },
+                )?,
+            );
+        }
         if kind == SurfaceKind::Block
             && let Some((scheme, reference)) = &config.edge_comparison
         {
@@ -285,6 +311,7 @@ pub fn run_study(
         config: config.clone(),
         surfaces,
         edge_preservation,
+        units,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }

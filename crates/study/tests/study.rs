@@ -182,6 +182,22 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
             "{surface}"
         );
     }
+    // One cut-off on spheres of several densities: the radii agree far better than with
+    // one λ × iterations.
+    let units = results.units.as_ref().unwrap();
+    assert_eq!(units.rows.len(), 3);
+    let spread = |f: fn(&beltrami_study::UnitsRow) -> f64| {
+        let v: Vec<f64> = units.rows.iter().map(f).collect();
+        v.iter().copied().fold(f64::MIN, f64::max) - v.iter().copied().fold(f64::MAX, f64::min)
+    };
+    assert!(spread(|r| r.radius_cutoff) < 0.01 * spread(|r| r.radius_fixed));
+    for r in &units.rows {
+        assert!(
+            (r.radius_cutoff - units.expected_radius).abs() < 1e-3,
+            "{r:?}"
+        );
+    }
+    assert!(report.contains("## Physical units"));
     // On the open F-lens, HC moves the boundary less than plain diffusion.
     let hc = cm("flens", "hc")[2].boundary_mean.unwrap();
     let plain = cm("flens", "plain")[2].boundary_mean.unwrap();

@@ -1,0 +1,98 @@
+//! Physical units: the same Gaussian cut-off wavelength on spheres of different density
+//! gives the same result; the same λ × iterations does not.
+
+use beltrami_halfedge::DVec3;
+use beltrami_smooth::{DiffusionTime, SmoothConfig, SmoothError, smooth};
+use beltrami_weights::WeightScheme;
+
+/// One tessellation of the unit sphere, filtered two ways.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct UnitsRow {
+    /// The icosphere's subdivision level.
+    pub level: u32,
+    /// Its vertex count.
+    pub vertices: usize,
+    /// Iterations the smoother chose for the cut-off.
+    pub iterations_cutoff: usize,
+    /// Mean radius after filtering with the cut-off.
+    pub radius_cutoff: f64,
+    /// Mean radius after the fixed λ × iterations of the finest level.
+    pub radius_fixed: f64,
+}
+
+/// The cut-off comparison on unit icospheres.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct UnitsComparison {
+    /// The weight scheme.
+    pub scheme: String,
+    /// The largest step λ (weight-sum normalisation).
+    pub lambda: f64,
+    /// The cut-off wavelength λc, in radii.
+    pub cutoff: f64,
+    /// The diffusion time `t = 0.017558 λc²`.
+    pub time: f64,
+    /// The radius of the continuous mean-curvature flow at `t`: `√(1 − 4t)`.
+    pub expected_radius: f64,
+    /// The fixed iteration count (the finest level's choice for the cut-off).
+    pub iterations_fixed: usize,
+    /// Coarsest to finest.
+    pub rows: Vec<UnitsRow>,
+}
+
+fn mean_radius(x: &[DVec3]) -> f64 {
+    x.iter().map(|p| p.length()).sum::<f64>() / x.len().max(1) as f64
+}
+
+/// Filters clean unit icospheres of each level in `levels` (ascending) with the
+/// cut-off `cutoff` (in radii), and again with the finest level's λ × iterations.
+///
+/// # Errors
+/// A [`SmoothError`] of any run.
+pub fn units_comparison(
+    scheme: &dyn WeightScheme,
+    lambda: f64,
+    cutoff: f64,
+    levels: &[u32],
+) -> Result<UnitsComparison, SmoothError> {
+    let duration = DiffusionTime::Cutoff(cutoff);
+    let spheres: Vec<_> = levels
+        .iter()
+        .map(|&l| {
+            let p = beltrami_halfedge::primitives::icosphere(l);
+            let mesh = p.mesh().expect("an icosphere is a valid mesh");
+            (l, mesh, p.positions)
+        })
+        .collect();
+    let mut timed = Vec::with_capacity(spheres.len());
+    for (_, mesh, x) in &spheres {
+        let out = smooth(
+            mesh,
+            x,
+            scheme,
+            SmoothConfig::new(lambda, 1).duration(duration),
+        )?;
+        timed.push((out.report.iterations, mean_radius(&out.positions)));
+    }
+    let iterations_fixed = timed.last().map_or(0, |t| t.0);
+    let mut rows = Vec::with_capacity(spheres.len());
+    for ((level, mesh, x), (iterations_cutoff, radius_cutoff)) in spheres.iter().zip(timed) {
+        let out = smooth(mesh, x, scheme, SmoothConfig::new(lambda, iterations_fixed))?;
+        rows.push(UnitsRow {
+            level: *level,
+            vertices: mesh.n_vertices(),
+            iterations_cutoff,
+            radius_cutoff,
+            radius_fixed: mean_radius(&out.positions),
+        });
+    }
+    let time = duration.time();
+    Ok(UnitsComparison {
+        scheme: scheme.name().to_string(),
+        lambda,
+        cutoff,
+        time,
+        expected_radius: (1.0 - 4.0 * time).sqrt(),
+        iterations_fixed,
+        rows,
+    })
+}
