@@ -8,7 +8,9 @@ use std::time::Instant;
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_io::{Encoding, MeshData, WriteOptions, write_bytes_atomic, write_mesh};
-use beltrami_smooth::{Boundary, SmoothConfig, SmoothReport, Smoother, StopReason, WeightUpdate};
+use beltrami_smooth::{
+    Boundary, DiffusionTime, Method, SmoothConfig, SmoothReport, Smoother, WeightUpdate,
+};
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization, WeightRegistry};
 use clap::ValueEnum;
 use serde::Serialize;
@@ -35,7 +37,7 @@ pub(crate) struct SmoothArgs {
     /// normalisation: a diffusion time per iteration, in length².
     #[arg(long, default_value_t = 0.8)]
     lambda: f64,
-    /// The number of iterations.
+    /// The number of iterations (the upper limit with --until-change).
     #[arg(long, default_value_t = 10)]
     iterations: usize,
     /// How boundary vertices move: fixed (never), free (like interior ones), curve
@@ -57,6 +59,37 @@ pub(crate) struct SmoothArgs {
     /// The vertex area for --normalize area.
     #[arg(long, value_enum, default_value_t = AreaArg::Mixed)]
     vertex_area: AreaArg,
+    /// The method: explicit (plain diffusion, shrinks), taubin (λ|μ: a λ sweep then a
+    /// μ sweep per iteration, keeps the form), hc (pushes each vertex back towards the
+    /// input; for open patches). See docs/methods.md.
+    #[arg(long, value_enum, default_value_t = MethodArg::Explicit)]
+    method: MethodArg,
+    /// Taubin's negative step μ (< -λ; pass band 1/λ + 1/μ). Default: the μ giving a
+    /// pass band of 0.1.
+    #[arg(long, allow_negative_numbers = true)]
+    mu: Option<f64>,
+    /// HC: the pull towards the input positions, in [0, 1].
+    #[arg(long, default_value_t = 0.1)]
+    hc_alpha: f64,
+    /// HC: the weight of a vertex's own correction against its neighbours', in [0, 1].
+    #[arg(long, default_value_t = 0.6)]
+    hc_beta: f64,
+    /// Rescale about the centroid after every iteration so that the enclosed volume
+    /// stays the input's (closed meshes only).
+    #[arg(long)]
+    preserve_volume: bool,
+    /// Diffuse for this time, in length² of the mesh's unit (e.g. mm²), instead of
+    /// --iterations; --lambda is then the largest step and the iteration count follows.
+    #[arg(long, allow_negative_numbers = true, conflicts_with_all = ["cutoff", "iterations"])]
+    time: Option<f64>,
+    /// Gaussian-filter cut-off wavelength λc in the mesh's length unit (50 % amplitude
+    /// transmission; t = 0.017558 λc²), instead of --iterations.
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "iterations")]
+    cutoff: Option<f64>,
+    /// Stop once an iteration moves no vertex farther than this distance (mesh unit);
+    /// --iterations stays the upper limit.
+    #[arg(long, allow_negative_numbers = true)]
+    until_change: Option<f64>,
     /// Vertices that never move, as 0-based indices: --pin 3,17,42.
     #[arg(long, value_delimiter = ',')]
     pin: Vec<u32>,
@@ -91,6 +124,14 @@ enum NegativeArg {
     Abs,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+enum MethodArg {
+    Explicit,
+    Taubin,
+    Hc,
+}
+
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 enum NormalizeArg {
@@ -121,7 +162,7 @@ impl SmoothArgs {
             NegativeArg::Clamp => NegativeWeights::Clamp,
             NegativeArg::Abs => NegativeWeights::Abs,
         };
-        SmoothConfig::new(self.lambda, self.iterations)
+        let mut config = SmoothConfig::new(self.lambda, self.iterations)
             .boundary(match self.boundary {
                 BoundaryArg::Fixed => Boundary::Fixed,
                 BoundaryArg::Free => Boundary::Free,
@@ -136,6 +177,32 @@ impl SmoothArgs {
                 negative,
             })
             .pinned(self.pin.iter().copied().map(VertexId::new).collect())
+            .method(self.method())
+            .preserve_volume(self.preserve_volume);
+        if let Some(t) = self.time {
+            config = config.duration(DiffusionTime::Time(t));
+        }
+        if let Some(lc) = self.cutoff {
+            config = config.duration(DiffusionTime::Cutoff(lc));
+        }
+        if let Some(eps) = self.until_change {
+            config = config.until_change(eps);
+        }
+        config
+    }
+
+    fn method(&self) -> Method {
+        match self.method {
+            MethodArg::Explicit => Method::Laplacian,
+            MethodArg::Taubin => match self.mu {
+                Some(mu) => Method::Taubin { mu },
+                None => Method::taubin_pass_band(self.lambda, 0.1),
+            },
+            MethodArg::Hc => Method::Hc {
+                alpha: self.hc_alpha,
+                beta: self.hc_beta,
+            },
+        }
     }
 }
 
@@ -167,6 +234,21 @@ struct Parameters<'a> {
     normalize: NormalizeArg,
     vertex_area: AreaArg,
     pinned: usize,
+    method: MethodArg,
+    /// Taubin's μ (taubin only).
+    mu: Option<f64>,
+    /// HC's α and β (hc only).
+    hc: Option<[f64; 2]>,
+    preserve_volume: bool,
+    /// The diffusion time asked for, length² (with --time or --cutoff).
+    time: Option<f64>,
+    /// The cut-off wavelength asked for (with --cutoff).
+    cutoff: Option<f64>,
+    until_change: Option<f64>,
+    /// The step actually used (differs from `lambda` with --time or --cutoff).
+    lambda_used: f64,
+    /// The iteration count planned (differs from `iterations` with --time or --cutoff).
+    iterations_planned: usize,
 }
 
 #[derive(Debug, Serialize)]
@@ -207,8 +289,9 @@ pub(crate) fn run(
     )
     .map_err(smooth_error)?;
 
-    let progress = (std::io::stderr().is_terminal() && args.iterations >= 20).then(|| {
-        let bar = indicatif::ProgressBar::new(args.iterations as u64);
+    let planned = smoother.config().iterations;
+    let progress = (std::io::stderr().is_terminal() && planned >= 20).then(|| {
+        let bar = indicatif::ProgressBar::new(planned as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} iterations {elapsed}")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -254,15 +337,25 @@ pub(crate) fn run(
     let r = &smoothed.report;
     writeln!(
         out,
-        "smoothed {} ({} vertices) with {} weights: {} iteration(s), lambda {}, {} boundary -> {}",
+        "smoothed {} ({} vertices) with {} weights, {}: {} iteration(s), lambda {}, {} boundary, {} -> {}",
         args.input.display(),
         data.positions.len(),
         r.scheme,
+        method_label(args),
         r.iterations,
-        args.lambda,
+        r.config.lambda,
         format!("{:?}", args.boundary).to_lowercase(),
+        r.stop.name(),
         args.output.display()
     )?;
+    if let Some(d) = r.config.duration {
+        writeln!(
+            out,
+            "diffusion time {} (length²), Gaussian sigma {}",
+            d.time(),
+            d.sigma()
+        )?;
+    }
     if r.max_stuck_vertices > 0 {
         writeln!(
             out,
@@ -304,13 +397,24 @@ fn build_report<'a>(
             normalize: args.normalize,
             vertex_area: args.vertex_area,
             pinned: args.pin.len(),
+            method: args.method,
+            mu: match r.config.method {
+                Method::Taubin { mu } => Some(mu),
+                _ => None,
+            },
+            hc: match r.config.method {
+                Method::Hc { alpha, beta } => Some([alpha, beta]),
+                _ => None,
+            },
+            preserve_volume: args.preserve_volume,
+            time: r.config.duration.map(|d| d.time()),
+            cutoff: args.cutoff,
+            until_change: args.until_change,
+            lambda_used: r.config.lambda,
+            iterations_planned: r.config.iterations,
         },
         iterations: r.iterations,
-        stop: match r.stop {
-            StopReason::Completed => "completed",
-            StopReason::Observer => "stopped",
-            _ => "other",
-        },
+        stop: r.stop.name(),
         max_stuck_vertices: r.max_stuck_vertices,
         seconds: Seconds {
             read,
@@ -330,4 +434,18 @@ fn build_report<'a>(
             })
             .collect(),
     }
+}
+
+/// The method as printed: `explicit`, `taubin (mu -0.53)`, `hc (alpha 0.1, beta 0.6)`,
+/// with `+ volume` when the volume is preserved.
+fn method_label(args: &SmoothArgs) -> String {
+    let mut label = match args.method() {
+        Method::Taubin { mu } => format!("taubin (mu {mu:.6})"),
+        Method::Hc { alpha, beta } => format!("hc (alpha {alpha}, beta {beta})"),
+        _ => "explicit".to_string(),
+    };
+    if args.preserve_volume {
+        label.push_str(" + volume");
+    }
+    label
 }

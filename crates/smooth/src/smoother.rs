@@ -636,6 +636,13 @@ impl<'a> Smoother<'a> {
         })
     }
 
+    /// The configuration of the run; with a [`duration`](SmoothConfig::duration),
+    /// `lambda` and `iterations` are the step and count the smoother chose.
+    #[must_use]
+    pub fn config(&self) -> &SmoothConfig {
+        &self.config
+    }
+
     /// The current positions.
     #[must_use]
     pub fn positions(&self) -> &[DVec3] {

@@ -1,0 +1,187 @@
+//! `beltrami smooth` beyond plain diffusion: Taubin, HC, volume rescale, physical time
+//! and cut-off, convergence stop — each reachable from the command line, with the
+//! library's results and its errors.
+
+mod common;
+
+use common::{beltrami, error_line, s, write};
+
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, PolygonList, primitives};
+use beltrami_io::read_mesh;
+use beltrami_smooth::{DiffusionTime, Method, SmoothConfig, smooth};
+use beltrami_weights::Cotangent;
+use insta::assert_snapshot;
+use serde_json::Value;
+
+fn sphere(dir: &std::path::Path) -> (std::path::PathBuf, Vec<DVec3>, PolygonList) {
+    let p = primitives::icosphere(3);
+    let path = write(dir, "sphere.ply", p.positions.clone(), p.faces.clone());
+    (path, p.positions, p.faces)
+}
+
+fn smoothed(path: &std::path::Path) -> (Vec<DVec3>, PolygonList) {
+    let data = read_mesh(path).unwrap();
+    (data.positions, data.faces)
+}
+
+fn volume(positions: &[DVec3], faces: &PolygonList) -> f64 {
+    let mesh =
+        beltrami_halfedge::HalfedgeMesh::from_polygons(positions.len(), faces.iter()).unwrap();
+    Geometry::new(&mesh, positions).unwrap().volume().unwrap()
+}
+
+fn ok(args: &[&str]) -> String {
+    let out = beltrami(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn each_method_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, x, faces) = sphere(dir.path());
+    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(x.len(), faces.iter()).unwrap();
+    let out = dir.path().join("out.ply");
+    let cases: [(&[&str], SmoothConfig); 4] = [
+        (
+            &["--method", "taubin", "--lambda", "0.5", "--mu", "-0.53"],
+            SmoothConfig::new(0.5, 10).method(Method::Taubin { mu: -0.53 }),
+        ),
+        (
+            &["--method", "hc", "--hc-alpha", "0.2", "--hc-beta", "0.5"],
+            SmoothConfig::new(0.8, 10).method(Method::Hc {
+                alpha: 0.2,
+                beta: 0.5,
+            }),
+        ),
+        (
+            &["--preserve-volume"],
+            SmoothConfig::new(0.8, 10).preserve_volume(true),
+        ),
+        (
+            &["--cutoff", "0.5"],
+            SmoothConfig::new(0.8, 10).duration(DiffusionTime::Cutoff(0.5)),
+        ),
+    ];
+    for (flags, config) in cases {
+        let mut args = vec!["smooth", s(&input), s(&out)];
+        args.extend_from_slice(flags);
+        ok(&args);
+        let expected = smooth(&mesh, &x, &Cotangent, config).unwrap().positions;
+        let (got, _) = smoothed(&out);
+        assert_eq!(got, expected, "{flags:?}");
+    }
+}
+
+#[test]
+fn preserve_volume_keeps_the_volume_and_the_report_says_what_ran() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, x, faces) = sphere(dir.path());
+    let out = dir.path().join("out.ply");
+    let report = dir.path().join("report.json");
+    let stdout = ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--iterations",
+        "50",
+        "--preserve-volume",
+        "--report",
+        s(&report),
+    ]);
+    assert!(stdout.contains("explicit + volume"), "{stdout}");
+    let (y, _) = smoothed(&out);
+    let (v0, v1) = (volume(&x, &faces), volume(&y, &faces));
+    // The PLY stores f64: the volume survives the file.
+    assert!((v1 / v0 - 1.0).abs() < 1e-9, "{v0} -> {v1}");
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["parameters"]["preserve_volume"], true);
+    assert_eq!(r["parameters"]["method"], "explicit");
+}
+
+#[test]
+fn a_cutoff_chooses_the_iterations_and_reports_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _, _) = sphere(dir.path());
+    let out = dir.path().join("out.ply");
+    let report = dir.path().join("report.json");
+    let stdout = ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--cutoff",
+        "0.5",
+        "--report",
+        s(&report),
+    ]);
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let t = r["parameters"]["time"].as_f64().unwrap();
+    assert!((t - 0.017_558 * 0.25).abs() < 1e-6, "{t}");
+    let planned = r["parameters"]["iterations_planned"].as_u64().unwrap();
+    assert_eq!(r["iterations"].as_u64().unwrap(), planned);
+    assert!(r["parameters"]["lambda_used"].as_f64().unwrap() <= 0.8);
+    assert!(stdout.contains("diffusion time"), "{stdout}");
+}
+
+#[test]
+fn until_change_stops_early_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = primitives::grid(10, 10);
+    let x: Vec<DVec3> = g
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| DVec3::new(p.x, p.y, if i % 7 == 3 { 0.3 } else { 0.0 }))
+        .collect();
+    let input = write(dir.path(), "grid.ply", x, g.faces.clone());
+    let out = dir.path().join("out.ply");
+    let report = dir.path().join("report.json");
+    let stdout = ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--weights",
+        "uniform",
+        "--update",
+        "once",
+        "--iterations",
+        "100000",
+        "--until-change",
+        "1e-6",
+        "--report",
+        s(&report),
+    ]);
+    assert!(stdout.contains("converged"), "{stdout}");
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["stop"], "converged");
+    assert!(r["iterations"].as_u64().unwrap() < 100_000);
+}
+
+#[test]
+fn bad_method_parameters_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _, _) = sphere(dir.path());
+    let g = primitives::grid(3, 3);
+    let open = write(dir.path(), "grid.ply", g.positions.clone(), g.faces.clone());
+    let out = dir.path().join("out.ply");
+    let run = |extra: &[&str], input: &std::path::Path| {
+        let mut args = vec!["smooth", s(input), s(&out)];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert_eq!(o.status.code(), Some(1), "{extra:?}");
+        assert!(!out.exists(), "{extra:?} wrote an output");
+        error_line(&o, dir.path())
+    };
+    assert_snapshot!(run(&["--method", "taubin", "--mu", "-0.1"], &input), @"error: sphere.ply: Taubin's mu = -0.1 with lambda = 0.8 is invalid: the pass band 1/lambda + 1/mu must be positive, i.e. mu < -lambda");
+    assert_snapshot!(run(&["--method", "taubin"], &input), @"error: sphere.ply: Taubin's mu = -0.8695652173913044 with lambda = 0.8 is invalid: the highest frequency would grow: (1 - 2 lambda)(1 - 2 mu) must exceed -1");
+    assert_snapshot!(run(&["--method", "hc", "--hc-alpha", "2"], &input), @"error: sphere.ply: HC parameters must lie in [0, 1], got alpha = 2, beta = 0.6");
+    assert_snapshot!(run(&["--preserve-volume"], &open), @"error: grid.ply: volume preservation needs a closed mesh, this one has 1 boundary loop(s); use the HC or Taubin method on open patches");
+    assert_snapshot!(run(&["--time", "-1"], &input), @"error: sphere.ply: invalid diffusion time: Time(-1.0) gives the time -1; it must be finite and >= 0");
+    assert_snapshot!(run(&["--method", "hc", "--cutoff", "1"], &input), @"error: sphere.ply: invalid diffusion time: a diffusion time applies to plain Laplacian diffusion only, not to method 'hc'");
+    assert_snapshot!(run(&["--until-change", "0"], &input), @"error: sphere.ply: the convergence threshold must be positive and finite, got 0");
+}
