@@ -70,5 +70,5 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use mesh::MeshData;
-pub use read::{read_mesh, read_mesh_from};
+pub use read::{DeclaredCounts, declared_counts, read_mesh, read_mesh_from};
 pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};
