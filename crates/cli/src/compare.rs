@@ -44,6 +44,9 @@ pub(crate) struct CompareArgs {
     /// by area (fixed seed), not only from the vertices (N up to 10 million).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
+    /// Replace the --scalars file even when it is MESH or REFERENCE.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Everything `compare` reports; also the JSON schema of `compare --json`.
@@ -139,6 +142,7 @@ struct Scalars {
 pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliError> {
     if let Some(path) = &args.scalars {
         check_ply_path("--scalars", path)?;
+        crate::output::check_not_input(path, &[&args.mesh, &args.reference], args.force)?;
     }
     let mesh = load_input(&args.mesh, Some("compare"))?;
     let reference = load_input(&args.reference, Some("compare"))?;

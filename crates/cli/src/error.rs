@@ -9,6 +9,8 @@ use beltrami_metrics::MetricsError;
 use beltrami_smooth::SmoothError;
 use beltrami_weights::WeightError;
 
+use crate::memory::{MemoryEstimate, Size};
+
 /// A failed command. Displayed as one line, without the leading `error: `.
 #[derive(Debug)]
 pub(crate) enum CliError {
@@ -38,13 +40,23 @@ pub(crate) enum CliError {
     Study(beltrami_study::StudyError),
     /// Writing to stdout failed.
     Stdout(std::io::Error),
+    /// An output path names an input file and `--force` was not given.
+    OverwritesInput { output: PathBuf, input: PathBuf },
+    /// The run would need more memory than `--max-memory` allows.
+    MemoryLimit {
+        path: PathBuf,
+        estimate: MemoryEstimate,
+        limit: u64,
+    },
 }
 
 impl CliError {
-    /// 2 for bad usage, 1 for everything else.
+    /// 2 for bad usage (also an output that would overwrite an input), 1 for
+    /// everything else.
     pub(crate) fn exit_code(&self) -> u8 {
         match self {
             Self::Usage(_)
+            | Self::OverwritesInput { .. }
             | Self::Smooth {
                 source: SmoothError::InvalidLambda { .. } | SmoothError::CurveNeedsWeightSum,
                 ..
@@ -79,6 +91,22 @@ impl fmt::Display for CliError {
             ),
             Self::Study(e) => write!(f, "study: {e}"),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
+            Self::OverwritesInput { output, input } => write!(
+                f,
+                "{}: refusing to overwrite the input file {} (pass --force to replace it)",
+                output.display(),
+                input.display()
+            ),
+            Self::MemoryLimit {
+                path,
+                estimate,
+                limit,
+            } => write!(
+                f,
+                "{}: the run needs {estimate}, more than --max-memory {}",
+                path.display(),
+                Size(*limit)
+            ),
         }
     }
 }

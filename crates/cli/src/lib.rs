@@ -27,6 +27,8 @@ mod fit;
 mod generate;
 mod info;
 mod load;
+mod memory;
+mod output;
 mod residual;
 mod smooth;
 mod study;

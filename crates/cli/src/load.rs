@@ -5,7 +5,7 @@ use std::path::Path;
 use beltrami_halfedge::{
     BuildOptions, BuildReport, DVec3, HalfedgeMesh, PolygonList, TopologyError,
 };
-use beltrami_io::{MeshFormat, read_mesh};
+use beltrami_io::{MeshData, MeshFormat, read_mesh};
 
 use crate::error::CliError;
 
@@ -22,12 +22,23 @@ pub(crate) struct LoadedMesh {
 /// Reads `path` and builds its half-edge connectivity, applying every repair when
 /// `repair` is set (the report says what changed).
 pub(crate) fn load(path: &Path, repair: bool) -> Result<LoadedMesh, CliError> {
+    load_checked(path, repair, |_| Ok(()))
+}
+
+/// [`load`], with `check` run on the data as read, before the connectivity is built
+/// (the step that needs most memory): an error from `check` ends the load.
+pub(crate) fn load_checked(
+    path: &Path,
+    repair: bool,
+    check: impl FnOnce(&MeshData) -> Result<(), CliError>,
+) -> Result<LoadedMesh, CliError> {
     let io = |source| CliError::Io {
         path: path.to_path_buf(),
         source,
     };
     let format = MeshFormat::from_path(path).map_err(io)?;
     let data = read_mesh(path).map_err(io)?;
+    check(&data)?;
     let options = if repair {
         BuildOptions::repair_all()
     } else {

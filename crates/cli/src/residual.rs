@@ -34,6 +34,9 @@ pub(crate) struct ResidualArgs {
     /// smoothed surface.
     #[arg(long)]
     remove_mean: bool,
+    /// Replace the --out file even when it is MEASURED or SMOOTHED.
+    #[arg(long)]
+    force: bool,
 }
 
 /// What `residual` reports; also the JSON schema of `residual --json`.
@@ -68,6 +71,7 @@ struct Summary {
 pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliError> {
     if let Some(path) = &args.out {
         check_ply_path("--out", path)?;
+        crate::output::check_not_input(path, &[&args.measured, &args.smoothed], args.force)?;
     }
     let measured = load_input(&args.measured, Some("residual"))?;
     let smoothed = load_input(&args.smoothed, Some("residual"))?;

@@ -7,7 +7,9 @@ use std::time::Instant;
 
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
-use beltrami_io::{Encoding, MeshData, WriteOptions, write_bytes_atomic, write_mesh};
+use beltrami_io::{
+    Encoding, MeshData, WriteOptions, declared_counts, write_bytes_atomic, write_mesh,
+};
 use beltrami_smooth::{
     Boundary, DiffusionTime, Method, SmoothConfig, SmoothReport, Smoother, WeightUpdate,
 };
@@ -16,7 +18,9 @@ use clap::ValueEnum;
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::load;
+use crate::load::load_checked;
+use crate::memory::{LARGE_RUN_VERTICES, MemoryEstimate, parse_size};
+use crate::output::check_not_input;
 
 /// Arguments of `beltrami smooth`.
 ///
@@ -99,6 +103,17 @@ pub(crate) struct SmoothArgs {
     /// Write PLY output as ascii text instead of binary (STL likewise).
     #[arg(long)]
     ascii: bool,
+    /// Replace OUT (or the --report file) even when it is the input file.
+    #[arg(long)]
+    force: bool,
+    /// Fail before building the mesh when the run is estimated to need more memory
+    /// than this: bytes, or with a binary unit K, M, G, T (512M, 2G, 1.5G).
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    max_memory: Option<u64>,
+    /// Print the estimated memory of the run on stderr (printed anyway for more
+    /// than a million vertices).
+    #[arg(long)]
+    verbose: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
@@ -274,8 +289,30 @@ pub(crate) fn run(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let scheme = registry.get(&args.weights)?;
+    check_not_input(&args.output, &[&args.input], args.force)?;
+    if let Some(report) = &args.report {
+        check_not_input(report, &[&args.input, &args.output], args.force)?;
+    }
     let t0 = Instant::now();
-    let loaded = load(&args.input, false)?;
+    // A first check on the counts the file declares (PLY header, binary STL count),
+    // before anything is read; then on the exact counts, before the mesh is built.
+    if let Ok(Some(declared)) = declared_counts(&args.input) {
+        let estimate = match declared.vertices {
+            Some(vertices) => {
+                MemoryEstimate::new(vertices, declared.faces, declared.faces.saturating_mul(3))
+            }
+            None => MemoryEstimate::for_triangle_soup(declared.faces),
+        };
+        check_memory(args, &estimate, false)?;
+    }
+    let loaded = load_checked(&args.input, false, |data| {
+        let estimate = MemoryEstimate::new(
+            data.positions.len(),
+            data.faces.len(),
+            data.faces.n_corners(),
+        );
+        check_memory(args, &estimate, true)
+    })?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let smooth_error = |source| CliError::Smooth {
         path: args.input.clone(),
@@ -371,6 +408,29 @@ pub(crate) fn run(
             path: path.clone(),
             source,
         })?;
+    }
+    Ok(())
+}
+
+/// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`; with
+/// `report` (the exact counts), prints the estimate on stderr for a large run or
+/// with `--verbose`.
+fn check_memory(
+    args: &SmoothArgs,
+    estimate: &MemoryEstimate,
+    report: bool,
+) -> Result<(), CliError> {
+    if let Some(limit) = args.max_memory {
+        if estimate.bytes > limit {
+            return Err(CliError::MemoryLimit {
+                path: args.input.clone(),
+                estimate: *estimate,
+                limit,
+            });
+        }
+    }
+    if report && (args.verbose || estimate.vertices > LARGE_RUN_VERTICES) {
+        eprintln!("note: this run needs {estimate} of memory");
     }
     Ok(())
 }

@@ -48,8 +48,13 @@
 //!   Element counts in headers are checked against the size of the file before
 //!   anything is allocated, so a header claiming billions of vertices in a small file
 //!   fails at once.
-//! - **Atomic writes.** [`write_mesh`] and [`write_ply`] write a temporary file beside
-//!   the target and rename it over the target; on any error the target is untouched.
+//! - **Streaming.** [`read_mesh`] reads a file through a fixed buffer and holds only
+//!   the mesh (and one text line), never the whole file; [`declared_counts`] reads a
+//!   file's declared counts without reading its elements.
+//! - **Atomic writes.** [`write_mesh`], [`write_ply`] and [`write_bytes_atomic`] write
+//!   a temporary file beside the target, flush it to disk, rename it over the target
+//!   and flush the directory; on any error the target is untouched and the temporary
+//!   file removed, and a killed process leaves the old file or the new one, whole.
 //!
 //! [`HalfedgeMesh::from_polygons`]: beltrami_halfedge::HalfedgeMesh::from_polygons
 
@@ -70,5 +75,5 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use mesh::MeshData;
-pub use read::{read_mesh, read_mesh_from};
+pub use read::{DeclaredCounts, declared_counts, read_mesh, read_mesh_from};
 pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};

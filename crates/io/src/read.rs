@@ -1,6 +1,6 @@
 //! Reading entry points.
 
-use std::io::BufRead;
+use std::io::{BufRead, BufReader, Cursor, Seek};
 use std::path::Path;
 
 use crate::error::IoError;
@@ -10,7 +10,10 @@ use crate::{obj, ply, stl};
 
 /// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`).
 ///
-/// The whole file is read into memory first. Coordinates are returned as stored, in
+/// The file is streamed: it is read through a buffer of 256 KiB, element by element,
+/// and only the mesh itself (24 bytes per vertex, about 20 per triangle) is held, so
+/// a 2 GB file needs no 2 GB buffer. Checks that need the whole file (counts against
+/// the size, an ascii PLY's line count) make a separate pass over it. Coordinates are returned as stored, in
 /// the file's units (no scaling). STL triangle soups are welded exactly (identical
 /// `f32` coordinates become one vertex, `-0.0` equal to `0.0`; ids in order of first
 /// appearance).
@@ -33,12 +36,18 @@ use crate::{obj, ply, stl};
 /// errors of [`read_mesh_from`] for malformed content.
 pub fn read_mesh(path: &Path) -> Result<MeshData, IoError> {
     let format = MeshFormat::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(IoError::io("read the file"))?;
-    read_bytes(&bytes, format)
+    let file = std::fs::File::open(path).map_err(IoError::io("read the file"))?;
+    read_stream(BufReader::with_capacity(READ_BUFFER, file), format)
 }
+
+/// The read buffer of [`read_mesh`], in bytes.
+const READ_BUFFER: usize = 256 << 10;
 
 /// Reads a mesh in the given format from any buffered reader (a file, a byte slice,
 /// a fuzzer's input).
+///
+/// A reader that cannot seek is read into memory first; [`read_mesh`] streams a file
+/// instead. Both give the same mesh and the same errors for the same bytes.
 ///
 /// # Examples
 /// ```
@@ -63,13 +72,70 @@ pub fn read_mesh_from<R: BufRead>(mut reader: R, format: MeshFormat) -> Result<M
     reader
         .read_to_end(&mut bytes)
         .map_err(IoError::io("read the input"))?;
-    read_bytes(&bytes, format)
+    read_stream(Cursor::new(&bytes[..]), format)
 }
 
-fn read_bytes(bytes: &[u8], format: MeshFormat) -> Result<MeshData, IoError> {
+fn read_stream<R: BufRead + Seek>(reader: R, format: MeshFormat) -> Result<MeshData, IoError> {
     match format {
-        MeshFormat::Ply => ply::read_ply(bytes),
-        MeshFormat::Stl => stl::read_stl(bytes),
-        MeshFormat::Obj => obj::read_obj(bytes),
+        MeshFormat::Ply => ply::read_ply(reader),
+        MeshFormat::Stl => stl::read_stl(reader),
+        MeshFormat::Obj => obj::read_obj(reader),
+    }
+}
+
+/// Element counts a file declares before its elements (see [`declared_counts`]).
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeclaredCounts {
+    /// The vertex count of a PLY header; `None` for an STL, whose vertices are known
+    /// only after welding.
+    pub vertices: Option<usize>,
+    /// The face count of a PLY header (0 without a `face` element), or the triangle
+    /// count of a binary STL.
+    pub faces: usize,
+}
+
+/// The element counts a mesh file declares up front, read without decoding any
+/// element: the header of a PLY file, the triangle count of a binary STL. `None` for
+/// formats that declare nothing (OBJ, ascii STL), whose counts are known only after
+/// a full pass. Meant for checks before a large read (memory limits); the counts
+/// are what the file claims, which [`read_mesh`] verifies.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{declared_counts, write_mesh, MeshData, WriteOptions};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("cube.ply");
+/// write_mesh(&path, &MeshData::from(beltrami_halfedge::primitives::cube()), &WriteOptions::default())?;
+/// let counts = declared_counts(&path)?.expect("a ply header declares its counts");
+/// assert_eq!((counts.vertices, counts.faces), (Some(8), 12));
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// An unsupported extension; [`IoError::Io`] when the file cannot be opened or read;
+/// [`IoError::Empty`]; for PLY the header errors of [`read_mesh`].
+pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
+    let format = MeshFormat::from_path(path)?;
+    let file = std::fs::File::open(path).map_err(IoError::io("open the file"))?;
+    let length = file
+        .metadata()
+        .map_err(IoError::io("read the file's metadata"))?
+        .len();
+    if length == 0 {
+        return Err(IoError::Empty);
+    }
+    let mut reader = BufReader::new(file);
+    match format {
+        MeshFormat::Ply => ply::declared_counts(&mut reader).map(Some),
+        MeshFormat::Stl => stl::declared_triangles(&mut reader, length).map(|triangles| {
+            triangles.map(|faces| DeclaredCounts {
+                vertices: None,
+                faces,
+            })
+        }),
+        MeshFormat::Obj => Ok(None),
     }
 }

@@ -1,4 +1,111 @@
-//! Helpers shared by the text readers (OBJ, ascii STL).
+//! Helpers shared by the text readers (OBJ, ascii STL, ascii PLY).
+
+use std::io::{BufRead, Seek, SeekFrom};
+
+use crate::error::IoError;
+
+/// Lines read one at a time from a stream into a reused buffer: memory is bounded by
+/// the longest line, not by the file.
+pub(crate) struct LineReader<R> {
+    reader: R,
+    buffer: Vec<u8>,
+    number: usize,
+}
+
+impl<R: BufRead> LineReader<R> {
+    pub(crate) fn new(reader: R) -> Self {
+        Self {
+            reader,
+            buffer: Vec::new(),
+            number: 0,
+        }
+    }
+
+    /// Reads the next line (without its `\n` or `\r\n` ending) and returns its
+    /// 1-based number, or `None` at the end of the input.
+    pub(crate) fn next_line(&mut self) -> Result<Option<usize>, IoError> {
+        self.buffer.clear();
+        let n = self
+            .reader
+            .read_until(b'\n', &mut self.buffer)
+            .map_err(IoError::io("read the file"))?;
+        if n == 0 {
+            return Ok(None);
+        }
+        if self.buffer.last() == Some(&b'\n') {
+            self.buffer.pop();
+        }
+        if self.buffer.last() == Some(&b'\r') {
+            self.buffer.pop();
+        }
+        self.number += 1;
+        Ok(Some(self.number))
+    }
+
+    /// The line read last (empty before the first).
+    pub(crate) fn line(&self) -> &[u8] {
+        &self.buffer
+    }
+
+    /// The number of lines read so far.
+    pub(crate) fn lines_read(&self) -> usize {
+        self.number
+    }
+}
+
+/// The length of a seekable stream; leaves it at the start.
+pub(crate) fn stream_len(reader: &mut impl Seek) -> Result<u64, IoError> {
+    let length = reader
+        .seek(SeekFrom::End(0))
+        .map_err(IoError::io("read the file"))?;
+    reader
+        .seek(SeekFrom::Start(0))
+        .map_err(IoError::io("read the file"))?;
+    Ok(length)
+}
+
+/// Reads `reader` to its end in buffer-sized pieces, calling `chunk` on each: a pass
+/// over a file without holding it.
+pub(crate) fn scan(
+    reader: &mut impl BufRead,
+    mut chunk: impl FnMut(&[u8]) -> bool,
+) -> Result<(), IoError> {
+    loop {
+        let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
+        if buffer.is_empty() {
+            return Ok(());
+        }
+        let n = buffer.len();
+        let more = chunk(buffer);
+        reader.consume(n);
+        if !more {
+            return Ok(());
+        }
+    }
+}
+
+/// The number of lines [`Lines`] would yield for the rest of `reader`, counted without
+/// holding the data.
+pub(crate) fn count_lines_in(reader: &mut impl BufRead) -> Result<usize, IoError> {
+    let mut newlines = 0;
+    let mut last = None;
+    scan(reader, |chunk| {
+        newlines += chunk.iter().filter(|&&b| b == b'\n').count();
+        last = chunk.last().copied();
+        true
+    })?;
+    Ok(newlines + usize::from(last.is_some_and(|b| b != b'\n')))
+}
+
+/// Whether the rest of `reader` holds a byte [`has_binary_bytes`] refuses in a line.
+pub(crate) fn any_binary_bytes(reader: &mut impl BufRead) -> Result<bool, IoError> {
+    let mut found = false;
+    scan(reader, |chunk| {
+        found = chunk.iter().any(|&b| b != b'\n' && has_binary_bytes(&[b]));
+        !found
+    })?;
+    Ok(found)
+}
 
 /// The lines of a byte buffer, 1-based numbers, without the `\n` or `\r\n` ending.
 #[derive(Clone)]
@@ -35,6 +142,7 @@ impl<'a> Iterator for Lines<'a> {
 }
 
 /// The number of lines [`Lines`] yields for `bytes`.
+#[cfg(test)]
 pub(crate) fn count_lines(bytes: &[u8]) -> usize {
     let newlines = bytes.iter().filter(|&&b| b == b'\n').count();
     newlines + usize::from(bytes.last().is_some_and(|&b| b != b'\n'))
@@ -92,6 +200,22 @@ mod tests {
         assert_eq!(count_lines(b"a\n"), 1);
         assert_eq!(count_lines(b""), 0);
         assert_eq!(Lines::new(b"a\n").count(), 1);
+    }
+
+    #[test]
+    fn streamed_lines_and_counts_agree_with_the_slice_versions() {
+        for text in [&b"a\r\nb\n\nc"[..], b"a\n", b"", b"\n\n", b"x\ry"] {
+            let mut reader = LineReader::new(text);
+            let mut streamed = Vec::new();
+            while let Some(n) = reader.next_line().unwrap() {
+                streamed.push((n, reader.line().to_vec()));
+            }
+            let sliced: Vec<_> = Lines::new(text).map(|(n, l)| (n, l.to_vec())).collect();
+            assert_eq!(streamed, sliced);
+            assert_eq!(count_lines_in(&mut &text[..]).unwrap(), count_lines(text));
+        }
+        assert!(any_binary_bytes(&mut &b"solid\x00"[..]).unwrap());
+        assert!(!any_binary_bytes(&mut &b"solid a\r\n\tx\n"[..]).unwrap());
     }
 
     #[test]

@@ -1,14 +1,16 @@
 //! OBJ reader: a line parser for `v` and `f`.
 
+use std::io::BufRead;
+
 use beltrami_halfedge::PolygonList;
 use glam::DVec3;
 
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{Lines, has_binary_bytes, parse_number, token_text, tokens};
+use crate::text::{LineReader, has_binary_bytes, parse_number, token_text, tokens};
 use crate::validate::check_faces;
 
-/// Reads a whole OBJ file held in memory.
+/// Reads an OBJ file line by line from `reader`.
 ///
 /// `v x y z [w]` adds a vertex (values after `z`, such as `w` or vertex colours, are
 /// ignored); `f` adds a polygon whose corners are `a`, `a/b`, `a//c` or `a/b/c`, of
@@ -16,14 +18,17 @@ use crate::validate::check_faces;
 /// the last vertex defined so far. Every other statement (`vt`, `vn`, `g`, `usemtl`,
 /// …) is ignored, and so is everything after a `#`. Line continuations (`\` at the end of a line) are not
 /// supported.
-pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
-    if bytes.is_empty() {
-        return Err(IoError::Empty);
-    }
+pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
+    let mut lines = LineReader::new(reader);
     let mut positions = Vec::new();
     let mut faces = PolygonList::new();
     let mut corners = Vec::new();
-    for (line, text) in Lines::new(bytes) {
+    // Faces with an index beyond the vertices defined so far (a forward reference,
+    // checked at the end), with their lines: the line of an error without a second
+    // pass over the file.
+    let mut forward: Vec<(usize, usize)> = Vec::new();
+    while let Some(line) = lines.next_line()? {
+        let text = lines.line();
         // `#` starts a comment, also after a statement.
         let statement = text
             .iter()
@@ -63,6 +68,9 @@ pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
                 for corner in words {
                     corners.push(vertex_index(corner, positions.len(), line, faces.len())?);
                 }
+                if corners.iter().any(|&c| c as usize >= positions.len()) {
+                    forward.push((faces.len(), line));
+                }
                 faces.push(&corners);
             }
             _ => {
@@ -71,6 +79,9 @@ pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
                 }
             }
         }
+    }
+    if lines.lines_read() == 0 {
+        return Err(IoError::Empty);
     }
     let mesh = MeshData { positions, faces };
     // Positive indices may refer forward; check them now that all vertices are known.
@@ -82,7 +93,10 @@ pub(crate) fn read_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
                 n_vertices,
                 ..
             } => IoError::FaceIndexOutOfRange {
-                line: face_line(bytes, face),
+                line: forward
+                    .binary_search_by_key(&face, |&(f, _)| f)
+                    .ok()
+                    .map(|i| forward[i].1),
                 face,
                 index: index + 1,
                 n_vertices,
@@ -116,12 +130,4 @@ fn vertex_index(corner: &[u8], defined: usize, line: usize, face: usize) -> Resu
             u32::try_from(vertex).map_err(|_| out_of_range())
         }
     }
-}
-
-/// The line of the `face`-th `f` statement (0-based).
-fn face_line(bytes: &[u8], face: usize) -> Option<usize> {
-    Lines::new(bytes)
-        .filter(|(_, text)| tokens(text).next() == Some(&b"f"[..]))
-        .nth(face)
-        .map(|(line, _)| line)
 }

@@ -5,5 +5,5 @@ mod read;
 mod records;
 mod write;
 
-pub(crate) use read::read_ply;
+pub(crate) use read::{declared_counts, read_ply};
 pub(crate) use write::write_ply_to;

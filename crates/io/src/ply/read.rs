@@ -5,7 +5,7 @@
 //! element is decoded, and turns each element into a position or a face directly
 //! (no intermediate `Vec` of records).
 
-use std::io::ErrorKind;
+use std::io::{BufRead, ErrorKind, Read, Seek, SeekFrom};
 
 use beltrami_halfedge::{MAX_ELEMENTS, PolygonList};
 use glam::DVec3;
@@ -15,37 +15,98 @@ use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{Lines, count_lines, token_text};
+use crate::text::{LineReader, Lines, count_lines_in, stream_len, token_text};
 use crate::validate::check_faces;
 
-/// Reads a whole PLY file held in memory.
-pub(crate) fn read_ply(bytes: &[u8]) -> Result<MeshData, IoError> {
-    if bytes.is_empty() {
+/// Reads a PLY file from `reader`, element by element.
+pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoError> {
+    let length = stream_len(&mut reader)?;
+    if length == 0 {
         return Err(IoError::Empty);
     }
-    check_magic(bytes)?;
-    let mut reader = Reader::new(bytes);
-    let header = Parser::<Skip>::new()
-        .read_header(&mut reader)
-        .map_err(|e| header_error(&e, bytes))?;
-    let payload = reader.into_inner();
-    let header_lines = count_lines(&bytes[..bytes.len() - payload.len()]);
+    let start = reader.fill_buf().map_err(IoError::io("read the file"))?;
+    check_magic(start)?;
+    let mut ply_reader = Reader::new(reader);
+    let header = Parser::<Skip>::new().read_header(&mut ply_reader);
+    let mut reader = ply_reader.into_inner();
+    let header = match header {
+        Ok(header) => header,
+        Err(e) => {
+            let text = e.line().and_then(|n| header_line(&mut reader, n));
+            return Err(header_error(&e, text));
+        }
+    };
+    let header_length = reader
+        .stream_position()
+        .map_err(IoError::io("read the file"))?;
+    let payload = usize::try_from(length - header_length).unwrap_or(usize::MAX);
     check_schema(&header)?;
     let mut mesh = MeshData::default();
     let face_line = match header.encoding {
         Encoding::Ascii => {
-            check_counts(&header, count_lines(payload), |_| 1)?;
-            read_ascii(&header, payload, header_lines, &mut mesh)?
+            seek_to(&mut reader, 0)?;
+            let header_lines = count_lines_in(&mut (&mut reader).take(header_length))?;
+            check_counts(&header, count_lines_in(&mut reader)?, |_| 1)?;
+            seek_to(&mut reader, header_length)?;
+            read_ascii(&header, reader, payload, header_lines, &mut mesh)?
         }
         Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
-            check_counts(&header, payload.len(), min_record_size)?;
+            check_counts(&header, payload, min_record_size)?;
             let big_endian = header.encoding == Encoding::BinaryBigEndian;
-            read_binary(&header, payload, big_endian, &mut mesh)?;
+            read_binary(&header, reader, payload, big_endian, &mut mesh)?;
             None
         }
     };
     check_faces(&mesh, face_line)?;
     Ok(mesh)
+}
+
+fn seek_to(reader: &mut impl Seek, position: u64) -> Result<(), IoError> {
+    reader
+        .seek(SeekFrom::Start(position))
+        .map(drop)
+        .map_err(IoError::io("read the file"))
+}
+
+/// Line `n` (1-based) of the file, as quoted in an error; at most 64 KiB of each line
+/// is read.
+fn header_line<R: BufRead + Seek>(reader: &mut R, n: usize) -> Option<String> {
+    seek_to(reader, 0).ok()?;
+    let mut line = Vec::new();
+    for _ in 0..n {
+        line.clear();
+        let mut limited = reader.by_ref().take(64 << 10);
+        if limited.read_until(b'\n', &mut line).ok()? == 0 {
+            return None;
+        }
+        if line.last() != Some(&b'\n') {
+            // Skip the rest of an overlong line.
+            let mut rest = Vec::new();
+            reader.read_until(b'\n', &mut rest).ok()?;
+        }
+    }
+    let text = line.strip_suffix(b"\n").unwrap_or(&line);
+    let text = text.strip_suffix(b"\r").unwrap_or(text);
+    Some(token_text(text))
+}
+
+/// The vertex and face counts of a PLY header, read from the start of `reader`
+/// without decoding any element.
+pub(crate) fn declared_counts(
+    reader: &mut impl BufRead,
+) -> Result<crate::read::DeclaredCounts, IoError> {
+    // Peek at the buffered start of the file (without consuming it) to tell a PLY file.
+    check_magic(reader.fill_buf().map_err(IoError::io("read the file"))?)?;
+    let mut reader = Reader::new(reader);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| header_error(&e, None))?;
+    check_schema(&header)?;
+    let count = |name| header.elements.get(name).map(|e| e.count);
+    Ok(crate::read::DeclaredCounts {
+        vertices: count("vertex"),
+        faces: count("face").unwrap_or(0),
+    })
 }
 
 /// The first line must be `ply`: anything else is not a PLY file at all.
@@ -202,7 +263,8 @@ fn check_counts(
 /// Reads the ascii payload; returns the line of the first face, if any.
 fn read_ascii(
     header: &Header,
-    payload: &[u8],
+    reader: impl BufRead,
+    payload: usize,
     header_lines: usize,
     mesh: &mut MeshData,
 ) -> Result<Option<usize>, IoError> {
@@ -210,29 +272,29 @@ fn read_ascii(
     let face_parser = Parser::<FaceRecord>::new();
     let mut scratch = Vec::new();
     let mut face_line = None;
-    let mut lines = Lines::new(payload);
+    let mut lines = LineReader::new(reader);
     for element in header.elements.values() {
         let name = element.name.as_str();
         if name == "face" {
-            face_line = Some(header_lines + lines.clone().next().map_or(1, |(n, _)| n));
+            face_line = Some(header_lines + lines.lines_read() + 1);
         }
         if name == "vertex" {
             // Capacities are hints bounded by the file size: "0 0 0" and "3 0 1 2"
             // are the shortest lines a vertex and a triangle take.
-            mesh.positions
-                .reserve_exact(element.count.min(payload.len() / 6));
+            mesh.positions.reserve_exact(element.count.min(payload / 6));
         } else if name == "face" {
-            let faces = element.count.min(payload.len() / 8);
+            let faces = element.count.min(payload / 8);
             mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
         }
         for index in 0..element.count {
             // The line count was checked against the header before.
-            let Some((number, line)) = lines.next() else {
+            let Some(number) = lines.next_line()? else {
                 return Err(IoError::Truncated {
                     element: element.name.clone(),
                     index,
                 });
             };
+            let line = lines.line();
             let line_number = Some(header_lines + number);
             if name != "vertex" && name != "face" {
                 continue;
@@ -259,14 +321,19 @@ fn read_ascii(
     Ok(face_line)
 }
 
-fn read_binary(
+fn read_binary<R: BufRead + Seek>(
     header: &Header,
-    payload: &[u8],
+    mut cursor: R,
+    payload: usize,
     big_endian: bool,
     mesh: &mut MeshData,
 ) -> Result<(), IoError> {
-    let mut cursor = payload;
     let mut scratch = Vec::new();
+    let start = cursor
+        .stream_position()
+        .map_err(IoError::io("read the file"))?;
+    // Bytes of the payload not yet read.
+    let mut remaining = payload;
     for element in header.elements.values() {
         let name = element.name.as_str();
         match name {
@@ -275,7 +342,7 @@ fn read_binary(
                 // Capacities are hints bounded by the file size: 12 and 13 bytes are
                 // the usual smallest vertex (3 floats) and triangle records.
                 mesh.positions
-                    .reserve_exact(element.count.min(payload.len() / 12));
+                    .reserve_exact(element.count.min(payload / 12));
                 for index in 0..element.count {
                     let record = read_binary_element(&parser, &mut cursor, element, big_endian)
                         .map_err(|e| element_error(&e, None, name, index, ""))?;
@@ -284,7 +351,7 @@ fn read_binary(
             }
             "face" => {
                 let parser = Parser::<FaceRecord>::new();
-                let faces = element.count.min(payload.len() / 13);
+                let faces = element.count.min(payload / 13);
                 mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
                 for index in 0..element.count {
                     let record = read_binary_element(&parser, &mut cursor, element, big_endian)
@@ -292,15 +359,20 @@ fn read_binary(
                     push_face(&mut mesh.faces, &mut scratch, &record, None)?;
                 }
             }
-            _ => skip_binary_element(&mut cursor, element, big_endian)?,
+            _ => skip_binary_element(&mut cursor, remaining, element, big_endian)?,
         }
+        let read = cursor
+            .stream_position()
+            .map_err(IoError::io("read the file"))?;
+        let read = usize::try_from(read.saturating_sub(start)).unwrap_or(usize::MAX);
+        remaining = payload.saturating_sub(read);
     }
     Ok(())
 }
 
 fn read_binary_element<E: ply_rs_bw::ply::PropertyAccess>(
     parser: &Parser<E>,
-    cursor: &mut &[u8],
+    cursor: &mut impl Read,
     element: &ElementDef,
     big_endian: bool,
 ) -> Result<E, ParseError> {
@@ -312,9 +384,10 @@ fn read_binary_element<E: ply_rs_bw::ply::PropertyAccess>(
 }
 
 /// Skips an element the mesh does not use: in one step when its records have a
-/// fixed size, else record by record.
-fn skip_binary_element(
-    cursor: &mut &[u8],
+/// fixed size, else record by record. `remaining` bytes of the payload are unread.
+fn skip_binary_element<R: BufRead + Seek>(
+    cursor: &mut R,
+    remaining: usize,
     element: &ElementDef,
     big_endian: bool,
 ) -> Result<(), IoError> {
@@ -331,10 +404,19 @@ fn skip_binary_element(
     } else {
         let size = min_record_size(element);
         let bytes = element.count.saturating_mul(size);
-        *cursor = cursor.get(bytes..).ok_or_else(|| IoError::Truncated {
+        if bytes > remaining {
+            return Err(IoError::Truncated {
+                element: element.name.clone(),
+                index: remaining / size.max(1),
+            });
+        }
+        let bytes = i64::try_from(bytes).map_err(|_| IoError::Truncated {
             element: element.name.clone(),
-            index: cursor.len() / size.max(1),
+            index: 0,
         })?;
+        cursor
+            .seek_relative(bytes)
+            .map_err(IoError::io("read the file"))?;
     }
     Ok(())
 }
@@ -396,7 +478,8 @@ fn sanitize(message: &str) -> String {
     }
 }
 
-fn header_error(e: &ParseError, bytes: &[u8]) -> IoError {
+/// Maps a header error; `line_text` is the offending line, when known.
+fn header_error(e: &ParseError, line_text: Option<String>) -> IoError {
     let line = e.line();
     if e.kind() == ErrorKind::InvalidData {
         return IoError::PlyHeader {
@@ -405,13 +488,9 @@ fn header_error(e: &ParseError, bytes: &[u8]) -> IoError {
         };
     }
     let message = message(e);
-    let line_text = || {
-        line.and_then(|n| Lines::new(bytes).nth(n.saturating_sub(1)))
-            .map(|(_, text)| token_text(text))
-    };
     let reason =
         if message.starts_with("Couldn't parse line") || message.starts_with("Invalid element") {
-            match line_text() {
+            match line_text {
                 Some(text) => format!("cannot parse {text:?}"),
                 None => "cannot parse a header line".to_owned(),
             }

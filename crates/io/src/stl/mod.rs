@@ -8,7 +8,7 @@ mod read;
 mod weld;
 mod write;
 
-pub(crate) use read::read_stl;
+pub(crate) use read::{declared_triangles, read_stl};
 pub(crate) use write::write_stl_to;
 
 /// Bytes before the first triangle of a binary STL: an 80-byte header and the count.

@@ -1,45 +1,82 @@
 //! STL reader: detects binary or ascii, welds the triangle soup.
 
+use std::io::{BufRead, Read, Seek, SeekFrom};
+
 use beltrami_halfedge::PolygonList;
 
 use super::weld::Welder;
 use super::{BINARY_HEADER, BINARY_TRIANGLE};
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{Lines, has_binary_bytes, parse_number, token_text};
+use crate::text::{LineReader, any_binary_bytes, parse_number, stream_len, token_text};
 
-/// Reads a whole STL file held in memory.
+/// Reads an STL file from `reader`, streaming its triangles.
 ///
 /// A file whose length is exactly what its binary triangle count says is binary, even
 /// when it starts with `solid` (many binary exporters write that). Otherwise a file
 /// starting with `solid` is ascii; the rest is a binary file whose count is wrong.
-pub(crate) fn read_stl(bytes: &[u8]) -> Result<MeshData, IoError> {
-    if bytes.is_empty() {
+pub(crate) fn read_stl<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoError> {
+    let length = stream_len(&mut reader)?;
+    if length == 0 {
         return Err(IoError::Empty);
     }
-    let declared = binary_count(bytes);
+    let file_length = usize::try_from(length).unwrap_or(usize::MAX);
+    let mut head = Vec::with_capacity(BINARY_HEADER);
+    (&mut reader)
+        .take(BINARY_HEADER as u64)
+        .read_to_end(&mut head)
+        .map_err(IoError::io("read the file"))?;
+    let declared = binary_count(&head);
     if let Some(n) = declared {
-        if binary_length(n) == Some(bytes.len()) {
-            return read_binary(bytes, n as usize);
+        if binary_length(n) == Some(file_length) {
+            return read_binary(reader, n as usize);
         }
     }
     let count_error = |declared| IoError::StlTriangleCount {
         declared,
-        file_length: bytes.len(),
+        file_length,
     };
-    if starts_with_solid(bytes) {
-        return read_ascii(bytes).map_err(|e| match declared {
-            // "solid" then bytes no text holds: a binary file with a wrong count.
-            Some(n) if Lines::new(bytes).any(|(_, line)| has_binary_bytes(line)) => count_error(n),
-            _ => e,
-        });
+    rewind(&mut reader)?;
+    if starts_with_solid(&mut reader)? {
+        rewind(&mut reader)?;
+        return match read_ascii(&mut reader) {
+            Ok(mesh) => Ok(mesh),
+            Err(e) => match declared {
+                // "solid" then bytes no text holds: a binary file with a wrong count.
+                Some(n) if rewind(&mut reader).is_ok() && any_binary_bytes(&mut reader)? => {
+                    Err(count_error(n))
+                }
+                _ => Err(e),
+            },
+        };
     }
     match declared {
         Some(n) => Err(count_error(n)),
-        None => Err(IoError::StlTooShort {
-            file_length: bytes.len(),
-        }),
+        None => Err(IoError::StlTooShort { file_length }),
     }
+}
+
+fn rewind(reader: &mut impl Seek) -> Result<(), IoError> {
+    reader
+        .seek(SeekFrom::Start(0))
+        .map(drop)
+        .map_err(IoError::io("read the file"))
+}
+
+/// The triangle count of a binary STL read from the start of `reader`, when the file
+/// is one (its length, `length` bytes, is what the count says); `None` for ascii.
+pub(crate) fn declared_triangles(
+    reader: &mut impl Read,
+    length: u64,
+) -> Result<Option<usize>, IoError> {
+    let mut header = Vec::with_capacity(BINARY_HEADER);
+    reader
+        .take(BINARY_HEADER as u64)
+        .read_to_end(&mut header)
+        .map_err(IoError::io("read the file"))?;
+    Ok(binary_count(&header)
+        .filter(|&n| binary_length(n).is_some_and(|l| l as u64 == length))
+        .map(|n| n as usize))
 }
 
 /// The triangle count of a binary header, if the file is long enough to have one.
@@ -55,26 +92,52 @@ fn binary_length(n: u32) -> Option<usize> {
         .checked_add(BINARY_HEADER)
 }
 
-fn starts_with_solid(bytes: &[u8]) -> bool {
-    let text = bytes.trim_ascii_start();
-    text.get(..5)
+/// Whether the text after leading whitespace starts with the word `solid`.
+fn starts_with_solid(reader: &mut impl BufRead) -> Result<bool, IoError> {
+    loop {
+        let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
+        if buffer.is_empty() {
+            return Ok(false);
+        }
+        match buffer.iter().position(|b| !b.is_ascii_whitespace()) {
+            Some(start) => {
+                reader.consume(start);
+                break;
+            }
+            None => {
+                let n = buffer.len();
+                reader.consume(n);
+            }
+        }
+    }
+    let mut word = Vec::with_capacity(6);
+    reader
+        .take(6)
+        .read_to_end(&mut word)
+        .map_err(IoError::io("read the file"))?;
+    Ok(word
+        .get(..5)
         .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
-        && text.get(5).is_none_or(u8::is_ascii_whitespace)
+        && word.get(5).is_none_or(u8::is_ascii_whitespace))
 }
 
-fn read_binary(bytes: &[u8], n: usize) -> Result<MeshData, IoError> {
+fn read_binary(mut reader: impl Read, n: usize) -> Result<MeshData, IoError> {
     // A closed triangle mesh has about half as many vertices as triangles.
     let mut welder = Welder::with_capacity(n / 2 + 3);
     let mut faces = PolygonList::with_capacity(n, 3 * n);
-    let records = bytes[BINARY_HEADER..].chunks_exact(BINARY_TRIANGLE);
-    for (facet, record) in records.enumerate() {
+    let mut record = [0u8; BINARY_TRIANGLE];
+    for facet in 0..n {
+        // The file length was checked against the count: a short read is an I/O error.
+        reader
+            .read_exact(&mut record)
+            .map_err(IoError::io("read the file"))?;
         let mut triangle = [0; 3];
         for (corner, id) in triangle.iter_mut().enumerate() {
             let at = 12 + 12 * corner;
             let p = [
-                f32_at(record, at),
-                f32_at(record, at + 4),
-                f32_at(record, at + 8),
+                f32_at(&record, at),
+                f32_at(&record, at + 4),
+                f32_at(&record, at + 8),
             ];
             *id = insert(&mut welder, p, facet, None)?;
         }
@@ -106,102 +169,117 @@ fn insert(
     welder.insert(p)
 }
 
-/// Whitespace-separated tokens with their line numbers.
-struct Tokens<'a> {
-    lines: Lines<'a>,
+/// Whitespace-separated tokens with their line numbers, read line by line.
+struct Tokens<R> {
+    lines: LineReader<R>,
     line: usize,
-    rest: &'a [u8],
+    /// Where the unread rest of the current line starts.
+    at: usize,
 }
 
-impl<'a> Tokens<'a> {
-    fn new(bytes: &'a [u8]) -> Self {
+impl<R: BufRead> Tokens<R> {
+    fn new(reader: R) -> Self {
         Self {
-            lines: Lines::new(bytes),
+            lines: LineReader::new(reader),
             line: 1,
-            rest: &[],
+            at: 0,
         }
     }
 
-    fn next(&mut self) -> Option<(usize, &'a [u8])> {
+    /// The next token and its line.
+    fn next(&mut self) -> Result<Option<(usize, &[u8])>, IoError> {
         loop {
-            if let Some(start) = self.rest.iter().position(|b| !b.is_ascii_whitespace()) {
-                let rest = &self.rest[start..];
-                let end = rest
+            let text = self.lines.line();
+            if let Some(skip) = text[self.at..]
+                .iter()
+                .position(|b| !b.is_ascii_whitespace())
+            {
+                let start = self.at + skip;
+                let end = text[start..]
                     .iter()
                     .position(u8::is_ascii_whitespace)
-                    .unwrap_or(rest.len());
-                self.rest = &rest[end..];
-                return Some((self.line, &rest[..end]));
+                    .map_or(text.len(), |n| start + n);
+                self.at = end;
+                return Ok(Some((self.line, &self.lines.line()[start..end])));
             }
-            let (line, text) = self.lines.next()?;
-            self.line = line;
-            self.rest = text;
+            match self.lines.next_line()? {
+                Some(line) => {
+                    self.line = line;
+                    self.at = 0;
+                }
+                None => return Ok(None),
+            }
         }
     }
 
     /// Drops the rest of the current line (the name after `solid` or `endsolid`).
     fn skip_line(&mut self) {
-        self.rest = &[];
+        self.at = self.lines.line().len();
     }
 
     /// The next token, which must be `keyword` (any letter case).
     fn expect(&mut self, keyword: &'static str, quoted: &'static str) -> Result<(), IoError> {
-        match self.next() {
+        match self.next()? {
             Some((_, token)) if token.eq_ignore_ascii_case(keyword.as_bytes()) => Ok(()),
-            found => Err(self.syntax(quoted, found)),
+            Some(found) => Err(syntax(quoted, found)),
+            None => Err(end_of_file(self.line, quoted)),
         }
     }
 
     /// The next token as an `f32`.
     fn number(&mut self) -> Result<(usize, f32), IoError> {
-        match self.next() {
+        match self.next()? {
             Some((line, token)) => match parse_number(token) {
                 Some(value) => Ok((line, value)),
-                None => Err(self.syntax("a number", Some((line, token)))),
+                None => Err(syntax("a number", (line, token))),
             },
-            None => Err(self.syntax("a number", None)),
+            None => Err(end_of_file(self.line, "a number")),
         }
     }
+}
 
-    fn syntax(&self, expected: &'static str, found: Option<(usize, &[u8])>) -> IoError {
-        match found {
-            Some((line, token)) => IoError::Syntax {
-                line,
-                expected,
-                found: Some(token_text(token)),
-            },
-            None => IoError::Syntax {
-                line: self.line,
-                expected,
-                found: None,
-            },
-        }
+/// A syntax error at the token `found` (its line and text).
+fn syntax(expected: &'static str, (line, token): (usize, &[u8])) -> IoError {
+    IoError::Syntax {
+        line,
+        expected,
+        found: Some(token_text(token)),
+    }
+}
+
+/// A syntax error at the end of the file, whose last line is `line`.
+fn end_of_file(line: usize, expected: &'static str) -> IoError {
+    IoError::Syntax {
+        line,
+        expected,
+        found: None,
     }
 }
 
 /// `solid name`, then facets, then `endsolid name`; several solids may follow each
 /// other. Keywords are matched in any letter case.
-fn read_ascii(bytes: &[u8]) -> Result<MeshData, IoError> {
-    let mut tokens = Tokens::new(bytes);
+fn read_ascii(reader: impl BufRead) -> Result<MeshData, IoError> {
+    let mut tokens = Tokens::new(reader);
     let mut welder = Welder::with_capacity(0);
     let mut faces = PolygonList::new();
     tokens.expect("solid", "\"solid\"")?;
     tokens.skip_line();
     loop {
-        match tokens.next() {
+        match tokens.next()? {
             Some((_, t)) if t.eq_ignore_ascii_case(b"facet") => {
                 let triangle = read_facet(&mut tokens, &mut welder, faces.len())?;
                 faces.push(&triangle);
             }
             Some((_, t)) if t.eq_ignore_ascii_case(b"endsolid") => {
                 tokens.skip_line();
-                match tokens.next() {
+                match tokens.next()? {
                     None => break,
                     Some((_, t)) if t.eq_ignore_ascii_case(b"solid") => tokens.skip_line(),
-                    found => return Err(tokens.syntax("\"solid\" or the end of the file", found)),
+                    Some(found) => return Err(syntax("\"solid\" or the end of the file", found)),
                 }
             }
-            found => return Err(tokens.syntax("\"facet\" or \"endsolid\"", found)),
+            Some(found) => return Err(syntax("\"facet\" or \"endsolid\"", found)),
+            None => return Err(end_of_file(tokens.line, "\"facet\" or \"endsolid\"")),
         }
     }
     Ok(MeshData {
@@ -214,7 +292,7 @@ fn read_ascii(bytes: &[u8]) -> Result<MeshData, IoError> {
 /// recomputed from the vertices where needed), `outer loop`, three `vertex x y z`,
 /// `endloop`, `endfacet`.
 fn read_facet(
-    tokens: &mut Tokens<'_>,
+    tokens: &mut Tokens<impl BufRead>,
     welder: &mut Welder,
     facet: usize,
 ) -> Result<[u32; 3], IoError> {

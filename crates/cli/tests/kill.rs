@@ -1,0 +1,98 @@
+//! A `beltrami` process killed at any moment leaves at its output path the old file
+//! or the new one, whole, never a partial file; and the temporary files a kill can
+//! leave behind do not disturb the next run.
+
+#![cfg(unix)]
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+use beltrami_io::read_mesh;
+use common::s;
+
+/// `beltrami generate sphere OUT --noise … --ascii`: 40962 vertices written as about
+/// 3.5 MB of text, so that a good share of the run is spent writing.
+fn generate(output: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_beltrami"));
+    command
+        .args([
+            "generate",
+            "sphere",
+            s(output),
+            "--noise",
+            "0.2",
+            "--relative",
+        ])
+        .args(["--seed", "3", "--ascii"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
+    command
+}
+
+fn temporaries(dir: &Path) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            let name = name.to_string_lossy();
+            name.starts_with(".beltrami-") && name.ends_with(".tmp")
+        })
+        .count()
+}
+
+#[test]
+fn a_killed_writer_leaves_the_old_file_or_the_new_one() {
+    let dir = tempfile::tempdir().unwrap();
+    // The new file, written by a run that completes (generation is deterministic).
+    let reference = dir.path().join("reference.ply");
+    let start = Instant::now();
+    assert!(generate(&reference).status().unwrap().success());
+    let duration = start.elapsed();
+    let new = std::fs::read(&reference).unwrap();
+    // The old file: the clean sphere.
+    let output = dir.path().join("out.ply");
+    let status = Command::new(env!("CARGO_BIN_EXE_beltrami"))
+        .args(["generate", "sphere", s(&output)])
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let old = std::fs::read(&output).unwrap();
+    assert_ne!(old, new);
+
+    // Kill moments spread over 1.2 times a full run, from a fixed sequence.
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let (mut saw_old, mut saw_new) = (0, 0);
+    for _ in 0..40 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let fraction = (state >> 11) as f64 / (1u64 << 53) as f64;
+        let delay = duration.mul_f64(1.2 * fraction);
+        let mut child = generate(&output).spawn().unwrap();
+        std::thread::sleep(delay);
+        child.kill().ok(); // SIGKILL; fails only when the child has already exited.
+        child.wait().unwrap();
+        let now = std::fs::read(&output).unwrap();
+        if now == old {
+            saw_old += 1;
+        } else if now == new {
+            saw_new += 1;
+            std::fs::write(&output, &old).unwrap();
+        } else {
+            panic!("a partial file at the output path ({} bytes)", now.len());
+        }
+        assert!(read_mesh(&output).is_ok());
+    }
+    let left = temporaries(dir.path());
+    println!("old {saw_old}, new {saw_new}, temporary files left by kills {left}");
+
+    // The next run is not disturbed by what the kills left: it writes the whole new
+    // file and leaves no temporary file of its own.
+    assert!(generate(&output).status().unwrap().success());
+    assert_eq!(std::fs::read(&output).unwrap(), new);
+    assert_eq!(temporaries(dir.path()), left);
+}
