@@ -536,7 +536,7 @@ impl<'a> ImplicitSmoother<'a> {
                     self.solve_time += start.elapsed();
                     return Err(SmoothError::NotPositiveDefinite { iteration });
                 }
-                if !(outcome.residual <= *tolerance) {
+                if outcome.residual.is_nan() || outcome.residual > *tolerance {
                     self.solve_time += start.elapsed();
                     return Err(SmoothError::NotConverged {
                         iteration,

@@ -2,6 +2,9 @@
 //! formulas, first-order agreement with the explicit step, stability, boundary,
 //! factorisation reuse, conjugate gradient, determinism and errors.
 
+// The dense reference reads best with the textbook's indices.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::ControlFlow;
 
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};

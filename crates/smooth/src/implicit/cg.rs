@@ -71,14 +71,14 @@ impl Cg {
             let outcome = self.solve(system, &b, &mut x, tolerance, max_iterations);
             total.iterations += outcome.iterations;
             // The worst coordinate (a NaN, should one occur, wins).
-            if !(outcome.residual <= total.residual) {
+            if outcome.residual.is_nan() || outcome.residual > total.residual {
                 total.residual = outcome.residual;
             }
             total.indefinite = outcome.indefinite;
             for (xi, out) in x.iter().zip(rhs.iter_mut()) {
                 out[c] = *xi;
             }
-            if outcome.indefinite || !(outcome.residual <= tolerance) {
+            if outcome.indefinite || outcome.residual.is_nan() || outcome.residual > tolerance {
                 break;
             }
         }
@@ -129,7 +129,7 @@ impl Cg {
         while outcome.iterations < max_iterations {
             system.multiply(p, q);
             let curvature = dot(p, q);
-            if !(curvature > 0.0) {
+            if curvature.is_nan() || curvature <= 0.0 {
                 outcome.indefinite = true;
                 return outcome;
             }
