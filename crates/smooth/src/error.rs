@@ -94,6 +94,60 @@ pub enum SmoothError {
         /// The value given.
         value: f64,
     },
+    /// The implicit time step is not positive and finite.
+    #[error("the implicit time step must be positive and finite, got {time_step}")]
+    InvalidTimeStep {
+        /// The value given.
+        time_step: f64,
+    },
+    /// The conjugate-gradient settings are not usable.
+    #[error(
+        "conjugate gradient needs a positive finite tolerance below 1 and at least one iteration, got tolerance {tolerance} and {max_iterations} iterations"
+    )]
+    InvalidSolverSettings {
+        /// The relative residual tolerance given.
+        tolerance: f64,
+        /// The iteration limit given.
+        max_iterations: usize,
+    },
+    /// The implicit smoother has no curve boundary mode.
+    #[error(
+        "boundary mode 'curve' is not available for implicit smoothing (use 'fixed' or 'free')"
+    )]
+    CurveNotImplicit,
+    /// The implicit system `M − t L` is not (numerically) positive definite, so the
+    /// backward-Euler step is not a smoothing step. Weights that are negative without
+    /// being an energy (a scheme of your own with negative weights kept) cause this —
+    /// cotangent weights give a positive definite system even where they are negative —
+    /// and so does a mesh so degenerate (collapsed triangles, near-zero areas against
+    /// huge weights) that the system is singular to rounding.
+    #[error(
+        "the implicit system of iteration {iteration} is not positive definite (negative weights, or a degenerate mesh with this time step); clamp negative weights (NegativeWeights::Clamp, --cotangent-negative clamp) or take a smaller step"
+    )]
+    NotPositiveDefinite {
+        /// The iteration (1-based).
+        iteration: usize,
+    },
+    /// Conjugate gradient did not reach its tolerance within its iteration limit.
+    #[error(
+        "conjugate gradient did not converge in iteration {iteration}: relative residual {residual:e} after {iterations} iterations (tolerance {tolerance:e})"
+    )]
+    NotConverged {
+        /// The smoothing iteration (1-based).
+        iteration: usize,
+        /// The conjugate-gradient iterations done (the limit).
+        iterations: usize,
+        /// The relative residual reached, `‖b − A x‖ / ‖b‖`, worst coordinate.
+        residual: f64,
+        /// The tolerance asked for.
+        tolerance: f64,
+    },
+    /// The sparse factorisation could not be computed (out of memory, index overflow).
+    #[error("the sparse factorisation failed: {reason}")]
+    Factorization {
+        /// What the solver reported.
+        reason: String,
+    },
     /// The weights could not be computed.
     #[error(transparent)]
     Weights(#[from] WeightError),

@@ -40,8 +40,13 @@
 
 mod config;
 mod error;
+mod implicit;
 mod smoother;
 
 pub use config::{Boundary, DiffusionTime, Method, SmoothConfig, WeightUpdate};
 pub use error::SmoothError;
+pub use implicit::{
+    ImplicitConfig, ImplicitReport, ImplicitSmoothed, ImplicitSmoother, ImplicitSolver,
+    ImplicitStepStats, smooth_implicit,
+};
 pub use smoother::{Iteration, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth};

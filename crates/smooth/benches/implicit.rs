@@ -1,0 +1,119 @@
+//! Implicit smoothing: one backward-Euler cotangent step (area normalisation, mixed
+//! Voronoi mass) on a noisy icosphere of level 6 (40 962 vertices) and 8 (655 362
+//! vertices). `cholesky_first` is a whole first step (weights, assembly, symbolic
+//! analysis, numeric factorisation, solve); `cholesky_frozen` a later step with the
+//! operator frozen (right-hand side and triangular solves only); `cholesky_every` a
+//! later step with the weights recomputed (assembly, numeric factorisation, solve);
+//! `cg_frozen` a frozen step by conjugate gradient (relative tolerance 1e-8).
+//! `cargo bench -p beltrami-smooth --bench implicit`.
+
+#![allow(missing_docs)]
+
+use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_halfedge::primitives;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_smooth::{
+    ImplicitConfig, ImplicitSmoother, ImplicitSolver, WeightUpdate, smooth_implicit,
+};
+use beltrami_weights::{Cotangent, LaplacianOptions, Normalization};
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+
+/// A deterministic jitter of every vertex by up to `amplitude` per coordinate.
+fn jitter(positions: &mut [DVec3], amplitude: f64) {
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    for p in positions {
+        *p += DVec3::new(next(), next(), next()) * amplitude;
+    }
+}
+
+fn config(edge: f64, update: WeightUpdate, solver: ImplicitSolver) -> ImplicitConfig {
+    // A step of ten edge lengths squared: far beyond the explicit limit (about ℓ²/4).
+    ImplicitConfig::new(10.0 * edge * edge, 1_000_000)
+        .update(update)
+        .laplacian(LaplacianOptions {
+            normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
+            ..Default::default()
+        })
+        .solver(solver)
+}
+
+fn smoother<'a>(
+    mesh: &'a HalfedgeMesh,
+    positions: &[DVec3],
+    config: ImplicitConfig,
+) -> ImplicitSmoother<'a> {
+    let mut s = ImplicitSmoother::new(mesh, positions, &Cotangent, config).expect("valid");
+    s.step().expect("first step");
+    s
+}
+
+fn bench_implicit(c: &mut Criterion) {
+    let cg = ImplicitSolver::ConjugateGradient {
+        tolerance: 1e-8,
+        max_iterations: 10_000,
+    };
+    for level in [6u32, 8] {
+        let mut sphere = primitives::icosphere(level);
+        let edge = 1.1 / f64::from(1u32 << level);
+        jitter(&mut sphere.positions, 0.2 * edge);
+        let mesh = sphere.mesh().expect("icosphere is a valid mesh");
+        let x = &sphere.positions;
+        let mut group = c.benchmark_group(format!("implicit_icosphere{level}"));
+        group.sample_size(10);
+        group.warm_up_time(std::time::Duration::from_secs(1));
+        group.measurement_time(std::time::Duration::from_secs(5));
+
+        let once = config(edge, WeightUpdate::Once, ImplicitSolver::Cholesky);
+        group.bench_function("cholesky_first", |b| {
+            b.iter(|| black_box(smoother(&mesh, x, once.clone()).positions()[0]));
+        });
+        let mut frozen = smoother(&mesh, x, once.clone());
+        group.bench_function("cholesky_frozen", |b| {
+            b.iter(|| black_box(frozen.step().expect("step")));
+        });
+        let mut every = smoother(
+            &mesh,
+            x,
+            config(edge, WeightUpdate::Every, ImplicitSolver::Cholesky),
+        );
+        group.bench_function("cholesky_every", |b| {
+            b.iter(|| black_box(every.step().expect("step")));
+        });
+        let mut cg_frozen = smoother(&mesh, x, config(edge, WeightUpdate::Once, cg));
+        group.bench_function("cg_frozen", |b| {
+            b.iter(|| black_box(cg_frozen.step().expect("step")));
+        });
+        group.finish();
+
+        // The breakdown of a two-step run (one factorisation) and the factor size.
+        let mut two = config(edge, WeightUpdate::Once, ImplicitSolver::Cholesky);
+        two.steps = 2;
+        let report = smooth_implicit(&mesh, x, &Cotangent, two)
+            .expect("valid")
+            .report;
+        let cg_step = cg_frozen.step().expect("step");
+        eprintln!(
+            "level {level}: {} vertices; two Cholesky steps: assembly {:?}, analysis {:?}, \
+             factorisation {:?}, solves {:?}; factor non-zeros {}; \
+             CG iterations per frozen step {} (residual {:.1e})",
+            x.len(),
+            report.assembly_time,
+            report.analysis_time,
+            report.factorization_time,
+            report.solve_time,
+            report.factor_nonzeros,
+            cg_step.cg_iterations,
+            cg_step.residual.unwrap_or(0.0),
+        );
+    }
+}
+
+criterion_group!(benches, bench_implicit);
+criterion_main!(benches);
