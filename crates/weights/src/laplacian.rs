@@ -685,60 +685,23 @@ impl Laplacian {
         let scales = &self.scales[rows.clone()];
         let xs = &positions[rows.clone()];
         let area = matches!(self.options.normalization, Normalization::Area(_));
-        // One loop per (normalisation, unit weights): the choice is made once here.
-        match (area, self.unit_weights) {
-            (false, true) => sweep(
-                rows.start,
-                bounds,
-                neighbours,
-                weights,
-                scales,
-                xs,
-                &mut f,
-                |xi, s, scale| s * scale - xi,
-                |xi: DVec3, xj: DVec3, w: f64, s: &mut DVec3| {
-                    let _ = (xi, w);
-                    // w = 1, and x · 1 is x exactly.
-                    *s += xj;
-                },
-                positions,
-            ),
-            (false, false) => sweep(
-                rows.start,
-                bounds,
-                neighbours,
-                weights,
-                scales,
-                xs,
-                &mut f,
-                |xi, s, scale| s * scale - xi,
-                |_xi: DVec3, xj: DVec3, w: f64, s: &mut DVec3| *s += xj * w,
-                positions,
-            ),
-            (true, true) => sweep(
-                rows.start,
-                bounds,
-                neighbours,
-                weights,
-                scales,
-                xs,
-                &mut f,
-                |_xi, s, scale| s * scale,
-                |xi: DVec3, xj: DVec3, _w: f64, s: &mut DVec3| *s += xj - xi,
-                positions,
-            ),
-            (true, false) => sweep(
-                rows.start,
-                bounds,
-                neighbours,
-                weights,
-                scales,
-                xs,
-                &mut f,
-                |_xi, s, scale| s * scale,
-                |xi: DVec3, xj: DVec3, w: f64, s: &mut DVec3| *s += (xj - xi) * w,
-                positions,
-            ),
+        let unit = self.unit_weights;
+        let mut neighbours = neighbours;
+        let mut weights = weights;
+        // One loop with a single call of `f`, so that the caller's closure inlines; the
+        // row arithmetic is chosen by loop-invariant flags (perfectly predicted).
+        for (k, ((b, &scale), &xi)) in bounds.windows(2).zip(scales).zip(xs).enumerate() {
+            let len = (b[1] - b[0]) as usize;
+            let (nb, nb_rest) = neighbours.split_at(len);
+            let (ws, ws_rest) = weights.split_at(len);
+            neighbours = nb_rest;
+            weights = ws_rest;
+            let l = if scale > 0.0 {
+                Some(row_sum(area, unit, xi, nb, ws, positions, scale))
+            } else {
+                None
+            };
+            f(rows.start + k, xi, l);
         }
     }
 
@@ -755,42 +718,45 @@ impl Laplacian {
     }
 }
 
-/// The loop of [`Laplacian::for_each_row`]: for each row, `s` starts at zero and
-/// `term(x_i, x_j, w, &mut s)` adds each neighbour in row order; `finish(x_i, s,
-/// scale)` gives `L x_i`. Rows with scale 0 (stuck) give `None`.
-#[allow(clippy::too_many_arguments)]
+/// `L x_i` of a movable row (see [`Laplacian::laplacian_at`] for the arithmetic):
+/// weight sum `(Σ_j w_ij x_j) · scale − x_i`, area `(Σ_j w_ij (x_j − x_i)) · scale`, each
+/// sum from zero in row order. With unit weights the products `· 1` are left out (they
+/// are exact).
 #[inline(always)]
-fn sweep<F, T, G>(
-    first: usize,
-    bounds: &[u32],
-    mut neighbours: &[u32],
-    mut weights: &[f64],
-    scales: &[f64],
-    xs: &[DVec3],
-    f: &mut F,
-    finish: G,
-    term: T,
+fn row_sum(
+    area: bool,
+    unit: bool,
+    xi: DVec3,
+    nb: &[u32],
+    ws: &[f64],
     positions: &[DVec3],
-) where
-    F: FnMut(usize, DVec3, Option<DVec3>),
-    G: Fn(DVec3, DVec3, f64) -> DVec3,
-    T: Fn(DVec3, DVec3, f64, &mut DVec3),
-{
-    for (k, ((b, &scale), &xi)) in bounds.windows(2).zip(scales).zip(xs).enumerate() {
-        let len = (b[1] - b[0]) as usize;
-        let (nb, nb_rest) = neighbours.split_at(len);
-        let (ws, ws_rest) = weights.split_at(len);
-        neighbours = nb_rest;
-        weights = ws_rest;
-        let l = if scale > 0.0 {
-            let mut s = DVec3::ZERO;
-            for (&j, &w) in nb.iter().zip(ws) {
-                term(xi, positions[j as usize], w, &mut s);
+    scale: f64,
+) -> DVec3 {
+    let mut s = DVec3::ZERO;
+    match (area, unit) {
+        (false, true) => {
+            for &j in nb {
+                s += positions[j as usize];
             }
-            Some(finish(xi, s, scale))
-        } else {
-            None
-        };
-        f(first + k, xi, l);
+            s * scale - xi
+        }
+        (false, false) => {
+            for (&j, &w) in nb.iter().zip(ws) {
+                s += positions[j as usize] * w;
+            }
+            s * scale - xi
+        }
+        (true, true) => {
+            for &j in nb {
+                s += positions[j as usize] - xi;
+            }
+            s * scale
+        }
+        (true, false) => {
+            for (&j, &w) in nb.iter().zip(ws) {
+                s += (positions[j as usize] - xi) * w;
+            }
+            s * scale
+        }
     }
 }
