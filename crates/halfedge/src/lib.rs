@@ -42,6 +42,7 @@ mod map;
 mod mesh;
 mod polygons;
 pub mod primitives;
+pub mod reorder;
 
 pub use boundary::BoundaryLoops;
 pub use build::{BuildOptions, BuildReport, MAX_ELEMENTS, VertexSplit};

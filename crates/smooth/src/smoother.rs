@@ -558,7 +558,15 @@ impl<'a> Smoother<'a> {
                     if !new.is_finite() && bad.is_none() {
                         bad = Some(i as u32);
                     }
-                    let d = beltrami_halfedge::geometry::distance(xi, new);
+                    // `geometry::distance` is the plain length whenever that is at least
+                    // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
+                    // the rest (zero, tiny, huge, non-finite).
+                    let plain = (new - xi).length();
+                    let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
+                        plain
+                    } else {
+                        beltrami_halfedge::geometry::distance(xi, new)
+                    };
                     sum += d;
                     max = max.max(d);
                     out[i - first] = new;

@@ -5,7 +5,7 @@ use std::cell::RefCell;
 use beltrami_halfedge::{FaceId, HalfedgeId};
 use rayon::prelude::*;
 
-use crate::scheme::{WeightContext, WeightScheme};
+use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
 
 /// Cotangent weights, `w_ij = ½ (cot α_ij + cot β_ij)`, with α and β the angles opposite
 /// edge ij in its two triangles (one term on a boundary edge). Each cotangent is
@@ -44,6 +44,10 @@ impl WeightScheme for Cotangent {
 
     fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
         0.5 * (ctx.opposite_cotangent(h) + ctx.opposite_cotangent(h.twin()))
+    }
+
+    fn kernel(&self) -> Option<WeightKernel> {
+        Some(WeightKernel::Cotangent)
     }
 
     fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {

@@ -1,13 +1,13 @@
 //! The assembled Laplace–Beltrami operator: one row per vertex, in one-ring order.
 
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
-use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_halfedge::{DVec3, FaceId, HalfedgeId, HalfedgeMesh, TopologyError, VertexId};
 
 use rayon::prelude::*;
 
-use crate::PAR_CHUNK;
 use crate::error::WeightError;
-use crate::scheme::{WeightContext, WeightScheme};
+use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
+use crate::{DISTANCE_EPSILON, PAR_CHUNK, kernels};
 
 /// How a row of weights is normalised.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -94,12 +94,250 @@ pub struct Laplacian {
     neighbours: Vec<u32>,
     halfedges: Vec<u32>,
     weights: Vec<f64>,
-    /// Per-halfedge scratch for [`WeightScheme::fill_weights`].
+    /// Per-halfedge scratch for [`WeightScheme::fill_weights`] (schemes without a
+    /// [`WeightKernel`]); empty until first needed.
     halfedge_weights: Vec<f64>,
+    n_halfedges: usize,
     weight_sums: Vec<f64>,
     /// `1/W_i` or `1/A_i`, positive and finite; 0 for a stuck row.
     scales: Vec<f64>,
     stuck: usize,
+    /// Every weight is exactly 1 (the uniform kernel), so sweeps need not read them.
+    unit_weights: bool,
+    /// The per-face data of the cotangent kernel, built on first use.
+    cotangent: Option<CotangentPlan>,
+}
+
+/// The cotangent kernel's per-face data: cotangents are computed once per triangle,
+/// in parallel, into `face_cots`, then every row slot gathers its two.
+#[derive(Clone, Debug)]
+struct CotangentPlan {
+    /// Vertex ids of each triangle in face order, triangles sorted by their smallest
+    /// vertex id (so that a chunk of triangles reads nearby positions).
+    triangles: Vec<[u32; 3]>,
+    /// The face id of each triangle, for the geometry fallback.
+    face_ids: Vec<u32>,
+    /// Per row slot (halfedge `h`), the indices in `face_cots` of the cotangents
+    /// opposite `h` and opposite its twin; `3 × triangles.len()` (the trailing 0) for a
+    /// boundary halfedge or a face that is not a triangle.
+    slot_cots: Vec<[u32; 2]>,
+    /// The three cotangents of each triangle (opposite the halfedges ending at its
+    /// first, second and third vertex), then one 0.
+    face_cots: Vec<f64>,
+}
+
+/// Triangles per parallel work unit of the cotangent kernel (fixed, like `PAR_CHUNK`).
+const FACE_CHUNK: usize = 4096;
+
+impl CotangentPlan {
+    /// The plan for `mesh` with rows in `halfedges` order, or `None` when the indices
+    /// do not fit in `u32`.
+    fn new(mesh: &HalfedgeMesh, halfedges: &[u32]) -> Option<Self> {
+        let n_faces = mesh.n_faces();
+        let sentinel = u32::try_from(3 * n_faces).ok()?;
+        // Triangles by their smallest vertex id (a counting sort: stable, O(F + V)).
+        let mut key: Vec<u32> = vec![u32::MAX; n_faces];
+        let mut counts = vec![0u32; mesh.n_vertices() + 1];
+        for f in mesh.faces() {
+            let h0 = mesh.face_halfedge(f);
+            let h1 = mesh.next(h0);
+            let h2 = mesh.next(h1);
+            if mesh.next(h2) == h0 {
+                let m = mesh
+                    .to_vertex(h0)
+                    .raw()
+                    .min(mesh.to_vertex(h1).raw())
+                    .min(mesh.to_vertex(h2).raw());
+                key[f.index()] = m;
+                counts[m as usize + 1] += 1;
+            }
+        }
+        for i in 1..counts.len() {
+            counts[i] += counts[i - 1];
+        }
+        let n_triangles = counts[mesh.n_vertices()] as usize;
+        let mut face_ids = vec![0u32; n_triangles];
+        let mut position = vec![u32::MAX; n_faces];
+        for f in mesh.faces() {
+            let k = key[f.index()];
+            if k != u32::MAX {
+                let slot = &mut counts[k as usize];
+                face_ids[*slot as usize] = f.raw();
+                position[f.index()] = *slot;
+                *slot += 1;
+            }
+        }
+        let sentinel = if n_triangles == n_faces {
+            sentinel
+        } else {
+            u32::try_from(3 * n_triangles).ok()?
+        };
+        let triangles: Vec<[u32; 3]> = face_ids
+            .par_iter()
+            .map(|&f| {
+                let h0 = mesh.face_halfedge(FaceId::new(f));
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                [
+                    mesh.to_vertex(h0).raw(),
+                    mesh.to_vertex(h1).raw(),
+                    mesh.to_vertex(h2).raw(),
+                ]
+            })
+            .collect();
+        // Where the cotangent opposite each halfedge lands in `face_cots`.
+        let cot_index = |h: HalfedgeId| -> u32 {
+            let Some(f) = mesh.face(h) else {
+                return sentinel;
+            };
+            let p = position[f.index()];
+            if p == u32::MAX {
+                return sentinel;
+            }
+            let h0 = mesh.face_halfedge(f);
+            let k = if h == h0 {
+                0
+            } else if h == mesh.next(h0) {
+                1
+            } else {
+                2
+            };
+            3 * p + k
+        };
+        let slot_cots: Vec<[u32; 2]> = halfedges
+            .par_iter()
+            .map(|&h| {
+                let h = HalfedgeId::new(h);
+                [cot_index(h), cot_index(h.twin())]
+            })
+            .collect();
+        Some(Self {
+            triangles,
+            face_ids,
+            slot_cots,
+            face_cots: vec![0.0; 3 * n_triangles + 1],
+        })
+    }
+
+    /// Recomputes `face_cots` from `positions` (in parallel, fixed chunks; each
+    /// triangle's bits are the geometry's).
+    fn refresh(&mut self, geometry: &Geometry<'_>) {
+        let positions = geometry.positions();
+        let n = self.triangles.len();
+        self.face_cots[..3 * n]
+            .par_chunks_mut(3 * FACE_CHUNK)
+            .zip(self.triangles.par_chunks(FACE_CHUNK))
+            .zip(self.face_ids.par_chunks(FACE_CHUNK))
+            .for_each(|((out, tris), ids)| {
+                for ((out, &[a, b, c]), &f) in out.chunks_exact_mut(3).zip(tris).zip(ids) {
+                    let (pa, pb, pc) = (
+                        positions[a as usize],
+                        positions[b as usize],
+                        positions[c as usize],
+                    );
+                    let cots = kernels::face_cotangents(pa, pb, pc).unwrap_or_else(|| {
+                        let t = geometry
+                            .face_opposite_cotangents(FaceId::new(f))
+                            .expect("a triangle");
+                        [t[0].1, t[1].1, t[2].1]
+                    });
+                    out.copy_from_slice(&cots);
+                }
+            });
+    }
+}
+
+/// What a row pass writes for rows `first..first + sums.len()`: their slots of
+/// `weights` (starting at `offsets[first]`), weight sums and scales.
+struct Rows<'a> {
+    first: usize,
+    weights: &'a mut [f64],
+    sums: &'a mut [f64],
+    scales: &'a mut [f64],
+}
+
+/// How many rows were stuck, and whether a row sum was not finite.
+#[derive(Clone, Copy, Default)]
+struct RowTally {
+    stuck: usize,
+    non_finite: bool,
+}
+
+impl RowTally {
+    fn join(self, other: Self) -> Self {
+        Self {
+            stuck: self.stuck + other.stuck,
+            non_finite: self.non_finite || other.non_finite,
+        }
+    }
+}
+
+/// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
+/// `rayon::join`, no allocation), and in each row `fill(i, first_slot, weights)` writes
+/// the row's weights, then the row's sum `W_i` (in row order) and scale are stored.
+/// Every row's bits depend only on that row, so not on the thread count.
+fn row_pass<F>(offsets: &[u32], areas: Option<&[f64]>, rows: Rows<'_>, fill: &F) -> RowTally
+where
+    F: Fn(usize, usize, &mut [f64]) + Sync,
+{
+    let n = rows.sums.len();
+    if n > PAR_CHUNK {
+        let mid = n.div_ceil(2 * PAR_CHUNK) * PAR_CHUNK;
+        let split = (offsets[rows.first + mid] - offsets[rows.first]) as usize;
+        let (w0, w1) = rows.weights.split_at_mut(split);
+        let (s0, s1) = rows.sums.split_at_mut(mid);
+        let (c0, c1) = rows.scales.split_at_mut(mid);
+        let (a, b) = rayon::join(
+            || {
+                let rows = Rows {
+                    first: rows.first,
+                    weights: w0,
+                    sums: s0,
+                    scales: c0,
+                };
+                row_pass(offsets, areas, rows, fill)
+            },
+            || {
+                let rows = Rows {
+                    first: rows.first + mid,
+                    weights: w1,
+                    sums: s1,
+                    scales: c1,
+                };
+                row_pass(offsets, areas, rows, fill)
+            },
+        );
+        return a.join(b);
+    }
+    let mut tally = RowTally::default();
+    let mut weights = rows.weights;
+    let bounds = &offsets[rows.first..=rows.first + n];
+    for (k, ((b, sum_out), scale_out)) in bounds
+        .windows(2)
+        .zip(rows.sums.iter_mut())
+        .zip(rows.scales.iter_mut())
+        .enumerate()
+    {
+        let i = rows.first + k;
+        let (row, rest) = std::mem::take(&mut weights).split_at_mut((b[1] - b[0]) as usize);
+        weights = rest;
+        fill(i, b[0] as usize, row);
+        let sum: f64 = row.iter().sum();
+        *sum_out = sum;
+        tally.non_finite |= !sum.is_finite();
+        let scale = match areas {
+            None => 1.0 / sum,
+            Some(a) => 1.0 / a[i],
+        };
+        // A row moves only when its weights sum to a positive finite value (for either
+        // normalisation: a non-positive sum would push the vertex away from its
+        // neighbours) and its scale is positive and finite.
+        let movable =
+            !row.is_empty() && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
+        *scale_out = if movable { scale } else { 0.0 };
+        tally.stuck += usize::from(!movable);
+    }
+    tally
 }
 
 impl Laplacian {
@@ -111,7 +349,7 @@ impl Laplacian {
     /// [`WeightError::NonFiniteWeight`] when the scheme returns NaN or an infinity.
     ///
     /// # Complexity
-    /// O(H) time and memory.
+    /// O(H) time and memory, in parallel.
     pub fn new(
         mesh: &HalfedgeMesh,
         positions: &[DVec3],
@@ -119,27 +357,57 @@ impl Laplacian {
         options: LaplacianOptions,
     ) -> Result<Self, WeightError> {
         let n = mesh.n_vertices();
+        let valences: Vec<u32> = (0..n)
+            .into_par_iter()
+            .with_min_len(PAR_CHUNK)
+            .map(|v| {
+                mesh.halfedges_around_vertex(VertexId::new(v as u32))
+                    .count() as u32
+            })
+            .collect();
         let mut offsets = Vec::with_capacity(n + 1);
-        let mut neighbours = Vec::with_capacity(mesh.n_halfedges());
-        let mut halfedges = Vec::with_capacity(mesh.n_halfedges());
+        let mut total: u32 = 0;
         offsets.push(0);
-        for v in mesh.vertices() {
-            for h in mesh.halfedges_around_vertex(v) {
-                neighbours.push(mesh.to_vertex(h).raw());
-                halfedges.push(h.raw());
-            }
-            offsets.push(u32::try_from(neighbours.len()).expect("halfedge ids are u32"));
+        for &d in &valences {
+            total = total.checked_add(d).expect("halfedge ids are u32");
+            offsets.push(total);
         }
+        let mut neighbours = vec![0u32; total as usize];
+        let mut halfedges = vec![0u32; total as usize];
+        // Fixed-size chunks of slots; each fills the parts of the rows it overlaps.
+        neighbours
+            .par_chunks_mut(PAR_CHUNK)
+            .zip(halfedges.par_chunks_mut(PAR_CHUNK))
+            .enumerate()
+            .for_each(|(c, (nb, he))| {
+                let start = c * PAR_CHUNK;
+                let end = start + nb.len();
+                let mut row = offsets.partition_point(|&o| o as usize <= start) - 1;
+                let mut s = offsets[row] as usize;
+                while s < end {
+                    for h in mesh.halfedges_around_vertex(VertexId::new(row as u32)) {
+                        if (start..end).contains(&s) {
+                            nb[s - start] = mesh.to_vertex(h).raw();
+                            he[s - start] = h.raw();
+                        }
+                        s += 1;
+                    }
+                    row += 1;
+                }
+            });
         let mut lap = Self {
             options,
             offsets,
             weights: vec![0.0; neighbours.len()],
             neighbours,
             halfedges,
-            halfedge_weights: vec![0.0; mesh.n_halfedges()],
+            halfedge_weights: Vec::new(),
+            n_halfedges: mesh.n_halfedges(),
             weight_sums: vec![0.0; n],
             scales: vec![0.0; n],
             stuck: 0,
+            unit_weights: false,
+            cotangent: None,
         };
         lap.update(mesh, positions, scheme)?;
         Ok(lap)
@@ -148,8 +416,15 @@ impl Laplacian {
     /// Recomputes the weights and scales from new positions, reusing the buffers. The
     /// mesh must be the one the operator was assembled on.
     ///
+    /// The built-in schemes (those with a [`WeightKernel`]) are computed row by row:
+    /// inverse-distance weights from the two positions of each row slot, cotangents
+    /// once per triangle and gathered into the slots; the row sums and scales in the
+    /// same pass. Other schemes go through [`WeightScheme::fill_weights`]. The numbers
+    /// are the same either way.
+    ///
     /// # Errors
-    /// As [`new`](Self::new).
+    /// As [`new`](Self::new). After an error the operator's weights are unspecified
+    /// until the next successful update.
     ///
     /// # Panics
     /// If `mesh` has a different number of vertices or halfedges than at assembly.
@@ -159,14 +434,91 @@ impl Laplacian {
         positions: &[DVec3],
         scheme: &dyn WeightScheme,
     ) -> Result<(), WeightError> {
-        assert_eq!(
-            mesh.n_halfedges(),
-            self.halfedge_weights.len(),
-            "a different mesh"
-        );
+        assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
         assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
         let geometry = Geometry::new(mesh, positions)?;
-        let ctx = WeightContext::new(geometry);
+        let areas = match self.options.normalization {
+            Normalization::WeightSum => Ok(None),
+            Normalization::Area(kind) => geometry.vertex_areas(kind).map(Some),
+        };
+        let Ok(areas) = areas else {
+            // The generic path reports a non-finite weight before this error.
+            return self.update_generic(mesh, &geometry, areas.map(|_| None), scheme);
+        };
+        let areas = areas.as_ref().map(|a| a.as_slice());
+        let negative = self.options.negative;
+        let rows = Rows {
+            first: 0,
+            weights: &mut self.weights,
+            sums: &mut self.weight_sums,
+            scales: &mut self.scales,
+        };
+        let offsets = &self.offsets;
+        let kernel = scheme.kernel();
+        self.unit_weights = false;
+        let tally = match kernel {
+            Some(WeightKernel::Uniform) => {
+                let tally = row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
+                    w.fill(negative.apply(1.0));
+                });
+                self.unit_weights = negative.apply(1.0) == 1.0;
+                Some(tally)
+            }
+            Some(WeightKernel::InverseDistance) => {
+                let neighbours = &self.neighbours;
+                Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                    let xi = positions[i];
+                    for (w, &j) in w.iter_mut().zip(&neighbours[s..]) {
+                        let xj = positions[j as usize];
+                        let d = kernels::plain_distance(xi, xj)
+                            .unwrap_or_else(|| beltrami_halfedge::geometry::distance(xi, xj));
+                        *w = negative.apply(1.0 / (d + DISTANCE_EPSILON));
+                    }
+                }))
+            }
+            Some(WeightKernel::Cotangent) => {
+                if self.cotangent.is_none() {
+                    self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
+                }
+                match &mut self.cotangent {
+                    Some(plan) => {
+                        plan.refresh(&geometry);
+                        let (slot_cots, face_cots) = (&plan.slot_cots, &plan.face_cots);
+                        Some(row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                            for (w, &[a, b]) in w.iter_mut().zip(&slot_cots[s..]) {
+                                let c = 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
+                                *w = negative.apply(c);
+                            }
+                        }))
+                    }
+                    None => None,
+                }
+            }
+            _ => None,
+        };
+        match tally {
+            // A kernel found only finite row sums, hence only finite weights.
+            Some(tally) if !tally.non_finite => {
+                self.stuck = tally.stuck;
+                Ok(())
+            }
+            // No kernel, or a non-finite weight (whose error names the first one in
+            // halfedge order, as the generic path does).
+            _ => self.update_generic(mesh, &geometry, Ok(areas), scheme),
+        }
+    }
+
+    /// [`update`](Self::update) through [`WeightScheme::fill_weights`].
+    fn update_generic(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        geometry: &Geometry<'_>,
+        areas: Result<Option<&[f64]>, TopologyError>,
+        scheme: &dyn WeightScheme,
+    ) -> Result<(), WeightError> {
+        self.unit_weights = false;
+        self.halfedge_weights.resize(self.n_halfedges, 0.0);
+        let ctx = WeightContext::new(*geometry);
         scheme.fill_weights(&ctx, &mut self.halfedge_weights);
         let bad = self
             .halfedge_weights
@@ -186,56 +538,21 @@ impl Laplacian {
                 value: self.halfedge_weights[h.index()],
             });
         }
+        let areas = areas?;
         let negative = self.options.negative;
-        let halfedge_weights = &self.halfedge_weights;
-        self.weights
-            .par_chunks_mut(PAR_CHUNK)
-            .zip(self.halfedges.par_chunks(PAR_CHUNK))
-            .for_each(|(ws, hs)| {
-                for (w, &h) in ws.iter_mut().zip(hs) {
-                    *w = negative.apply(halfedge_weights[h as usize]);
-                }
-            });
-        let areas = match self.options.normalization {
-            Normalization::WeightSum => None,
-            Normalization::Area(kind) => Some(geometry.vertex_areas(kind)?),
+        let (halfedges, halfedge_weights) = (&self.halfedges, &self.halfedge_weights);
+        let rows = Rows {
+            first: 0,
+            weights: &mut self.weights,
+            sums: &mut self.weight_sums,
+            scales: &mut self.scales,
         };
-        let areas = areas.as_ref().map(|a| a.as_slice());
-        let (offsets, weights) = (&self.offsets, &self.weights);
-        // Rows are independent: fixed-size chunks in parallel, each row summed in row
-        // order, so the bits do not depend on the thread count.
-        self.stuck = self
-            .weight_sums
-            .par_chunks_mut(PAR_CHUNK)
-            .zip(self.scales.par_chunks_mut(PAR_CHUNK))
-            .enumerate()
-            .map(|(c, (sums, scales))| {
-                let first = c * PAR_CHUNK;
-                let mut stuck = 0;
-                for (k, (sum_out, scale_out)) in sums.iter_mut().zip(scales).enumerate() {
-                    let i = first + k;
-                    let row = &weights[offsets[i] as usize..offsets[i + 1] as usize];
-                    let sum: f64 = row.iter().sum();
-                    *sum_out = sum;
-                    let scale = match areas {
-                        None => 1.0 / sum,
-                        Some(a) => 1.0 / a[i],
-                    };
-                    // A row moves only when its weights sum to a positive finite value
-                    // (for either normalisation: a non-positive sum would push the
-                    // vertex away from its neighbours) and its scale is positive and
-                    // finite.
-                    let movable = !row.is_empty()
-                        && sum.is_finite()
-                        && sum > 0.0
-                        && scale.is_finite()
-                        && scale > 0.0;
-                    *scale_out = if movable { scale } else { 0.0 };
-                    stuck += usize::from(!movable);
-                }
-                stuck
-            })
-            .sum();
+        let tally = row_pass(&self.offsets, areas, rows, &|_, s, w: &mut [f64]| {
+            for (w, &h) in w.iter_mut().zip(&halfedges[s..]) {
+                *w = negative.apply(halfedge_weights[h as usize]);
+            }
+        });
+        self.stuck = tally.stuck;
         Ok(())
     }
 
@@ -349,8 +666,9 @@ impl Laplacian {
 
     /// Calls `f(i, x_i, L x_i)` for every row `i` in `rows`, in increasing order, with
     /// `L x_i` exactly as [`laplacian_at`](Self::laplacian_at) computes it (`None` for a
-    /// stuck row). The normalisation is chosen once for the whole range, which makes
-    /// this the fast path for sweeps over many rows.
+    /// stuck row). The normalisation is chosen once for the whole range and the rows'
+    /// neighbours and weights are walked as contiguous slices, which makes this the fast
+    /// path for sweeps over many rows.
     ///
     /// # Panics
     /// If `rows` reaches past the last row or `positions` is shorter than the mesh's
@@ -360,17 +678,30 @@ impl Laplacian {
     where
         F: FnMut(usize, DVec3, Option<DVec3>),
     {
-        match self.options.normalization {
-            Normalization::WeightSum => {
-                for i in rows {
-                    f(i, positions[i], self.weight_sum_row(i, positions));
-                }
-            }
-            Normalization::Area(_) => {
-                for i in rows {
-                    f(i, positions[i], self.area_row(i, positions));
-                }
-            }
+        let bounds = &self.offsets[rows.start..=rows.end.max(rows.start)];
+        let slots = bounds[0] as usize..bounds[bounds.len() - 1] as usize;
+        let neighbours = &self.neighbours[slots.clone()];
+        let weights = &self.weights[slots];
+        let scales = &self.scales[rows.clone()];
+        let xs = &positions[rows.clone()];
+        let area = matches!(self.options.normalization, Normalization::Area(_));
+        let unit = self.unit_weights;
+        let mut neighbours = neighbours;
+        let mut weights = weights;
+        // One loop with a single call of `f`, so that the caller's closure inlines; the
+        // row arithmetic is chosen by loop-invariant flags (perfectly predicted).
+        for (k, ((b, &scale), &xi)) in bounds.windows(2).zip(scales).zip(xs).enumerate() {
+            let len = (b[1] - b[0]) as usize;
+            let (nb, nb_rest) = neighbours.split_at(len);
+            let (ws, ws_rest) = weights.split_at(len);
+            neighbours = nb_rest;
+            weights = ws_rest;
+            let l = if scale > 0.0 {
+                Some(row_sum(area, unit, xi, nb, ws, positions, scale))
+            } else {
+                None
+            };
+            f(rows.start + k, xi, l);
         }
     }
 
@@ -383,6 +714,49 @@ impl Laplacian {
             *o = self
                 .laplacian_at(VertexId::new(i as u32), positions)
                 .unwrap_or(DVec3::ZERO);
+        }
+    }
+}
+
+/// `L x_i` of a movable row (see [`Laplacian::laplacian_at`] for the arithmetic):
+/// weight sum `(Σ_j w_ij x_j) · scale − x_i`, area `(Σ_j w_ij (x_j − x_i)) · scale`, each
+/// sum from zero in row order. With unit weights the products `· 1` are left out (they
+/// are exact).
+#[inline(always)]
+fn row_sum(
+    area: bool,
+    unit: bool,
+    xi: DVec3,
+    nb: &[u32],
+    ws: &[f64],
+    positions: &[DVec3],
+    scale: f64,
+) -> DVec3 {
+    let mut s = DVec3::ZERO;
+    match (area, unit) {
+        (false, true) => {
+            for &j in nb {
+                s += positions[j as usize];
+            }
+            s * scale - xi
+        }
+        (false, false) => {
+            for (&j, &w) in nb.iter().zip(ws) {
+                s += positions[j as usize] * w;
+            }
+            s * scale - xi
+        }
+        (true, true) => {
+            for &j in nb {
+                s += positions[j as usize] - xi;
+            }
+            s * scale
+        }
+        (true, false) => {
+            for (&j, &w) in nb.iter().zip(ws) {
+                s += (positions[j as usize] - xi) * w;
+            }
+            s * scale
         }
     }
 }

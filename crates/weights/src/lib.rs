@@ -26,6 +26,7 @@
 mod cotangent;
 mod error;
 mod inverse_distance;
+mod kernels;
 mod laplacian;
 mod openmesh;
 mod registry;
@@ -42,5 +43,5 @@ pub use inverse_distance::{DISTANCE_EPSILON, InverseDistance};
 pub use laplacian::{Laplacian, LaplacianOptions, NegativeWeights, Normalization};
 pub use openmesh::OpenMeshCotangent;
 pub use registry::WeightRegistry;
-pub use scheme::{WeightContext, WeightScheme};
+pub use scheme::{WeightContext, WeightKernel, WeightScheme};
 pub use uniform::Uniform;

@@ -63,12 +63,36 @@ pub trait WeightScheme: Send + Sync {
         true
     }
 
+    /// The built-in rule this scheme's weights are, if any, so that a
+    /// [`Laplacian`](crate::Laplacian) can compute them with a specialised kernel: row by
+    /// row in one-ring order, without a per-halfedge buffer (see [`WeightKernel`]). The
+    /// default, `None`, uses [`fill_weights`](Self::fill_weights); that is what every
+    /// scheme outside this crate should return, unless its [`weight`](Self::weight) is
+    /// the named built-in's bit for bit (a wrapper around a built-in, say).
+    fn kernel(&self) -> Option<WeightKernel> {
+        None
+    }
+
     /// The weight of boundary halfedge neighbour `h` when a boundary vertex is smoothed
     /// along its boundary curve only (1-D smoothing, `--boundary curve`). The default is
     /// the inverse edge length `1 / (|x_j − x_i| + ε)`; uniform weights use 1.
     fn curve_weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
         1.0 / (ctx.edge_length(h) + crate::DISTANCE_EPSILON)
     }
+}
+
+/// A built-in weight rule that the [`Laplacian`](crate::Laplacian) evaluates with a
+/// specialised kernel (see [`WeightScheme::kernel`]). Each kernel gives the same bits as
+/// the scheme's [`weight`](WeightScheme::weight) for every halfedge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum WeightKernel {
+    /// `w = 1` ([`Uniform`](crate::Uniform)).
+    Uniform,
+    /// `w = 1 / (|x_j − x_i| + ε)` ([`InverseDistance`](crate::InverseDistance)).
+    InverseDistance,
+    /// `w = ½ (cot α + cot β)` ([`Cotangent`](crate::Cotangent)).
+    Cotangent,
 }
 
 /// The geometry a [`WeightScheme`] reads: the mesh, the current positions and derived

@@ -1,0 +1,240 @@
+//! The built-in schemes' kernels (`WeightScheme::kernel`) give the same bits as the
+//! generic path (`fill_weights`, gathered into rows) on meshes that exercise every branch:
+//! irregular planes with negative cotangents, noisy spheres, degenerate and coincident
+//! triangles, coordinates far outside the plain range, boundaries, quads, every option.
+
+use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_halfedge::primitives;
+use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_weights::{
+    Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
+    Uniform, WeightContext, WeightScheme,
+};
+
+/// The same weights without a kernel: the generic path.
+struct Generic<'a>(&'a dyn WeightScheme);
+
+impl WeightScheme for Generic<'_> {
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+    fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
+        self.0.weight(ctx, h)
+    }
+    fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {
+        self.0.fill_weights(ctx, out);
+    }
+}
+
+struct Rng(u64);
+impl Rng {
+    fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, label: &str) {
+    for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
+        let fast = Laplacian::new(mesh, x, scheme, options);
+        let slow = Laplacian::new(mesh, x, &Generic(scheme), options);
+        let (fast, slow) = match (fast, slow) {
+            (Ok(f), Ok(s)) => (f, s),
+            (Err(f), Err(s)) => {
+                assert_eq!(
+                    format!("{f:?}"),
+                    format!("{s:?}"),
+                    "{label} {}",
+                    scheme.name()
+                );
+                continue;
+            }
+            (f, s) => panic!("{label} {}: {f:?} vs {s:?}", scheme.name()),
+        };
+        assert_eq!(fast.stuck_rows(), slow.stuck_rows(), "{label}");
+        for v in mesh.vertices() {
+            let a: Vec<(VertexId, u64)> = fast.row(v).map(|(j, w)| (j, w.to_bits())).collect();
+            let b: Vec<(VertexId, u64)> = slow.row(v).map(|(j, w)| (j, w.to_bits())).collect();
+            assert_eq!(a, b, "{label} {} row {v}", scheme.name());
+            assert_eq!(
+                fast.weight_sum(v).to_bits(),
+                slow.weight_sum(v).to_bits(),
+                "{label} {v}"
+            );
+            assert_eq!(
+                fast.scale(v).map(f64::to_bits),
+                slow.scale(v).map(f64::to_bits)
+            );
+            let la = fast
+                .laplacian_at(v, x)
+                .map(|l| l.to_array().map(f64::to_bits));
+            let lb = slow
+                .laplacian_at(v, x)
+                .map(|l| l.to_array().map(f64::to_bits));
+            assert_eq!(la, lb, "{label} {v}");
+        }
+        // The sweep gives laplacian_at's bits.
+        let mut seen = 0;
+        fast.for_each_row(0..mesh.n_vertices(), x, |i, xi, l| {
+            assert_eq!(
+                xi.to_array().map(f64::to_bits),
+                x[i].to_array().map(f64::to_bits)
+            );
+            let want = slow.laplacian_at(VertexId::new(i as u32), x);
+            assert_eq!(
+                l.map(|l| l.to_array().map(f64::to_bits)),
+                want.map(|l| l.to_array().map(f64::to_bits)),
+                "{label} sweep {i}"
+            );
+            seen += 1;
+        });
+        assert_eq!(seen, mesh.n_vertices());
+        // A partial range too.
+        let n = mesh.n_vertices();
+        let mut rows = Vec::new();
+        fast.for_each_row(n / 3..n / 2, x, |i, _, _| rows.push(i));
+        assert_eq!(rows, (n / 3..n / 2).collect::<Vec<_>>());
+    }
+}
+
+fn all_options() -> Vec<LaplacianOptions> {
+    let mut out = Vec::new();
+    for normalization in [
+        Normalization::WeightSum,
+        Normalization::Area(VertexAreaKind::MixedVoronoi),
+        Normalization::Area(VertexAreaKind::Barycentric),
+    ] {
+        for negative in [
+            NegativeWeights::Keep,
+            NegativeWeights::Clamp,
+            NegativeWeights::Abs,
+        ] {
+            out.push(LaplacianOptions {
+                normalization,
+                negative,
+            });
+        }
+    }
+    out
+}
+
+#[test]
+fn kernels_match_the_generic_path() {
+    let mut rng = Rng(17);
+    let mut cases: Vec<(String, HalfedgeMesh, Vec<DVec3>)> = Vec::new();
+    // An irregular plane (negative cotangents, boundary).
+    let g = primitives::grid(12, 9);
+    let mesh = g.mesh().unwrap();
+    let x: Vec<DVec3> = g
+        .positions
+        .iter()
+        .map(|&p| p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.1 * rng.next_f64()) * 0.45)
+        .collect();
+    cases.push(("grid".into(), mesh.clone(), x.clone()));
+    // Degenerate and coincident triangles: collapse some vertices onto neighbours.
+    let mut y = x.clone();
+    y[14] = y[15];
+    y[30] = (y[29] + y[31]) * 0.5;
+    y[40] = y[41] + (y[41] - y[39]) * 1e-14;
+    cases.push(("degenerate".into(), mesh.clone(), y));
+    // Far outside the plain range, both ways.
+    for s in [1e-170, 1e-300, 1e170, 1e300] {
+        let z: Vec<DVec3> = x.iter().map(|&p| p * s).collect();
+        cases.push((format!("scale {s:e}"), mesh.clone(), z));
+    }
+    // A noisy sphere (closed).
+    let sphere = primitives::icosphere(3);
+    let mesh = sphere.mesh().unwrap();
+    let z: Vec<DVec3> = sphere
+        .positions
+        .iter()
+        .map(|&p| p * (1.0 + 0.1 * rng.next_f64()))
+        .collect();
+    cases.push(("sphere".into(), mesh, z));
+    // A torus and a cube (valence 3 vertices).
+    for p in [primitives::torus(2.0, 0.7, 13, 7), primitives::cube()] {
+        let mesh = p.mesh().unwrap();
+        cases.push(("closed".into(), mesh, p.positions.clone()));
+    }
+    for (label, mesh, x) in &cases {
+        for options in all_options() {
+            assert_same(mesh, x, options, &format!("{label} {options:?}"));
+        }
+    }
+}
+
+#[test]
+fn kernels_match_on_quads_and_isolated_vertices() {
+    let p = primitives::cube_quads();
+    let mesh = p.mesh().unwrap();
+    let x: Vec<DVec3> = p.positions.iter().map(|&q| q * 1.3).collect();
+    for options in all_options() {
+        assert_same(&mesh, &x, options, "quads");
+    }
+    // A mesh with an isolated vertex and a mixed triangle/quad fan.
+    let faces: [&[u32]; 3] = [&[0, 1, 2], &[0, 2, 3, 4], &[0, 4, 5]];
+    let mesh = HalfedgeMesh::from_polygons(7, faces).unwrap();
+    let x = vec![
+        DVec3::ZERO,
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.1),
+        DVec3::new(0.0, 1.2, 0.0),
+        DVec3::new(-1.0, 1.0, -0.1),
+        DVec3::new(-1.0, -0.3, 0.0),
+        DVec3::new(5.0, 5.0, 5.0),
+    ];
+    for options in all_options() {
+        assert_same(&mesh, &x, options, "mixed");
+    }
+}
+
+#[test]
+fn non_finite_positions_give_the_generic_error() {
+    let g = primitives::grid(5, 5);
+    let mesh = g.mesh().unwrap();
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut x = g.positions.clone();
+        x[12].y = bad;
+        assert_same(&mesh, &x, LaplacianOptions::default(), "non-finite");
+    }
+    // Finite weights whose row sum overflows.
+    let mut x = g.positions.clone();
+    x[12] = x[13] + DVec3::new(1e-320, 0.0, 0.0);
+    assert_same(&mesh, &x, LaplacianOptions::default(), "huge weights");
+}
+
+#[test]
+fn updates_reuse_the_operator() {
+    let sphere = primitives::icosphere(3);
+    let mesh = sphere.mesh().unwrap();
+    let mut rng = Rng(5);
+    for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
+        let mut lap = Laplacian::new(
+            &mesh,
+            &sphere.positions,
+            scheme,
+            LaplacianOptions::default(),
+        )
+        .unwrap();
+        for _ in 0..3 {
+            let x: Vec<DVec3> = sphere
+                .positions
+                .iter()
+                .map(|&p| p * (1.0 + 0.2 * rng.next_f64()))
+                .collect();
+            lap.update(&mesh, &x, scheme).unwrap();
+            let fresh =
+                Laplacian::new(&mesh, &x, &Generic(scheme), LaplacianOptions::default()).unwrap();
+            for v in mesh.vertices() {
+                let a: Vec<u64> = lap.row(v).map(|(_, w)| w.to_bits()).collect();
+                let b: Vec<u64> = fresh.row(v).map(|(_, w)| w.to_bits()).collect();
+                assert_eq!(a, b);
+                assert_eq!(lap.scale(v), fresh.scale(v));
+            }
+        }
+    }
+}
