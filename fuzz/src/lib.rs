@@ -6,6 +6,9 @@
 //! infinite position, or a fixed boundary vertex that moved. Every other outcome — a
 //! typed error included — is a pass.
 
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
 use arbitrary::Arbitrary;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{BuildOptions, DVec3, HalfedgeMesh, VertexId};
@@ -36,10 +39,10 @@ pub fn check_read(data: &[u8], format: MeshFormat) {
         );
     }
     for options in [BuildOptions::new(), BuildOptions::repair_all()] {
-        if let Ok((built, _)) = HalfedgeMesh::build(n, mesh.faces.iter(), &options) {
-            if let Err(e) = built.check_integrity() {
-                panic!("built mesh fails its integrity check: {e}");
-            }
+        if let Ok((built, _)) = HalfedgeMesh::build(n, mesh.faces.iter(), &options)
+            && let Err(e) = built.check_integrity()
+        {
+            panic!("built mesh fails its integrity check: {e}");
         }
     }
 }
@@ -196,7 +199,9 @@ pub fn check_build_smooth(input: &SmoothInput) {
                         Err(e) => {
                             let _ = e.to_string();
                         }
-                        Ok(out) => check_output(&mesh, &positions, &out.positions, boundary, &pinned),
+                        Ok(out) => {
+                            check_output(&mesh, &positions, &out.positions, boundary, &pinned)
+                        }
                     }
                 }
             }
@@ -213,7 +218,10 @@ fn check_output(
 ) {
     assert_eq!(output.len(), input.len(), "output length");
     if let Some(i) = output.iter().position(|p| !p.is_finite()) {
-        panic!("smoothing returned Ok with a non-finite vertex {i}: {}", output[i]);
+        panic!(
+            "smoothing returned Ok with a non-finite vertex {i}: {}",
+            output[i]
+        );
     }
     for v in mesh.vertices() {
         let must_stay = pinned.contains(&v)
