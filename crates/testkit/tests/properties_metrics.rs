@@ -240,6 +240,8 @@ fn check_measures(
     must_succeed: bool,
 ) -> Result<(), TestCaseError> {
     let random = spec.realise();
+    // Removing faces can leave none: the metrics then rightly report an empty mesh.
+    let must_succeed = must_succeed && random.mesh.n_faces() > 0;
     let (noisy, smoothed) = noisy_and_smoothed(&random, noise, amplitude, iterations);
     let Some(smoothed) = smoothed else {
         prop_assert!(!must_succeed, "smoothing failed on a well-shaped mesh");
@@ -253,7 +255,14 @@ fn check_measures(
         }
         Err(e) => {
             prop_assert!(!e.to_string().is_empty());
-            prop_assert!(!must_succeed, "metrics failed on a well-shaped mesh: {}", e);
+            // On a well-shaped mesh the only admissible failure is an empty set: a tiny
+            // open mesh (a tetrahedron less a face) that free-boundary smoothing
+            // collapses until every face is degenerate.
+            prop_assert!(
+                !must_succeed || matches!(e, MetricsError::Empty { .. }),
+                "metrics failed on a well-shaped mesh: {}",
+                e
+            );
         }
     }
     Ok(())
@@ -263,7 +272,8 @@ proptest! {
     #![proptest_config(config(512))]
 
     /// On well-shaped random triangle meshes (open and closed, genus 0 and 1), every
-    /// measure of the study succeeds and is finite.
+    /// measure of the study succeeds and is finite (or, when smoothing has collapsed
+    /// every face of a tiny mesh, reports an empty set).
     #[test]
     fn study_measures_are_finite_on_random_meshes(
         spec in well_shaped_mesh(),
