@@ -164,5 +164,9 @@ def agreement(X, mesh, scheme, weights, V, F, variant=""):
     ref = beltrami_output(mesh, scheme, weights, variant)
     if ref is None:
         return ""
-    d = np.linalg.norm(np.asarray(X, dtype=np.float64) - ref, axis=1).max() / mean_edge(V, F)
+    X = np.asarray(X, dtype=np.float64)
+    bad = int((~np.isfinite(X).all(axis=1)).sum())
+    if bad:
+        return f"{bad} non-finite vertices"
+    d = np.linalg.norm(X - ref, axis=1).max() / mean_edge(V, F)
     return f"max dev. from beltrami {d:.1e} h"
