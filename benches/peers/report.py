@@ -123,7 +123,7 @@ def main():
                  f"{busy[len(busy) // 2]:.2f} cores busy (median; range {busy[0]:.2f}–{busy[-1]:.2f}); "
                  f"1-minute load average {min(s['load_1min'] for s in samples):.1f}–"
                  f"{max(s['load_1min'] for s in samples):.1f}. The benchmarks ran at normal priority.")
-    skipped = [l.strip() for l in open(os.path.join(H.OUT, "skipped.txt"))] \
+    skipped = [l.strip().removeprefix("skipped: ") for l in open(os.path.join(H.OUT, "skipped.txt"))] \
         if os.path.exists(os.path.join(H.OUT, "skipped.txt")) else []
     if skipped:
         L += ["**Not run:** " + "; ".join(skipped), ""]

@@ -20,7 +20,9 @@ fn run(args: &[String]) -> Result<String, String> {
     };
     let level: u32 = level.parse().map_err(|_| format!("bad level {level:?}"))?;
     if level > 10 {
-        return Err(format!("level {level} is too large for a benchmark (at most 10)"));
+        return Err(format!(
+            "level {level} is too large for a benchmark (at most 10)"
+        ));
     }
     let sigma_rel: f64 = match rest.first() {
         Some(s) => s.parse().map_err(|_| format!("bad sigma {s:?}"))?,
