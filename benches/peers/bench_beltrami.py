@@ -1,0 +1,92 @@
+"""beltrami: the release `beltrami smooth` binary (path in $BELTRAMI), timed through
+its `--report` JSON (seconds.weights + seconds.updates: operator assembly, weight
+refreshes and sweeps, without file IO) and by the wall time of the whole process.
+
+Every scheme (uniform, distance, cotangent) with weights recomputed every iteration
+and frozen, lambda 0.8, weight-sum normalisation, free boundary (the paper's and
+Open3D's / trimesh's setting; the test spheres are closed, so it only matters on the
+F-lens). Both cores (rayon's default); with ONE_THREAD_MESHES also on one core.
+On meshes small enough for the numerical checks it also writes the configuration
+OpenMesh computes (lambda 0.5, weights once, fixed boundary)."""
+import json
+import os
+import subprocess
+import tempfile
+import time
+
+import harness as H
+
+BIN = os.environ["BELTRAMI"]
+ONE_THREAD = os.environ.get("ONE_THREAD_MESHES", "sphere8").split()
+SCHEMES = ("uniform", "distance", "cotangent")
+
+
+def smooth(src, dst, report, scheme, update, lam, boundary, threads=None):
+    cmd = [BIN, "smooth", src, dst, "--weights", scheme, "--update", update,
+           "--iterations", str(H.ITERATIONS), "--lambda", str(lam), "--normalize", "sum",
+           "--boundary", boundary, "--report", report]
+    env = dict(os.environ)
+    if threads:
+        env["RAYON_NUM_THREADS"] = str(threads)
+    t0 = time.perf_counter()
+    r0 = os.times()
+    subprocess.run(cmd, check=True, env=env, stdout=subprocess.DEVNULL)
+    wall = time.perf_counter() - t0
+    r1 = os.times()
+    cpu = (r1.children_user - r0.children_user) + (r1.children_system - r0.children_system)
+    with open(report) as f:
+        rep = json.load(f)
+    return wall, cpu, rep
+
+
+def run_config(name, nv, scheme, update, lam=H.LAMBDA, boundary="free", threads=None,
+               variant="", semantics="", reps=None):
+    src = H.mesh_path(name)
+    os.makedirs(os.path.join(H.OUT, "beltrami"), exist_ok=True)
+    dst = os.path.join(H.OUT, "beltrami", f"{name}_{scheme}_{update}{variant}.ply")
+    runs = []
+    for _ in range(reps or H.REPS):
+        with tempfile.NamedTemporaryFile(suffix=".json") as tmp:
+            wall, cpu, rep = smooth(src, dst, tmp.name, scheme, update, lam, boundary, threads)
+        runs.append((wall, cpu, rep["seconds"]))
+        if wall > H.LONG:
+            break
+    smoothing = [s["weights"] + s["updates"] for _, _, s in runs]
+    med = sorted(range(len(runs)), key=lambda k: smoothing[k])[(len(runs) - 1) // 2]
+    wall, cpu, sec = runs[med]
+    label = (f"smooth --weights {scheme} --update {update} --lambda {lam} --boundary {boundary}"
+             + (f" (RAYON_NUM_THREADS={threads})" if threads else ""))
+    return H.record(
+        "beltrami", label, name, nv, smoothing, H.ITERATIONS, scheme=scheme, weights=update,
+        cpu_wall=cpu / wall, threads=str(threads or "all"), semantics=semantics,
+        extra=dict(variant=variant, wall_seconds=wall, wall_min=min(r[0] for r in runs),
+                   wall_max=max(r[0] for r in runs), read_seconds=sec["read"],
+                   weights_seconds=sec["weights"], updates_seconds=sec["updates"],
+                   write_seconds=sec["write"]))
+
+
+def main():
+    version = subprocess.run([BIN, "--version"], capture_output=True, text=True).stdout.strip()
+    print(f"beltrami: {BIN} ({version or 'no --version'})", flush=True)
+    for name in H.meshes_from_argv():
+        V, F = H.load(name)
+        nv = len(V)
+        for scheme in SCHEMES:
+            for update in ("every", "once"):
+                run_config(name, nv, scheme, update,
+                           semantics="x += 0.8 (sum_j w_ij x_j / W_i - x_i), Jacobi")
+        if name in ONE_THREAD:
+            for scheme in SCHEMES:
+                for update in ("every", "once"):
+                    run_config(name, nv, scheme, update, threads=1, variant="_1t",
+                               semantics="as above, one thread")
+        if nv <= H.CHECK_MAX_VERTICES:
+            # What OpenMesh's JacobiLaplaceSmootherT computes, for its agreement check.
+            for scheme in ("uniform", "cotangent"):
+                run_config(name, nv, scheme, "once", lam=0.5, boundary="fixed", variant="_om",
+                           semantics="OpenMesh's setting: lambda 0.5, weights once, fixed boundary",
+                           reps=1)
+
+
+if __name__ == "__main__":
+    main()
