@@ -7,12 +7,15 @@ use std::time::Instant;
 
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{
     Encoding, MeshData, WriteOptions, declared_counts, write_bytes_atomic, write_mesh,
 };
 use beltrami_smooth::{
-    Boundary, DiffusionTime, Method, SmoothConfig, SmoothReport, Smoother, WeightUpdate,
+    Boundary, DiffusionTime, ImplicitConfig, ImplicitSmoother, ImplicitSolver, Method,
+    SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, StopReason, WeightUpdate,
 };
+use beltrami_weights::WeightScheme;
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization, WeightRegistry};
 use clap::ValueEnum;
 use serde::Serialize;
@@ -65,9 +68,15 @@ pub(crate) struct SmoothArgs {
     vertex_area: AreaArg,
     /// The method: explicit (plain diffusion, shrinks), taubin (λ|μ: a λ sweep then a
     /// μ sweep per iteration, keeps the form), hc (pushes each vertex back towards the
-    /// input; for open patches). See docs/methods.md.
+    /// input; for open patches), implicit (backward Euler, (M − λL) x' = M x per step,
+    /// stable for any λ; with --time/--cutoff one step of that time, which needs
+    /// --normalize area). See docs/methods.md and docs/implicit.md.
     #[arg(long, value_enum, default_value_t = MethodArg::Explicit)]
     method: MethodArg,
+    /// The linear solver of --method implicit: sparse Cholesky (factorised once while
+    /// the weights are frozen) or Jacobi-preconditioned conjugate gradient (1e-10).
+    #[arg(long, value_enum, default_value_t = SolverArg::Cholesky)]
+    solver: SolverArg,
     /// Taubin's negative step μ (< -λ; pass band 1/λ + 1/μ). Default: the μ giving a
     /// pass band of 0.1.
     #[arg(long, allow_negative_numbers = true)]
@@ -145,6 +154,14 @@ enum MethodArg {
     Explicit,
     Taubin,
     Hc,
+    Implicit,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+enum SolverArg {
+    Cholesky,
+    Cg,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
@@ -208,7 +225,7 @@ impl SmoothArgs {
 
     fn method(&self) -> Method {
         match self.method {
-            MethodArg::Explicit => Method::Laplacian,
+            MethodArg::Explicit | MethodArg::Implicit => Method::Laplacian,
             MethodArg::Taubin => match self.mu {
                 Some(mu) => Method::Taubin { mu },
                 None => Method::taubin_pass_band(self.lambda, 0.1),
@@ -236,6 +253,23 @@ struct Report<'a> {
     max_stuck_vertices: usize,
     seconds: Seconds,
     steps: Vec<Step>,
+    /// Solver figures of --method implicit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    implicit: Option<ImplicitFigures>,
+}
+
+/// What the implicit solver did (`--method implicit`).
+#[derive(Debug, Serialize)]
+struct ImplicitFigures {
+    solver: SolverArg,
+    time_step: f64,
+    numeric_factorizations: usize,
+    factor_nonzeros: usize,
+    cg_iterations: usize,
+    seconds_assembly: f64,
+    seconds_analysis: f64,
+    seconds_factorization: f64,
+    seconds_solve: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -318,34 +352,17 @@ pub(crate) fn run(
         path: args.input.clone(),
         source,
     };
-    let smoother = Smoother::new(
-        &loaded.mesh,
-        &loaded.positions,
-        scheme.as_ref(),
-        args.config(),
-    )
-    .map_err(smooth_error)?;
-
-    let planned = smoother.config().iterations;
-    let progress = (std::io::stderr().is_terminal() && planned >= 20).then(|| {
-        let bar = indicatif::ProgressBar::new(planned as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} iterations {elapsed}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    });
-    let smoothed = smoother
-        .run(|it| {
-            if let Some(bar) = &progress {
-                bar.set_position(it.index as u64);
-            }
-            ControlFlow::Continue(())
-        })
-        .map_err(smooth_error)?;
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
+    let (smoothed, implicit) = if args.method == MethodArg::Implicit {
+        let (smoothed, implicit) =
+            run_implicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
+        (smoothed, Some(implicit))
+    } else {
+        (
+            run_explicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())
+                .map_err(smooth_error)?,
+            None,
+        )
+    };
 
     let t1 = Instant::now();
     let encoding = if args.ascii {
@@ -401,7 +418,8 @@ pub(crate) fn run(
         )?;
     }
     if let Some(path) = &args.report {
-        let report = build_report(args, &data, r, read_seconds, write_seconds);
+        let mut report = build_report(args, &data, r, read_seconds, write_seconds);
+        report.implicit = implicit;
         let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
         json.push(b'\n');
         write_bytes_atomic(path, &json).map_err(|source| CliError::Io {
@@ -493,6 +511,7 @@ fn build_report<'a>(
                 stuck_vertices: s.stuck_vertices,
             })
             .collect(),
+        implicit: None,
     }
 }
 
@@ -502,10 +521,143 @@ fn method_label(args: &SmoothArgs) -> String {
     let mut label = match args.method() {
         Method::Taubin { mu } => format!("taubin (mu {mu:.6})"),
         Method::Hc { alpha, beta } => format!("hc (alpha {alpha}, beta {beta})"),
+        _ if args.method == MethodArg::Implicit => "implicit".to_string(),
         _ => "explicit".to_string(),
     };
     if args.preserve_volume {
         label.push_str(" + volume");
     }
     label
+}
+
+/// A progress bar on a terminal for runs of 20 iterations or more.
+fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
+    (std::io::stderr().is_terminal() && planned >= 20).then(|| {
+        let bar = indicatif::ProgressBar::new(planned as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} iterations {elapsed}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    })
+}
+
+/// The explicit methods (plain, Taubin, HC) through [`Smoother`].
+fn run_explicit(
+    args: &SmoothArgs,
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    scheme: &dyn WeightScheme,
+) -> Result<Smoothed, SmoothError> {
+    let smoother = Smoother::new(mesh, positions, scheme, args.config())?;
+    let progress = progress_bar(smoother.config().iterations);
+    let smoothed = smoother.run(|it| {
+        if let Some(bar) = &progress {
+            bar.set_position(it.index as u64);
+        }
+        ControlFlow::Continue(())
+    })?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    Ok(smoothed)
+}
+
+/// `--method implicit` through [`ImplicitSmoother`], reported like an explicit run
+/// (weights time = assembly, analysis and factorisation; updates time = solves).
+fn run_implicit(
+    args: &SmoothArgs,
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    scheme: &dyn WeightScheme,
+) -> Result<(Smoothed, ImplicitFigures), CliError> {
+    let explicit = args.config();
+    if args.preserve_volume || args.mu.is_some() {
+        return Err(CliError::Usage(
+            "--preserve-volume and --mu do not apply to --method implicit".into(),
+        ));
+    }
+    let (time_step, steps) = match explicit.duration {
+        Some(d) => {
+            if explicit.laplacian.normalization == Normalization::WeightSum {
+                return Err(CliError::Usage(
+                    "--method implicit with --time or --cutoff needs --normalize area (a time in length²)"
+                        .into(),
+                ));
+            }
+            (d.time(), 1)
+        }
+        None => (args.lambda, args.iterations),
+    };
+    let config = ImplicitConfig::new(time_step, steps)
+        .boundary(explicit.boundary)
+        .update(explicit.update)
+        .laplacian(explicit.laplacian)
+        .pinned(explicit.pinned.clone())
+        .solver(match args.solver {
+            SolverArg::Cholesky => ImplicitSolver::Cholesky,
+            SolverArg::Cg => ImplicitSolver::conjugate_gradient(),
+        });
+    let smooth_error = |source| CliError::Smooth {
+        path: args.input.clone(),
+        source,
+    };
+    let smoother = ImplicitSmoother::new(mesh, positions, scheme, config).map_err(smooth_error)?;
+    let progress = progress_bar(steps);
+    let mut converged = false;
+    let out = smoother
+        .run(|it| {
+            if let Some(bar) = &progress {
+                bar.set_position(it.index as u64);
+            }
+            if args
+                .until_change
+                .is_some_and(|eps| it.stats.max_displacement <= eps)
+            {
+                converged = true;
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        })
+        .map_err(smooth_error)?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let r = out.report;
+    let figures = ImplicitFigures {
+        solver: args.solver,
+        time_step,
+        numeric_factorizations: r.numeric_factorizations,
+        factor_nonzeros: r.factor_nonzeros,
+        cg_iterations: r.cg_iterations,
+        seconds_assembly: r.assembly_time.as_secs_f64(),
+        seconds_analysis: r.analysis_time.as_secs_f64(),
+        seconds_factorization: r.factorization_time.as_secs_f64(),
+        seconds_solve: r.solve_time.as_secs_f64(),
+    };
+    let report = SmoothReport {
+        scheme: r.scheme,
+        config: SmoothConfig {
+            lambda: time_step,
+            iterations: steps,
+            ..explicit
+        },
+        iterations: r.iterations,
+        stop: if converged {
+            StopReason::Converged
+        } else {
+            r.stop
+        },
+        steps: r.steps.iter().map(|s| s.displacement).collect(),
+        max_stuck_vertices: r.max_stuck_vertices,
+        weight_time: r.assembly_time + r.analysis_time + r.factorization_time,
+        update_time: r.solve_time,
+    };
+    Ok((
+        Smoothed {
+            positions: out.positions,
+            report,
+        },
+        figures,
+    ))
 }

@@ -185,3 +185,90 @@ fn bad_method_parameters_are_one_line_errors() {
     assert_snapshot!(run(&["--method", "hc", "--cutoff", "1"], &input), @"error: sphere.ply: invalid diffusion time: a diffusion time applies to plain Laplacian diffusion only, not to method 'hc'");
     assert_snapshot!(run(&["--until-change", "0"], &input), @"error: sphere.ply: the convergence threshold must be positive and finite, got 0");
 }
+
+#[test]
+fn implicit_steps_match_the_library_and_take_a_physical_time() {
+    use beltrami_halfedge::geometry::VertexAreaKind;
+    use beltrami_smooth::{ImplicitConfig, WeightUpdate, smooth_implicit};
+    use beltrami_weights::{LaplacianOptions, Normalization};
+
+    let dir = tempfile::tempdir().unwrap();
+    let (input, x, faces) = sphere(dir.path());
+    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(x.len(), faces.iter()).unwrap();
+    let out = dir.path().join("out.ply");
+    let report = dir.path().join("report.json");
+    // λ = 5 would blow up an explicit step; the implicit one is stable.
+    ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--lambda",
+        "5",
+        "--iterations",
+        "3",
+        "--update",
+        "once",
+        "--report",
+        s(&report),
+    ]);
+    let expected = smooth_implicit(
+        &mesh,
+        &x,
+        &Cotangent,
+        ImplicitConfig::new(5.0, 3).update(WeightUpdate::Once),
+    )
+    .unwrap()
+    .positions;
+    assert_eq!(smoothed(&out).0, expected);
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["implicit"]["numeric_factorizations"], 1);
+    assert_eq!(r["iterations"], 3);
+
+    // One backward-Euler step of the cut-off's time, area-normalised cotangent: close to
+    // the mean-curvature flow's radius √(1 − 4t).
+    ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--cutoff",
+        "0.5",
+        "--normalize",
+        "area",
+        "--vertex-area",
+        "barycentric",
+    ]);
+    let area = LaplacianOptions {
+        normalization: Normalization::Area(VertexAreaKind::Barycentric),
+        ..LaplacianOptions::default()
+    };
+    let t = DiffusionTime::Cutoff(0.5).time();
+    let expected = smooth_implicit(
+        &mesh,
+        &x,
+        &Cotangent,
+        ImplicitConfig::new(t, 1).laplacian(area),
+    )
+    .unwrap()
+    .positions;
+    let (y, _) = smoothed(&out);
+    assert_eq!(y, expected);
+    let r = y.iter().map(|p| p.length()).sum::<f64>() / y.len() as f64;
+    assert!((r - (1.0 - 4.0 * t).sqrt()).abs() < 2e-3, "{r}");
+
+    // A time needs a length² operator.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--time",
+        "0.01",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_snapshot!(error_line(&o, dir.path()), @"error: --method implicit with --time or --cutoff needs --normalize area (a time in length²) (see 'beltrami --help')");
+}
