@@ -115,7 +115,10 @@ impl<'a> Reference<'a> {
                 normal_mean_deg: normals.mean_deg,
                 normal_rms_deg: normals.rms_deg,
                 volume,
-                volume_ratio: volume.zip(self.clean_volume).map(|(v, c)| v / c),
+                volume_ratio: volume
+                    .zip(self.clean_volume)
+                    .map(|(v, c)| v / c)
+                    .filter(|r| r.is_finite()),
                 sphere_radius,
                 boundary_mean,
                 boundary_max,

@@ -531,17 +531,19 @@ fn units_section(s: &mut String, results: &StudyResults) {
     );
     let _ = writeln!(
         s,
-        "| level | vertices | iterations for λc | radius, λc | radius, fixed λ × iterations |\n|---|---|---|---|---|"
+        "| level | vertices | iterations for λc | radius, λc | radius, fixed λ × iterations | radius, one implicit step of t | implicit step (s) |\n|---|---|---|---|---|---|---|"
     );
     for r in &u.rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             r.level,
             r.vertices,
             r.iterations_cutoff,
             num(r.radius_cutoff),
-            num(r.radius_fixed)
+            num(r.radius_fixed),
+            num(r.radius_implicit),
+            num(r.implicit_seconds)
         );
     }
     let spread = |f: fn(&crate::units::UnitsRow) -> f64| {
@@ -551,8 +553,9 @@ fn units_section(s: &mut String, results: &StudyResults) {
     };
     let _ = writeln!(
         s,
-        "\nSpread of the radii over the densities: {} with the cut-off, {} with a fixed λ × iterations.\n",
+        "\nSpread of the radii over the densities: {} with the cut-off, {} with a fixed λ × iterations, {} with one implicit step (backward Euler, (M + tK) x' = M x, cotangent stiffness K and barycentric mass M: unconditionally stable, so the whole time is one step; see docs/implicit.md).\n",
         num(spread(|r| r.radius_cutoff)),
-        num(spread(|r| r.radius_fixed))
+        num(spread(|r| r.radius_fixed)),
+        num(spread(|r| r.radius_implicit))
     );
 }

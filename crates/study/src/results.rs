@@ -32,7 +32,7 @@ pub struct Row {
     pub normal_rms_deg: f64,
     /// Enclosed volume (closed surfaces), unit³.
     pub volume: Option<f64>,
-    /// Volume relative to the clean surface's.
+    /// Volume relative to the clean surface's (`None` when that is zero).
     pub volume_ratio: Option<f64>,
     /// Radius of the least-squares sphere through the vertices (sphere, golf ball).
     pub sphere_radius: Option<f64>,

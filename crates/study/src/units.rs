@@ -2,8 +2,11 @@
 //! gives the same result; the same λ × iterations does not.
 
 use beltrami_halfedge::DVec3;
-use beltrami_smooth::{DiffusionTime, SmoothConfig, SmoothError, smooth};
-use beltrami_weights::WeightScheme;
+use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_smooth::{
+    DiffusionTime, ImplicitConfig, SmoothConfig, SmoothError, smooth, smooth_implicit,
+};
+use beltrami_weights::{Cotangent, LaplacianOptions, Normalization, WeightScheme};
 
 /// One tessellation of the unit sphere, filtered two ways.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -18,6 +21,12 @@ pub struct UnitsRow {
     pub radius_cutoff: f64,
     /// Mean radius after the fixed λ × iterations of the finest level.
     pub radius_fixed: f64,
+    /// Mean radius after one implicit (backward Euler) step of the whole time `t`,
+    /// cotangent weights with barycentric-area normalisation (the Laplace–Beltrami
+    /// operator in length units).
+    pub radius_implicit: f64,
+    /// Wall time of that implicit step (assembly, factorisation and solve), seconds.
+    pub implicit_seconds: f64,
 }
 
 /// The cut-off comparison on unit icospheres.
@@ -44,7 +53,8 @@ fn mean_radius(x: &[DVec3]) -> f64 {
 }
 
 /// Filters clean unit icospheres of each level in `levels` (ascending) with the
-/// cut-off `cutoff` (in radii), and again with the finest level's λ × iterations.
+/// cut-off `cutoff` (in radii), again with the finest level's λ × iterations, and with
+/// one implicit step of the cut-off's time (cotangent, area-normalised).
 ///
 /// # Errors
 /// A [`SmoothError`] of any run.
@@ -77,7 +87,21 @@ pub fn units_comparison(
     let mut rows = Vec::with_capacity(spheres.len());
     for ((level, mesh, x), (iterations_cutoff, radius_cutoff)) in spheres.iter().zip(timed) {
         let out = smooth(mesh, x, scheme, SmoothConfig::new(lambda, iterations_fixed))?;
+        let area = LaplacianOptions {
+            normalization: Normalization::Area(VertexAreaKind::Barycentric),
+            ..LaplacianOptions::default()
+        };
+        let start = std::time::Instant::now();
+        let implicit = smooth_implicit(
+            mesh,
+            x,
+            &Cotangent,
+            ImplicitConfig::new(duration.time(), 1).laplacian(area),
+        )?;
+        let implicit_seconds = start.elapsed().as_secs_f64();
         rows.push(UnitsRow {
+            radius_implicit: mean_radius(&implicit.positions),
+            implicit_seconds,
             level: *level,
             vertices: mesh.n_vertices(),
             iterations_cutoff,
