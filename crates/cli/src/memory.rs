@@ -10,7 +10,7 @@
 //! with `V` vertices and `C` face corners (the sum of the face sizes: `3 F` for a
 //! triangle mesh). The constants are the live data of a run counted structure by
 //! structure and checked against the peak resident memory of measured runs
-//! (`docs/reliability-io.md`), which they bound from above.
+//! (`docs/reliability.md`), which they bound from above.
 
 use std::fmt;
 
@@ -27,7 +27,7 @@ pub(crate) const BYTES_PER_VERTEX: u64 = 128;
 /// kept for the output (4 per corner, 8 per face); four `u32` links per halfedge,
 /// both halves of an edge (32); the Laplacian's neighbour and halfedge ids (8), its
 /// weight (8) and the per-halfedge scratch (16, both halves); the per-face cotangent
-/// buffer (8); rounded up. Measured peaks (`docs/reliability-io.md`) grow by about
+/// buffer (8); rounded up. Measured peaks (`docs/reliability.md`) grow by about
 /// 490 bytes per vertex of a closed triangle mesh (6 corners per vertex), which
 /// `128 + 6 · 80 = 608` bounds with a fifth to spare.
 pub(crate) const BYTES_PER_CORNER: u64 = 80;

@@ -5,7 +5,7 @@
 //! indices in range, and a mesh that the half-edge builder takes without panicking.
 //!
 //! This runs the same checks as the fuzz targets (`fuzz/src/lib.rs`) without cargo-fuzz,
-//! on every `cargo test`. See `docs/reliability-fuzz-props.md`.
+//! on every `cargo test`. See `docs/reliability.md`.
 
 use std::path::{Path, PathBuf};
 

@@ -213,7 +213,7 @@ proptest! {
 
 /// How far `R·smooth(x) + t` may be from `smooth(R·x + t)`: `EQUIVARIANCE_TOLERANCE ×
 /// (D + |t|) × k`, with D the bounding-box diagonal of the input and k the iteration
-/// count (`docs/reliability-fuzz-props.md` gives the reasoning and the measured
+/// count (`docs/reliability.md` gives the reasoning and the measured
 /// distribution). Rotating and translating the input changes each coordinate by a
 /// rounding of relative size ε ≈ 1.1e-16 of its magnitude (≤ D + |t|), and every
 /// iteration adds a few more; with a stable step on well-shaped triangles those errors
