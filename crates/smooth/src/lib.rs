@@ -43,7 +43,7 @@ mod error;
 mod implicit;
 mod smoother;
 
-pub use config::{Boundary, DiffusionTime, Method, SmoothConfig, WeightUpdate};
+pub use config::{Boundary, DiffusionTime, Method, Reorder, SmoothConfig, WeightUpdate};
 pub use error::SmoothError;
 pub use implicit::{
     ImplicitConfig, ImplicitReport, ImplicitSmoothed, ImplicitSmoother, ImplicitSolver,

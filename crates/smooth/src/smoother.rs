@@ -1,9 +1,11 @@
 //! The explicit Jacobi smoother: `step()`, `run()` with an observer, and `smooth()`.
 
+use std::borrow::Cow;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::reorder::{VertexPermutation, rcm_order};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
@@ -124,6 +126,10 @@ pub struct Smoothed {
 /// [`Laplacian::laplacian_at`] for the exact arithmetic), so results do not depend on
 /// vertex order or thread count.
 ///
+/// Large meshes are renumbered internally for memory locality (see
+/// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
+/// numbering and bit-identical to a run without reordering.
+///
 /// # Examples
 /// ```
 /// use beltrami_halfedge::primitives;
@@ -138,7 +144,15 @@ pub struct Smoothed {
 /// # Ok::<(), beltrami_smooth::SmoothError>(())
 /// ```
 pub struct Smoother<'a> {
-    mesh: &'a HalfedgeMesh,
+    /// The mesh, renumbered when `perm` is set.
+    mesh: Cow<'a, HalfedgeMesh>,
+    /// The internal numbering (new = internal, old = the caller's), when reordering.
+    perm: Option<VertexPermutation>,
+    /// Per-vertex displacements of the last sweep, internal numbering (reordering only;
+    /// summed in the caller's order for the mean).
+    disp: Vec<f64>,
+    /// The positions in the caller's numbering, shown to the observer (reordering only).
+    view: Vec<DVec3>,
     scheme: &'a dyn WeightScheme,
     config: SmoothConfig,
     laplacian: Laplacian,
@@ -215,7 +229,24 @@ impl<'a> Smoother<'a> {
             return Err(SmoothError::NonFiniteInput { vertex: i as u32 });
         }
         let start = Instant::now();
-        let laplacian = Laplacian::new(mesh, positions, scheme, config.laplacian)?;
+        // With a mismatched position count the operator reports the error unreordered.
+        let perm = (config.reorder.applies(mesh.n_vertices())
+            && positions.len() == mesh.n_vertices())
+        .then(|| rcm_order(mesh));
+        let (caller_mesh, caller_positions) = (mesh, positions);
+        let (mesh, positions): (Cow<'a, HalfedgeMesh>, Cow<'_, [DVec3]>) = match &perm {
+            Some(p) => (
+                Cow::Owned(p.apply_to_mesh(mesh)),
+                Cow::Owned(permute_par(p, positions)),
+            ),
+            None => (Cow::Borrowed(mesh), Cow::Borrowed(positions)),
+        };
+        let to_caller = |e: SmoothError| match &perm {
+            Some(p) => error_to_caller(e, p),
+            None => e,
+        };
+        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)
+            .map_err(|e| to_caller(e.into()))?;
         let mut roles: Vec<Role> = mesh
             .vertices()
             .map(|v| {
@@ -229,7 +260,8 @@ impl<'a> Smoother<'a> {
                 }
             })
             .collect();
-        for v in &config.pinned {
+        for &v in &config.pinned {
+            let v = perm.as_ref().map_or(v, |p| p.to_new(v));
             roles[v.index()] = Role::Still;
         }
         // In increasing vertex order, so that a sweep finds them with a cursor.
@@ -250,8 +282,9 @@ impl<'a> Smoother<'a> {
             })
             .collect();
         let compound = config.method != Method::Laplacian || config.preserve_volume;
+        // The input volume in the caller's numbering (the same bits either way).
         let volume = if config.preserve_volume {
-            let volume = Geometry::new(mesh, positions)
+            let volume = Geometry::new(caller_mesh, caller_positions)
                 .and_then(|g| g.volume())
                 .map_err(beltrami_weights::WeightError::from)?;
             if !(volume > 0.0 && volume.is_finite()) {
@@ -267,8 +300,8 @@ impl<'a> Smoother<'a> {
         let mut config = config;
         if let Some(duration) = config.duration {
             let (lambda, iterations) = resolve_duration(
-                mesh,
-                positions,
+                perm.as_ref(),
+                &positions,
                 &laplacian,
                 &roles,
                 config.lambda,
@@ -277,8 +310,17 @@ impl<'a> Smoother<'a> {
             config.lambda = lambda;
             config.iterations = iterations;
         }
+        let n = positions.len();
+        let reordered = perm.is_some();
         let mut smoother = Self {
             mesh,
+            disp: if reordered { vec![0.0; n] } else { Vec::new() },
+            view: if reordered {
+                vec![DVec3::ZERO; n]
+            } else {
+                Vec::new()
+            },
+            perm,
             scheme,
             laplacian,
             roles,
@@ -302,7 +344,9 @@ impl<'a> Smoother<'a> {
             weight_time: Duration::ZERO,
             update_time: Duration::ZERO,
         };
-        smoother.refresh_curve_weights()?;
+        smoother
+            .refresh_curve_weights()
+            .map_err(|e| smoother.to_caller(e))?;
         smoother.weight_time += start.elapsed();
         Ok(smoother)
     }
@@ -312,10 +356,14 @@ impl<'a> Smoother<'a> {
         if self.config.boundary != Boundary::Curve {
             return Ok(());
         }
-        let geometry = Geometry::new(self.mesh, &self.positions)
-            .map_err(beltrami_weights::WeightError::from)?;
+        let mesh: &HalfedgeMesh = &self.mesh;
+        let geometry =
+            Geometry::new(mesh, &self.positions).map_err(beltrami_weights::WeightError::from)?;
         let ctx = WeightContext::new(geometry);
-        let mesh = self.mesh;
+        let perm = self.perm.as_ref();
+        let caller = |v: u32| perm.map_or(v, |p| p.new_to_old()[v as usize]);
+        // The first bad row in the caller's numbering: (its vertex there, the error).
+        let mut first_bad: Option<(u32, beltrami_weights::WeightError)> = None;
         for row in &mut self.curve {
             let v = VertexId::new(row.v);
             let ha = mesh
@@ -326,19 +374,36 @@ impl<'a> Smoother<'a> {
                 .expect("boundary neighbour");
             row.wa = self.scheme.curve_weight(&ctx, ha);
             row.wb = self.scheme.curve_weight(&ctx, hb);
-            for (w, h) in [(row.wa, ha), (row.wb, hb)] {
-                if !w.is_finite() {
-                    return Err(beltrami_weights::WeightError::NonFiniteWeight {
-                        scheme: self.scheme.name().to_string(),
-                        from: row.v,
-                        to: mesh.to_vertex(h).raw(),
-                        value: w,
-                    }
-                    .into());
-                }
+            let key = caller(row.v);
+            if first_bad.as_ref().is_some_and(|(k, _)| *k < key) {
+                continue;
+            }
+            if let Some((w, h)) = [(row.wa, ha), (row.wb, hb)]
+                .into_iter()
+                .find(|(w, _)| !w.is_finite())
+            {
+                // Internal numbering; `to_caller` maps it back.
+                let error = beltrami_weights::WeightError::NonFiniteWeight {
+                    scheme: self.scheme.name().to_string(),
+                    from: row.v,
+                    to: mesh.to_vertex(h).raw(),
+                    value: w,
+                };
+                first_bad = Some((key, error));
             }
         }
-        Ok(())
+        match first_bad {
+            Some((_, error)) => Err(error.into()),
+            None => Ok(()),
+        }
+    }
+
+    /// `e` with its vertex indices in the caller's numbering.
+    fn to_caller(&self, e: SmoothError) -> SmoothError {
+        match &self.perm {
+            Some(p) => error_to_caller(e, p),
+            None => e,
+        }
     }
 
     /// Whether the weights must be recomputed before the next iteration.
@@ -395,25 +460,49 @@ impl<'a> Smoother<'a> {
         }
         let start = Instant::now();
         let (before, after) = (&self.start, &self.positions);
-        let partials: Vec<(f64, f64, Option<u32>)> = after
-            .par_chunks(CHUNK)
-            .zip(before.par_chunks(CHUNK))
-            .enumerate()
-            .map(|(c, (a, b))| {
-                let mut sum = 0.0;
-                let mut max: f64 = 0.0;
-                let mut bad = None;
-                for (k, (p, q)) in a.iter().zip(b).enumerate() {
-                    if !p.is_finite() && bad.is_none() {
-                        bad = Some((c * CHUNK + k) as u32);
+        let partials: Vec<(f64, f64, Option<u32>)> = if let Some(perm) = &self.perm {
+            // In the caller's order, so that the sum and the first bad index are the
+            // unreordered run's.
+            perm.old_to_new()
+                .par_chunks(CHUNK)
+                .enumerate()
+                .map(|(c, ids)| {
+                    let mut sum = 0.0;
+                    let mut max: f64 = 0.0;
+                    let mut bad = None;
+                    for (k, &i) in ids.iter().enumerate() {
+                        let (p, q) = (after[i as usize], before[i as usize]);
+                        if !p.is_finite() && bad.is_none() {
+                            bad = Some((c * CHUNK + k) as u32);
+                        }
+                        let d = beltrami_halfedge::geometry::distance(q, p);
+                        sum += d;
+                        max = max.max(d);
                     }
-                    let d = beltrami_halfedge::geometry::distance(*q, *p);
-                    sum += d;
-                    max = max.max(d);
-                }
-                (sum, max, bad)
-            })
-            .collect();
+                    (sum, max, bad)
+                })
+                .collect()
+        } else {
+            after
+                .par_chunks(CHUNK)
+                .zip(before.par_chunks(CHUNK))
+                .enumerate()
+                .map(|(c, (a, b))| {
+                    let mut sum = 0.0;
+                    let mut max: f64 = 0.0;
+                    let mut bad = None;
+                    for (k, (p, q)) in a.iter().zip(b).enumerate() {
+                        if !p.is_finite() && bad.is_none() {
+                            bad = Some((c * CHUNK + k) as u32);
+                        }
+                        let d = beltrami_halfedge::geometry::distance(*q, *p);
+                        sum += d;
+                        max = max.max(d);
+                    }
+                    (sum, max, bad)
+                })
+                .collect()
+        };
         self.update_time += start.elapsed();
         let mut stats = StepStats::default();
         let mut sum = 0.0;
@@ -478,7 +567,7 @@ impl<'a> Smoother<'a> {
     /// Rescales about the surface centroid so that the volume is the input's.
     fn rescale_volume(&mut self) -> Result<(), SmoothError> {
         let start = Instant::now();
-        let geometry = Geometry::new(self.mesh, &self.positions)
+        let geometry = Geometry::new(&self.mesh, &self.positions)
             .map_err(beltrami_weights::WeightError::from)?;
         let volume = geometry
             .volume()
@@ -491,7 +580,7 @@ impl<'a> Smoother<'a> {
                 iteration: self.iteration,
             });
         }
-        let mesh = self.mesh;
+        let mesh: &HalfedgeMesh = &self.mesh;
         self.positions
             .par_iter_mut()
             .enumerate()
@@ -509,77 +598,62 @@ impl<'a> Smoother<'a> {
     fn sweep(&mut self, lambda: f64) -> Result<StepStats, SmoothError> {
         if self.weights_stale() {
             let start = Instant::now();
-            self.laplacian
-                .update(self.mesh, &self.positions, self.scheme)?;
-            self.refresh_curve_weights()?;
+            let refreshed = match self
+                .laplacian
+                .update(&self.mesh, &self.positions, self.scheme)
+            {
+                Ok(()) => self.refresh_curve_weights(),
+                Err(e) => Err(e.into()),
+            };
+            if let Err(e) = refreshed {
+                return Err(self.to_caller(e));
+            }
             self.weight_time += start.elapsed();
         }
         self.weights_fresh = false;
 
         let start = Instant::now();
-        let (laplacian, roles, curve, old) =
-            (&self.laplacian, &self.roles, &self.curve, &self.positions);
+        let sweep = SweepInput {
+            laplacian: &self.laplacian,
+            roles: &self.roles,
+            curve: &self.curve,
+            old: &self.positions,
+            lambda,
+        };
         // Each chunk returns (sum of displacements, max displacement, stuck count, first
         // non-finite vertex).
-        let partials: Vec<(f64, f64, usize, Option<u32>)> = self
-            .next
-            .par_chunks_mut(CHUNK)
-            .enumerate()
-            .map(|(c, out)| {
-                let first = c * CHUNK;
-                let mut sum = 0.0;
-                let mut max: f64 = 0.0;
-                let mut stuck = 0;
-                let mut bad = None;
-                let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
-                laplacian.for_each_row(first..first + out.len(), old, |i, xi, l| {
-                    let new = match roles[i] {
-                        Role::Still => xi,
-                        Role::Row => match l {
-                            Some(l) => xi + l * lambda,
-                            None => {
-                                stuck += 1;
-                                xi
-                            }
-                        },
-                        Role::Curve => {
-                            let CurveRow { a, b, wa, wb, .. } = curve[cursor];
-                            cursor += 1;
-                            let s = old[a as usize] * wa + old[b as usize] * wb;
-                            let inv = 1.0 / (wa + wb);
-                            if inv.is_finite() && inv > 0.0 {
-                                xi + (s * inv - xi) * lambda
-                            } else {
-                                stuck += 1;
-                                xi
-                            }
-                        }
-                    };
-                    if !new.is_finite() && bad.is_none() {
-                        bad = Some(i as u32);
-                    }
-                    // `geometry::distance` is the plain length whenever that is at least
-                    // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
-                    // the rest (zero, tiny, huge, non-finite).
-                    let plain = (new - xi).length();
-                    let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
-                        plain
-                    } else {
-                        beltrami_halfedge::geometry::distance(xi, new)
-                    };
-                    sum += d;
-                    max = max.max(d);
-                    out[i - first] = new;
-                });
-                (sum, max, stuck, bad)
-            })
-            .collect();
+        let partials: Vec<(f64, f64, usize, Option<u32>)> = if self.perm.is_some() {
+            self.next
+                .par_chunks_mut(CHUNK)
+                .zip(self.disp.par_chunks_mut(CHUNK))
+                .enumerate()
+                .map(|(c, (out, disp))| sweep.chunk::<true>(c * CHUNK, out, disp))
+                .collect()
+        } else {
+            self.next
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .map(|(c, out)| sweep.chunk::<false>(c * CHUNK, out, &mut []))
+                .collect()
+        };
         self.update_time += start.elapsed();
 
         let mut stats = StepStats::default();
         let mut sum = 0.0;
         for (s, m, stuck, bad) in partials {
             if let Some(vertex) = bad {
+                // The smallest vertex in the caller's numbering, as without reordering.
+                let vertex = match &self.perm {
+                    Some(p) => self
+                        .next
+                        .par_iter()
+                        .zip(p.new_to_old().par_iter())
+                        .filter(|(x, _)| !x.is_finite())
+                        .map(|(_, &old)| old)
+                        .min()
+                        .unwrap_or(vertex),
+                    None => vertex,
+                };
                 self.next.copy_from_slice(&self.positions);
                 return Err(SmoothError::NonFinite {
                     vertex,
@@ -589,6 +663,27 @@ impl<'a> Smoother<'a> {
             sum += s;
             stats.max_displacement = stats.max_displacement.max(m);
             stats.stuck_vertices += stuck;
+        }
+        if let Some(perm) = &self.perm {
+            // The same chunks and order as without reordering: the same bits.
+            let start = Instant::now();
+            let disp = &self.disp;
+            let partials: Vec<f64> = perm
+                .old_to_new()
+                .par_chunks(CHUNK)
+                .map(|ids| {
+                    let mut sum = 0.0;
+                    for &i in ids {
+                        sum += disp[i as usize];
+                    }
+                    sum
+                })
+                .collect();
+            sum = 0.0;
+            for s in partials {
+                sum += s;
+            }
+            self.update_time += start.elapsed();
         }
         let n = self.positions.len();
         stats.mean_displacement = if n == 0 { 0.0 } else { sum / n as f64 };
@@ -610,9 +705,16 @@ impl<'a> Smoother<'a> {
         while self.iteration < self.config.iterations {
             let stats = self.step()?;
             steps.push(stats);
+            let positions = match &self.perm {
+                Some(perm) => {
+                    restore_par(perm, &self.positions, &mut self.view);
+                    &self.view
+                }
+                None => &self.positions,
+            };
             let it = Iteration {
                 index: self.iteration,
-                positions: &self.positions,
+                positions,
                 stats,
             };
             if observer(&it).is_break() {
@@ -638,10 +740,14 @@ impl<'a> Smoother<'a> {
             update_time: self.update_time,
             config: self.config,
         };
-        Ok(Smoothed {
-            positions: self.positions,
-            report,
-        })
+        let positions = match &self.perm {
+            Some(perm) => {
+                restore_par(perm, &self.positions, &mut self.view);
+                self.view
+            }
+            None => self.positions,
+        };
+        Ok(Smoothed { positions, report })
     }
 
     /// The configuration of the run; with a [`duration`](SmoothConfig::duration),
@@ -651,10 +757,27 @@ impl<'a> Smoother<'a> {
         &self.config
     }
 
-    /// The current positions.
+    /// The current positions, in the caller's numbering: borrowed when the smoother
+    /// works in that numbering, a restored copy (O(V) time and memory) when it reorders
+    /// (see [`Reorder`](crate::Reorder) and [`permutation`](Self::permutation)).
     #[must_use]
-    pub fn positions(&self) -> &[DVec3] {
-        &self.positions
+    pub fn positions(&self) -> Cow<'_, [DVec3]> {
+        match &self.perm {
+            Some(perm) => {
+                let mut out = vec![DVec3::ZERO; self.positions.len()];
+                restore_par(perm, &self.positions, &mut out);
+                Cow::Owned(out)
+            }
+            None => Cow::Borrowed(&self.positions),
+        }
+    }
+
+    /// The internal vertex numbering, when the smoother reorders: internal vertex `i`
+    /// is the caller's vertex `new_to_old()[i]`. `None` when it works in the caller's
+    /// numbering.
+    #[must_use]
+    pub fn permutation(&self) -> Option<&VertexPermutation> {
+        self.perm.as_ref()
     }
 
     /// The number of iterations done.
@@ -663,10 +786,129 @@ impl<'a> Smoother<'a> {
         self.iteration
     }
 
-    /// The operator as last assembled.
+    /// The operator as last assembled, in the internal numbering: its row `i` and its
+    /// neighbour ids are internal vertex ids (the caller's when
+    /// [`permutation`](Self::permutation) is `None`; map them with it otherwise).
     #[must_use]
     pub fn laplacian(&self) -> &Laplacian {
         &self.laplacian
+    }
+}
+
+/// What a sweep reads.
+struct SweepInput<'s> {
+    laplacian: &'s Laplacian,
+    roles: &'s [Role],
+    curve: &'s [CurveRow],
+    old: &'s [DVec3],
+    lambda: f64,
+}
+
+impl SweepInput<'_> {
+    /// Sweeps the rows `first..first + out.len()` into `out`; with `RECORD`, also stores
+    /// each vertex's displacement in `disp`. Returns (sum of displacements, max
+    /// displacement, stuck count, first non-finite vertex).
+    #[inline]
+    fn chunk<const RECORD: bool>(
+        &self,
+        first: usize,
+        out: &mut [DVec3],
+        disp: &mut [f64],
+    ) -> (f64, f64, usize, Option<u32>) {
+        let Self {
+            laplacian,
+            roles,
+            curve,
+            old,
+            lambda,
+        } = *self;
+        let mut sum = 0.0;
+        let mut max: f64 = 0.0;
+        let mut stuck = 0;
+        let mut bad = None;
+        let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
+        laplacian.for_each_row(first..first + out.len(), old, |i, xi, l| {
+            let new = match roles[i] {
+                Role::Still => xi,
+                Role::Row => match l {
+                    Some(l) => xi + l * lambda,
+                    None => {
+                        stuck += 1;
+                        xi
+                    }
+                },
+                Role::Curve => {
+                    let CurveRow { a, b, wa, wb, .. } = curve[cursor];
+                    cursor += 1;
+                    let s = old[a as usize] * wa + old[b as usize] * wb;
+                    let inv = 1.0 / (wa + wb);
+                    if inv.is_finite() && inv > 0.0 {
+                        xi + (s * inv - xi) * lambda
+                    } else {
+                        stuck += 1;
+                        xi
+                    }
+                }
+            };
+            if !new.is_finite() && bad.is_none() {
+                bad = Some(i as u32);
+            }
+            // `geometry::distance` is the plain length whenever that is at least
+            // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
+            // the rest (zero, tiny, huge, non-finite).
+            let plain = (new - xi).length();
+            let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
+                plain
+            } else {
+                beltrami_halfedge::geometry::distance(xi, new)
+            };
+            sum += d;
+            max = max.max(d);
+            if RECORD {
+                disp[i - first] = d;
+            }
+            out[i - first] = new;
+        });
+        (sum, max, stuck, bad)
+    }
+}
+
+/// `internal` back in the caller's numbering, into `out`, gathered in parallel.
+fn restore_par(perm: &VertexPermutation, internal: &[DVec3], out: &mut [DVec3]) {
+    out.par_chunks_mut(CHUNK)
+        .zip(perm.old_to_new().par_chunks(CHUNK))
+        .for_each(|(out, ids)| {
+            for (x, &i) in out.iter_mut().zip(ids) {
+                *x = internal[i as usize];
+            }
+        });
+}
+
+/// `positions` in the internal numbering of `perm`, gathered in parallel.
+fn permute_par(perm: &VertexPermutation, positions: &[DVec3]) -> Vec<DVec3> {
+    perm.new_to_old()
+        .par_iter()
+        .map(|&o| positions[o as usize])
+        .collect()
+}
+
+/// `e` with the vertex indices of the internal numbering `perm` mapped back to the
+/// caller's.
+fn error_to_caller(e: SmoothError, perm: &VertexPermutation) -> SmoothError {
+    let old = |v: u32| perm.new_to_old()[v as usize];
+    match e {
+        SmoothError::Weights(beltrami_weights::WeightError::NonFiniteWeight {
+            scheme,
+            from,
+            to,
+            value,
+        }) => SmoothError::Weights(beltrami_weights::WeightError::NonFiniteWeight {
+            scheme,
+            from: old(from),
+            to: old(to),
+            value,
+        }),
+        e => e,
     }
 }
 
@@ -763,7 +1005,7 @@ fn validate_method(
 /// The step and iteration count that diffuse for the time `t` (length²); see
 /// [`DiffusionTime`](crate::DiffusionTime).
 fn resolve_duration(
-    mesh: &HalfedgeMesh,
+    perm: Option<&VertexPermutation>,
     positions: &[DVec3],
     laplacian: &Laplacian,
     roles: &[Role],
@@ -781,7 +1023,9 @@ fn resolve_duration(
             // The mean over the moving rows is the mesh's time per unit step.
             let mut sum = 0.0;
             let mut count = 0usize;
-            for v in mesh.vertices() {
+            // Summed in the caller's vertex order, so that reordering changes no bit.
+            for old in 0..positions.len() {
+                let v = VertexId::new(perm.map_or(old as u32, |p| p.old_to_new()[old]));
                 if roles[v.index()] != Role::Row {
                     continue;
                 }
@@ -809,7 +1053,7 @@ fn resolve_duration(
         // Area normalisation: λ is a time per iteration.
         _ => {
             let mut rate: f64 = 0.0;
-            for v in mesh.vertices() {
+            for v in (0..positions.len()).map(|i| VertexId::new(i as u32)) {
                 if roles[v.index()] == Role::Row
                     && let Some(scale) = laplacian.scale(v)
                 {
