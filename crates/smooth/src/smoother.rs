@@ -165,6 +165,8 @@ pub struct Smoother<'a> {
     start: Vec<DVec3>,
     /// The input positions (HC only; empty otherwise).
     original: Vec<DVec3>,
+    /// HC's per-vertex push-back `b`, reused every iteration (HC only; empty otherwise).
+    push_back: Vec<DVec3>,
     /// The input volume (volume preservation only).
     volume: f64,
     iteration: usize,
@@ -334,6 +336,11 @@ impl<'a> Smoother<'a> {
             },
             original: if matches!(config.method, Method::Hc { .. }) {
                 positions.to_vec()
+            } else {
+                Vec::new()
+            },
+            push_back: if matches!(config.method, Method::Hc { .. }) {
+                vec![DVec3::ZERO; positions.len()]
             } else {
                 Vec::new()
             },
@@ -527,12 +534,12 @@ impl<'a> Smoother<'a> {
     fn hc_correct(&mut self, alpha: f64, beta: f64) {
         let start = Instant::now();
         let (p, q, o) = (&self.positions, &self.next, &self.original);
-        let b: Vec<DVec3> = p
-            .par_iter()
-            .zip(q.par_iter())
-            .zip(o.par_iter())
-            .map(|((p, q), o)| *p - (*o * alpha + *q * (1.0 - alpha)))
-            .collect();
+        self.push_back
+            .par_iter_mut()
+            .zip(p.par_iter())
+            .zip(q.par_iter().zip(o.par_iter()))
+            .for_each(|((b, p), (q, o))| *b = *p - (*o * alpha + *q * (1.0 - alpha)));
+        let b = &self.push_back;
         let (laplacian, roles) = (&self.laplacian, &self.roles);
         self.next
             .par_chunks_mut(CHUNK)
@@ -544,13 +551,11 @@ impl<'a> Smoother<'a> {
                     *slot = if roles[i] == Role::Row {
                         // The plain neighbour average, as Vollmer et al.: weights
                         // that can be negative (cotangent) would amplify b.
-                        let row = laplacian.row_halfedges(VertexId::new(i as u32));
-                        let mut s = DVec3::ZERO;
-                        for (j, _) in laplacian.row(VertexId::new(i as u32)) {
-                            s += b[j.index()];
-                        }
-                        let mean = s / row.len() as f64;
-                        if !row.is_empty() && mean.is_finite() {
+                        let row = laplacian.row(VertexId::new(i as u32));
+                        let n = row.len();
+                        let s: DVec3 = row.map(|(j, _)| b[j.index()]).sum();
+                        let mean = s / n as f64;
+                        if n > 0 && mean.is_finite() {
                             pi - (b[i] * beta + mean * (1.0 - beta))
                         } else {
                             pi - b[i]
