@@ -103,11 +103,10 @@ gen() {  # gen NAME SURFACE SEED
   "$BELTRAMI" generate "$2" "$MESH_DIR/$1.ply" --noise 0.2 --relative --seed "$3" \
     --clean "$MESH_DIR/$1_clean.ply"
 }
-sphere() {  # sphere NAME LEVEL SEED: levels beltrami generate does not offer
+sphere() {  # sphere NAME LEVEL SEED: the icosphere at any level (0 to 10)
   [ -f "$MESH_DIR/$1.ply" ] && [ -f "$MESH_DIR/$1_clean.ply" ] && return 0
-  cargo build -q --release --manifest-path "$HERE/meshgen/Cargo.toml" --target-dir "$HERE/target" \
-    || die "cannot build benches/peers/meshgen"
-  "$HERE/target/release/peers-meshgen" "$2" "$MESH_DIR/$1.ply" "$MESH_DIR/$1_clean.ply" 0.2 "$3"
+  "$BELTRAMI" generate sphere "$MESH_DIR/$1.ply" --level "$2" --noise 0.2 --relative \
+    --seed "$3" --clean "$MESH_DIR/$1_clean.ply"
 }
 for m in $MESHES; do
   case "$m" in
@@ -115,8 +114,8 @@ for m in $MESHES; do
     block) gen block block 12 ;;
     golfball) gen golfball golfball 13 ;;
     sphere6) gen sphere6 sphere 16 ;;   # the paper's sphere: icosphere level 6
-    sphere[0-9]) sphere "$m" "${m#sphere}" "1${m#sphere}" ;;
-    *) die "unknown mesh $m (flens, block, golfball, sphere0..sphere9)" ;;
+    sphere[0-9]|sphere10) sphere "$m" "${m#sphere}" "1${m#sphere}" ;;
+    *) die "unknown mesh $m (flens, block, golfball, sphere0..sphere10)" ;;
   esac
 done
 ls -l "$MESH_DIR"

@@ -33,7 +33,22 @@ pub(crate) struct GenerateArgs {
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
+    /// The sphere's subdivision level, 0 to 10 (the paper's sphere is 6: 40 962
+    /// vertices; 8 gives 655 362 and 10 gives 10 485 762 vertices, for benchmarks).
+    /// Only for `sphere`.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=MAX_SPHERE_LEVEL as i64))]
+    level: Option<u32>,
+    /// Write the vertices in a random order drawn from this seed (the same on every
+    /// platform; faces keep their order), to benchmark a poor vertex order such as a
+    /// scanner's. The noise, if any, is drawn before the shuffle, so the shuffled file
+    /// holds the same points as the unshuffled one.
+    #[arg(long, value_name = "SEED")]
+    shuffle: Option<u64>,
 }
+
+/// The largest `--level` of `generate sphere`: 10 485 762 vertices, about 0.5 GiB of
+/// positions and faces; level 11 would need four times that.
+const MAX_SPHERE_LEVEL: u32 = 10;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum SurfaceArg {
@@ -80,7 +95,15 @@ fn write(
 
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
-    let surface = args.surface.kind().generate();
+    let surface = match (args.surface, args.level) {
+        (SurfaceArg::Sphere, Some(level)) => beltrami_surfaces::sphere(level),
+        (_, Some(_)) => {
+            return Err(CliError::Usage(
+                "--level applies to the sphere only".to_string(),
+            ));
+        }
+        (kind, None) => kind.kind().generate(),
+    };
     let mesh = surface
         .mesh()
         .map_err(|e| CliError::Usage(format!("internal: generated surface is invalid: {e}")))?;
@@ -102,10 +125,25 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
             noisy
         }
     };
+    let (surface, positions) = match args.shuffle {
+        None => (surface, positions),
+        Some(seed) => {
+            // Shuffle the clean and the noisy positions with the same order.
+            let noisy = Surface {
+                positions,
+                ..surface.clone()
+            }
+            .shuffled(seed);
+            (surface.shuffled(seed), noisy.positions)
+        }
+    };
     if let Some(clean) = &args.clean {
         write(clean, &surface, surface.positions.clone(), args.ascii)?;
     }
     write(&args.output, &surface, positions, args.ascii)?;
+    if let Some(seed) = args.shuffle {
+        note.push_str(&format!(", vertices shuffled (seed {seed})"));
+    }
     writeln!(
         out,
         "generated {} ({} vertices, {} faces, unit {}){note} -> {}",

@@ -37,7 +37,7 @@ use error::CliError;
 
 /// Discrete Laplace–Beltrami operators on triangle meshes, for surface metrology.
 #[derive(Debug, Parser)]
-#[command(name = "beltrami", version, about, long_about = None)]
+#[command(name = "beltrami", version = env!("BELTRAMI_LONG_VERSION"), about, long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

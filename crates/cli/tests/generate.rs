@@ -80,3 +80,98 @@ fn bad_usage_is_exit_2() {
     let out = beltrami(&["generate", "flens", "x.ply", "--noise", "-1"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn sphere_level_sets_the_subdivisions_and_is_refused_elsewhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.ply");
+    let path = path.to_str().unwrap();
+    // Level L: 10 * 4^L + 2 vertices, 20 * 4^L faces.
+    for (level, vertices, faces) in [("0", 12, 20), ("2", 162, 320), ("4", 2562, 5120)] {
+        let out = beltrami(&["generate", "sphere", path, "--level", level]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let mesh = read_mesh(std::path::Path::new(path)).unwrap();
+        assert_eq!(mesh.positions.len(), vertices, "level {level}");
+        assert_eq!(mesh.faces.len(), faces, "level {level}");
+        for p in &mesh.positions {
+            assert!((p.length() - 1.0).abs() < 1e-12, "level {level}: {p}");
+        }
+    }
+    for (surface, level) in [("flens", "3"), ("sphere", "11")] {
+        let out = beltrami(&["generate", surface, path, "--level", level]);
+        assert!(
+            !out.status.success(),
+            "{surface} --level {level} was accepted"
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("level"), "{err}");
+    }
+}
+
+#[test]
+fn shuffle_renumbers_the_vertices_of_the_same_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let make = |out: &str, clean: &str, extra: &[&str]| {
+        let mut args = vec![
+            "generate",
+            "sphere",
+            out,
+            "--level",
+            "3",
+            "--noise",
+            "0.2",
+            "--relative",
+            "--seed",
+            "5",
+            "--clean",
+            clean,
+        ];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    make(&p("plain.ply"), &p("plain_clean.ply"), &[]);
+    make(&p("a.ply"), &p("a_clean.ply"), &["--shuffle", "9"]);
+    make(&p("b.ply"), &p("b_clean.ply"), &["--shuffle", "9"]);
+    make(&p("c.ply"), &p("c_clean.ply"), &["--shuffle", "10"]);
+    let bytes = |n: &str| std::fs::read(p(n)).unwrap();
+    assert_eq!(bytes("a.ply"), bytes("b.ply"), "same seed, same file");
+    assert_ne!(
+        bytes("a.ply"),
+        bytes("c.ply"),
+        "another seed, another order"
+    );
+    assert_ne!(bytes("a.ply"), bytes("plain.ply"), "the order changed");
+    let read = |n: &str| read_mesh(std::path::Path::new(&p(n))).unwrap();
+    for (plain, shuffled) in [("plain.ply", "a.ply"), ("plain_clean.ply", "a_clean.ply")] {
+        let (plain, shuffled) = (read(plain), read(shuffled));
+        assert_eq!(plain.faces.len(), shuffled.faces.len());
+        // Face f has the same corner points in the same order.
+        for (f, g) in plain.faces.iter().zip(shuffled.faces.iter()) {
+            for (&u, &v) in f.iter().zip(g) {
+                assert_eq!(plain.positions[u as usize], shuffled.positions[v as usize]);
+            }
+        }
+        // Every vertex is used (the icosphere has no isolated vertex), so the faces
+        // matching corner by corner make the renumbering a bijection of the same points.
+        let mut a: Vec<[u64; 3]> = plain
+            .positions
+            .iter()
+            .map(|q| q.to_array().map(f64::to_bits))
+            .collect();
+        let mut b: Vec<[u64; 3]> = shuffled
+            .positions
+            .iter()
+            .map(|q| q.to_array().map(f64::to_bits))
+            .collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
+    }
+}
