@@ -3,6 +3,7 @@
 use std::collections::HashMap;
 
 use petgraph::unionfind::UnionFind;
+use rayon::prelude::*;
 
 use crate::error::TopologyError;
 use crate::ids::VertexId;
@@ -189,6 +190,8 @@ impl HalfedgeMesh {
         check_count("vertices", n_vertices)?;
         let mut report = BuildReport::default();
         let mut list = PolygonList::new();
+        // Input index of each kept face; empty while no face was dropped (then face
+        // `f` is input face `f`), so a mesh that needs no repair never fills it.
         let mut origin = Vec::new();
         let mut scratch = Vec::new();
         for (fi, face) in faces.into_iter().enumerate() {
@@ -210,29 +213,48 @@ impl HalfedgeMesh {
                     .map(|vertex| TopologyError::RepeatedVertex { face: fi, vertex })
             };
             match problem {
-                Some(_) if options.drop_degenerate_faces => report.dropped_faces.push(fi),
+                Some(_) if options.drop_degenerate_faces => {
+                    if report.dropped_faces.is_empty() {
+                        origin.extend(0..fi);
+                    }
+                    report.dropped_faces.push(fi);
+                }
                 Some(err) => return Err(err),
                 None => {
                     list.push(face);
-                    origin.push(fi);
+                    if !report.dropped_faces.is_empty() {
+                        origin.push(fi);
+                    }
                 }
             }
         }
         check_count("faces", list.len())?;
         check_count("halfedges", 2 * list.n_corners())?;
 
+        let origin = Origin(&origin);
         if options.reorient {
-            reorient(&mut list, &origin, &mut report)?;
+            reorient(&mut list, origin, &mut report)?;
         }
         let mut n_vertices = n_vertices;
         if options.split_nonmanifold_vertices {
             split_nonmanifold_vertices(&mut list, &mut n_vertices, &mut report)?;
         }
-        let mesh = assemble(n_vertices, &list, &origin)?;
+        let mesh = assemble(n_vertices, &list, origin)?;
         if !report.dropped_faces.is_empty() {
-            report.face_origin = origin;
+            report.face_origin = origin.0.to_vec();
         }
         Ok((mesh, report))
+    }
+}
+
+/// The input index of each face of the polygon list being built.
+#[derive(Clone, Copy)]
+struct Origin<'a>(&'a [usize]);
+
+impl Origin<'_> {
+    /// The input index of face `f` (`f` itself when no face was dropped).
+    fn of(self, f: usize) -> usize {
+        if self.0.is_empty() { f } else { self.0[f] }
     }
 }
 
@@ -304,31 +326,150 @@ impl<'a> Corners<'a> {
 
     /// Directed edges grouped by their undirected vertex pair: a list of corners sorted
     /// by (pair, corner), and the start of each group (plus the end).
+    ///
+    /// A counting sort by the lower vertex of the pair (stable, so each bucket is in
+    /// corner order), then a sort of each small bucket by (higher vertex, corner):
+    /// O(C) plus the buckets' sorts, instead of one sort of all C keys.
     fn edge_groups(&self) -> (Vec<u32>, Vec<usize>) {
-        let mut keyed: Vec<(u64, u32)> = (0..self.indices.len() as u32)
-            .map(|k| {
-                let (a, b) = (self.from(k), self.to(k));
-                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                ((u64::from(lo) << 32) | u64::from(hi), k)
+        let n_corners = self.indices.len();
+        let n_vertices = self.indices.iter().max().map_or(0, |&m| m as usize + 1);
+        let pair = |k: u32| {
+            let (a, b) = (self.from(k), self.to(k));
+            if a < b { (a, b) } else { (b, a) }
+        };
+        // bucket[v]..bucket[v + 1]: the corners whose pair has lower vertex v.
+        let mut bucket = vec![0usize; n_vertices + 1];
+        for k in 0..n_corners as u32 {
+            bucket[pair(k).0 as usize + 1] += 1;
+        }
+        for v in 0..n_vertices {
+            bucket[v + 1] += bucket[v];
+        }
+        // (higher vertex, corner) per corner, bucket by bucket.
+        let mut keyed = vec![0u64; n_corners];
+        let mut fill = bucket[..n_vertices].to_vec();
+        for k in 0..n_corners as u32 {
+            let (lo, hi) = pair(k);
+            let slot = &mut fill[lo as usize];
+            keyed[*slot] = (u64::from(hi) << 32) | u64::from(k);
+            *slot += 1;
+        }
+        drop(fill);
+        // Sort the buckets and find the groups, in parallel over ranges of vertices
+        // with about the same number of corners (each range owns its part of `keyed`;
+        // the group starts are concatenated in order, so the result does not depend
+        // on the number of threads).
+        let ranges = vertex_ranges(&bucket, PARALLEL_CHUNK);
+        let mut pieces = Vec::with_capacity(ranges.len());
+        let mut rest = &mut keyed[..];
+        for w in ranges.windows(2) {
+            let (piece, tail) = rest.split_at_mut(bucket[w[1]] - bucket[w[0]]);
+            pieces.push((w[0], w[1], piece));
+            rest = tail;
+        }
+        let chunk_starts: Vec<Vec<usize>> = pieces
+            .into_par_iter()
+            .map(|(v0, v1, piece)| {
+                let base = bucket[v0];
+                let mut starts = Vec::with_capacity(piece.len() / 2 + 1);
+                for v in v0..v1 {
+                    let (a, b) = (bucket[v] - base, bucket[v + 1] - base);
+                    let group = &mut piece[a..b];
+                    group.sort_unstable();
+                    for i in 0..group.len() {
+                        if i == 0 || group[i] >> 32 != group[i - 1] >> 32 {
+                            starts.push(base + a + i);
+                        }
+                    }
+                }
+                starts
             })
             .collect();
-        keyed.sort_unstable();
-        let mut starts = Vec::new();
-        for i in 0..keyed.len() {
-            if i == 0 || keyed[i].0 != keyed[i - 1].0 {
-                starts.push(i);
+        let mut starts = Vec::with_capacity(chunk_starts.iter().map(Vec::len).sum::<usize>() + 1);
+        for chunk in chunk_starts {
+            starts.extend(chunk);
+        }
+        starts.push(n_corners);
+        // The low half of each key is the corner.
+        #[allow(
+            clippy::cast_possible_truncation,
+            reason = "the low 32 bits are wanted"
+        )]
+        let sorted = keyed.into_iter().map(|key| key as u32).collect();
+        (sorted, starts)
+    }
+}
+
+/// The number of outgoing halfedges of `v` met by rotating around it from its
+/// outgoing halfedge (0 for an isolated vertex); more than `limit` stops the walk.
+fn circulation_length(mesh: &HalfedgeMesh, v: usize, limit: usize) -> usize {
+    let start = mesh.v_out[v];
+    if start == INVALID {
+        return 0;
+    }
+    let mut h = start;
+    let mut steps = 0;
+    loop {
+        steps += 1;
+        let prev = mesh.h_prev[h as usize];
+        if prev == INVALID {
+            // Not reached for a mesh built this far; counted as a shortfall.
+            return 0;
+        }
+        h = prev ^ 1;
+        if h == start || steps > limit {
+            return steps;
+        }
+    }
+}
+
+/// The error of an edge group that is neither a boundary edge nor a consistently
+/// oriented pair.
+fn group_error(corners: &Corners<'_>, group: &[u32], origin: Origin<'_>) -> TopologyError {
+    match *group {
+        [k1, k2] => TopologyError::InconsistentOrientation {
+            from: corners.from(k1),
+            to: corners.to(k1),
+            faces: [origin.of(corners.face(k1)), origin.of(corners.face(k2))],
+        },
+        _ => {
+            let (a, b) = (corners.from(group[0]), corners.to(group[0]));
+            TopologyError::NonManifoldEdge {
+                a: a.min(b),
+                b: a.max(b),
+                faces: group.iter().map(|&k| origin.of(corners.face(k))).collect(),
             }
         }
-        starts.push(keyed.len());
-        (keyed.into_iter().map(|(_, k)| k).collect(), starts)
     }
+}
+
+/// About how many corners one parallel task of the builder handles.
+const PARALLEL_CHUNK: usize = 1 << 16;
+
+/// Splits the vertices `0..n` (with `bucket` the running corner counts, `n + 1`
+/// entries) into consecutive ranges of about `chunk` corners: the boundaries, from 0
+/// to `n`.
+fn vertex_ranges(bucket: &[usize], chunk: usize) -> Vec<usize> {
+    let n = bucket.len() - 1;
+    let mut ranges = vec![0];
+    let mut next = chunk;
+    for (v, &corners) in bucket.iter().enumerate().take(n).skip(1) {
+        if corners >= next {
+            ranges.push(v);
+            next = corners + chunk;
+        }
+    }
+    if n > 0 {
+        ranges.push(n);
+    }
+    ranges
 }
 
 /// Flip faces so that every component is consistently oriented (breadth-first from the
 /// lowest face of each component).
 fn reorient(
     list: &mut PolygonList,
-    origin: &[usize],
+    origin: Origin<'_>,
     report: &mut BuildReport,
 ) -> Result<(), TopologyError> {
     let corners = Corners::new(list);
@@ -364,7 +505,7 @@ fn reorient(
                     }
                     Some(have) if have != want => {
                         return Err(TopologyError::NonOrientable {
-                            face: origin[start],
+                            face: origin.of(start),
                         });
                     }
                     Some(_) => {}
@@ -382,7 +523,7 @@ fn reorient(
         buf.extend_from_slice(face);
         if flip[f] == Some(true) {
             buf[1..].reverse();
-            report.flipped_faces.push(origin[f]);
+            report.flipped_faces.push(origin.of(f));
         }
         fixed.push(&buf);
     }
@@ -471,52 +612,49 @@ fn split_nonmanifold_vertices(
 fn assemble(
     n_vertices: usize,
     list: &PolygonList,
-    origin: &[usize],
+    origin: Origin<'_>,
 ) -> Result<HalfedgeMesh, TopologyError> {
     let corners = Corners::new(list);
     let (sorted, starts) = corners.edge_groups();
+    let n_corners = corners.indices.len();
 
-    // Validate edge groups; among violations report the one met first in face order.
+    // Validate edge groups and pair each corner with the corner that runs the other
+    // way along its edge (`INVALID` on the boundary); among violations report the one
+    // met first in face order.
     let mut worst: Option<(u32, TopologyError)> = None;
-    // (first corner, group index) per edge, to number edges by first appearance.
-    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(starts.len());
-    for (gi, g) in starts.windows(2).enumerate() {
+    let mut mate = vec![INVALID; n_corners];
+    for g in starts.windows(2) {
         let group = &sorted[g[0]..g[1]];
-        let first = group[0];
-        let problem = match *group {
-            [_] => None,
-            [k1, k2] if corners.from(k1) == corners.from(k2) => {
-                Some(TopologyError::InconsistentOrientation {
-                    from: corners.from(k1),
-                    to: corners.to(k1),
-                    faces: [origin[corners.face(k1)], origin[corners.face(k2)]],
-                })
+        match *group {
+            [_] => {}
+            [k1, k2] if corners.from(k1) != corners.from(k2) => {
+                mate[k1 as usize] = k2;
+                mate[k2 as usize] = k1;
             }
-            [_, _] => None,
             _ => {
-                let (a, b) = (corners.from(first), corners.to(first));
-                Some(TopologyError::NonManifoldEdge {
-                    a: a.min(b),
-                    b: a.max(b),
-                    faces: group.iter().map(|&k| origin[corners.face(k)]).collect(),
-                })
-            }
-        };
-        if let Some(err) = problem {
-            if worst.as_ref().is_none_or(|(k, _)| first < *k) {
-                worst = Some((first, err));
+                // The error is made only for the group met first so far.
+                let first = group[0];
+                if worst.as_ref().is_none_or(|(k, _)| first < *k) {
+                    worst = Some((first, group_error(&corners, group, origin)));
+                }
             }
         }
-        edges.push((first, gi as u32));
     }
     if let Some((_, err)) = worst {
         return Err(err);
     }
-    check_count("halfedges", 2 * edges.len())?;
-    edges.sort_unstable();
+    drop(sorted);
+    drop(starts);
 
-    let n_corners = corners.indices.len();
-    let n_halfedges = 2 * edges.len();
+    // Edge `e` is numbered by its first corner in corner order: a corner starts a new
+    // edge unless its mate comes before it.
+    let n_edges = mate
+        .iter()
+        .enumerate()
+        .filter(|&(k, &m)| m == INVALID || k < m as usize)
+        .count();
+    check_count("halfedges", 2 * n_edges)?;
+    let n_halfedges = 2 * n_edges;
     let mut corner_he = vec![INVALID; n_corners];
     let mut h_to = vec![INVALID; n_halfedges];
     let mut h_face = vec![INVALID; n_halfedges];
@@ -524,18 +662,22 @@ fn assemble(
     let mut h_prev = vec![INVALID; n_halfedges];
     let mut v_out = vec![INVALID; n_vertices];
 
-    for (e, &(first, gi)) in edges.iter().enumerate() {
-        let h = 2 * e as u32;
-        corner_he[first as usize] = h;
-        let g = &sorted[starts[gi as usize]..starts[gi as usize + 1]];
-        if let [_, k2] = *g {
-            // The group is sorted by corner, so `first` is g[0] and k2 runs the other way.
-            corner_he[k2 as usize] = h | 1;
-        } else {
+    let mut e = 0u32;
+    for k in 0..n_corners {
+        let m = mate[k];
+        if m != INVALID && (m as usize) < k {
+            // The mate opened the edge and runs the first direction.
+            corner_he[k] = corner_he[m as usize] | 1;
+            continue;
+        }
+        let h = 2 * e;
+        e += 1;
+        corner_he[k] = h;
+        if m == INVALID {
             // Boundary edge: the twin of the inner halfedge a -> b is b -> a, without face.
             let t = h | 1;
-            h_to[t as usize] = corners.from(first);
-            let b = corners.to(first) as usize;
+            h_to[t as usize] = corners.from(k as u32);
+            let b = corners.to(k as u32) as usize;
             if v_out[b] != INVALID {
                 let fans = count_fans(list, b as u32).max(2);
                 return Err(TopologyError::NonManifoldVertex {
@@ -546,6 +688,7 @@ fn assemble(
             v_out[b] = t;
         }
     }
+    drop(mate);
     for k in 0..n_corners {
         let h = corner_he[k] as usize;
         let nk = corners.next[k] as usize;
@@ -585,19 +728,31 @@ fn assemble(
     };
 
     // A vertex whose fans are all closed (or one open fan plus closed ones) shows up as
-    // a circulation shorter than its degree.
-    let mut degree = vec![0u32; n_vertices];
-    for h in 0..n_halfedges {
-        degree[mesh.h_to[h ^ 1] as usize] += 1;
-    }
-    for v in mesh.vertices() {
-        let d = degree[v.index()] as usize;
-        if d > 0 && mesh.halfedges_around_vertex(v).take(d + 1).count() != d {
-            let fans = count_fans(list, v.raw()).max(2);
-            return Err(TopologyError::NonManifoldVertex {
-                vertex: v.raw(),
-                fans,
-            });
+    // a circulation shorter than its degree. Rotating an outgoing halfedge
+    // (`twin(prev(h))`) is a permutation of the halfedges, so every circulation closes;
+    // each one covers a vertex's outgoing halfedges exactly when the circulations of
+    // all vertices together cover every halfedge. That sum is computed in parallel;
+    // only when it falls short are the vertices checked one by one, in order, for the
+    // first one at fault.
+    let covered: usize = (0..n_vertices)
+        .into_par_iter()
+        .with_min_len(PARALLEL_CHUNK)
+        .map(|v| circulation_length(&mesh, v, n_halfedges))
+        .sum();
+    if covered != n_halfedges {
+        let mut degree = vec![0u32; n_vertices];
+        for h in 0..n_halfedges {
+            degree[mesh.h_to[h ^ 1] as usize] += 1;
+        }
+        for v in mesh.vertices() {
+            let d = degree[v.index()] as usize;
+            if d > 0 && mesh.halfedges_around_vertex(v).take(d + 1).count() != d {
+                let fans = count_fans(list, v.raw()).max(2);
+                return Err(TopologyError::NonManifoldVertex {
+                    vertex: v.raw(),
+                    fans,
+                });
+            }
         }
     }
     Ok(mesh)

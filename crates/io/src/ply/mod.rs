@@ -1,6 +1,7 @@
 //! Stanford PLY, through `ply-rs-bw` (an implementation detail: none of its types
 //! appear in the public API).
 
+mod fast;
 mod read;
 mod records;
 mod write;

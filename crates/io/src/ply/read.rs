@@ -12,6 +12,7 @@ use glam::DVec3;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 
+use super::fast::{self, FaceLayout, VertexLayout};
 use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
 use crate::error::IoError;
 use crate::mesh::MeshData;
@@ -328,7 +329,6 @@ fn read_binary<R: BufRead + Seek>(
     big_endian: bool,
     mesh: &mut MeshData,
 ) -> Result<(), IoError> {
-    let mut scratch = Vec::new();
     let start = cursor
         .stream_position()
         .map_err(IoError::io("read the file"))?;
@@ -338,25 +338,36 @@ fn read_binary<R: BufRead + Seek>(
         let name = element.name.as_str();
         match name {
             "vertex" => {
-                let parser = Parser::<VertexRecord>::new();
                 // Capacities are hints bounded by the file size: 12 and 13 bytes are
                 // the usual smallest vertex (3 floats) and triangle records.
                 mesh.positions
                     .reserve_exact(element.count.min(payload / 12));
-                for index in 0..element.count {
-                    let record = read_binary_element(&parser, &mut cursor, element, big_endian)
-                        .map_err(|e| element_error(&e, None, name, index, ""))?;
-                    push_vertex(&mut mesh.positions, &record, None)?;
+                if let Some(layout) = VertexLayout::of(element).filter(|_| fast::enabled()) {
+                    fast::read_vertices(
+                        &mut cursor,
+                        element.count,
+                        &layout,
+                        big_endian,
+                        &mut mesh.positions,
+                    )?;
+                } else {
+                    read_vertices_generic(&mut cursor, element, big_endian, &mut mesh.positions)?;
                 }
             }
             "face" => {
-                let parser = Parser::<FaceRecord>::new();
                 let faces = element.count.min(payload / 13);
                 mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
-                for index in 0..element.count {
-                    let record = read_binary_element(&parser, &mut cursor, element, big_endian)
-                        .map_err(|e| element_error(&e, None, name, index, ""))?;
-                    push_face(&mut mesh.faces, &mut scratch, &record, None)?;
+                if let Some(layout) = FaceLayout::of(element).filter(|_| fast::enabled()) {
+                    fast::read_faces(
+                        &mut cursor,
+                        element.count,
+                        &layout,
+                        big_endian,
+                        remaining,
+                        &mut mesh.faces,
+                    )?;
+                } else {
+                    read_faces_generic(&mut cursor, element, big_endian, &mut mesh.faces)?;
                 }
             }
             _ => skip_binary_element(&mut cursor, remaining, element, big_endian)?,
@@ -366,6 +377,39 @@ fn read_binary<R: BufRead + Seek>(
             .map_err(IoError::io("read the file"))?;
         let read = usize::try_from(read.saturating_sub(start)).unwrap_or(usize::MAX);
         remaining = payload.saturating_sub(read);
+    }
+    Ok(())
+}
+
+/// The vertex element through `ply-rs-bw`, for layouts [`VertexLayout`] does not cover.
+fn read_vertices_generic(
+    cursor: &mut impl Read,
+    element: &ElementDef,
+    big_endian: bool,
+    positions: &mut Vec<DVec3>,
+) -> Result<(), IoError> {
+    let parser = Parser::<VertexRecord>::new();
+    for index in 0..element.count {
+        let record = read_binary_element(&parser, cursor, element, big_endian)
+            .map_err(|e| element_error(&e, None, "vertex", index, ""))?;
+        push_vertex(positions, &record, None)?;
+    }
+    Ok(())
+}
+
+/// The face element through `ply-rs-bw`, for layouts [`FaceLayout`] does not cover.
+fn read_faces_generic(
+    cursor: &mut impl Read,
+    element: &ElementDef,
+    big_endian: bool,
+    faces: &mut PolygonList,
+) -> Result<(), IoError> {
+    let mut scratch = Vec::new();
+    let parser = Parser::<FaceRecord>::new();
+    for index in 0..element.count {
+        let record = read_binary_element(&parser, cursor, element, big_endian)
+            .map_err(|e| element_error(&e, None, "face", index, ""))?;
+        push_face(faces, &mut scratch, &record, None)?;
     }
     Ok(())
 }
@@ -468,7 +512,7 @@ fn message(e: &ParseError) -> String {
 }
 
 /// The first line of a `ply-rs-bw` message, lowercase first letter, no final period.
-fn sanitize(message: &str) -> String {
+pub(super) fn sanitize(message: &str) -> String {
     let first = message.lines().next().unwrap_or("").trim();
     let first = first.strip_suffix('.').unwrap_or(first);
     let mut chars = first.chars();

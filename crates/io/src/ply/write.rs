@@ -47,6 +47,135 @@ pub(crate) fn write_ply_to<W: Write>(
         .write_header(&mut out, &header)
         .map_err(io)?;
 
+    let big_endian = match options.encoding {
+        Encoding::Ascii => {
+            write_ascii(&mut out, mesh, attributes, &vertex_def, &face_def)?;
+            return out.flush().map_err(IoError::io("write the file"));
+        }
+        Encoding::BinaryLittleEndian => false,
+        Encoding::BinaryBigEndian => true,
+    };
+    let layout = BinaryLayout {
+        single,
+        wide_count: matches!(
+            index_list_type(&face_def),
+            Some(PropertyType::List(ScalarType::UInt, _))
+        ),
+        signed: matches!(
+            index_list_type(&face_def),
+            Some(PropertyType::List(_, ScalarType::Int))
+        ),
+    };
+    if big_endian {
+        write_binary::<true>(&mut out, mesh, attributes, layout)?;
+    } else {
+        write_binary::<false>(&mut out, mesh, attributes, layout)?;
+    }
+    out.flush().map_err(IoError::io("write the file"))
+}
+
+fn index_list_type(face_def: &ElementDef) -> Option<&PropertyType> {
+    face_def
+        .properties
+        .get("vertex_indices")
+        .map(|p| &p.data_type)
+}
+
+/// The types of a binary file's records, as [`element_defs`] declares them.
+#[derive(Clone, Copy)]
+struct BinaryLayout {
+    /// `float` coordinates instead of `double`.
+    single: bool,
+    /// `uint` list lengths instead of `uchar`.
+    wide_count: bool,
+    /// `int` indices instead of `uint`.
+    signed: bool,
+}
+
+/// Bytes gathered before each write to the output.
+const CHUNK: usize = 1 << 20;
+
+/// Writes the binary records, by hand rather than through `ply-rs-bw`: its writer
+/// calls a getter by property name and a small `write` for every value, which took
+/// most of the time of writing a large mesh. Here every record is encoded with
+/// `to_le_bytes` / `to_be_bytes` into a buffer of about [`CHUNK`] bytes, which goes
+/// to the output in one `write_all`. The bytes are the same as `ply-rs-bw` writes
+/// for the header [`element_defs`] makes (a test compares them).
+fn write_binary<const BIG: bool>(
+    out: &mut impl Write,
+    mesh: &MeshData,
+    attributes: &VertexAttributes,
+    layout: BinaryLayout,
+) -> Result<(), IoError> {
+    macro_rules! put {
+        ($buffer:expr, $value:expr) => {
+            $buffer.extend_from_slice(&if BIG {
+                $value.to_be_bytes()
+            } else {
+                $value.to_le_bytes()
+            })
+        };
+    }
+    let mut buffer: Vec<u8> = Vec::with_capacity(CHUNK + (1 << 12));
+    for (i, p) in mesh.positions.iter().enumerate() {
+        if layout.single {
+            #[allow(
+                clippy::cast_possible_truncation,
+                reason = "single precision output is asked for; the range was checked"
+            )]
+            for c in p.to_array() {
+                put!(buffer, c as f32);
+            }
+        } else {
+            for c in p.to_array() {
+                put!(buffer, c);
+            }
+        }
+        for (_, values) in &attributes.scalars {
+            put!(buffer, values.get(i).copied().unwrap_or_default());
+        }
+        if let Some(colors) = &attributes.colors {
+            buffer.extend_from_slice(&colors.get(i).copied().unwrap_or_default());
+        }
+        if buffer.len() >= CHUNK {
+            out.write_all(&buffer)
+                .map_err(IoError::io("write the file"))?;
+            buffer.clear();
+        }
+    }
+    for indices in mesh.faces.iter() {
+        if layout.wide_count {
+            put!(buffer, u32::try_from(indices.len()).unwrap_or(u32::MAX));
+        } else {
+            buffer.push(u8::try_from(indices.len()).unwrap_or(u8::MAX));
+        }
+        if layout.signed {
+            for &i in indices {
+                put!(buffer, i32::try_from(i).unwrap_or(i32::MAX));
+            }
+        } else {
+            for &i in indices {
+                put!(buffer, i);
+            }
+        }
+        if buffer.len() >= CHUNK {
+            out.write_all(&buffer)
+                .map_err(IoError::io("write the file"))?;
+            buffer.clear();
+        }
+    }
+    out.write_all(&buffer)
+        .map_err(IoError::io("write the file"))
+}
+
+/// Writes the ascii records through `ply-rs-bw` (its number formatting).
+fn write_ascii(
+    out: &mut impl Write,
+    mesh: &MeshData,
+    attributes: &VertexAttributes,
+    vertex_def: &ElementDef,
+    face_def: &ElementDef,
+) -> Result<(), IoError> {
     let writer = Writer::<VertexOut>::new();
     let mut vertex = VertexOut {
         names: attributes.scalars.iter().map(|(n, _)| n.clone()).collect(),
@@ -61,16 +190,13 @@ pub(crate) fn write_ply_to<W: Write>(
         if let Some(colors) = &attributes.colors {
             vertex.color = colors.get(i).copied().unwrap_or_default();
         }
-        write_element(&writer, &mut out, &vertex, &vertex_def, options.encoding)?;
+        write_element(&writer, out, &vertex, vertex_def, Encoding::Ascii)?;
     }
 
     let writer = Writer::<FaceOut>::new();
     let mut face = FaceOut::default();
     let signed = matches!(
-        face_def
-            .properties
-            .get("vertex_indices")
-            .map(|p| &p.data_type),
+        index_list_type(face_def),
         Some(PropertyType::List(_, ScalarType::Int))
     );
     for indices in mesh.faces.iter() {
@@ -85,9 +211,9 @@ pub(crate) fn write_ply_to<W: Write>(
             face.unsigned.clear();
             face.unsigned.extend_from_slice(indices);
         }
-        write_element(&writer, &mut out, &face, &face_def, options.encoding)?;
+        write_element(&writer, out, &face, face_def, Encoding::Ascii)?;
     }
-    out.flush().map_err(IoError::io("write the file"))
+    Ok(())
 }
 
 fn write_element<E: PropertyAccess, W: Write>(
@@ -235,4 +361,98 @@ fn check_name(name: &str) -> Result<(), IoError> {
         return refuse("the name is used for positions or colours");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beltrami_halfedge::PolygonList;
+    use glam::DVec3;
+
+    /// The file as `ply-rs-bw` writes it, record by record.
+    fn reference(
+        mesh: &MeshData,
+        attributes: &VertexAttributes,
+        options: &WriteOptions,
+    ) -> Vec<u8> {
+        let single = options.precision == Precision::Single;
+        let (vertex_def, face_def) = element_defs(mesh, attributes, single);
+        let mut header = Header::new();
+        header.encoding = match options.encoding {
+            Encoding::Ascii => PlyEncoding::Ascii,
+            Encoding::BinaryLittleEndian => PlyEncoding::BinaryLittleEndian,
+            Encoding::BinaryBigEndian => PlyEncoding::BinaryBigEndian,
+        };
+        header.elements.add(vertex_def.clone());
+        header.elements.add(face_def.clone());
+        let mut out = Vec::new();
+        Writer::<VertexOut>::new()
+            .write_header(&mut out, &header)
+            .unwrap();
+        let writer = Writer::<VertexOut>::new();
+        let mut vertex = VertexOut {
+            names: attributes.scalars.iter().map(|(n, _)| n.clone()).collect(),
+            scalars: vec![0.0; attributes.scalars.len()],
+            ..VertexOut::default()
+        };
+        for (i, p) in mesh.positions.iter().enumerate() {
+            vertex.position = p.to_array();
+            for (slot, (_, values)) in vertex.scalars.iter_mut().zip(&attributes.scalars) {
+                *slot = values[i];
+            }
+            if let Some(colors) = &attributes.colors {
+                vertex.color = colors[i];
+            }
+            write_element(&writer, &mut out, &vertex, &vertex_def, options.encoding).unwrap();
+        }
+        let writer = Writer::<FaceOut>::new();
+        let mut face = FaceOut::default();
+        for indices in mesh.faces.iter() {
+            face.signed = indices.iter().map(|&i| i32::try_from(i).unwrap()).collect();
+            write_element(&writer, &mut out, &face, &face_def, options.encoding).unwrap();
+        }
+        out
+    }
+
+    #[test]
+    fn binary_records_are_the_bytes_ply_rs_writes() {
+        let mut mesh = MeshData::from(beltrami_halfedge::primitives::icosphere(2));
+        mesh.positions[3] = DVec3::new(-0.0, 1e-310, 1.5e30);
+        // A polygon of 300 vertices makes the list lengths `uint`.
+        let n = mesh.positions.len() as u32;
+        let mut wide = PolygonList::new();
+        for face in mesh.faces.iter() {
+            wide.push(face);
+        }
+        wide.push(&(0..300).map(|i| i % n).collect::<Vec<_>>());
+        let scalars = vec![
+            ("a".to_owned(), (0..n).map(|i| f64::from(i) * 0.1).collect()),
+            ("b".to_owned(), (0..n).map(|i| -f64::from(i)).collect()),
+        ];
+        let colors = Some((0..n).map(|i| [i as u8, 7, 255 - i as u8]).collect());
+        let attribute_sets = [
+            VertexAttributes::default(),
+            VertexAttributes { scalars, colors },
+        ];
+        let mut wide_mesh = mesh.clone();
+        wide_mesh.faces = wide;
+        for mesh in [&mesh, &wide_mesh] {
+            for attributes in &attribute_sets {
+                for encoding in [Encoding::BinaryLittleEndian, Encoding::BinaryBigEndian] {
+                    for precision in [Precision::Double, Precision::Single] {
+                        let options = WriteOptions {
+                            encoding,
+                            precision,
+                        };
+                        let mut ours = Vec::new();
+                        write_ply_to(&mut ours, mesh, attributes, &options).unwrap();
+                        assert!(
+                            ours == reference(mesh, attributes, &options),
+                            "{encoding:?} {precision:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 }
