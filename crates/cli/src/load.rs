@@ -17,6 +17,10 @@ pub(crate) struct LoadedMesh {
     /// The faces as read (before any repair), to write results with the input's faces.
     pub(crate) faces: PolygonList,
     pub(crate) report: BuildReport,
+    /// Wall time of reading and decoding the file, in seconds.
+    pub(crate) parse_seconds: f64,
+    /// Wall time of building and validating the half-edge connectivity, in seconds.
+    pub(crate) build_seconds: f64,
 }
 
 /// Reads `path` and builds its half-edge connectivity, applying every repair when
@@ -37,8 +41,11 @@ pub(crate) fn load_checked(
         source,
     };
     let format = MeshFormat::from_path(path).map_err(io)?;
+    let t0 = std::time::Instant::now();
     let data = read_mesh(path).map_err(io)?;
+    let parse_seconds = t0.elapsed().as_secs_f64();
     check(&data)?;
+    let t1 = std::time::Instant::now();
     let options = if repair {
         BuildOptions::repair_all()
     } else {
@@ -54,12 +61,15 @@ pub(crate) fn load_checked(
     for split in &report.split_vertices {
         positions.push(positions[split.original.index()]);
     }
+    let build_seconds = t1.elapsed().as_secs_f64();
     Ok(LoadedMesh {
         format,
         mesh,
         positions,
         faces: data.faces,
         report,
+        parse_seconds,
+        build_seconds,
     })
 }
 

@@ -155,6 +155,16 @@ fn report_json_has_parameters_and_per_iteration_stats() {
         .map(|s| s["mean_displacement"].as_f64().unwrap())
         .collect();
     assert!(moves.windows(2).all(|w| w[1] < w[0]), "{moves:?}");
+    // Reading is split into decoding the file and building the connectivity.
+    let t = |k: &str| {
+        j["seconds"][k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("seconds.{k}"))
+    };
+    for k in ["read", "parse", "build", "weights", "updates", "write"] {
+        assert!(t(k) >= 0.0 && t(k).is_finite(), "seconds.{k} = {}", t(k));
+    }
+    assert!(t("parse") + t("build") <= t("read"), "{}", j["seconds"]);
     // OBJ output keeps the vertex count.
     assert_eq!(read_mesh(&output).unwrap().positions.len(), 642);
 }
