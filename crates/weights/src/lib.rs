@@ -27,6 +27,7 @@ mod cotangent;
 mod error;
 mod inverse_distance;
 mod kernels;
+mod lanes;
 mod laplacian;
 mod openmesh;
 mod registry;

@@ -238,3 +238,76 @@ fn updates_reuse_the_operator() {
         }
     }
 }
+
+/// The batched kernels work two triangles (or two row slots) at a time: meshes whose
+/// triangle counts and valences leave every tail length, and batches that mix ordinary,
+/// degenerate, obtuse and out-of-range (geometry fallback) triangles.
+#[test]
+fn kernels_match_on_mixed_lanes_and_tails() {
+    let mut rng = Rng(29);
+    let mut cases: Vec<(String, HalfedgeMesh, Vec<DVec3>)> = Vec::new();
+    // Fans of 1 to 7 triangles around vertex 0 (odd and even triangle counts, rows of
+    // every length), open and closed.
+    for n in 1..=7u32 {
+        for closed in [false, true] {
+            let faces: Vec<[u32; 3]> = (1..=n)
+                .filter(|&k| closed || k < n)
+                .map(|k| [0, k, k % n + 1])
+                .collect();
+            if faces.is_empty() || (closed && n < 3) {
+                continue;
+            }
+            let mesh = HalfedgeMesh::from_polygons(n as usize + 1, &faces).unwrap();
+            let x: Vec<DVec3> = (0..=n)
+                .map(|k| {
+                    let a = f64::from(k) * 0.9;
+                    let r = if k == 0 {
+                        0.0
+                    } else {
+                        1.0 + 0.3 * rng.next_f64()
+                    };
+                    DVec3::new(r * a.cos(), r * a.sin(), 0.2 * rng.next_f64())
+                })
+                .collect();
+            cases.push((format!("fan {n} {closed}"), mesh, x));
+        }
+    }
+    let g = primitives::grid(9, 7);
+    let mesh = g.mesh().unwrap();
+    let x: Vec<DVec3> = g
+        .positions
+        .iter()
+        .map(|&p| p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.2 * rng.next_f64()) * 0.4)
+        .collect();
+    // Every other vertex collapsed onto its right-hand neighbour: degenerate and
+    // ordinary triangles side by side.
+    let mut y = x.clone();
+    for k in (0..y.len() - 1).step_by(2) {
+        y[k] = y[k + 1];
+    }
+    cases.push(("alternating degenerate".into(), mesh.clone(), y));
+    // Nearly flat triangles on both sides of the degeneracy threshold.
+    let mut y = x.clone();
+    for (k, p) in y.iter_mut().enumerate() {
+        p.z = 0.0;
+        if k % 3 == 0 {
+            p.y *= 1e-12;
+        }
+    }
+    cases.push(("nearly flat".into(), mesh.clone(), y));
+    // Part of the mesh far outside the plain range: plain and fallback triangles in
+    // one batch.
+    for s in [1e-250, 1e250] {
+        let y: Vec<DVec3> = x
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| if k % 5 == 2 { p * s } else { p })
+            .collect();
+        cases.push((format!("partly scaled {s:e}"), mesh.clone(), y));
+    }
+    for (label, mesh, x) in &cases {
+        for options in all_options() {
+            assert_same(mesh, x, options, &format!("{label} {options:?}"));
+        }
+    }
+}
