@@ -155,9 +155,6 @@ fn cot_lanes(dot: Lanes, cross: Lanes, keep: Lanes) -> Lanes {
 ///
 /// # Panics
 /// If `out.len() != 3 * triangles.len()` or a vertex id is out of bounds.
-// Not yet called by `laplacian.rs` (its owners switch with
-// `docs/perf-kernels-laplacian.patch`); remove the `allow` then.
-#[allow(dead_code)]
 pub(crate) fn triangle_cotangents<FB>(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
@@ -230,9 +227,6 @@ pub(crate) fn triangle_cotangents<FB>(
 /// # Panics
 /// If `out` is shorter than `neighbours` or a neighbour is out of bounds.
 #[inline]
-// Not yet called by `laplacian.rs` (its owners switch with
-// `docs/perf-kernels-laplacian.patch`); remove the `allow` then.
-#[allow(dead_code)]
 pub(crate) fn inverse_distances<A>(
     xi: DVec3,
     positions: &[DVec3],

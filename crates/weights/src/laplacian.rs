@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::error::WeightError;
 use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
-use crate::{DISTANCE_EPSILON, PAR_CHUNK, kernels};
+use crate::{PAR_CHUNK, kernels};
 
 /// How a row of weights is normalised.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -229,20 +229,12 @@ impl CotangentPlan {
             .zip(self.triangles.par_chunks(FACE_CHUNK))
             .zip(self.face_ids.par_chunks(FACE_CHUNK))
             .for_each(|((out, tris), ids)| {
-                for ((out, &[a, b, c]), &f) in out.chunks_exact_mut(3).zip(tris).zip(ids) {
-                    let (pa, pb, pc) = (
-                        positions[a as usize],
-                        positions[b as usize],
-                        positions[c as usize],
-                    );
-                    let cots = kernels::face_cotangents(pa, pb, pc).unwrap_or_else(|| {
-                        let t = geometry
-                            .face_opposite_cotangents(FaceId::new(f))
-                            .expect("a triangle");
-                        [t[0].1, t[1].1, t[2].1]
-                    });
-                    out.copy_from_slice(&cots);
-                }
+                kernels::triangle_cotangents(positions, tris, out, |k| {
+                    let t = geometry
+                        .face_opposite_cotangents(FaceId::new(ids[k]))
+                        .expect("a triangle");
+                    [t[0].1, t[1].1, t[2].1]
+                });
             });
     }
 }
@@ -467,13 +459,10 @@ impl Laplacian {
             Some(WeightKernel::InverseDistance) => {
                 let neighbours = &self.neighbours;
                 Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
-                    let xi = positions[i];
-                    for (w, &j) in w.iter_mut().zip(&neighbours[s..]) {
-                        let xj = positions[j as usize];
-                        let d = kernels::plain_distance(xi, xj)
-                            .unwrap_or_else(|| beltrami_halfedge::geometry::distance(xi, xj));
-                        *w = negative.apply(1.0 / (d + DISTANCE_EPSILON));
-                    }
+                    let nb = &neighbours[s..s + w.len()];
+                    kernels::inverse_distances(positions[i], positions, nb, w, |w| {
+                        negative.apply(w)
+                    });
                 }))
             }
             Some(WeightKernel::Cotangent) => {
