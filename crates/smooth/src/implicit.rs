@@ -15,9 +15,10 @@ mod system;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, LaplacianOptions, Normalization, WeightError, WeightScheme};
+use rayon::prelude::*;
 
 use crate::config::{Boundary, WeightUpdate};
 use crate::error::SmoothError;
@@ -299,6 +300,8 @@ pub struct ImplicitSmoother<'a> {
     solver: SolverState,
     positions: Vec<DVec3>,
     next: Vec<DVec3>,
+    /// Vertex areas (area normalisation), reused across assemblies.
+    areas: Vec<f64>,
     iteration: usize,
     weights_fresh: bool,
     assembly_error: Option<u32>,
@@ -406,6 +409,7 @@ impl<'a> ImplicitSmoother<'a> {
             },
             positions: positions.to_vec(),
             next: vec![DVec3::ZERO; positions.len()],
+            areas: Vec::new(),
             iteration: 0,
             weights_fresh: true,
             assembly_error: None,
@@ -440,17 +444,31 @@ impl<'a> ImplicitSmoother<'a> {
     /// the next step.
     fn assemble(&mut self) -> Result<(), SmoothError> {
         let areas = match self.config.laplacian.normalization {
-            Normalization::Area(kind) => Some(
-                Geometry::new(self.mesh, &self.positions)
-                    .and_then(|g| g.vertex_areas(kind))
-                    .map_err(WeightError::from)?,
-            ),
+            Normalization::Area(kind) => {
+                let geometry =
+                    Geometry::new(self.mesh, &self.positions).map_err(WeightError::from)?;
+                if kind == VertexAreaKind::MixedVoronoi && !self.mesh.is_triangle_mesh() {
+                    // The error (the operator's update reports it first).
+                    geometry.vertex_areas(kind).map_err(WeightError::from)?;
+                }
+                // Vertex by vertex as `Geometry::vertex_areas`, in parallel.
+                self.areas.resize(self.positions.len(), 0.0);
+                self.areas
+                    .par_chunks_mut(CHUNK)
+                    .enumerate()
+                    .for_each(|(c, areas)| {
+                        for (k, a) in areas.iter_mut().enumerate() {
+                            *a = geometry.vertex_area(VertexId::new((c * CHUNK + k) as u32), kind);
+                        }
+                    });
+                Some(self.areas.as_slice())
+            }
             // Weight sum: the mass is the weight sum.
             _ => None,
         };
         self.assembly_error = self
             .system
-            .assemble(&self.laplacian, areas.as_ref().map(|a| a.as_slice()))
+            .assemble(&self.laplacian, areas)
             .err()
             .map(|e| e.vertex);
         if let SolverState::Cholesky(direct) = &mut self.solver {
@@ -540,7 +558,7 @@ impl<'a> ImplicitSmoother<'a> {
                     self.solve_time += start.elapsed();
                     return Err(SmoothError::NotConverged {
                         iteration,
-                        iterations: outcome.iterations,
+                        iterations: outcome.longest,
                         residual: outcome.residual,
                         tolerance: *tolerance,
                     });

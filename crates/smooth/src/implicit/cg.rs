@@ -1,4 +1,16 @@
-//! Jacobi-preconditioned conjugate gradient on [`System`], one coordinate at a time.
+//! Jacobi-preconditioned conjugate gradient on [`System`] for the three coordinates at
+//! once: three independent iterations (each with its own step lengths and stopping
+//! test) run in lockstep, so that every pass over the matrix serves all three.
+//!
+//! One iteration is three parallel passes over fixed chunks of [`CHUNK`] rows:
+//!
+//! 1. `q = A p` and the partial sums of `pᵀ q`;
+//! 2. `x += α p`, `r −= α q`, `z = r / diag(A)` (not stored) and the partial sums of
+//!    `rᵀ r` and `rᵀ z`;
+//! 3. `p = z + β p`.
+//!
+//! Partial sums are formed row by row inside a chunk and added in chunk order, so the
+//! bits do not depend on the number of threads.
 
 use beltrami_halfedge::DVec3;
 use rayon::prelude::*;
@@ -9,42 +21,70 @@ use super::system::System;
 /// The outcome of one solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct CgOutcome {
-    /// Iterations done.
+    /// Iterations done, summed over the three coordinates.
     pub(super) iterations: usize,
-    /// The relative residual reached, `‖b − A x‖₂ / ‖b‖₂` (0 for `b = 0`).
+    /// The most iterations any one coordinate did (the limit when one did not
+    /// converge).
+    pub(super) longest: usize,
+    /// The relative residual reached, `‖b − A x‖₂ / ‖b‖₂` (0 for `b = 0`), worst
+    /// coordinate.
     pub(super) residual: f64,
     /// Whether a search direction had non-positive curvature `pᵀ A p ≤ 0` (the matrix
     /// is not positive definite).
     pub(super) indefinite: bool,
 }
 
-/// Scratch vectors, one coordinate long each.
+/// Scratch vectors, one [`DVec3`] per vertex each.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Cg {
-    b: Vec<f64>,
-    x: Vec<f64>,
-    r: Vec<f64>,
-    z: Vec<f64>,
-    p: Vec<f64>,
-    q: Vec<f64>,
+    b: Vec<DVec3>,
+    r: Vec<DVec3>,
+    p: Vec<DVec3>,
+    q: Vec<DVec3>,
 }
 
-/// `Σ a_i b_i` in fixed chunks, partial sums added in chunk order: the same bits on
-/// any number of threads.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let partials: Vec<f64> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK))
-        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>())
-        .collect();
-    partials.iter().sum()
+/// Adds per-chunk partial sums in chunk order.
+fn total<const K: usize>(partials: &[[DVec3; K]]) -> [DVec3; K] {
+    let mut sum = [DVec3::ZERO; K];
+    for part in partials {
+        for (s, p) in sum.iter_mut().zip(part) {
+            *s += *p;
+        }
+    }
+    sum
+}
+
+/// `(A x)_i` for row `i`.
+#[inline]
+fn row_product(system: &System, x: &[DVec3], i: usize) -> DVec3 {
+    let (start, end) = (system.offsets[i], system.offsets[i + 1]);
+    let mut s = x[i] * system.diagonal[i];
+    for (&a, &j) in system.off_diagonal[start..end]
+        .iter()
+        .zip(&system.neighbours[start..end])
+    {
+        s += x[j as usize] * a;
+    }
+    s
+}
+
+/// Per component: `a` where `mask` is set, else `b`.
+#[inline]
+fn select(mask: [bool; 3], a: DVec3, b: DVec3) -> DVec3 {
+    DVec3::new(
+        if mask[0] { a.x } else { b.x },
+        if mask[1] { a.y } else { b.y },
+        if mask[2] { a.z } else { b.z },
+    )
 }
 
 impl Cg {
     /// Solves `A x = b` for the three coordinates, starting from `initial`; `rhs` holds
-    /// `b` on entry and `x` on return. Iterations are summed over the coordinates, the
-    /// residual is the worst one; stops at the first coordinate that meets
-    /// non-positive curvature or misses the tolerance.
+    /// `b` on entry and `x` on return. Each coordinate stops when `‖b − A x‖₂ ≤
+    /// tolerance ‖b‖₂` (its iterate then stays fixed) or after `max_iterations`
+    /// iterations; the whole solve stops at the first direction of non-positive
+    /// curvature. The residual returned is recomputed from `A x`, not the recursively
+    /// updated one.
     pub(super) fn solve_coordinates(
         &mut self,
         system: &System,
@@ -54,114 +94,162 @@ impl Cg {
         max_iterations: usize,
     ) -> CgOutcome {
         let n = rhs.len();
-        let mut b = std::mem::take(&mut self.b);
-        let mut x = std::mem::take(&mut self.x);
-        b.resize(n, 0.0);
-        x.resize(n, 0.0);
-        let mut total = CgOutcome {
-            iterations: 0,
-            residual: 0.0,
-            indefinite: false,
-        };
-        for c in 0..3 {
-            for ((bi, xi), (r, p)) in b.iter_mut().zip(x.iter_mut()).zip(rhs.iter().zip(initial)) {
-                *bi = r[c];
-                *xi = p[c];
-            }
-            let outcome = self.solve(system, &b, &mut x, tolerance, max_iterations);
-            total.iterations += outcome.iterations;
-            // The worst coordinate (a NaN, should one occur, wins).
-            if outcome.residual.is_nan() || outcome.residual > total.residual {
-                total.residual = outcome.residual;
-            }
-            total.indefinite = outcome.indefinite;
-            for (xi, out) in x.iter().zip(rhs.iter_mut()) {
-                out[c] = *xi;
-            }
-            if outcome.indefinite || outcome.residual.is_nan() || outcome.residual > tolerance {
-                break;
-            }
+        for v in [&mut self.b, &mut self.r, &mut self.p, &mut self.q] {
+            v.resize(n, DVec3::ZERO);
         }
-        self.b = b;
-        self.x = x;
-        total
-    }
-
-    /// Solves `A x = b` from the initial guess in `x`, until `‖r‖ ≤ tolerance ‖b‖` or
-    /// `max_iterations` iterations.
-    pub(super) fn solve(
-        &mut self,
-        system: &System,
-        b: &[f64],
-        x: &mut [f64],
-        tolerance: f64,
-        max_iterations: usize,
-    ) -> CgOutcome {
-        let n = b.len();
-        for v in [&mut self.r, &mut self.z, &mut self.p, &mut self.q] {
-            v.resize(n, 0.0);
-        }
-        let Self { r, z, p, q, .. } = self;
+        let Self { b, r, p, q } = self;
         let d = &system.diagonal;
-        system.multiply(x, q);
-        r.par_iter_mut()
-            .zip(b.par_iter().zip(q.par_iter()))
-            .for_each(|(r, (b, q))| *r = b - q);
-        let b_norm = dot(b, b).sqrt();
-        let relative = |r: &[f64]| {
-            let norm = dot(r, r).sqrt();
-            if b_norm > 0.0 { norm / b_norm } else { norm }
-        };
-        let mut residual = relative(r);
-        let mut outcome = CgOutcome {
-            iterations: 0,
-            residual,
-            indefinite: false,
-        };
-        if residual <= tolerance {
-            return outcome;
-        }
-        z.par_iter_mut()
-            .zip(r.par_iter().zip(d.par_iter()))
-            .for_each(|(z, (r, d))| *z = r / d);
-        p.copy_from_slice(z);
-        let mut rz = dot(r, z);
-        while outcome.iterations < max_iterations {
-            system.multiply(p, q);
-            let curvature = dot(p, q);
-            if curvature.is_nan() || curvature <= 0.0 {
-                outcome.indefinite = true;
-                return outcome;
+
+        // b ← rhs, x ← initial, r = b − A x, p = z = r / d; Σ b², Σ r², Σ r z.
+        let partials: Vec<[DVec3; 3]> = rhs
+            .par_chunks_mut(CHUNK)
+            .zip(b.par_chunks_mut(CHUNK))
+            .zip(r.par_chunks_mut(CHUNK))
+            .zip(p.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (((x, b), r), p))| {
+                let first = c * CHUNK;
+                let mut sums = [DVec3::ZERO; 3];
+                for k in 0..x.len() {
+                    let i = first + k;
+                    b[k] = x[k];
+                    x[k] = initial[i];
+                    r[k] = b[k] - row_product(system, initial, i);
+                    p[k] = r[k] / d[i];
+                    sums[0] += b[k] * b[k];
+                    sums[1] += r[k] * r[k];
+                    sums[2] += r[k] * p[k];
+                }
+                sums
+            })
+            .collect();
+        let [bb, rr, mut rz] = total(&partials);
+        let b_norm = bb.to_array().map(f64::sqrt);
+        let relative = |rr: DVec3| -> [f64; 3] {
+            let mut out = [0.0; 3];
+            for c in 0..3 {
+                let norm = rr[c].sqrt();
+                out[c] = if b_norm[c] > 0.0 {
+                    norm / b_norm[c]
+                } else {
+                    norm
+                };
             }
-            let alpha = rz / curvature;
-            x.par_iter_mut()
-                .zip(p.par_iter())
-                .for_each(|(x, p)| *x += alpha * p);
-            r.par_iter_mut()
-                .zip(q.par_iter())
-                .for_each(|(r, q)| *r -= alpha * q);
-            outcome.iterations += 1;
-            residual = relative(r);
-            outcome.residual = residual;
-            if residual <= tolerance {
+            out
+        };
+        let mut residual = relative(rr);
+        // A coordinate is active while it has not met the tolerance.
+        let mut active = residual.map(|r| r.is_nan() || r > tolerance);
+        let mut iterations = 0;
+        let mut longest = 0;
+        let mut indefinite = false;
+        let x = &mut *rhs;
+        while active.iter().any(|&a| a) && longest < max_iterations {
+            // q = A p; Σ p q.
+            let partials: Vec<[DVec3; 1]> = q
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .map(|(c, q)| {
+                    let first = c * CHUNK;
+                    let mut pq = DVec3::ZERO;
+                    for (k, qk) in q.iter_mut().enumerate() {
+                        let i = first + k;
+                        *qk = row_product(system, p, i);
+                        pq += p[i] * *qk;
+                    }
+                    [pq]
+                })
+                .collect();
+            let [curvature] = total(&partials);
+            let mut alpha = DVec3::ZERO;
+            for c in 0..3 {
+                if active[c] {
+                    if curvature[c].is_nan() || curvature[c] <= 0.0 {
+                        indefinite = true;
+                    }
+                    alpha[c] = rz[c] / curvature[c];
+                }
+            }
+            if indefinite {
                 break;
             }
-            z.par_iter_mut()
-                .zip(r.par_iter().zip(d.par_iter()))
-                .for_each(|(z, (r, d))| *z = r / d);
-            let rz_next = dot(r, z);
-            let beta = rz_next / rz;
-            rz = rz_next;
-            p.par_iter_mut()
-                .zip(z.par_iter())
-                .for_each(|(p, z)| *p = z + beta * *p);
+            // x += α p, r −= α q, z = r / d; Σ r², Σ r z.
+            let partials: Vec<[DVec3; 2]> = x
+                .par_chunks_mut(CHUNK)
+                .zip(r.par_chunks_mut(CHUNK))
+                .enumerate()
+                .map(|(c, (x, r))| {
+                    let first = c * CHUNK;
+                    let mut sums = [DVec3::ZERO; 2];
+                    for k in 0..x.len() {
+                        let i = first + k;
+                        x[k] = select(active, x[k] + alpha * p[i], x[k]);
+                        r[k] = select(active, r[k] - alpha * q[i], r[k]);
+                        let z = r[k] / d[i];
+                        sums[0] += r[k] * r[k];
+                        sums[1] += r[k] * z;
+                    }
+                    sums
+                })
+                .collect();
+            let [rr, rz_next] = total(&partials);
+            iterations += active.iter().filter(|&&a| a).count();
+            longest += 1;
+            let now = relative(rr);
+            let mut beta = DVec3::ZERO;
+            let mut update = [false; 3];
+            for c in 0..3 {
+                if active[c] {
+                    residual[c] = now[c];
+                    if residual[c] <= tolerance {
+                        active[c] = false;
+                    } else {
+                        beta[c] = rz_next[c] / rz[c];
+                        rz[c] = rz_next[c];
+                        update[c] = true;
+                    }
+                }
+            }
+            if update.iter().any(|&u| u) {
+                // p = z + β p.
+                p.par_chunks_mut(CHUNK)
+                    .zip(r.par_chunks(CHUNK))
+                    .enumerate()
+                    .for_each(|(c, (p, r))| {
+                        let first = c * CHUNK;
+                        for k in 0..p.len() {
+                            let z = r[k] / d[first + k];
+                            p[k] = select(update, z + beta * p[k], p[k]);
+                        }
+                    });
+            }
         }
-        // The true residual, not the recursively updated one.
-        system.multiply(x, q);
-        r.par_iter_mut()
-            .zip(b.par_iter().zip(q.par_iter()))
-            .for_each(|(r, (b, q))| *r = b - q);
-        outcome.residual = relative(r);
-        outcome
+        // The true residual, not the recursively updated one: Σ (b − A x)².
+        let x = &*x;
+        let partials: Vec<[DVec3; 1]> = b
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, b)| {
+                let first = c * CHUNK;
+                let mut sum = DVec3::ZERO;
+                for (k, bk) in b.iter().enumerate() {
+                    let e = *bk - row_product(system, x, first + k);
+                    sum += e * e;
+                }
+                [sum]
+            })
+            .collect();
+        let [rr] = total(&partials);
+        let residual = relative(rr);
+        // The worst coordinate (a NaN, should one occur, wins).
+        let worst = residual
+            .into_iter()
+            .fold(0.0, |w: f64, r| if r.is_nan() || r > w { r } else { w });
+        CgOutcome {
+            iterations,
+            longest,
+            residual: worst,
+            indefinite,
+        }
     }
 }

@@ -46,6 +46,20 @@ pub(super) struct NonFiniteEntry {
     pub(super) vertex: u32,
 }
 
+/// Splits `data` (one entry per slot) into the slots of consecutive chunks of
+/// [`CHUNK`] rows: `(first row, slots)` per chunk.
+fn row_chunks<'a, T>(offsets: &[usize], mut data: &'a mut [T]) -> Vec<(usize, &'a mut [T])> {
+    let n = offsets.len() - 1;
+    let mut out = Vec::with_capacity(n.div_ceil(CHUNK));
+    for first in (0..n).step_by(CHUNK) {
+        let last = (first + CHUNK).min(n);
+        let (head, rest) = std::mem::take(&mut data).split_at_mut(offsets[last] - offsets[first]);
+        out.push((first, head));
+        data = rest;
+    }
+    out
+}
+
 impl System {
     /// The layout of `laplacian` (assembled on `mesh`) with `fixed` vertices as
     /// permanent Dirichlet rows.
@@ -57,36 +71,53 @@ impl System {
     ) -> Self {
         let n = laplacian.n_rows();
         let mut offsets = Vec::with_capacity(n + 1);
-        let mut neighbours = Vec::with_capacity(mesh.n_halfedges());
-        let mut slot_of_halfedge = vec![u32::MAX; mesh.n_halfedges()];
         offsets.push(0);
+        let mut total = 0;
         for i in 0..n {
-            let v = VertexId::new(i as u32);
-            for (&h, (j, _)) in laplacian.row_halfedges(v).iter().zip(laplacian.row(v)) {
-                slot_of_halfedge[h as usize] = neighbours.len() as u32;
-                neighbours.push(j.raw());
-            }
-            offsets.push(neighbours.len());
+            total += laplacian.row_halfedges(VertexId::new(i as u32)).len();
+            offsets.push(total);
         }
-        // Every halfedge lies in the row of the vertex it leaves, so every twin has a
-        // slot.
-        let twins = (0..n)
-            .flat_map(|i| laplacian.row_halfedges(VertexId::new(i as u32)))
-            .map(|&h| slot_of_halfedge[(h ^ 1) as usize])
-            .collect();
-        let slots = neighbours.len();
+        let mut neighbours = vec![0u32; total];
+        let mut twins = vec![0u32; total];
+        row_chunks(&offsets, &mut neighbours)
+            .into_par_iter()
+            .zip(row_chunks(&offsets, &mut twins))
+            .for_each(|((first, nb), (_, tw))| {
+                let base = offsets[first];
+                let last = (first + CHUNK).min(n);
+                for i in first..last {
+                    let v = VertexId::new(i as u32);
+                    let slots = offsets[i] - base..offsets[i + 1] - base;
+                    for ((&h, (j, _)), (nb, tw)) in laplacian
+                        .row_halfedges(v)
+                        .iter()
+                        .zip(laplacian.row(v))
+                        .zip(nb[slots.clone()].iter_mut().zip(&mut tw[slots]))
+                    {
+                        *nb = j.raw();
+                        // The twin `j → i` leaves `j`, so it lies in row `j`.
+                        let k = laplacian
+                            .row_halfedges(j)
+                            .iter()
+                            .position(|&g| g == h ^ 1)
+                            .expect("every halfedge lies in the row of the vertex it leaves");
+                        *tw = (offsets[j.index()] + k) as u32;
+                    }
+                }
+            });
+        debug_assert!(total <= mesh.n_halfedges());
         Self {
             offsets,
             neighbours,
             twins,
             fixed,
             time_step,
-            raw: vec![0.0; slots],
-            weights: vec![0.0; slots],
+            raw: vec![0.0; total],
+            weights: vec![0.0; total],
             mass: vec![0.0; n],
             free: vec![false; n],
             diagonal: vec![1.0; n],
-            off_diagonal: vec![0.0; slots],
+            off_diagonal: vec![0.0; total],
             stuck: 0,
         }
     }
@@ -104,61 +135,102 @@ impl System {
     /// *stuck*, counted in [`stuck`](Self::stuck)) when the explicit operator could not
     /// move it either ([`Laplacian::scale`] is `None`), or when its symmetrised weights
     /// do not sum to a positive finite value, or its mass is not positive and finite.
+    ///
+    /// Three parallel passes over fixed chunks of rows (the weights of each row, then
+    /// the symmetrised weights, mass and diagonal, then the off-diagonal entries); the
+    /// first non-finite entry in row order is the error, whatever the thread count.
     pub(super) fn assemble(
         &mut self,
         laplacian: &Laplacian,
         areas: Option<&[f64]>,
     ) -> Result<(), NonFiniteEntry> {
         let n = self.n();
-        let raw = &mut self.raw;
-        for i in 0..n {
-            let v = VertexId::new(i as u32);
-            for (slot, (_, w)) in raw[self.offsets[i]..self.offsets[i + 1]]
-                .iter_mut()
-                .zip(laplacian.row(v))
-            {
-                *slot = w;
-            }
-        }
-        // ½ w + ½ w is w exactly, so symmetric schemes keep their bits.
-        let raw = &self.raw;
-        for ((w, &twin), &r) in self.weights.iter_mut().zip(&self.twins).zip(raw) {
-            *w = 0.5 * r + 0.5 * raw[twin as usize];
-        }
-        let t = self.time_step;
-        self.stuck = 0;
-        for i in 0..n {
-            let row = &self.weights[self.offsets[i]..self.offsets[i + 1]];
-            let sum: f64 = row.iter().sum();
-            let mass = areas.map_or(sum, |a| a[i]);
-            self.mass[i] = mass;
-            let movable = laplacian.scale(VertexId::new(i as u32)).is_some()
-                && sum.is_finite()
-                && sum > 0.0
-                && mass.is_finite()
-                && mass > 0.0;
-            self.free[i] = !self.fixed[i] && movable;
-            self.stuck += usize::from(!self.fixed[i] && !movable);
-            self.diagonal[i] = if self.free[i] { mass + t * sum } else { 1.0 };
-            if !self.diagonal[i].is_finite() {
-                return Err(NonFiniteEntry { vertex: i as u32 });
-            }
-        }
-        for i in 0..n {
-            for k in self.offsets[i]..self.offsets[i + 1] {
-                let j = self.neighbours[k] as usize;
-                let a = if self.free[i] && self.free[j] {
-                    -t * self.weights[k]
-                } else {
-                    0.0
-                };
-                if !a.is_finite() {
-                    return Err(NonFiniteEntry { vertex: i as u32 });
+        let offsets = &self.offsets;
+        row_chunks(offsets, &mut self.raw)
+            .into_par_iter()
+            .for_each(|(first, raw)| {
+                let base = offsets[first];
+                for i in first..(first + CHUNK).min(n) {
+                    let slots = offsets[i] - base..offsets[i + 1] - base;
+                    for (slot, (_, w)) in raw[slots]
+                        .iter_mut()
+                        .zip(laplacian.row(VertexId::new(i as u32)))
+                    {
+                        *slot = w;
+                    }
                 }
-                self.off_diagonal[k] = a;
-            }
+            });
+        let t = self.time_step;
+        let (raw, twins, fixed) = (&self.raw, &self.twins, &self.fixed);
+        let rows = self
+            .mass
+            .par_chunks_mut(CHUNK)
+            .zip(self.free.par_chunks_mut(CHUNK))
+            .zip(self.diagonal.par_chunks_mut(CHUNK));
+        let tallies: Vec<(usize, Option<u32>)> = row_chunks(offsets, &mut self.weights)
+            .into_par_iter()
+            .zip(rows)
+            .map(|((first, weights), ((mass, free), diagonal))| {
+                let base = offsets[first];
+                let mut stuck = 0;
+                let mut bad = None;
+                for k in 0..mass.len() {
+                    let i = first + k;
+                    let slots = offsets[i]..offsets[i + 1];
+                    let row = &mut weights[slots.start - base..slots.end - base];
+                    // ½ w + ½ w is w exactly, so symmetric schemes keep their bits.
+                    for (w, s) in row.iter_mut().zip(slots) {
+                        *w = 0.5 * raw[s] + 0.5 * raw[twins[s] as usize];
+                    }
+                    let sum: f64 = row.iter().sum();
+                    let m = areas.map_or(sum, |a| a[i]);
+                    mass[k] = m;
+                    let movable = laplacian.scale(VertexId::new(i as u32)).is_some()
+                        && sum.is_finite()
+                        && sum > 0.0
+                        && m.is_finite()
+                        && m > 0.0;
+                    free[k] = !fixed[i] && movable;
+                    stuck += usize::from(!fixed[i] && !movable);
+                    diagonal[k] = if free[k] { m + t * sum } else { 1.0 };
+                    if !diagonal[k].is_finite() && bad.is_none() {
+                        bad = Some(i as u32);
+                    }
+                }
+                (stuck, bad)
+            })
+            .collect();
+        self.stuck = tallies.iter().map(|&(s, _)| s).sum();
+        let diagonal_bad = tallies.iter().find_map(|&(_, b)| b);
+        let (neighbours, weights, free) = (&self.neighbours, &self.weights, &self.free);
+        let off_bad: Vec<Option<u32>> = row_chunks(offsets, &mut self.off_diagonal)
+            .into_par_iter()
+            .map(|(first, off)| {
+                let base = offsets[first];
+                let mut bad = None;
+                for i in first..(first + CHUNK).min(n) {
+                    for s in offsets[i]..offsets[i + 1] {
+                        let j = neighbours[s] as usize;
+                        let a = if free[i] && free[j] {
+                            -t * weights[s]
+                        } else {
+                            0.0
+                        };
+                        if !a.is_finite() && bad.is_none() {
+                            bad = Some(i as u32);
+                        }
+                        off[s - base] = a;
+                    }
+                }
+                bad
+            })
+            .collect();
+        // The first bad row, as a sequential pass would find it: a diagonal is checked
+        // before the off-diagonal entries of any row.
+        match diagonal_bad.or_else(|| off_bad.into_iter().flatten().next()) {
+            Some(vertex) => Err(NonFiniteEntry { vertex }),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     /// The right-hand side `b` of the current assembly for positions `x`: `M_ii x_i`
@@ -182,22 +254,6 @@ impl System {
                 } else {
                     x[i]
                 };
-            }
-        });
-    }
-
-    /// `y = A x` for one coordinate, row by row (so the bits do not depend on the
-    /// thread count).
-    pub(super) fn multiply(&self, x: &[f64], y: &mut [f64]) {
-        y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
-            let first = c * CHUNK;
-            for (k, yi) in out.iter_mut().enumerate() {
-                let i = first + k;
-                let mut s = self.diagonal[i] * x[i];
-                for slot in self.offsets[i]..self.offsets[i + 1] {
-                    s += self.off_diagonal[slot] * x[self.neighbours[slot] as usize];
-                }
-                *yi = s;
             }
         });
     }
