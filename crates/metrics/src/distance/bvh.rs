@@ -6,124 +6,55 @@
 //! query would be converted from glam, its build is not documented to give the same tree
 //! for every thread count, and its point–triangle projection reports a feature id in its
 //! own numbering, which we would map back to the mesh's edges and vertices for the
-//! pseudo-normal sign. A nearest-point query over a static set of triangles needs little,
-//! and what it needs is here:
+//! pseudo-normal sign. A nearest-point query over a static set of triangles needs little:
 //!
-//! - a linear build (Lauterbach et al. 2009, Karras 2012): the items are sorted along a
-//!   Morton curve of their box centres on a grid of cubic cells over the centres' bounding
-//!   box, and each range of the sorted items is split where the highest bit of the codes
-//!   changes (at the middle when all codes of the range are equal). The tree is a function
-//!   of the input alone (ties by item index), whatever the thread count. The only
-//!   O(n log n) step is a parallel sort of 64-bit keys; the ranges above a threshold are
-//!   split first, and the subtrees below it are built in parallel and concatenated;
-//! - nodes that hold the boxes of their *two children* (structure of arrays, 112 bytes),
-//!   so one node load gives both box tests, and a leaf is named in its parent and needs
-//!   no node of its own (one node per leaf, leaves of one to four items);
-//! - an iterative traversal with a caller-provided stack that tests both children,
-//!   visits the nearer first and prunes by the best squared distance so far.
+//! - a median split on the longest axis of the box centres, so the tree is a function of
+//!   the input alone (ties by item index) and its node count a function of the item count,
+//!   which lets subtrees be built in parallel into disjoint parts of one preallocated array;
+//! - nodes flattened in depth-first order, 56 bytes each (one `f64` box, two `u32`), about
+//!   0.7 nodes per triangle with leaves of at most four;
+//! - an iterative traversal with a fixed stack that visits the nearer child first and
+//!   prunes by the best squared distance so far.
 //!
-//! The exact point–triangle distance and the feature classification stay in our hands,
-//! in `f64` throughout.
+//! That is this file (and a Morton order that makes batches of queries coherent); the
+//! exact point–triangle distance and the feature classification stay in our hands, in
+//! `f64` throughout.
 //!
 //! # Layout
 //!
-//! Items (triangles) are permuted into leaf order by [`Bvh::build`]. Node 0 is the root.
-//! Child `c` of a node is a leaf when `count[c] > 0` and then holds items
-//! `child[c] .. child[c] + count[c]` (in leaf order); otherwise it is node `child[c]`.
-//!
-//! # References
-//! - C. Lauterbach, M. Garland, S. Sengupta, D. Luebke, D. Manocha: *Fast BVH
-//!   construction on GPUs*. Computer Graphics Forum 28(2), 2009.
-//! - T. Karras: *Maximizing parallelism in the construction of BVHs, octrees, and k-d
-//!   trees*. High Performance Graphics 2012.
+//! Items (triangles) are permuted into leaf order by [`Bvh::build`]. A node is a leaf when
+//! `count > 0` and then holds items `first .. first + count` (in leaf order); otherwise its
+//! left child is the next node and its right child is node `first`.
 
 use glam::DVec3;
 use rayon::prelude::*;
 
 /// At most this many items in a leaf.
 const LEAF_SIZE: usize = 4;
-/// Ranges with more items than this are split before the parallel part of the build; the
-/// subtrees below are built in parallel, one task each.
-const PARALLEL_MIN: usize = 1 << 14;
+/// Subtrees with at least this many items are built in parallel.
+const PARALLEL_MIN: usize = 1 << 15;
+/// Traversal stack size: a median split halves the item count at each level, so the depth
+/// is at most `ceil(log2(n))` ≤ 32 for `u32` item counts, and at most one node per level is
+/// on the stack.
+const STACK: usize = 64;
 
-/// A node of the flattened hierarchy: the boxes of its two children and what they are.
+/// A node of the flattened hierarchy.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    /// Lower corners: `lo[axis][child]`.
-    lo: [[f64; 2]; 3],
-    /// Upper corners: `hi[axis][child]`.
-    hi: [[f64; 2]; 3],
-    /// Per child: the first item of a leaf, or the index of an interior node.
-    child: [u32; 2],
-    /// Per child: the item count of a leaf (≥ 1), or 0 for an interior node.
-    count: [u32; 2],
+    lo: DVec3,
+    hi: DVec3,
+    /// Leaf: the first item (leaf order). Interior: the index of the right child.
+    first: u32,
+    /// Leaf: the number of items (≥ 1). Interior: 0.
+    count: u32,
 }
 
 impl Node {
-    /// The squared distances from `p` to the two child boxes (0 inside).
+    /// The squared distance from `p` to the box (0 inside).
     #[inline]
-    fn child_distances(&self, p: [f64; 3]) -> [f64; 2] {
-        let mut d2 = [0.0; 2];
-        for ((lo, hi), &x) in self.lo.iter().zip(&self.hi).zip(&p) {
-            for (c, acc) in d2.iter_mut().enumerate() {
-                let d = (lo[c] - x).max(x - hi[c]).max(0.0);
-                *acc += d * d;
-            }
-        }
-        d2
-    }
-
-    /// A node over two children given as (reference, box).
-    fn new(children: [(Child, Aabb); 2]) -> Self {
-        let mut node = Self {
-            lo: [[0.0; 2]; 3],
-            hi: [[0.0; 2]; 3],
-            child: [0; 2],
-            count: [0; 2],
-        };
-        for (c, (child, aabb)) in children.into_iter().enumerate() {
-            for (axis, value) in node.lo.iter_mut().zip(aabb.lo.to_array()) {
-                axis[c] = value;
-            }
-            for (axis, value) in node.hi.iter_mut().zip(aabb.hi.to_array()) {
-                axis[c] = value;
-            }
-            (node.child[c], node.count[c]) = match child {
-                Child::Leaf { first, count } => (first, count),
-                Child::Node(index) => (index, 0),
-            };
-        }
-        node
-    }
-}
-
-/// What a child of a node is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Child {
-    /// Items `first .. first + count` in leaf order.
-    Leaf { first: u32, count: u32 },
-    /// An interior node (its index).
-    Node(u32),
-}
-
-/// An axis-aligned box.
-#[derive(Clone, Copy, Debug)]
-struct Aabb {
-    lo: DVec3,
-    hi: DVec3,
-}
-
-impl Aabb {
-    const EMPTY: Self = Self {
-        lo: DVec3::INFINITY,
-        hi: DVec3::NEG_INFINITY,
-    };
-
-    fn union(self, other: Self) -> Self {
-        Self {
-            lo: self.lo.min(other.lo),
-            hi: self.hi.max(other.hi),
-        }
+    fn distance_squared(&self, p: DVec3) -> f64 {
+        let d = (self.lo - p).max(p - self.hi).max(DVec3::ZERO);
+        d.length_squared()
     }
 }
 
@@ -133,110 +64,53 @@ pub(crate) struct Bvh {
     nodes: Vec<Node>,
 }
 
-/// A traversal stack, reusable between queries (one per thread or per chunk of queries).
-#[derive(Debug, Default)]
-pub(crate) struct Stack(Vec<(u32, f64)>);
-
 impl Bvh {
-    /// Builds the hierarchy over `n` items with boxes `bounds(i) = [lo, hi]` and returns it
-    /// with the leaf order: `order[k]` is the item stored at leaf position `k`.
-    /// Deterministic, independent of the thread count.
+    /// Builds the hierarchy over `boxes` (`[lo, hi]` per item) and returns it with the leaf
+    /// order: `order[k]` is the item stored at leaf position `k`. Object-median split on the
+    /// longest axis of the box centres; deterministic, independent of the thread count.
     ///
     /// # Panics
     /// If there are more than `u32::MAX` items (callers check).
     pub(crate) fn build(n: usize, bounds: impl Fn(usize) -> [DVec3; 2] + Sync) -> (Self, Vec<u32>) {
         let _ = u32::try_from(n).expect("at most u32::MAX items");
-        if n == 0 {
-            return (Self { nodes: Vec::new() }, Vec::new());
-        }
-        // Twice the box centres, and their bounding box.
-        let centres: Vec<DVec3> = (0..n)
+        let mut items: Vec<Item> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let [lo, hi] = bounds(i);
-                lo + hi
+                Item {
+                    centre: lo + hi,
+                    index: i as u32,
+                }
             })
             .collect();
-        let (lo, hi) = centres
-            .par_iter()
-            .fold(
-                || (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                |(lo, hi), &c| (lo.min(c), hi.max(c)),
-            )
-            .reduce(
-                || (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                |(a, b), (c, d)| (a.min(c), b.max(d)),
-            );
-        // Cubic cells: one scale for the three axes, so that splits on the code bits cut
-        // the longest extent first.
-        let extent = (hi - lo).max_element();
-        let scale = if extent > 0.0 {
-            f64::from(MORTON_CELLS) / extent
-        } else {
-            0.0
-        };
-        let mut keys: Vec<(u64, u32)> = centres
-            .par_iter()
-            .enumerate()
-            .map(|(i, &c)| (morton_code((c - lo) * scale), i as u32))
-            .collect();
-        drop(centres);
-        keys.par_sort_unstable();
-        let codes: Vec<u64> = keys.iter().map(|&(code, _)| code).collect();
-        let order: Vec<u32> = keys.into_iter().map(|(_, i)| i).collect();
-
+        if n == 0 {
+            return (Self { nodes: Vec::new() }, Vec::new());
+        }
+        let sizes = SubtreeSizes::new(n);
+        let mut nodes = vec![
+            Node {
+                lo: DVec3::ZERO,
+                hi: DVec3::ZERO,
+                first: 0,
+                count: 0,
+            };
+            sizes.nodes(n)
+        ];
         let build = Build {
-            codes: &codes,
-            order: &order,
+            sizes: &sizes,
             bounds: &bounds,
         };
-        // The top of the tree, split sequentially down to ranges of at most `PARALLEL_MIN`
-        // items (the tasks), whose subtrees are then built in parallel.
-        let mut tasks = Vec::new();
-        let plan = build.plan(0, n, &mut tasks);
-        let subtrees: Vec<(Vec<Node>, Child, Aabb)> = tasks
-            .par_iter()
-            .map(|&(start, end)| {
-                let mut nodes = Vec::new();
-                let (child, aabb) = build.subtree(start, end, &mut nodes);
-                (nodes, child, aabb)
-            })
-            .collect();
-        // Layout: the top nodes in depth-first order, then each task's nodes.
-        let top = plan.nodes();
-        let mut bases = Vec::with_capacity(subtrees.len());
-        let mut total = top;
-        for (nodes, _, _) in &subtrees {
-            bases.push(total);
-            total += nodes.len();
-        }
-        let mut nodes = Vec::with_capacity(total.max(1));
-        let root = plan.emit(&subtrees, &bases, &mut nodes);
-        for ((task_nodes, _, _), &base) in subtrees.iter().zip(&bases) {
-            let shift = base as u32;
-            nodes.extend(task_nodes.iter().map(|node| {
-                let mut node = *node;
-                for (child, &count) in node.child.iter_mut().zip(&node.count) {
-                    if count == 0 {
-                        *child += shift;
-                    }
-                }
-                node
-            }));
-        }
-        if let (Child::Leaf { .. }, aabb) = root {
-            // A single leaf: a root whose two children are that leaf.
-            nodes.push(Node::new([root, (root.0, aabb)]));
-        }
-        debug_assert_eq!(nodes.len(), total.max(1));
-        (Self { nodes }, order)
+        build.subtree(&mut nodes, 0, &mut items, 0);
+        (
+            Self { nodes },
+            items.iter().map(|item| item.index).collect(),
+        )
     }
 
     /// Finds the nearest item to `p`. `bound` is an upper bound of the answer's squared
     /// distance (`f64::INFINITY` when none is known); `visit(k)` is called for every item
-    /// (leaf position `k`) whose leaf box is within the current bound and returns the new
-    /// bound (the caller keeps the best item). Returns the final bound. `stack` is scratch
-    /// space (its content on entry is ignored).
+    /// (leaf position `k`) whose box is within the current bound and returns the new
+    /// bound (the caller keeps the best item). Returns the final bound.
     ///
     /// Boxes at exactly the bound are visited, so a caller can break ties by its own rule.
     #[inline]
@@ -244,43 +118,50 @@ impl Bvh {
         &self,
         p: DVec3,
         mut bound: f64,
-        stack: &mut Stack,
         mut visit: impl FnMut(usize) -> f64,
     ) -> f64 {
-        if self.nodes.is_empty() {
+        let Some(root) = self.nodes.first() else {
+            return bound;
+        };
+        if root.distance_squared(p) > bound {
             return bound;
         }
-        let stack = &mut stack.0;
-        stack.clear();
-        let q = p.to_array();
+        let mut stack = [(0u32, 0.0f64); STACK];
+        let mut top = 0usize;
         let mut index = 0usize;
         loop {
             let node = &self.nodes[index];
-            let d = node.child_distances(q);
-            let order = if d[1] < d[0] { [1, 0] } else { [0, 1] };
             let mut descend = None;
-            for c in order {
-                if d[c] > bound {
-                    continue;
+            if node.count > 0 {
+                let first = node.first as usize;
+                for k in first..first + node.count as usize {
+                    bound = visit(k);
                 }
-                let count = node.count[c] as usize;
-                if count > 0 {
-                    let first = node.child[c] as usize;
-                    for k in first..first + count {
-                        bound = visit(k);
-                    }
-                } else if descend.is_none() {
-                    descend = Some(node.child[c] as usize);
+            } else {
+                let (left, right) = (index + 1, node.first as usize);
+                let dl = self.nodes[left].distance_squared(p);
+                let dr = self.nodes[right].distance_squared(p);
+                let ((near, dn), (far, df)) = if dl <= dr {
+                    ((left, dl), (right, dr))
                 } else {
-                    stack.push((node.child[c], d[c]));
+                    ((right, dr), (left, dl))
+                };
+                if df <= bound {
+                    stack[top] = (far as u32, df);
+                    top += 1;
+                }
+                if dn <= bound {
+                    descend = Some(near);
                 }
             }
             index = match descend {
                 Some(next) => next,
                 None => loop {
-                    let Some((next, d)) = stack.pop() else {
+                    if top == 0 {
                         return bound;
-                    };
+                    }
+                    top -= 1;
+                    let (next, d) = stack[top];
                     if d <= bound {
                         break next as usize;
                     }
@@ -296,107 +177,130 @@ impl Bvh {
     }
 }
 
-/// The top of the tree: split nodes above the parallel tasks.
-enum Plan {
-    Split(Box<Plan>, Box<Plan>),
-    Task(usize),
+/// An item with (twice) its box centre, moved around by the build.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    centre: DVec3,
+    index: u32,
 }
 
-impl Plan {
-    /// The number of split nodes.
-    fn nodes(&self) -> usize {
-        match self {
-            Self::Split(left, right) => 1 + left.nodes() + right.nodes(),
-            Self::Task(_) => 0,
-        }
+/// The number of nodes of the subtree over `n` items. Median splits make it a function of
+/// `n` alone, so the node array is allocated once and subtrees are built in place, in
+/// parallel, into disjoint slices of it.
+struct SubtreeSizes(Vec<(usize, usize)>);
+
+impl SubtreeSizes {
+    /// The sizes of every subtree of a tree over `n` items (at most two item counts per
+    /// level).
+    fn new(n: usize) -> Self {
+        let mut sizes = Self(Vec::new());
+        sizes.fill(n);
+        sizes
     }
 
-    /// Writes the split nodes in depth-first order (task subtrees at `bases`) and returns
-    /// this part's reference and box.
-    fn emit(
-        &self,
-        subtrees: &[(Vec<Node>, Child, Aabb)],
-        bases: &[usize],
-        nodes: &mut Vec<Node>,
-    ) -> (Child, Aabb) {
-        match self {
-            Self::Task(t) => {
-                let (_, child, aabb) = &subtrees[*t];
-                let child = match *child {
-                    Child::Node(local) => Child::Node(local + bases[*t] as u32),
-                    leaf => leaf,
-                };
-                (child, *aabb)
-            }
-            Self::Split(left, right) => {
-                let index = nodes.len();
-                nodes.push(Node::new([(Child::Node(0), Aabb::EMPTY); 2]));
-                let l = left.emit(subtrees, bases, nodes);
-                let r = right.emit(subtrees, bases, nodes);
-                nodes[index] = Node::new([l, r]);
-                (Child::Node(index as u32), l.1.union(r.1))
-            }
+    fn fill(&mut self, n: usize) -> usize {
+        if let Some(&(_, count)) = self.0.iter().find(|&&(m, _)| m == n) {
+            return count;
         }
+        let count = if n <= LEAF_SIZE {
+            1
+        } else {
+            1 + self.fill(n / 2) + self.fill(n - n / 2)
+        };
+        self.0.push((n, count));
+        count
+    }
+
+    /// The node count of a subtree over `n` items (`n` a subtree size of the tree).
+    fn nodes(&self, n: usize) -> usize {
+        self.0
+            .iter()
+            .find(|&&(m, _)| m == n)
+            .map_or(0, |&(_, count)| count)
     }
 }
 
-/// What a build reads: the sorted Morton codes, the items in that order, their boxes.
+/// What a build needs besides the items: the subtree sizes and the item boxes.
 struct Build<'a, F> {
-    codes: &'a [u64],
-    order: &'a [u32],
+    sizes: &'a SubtreeSizes,
     bounds: &'a F,
 }
 
 impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
-    /// Where the sorted range `start .. end` (more than one item) splits: at the first code
-    /// with the highest differing bit set, or in the middle when all codes are equal.
-    fn split(&self, start: usize, end: usize) -> usize {
-        let (first, last) = (self.codes[start], self.codes[end - 1]);
-        if first == last {
-            return start + (end - start) / 2;
-        }
-        let bit = 63 - (first ^ last).leading_zeros();
-        start + self.codes[start..end].partition_point(|&code| code >> bit & 1 == 0)
-    }
-
-    /// Splits `start .. end` sequentially down to ranges of at most [`PARALLEL_MIN`] items,
-    /// appended to `tasks` in depth-first order.
-    fn plan(&self, start: usize, end: usize, tasks: &mut Vec<(usize, usize)>) -> Plan {
-        if end - start <= PARALLEL_MIN {
-            tasks.push((start, end));
-            return Plan::Task(tasks.len() - 1);
-        }
-        let mid = self.split(start, end);
-        let left = self.plan(start, mid, tasks);
-        let right = self.plan(mid, end, tasks);
-        Plan::Split(Box::new(left), Box::new(right))
-    }
-
-    /// Builds the subtree over the sorted range `start .. end` (at least one item),
-    /// appending its interior nodes to `nodes` in depth-first order with indices local to
-    /// `nodes`, and returns its reference and box.
-    fn subtree(&self, start: usize, end: usize, nodes: &mut Vec<Node>) -> (Child, Aabb) {
-        if end - start <= LEAF_SIZE {
-            let aabb = self.order[start..end]
-                .iter()
-                .fold(Aabb::EMPTY, |aabb, &item| {
-                    let [lo, hi] = (self.bounds)(item as usize);
-                    aabb.union(Aabb { lo, hi })
-                });
-            let leaf = Child::Leaf {
-                first: start as u32,
-                count: (end - start) as u32,
+    /// Builds the subtree over `items` (at leaf positions `offset ..`) into `nodes`, whose
+    /// first node has the global index `base`, and returns its bounds. Node boxes are
+    /// unions of their children's, computed on the way back up; large subtrees build their
+    /// halves in parallel.
+    fn subtree(&self, nodes: &mut [Node], base: usize, items: &mut [Item], offset: u32) -> Node {
+        if items.len() <= LEAF_SIZE {
+            let (lo, hi) =
+                items
+                    .iter()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
+                        let [a, b] = (self.bounds)(item.index as usize);
+                        (lo.min(a), hi.max(b))
+                    });
+            nodes[0] = Node {
+                lo,
+                hi,
+                first: offset,
+                count: items.len() as u32,
             };
-            return (leaf, aabb);
+            return nodes[0];
         }
-        let mid = self.split(start, end);
-        let index = nodes.len();
-        nodes.push(Node::new([(Child::Node(0), Aabb::EMPTY); 2]));
-        let left = self.subtree(start, mid, nodes);
-        let right = self.subtree(mid, end, nodes);
-        nodes[index] = Node::new([left, right]);
-        (Child::Node(index as u32), left.1.union(right.1))
+        split(items);
+        let mid = items.len() / 2;
+        let left_nodes = self.sizes.nodes(mid);
+        let (root, rest) = nodes.split_at_mut(1);
+        let (left, right) = rest.split_at_mut(left_nodes);
+        let right_base = base + 1 + left_nodes;
+        let parallel = items.len() >= PARALLEL_MIN;
+        let (left_items, right_items) = items.split_at_mut(mid);
+        let right_offset = offset + mid as u32;
+        let (l, r) = if parallel {
+            rayon::join(
+                || self.subtree(left, base + 1, left_items, offset),
+                || self.subtree(right, right_base, right_items, right_offset),
+            )
+        } else {
+            (
+                self.subtree(left, base + 1, left_items, offset),
+                self.subtree(right, right_base, right_items, right_offset),
+            )
+        };
+        root[0] = Node {
+            lo: l.lo.min(r.lo),
+            hi: l.hi.max(r.hi),
+            first: right_base as u32,
+            count: 0,
+        };
+        root[0]
     }
+}
+
+/// Reorders `items` so that the first half has the smaller centres along the longest axis
+/// of the centres' extent (ties by item index, so the split is a deterministic function of
+/// the input).
+fn split(items: &mut [Item]) {
+    let (clo, chi) = items
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
+            (lo.min(item.centre), hi.max(item.centre))
+        });
+    let extent = chi - clo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |x, y| {
+        x.centre[axis]
+            .total_cmp(&y.centre[axis])
+            .then(x.index.cmp(&y.index))
+    });
 }
 
 /// Cells per axis of the Morton grid (21 bits).
@@ -466,7 +370,7 @@ mod tests {
             DVec3::new(5.0, 5.0, 5.0),
         ] {
             let mut best = (f64::INFINITY, usize::MAX);
-            bvh.nearest(q, f64::INFINITY, &mut Stack::default(), |k| {
+            bvh.nearest(q, f64::INFINITY, |k| {
                 let i = order[k] as usize;
                 let d = (points[i] - q).length_squared();
                 if d < best.0 || (d == best.0 && i < best.1) {
@@ -483,66 +387,9 @@ mod tests {
     }
 
     #[test]
-    fn many_items_and_equal_codes_match_a_scan() {
-        // More items than one build task, a third of them at one point (equal Morton
-        // codes, split in the middle), the rest in a thin slab.
-        let mut state = 0x1234_5678_u64;
-        let points: Vec<DVec3> = (0..60_000u32)
-            .map(|i| {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                let r = |shift: u32| ((state >> shift) & 0xFFFF) as f64 / 65535.0;
-                if i % 3 == 0 {
-                    DVec3::splat(0.25)
-                } else {
-                    DVec3::new(r(16), r(32), r(48) * 1e-3)
-                }
-            })
-            .collect();
-        let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
-        let mut sorted = order.clone();
-        sorted.sort_unstable();
-        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
-        let mut stack = Stack::default();
-        for q in [
-            DVec3::new(0.25, 0.25, 0.25),
-            DVec3::new(0.5, 0.5, 0.0),
-            DVec3::new(0.1, 0.9, 0.01),
-            DVec3::new(-3.0, 2.0, 7.0),
-        ] {
-            let mut best = f64::INFINITY;
-            bvh.nearest(q, f64::INFINITY, &mut stack, |k| {
-                best = best.min((points[order[k] as usize] - q).length_squared());
-                best
-            });
-            let scan = points
-                .iter()
-                .map(|p| (p - q).length_squared())
-                .fold(f64::INFINITY, f64::min);
-            assert_eq!(best, scan);
-        }
-    }
-
-    #[test]
-    fn a_single_leaf_is_found() {
-        let points = [DVec3::X, DVec3::Y];
-        let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
-        let mut best = f64::INFINITY;
-        bvh.nearest(DVec3::ZERO, f64::INFINITY, &mut Stack::default(), |k| {
-            best = best.min(points[order[k] as usize].length_squared());
-            best
-        });
-        assert_eq!(best, 1.0);
-    }
-
-    #[test]
     fn an_empty_hierarchy_finds_nothing() {
         let (bvh, order) = Bvh::build(0, |_| [DVec3::ZERO; 2]);
         assert!(order.is_empty());
-        assert_eq!(
-            bvh.nearest(DVec3::ZERO, 1.0, &mut Stack::default(), |_| 0.0),
-            1.0
-        );
+        assert_eq!(bvh.nearest(DVec3::ZERO, 1.0, |_| 0.0), 1.0);
     }
 }

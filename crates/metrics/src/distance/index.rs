@@ -7,7 +7,7 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, EdgeId, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, Stack, morton_order};
+use super::bvh::{Bvh, morton_order};
 use super::sampling::SplitMix64;
 use super::triangle::{TriangleFeature, TrianglePoint, closest_point_on_triangle};
 use crate::MetricsError;
@@ -57,11 +57,10 @@ impl ClosestPoint {
 }
 
 /// What consecutive queries pass on: the previous answer's leaf position (its distance
-/// bounds the next search) and the traversal stack.
+/// bounds the next search).
 #[derive(Debug, Default)]
 struct Hint {
     leaf: Option<usize>,
-    stack: Stack,
 }
 
 /// Angle-weighted pseudo-normals (not normalised; only their direction is used).
@@ -409,19 +408,18 @@ impl SurfaceIndex {
             best_k = k;
             best_face = self.leaf_faces[k];
         }
-        self.bvh
-            .nearest(p, best.distance_squared, &mut hint.stack, |k| {
-                let candidate = closest_point_on_triangle(p, self.triangles[k]);
-                let face = self.leaf_faces[k];
-                if candidate.distance_squared < best.distance_squared
-                    || (candidate.distance_squared == best.distance_squared && face < best_face)
-                {
-                    best = candidate;
-                    best_k = k;
-                    best_face = face;
-                }
-                best.distance_squared
-            });
+        self.bvh.nearest(p, best.distance_squared, |k| {
+            let candidate = closest_point_on_triangle(p, self.triangles[k]);
+            let face = self.leaf_faces[k];
+            if candidate.distance_squared < best.distance_squared
+                || (candidate.distance_squared == best.distance_squared && face < best_face)
+            {
+                best = candidate;
+                best_k = k;
+                best_face = face;
+            }
+            best.distance_squared
+        });
         if best_k == usize::MAX {
             // Unreachable for validated input (every distance is finite, so the search
             // finds a triangle); kept so that no input can index out of range.
