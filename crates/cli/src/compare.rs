@@ -7,14 +7,15 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, TopologyError};
 use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, write_ply};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
-    DistanceStats, HausdorffSampling, SignedDistanceStats, SurfaceIndex, check_same_topology,
-    displacement_stats, hausdorff, surface_area, volume,
+    DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
+    check_same_topology, displacement_stats, one_sided_hausdorff, surface_area, volume,
 };
 use beltrami_metrics::normals::normal_deviation;
 use beltrami_viz::render::ColorMap;
@@ -82,6 +83,26 @@ struct Comparison {
     area: Areas,
     /// The `--scalars` output, or null.
     scalars: Option<Scalars>,
+    /// Wall-clock seconds of each phase (JSON only).
+    seconds: Seconds,
+}
+
+/// Wall-clock seconds spent in each phase of `compare`, so that the closest-point work
+/// can be compared with other tools like for like. Not reproducible (timings).
+#[derive(Debug, Serialize)]
+struct Seconds {
+    /// Reading both files and building their half-edge meshes.
+    read: f64,
+    /// Building both closest-point indexes (hierarchies and pseudo-normals).
+    index_build: f64,
+    /// The closest-point queries: MESH's vertices against REFERENCE (signed, also giving
+    /// the unsigned distances and the mesh → reference Hausdorff distance), then
+    /// REFERENCE's vertices (and surface samples) against MESH.
+    queries: f64,
+    /// Everything else: statistics, areas, volumes, normals, displacement, `--scalars`.
+    other: f64,
+    /// The whole command, from the start to just before printing.
+    total: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -144,25 +165,19 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         check_ply_path("--scalars", path)?;
         crate::output::check_not_input(path, &[&args.mesh, &args.reference], args.force)?;
     }
+    let start = Instant::now();
     let mesh = load_input(&args.mesh, Some("compare"))?;
     let reference = load_input(&args.reference, Some("compare"))?;
+    let read = start.elapsed().as_secs_f64();
     let on_mesh = metrics_error(&args.mesh);
     let on_reference = metrics_error(&args.reference);
 
+    let clock = Instant::now();
     let reference_index =
         SurfaceIndex::new(&reference.mesh, &reference.positions).map_err(&on_reference)?;
+    reference_index.prepare_signed();
     let mesh_index = SurfaceIndex::new(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?;
-
-    // One closest-point query per vertex gives both the signed and the unsigned distance.
-    let signed = reference_index
-        .signed_distances(&mesh.positions)
-        .map_err(&on_mesh)?;
-    let unsigned: Vec<f64> = signed.iter().map(|s| s.abs()).collect();
-    let areas = Geometry::new(&mesh.mesh, &mesh.positions)
-        .and_then(|g| g.vertex_areas(VertexAreaKind::Barycentric))
-        .map_err(|e| on_mesh(e.into()))?;
-    let stats = DistanceStats::new(&unsigned, areas.as_slice()).map_err(&on_mesh)?;
-    let signed_stats = SignedDistanceStats::new(&signed).map_err(&on_mesh)?;
+    let index_build = clock.elapsed().as_secs_f64();
 
     let samples = args.samples.unwrap_or(0);
     let sampling = match usize::try_from(samples) {
@@ -173,7 +188,41 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         },
         Err(_) => return Err(CliError::Usage(format!("--samples {samples} is too large"))),
     };
-    let h = hausdorff(&mesh_index, &reference_index, sampling).map_err(&on_mesh)?;
+    let clock = Instant::now();
+    // One closest-point query per vertex gives the signed and the unsigned distance, and
+    // the vertex part of the mesh → reference Hausdorff distance (the vertices on a face).
+    let signed = reference_index
+        .signed_distances(&mesh.positions)
+        .map_err(&on_mesh)?;
+    let on_surface = mesh
+        .mesh
+        .vertices()
+        .zip(&signed)
+        .filter(|&(v, _)| !mesh.mesh.is_isolated(v))
+        .fold(0.0f64, |m, (_, s)| m.max(s.abs()));
+    let forward = match sampling {
+        HausdorffSampling::Vertices => on_surface,
+        HausdorffSampling::VerticesAndSurface { samples, seed } => {
+            let points = mesh_index.sample_surface(samples, seed);
+            let far = reference_index
+                .distances(&points)
+                .map_err(&on_mesh)?
+                .into_iter()
+                .fold(0.0f64, f64::max);
+            on_surface.max(far)
+        }
+    };
+    let backward =
+        one_sided_hausdorff(&reference_index, &mesh_index, sampling).map_err(&on_mesh)?;
+    let h = HausdorffDistance::from_one_sided(forward, backward);
+    let queries = clock.elapsed().as_secs_f64();
+
+    let unsigned: Vec<f64> = signed.iter().map(|s| s.abs()).collect();
+    let areas = Geometry::new(&mesh.mesh, &mesh.positions)
+        .and_then(|g| g.vertex_areas(VertexAreaKind::Barycentric))
+        .map_err(|e| on_mesh(e.into()))?;
+    let stats = DistanceStats::new(&unsigned, areas.as_slice()).map_err(&on_mesh)?;
+    let signed_stats = SignedDistanceStats::new(&signed).map_err(&on_mesh)?;
 
     let pair = pair_subject(&args.mesh, &args.reference);
     let on_pair = |source| CliError::Metrics {
@@ -231,7 +280,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         None => None,
     };
 
-    let comparison = Comparison {
+    let mut comparison = Comparison {
         mesh: summary(&args.mesh, &mesh),
         reference: summary(&args.reference, &reference),
         rms: stats.rms,
@@ -271,7 +320,16 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             }),
         area,
         scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
+        seconds: Seconds {
+            read,
+            index_build,
+            queries,
+            other: 0.0,
+            total: 0.0,
+        },
     };
+    comparison.seconds.total = start.elapsed().as_secs_f64();
+    comparison.seconds.other = (comparison.seconds.total - read - index_build - queries).max(0.0);
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &comparison).map_err(std::io::Error::from)?;
         writeln!(out)?;

@@ -486,6 +486,51 @@ proptest! {
 }
 
 #[test]
+fn a_reference_split_into_parallel_build_tasks_matches_brute_force() {
+    // 81 920 triangles: the hierarchy's top is split into several subtrees built in
+    // parallel; the answers must not depend on that, nor on the thread count.
+    let sphere = primitives::icosphere(6);
+    let (_, index) = build(&sphere);
+    let triangles: Vec<[DVec3; 3]> = sphere
+        .faces
+        .iter()
+        .map(|f| [f[0], f[1], f[2]].map(|v| sphere.positions[v as usize]))
+        .collect();
+    let mut rng = Rng(77);
+    // Near the surface (the case of a noisy scan) and anywhere in a box around it.
+    let points: Vec<DVec3> = (0..400)
+        .map(|i| {
+            if i % 2 == 0 {
+                rng.point(1.0).normalize_or(DVec3::X) * rng.uniform(0.98, 1.02)
+            } else {
+                rng.point(1.5)
+            }
+        })
+        .collect();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| index.closest_points(&points).unwrap())
+    };
+    let batch = run(1);
+    assert_eq!(batch, run(2));
+    for (p, c) in points.iter().zip(&batch) {
+        let brute = triangles
+            .iter()
+            .map(|&t| brute_triangle_distance2(*p, t))
+            .fold(f64::INFINITY, f64::min)
+            .sqrt();
+        assert!(
+            (c.distance() - brute).abs() <= 1e-12 * brute.max(1.0),
+            "{p}: {} vs {brute}",
+            c.distance()
+        );
+    }
+}
+
+#[test]
 fn batch_results_do_not_depend_on_the_thread_count() {
     let sphere = primitives::icosphere(4);
     let (_, index) = build(&sphere);

@@ -33,6 +33,20 @@ pub struct HausdorffDistance {
     pub symmetric: f64,
 }
 
+impl HausdorffDistance {
+    /// The symmetric distance of two one-sided ones (`symmetric` is their maximum), for a
+    /// caller that computed them separately (e.g. `forward` from distances it already
+    /// has, `backward` with [`one_sided_hausdorff`]).
+    #[must_use]
+    pub fn from_one_sided(forward: f64, backward: f64) -> Self {
+        Self {
+            forward,
+            backward,
+            symmetric: forward.max(backward),
+        }
+    }
+}
+
 /// The Hausdorff distance between the surfaces of two indexes, sampled as `sampling` says.
 ///
 /// Each one-sided distance is the largest distance from a sample point of one surface to
@@ -71,17 +85,20 @@ pub fn hausdorff(
     b: &SurfaceIndex,
     sampling: HausdorffSampling,
 ) -> Result<HausdorffDistance, MetricsError> {
-    let forward = one_sided(a, b, sampling)?;
-    let backward = one_sided(b, a, sampling)?;
-    Ok(HausdorffDistance {
-        forward,
-        backward,
-        symmetric: forward.max(backward),
-    })
+    let forward = one_sided_hausdorff(a, b, sampling)?;
+    let backward = one_sided_hausdorff(b, a, sampling)?;
+    Ok(HausdorffDistance::from_one_sided(forward, backward))
 }
 
-/// `max over sampled points of from` of their distance to `to`.
-fn one_sided(
+/// The one-sided Hausdorff distance from the surface of `from` to that of `to`, in the
+/// positions' unit: the largest distance from a sample point of `from` (its vertices on a
+/// face, plus surface samples as `sampling` says) to the closest point of `to`. A lower
+/// bound of the true one-sided distance (see [`hausdorff`]); `0` or more.
+///
+/// # Errors
+/// None in practice (both indexes hold validated surfaces); the `Result` carries the
+/// query errors of [`SurfaceIndex::distances`].
+pub fn one_sided_hausdorff(
     from: &SurfaceIndex,
     to: &SurfaceIndex,
     sampling: HausdorffSampling,

@@ -56,6 +56,13 @@ impl ClosestPoint {
     }
 }
 
+/// What consecutive queries pass on: the previous answer's leaf position (its distance
+/// bounds the next search).
+#[derive(Debug, Default)]
+struct Hint {
+    leaf: Option<usize>,
+}
+
 /// Angle-weighted pseudo-normals (not normalised; only their direction is used).
 #[derive(Debug)]
 struct PseudoNormals {
@@ -144,20 +151,23 @@ impl SurfaceIndex {
                 .into());
             }
         }
-        let mut face_vertices = Vec::with_capacity(mesh.n_faces());
-        let mut face_edges = Vec::with_capacity(mesh.n_faces());
-        for f in mesh.faces() {
-            // h0 ends at corner 0, h1 runs 0 → 1, h2 runs 1 → 2, so h0 runs 2 → 0.
-            let h0 = mesh.face_halfedge(f);
-            let h1 = mesh.next(h0);
-            let h2 = mesh.next(h1);
-            face_vertices.push([
-                mesh.to_vertex(h0).raw(),
-                mesh.to_vertex(h1).raw(),
-                mesh.to_vertex(h2).raw(),
-            ]);
-            face_edges.push([h1.edge().raw(), h2.edge().raw(), h0.edge().raw()]);
-        }
+        let (face_vertices, face_edges): (Vec<[u32; 3]>, Vec<[u32; 3]>) = (0..mesh.n_faces())
+            .into_par_iter()
+            .map(|f| {
+                // h0 ends at corner 0, h1 runs 0 → 1, h2 runs 1 → 2, so h0 runs 2 → 0.
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                (
+                    [
+                        mesh.to_vertex(h0).raw(),
+                        mesh.to_vertex(h1).raw(),
+                        mesh.to_vertex(h2).raw(),
+                    ],
+                    [h1.edge().raw(), h2.edge().raw(), h0.edge().raw()],
+                )
+            })
+            .unzip();
         let corners = |vs: &[u32; 3]| vs.map(|v| positions[v as usize]);
         let (bvh, order) = Bvh::build(face_vertices.len(), |f| {
             let [a, b, c] = corners(&face_vertices[f]);
@@ -210,7 +220,7 @@ impl SurfaceIndex {
     /// About O(log F) for a well-shaped surface.
     pub fn closest_point(&self, p: DVec3) -> Result<ClosestPoint, MetricsError> {
         check_points(&[p], "query point")?;
-        Ok(self.query(p, &mut None))
+        Ok(self.query(p, &mut Hint::default()))
     }
 
     /// The signed distance from `p` to the reference surface, in the positions' unit:
@@ -286,6 +296,13 @@ impl SurfaceIndex {
         }))
     }
 
+    /// Computes the pseudo-normals that signed queries need now, rather than on the first
+    /// signed query (so that a caller can time the index build and the queries apart).
+    /// Idempotent and cheap after the first call.
+    pub fn prepare_signed(&self) {
+        self.pseudo_normals();
+    }
+
     /// `count` points distributed uniformly by area over the surface, reproducibly: the
     /// same `count` and `seed` give the same points on every machine and thread count.
     ///
@@ -353,13 +370,13 @@ impl SurfaceIndex {
     fn map_points<T: Send>(
         &self,
         points: &[DVec3],
-        f: impl Fn(DVec3, &mut Option<usize>) -> T + Sync,
+        f: impl Fn(DVec3, &mut Hint) -> T + Sync,
     ) -> Vec<T> {
         let order = morton_order(points);
         let chunks: Vec<Vec<T>> = order
             .par_chunks(CHUNK)
             .map(|chunk| {
-                let mut hint = None;
+                let mut hint = Hint::default();
                 chunk
                     .iter()
                     .map(|&i| f(points[i as usize], &mut hint))
@@ -378,7 +395,7 @@ impl SurfaceIndex {
 
     /// The closest point, starting from the bound given by leaf position `hint`, which is
     /// then set to the answer's leaf position.
-    fn query(&self, p: DVec3, hint: &mut Option<usize>) -> ClosestPoint {
+    fn query(&self, p: DVec3, hint: &mut Hint) -> ClosestPoint {
         let mut best_k = usize::MAX;
         let mut best_face = u32::MAX;
         let mut best = TrianglePoint {
@@ -386,7 +403,7 @@ impl SurfaceIndex {
             distance_squared: f64::INFINITY,
             feature: TriangleFeature::Interior,
         };
-        if let Some(k) = *hint {
+        if let Some(k) = hint.leaf {
             best = closest_point_on_triangle(p, self.triangles[k]);
             best_k = k;
             best_face = self.leaf_faces[k];
@@ -410,7 +427,7 @@ impl SurfaceIndex {
             best_face = self.leaf_faces[0];
             best = closest_point_on_triangle(p, self.triangles[0]);
         }
-        *hint = Some(best_k);
+        hint.leaf = Some(best_k);
         let face = best_face as usize;
         let feature = match best.feature {
             TriangleFeature::Interior => Feature::Face,
@@ -458,6 +475,21 @@ impl SurfaceIndex {
                     unit_normal(a, b, c)
                 })
                 .collect();
+            // The corner angles in parallel, then the sums in face order (the same bits
+            // for any thread count).
+            let angles: Vec<[f64; 3]> = self
+                .face_vertices
+                .par_iter()
+                .map(|vs| {
+                    let corners = vs.map(|v| self.positions[v as usize]);
+                    std::array::from_fn(|k| {
+                        let at = corners[k];
+                        let u = corners[(k + 1) % 3] - at;
+                        let w = corners[(k + 2) % 3] - at;
+                        u.cross(w).length().atan2(u.dot(w))
+                    })
+                })
+                .collect();
             let mut edge = vec![DVec3::ZERO; self.n_edges];
             let mut vertex = vec![DVec3::ZERO; self.positions.len()];
             for (f, (vs, es)) in self.face_vertices.iter().zip(&self.face_edges).enumerate() {
@@ -465,14 +497,9 @@ impl SurfaceIndex {
                 if n == DVec3::ZERO {
                     continue;
                 }
-                let corners = vs.map(|v| self.positions[v as usize]);
                 for k in 0..3 {
                     edge[es[k] as usize] += n;
-                    let at = corners[k];
-                    let u = corners[(k + 1) % 3] - at;
-                    let w = corners[(k + 2) % 3] - at;
-                    let angle = u.cross(w).length().atan2(u.dot(w));
-                    vertex[vs[k] as usize] += n * angle;
+                    vertex[vs[k] as usize] += n * angles[f][k];
                 }
             }
             PseudoNormals { face, edge, vertex }

@@ -53,7 +53,7 @@ pub(crate) mod sum;
 mod triangle;
 
 pub use displacement::{check_same_topology, displacement_stats, displacements};
-pub use hausdorff::{HausdorffDistance, HausdorffSampling, hausdorff};
+pub use hausdorff::{HausdorffDistance, HausdorffSampling, hausdorff, one_sided_hausdorff};
 pub use index::{ClosestPoint, Feature, MAX_COORDINATE, SurfaceIndex};
 pub use measures::{surface_area, volume};
 pub(crate) use stats::vertex_areas;
