@@ -358,7 +358,7 @@ pub fn edge_preservation(
         let out = Smoother::new(mesh, noisy, s, config)
             .map_err(failed)?
             .run(|it| {
-                if flat.rms(it.positions) <= target_flat_rms {
+                if flat.rms(it.positions()) <= target_flat_rms {
                     reached = true;
                     ControlFlow::Break(())
                 } else {

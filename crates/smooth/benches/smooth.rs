@@ -6,7 +6,9 @@
 //! `reorder_icosphere8/SCHEME_POLICY/ORDER/REORDER`: a whole `smooth` call (10
 //! iterations) on the level-8 icosphere in its generated vertex order and in a seeded
 //! shuffled order, with `Reorder::Never` and `Reorder::Always` (renumbering included);
-//! `SCHEME_POLICY_steps/...` times the iterations alone.
+//! `SCHEME_POLICY_steps/...` times the iterations alone (`Smoother::step`, with
+//! statistics), `SCHEME_POLICY_advance/...` the same without statistics
+//! (`Smoother::advance`).
 
 #![allow(missing_docs)]
 
@@ -144,6 +146,25 @@ fn bench_reorder(c: &mut Criterion) {
                             |mut smoother| {
                                 for _ in 0..ITERATIONS {
                                     smoother.step().expect("finite step");
+                                }
+                                smoother
+                            },
+                            BatchSize::LargeInput,
+                        );
+                    },
+                );
+                // The iterations alone without displacement statistics.
+                group.bench_function(
+                    format!("{}_{policy}_advance/{order}/{name}", scheme.name()),
+                    |b| {
+                        b.iter_batched(
+                            || {
+                                Smoother::new(mesh, positions, scheme, config.clone())
+                                    .expect("valid configuration")
+                            },
+                            |mut smoother| {
+                                for _ in 0..ITERATIONS {
+                                    smoother.advance().expect("finite step");
                                 }
                                 smoother
                             },

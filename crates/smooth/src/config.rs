@@ -44,9 +44,11 @@ pub enum WeightUpdate {
 /// the caller's numbering: positions, observer positions, statistics, error indices and
 /// the chosen step are bit-identical to a run without reordering. It costs the
 /// renumbering (O(V + E), sequential; about the time of 5–10 frozen-weight iterations
-/// on a large mesh), one copy of the connectivity, and per iteration a gather of the
-/// displacements (for the mean in the caller's order) and, in
-/// [`run`](crate::Smoother::run), of the positions shown to the observer.
+/// on a large mesh) and one copy of the connectivity. Per iteration it costs nothing
+/// more unless something is asked in the caller's numbering: a gather of the
+/// displacements for the mean of [`StepStats`](crate::StepStats) (with
+/// [`Statistics::EveryIteration`], or when asked), and a gather of the positions when
+/// the observer calls [`IterationView::positions`](crate::IterationView::positions).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Reorder {
@@ -81,6 +83,30 @@ impl Reorder {
             Self::Always => true,
         }
     }
+}
+
+/// Whether [`Smoother::run`](crate::Smoother::run) computes the displacement statistics
+/// ([`StepStats`](crate::StepStats)) of every iteration.
+///
+/// They cost a square root per vertex and, with [`Reorder`], a gather of the
+/// displacements into the caller's order (the mean is summed there, so that its bits do
+/// not depend on the numbering); on a large mesh with cheap weights that is a large part
+/// of an iteration. The positions are the same bits either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Statistics {
+    /// Every iteration's statistics are computed during the sweep and kept in
+    /// [`SmoothReport::steps`](crate::SmoothReport::steps). The default.
+    #[default]
+    EveryIteration,
+    /// Computed only when the observer asks
+    /// ([`IterationView::stats`](crate::IterationView::stats)), from the positions before and
+    /// after the iteration (the same bits as [`EveryIteration`](Self::EveryIteration));
+    /// [`SmoothReport::steps`](crate::SmoothReport::steps) stays empty. With
+    /// [`SmoothConfig::until_change`] each iteration still finds its largest
+    /// displacement (no square root per vertex, no gather). Stuck-vertex counts are
+    /// always kept ([`SmoothReport::max_stuck_vertices`](crate::SmoothReport::max_stuck_vertices)).
+    OnDemand,
 }
 
 /// How each iteration moves the vertices.
@@ -261,6 +287,9 @@ pub struct SmoothConfig {
     /// Whether the vertices are renumbered internally for speed (see [`Reorder`]); the
     /// results are the same bits either way.
     pub reorder: Reorder,
+    /// Whether [`Smoother::run`](crate::Smoother::run) computes every iteration's
+    /// displacement statistics (see [`Statistics`]).
+    pub statistics: Statistics,
 }
 
 impl Default for SmoothConfig {
@@ -287,6 +316,7 @@ impl SmoothConfig {
             duration: None,
             until_change: None,
             reorder: Reorder::default(),
+            statistics: Statistics::default(),
         }
     }
 
@@ -322,6 +352,13 @@ impl SmoothConfig {
     #[must_use]
     pub fn reorder(mut self, reorder: Reorder) -> Self {
         self.reorder = reorder;
+        self
+    }
+
+    /// Sets when displacement statistics are computed (see [`Statistics`]).
+    #[must_use]
+    pub fn statistics(mut self, statistics: Statistics) -> Self {
+        self.statistics = statistics;
         self
     }
 

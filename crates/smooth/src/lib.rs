@@ -14,7 +14,10 @@
 //!
 //! Three layers: [`smooth`] for one call, [`Smoother::step`] to drive iterations
 //! yourself, and [`Smoother::run`] with an observer
-//! `FnMut(&Iteration) -> ControlFlow<()>` (metrics, progress, early stop).
+//! `FnMut(&IterationView) -> ControlFlow<()>` (metrics, progress, early stop). The observer's
+//! positions and statistics are computed when it asks for them, so an observer that only
+//! counts iterations costs nothing; [`Statistics::OnDemand`] also drops the per-iteration
+//! statistics of the report.
 //!
 //! ## Quick start
 //!
@@ -29,7 +32,7 @@
 //! let mut max_moves = Vec::new();
 //! let out = Smoother::new(&mesh, &grid.positions, &InverseDistance, SmoothConfig::new(0.8, 20))?
 //!     .run(|it| {
-//!         max_moves.push(it.stats.max_displacement);
+//!         max_moves.push(it.stats().max_displacement);
 //!         ControlFlow::Continue(())
 //!     })?;
 //! assert_eq!(max_moves.len(), 20);
@@ -43,10 +46,14 @@ mod error;
 mod implicit;
 mod smoother;
 
-pub use config::{Boundary, DiffusionTime, Method, Reorder, SmoothConfig, WeightUpdate};
+pub use config::{
+    Boundary, DiffusionTime, Method, Reorder, SmoothConfig, Statistics, WeightUpdate,
+};
 pub use error::SmoothError;
 pub use implicit::{
     ImplicitConfig, ImplicitReport, ImplicitSmoothed, ImplicitSmoother, ImplicitSolver,
     ImplicitStepStats, smooth_implicit,
 };
-pub use smoother::{Iteration, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth};
+pub use smoother::{
+    Iteration, IterationView, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth,
+};

@@ -1,6 +1,7 @@
 //! The explicit Jacobi smoother: `step()`, `run()` with an observer, and `smooth()`.
 
 use std::borrow::Cow;
+use std::cell::{Cell, OnceCell};
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
@@ -10,7 +11,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, Method, SmoothConfig, WeightUpdate};
+use crate::config::{Boundary, Method, SmoothConfig, Statistics, WeightUpdate};
 use crate::error::SmoothError;
 
 /// Vertices per parallel work unit. Fixed, so that per-chunk partial sums (and hence
@@ -52,7 +53,8 @@ pub struct StepStats {
     pub stuck_vertices: usize,
 }
 
-/// What the observer sees after each iteration.
+/// What the [`ImplicitSmoother`](crate::ImplicitSmoother)'s observer sees after each
+/// step.
 #[derive(Debug)]
 pub struct Iteration<'a> {
     /// The number of iterations done so far (1 after the first).
@@ -61,6 +63,70 @@ pub struct Iteration<'a> {
     pub positions: &'a [DVec3],
     /// This iteration's statistics.
     pub stats: StepStats,
+}
+
+/// What the explicit [`Smoother::run`]'s observer sees after each iteration.
+///
+/// The positions and the statistics are computed when first asked for (then kept for
+/// this iteration): an observer that asks for neither costs nothing, and with
+/// [`Reorder`](crate::Reorder) the positions are gathered into the caller's numbering
+/// only when [`positions`](Self::positions) is called.
+pub struct IterationView<'a> {
+    /// The number of iterations done so far (1 after the first).
+    pub index: usize,
+    /// The positions after the iteration, internal numbering.
+    after: &'a [DVec3],
+    /// The positions before the iteration, internal numbering.
+    before: &'a [DVec3],
+    perm: Option<&'a VertexPermutation>,
+    /// The buffer the positions are restored into (reordering only).
+    spare: Cell<Vec<DVec3>>,
+    restored: OnceCell<Vec<DVec3>>,
+    stats: OnceCell<StepStats>,
+    stuck: usize,
+}
+
+impl std::fmt::Debug for IterationView<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("IterationView")
+            .field("index", &self.index)
+            .field("stats", &self.stats.get())
+            .finish_non_exhaustive()
+    }
+}
+
+impl IterationView<'_> {
+    /// The positions after this iteration, one per vertex in the caller's numbering.
+    /// With reordering the first call gathers them (O(V), in parallel, into a buffer the
+    /// smoother reuses); later calls return the same slice.
+    #[must_use]
+    pub fn positions(&self) -> &[DVec3] {
+        match self.perm {
+            None => self.after,
+            Some(perm) => self.restored.get_or_init(|| {
+                let mut out = self.spare.take();
+                restore_par(perm, self.after, &mut out);
+                out
+            }),
+        }
+    }
+
+    /// This iteration's statistics: computed during the sweep with
+    /// [`Statistics::EveryIteration`], otherwise on the first call (O(V), in parallel,
+    /// from the positions before and after the iteration; the same bits either way).
+    #[must_use]
+    pub fn stats(&self) -> StepStats {
+        *self
+            .stats
+            .get_or_init(|| displacement_stats(self.perm, self.before, self.after, self.stuck))
+    }
+
+    /// The restore buffer, for the next iteration.
+    fn into_buffer(self) -> Vec<DVec3> {
+        self.restored
+            .into_inner()
+            .unwrap_or_else(|| self.spare.into_inner())
+    }
 }
 
 /// Why a run stopped.
@@ -100,7 +166,8 @@ pub struct SmoothReport {
     pub iterations: usize,
     /// Why the run stopped.
     pub stop: StopReason,
-    /// Per-iteration statistics.
+    /// Per-iteration statistics, with [`Statistics::EveryIteration`] (the default); empty
+    /// with [`Statistics::OnDemand`].
     pub steps: Vec<StepStats>,
     /// The largest number of stuck vertices in any iteration.
     pub max_stuck_vertices: usize,
@@ -151,8 +218,13 @@ pub struct Smoother<'a> {
     /// Per-vertex displacements of the last sweep, internal numbering (reordering only;
     /// summed in the caller's order for the mean).
     disp: Vec<f64>,
-    /// The positions in the caller's numbering, shown to the observer (reordering only).
+    /// The buffer for the positions in the caller's numbering (observer, output;
+    /// reordering only).
     view: Vec<DVec3>,
+    /// Per-chunk results of a sweep, reused (no allocation per iteration).
+    partials: Vec<Partial>,
+    /// Per-chunk displacement sums in the caller's order, reused (reordering only).
+    mean_partials: Vec<f64>,
     scheme: &'a dyn WeightScheme,
     config: SmoothConfig,
     laplacian: Laplacian,
@@ -323,6 +395,8 @@ impl<'a> Smoother<'a> {
                 Vec::new()
             },
             perm,
+            partials: Vec::with_capacity(n.div_ceil(CHUNK)),
+            mean_partials: Vec::with_capacity(n.div_ceil(CHUNK)),
             scheme,
             laplacian,
             roles,
@@ -433,10 +507,26 @@ impl<'a> Smoother<'a> {
     /// [`SmoothError::NonFinite`] when a position would become NaN or infinite (the
     /// positions are then left as they were before the step).
     pub fn step(&mut self) -> Result<StepStats, SmoothError> {
+        self.iterate(Want::Full)
+    }
+
+    /// Does one iteration like [`step`](Self::step) but computes no displacement
+    /// statistics (a square root per vertex and, with reordering, a gather): the fast
+    /// way to drive iterations. The positions are the same bits as with `step`.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step).
+    pub fn advance(&mut self) -> Result<(), SmoothError> {
+        self.iterate(Want::Nothing).map(|_| ())
+    }
+
+    /// One iteration, with the statistics `want` asks for (the others are 0; the stuck
+    /// count is always there).
+    fn iterate(&mut self, want: Want) -> Result<StepStats, SmoothError> {
         self.iteration += 1;
         let method = self.config.method;
         if method == Method::Laplacian && !self.config.preserve_volume {
-            return self.sweep(self.config.lambda);
+            return self.sweep(self.config.lambda, want);
         }
         self.start.copy_from_slice(&self.positions);
         let result = self.compound_step(method);
@@ -451,13 +541,13 @@ impl<'a> Smoother<'a> {
     fn compound_step(&mut self, method: Method) -> Result<StepStats, SmoothError> {
         let lambda = self.config.lambda;
         let stuck = match method {
-            Method::Laplacian => self.sweep(lambda)?.stuck_vertices,
+            Method::Laplacian => self.sweep(lambda, Want::Nothing)?.stuck_vertices,
             Method::Taubin { mu } => {
-                let first = self.sweep(lambda)?.stuck_vertices;
-                first.max(self.sweep(mu)?.stuck_vertices)
+                let first = self.sweep(lambda, Want::Nothing)?.stuck_vertices;
+                first.max(self.sweep(mu, Want::Nothing)?.stuck_vertices)
             }
             Method::Hc { alpha, beta } => {
-                let stuck = self.sweep(lambda)?.stuck_vertices;
+                let stuck = self.sweep(lambda, Want::Nothing)?.stuck_vertices;
                 self.hc_correct(alpha, beta);
                 stuck
             }
@@ -599,8 +689,9 @@ impl<'a> Smoother<'a> {
     }
 
     /// One Jacobi sweep `x ← x + step · L x` over the moving vertices, refreshing the
-    /// weights first when they are stale. On error the positions are unchanged.
-    fn sweep(&mut self, lambda: f64) -> Result<StepStats, SmoothError> {
+    /// weights first when they are stale, with the statistics `want` asks for. On error
+    /// the positions are unchanged.
+    fn sweep(&mut self, lambda: f64, want: Want) -> Result<StepStats, SmoothError> {
         if self.weights_stale() {
             let start = Instant::now();
             let refreshed = match self
@@ -625,34 +716,35 @@ impl<'a> Smoother<'a> {
             old: &self.positions,
             lambda,
         };
-        // Each chunk returns (sum of displacements, max displacement, stuck count, first
-        // non-finite vertex).
-        let partials: Vec<(f64, f64, usize, Option<u32>)> = if self.perm.is_some() {
-            self.next
-                .par_chunks_mut(CHUNK)
+        let chunks = self.next.par_chunks_mut(CHUNK).enumerate();
+        match (want, self.perm.is_some()) {
+            (Want::Nothing, _) => chunks
+                .map(|(c, out)| sweep.chunk::<NOTHING, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Max, _) => chunks
+                .map(|(c, out)| sweep.chunk::<MAX, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Full, false) => chunks
+                .map(|(c, out)| sweep.chunk::<FULL, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Full, true) => chunks
                 .zip(self.disp.par_chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, (out, disp))| sweep.chunk::<true>(c * CHUNK, out, disp))
-                .collect()
-        } else {
-            self.next
-                .par_chunks_mut(CHUNK)
-                .enumerate()
-                .map(|(c, out)| sweep.chunk::<false>(c * CHUNK, out, &mut []))
-                .collect()
-        };
+                .map(|((c, out), disp)| sweep.chunk::<FULL, true>(c * CHUNK, out, disp))
+                .collect_into_vec(&mut self.partials),
+        }
         self.update_time += start.elapsed();
 
         let mut stats = StepStats::default();
         let mut sum = 0.0;
-        for (s, m, stuck, bad) in partials {
-            if let Some(vertex) = bad {
+        let mut squared: f64 = 0.0;
+        for p in &self.partials {
+            if let Some(vertex) = p.bad {
                 // The smallest vertex in the caller's numbering, as without reordering.
                 let vertex = match &self.perm {
-                    Some(p) => self
+                    Some(perm) => self
                         .next
                         .par_iter()
-                        .zip(p.new_to_old().par_iter())
+                        .zip(perm.new_to_old().par_iter())
                         .filter(|(x, _)| !x.is_finite())
                         .map(|(_, &old)| old)
                         .min()
@@ -665,16 +757,21 @@ impl<'a> Smoother<'a> {
                     iteration: self.iteration,
                 });
             }
-            sum += s;
-            stats.max_displacement = stats.max_displacement.max(m);
-            stats.stuck_vertices += stuck;
+            sum += p.sum;
+            stats.max_displacement = stats.max_displacement.max(p.max);
+            squared = squared.max(p.max_squared);
+            stats.stuck_vertices += p.stuck;
         }
-        if let Some(perm) = &self.perm {
+        // Every plain displacement is the square root of its squared length, and the
+        // square root is monotonic: the largest of them is the root of the largest square.
+        stats.max_displacement = stats.max_displacement.max(squared.sqrt());
+        if want == Want::Full
+            && let Some(perm) = &self.perm
+        {
             // The same chunks and order as without reordering: the same bits.
             let start = Instant::now();
             let disp = &self.disp;
-            let partials: Vec<f64> = perm
-                .old_to_new()
+            perm.old_to_new()
                 .par_chunks(CHUNK)
                 .map(|ids| {
                     let mut sum = 0.0;
@@ -683,9 +780,9 @@ impl<'a> Smoother<'a> {
                     }
                     sum
                 })
-                .collect();
+                .collect_into_vec(&mut self.mean_partials);
             sum = 0.0;
-            for s in partials {
+            for s in &self.mean_partials {
                 sum += s;
             }
             self.update_time += start.elapsed();
@@ -696,33 +793,65 @@ impl<'a> Smoother<'a> {
         Ok(stats)
     }
 
+    /// The positions before the last iteration (internal numbering): `next` after a
+    /// plain sweep, `start` after a compound step.
+    fn before(&self) -> &[DVec3] {
+        if self.config.method == Method::Laplacian && !self.config.preserve_volume {
+            &self.next
+        } else {
+            &self.start
+        }
+    }
+
     /// Runs the configured number of iterations, calling `observer` after each one; the
     /// observer stops the run early by returning `ControlFlow::Break(())`.
+    ///
+    /// With [`Statistics::EveryIteration`] (the default) every iteration's statistics
+    /// are computed and kept in the report; with [`Statistics::OnDemand`] only when the
+    /// observer calls [`IterationView::stats`] (and the largest displacement when
+    /// [`SmoothConfig::until_change`] needs it).
     ///
     /// # Errors
     /// As [`step`](Self::step).
     pub fn run<F>(mut self, mut observer: F) -> Result<Smoothed, SmoothError>
     where
-        F: FnMut(&Iteration<'_>) -> ControlFlow<()>,
+        F: FnMut(&IterationView<'_>) -> ControlFlow<()>,
     {
-        let mut steps = Vec::with_capacity(self.config.iterations);
+        let every = self.config.statistics == Statistics::EveryIteration;
+        let want = if every {
+            Want::Full
+        } else if self.config.until_change.is_some() {
+            Want::Max
+        } else {
+            Want::Nothing
+        };
+        let mut steps = Vec::with_capacity(if every { self.config.iterations } else { 0 });
+        let mut max_stuck = 0;
         let mut stop = StopReason::Completed;
         while self.iteration < self.config.iterations {
-            let stats = self.step()?;
-            steps.push(stats);
-            let positions = match &self.perm {
-                Some(perm) => {
-                    restore_par(perm, &self.positions, &mut self.view);
-                    &self.view
-                }
-                None => &self.positions,
-            };
-            let it = Iteration {
+            let stats = self.iterate(want)?;
+            if every {
+                steps.push(stats);
+            }
+            max_stuck = max_stuck.max(stats.stuck_vertices);
+            let spare = std::mem::take(&mut self.view);
+            let it = IterationView {
                 index: self.iteration,
-                positions,
-                stats,
+                after: &self.positions,
+                before: self.before(),
+                perm: self.perm.as_ref(),
+                spare: Cell::new(spare),
+                restored: OnceCell::new(),
+                stats: if every {
+                    OnceCell::from(stats)
+                } else {
+                    OnceCell::new()
+                },
+                stuck: stats.stuck_vertices,
             };
-            if observer(&it).is_break() {
+            let flow = observer(&it);
+            self.view = it.into_buffer();
+            if flow.is_break() {
                 stop = StopReason::Observer;
                 break;
             }
@@ -739,7 +868,7 @@ impl<'a> Smoother<'a> {
             scheme: self.scheme.name().to_string(),
             iterations: self.iteration,
             stop,
-            max_stuck_vertices: steps.iter().map(|s| s.stuck_vertices).max().unwrap_or(0),
+            max_stuck_vertices: max_stuck,
             steps,
             weight_time: self.weight_time,
             update_time: self.update_time,
@@ -800,6 +929,37 @@ impl<'a> Smoother<'a> {
     }
 }
 
+/// Which displacement statistics a sweep computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Want {
+    /// None (the stuck count only).
+    Nothing,
+    /// The largest displacement (no square root per vertex, no gather).
+    Max,
+    /// Everything in [`StepStats`].
+    Full,
+}
+
+/// [`SweepInput::chunk`] modes (a `const` parameter, so each is its own loop).
+const NOTHING: u8 = 0;
+const MAX: u8 = 1;
+const FULL: u8 = 2;
+
+/// What one chunk of a sweep found.
+#[derive(Clone, Copy, Debug, Default)]
+struct Partial {
+    /// The sum of the displacements in vertex order (`FULL`).
+    sum: f64,
+    /// The largest displacement (`FULL`), or the largest one outside the plain range
+    /// (`MAX`).
+    max: f64,
+    /// The largest squared length of a displacement in the plain range (`MAX`).
+    max_squared: f64,
+    stuck: usize,
+    /// The first vertex whose new position is not finite.
+    bad: Option<u32>,
+}
+
 /// What a sweep reads.
 struct SweepInput<'s> {
     laplacian: &'s Laplacian,
@@ -810,16 +970,16 @@ struct SweepInput<'s> {
 }
 
 impl SweepInput<'_> {
-    /// Sweeps the rows `first..first + out.len()` into `out`; with `RECORD`, also stores
-    /// each vertex's displacement in `disp`. Returns (sum of displacements, max
-    /// displacement, stuck count, first non-finite vertex).
+    /// Sweeps the rows `first..first + out.len()` into `out`, with the statistics of
+    /// `MODE` (`NOTHING`, `MAX`, `FULL`); with `RECORD` (and `FULL`), also stores each
+    /// vertex's displacement in `disp`.
     #[inline]
-    fn chunk<const RECORD: bool>(
+    fn chunk<const MODE: u8, const RECORD: bool>(
         &self,
         first: usize,
         out: &mut [DVec3],
         disp: &mut [f64],
-    ) -> (f64, f64, usize, Option<u32>) {
+    ) -> Partial {
         let Self {
             laplacian,
             roles,
@@ -829,8 +989,11 @@ impl SweepInput<'_> {
         } = *self;
         let mut sum = 0.0;
         let mut max: f64 = 0.0;
+        let mut max_squared: f64 = 0.0;
         let mut stuck = 0;
-        let mut bad = None;
+        // The sum of the new positions: not finite when one of them is not (or, rarely,
+        // when the sum overflows); the chunk is then scanned.
+        let mut probe = DVec3::ZERO;
         let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
         laplacian.for_each_row(first..first + out.len(), old, |i, xi, l| {
             let new = match roles[i] {
@@ -855,27 +1018,94 @@ impl SweepInput<'_> {
                     }
                 }
             };
-            if !new.is_finite() && bad.is_none() {
-                bad = Some(i as u32);
-            }
-            // `geometry::distance` is the plain length whenever that is at least
-            // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
-            // the rest (zero, tiny, huge, non-finite).
-            let plain = (new - xi).length();
-            let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
-                plain
-            } else {
-                beltrami_halfedge::geometry::distance(xi, new)
-            };
-            sum += d;
-            max = max.max(d);
-            if RECORD {
-                disp[i - first] = d;
+            probe += new;
+            if MODE == FULL {
+                // `geometry::distance` is the plain length whenever that is at least
+                // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
+                // the rest (zero, tiny, huge, non-finite).
+                let plain = (new - xi).length();
+                let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
+                    plain
+                } else {
+                    beltrami_halfedge::geometry::distance(xi, new)
+                };
+                sum += d;
+                max = max.max(d);
+                if RECORD {
+                    disp[i - first] = d;
+                }
+            } else if MODE == MAX {
+                // The plain length is `q.sqrt()`, in [sqrt(MIN_POSITIVE), ∞) exactly
+                // when `q` is in [MIN_POSITIVE, ∞) (both ends are exact squares).
+                let q = (new - xi).length_squared();
+                if (f64::MIN_POSITIVE..f64::INFINITY).contains(&q) {
+                    max_squared = max_squared.max(q);
+                } else {
+                    max = max.max(beltrami_halfedge::geometry::distance(xi, new));
+                }
             }
             out[i - first] = new;
         });
-        (sum, max, stuck, bad)
+        let bad = if probe.is_finite() {
+            None
+        } else {
+            out.iter()
+                .position(|x| !x.is_finite())
+                .map(|k| (first + k) as u32)
+        };
+        Partial {
+            sum,
+            max,
+            max_squared,
+            stuck,
+            bad,
+        }
     }
+}
+
+/// The displacement statistics of an iteration from `before` to `after` (internal
+/// numbering, finite), with `stuck` stuck vertices: the distances summed in the caller's
+/// order in chunks of [`CHUNK`], as a sweep with [`Want::Full`] does (the same bits).
+fn displacement_stats(
+    perm: Option<&VertexPermutation>,
+    before: &[DVec3],
+    after: &[DVec3],
+    stuck: usize,
+) -> StepStats {
+    let distance = |i: usize| beltrami_halfedge::geometry::distance(before[i], after[i]);
+    let fold = |ids: &mut dyn Iterator<Item = usize>| {
+        let mut sum = 0.0;
+        let mut max: f64 = 0.0;
+        for i in ids {
+            let d = distance(i);
+            sum += d;
+            max = max.max(d);
+        }
+        (sum, max)
+    };
+    let partials: Vec<(f64, f64)> = match perm {
+        Some(perm) => perm
+            .old_to_new()
+            .par_chunks(CHUNK)
+            .map(|ids| fold(&mut ids.iter().map(|&i| i as usize)))
+            .collect(),
+        None => (0..after.len().div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| fold(&mut (c * CHUNK..((c + 1) * CHUNK).min(after.len()))))
+            .collect(),
+    };
+    let mut stats = StepStats {
+        stuck_vertices: stuck,
+        ..StepStats::default()
+    };
+    let mut sum = 0.0;
+    for (s, m) in partials {
+        sum += s;
+        stats.max_displacement = stats.max_displacement.max(m);
+    }
+    let n = after.len();
+    stats.mean_displacement = if n == 0 { 0.0 } else { sum / n as f64 };
+    stats
 }
 
 /// `internal` back in the caller's numbering, into `out`, gathered in parallel.

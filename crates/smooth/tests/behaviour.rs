@@ -72,7 +72,7 @@ fn a_sphere_shrinks_by_the_predicted_factor() {
         Smoother::new(&mesh, &p.positions, scheme, SmoothConfig::new(lambda, 50))
             .unwrap()
             .run(|it| {
-                radii.push(mean_radius(it.positions));
+                radii.push(mean_radius(it.positions()));
                 ControlFlow::Continue(())
             })
             .unwrap();
@@ -304,7 +304,7 @@ fn observer_sees_every_iteration_and_can_stop_the_run() {
         .unwrap()
         .run(|it| {
             seen.push(it.index);
-            assert_eq!(it.positions.len(), p.positions.len());
+            assert_eq!(it.positions().len(), p.positions.len());
             if it.index == 7 {
                 ControlFlow::Break(())
             } else {

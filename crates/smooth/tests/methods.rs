@@ -167,7 +167,7 @@ fn volume_preservation_keeps_closed_volumes_to_1e_9() {
                 )
                 .unwrap()
                 .run(|it| {
-                    worst = worst.max((volume(mesh, it.positions) / v0 - 1.0).abs());
+                    worst = worst.max((volume(mesh, it.positions()) / v0 - 1.0).abs());
                     ControlFlow::Continue(())
                 })
                 .unwrap();

@@ -9,8 +9,8 @@ use std::ops::ControlFlow;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId, primitives};
 use beltrami_smooth::{
-    Boundary, DiffusionTime, Method, Reorder, SmoothConfig, SmoothError, Smoother, StepStats,
-    WeightUpdate,
+    Boundary, DiffusionTime, Method, Reorder, SmoothConfig, SmoothError, Smoother, Statistics,
+    StepStats, WeightUpdate,
 };
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightContext,
@@ -147,7 +147,7 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> See
     let mut observed = Vec::new();
     let result = smoother
         .run(|it| {
-            observed.push((it.index, bits(it.positions), stat_bits(&it.stats)));
+            observed.push((it.index, bits(it.positions()), stat_bits(&it.stats())));
             ControlFlow::Continue(())
         })
         .map(|out| {
@@ -401,4 +401,92 @@ fn auto_reorders_large_meshes_only() {
     )
     .unwrap();
     assert!(s.permutation().is_none());
+}
+
+/// The positions, per-iteration statistics (asked of the observer when `ask`), report
+/// steps, iteration count and stop reason of a run.
+type Lazy = (Bits, Vec<[u64; 3]>, Vec<[u64; 3]>, usize, String);
+
+fn run_lazy(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig, ask: bool) -> Lazy {
+    let mut asked = Vec::new();
+    let out = Smoother::new(&m.mesh, &m.positions, scheme, config)
+        .unwrap()
+        .run(|it| {
+            if ask {
+                asked.push(stat_bits(&it.stats()));
+                // Asked twice, the same answer.
+                assert_eq!(stat_bits(&it.stats()), *asked.last().unwrap());
+            }
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    (
+        bits(&out.positions),
+        asked,
+        out.report.steps.iter().map(stat_bits).collect(),
+        out.report.iterations,
+        format!("{:?} {}", out.report.stop, out.report.max_stuck_vertices),
+    )
+}
+
+#[test]
+fn statistics_on_demand_are_the_same_bits() {
+    let schemes: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
+    for m in meshes() {
+        for scheme in schemes {
+            for boundary in [Boundary::Fixed, Boundary::Free, Boundary::Curve] {
+                for method in [Method::Laplacian, Method::hc()] {
+                    let base = SmoothConfig::new(0.8, 6).boundary(boundary).method(method);
+                    let every = run_lazy(&m, scheme, base.clone().reorder(Reorder::Never), true);
+                    assert_eq!(every.2.len(), 6);
+                    assert_eq!(every.1, every.2, "{} {}", m.name, scheme.name());
+                    for reorder in [Reorder::Never, Reorder::Always] {
+                        let config = base
+                            .clone()
+                            .reorder(reorder)
+                            .statistics(Statistics::OnDemand);
+                        // Asked by the observer: the eager run's statistics.
+                        let asked = run_lazy(&m, scheme, config.clone(), true);
+                        assert_eq!(asked.0, every.0, "{} {} {reorder:?}", m.name, scheme.name());
+                        assert_eq!(asked.1, every.2, "{} {} {reorder:?}", m.name, scheme.name());
+                        assert!(asked.2.is_empty());
+                        assert_eq!(asked.4, every.4);
+                        // Not asked: the same positions.
+                        let quiet = run_lazy(&m, scheme, config.clone(), false);
+                        assert_eq!(quiet.0, every.0);
+                        assert!(quiet.1.is_empty() && quiet.2.is_empty());
+                        // A convergence stop finds the same iteration.
+                        let eps = f64::from_bits(every.2[3][0]);
+                        let until = run_lazy(&m, scheme, config.until_change(eps), false);
+                        let until_every =
+                            run_lazy(&m, scheme, base.clone().until_change(eps), false);
+                        assert_eq!(until.3, until_every.3);
+                        assert!(until.3 <= 4, "{} {}", m.name, scheme.name());
+                        assert_eq!(until.0, until_every.0);
+                        assert_eq!(until.4, until_every.4);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn advance_moves_like_step() {
+    for m in meshes() {
+        for reorder in [Reorder::Never, Reorder::Always] {
+            let config = SmoothConfig::new(0.8, 5)
+                .boundary(Boundary::Free)
+                .reorder(reorder);
+            let mut a = Smoother::new(&m.mesh, &m.positions, &Cotangent, config.clone()).unwrap();
+            let mut b = Smoother::new(&m.mesh, &m.positions, &Cotangent, config).unwrap();
+            for _ in 0..5 {
+                a.step().unwrap();
+                b.advance().unwrap();
+            }
+            assert_eq!(b.iteration(), 5);
+            assert_eq!(bits(&a.positions()), bits(&b.positions()));
+            assert_ne!(bits(&b.positions()), bits(&m.positions));
+        }
+    }
 }

@@ -341,8 +341,8 @@ fn run_one(
             snapshots.push(Snapshot {
                 iteration: it.index,
                 time_s: elapsed,
-                stuck_vertices: it.stats.stuck_vertices,
-                positions: it.positions.to_vec(),
+                stuck_vertices: it.stats().stuck_vertices,
+                positions: it.positions().to_vec(),
             });
         }
         resumed = Instant::now();

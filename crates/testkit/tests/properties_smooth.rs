@@ -410,7 +410,7 @@ proptest! {
                     let result = smoother.run(|it| {
                         if let Some(&v) = still
                             .iter()
-                            .find(|v| !same_bits(it.positions[v.index()], positions[v.index()]))
+                            .find(|v| !same_bits(it.positions()[v.index()], positions[v.index()]))
                         {
                             moved = Some((it.index, v));
                             return ControlFlow::Break(());
