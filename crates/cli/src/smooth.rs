@@ -13,7 +13,8 @@ use beltrami_io::{
 };
 use beltrami_smooth::{
     Boundary, DiffusionTime, ImplicitConfig, ImplicitSmoother, ImplicitSolver, Method,
-    SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, StopReason, WeightUpdate,
+    SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, Statistics, StopReason,
+    WeightUpdate,
 };
 use beltrami_weights::WeightScheme;
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization, WeightRegistry};
@@ -109,6 +110,11 @@ pub(crate) struct SmoothArgs {
     /// Write a JSON report (parameters, iterations, timings, counts) to this file.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Leave out the per-iteration displacement statistics (the report's `steps` is then
+    /// empty). They cost a square root per vertex and iteration; without --report they
+    /// are never computed. The positions are the same either way.
+    #[arg(long, requires = "report")]
+    no_step_stats: bool,
     /// Write PLY output as ascii text instead of binary (STL likewise).
     #[arg(long)]
     ascii: bool,
@@ -219,6 +225,9 @@ impl SmoothArgs {
         }
         if let Some(eps) = self.until_change {
             config = config.until_change(eps);
+        }
+        if self.report.is_none() || self.no_step_stats {
+            config = config.statistics(Statistics::OnDemand);
         }
         config
     }

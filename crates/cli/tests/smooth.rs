@@ -228,3 +228,45 @@ fn pinned_vertices_do_not_move() {
     assert_eq!(out.status.code(), Some(1));
     assert_snapshot!(error_line(&out, dir.path()), @"error: noisy.ply: pinned vertex 9999 does not exist (the mesh has 642 vertices)");
 }
+
+#[test]
+fn step_statistics_can_be_left_out_without_changing_the_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _) = noisy_sphere(dir.path());
+    let run = |name: &str, extra: &[&str]| {
+        let output = dir.path().join(format!("{name}.ply"));
+        let report = dir.path().join(format!("{name}.json"));
+        let mut args = vec![
+            "smooth",
+            s(&input),
+            s(&output),
+            "--iterations",
+            "5",
+            "--report",
+            s(&report),
+        ];
+        args.extend_from_slice(extra);
+        let out = beltrami(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let j: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        (std::fs::read(&output).unwrap(), j)
+    };
+    let (with, j_with) = run("with", &[]);
+    let (without, j_without) = run("without", &["--no-step-stats"]);
+    assert_eq!(with, without, "the smoothed file depends on the statistics");
+    assert_eq!(j_with["steps"].as_array().unwrap().len(), 5);
+    assert_eq!(j_without["steps"].as_array().unwrap().len(), 0);
+    assert_eq!(j_without["iterations"], 5);
+    // Without --report the flag is refused: there would be nothing to leave out.
+    let out = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&dir.path().join("x.ply")),
+        "--no-step-stats",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
