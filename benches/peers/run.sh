@@ -5,7 +5,7 @@
 #
 #   benches/peers/run.sh
 #
-# writes benches/peers/results.md and results.csv (see docs/performance.md).
+# writes benches/peers/results.md and results.csv (see docs/performance/peers.md).
 #
 # Environment (all optional):
 #   BELTRAMI=/path/to/beltrami   binary to measure (default: cargo build --release -p beltrami-cli)

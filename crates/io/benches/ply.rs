@@ -1,6 +1,6 @@
 //! Binary PLY reading and writing on an icosphere of level 6 (40 962 vertices, 81 920
 //! faces, 2.0 MB) and level 8 (655 362 vertices, 1 310 720 faces, 32.8 MB, the layout
-//! of `s8.ply` in `docs/perf-io.md`): `double x y z`, `list uchar int vertex_indices`.
+//! of `s8.ply` in `docs/performance/io.md`): `double x y z`, `list uchar int vertex_indices`.
 //! `cargo bench -p beltrami-io --bench ply`.
 //!
 //! - `read/LEVEL`: `read_mesh` of the file (from the page cache), header to `MeshData`;

@@ -1,5 +1,5 @@
 //! Wall-clock timing of the PLY reader, the half-edge build and the PLY writer on one
-//! file, for `docs/perf-io.md` (a benchmark aid, not a test):
+//! file, for `docs/performance/io.md` (a benchmark aid, not a test):
 //!
 //! ```sh
 //! cargo run --release -p beltrami-io --example ply_timing -- /work/meshes/s8.ply 7
