@@ -128,13 +128,10 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
     let (surface, positions) = match args.shuffle {
         None => (surface, positions),
         Some(seed) => {
-            // Shuffle the clean and the noisy positions with the same order.
-            let noisy = Surface {
-                positions,
-                ..surface.clone()
-            }
-            .shuffled(seed);
-            (surface.shuffled(seed), noisy.positions)
+            // The noisy positions follow the clean surface's renumbering.
+            let order = beltrami_surfaces::shuffle_order(positions.len(), seed);
+            let noisy = order.iter().map(|&old| positions[old as usize]).collect();
+            (surface.shuffled(seed), noisy)
         }
     };
     if let Some(clean) = &args.clean {

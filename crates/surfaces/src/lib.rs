@@ -36,7 +36,7 @@ pub use error::SurfaceError;
 pub use flens::{FLensParams, flens};
 pub use golfball::{GolfBallParams, geodesic_sphere, golf_ball};
 pub use noise::{NoiseLevel, NormalRng, add_normal_noise};
-pub use surface::Surface;
+pub use surface::{Surface, shuffle_order};
 
 /// The paper's unit sphere: an icosphere with `level` subdivisions (the paper uses 6:
 /// 40962 vertices, 81920 faces), radius 1.

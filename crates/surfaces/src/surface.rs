@@ -47,15 +47,7 @@ impl Surface {
     #[must_use]
     pub fn shuffled(&self, seed: u64) -> Self {
         let n = self.positions.len();
-        let mut rng = crate::NormalRng::new(seed);
-        // new_to_old[new] = old.
-        let mut new_to_old: Vec<u32> = (0..n as u32).collect();
-        for i in (1..n).rev() {
-            // floor(u * (i + 1)) with u in [0, 1) lies in 0..=i (u < 1 - 2^-53 and
-            // i + 1 < 2^32, so the product rounds below i + 1).
-            let j = (rng.next_uniform() * (i + 1) as f64) as usize;
-            new_to_old.swap(i, j.min(i));
-        }
+        let new_to_old = shuffle_order(n, seed);
         let mut old_to_new = vec![0u32; n];
         for (new, &old) in new_to_old.iter().enumerate() {
             old_to_new[old as usize] = new as u32;
@@ -78,4 +70,20 @@ impl Surface {
             unit: self.unit,
         }
     }
+}
+
+/// The vertex order of [`Surface::shuffled`] for `n` vertices and `seed`: entry `new` is
+/// the old index of the vertex numbered `new` (apply it to per-vertex data that must
+/// follow the renumbering, e.g. noisy positions of the same surface).
+#[must_use]
+pub fn shuffle_order(n: usize, seed: u64) -> Vec<u32> {
+    let mut rng = crate::NormalRng::new(seed);
+    let mut new_to_old: Vec<u32> = (0..n as u32).collect();
+    for i in (1..n).rev() {
+        // floor(u * (i + 1)) with u in [0, 1) lies in 0..=i (u < 1 - 2^-53 and
+        // i + 1 < 2^32, so the product rounds below i + 1).
+        let j = (rng.next_uniform() * (i + 1) as f64) as usize;
+        new_to_old.swap(i, j.min(i));
+    }
+    new_to_old
 }
