@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::reorder::{VertexPermutation, rcm_order};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
-use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
+use beltrami_weights::{Laplacian, Normalization, RowSweep, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
 use crate::config::{Boundary, Method, SmoothConfig, Statistics, WeightUpdate};
@@ -229,6 +229,9 @@ pub struct Smoother<'a> {
     config: SmoothConfig,
     laplacian: Laplacian,
     roles: Vec<Role>,
+    /// The vertices whose role is not [`Role::Row`], in increasing order: a sweep moves
+    /// every row alike, then puts these right.
+    exceptions: Vec<u32>,
     curve: Vec<CurveRow>,
     positions: Vec<DVec3>,
     next: Vec<DVec3>,
@@ -399,6 +402,9 @@ impl<'a> Smoother<'a> {
             mean_partials: Vec::with_capacity(n.div_ceil(CHUNK)),
             scheme,
             laplacian,
+            exceptions: (0..n as u32)
+                .filter(|&v| roles[v as usize] != Role::Row)
+                .collect(),
             roles,
             curve,
             positions: positions.to_vec(),
@@ -712,6 +718,7 @@ impl<'a> Smoother<'a> {
         let sweep = SweepInput {
             laplacian: &self.laplacian,
             roles: &self.roles,
+            exceptions: &self.exceptions,
             curve: &self.curve,
             old: &self.positions,
             lambda,
@@ -964,6 +971,7 @@ struct Partial {
 struct SweepInput<'s> {
     laplacian: &'s Laplacian,
     roles: &'s [Role],
+    exceptions: &'s [u32],
     curve: &'s [CurveRow],
     old: &'s [DVec3],
     lambda: f64,
@@ -983,28 +991,31 @@ impl SweepInput<'_> {
         let Self {
             laplacian,
             roles,
+            exceptions,
             curve,
             old,
             lambda,
         } = *self;
-        let mut sum = 0.0;
-        let mut max: f64 = 0.0;
-        let mut max_squared: f64 = 0.0;
-        let mut stuck = 0;
-        // The sum of the new positions: not finite when one of them is not (or, rarely,
-        // when the sum overflows); the chunk is then scanned.
-        let mut probe = DVec3::ZERO;
+        let rows = first..first + out.len();
+        // Every row moves by its Laplacian row...
+        let RowSweep {
+            mut stuck,
+            sum: mut probe,
+        } = laplacian.sweep_rows(first, old, lambda, out);
+        // ...then the vertices that do not move that way are put right. `probe` keeps
+        // the value a row gave them: a spurious non-finite sum only costs a scan.
+        let lo = exceptions.partition_point(|&v| (v as usize) < rows.start);
+        let hi = exceptions.partition_point(|&v| (v as usize) < rows.end);
         let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
-        laplacian.for_each_row(first..first + out.len(), old, |i, xi, l| {
+        for &v in &exceptions[lo..hi] {
+            let i = v as usize;
+            if laplacian.scale(VertexId::new(v)).is_none() {
+                // Counted by the row sweep, but this vertex is not a row.
+                stuck -= 1;
+            }
+            let xi = old[i];
             let new = match roles[i] {
-                Role::Still => xi,
-                Role::Row => match l {
-                    Some(l) => xi + l * lambda,
-                    None => {
-                        stuck += 1;
-                        xi
-                    }
-                },
+                Role::Still | Role::Row => xi,
                 Role::Curve => {
                     let CurveRow { a, b, wa, wb, .. } = curve[cursor];
                     cursor += 1;
@@ -1019,33 +1030,41 @@ impl SweepInput<'_> {
                 }
             };
             probe += new;
-            if MODE == FULL {
-                // `geometry::distance` is the plain length whenever that is at least
-                // sqrt(f64::MIN_POSITIVE) and finite (the same bits); the call handles
-                // the rest (zero, tiny, huge, non-finite).
-                let plain = (new - xi).length();
-                let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
-                    plain
+            out[i - first] = new;
+        }
+        let mut sum = 0.0;
+        let mut max: f64 = 0.0;
+        let mut max_squared: f64 = 0.0;
+        if MODE != NOTHING {
+            for (k, (&xi, &new)) in old[rows].iter().zip(out.iter()).enumerate() {
+                if MODE == FULL {
+                    // `geometry::distance` is the plain length whenever that is at
+                    // least sqrt(f64::MIN_POSITIVE) and finite (the same bits); the
+                    // call handles the rest (zero, tiny, huge, non-finite).
+                    let plain = (new - xi).length();
+                    let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
+                        plain
+                    } else {
+                        beltrami_halfedge::geometry::distance(xi, new)
+                    };
+                    sum += d;
+                    max = max.max(d);
+                    if RECORD {
+                        disp[k] = d;
+                    }
                 } else {
-                    beltrami_halfedge::geometry::distance(xi, new)
-                };
-                sum += d;
-                max = max.max(d);
-                if RECORD {
-                    disp[i - first] = d;
-                }
-            } else if MODE == MAX {
-                // The plain length is `q.sqrt()`, in [sqrt(MIN_POSITIVE), ∞) exactly
-                // when `q` is in [MIN_POSITIVE, ∞) (both ends are exact squares).
-                let q = (new - xi).length_squared();
-                if (f64::MIN_POSITIVE..f64::INFINITY).contains(&q) {
-                    max_squared = max_squared.max(q);
-                } else {
-                    max = max.max(beltrami_halfedge::geometry::distance(xi, new));
+                    // The plain length is `q.sqrt()`, in [sqrt(MIN_POSITIVE), ∞)
+                    // exactly when `q` is in [MIN_POSITIVE, ∞) (both ends are exact
+                    // squares).
+                    let q = (new - xi).length_squared();
+                    if (f64::MIN_POSITIVE..f64::INFINITY).contains(&q) {
+                        max_squared = max_squared.max(q);
+                    } else {
+                        max = max.max(beltrami_halfedge::geometry::distance(xi, new));
+                    }
                 }
             }
-            out[i - first] = new;
-        });
+        }
         let bad = if probe.is_finite() {
             None
         } else {

@@ -4,6 +4,7 @@ use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, FaceId, HalfedgeId, HalfedgeMesh, TopologyError, VertexId};
 
 use rayon::prelude::*;
+use wide::f64x2;
 
 use crate::error::WeightError;
 use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
@@ -106,6 +107,17 @@ pub struct Laplacian {
     unit_weights: bool,
     /// The per-face data of the cotangent kernel, built on first use.
     cotangent: Option<CotangentPlan>,
+}
+
+/// What [`Laplacian::sweep_rows`] found besides the new positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RowSweep {
+    /// The rows of the range that are stuck (their vertex kept its position).
+    pub stuck: usize,
+    /// The sum of the new positions, in row order: finite when every new position is
+    /// (a cheap test; a non-finite sum can also come from overflow, so a caller that
+    /// sees one looks at the positions themselves).
+    pub sum: DVec3,
 }
 
 /// The cotangent kernel's per-face data: cotangents are computed once per triangle,
@@ -694,6 +706,81 @@ impl Laplacian {
         }
     }
 
+    /// One explicit diffusion step over the rows `first..first + out.len()`: writes
+    /// `out[k] = x_i + λ · L x_i` for `i = first + k`, with `L x_i` exactly as
+    /// [`laplacian_at`](Self::laplacian_at) computes it and `x_i + (L x_i) · λ` rounded
+    /// coordinate by coordinate (the bits of the `DVec3` expression), or `x_i` for a
+    /// stuck row. `positions` are read, never written (a Jacobi step).
+    ///
+    /// This is the explicit smoother's inner loop: one tight pass per normalisation and
+    /// weight kind, with every row treated alike (a caller whose vertices do not all
+    /// move overwrites those afterwards; [`RowSweep::stuck`] counts every stuck row in
+    /// the range).
+    ///
+    /// # Panics
+    /// If the rows reach past the last row or `positions` is shorter than the mesh's
+    /// vertex count.
+    pub fn sweep_rows(
+        &self,
+        first: usize,
+        positions: &[DVec3],
+        lambda: f64,
+        out: &mut [DVec3],
+    ) -> RowSweep {
+        let area = matches!(self.options.normalization, Normalization::Area(_));
+        match (area, self.unit_weights) {
+            (false, true) => self.sweep_rows_as::<false, true>(first, positions, lambda, out),
+            (false, false) => self.sweep_rows_as::<false, false>(first, positions, lambda, out),
+            (true, true) => self.sweep_rows_as::<true, true>(first, positions, lambda, out),
+            (true, false) => self.sweep_rows_as::<true, false>(first, positions, lambda, out),
+        }
+    }
+
+    /// [`sweep_rows`](Self::sweep_rows) for one normalisation (`AREA`) and weight kind
+    /// (`UNIT`: every weight is 1 and none is read). Few values live across the row loop,
+    /// so that they stay in registers; the row's slots are one running offset.
+    #[inline(always)]
+    fn sweep_rows_as<const AREA: bool, const UNIT: bool>(
+        &self,
+        first: usize,
+        positions: &[DVec3],
+        lambda: f64,
+        out: &mut [DVec3],
+    ) -> RowSweep {
+        let n = out.len();
+        let bounds = &self.offsets[first..=first + n];
+        let base = bounds[0] as usize;
+        let slots = base..bounds[n] as usize;
+        let neighbours = &self.neighbours[slots.clone()];
+        let weights = if UNIT { &[][..] } else { &self.weights[slots] };
+        let scales = &self.scales[first..first + n];
+        let xs = &positions[first..first + n];
+        let mut stuck = 0;
+        let mut sum = Xy::ZERO;
+        let mut a = 0;
+        for (((o, &xi), &scale), &end) in out.iter_mut().zip(xs).zip(scales).zip(&bounds[1..]) {
+            let b = end as usize - base;
+            let nb = &neighbours[a..b];
+            let ws = if UNIT { &[][..] } else { &weights[a..b] };
+            a = b;
+            let x = Xy::from(xi);
+            let new = if scale > 0.0 {
+                let s = gather_sum::<AREA, UNIT>(nb, ws, positions, x);
+                let l = if AREA { s * scale } else { s * scale - x };
+                x + l * lambda
+            } else {
+                stuck += 1;
+                x
+            };
+            sum = sum + new;
+            *o = new.to_dvec3();
+        }
+        RowSweep {
+            stuck,
+            sum: sum.to_dvec3(),
+        }
+    }
+
     /// `L x` for every vertex into `out` (zero for stuck rows).
     ///
     /// # Panics
@@ -710,7 +797,9 @@ impl Laplacian {
 /// `L x_i` of a movable row (see [`Laplacian::laplacian_at`] for the arithmetic):
 /// weight sum `(Σ_j w_ij x_j) · scale − x_i`, area `(Σ_j w_ij (x_j − x_i)) · scale`, each
 /// sum from zero in row order. With unit weights the products `· 1` are left out (they
-/// are exact).
+/// are exact). The sums run in [`Xy`] lanes: the same IEEE operations per coordinate, in
+/// the same order, as the `DVec3` expressions (the same bits), two coordinates per
+/// instruction.
 #[inline(always)]
 fn row_sum(
     area: bool,
@@ -721,31 +810,140 @@ fn row_sum(
     positions: &[DVec3],
     scale: f64,
 ) -> DVec3 {
-    let mut s = DVec3::ZERO;
+    let mut s = Xy::ZERO;
     match (area, unit) {
         (false, true) => {
             for &j in nb {
-                s += positions[j as usize];
+                s = s + Xy::from(positions[j as usize]);
             }
-            s * scale - xi
+            (s * scale).to_dvec3() - xi
         }
         (false, false) => {
             for (&j, &w) in nb.iter().zip(ws) {
-                s += positions[j as usize] * w;
+                s = s + Xy::from(positions[j as usize]) * w;
             }
-            s * scale - xi
+            (s * scale).to_dvec3() - xi
         }
         (true, true) => {
+            let c = Xy::from(xi);
             for &j in nb {
-                s += positions[j as usize] - xi;
+                s = s + (Xy::from(positions[j as usize]) - c);
             }
-            s * scale
+            (s * scale).to_dvec3()
         }
         (true, false) => {
+            let c = Xy::from(xi);
             for (&j, &w) in nb.iter().zip(ws) {
-                s += (positions[j as usize] - xi) * w;
+                s = s + (Xy::from(positions[j as usize]) - c) * w;
             }
-            s * scale
+            (s * scale).to_dvec3()
+        }
+    }
+}
+
+/// The row sum of [`Laplacian::sweep_rows`], from zero in row order: `Σ_j w_j x_j`, or
+/// with `AREA` `Σ_j w_j (x_j − x)`; with `UNIT` the weights are 1 and the products are
+/// left out (they are exact). Rows of valence 6, the most common on a triangle mesh,
+/// are summed without a loop, the others two neighbours per loop step: the same
+/// additions in the same order either way.
+#[inline(always)]
+fn gather_sum<const AREA: bool, const UNIT: bool>(
+    nb: &[u32],
+    ws: &[f64],
+    positions: &[DVec3],
+    x: Xy,
+) -> Xy {
+    #[inline(always)]
+    fn term<const AREA: bool, const UNIT: bool>(j: u32, w: f64, positions: &[DVec3], x: Xy) -> Xy {
+        let p = Xy::from(positions[j as usize]);
+        let d = if AREA { p - x } else { p };
+        if UNIT { d } else { d * w }
+    }
+    let w = |k: usize| if UNIT { 1.0 } else { ws[k] };
+    let mut s = Xy::ZERO;
+    if let Ok(six) = <&[u32; 6]>::try_from(nb) {
+        let ws: &[f64] = if UNIT { &[1.0; 6] } else { ws };
+        if let Ok(ws) = <&[f64; 6]>::try_from(ws) {
+            for k in 0..6 {
+                s = s + term::<AREA, UNIT>(six[k], ws[k], positions, x);
+            }
+            return s;
+        }
+    }
+    let pairs = nb.len() / 2;
+    for k in 0..pairs {
+        s = s + term::<AREA, UNIT>(nb[2 * k], w(2 * k), positions, x);
+        s = s + term::<AREA, UNIT>(nb[2 * k + 1], w(2 * k + 1), positions, x);
+    }
+    if nb.len() % 2 == 1 {
+        let k = nb.len() - 1;
+        s = s + term::<AREA, UNIT>(nb[k], w(k), positions, x);
+    }
+    s
+}
+
+/// A point with `x` and `y` in one [`f64x2`] lane pair and `z` alone: row sums add
+/// two coordinates per instruction. Each lane operation is the correctly rounded IEEE
+/// operation of the scalar coordinate (no fused multiply-add, no reassociation), so a
+/// sum in `Xy` has the bits of the same sum in `DVec3`.
+#[derive(Clone, Copy, Debug)]
+struct Xy {
+    xy: f64x2,
+    z: f64,
+}
+
+impl Xy {
+    const ZERO: Self = Self {
+        xy: f64x2::ZERO,
+        z: 0.0,
+    };
+
+    #[inline(always)]
+    fn to_dvec3(self) -> DVec3 {
+        let [x, y] = self.xy.to_array();
+        DVec3::new(x, y, self.z)
+    }
+}
+
+impl From<DVec3> for Xy {
+    #[inline(always)]
+    fn from(p: DVec3) -> Self {
+        Self {
+            xy: f64x2::new([p.x, p.y]),
+            z: p.z,
+        }
+    }
+}
+
+impl std::ops::Add for Xy {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, rhs: Self) -> Self {
+        Self {
+            xy: self.xy + rhs.xy,
+            z: self.z + rhs.z,
+        }
+    }
+}
+
+impl std::ops::Sub for Xy {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, rhs: Self) -> Self {
+        Self {
+            xy: self.xy - rhs.xy,
+            z: self.z - rhs.z,
+        }
+    }
+}
+
+impl std::ops::Mul<f64> for Xy {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, w: f64) -> Self {
+        Self {
+            xy: self.xy * f64x2::splat(w),
+            z: self.z * w,
         }
     }
 }

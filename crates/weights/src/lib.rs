@@ -41,7 +41,7 @@ const PAR_CHUNK: usize = 8192;
 pub use cotangent::Cotangent;
 pub use error::WeightError;
 pub use inverse_distance::{DISTANCE_EPSILON, InverseDistance};
-pub use laplacian::{Laplacian, LaplacianOptions, NegativeWeights, Normalization};
+pub use laplacian::{Laplacian, LaplacianOptions, NegativeWeights, Normalization, RowSweep};
 pub use openmesh::OpenMeshCotangent;
 pub use registry::WeightRegistry;
 pub use scheme::{WeightContext, WeightKernel, WeightScheme};

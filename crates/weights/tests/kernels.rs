@@ -93,6 +93,35 @@ fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, labe
             seen += 1;
         });
         assert_eq!(seen, mesh.n_vertices());
+        // One explicit step over ranges that split the rows anywhere: x_i + λ L x_i
+        // with laplacian_at's L, rounded as the DVec3 expression, or x_i when stuck.
+        let lambda = 0.8;
+        for lap in [&fast, &slow] {
+            let n = mesh.n_vertices();
+            let mut out = vec![DVec3::splat(f64::NAN); n];
+            let mut stuck = 0;
+            let mut sum = DVec3::ZERO;
+            for range in [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n] {
+                let r = lap.sweep_rows(range.start, x, lambda, &mut out[range.clone()]);
+                stuck += r.stuck;
+                sum += r.sum;
+            }
+            assert_eq!(stuck, lap.stuck_rows(), "{label} {}", scheme.name());
+            // A non-finite new position always shows in the sum.
+            if out.iter().any(|p| !p.is_finite()) {
+                assert!(!sum.is_finite(), "{label}");
+            }
+            for v in mesh.vertices() {
+                let i = v.index();
+                let want = slow.laplacian_at(v, x).map_or(x[i], |l| x[i] + l * lambda);
+                assert_eq!(
+                    out[i].to_array().map(f64::to_bits),
+                    want.to_array().map(f64::to_bits),
+                    "{label} {} step {i}",
+                    scheme.name()
+                );
+            }
+        }
         // A partial range too.
         let n = mesh.n_vertices();
         let mut rows = Vec::new();
