@@ -105,6 +105,8 @@ impl IterationView<'_> {
             None => self.after,
             Some(perm) => self.restored.get_or_init(|| {
                 let mut out = self.spare.take();
+                // Allocated on the first call of the run, reused after.
+                out.resize(self.after.len(), DVec3::ZERO);
                 restore_par(perm, self.after, &mut out);
                 out
             }),
@@ -215,11 +217,12 @@ pub struct Smoother<'a> {
     mesh: Cow<'a, HalfedgeMesh>,
     /// The internal numbering (new = internal, old = the caller's), when reordering.
     perm: Option<VertexPermutation>,
-    /// Per-vertex displacements of the last sweep, internal numbering (reordering only;
-    /// summed in the caller's order for the mean).
+    /// Per-vertex displacements of the last sweep, internal numbering (reordering with
+    /// full statistics only, allocated when first needed; summed in the caller's order
+    /// for the mean).
     disp: Vec<f64>,
-    /// The buffer for the positions in the caller's numbering (observer, output;
-    /// reordering only).
+    /// The buffer for the observer's positions in the caller's numbering (reordering
+    /// only; allocated on the first call of [`IterationView::positions`], then reused).
     view: Vec<DVec3>,
     /// Per-chunk results of a sweep, reused (no allocation per iteration).
     partials: Vec<Partial>,
@@ -388,15 +391,29 @@ impl<'a> Smoother<'a> {
             config.iterations = iterations;
         }
         let n = positions.len();
-        let reordered = perm.is_some();
+        let eager_stats = config.statistics == Statistics::EveryIteration;
+        let disp = if perm.is_some() && eager_stats {
+            vec![0.0; n]
+        } else {
+            Vec::new()
+        };
+        let next = positions.to_vec();
+        let compound_start = if compound {
+            positions.to_vec()
+        } else {
+            Vec::new()
+        };
+        let original = if matches!(config.method, Method::Hc { .. }) {
+            positions.to_vec()
+        } else {
+            Vec::new()
+        };
+        // A reordered copy is the smoother's own already: moved, not copied again.
+        let positions = positions.into_owned();
         let mut smoother = Self {
             mesh,
-            disp: if reordered { vec![0.0; n] } else { Vec::new() },
-            view: if reordered {
-                vec![DVec3::ZERO; n]
-            } else {
-                Vec::new()
-            },
+            disp,
+            view: Vec::new(),
             perm,
             partials: Vec::with_capacity(n.div_ceil(CHUNK)),
             mean_partials: Vec::with_capacity(n.div_ceil(CHUNK)),
@@ -407,20 +424,12 @@ impl<'a> Smoother<'a> {
                 .collect(),
             roles,
             curve,
-            positions: positions.to_vec(),
-            next: positions.to_vec(),
-            start: if compound {
-                positions.to_vec()
-            } else {
-                Vec::new()
-            },
-            original: if matches!(config.method, Method::Hc { .. }) {
-                positions.to_vec()
-            } else {
-                Vec::new()
-            },
+            positions,
+            next,
+            start: compound_start,
+            original,
             push_back: if matches!(config.method, Method::Hc { .. }) {
-                vec![DVec3::ZERO; positions.len()]
+                vec![DVec3::ZERO; n]
             } else {
                 Vec::new()
             },
@@ -714,6 +723,10 @@ impl<'a> Smoother<'a> {
         }
         self.weights_fresh = false;
 
+        if want == Want::Full && self.perm.is_some() {
+            // Once per run at most: with on-demand statistics only a `step()` needs it.
+            self.disp.resize(self.positions.len(), 0.0);
+        }
         let start = Instant::now();
         let sweep = SweepInput {
             laplacian: &self.laplacian,
@@ -883,8 +896,11 @@ impl<'a> Smoother<'a> {
         };
         let positions = match &self.perm {
             Some(perm) => {
-                restore_par(perm, &self.positions, &mut self.view);
-                self.view
+                // `next` is not needed any more: it takes the caller's order.
+                let mut out = std::mem::take(&mut self.next);
+                out.resize(self.positions.len(), DVec3::ZERO);
+                restore_par(perm, &self.positions, &mut out);
+                out
             }
             None => self.positions,
         };
