@@ -314,18 +314,22 @@ where
         return a.join(b);
     }
     let mut tally = RowTally::default();
-    let mut weights = rows.weights;
+    let weights = rows.weights;
     let bounds = &offsets[rows.first..=rows.first + n];
-    for (k, ((b, sum_out), scale_out)) in bounds
-        .windows(2)
+    let base = bounds[0] as usize;
+    // The row's slots are one running offset: few values live across the loop.
+    let mut a = 0;
+    for (k, ((&end, sum_out), scale_out)) in bounds[1..]
+        .iter()
         .zip(rows.sums.iter_mut())
         .zip(rows.scales.iter_mut())
         .enumerate()
     {
         let i = rows.first + k;
-        let (row, rest) = std::mem::take(&mut weights).split_at_mut((b[1] - b[0]) as usize);
-        weights = rest;
-        fill(i, b[0] as usize, row);
+        let b = end as usize - base;
+        let row = &mut weights[a..b];
+        fill(i, base + a, row);
+        a = b;
         let sum: f64 = row.iter().sum();
         *sum_out = sum;
         tally.non_finite |= !sum.is_finite();
@@ -484,11 +488,24 @@ impl Laplacian {
                 match &mut self.cotangent {
                     Some(plan) => {
                         plan.refresh(&geometry);
-                        let (slot_cots, face_cots) = (&plan.slot_cots, &plan.face_cots);
+                        let (slot_cots, face_cots) = (&plan.slot_cots[..], &plan.face_cots[..]);
                         Some(row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
-                            for (w, &[a, b]) in w.iter_mut().zip(&slot_cots[s..]) {
-                                let c = 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
-                                *w = negative.apply(c);
+                            let pairs = &slot_cots[s..s + w.len()];
+                            let cot = |[a, b]: [u32; 2]| {
+                                0.5 * (face_cots[a as usize] + face_cots[b as usize])
+                            };
+                            // The policy is chosen once per row, not per slot.
+                            match negative {
+                                NegativeWeights::Keep => {
+                                    for (w, &p) in w.iter_mut().zip(pairs) {
+                                        *w = cot(p);
+                                    }
+                                }
+                                _ => {
+                                    for (w, &p) in w.iter_mut().zip(pairs) {
+                                        *w = negative.apply(cot(p));
+                                    }
+                                }
                             }
                         }))
                     }
