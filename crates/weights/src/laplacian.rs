@@ -276,13 +276,23 @@ impl RowTally {
     }
 }
 
+/// The sum of a row's weights in row order: `Iterator::sum`, a fold from `-0.0` (so
+/// that an empty row or one of negative zeros sums to `-0.0`, as before the fold was
+/// written out in the fills).
+#[inline(always)]
+fn row_sum_of(w: &[f64]) -> f64 {
+    w.iter().fold(-0.0, |s, &w| s + w)
+}
+
 /// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
 /// `rayon::join`, no allocation), and in each row `fill(i, first_slot, weights)` writes
-/// the row's weights, then the row's sum `W_i` (in row order) and scale are stored.
+/// the row's weights and returns their sum `W_i` in row order (from `-0.0`, as
+/// `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop), then the
+/// sum and the scale are stored.
 /// Every row's bits depend only on that row, so not on the thread count.
 fn row_pass<F>(offsets: &[u32], areas: Option<&[f64]>, rows: Rows<'_>, fill: &F) -> RowTally
 where
-    F: Fn(usize, usize, &mut [f64]) + Sync,
+    F: Fn(usize, usize, &mut [f64]) -> f64 + Sync,
 {
     let n = rows.sums.len();
     if n > PAR_CHUNK {
@@ -328,9 +338,8 @@ where
         let i = rows.first + k;
         let b = end as usize - base;
         let row = &mut weights[a..b];
-        fill(i, base + a, row);
+        let sum = fill(i, base + a, row);
         a = b;
-        let sum: f64 = row.iter().sum();
         *sum_out = sum;
         tally.non_finite |= !sum.is_finite();
         let scale = match areas {
@@ -468,6 +477,7 @@ impl Laplacian {
             Some(WeightKernel::Uniform) => {
                 let tally = row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
                     w.fill(negative.apply(1.0));
+                    row_sum_of(w)
                 });
                 self.unit_weights = negative.apply(1.0) == 1.0;
                 Some(tally)
@@ -479,6 +489,7 @@ impl Laplacian {
                     kernels::inverse_distances(positions[i], positions, nb, w, |w| {
                         negative.apply(w)
                     });
+                    row_sum_of(w)
                 }))
             }
             Some(WeightKernel::Cotangent) => {
@@ -494,19 +505,24 @@ impl Laplacian {
                             let cot = |[a, b]: [u32; 2]| {
                                 0.5 * (face_cots[a as usize] + face_cots[b as usize])
                             };
-                            // The policy is chosen once per row, not per slot.
+                            // The policy is chosen once per row, not per slot; the sum is
+                            // `row_sum_of`'s fold, in the same loop.
+                            let mut sum = -0.0;
                             match negative {
                                 NegativeWeights::Keep => {
                                     for (w, &p) in w.iter_mut().zip(pairs) {
                                         *w = cot(p);
+                                        sum += *w;
                                     }
                                 }
                                 _ => {
                                     for (w, &p) in w.iter_mut().zip(pairs) {
                                         *w = negative.apply(cot(p));
+                                        sum += *w;
                                     }
                                 }
                             }
+                            sum
                         }))
                     }
                     None => None,
@@ -569,6 +585,7 @@ impl Laplacian {
             for (w, &h) in w.iter_mut().zip(&halfedges[s..]) {
                 *w = negative.apply(halfedge_weights[h as usize]);
             }
+            row_sum_of(w)
         });
         self.stuck = tally.stuck;
         Ok(())
