@@ -17,8 +17,8 @@
 //! - an iterative traversal with a reusable stack that tests both children's boxes of a
 //!   node at once, visits the nearer first and prunes by the best squared distance so far.
 //!
-//! The split is computed with `select_nth_unstable` on integer keys of the centres (the
-//! order of `f64::total_cmp`), one comparator per axis.
+//! The split is computed with `select_nth_unstable`, comparing integer keys of the centres
+//! (the order of `f64::total_cmp`), with one comparator per axis.
 //!
 //! That is this file (and a Morton order that makes batches of queries coherent); the
 //! exact point–triangle distance and the feature classification stay in our hands, in
@@ -104,7 +104,7 @@ impl Bvh {
             .map(|i| {
                 let [lo, hi] = bounds(i);
                 Item {
-                    key: (lo + hi).to_array().map(order_key),
+                    centre: lo + hi,
                     index: i as u32,
                 }
             })
@@ -217,23 +217,17 @@ impl Stack {
 }
 
 /// The key of `x` in the total order of [`f64::total_cmp`], as an integer: comparing keys
-/// is comparing the values, and [`from_order_key`] gives the value back bit for bit.
+/// is comparing the values as `total_cmp` does.
 #[inline]
 fn order_key(x: f64) -> i64 {
     let bits = x.to_bits() as i64;
     bits ^ ((((bits >> 63) as u64) >> 1) as i64)
 }
 
-/// The inverse of [`order_key`].
-#[inline]
-fn from_order_key(key: i64) -> f64 {
-    f64::from_bits((key ^ ((((key >> 63) as u64) >> 1) as i64)) as u64)
-}
-
-/// An item with the order keys of (twice) its box centre, moved around by the build.
+/// An item with (twice) its box centre, moved around by the build.
 #[derive(Clone, Copy, Debug)]
 struct Item {
-    key: [i64; 3],
+    centre: DVec3,
     index: u32,
 }
 
@@ -343,29 +337,22 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
 /// of the centres' extent (ties by item index, so the split is a deterministic function of
 /// the input).
 ///
-/// The centres are compared through their [`order_key`]s (the order of `f64::total_cmp`),
-/// and the extent is the difference of the largest and smallest centre, so the split is
-/// the same as with the `f64` values themselves.
+/// The centres are compared through their [`order_key`]s (the order of `f64::total_cmp`).
 fn split(items: &mut [Item]) {
-    let (klo, khi) = items
+    let (lo, hi) = items
         .iter()
-        .fold(([i64::MAX; 3], [i64::MIN; 3]), |(mut lo, mut hi), item| {
-            for a in 0..3 {
-                lo[a] = lo[a].min(item.key[a]);
-                hi[a] = hi[a].max(item.key[a]);
-            }
-            (lo, hi)
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
+            (lo.min(item.centre), hi.max(item.centre))
         });
-    let extent =
-        DVec3::from_array(khi.map(from_order_key)) - DVec3::from_array(klo.map(from_order_key));
+    let extent = hi - lo;
     let mid = items.len() / 2;
-    // One comparison per axis, so that the axis is not looked up in every comparison.
+    // One comparator per axis, so that the axis is not looked up in every comparison.
     if extent.x >= extent.y && extent.x >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (item.key[0], item.index));
+        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.x), item.index));
     } else if extent.y >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (item.key[1], item.index));
+        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.y), item.index));
     } else {
-        items.select_nth_unstable_by_key(mid, |item| (item.key[2], item.index));
+        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.z), item.index));
     }
 }
 
