@@ -356,8 +356,11 @@ fn split(items: &mut [Item]) {
     }
 }
 
-/// Cells per axis of the Morton grid (21 bits).
-const MORTON_CELLS: u32 = (1 << 21) - 1;
+/// Cells per axis of the Morton grid (10 bits): a 30-bit code, so that the code and a
+/// 32-bit point index make one `u64` sort key. 1024 cells per axis are finer than the
+/// vertex spacing of any mesh this is used on up to about 10⁷ vertices, and points that
+/// share a cell stay in index order.
+const MORTON_CELLS: u32 = (1 << 10) - 1;
 
 /// The Morton code of a point given in grid cells (`[0, MORTON_CELLS]` per axis).
 fn morton_code(q: DVec3) -> u64 {
@@ -390,13 +393,13 @@ pub(crate) fn morton_order(points: &[DVec3]) -> Vec<u32> {
         DVec3::splat(f64::from(MORTON_CELLS)) / extent,
         DVec3::ZERO,
     );
-    let mut keyed: Vec<(u64, u32)> = points
+    let mut keyed: Vec<u64> = points
         .par_iter()
         .enumerate()
-        .map(|(i, &p)| (morton_code((p - lo) * scale), i as u32))
+        .map(|(i, &p)| (morton_code((p - lo) * scale) << 32) | i as u64)
         .collect();
     keyed.par_sort_unstable();
-    keyed.into_iter().map(|(_, i)| i).collect()
+    keyed.into_iter().map(|key| key as u32).collect()
 }
 
 #[cfg(test)]
