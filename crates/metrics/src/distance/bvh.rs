@@ -13,7 +13,8 @@
 //!   which lets subtrees be built in parallel into disjoint parts of one preallocated array;
 //! - interior nodes flattened in depth-first order, each holding both children's boxes and
 //!   references (112 bytes; a leaf of at most four items is named in its parent, not
-//!   stored as a node), about 0.35 nodes per triangle;
+//!   stored as a node): 524 287 nodes for the 1 310 720 triangles of a level-8 icosphere
+//!   (leaves of two and three triangles);
 //! - an iterative traversal with a reusable stack that tests both children's boxes of a
 //!   node at once, visits the nearer first and prunes by the best squared distance so far.
 //!
