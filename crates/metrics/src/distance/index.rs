@@ -7,9 +7,9 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, EdgeId, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, morton_order};
+use super::bvh::{Bvh, Stack, box_distance_squared, morton_order};
 use super::sampling::SplitMix64;
-use super::triangle::{TriangleFeature, TrianglePoint, closest_point_on_triangle};
+use super::triangle::{PreparedTriangle, TriangleFeature, TrianglePoint};
 use crate::MetricsError;
 
 /// The largest coordinate magnitude accepted for reference positions and query points.
@@ -57,10 +57,21 @@ impl ClosestPoint {
 }
 
 /// What consecutive queries pass on: the previous answer's leaf position (its distance
-/// bounds the next search).
-#[derive(Debug, Default)]
+/// bounds the next search), and the traversal stack (reused, never cleared element by
+/// element).
+#[derive(Debug)]
 struct Hint {
     leaf: Option<usize>,
+    stack: Stack,
+}
+
+impl Default for Hint {
+    fn default() -> Self {
+        Self {
+            leaf: None,
+            stack: Stack::new(),
+        }
+    }
 }
 
 /// Angle-weighted pseudo-normals (not normalised; only their direction is used).
@@ -75,7 +86,7 @@ struct PseudoNormals {
 /// closest points and signed distances of any number of points.
 ///
 /// It owns copies of what it needs (the triangles in hierarchy order, the face–vertex and
-/// face–edge incidences, the positions), about 150 bytes per face, so the reference mesh
+/// face–edge incidences, the positions), about 180 bytes per face, so the reference mesh
 /// can be dropped; the first signed query adds the pseudo-normals, about 70 bytes per
 /// face. Queries take `&self` and run in parallel with rayon; batch results are
 /// identical for any thread count.
@@ -101,8 +112,8 @@ struct PseudoNormals {
 #[derive(Debug)]
 pub struct SurfaceIndex {
     bvh: Bvh,
-    /// Triangle corners in leaf order.
-    triangles: Vec<[DVec3; 3]>,
+    /// Triangles in leaf order, prepared for the point–triangle routine.
+    triangles: Vec<PreparedTriangle>,
     /// The face at each leaf position.
     leaf_faces: Vec<u32>,
     /// Vertex ids per face, in the face's order.
@@ -175,7 +186,7 @@ impl SurfaceIndex {
         });
         let triangles = order
             .par_iter()
-            .map(|&f| corners(&face_vertices[f as usize]))
+            .map(|&f| PreparedTriangle::new(corners(&face_vertices[f as usize])))
             .collect();
         Ok(Self {
             bvh,
@@ -404,28 +415,41 @@ impl SurfaceIndex {
             feature: TriangleFeature::Interior,
         };
         if let Some(k) = hint.leaf {
-            best = closest_point_on_triangle(p, self.triangles[k]);
+            best = self.triangles[k].closest_point(p);
             best_k = k;
             best_face = self.leaf_faces[k];
         }
-        self.bvh.nearest(p, best.distance_squared, |k| {
-            let candidate = closest_point_on_triangle(p, self.triangles[k]);
-            let face = self.leaf_faces[k];
-            if candidate.distance_squared < best.distance_squared
-                || (candidate.distance_squared == best.distance_squared && face < best_face)
-            {
-                best = candidate;
-                best_k = k;
-                best_face = face;
-            }
-            best.distance_squared
-        });
+        self.bvh
+            .nearest(p, best.distance_squared, &mut hint.stack, |k| {
+                let triangle = &self.triangles[k];
+                // The triangle's own box first: a leaf's box is the union of up to four of
+                // them, and about four in ten of the triangles of a visited leaf are farther
+                // than the best so far. The box distance is computed as the hierarchy's node
+                // test computes it (a triangle alone in a leaf was already pruned by this very
+                // test), and a box at exactly the bound is not skipped (ties go to the face
+                // order below).
+                let [a, b, c] = triangle.corners;
+                if box_distance_squared(a.min(b).min(c), a.max(b).max(c), p) > best.distance_squared
+                {
+                    return best.distance_squared;
+                }
+                let candidate = triangle.closest_point(p);
+                let face = self.leaf_faces[k];
+                if candidate.distance_squared < best.distance_squared
+                    || (candidate.distance_squared == best.distance_squared && face < best_face)
+                {
+                    best = candidate;
+                    best_k = k;
+                    best_face = face;
+                }
+                best.distance_squared
+            });
         if best_k == usize::MAX {
             // Unreachable for validated input (every distance is finite, so the search
             // finds a triangle); kept so that no input can index out of range.
             best_k = 0;
             best_face = self.leaf_faces[0];
-            best = closest_point_on_triangle(p, self.triangles[0]);
+            best = self.triangles[0].closest_point(p);
         }
         hint.leaf = Some(best_k);
         let face = best_face as usize;

@@ -65,77 +65,119 @@ pub struct TrianglePoint {
 /// (revised 2020).
 #[must_use]
 pub fn closest_point_on_triangle(p: DVec3, triangle: [DVec3; 3]) -> TrianglePoint {
-    let [a, b, c] = triangle;
-    let e0 = b - a;
-    let e1 = c - a;
-    let e2 = c - b;
-    let aa = e0.dot(e0);
-    let cc = e1.dot(e1);
-    let longest2 = aa.max(cc).max(e2.dot(e2));
-    // |E0 × E1|² (twice the area, squared) equals Eberly's det = aa·cc − bb² (Lagrange's
-    // identity), without the cancellation of the difference.
-    let det = e0.cross(e1).length_squared();
-    let bound = beltrami_halfedge::geometry::DEGENERACY_RATIO * longest2;
-    if det <= bound * bound || det.is_nan() {
-        return closest_on_edges(p, triangle);
-    }
-    let d = a - p;
-    let bb = e0.dot(e1);
-    let dd = e0.dot(d);
-    let ee = e1.dot(d);
-    let s = bb * ee - cc * dd;
-    let t = bb * dd - aa * ee;
+    PreparedTriangle::new(triangle).closest_point(p)
+}
 
-    if s + t <= det {
-        if s < 0.0 {
-            if t < 0.0 {
-                // Region 4: the corner wedge at a; the minimum is on edge 0 or edge 2.
-                if dd < 0.0 {
-                    on_edge(p, triangle, 0)
+/// A triangle with the quantities of Eberly's method that do not depend on the query point,
+/// computed once: a search evaluates each reference triangle for many points. The results
+/// are those of [`closest_point_on_triangle`] bit for bit (it is this type's method on a
+/// triangle prepared on the spot).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PreparedTriangle {
+    /// The corners, in the triangle's order.
+    pub(crate) corners: [DVec3; 3],
+    /// `|E0|²`, `E0 · E1`, `|E1|²`.
+    aa: f64,
+    bb: f64,
+    cc: f64,
+    /// `|E0 × E1|²`, NaN for a degenerate triangle (see [`closest_point_on_triangle`]).
+    det: f64,
+}
+
+impl PreparedTriangle {
+    /// Prepares `triangle` (corners `a`, `b`, `c`).
+    pub(crate) fn new(triangle: [DVec3; 3]) -> Self {
+        let [a, b, c] = triangle;
+        let e0 = b - a;
+        let e1 = c - a;
+        let e2 = c - b;
+        let aa = e0.dot(e0);
+        let cc = e1.dot(e1);
+        let longest2 = aa.max(cc).max(e2.dot(e2));
+        // |E0 × E1|² (twice the area, squared) equals Eberly's det = aa·cc − bb² (Lagrange's
+        // identity), without the cancellation of the difference.
+        let det = e0.cross(e1).length_squared();
+        let bound = beltrami_halfedge::geometry::DEGENERACY_RATIO * longest2;
+        let degenerate = det <= bound * bound || det.is_nan();
+        Self {
+            corners: triangle,
+            aa,
+            bb: e0.dot(e1),
+            cc,
+            det: if degenerate { f64::NAN } else { det },
+        }
+    }
+
+    /// The point of the triangle closest to `p` (see [`closest_point_on_triangle`]).
+    #[inline]
+    pub(crate) fn closest_point(&self, p: DVec3) -> TrianglePoint {
+        let triangle = self.corners;
+        let Self {
+            aa, bb, cc, det, ..
+        } = *self;
+        if det.is_nan() {
+            return closest_on_edges(p, triangle);
+        }
+        let [a, b, c] = triangle;
+        let e0 = b - a;
+        let e1 = c - a;
+        let d = a - p;
+        let dd = e0.dot(d);
+        let ee = e1.dot(d);
+        let s = bb * ee - cc * dd;
+        let t = bb * dd - aa * ee;
+
+        if s + t <= det {
+            if s < 0.0 {
+                if t < 0.0 {
+                    // Region 4: the corner wedge at a; the minimum is on edge 0 or edge 2.
+                    if dd < 0.0 {
+                        on_edge(p, triangle, 0)
+                    } else {
+                        on_edge(p, triangle, 2)
+                    }
                 } else {
+                    // Region 3: beyond edge 2 (s = 0).
                     on_edge(p, triangle, 2)
                 }
+            } else if t < 0.0 {
+                // Region 5: beyond edge 0 (t = 0).
+                on_edge(p, triangle, 0)
             } else {
-                // Region 3: beyond edge 2 (s = 0).
+                // Region 0: the projection lies inside, or exactly on the boundary (then the
+                // closest edge names the feature).
+                if s == 0.0 || t == 0.0 || s + t == det {
+                    return closest_on_edges(p, triangle);
+                }
+                let point = a + e0 * (s / det) + e1 * (t / det);
+                TrianglePoint {
+                    point,
+                    distance_squared: (p - point).length_squared(),
+                    feature: TriangleFeature::Interior,
+                }
+            }
+        } else if s < 0.0 {
+            // Region 2: the corner wedge at c; the minimum is on edge 1 or edge 2.
+            let tmp0 = bb + dd;
+            let tmp1 = cc + ee;
+            if tmp1 > tmp0 {
+                on_edge(p, triangle, 1)
+            } else {
                 on_edge(p, triangle, 2)
             }
         } else if t < 0.0 {
-            // Region 5: beyond edge 0 (t = 0).
-            on_edge(p, triangle, 0)
-        } else {
-            // Region 0: the projection lies inside, or exactly on the boundary (then the
-            // closest edge names the feature).
-            if s == 0.0 || t == 0.0 || s + t == det {
-                return closest_on_edges(p, triangle);
+            // Region 6: the corner wedge at b; the minimum is on edge 1 or edge 0.
+            let tmp0 = bb + ee;
+            let tmp1 = aa + dd;
+            if tmp1 > tmp0 {
+                on_edge(p, triangle, 1)
+            } else {
+                on_edge(p, triangle, 0)
             }
-            let point = a + e0 * (s / det) + e1 * (t / det);
-            TrianglePoint {
-                point,
-                distance_squared: (p - point).length_squared(),
-                feature: TriangleFeature::Interior,
-            }
-        }
-    } else if s < 0.0 {
-        // Region 2: the corner wedge at c; the minimum is on edge 1 or edge 2.
-        let tmp0 = bb + dd;
-        let tmp1 = cc + ee;
-        if tmp1 > tmp0 {
-            on_edge(p, triangle, 1)
         } else {
-            on_edge(p, triangle, 2)
-        }
-    } else if t < 0.0 {
-        // Region 6: the corner wedge at b; the minimum is on edge 1 or edge 0.
-        let tmp0 = bb + ee;
-        let tmp1 = aa + dd;
-        if tmp1 > tmp0 {
+            // Region 1: beyond edge 1 (s + t = 1).
             on_edge(p, triangle, 1)
-        } else {
-            on_edge(p, triangle, 0)
         }
-    } else {
-        // Region 1: beyond edge 1 (s + t = 1).
-        on_edge(p, triangle, 1)
     }
 }
 
