@@ -39,7 +39,9 @@ pub enum ImplicitSolver {
     /// Sparse Cholesky factorisation `A = L Lᵀ` (faer, approximate minimum degree
     /// ordering): the sparsity analysis once per run, the numeric factorisation once
     /// while the operator is frozen and again whenever the weights are recomputed; each
-    /// step is then two triangular solves. Exact to rounding. The default.
+    /// step is then two triangular solves. Exact to rounding. The library's default
+    /// (the command line's `--solver` defaults to conjugate gradient instead, the faster
+    /// first step on large meshes; see `docs/implicit.md`, "Which solver").
     #[default]
     Cholesky,
     /// Conjugate gradient with a Jacobi (diagonal) preconditioner, started from the
