@@ -74,9 +74,12 @@ pub(crate) struct SmoothArgs {
     /// --normalize area). See docs/methods.md and docs/implicit.md.
     #[arg(long, value_enum, default_value_t = MethodArg::Explicit)]
     method: MethodArg,
-    /// The linear solver of --method implicit: sparse Cholesky (factorised once while
-    /// the weights are frozen) or Jacobi-preconditioned conjugate gradient (1e-10).
-    #[arg(long, value_enum, default_value_t = SolverArg::Cholesky)]
+    /// The linear solver of --method implicit: cg (Jacobi-preconditioned conjugate
+    /// gradient to a relative residual of 1e-10, no set-up, memory linear in the mesh;
+    /// the default) or cholesky (sparse factorisation, exact to rounding, factorised once
+    /// while the weights are frozen; pays off for many frozen steps of a large λ on a
+    /// mesh small enough to factorise). The library's default is Cholesky.
+    #[arg(long, value_enum, default_value_t = SolverArg::Cg)]
     solver: SolverArg,
     /// Taubin's negative step μ (< -λ; pass band 1/λ + 1/μ). Default: the μ giving a
     /// pass band of 0.1.

@@ -189,7 +189,7 @@ fn bad_method_parameters_are_one_line_errors() {
 #[test]
 fn implicit_steps_match_the_library_and_take_a_physical_time() {
     use beltrami_halfedge::geometry::VertexAreaKind;
-    use beltrami_smooth::{ImplicitConfig, WeightUpdate, smooth_implicit};
+    use beltrami_smooth::{ImplicitConfig, ImplicitSolver, WeightUpdate, smooth_implicit};
     use beltrami_weights::{LaplacianOptions, Normalization};
 
     let dir = tempfile::tempdir().unwrap();
@@ -197,34 +197,79 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
     let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(x.len(), faces.iter()).unwrap();
     let out = dir.path().join("out.ply");
     let report = dir.path().join("report.json");
-    // λ = 5 would blow up an explicit step; the implicit one is stable.
-    ok(&[
-        "smooth",
-        s(&input),
-        s(&out),
-        "--method",
-        "implicit",
-        "--lambda",
-        "5",
-        "--iterations",
-        "3",
-        "--update",
-        "once",
-        "--report",
-        s(&report),
-    ]);
-    let expected = smooth_implicit(
-        &mesh,
-        &x,
-        &Cotangent,
-        ImplicitConfig::new(5.0, 3).update(WeightUpdate::Once),
-    )
-    .unwrap()
-    .positions;
-    assert_eq!(smoothed(&out).0, expected);
-    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-    assert_eq!(r["implicit"]["numeric_factorizations"], 1);
-    assert_eq!(r["iterations"], 3);
+    // λ = 5 would blow up an explicit step; the implicit one is stable. The default
+    // solver is conjugate gradient (tolerance 1e-10); `--solver cholesky` factorises.
+    let cg = ImplicitSolver::conjugate_gradient();
+    for (flags, solver) in [
+        (&[][..], cg),
+        (&["--solver", "cg"][..], cg),
+        (&["--solver", "cholesky"][..], ImplicitSolver::Cholesky),
+    ] {
+        let mut args = vec![
+            "smooth",
+            s(&input),
+            s(&out),
+            "--method",
+            "implicit",
+            "--lambda",
+            "5",
+            "--iterations",
+            "3",
+            "--update",
+            "once",
+            "--report",
+            s(&report),
+        ];
+        args.extend_from_slice(flags);
+        ok(&args);
+        let expected = smooth_implicit(
+            &mesh,
+            &x,
+            &Cotangent,
+            ImplicitConfig::new(5.0, 3)
+                .update(WeightUpdate::Once)
+                .solver(solver),
+        )
+        .unwrap();
+        assert_eq!(smoothed(&out).0, expected.positions, "{flags:?}");
+        let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let figures = &r["implicit"];
+        assert_eq!(r["iterations"], 3, "{flags:?}");
+        match solver {
+            ImplicitSolver::Cholesky => {
+                assert_eq!(figures["solver"], "cholesky");
+                // Frozen weights: one factorisation serves the three steps.
+                assert_eq!(figures["numeric_factorizations"], 1);
+                assert!(figures["factor_nonzeros"].as_u64().unwrap() > 0);
+                assert_eq!(figures["cg_iterations"], 0);
+            }
+            _ => {
+                assert_eq!(figures["solver"], "cg", "{flags:?}");
+                assert_eq!(figures["numeric_factorizations"], 0);
+                assert_eq!(figures["factor_nonzeros"], 0);
+                let iterations = figures["cg_iterations"].as_u64().unwrap();
+                assert!(iterations > 0, "{flags:?}");
+                assert_eq!(iterations as usize, expected.report.cg_iterations);
+                // Every step met the tolerance, and the result agrees with the exact
+                // solve.
+                for step in &expected.report.steps {
+                    assert!(step.cg_iterations > 0);
+                    assert!(step.residual.unwrap() <= 1e-10, "{step:?}");
+                }
+                let exact = smooth_implicit(
+                    &mesh,
+                    &x,
+                    &Cotangent,
+                    ImplicitConfig::new(5.0, 3).update(WeightUpdate::Once),
+                )
+                .unwrap()
+                .positions;
+                for (a, b) in expected.positions.iter().zip(&exact) {
+                    assert!((*a - *b).length() < 1e-8, "{a} vs {b}");
+                }
+            }
+        }
+    }
 
     // One backward-Euler step of the cut-off's time, area-normalised cotangent: close to
     // the mean-curvature flow's radius √(1 − 4t).
@@ -250,7 +295,7 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         &mesh,
         &x,
         &Cotangent,
-        ImplicitConfig::new(t, 1).laplacian(area),
+        ImplicitConfig::new(t, 1).laplacian(area).solver(cg),
     )
     .unwrap()
     .positions;
@@ -271,4 +316,44 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert_snapshot!(error_line(&o, dir.path()), @"error: --method implicit with --time or --cutoff needs --normalize area (a time in length²) (see 'beltrami --help')");
+}
+
+#[test]
+fn implicit_output_does_not_depend_on_the_thread_count() {
+    // Level 5: 10 242 vertices, three parallel chunks of 4096 rows, so two threads
+    // really split the conjugate-gradient sums and the assembly.
+    let dir = tempfile::tempdir().unwrap();
+    let p = primitives::icosphere(5);
+    let noisy: Vec<DVec3> = p
+        .positions
+        .iter()
+        .map(|&x| x * (1.0 + 0.01 * (7.0 * x.x).sin() * (5.0 * x.y).cos()))
+        .collect();
+    let input = write(dir.path(), "sphere.ply", noisy, p.faces);
+    let output = dir.path().join("out.ply");
+    let bytes = |threads: usize, extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_beltrami"))
+            .args(["smooth", s(&input), s(&output), "--method", "implicit"])
+            .args(["--iterations", "3", "--update", "once"])
+            .args(extra)
+            .env("RAYON_NUM_THREADS", threads.to_string())
+            .output()
+            .expect("the binary runs");
+        assert!(
+            out.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(&output).unwrap()
+    };
+    for extra in [
+        &[][..],
+        &["--normalize", "area", "--lambda", "1e-3"][..],
+        &["--solver", "cholesky"][..],
+    ] {
+        assert!(
+            bytes(1, extra) == bytes(2, extra),
+            "{extra:?}: 1 and 2 threads differ"
+        );
+    }
 }

@@ -39,7 +39,9 @@ pub enum ImplicitSolver {
     /// Sparse Cholesky factorisation `A = L Lᵀ` (faer, approximate minimum degree
     /// ordering): the sparsity analysis once per run, the numeric factorisation once
     /// while the operator is frozen and again whenever the weights are recomputed; each
-    /// step is then two triangular solves. Exact to rounding. The default.
+    /// step is then two triangular solves. Exact to rounding. The library's default
+    /// (the command line's `--solver` defaults to conjugate gradient instead, the faster
+    /// first step on large meshes; see `docs/implicit.md`, "Which solver").
     #[default]
     Cholesky,
     /// Conjugate gradient with a Jacobi (diagonal) preconditioner, started from the
@@ -300,6 +302,8 @@ pub struct ImplicitSmoother<'a> {
     solver: SolverState,
     positions: Vec<DVec3>,
     next: Vec<DVec3>,
+    /// Scratch: how far each vertex moved in the current step.
+    distances: Vec<f64>,
     /// Vertex areas (area normalisation), reused across assemblies.
     areas: Vec<f64>,
     iteration: usize,
@@ -409,6 +413,7 @@ impl<'a> ImplicitSmoother<'a> {
             },
             positions: positions.to_vec(),
             next: vec![DVec3::ZERO; positions.len()],
+            distances: Vec::new(),
             areas: Vec::new(),
             iteration: 0,
             weights_fresh: true,
@@ -532,9 +537,11 @@ impl<'a> ImplicitSmoother<'a> {
         }
 
         let start = Instant::now();
-        self.system.rhs(&self.positions, &mut self.next);
         match &mut self.solver {
-            SolverState::Cholesky(direct) => direct.solve(&mut self.next),
+            SolverState::Cholesky(direct) => {
+                self.system.rhs(&self.positions, &mut self.next);
+                direct.solve(&mut self.next);
+            }
             SolverState::ConjugateGradient {
                 cg,
                 tolerance,
@@ -565,22 +572,41 @@ impl<'a> ImplicitSmoother<'a> {
                 }
             }
         }
-        // Dirichlet rows keep their exact bits, whatever the solver's rounding.
+        // Dirichlet rows keep their exact bits, whatever the solver's rounding. The
+        // distances in parallel, their sum in vertex order.
         let free = &self.system.free;
+        self.distances.resize(self.positions.len(), 0.0);
+        let chunks: Vec<(f64, Option<u32>)> = self
+            .next
+            .par_chunks_mut(CHUNK)
+            .zip(self.positions.par_chunks(CHUNK))
+            .zip(self.distances.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, ((next, positions), distances))| {
+                let mut max: f64 = 0.0;
+                let mut bad = None;
+                for (k, ((new, old), d)) in
+                    next.iter_mut().zip(positions).zip(distances).enumerate()
+                {
+                    let i = c * CHUNK + k;
+                    if !free[i] {
+                        *new = *old;
+                    }
+                    if !new.is_finite() && bad.is_none() {
+                        bad = Some(i as u32);
+                    }
+                    *d = beltrami_halfedge::geometry::distance(*old, *new);
+                    max = max.max(*d);
+                }
+                (max, bad)
+            })
+            .collect();
         let mut sum = 0.0;
-        let mut max: f64 = 0.0;
-        let mut bad = None;
-        for (i, (new, old)) in self.next.iter_mut().zip(&self.positions).enumerate() {
-            if !free[i] {
-                *new = *old;
-            }
-            if !new.is_finite() && bad.is_none() {
-                bad = Some(i as u32);
-            }
-            let d = beltrami_halfedge::geometry::distance(*old, *new);
+        for d in &self.distances {
             sum += d;
-            max = max.max(d);
         }
+        let max = chunks.iter().fold(0.0, |m: f64, &(c, _)| m.max(c));
+        let bad = chunks.iter().find_map(|&(_, b)| b);
         self.solve_time += start.elapsed();
         if let Some(vertex) = bad {
             return Err(SmoothError::NonFinite { vertex, iteration });

@@ -54,20 +54,6 @@ fn total<const K: usize>(partials: &[[DVec3; K]]) -> [DVec3; K] {
     sum
 }
 
-/// `(A x)_i` for row `i`.
-#[inline]
-fn row_product(system: &System, x: &[DVec3], i: usize) -> DVec3 {
-    let (start, end) = (system.offsets[i], system.offsets[i + 1]);
-    let mut s = x[i] * system.diagonal[i];
-    for (&a, &j) in system.off_diagonal[start..end]
-        .iter()
-        .zip(&system.neighbours[start..end])
-    {
-        s += x[j as usize] * a;
-    }
-    s
-}
-
 /// Per component: `a` where `mask` is set, else `b`.
 #[inline]
 fn select(mask: [bool; 3], a: DVec3, b: DVec3) -> DVec3 {
@@ -78,9 +64,51 @@ fn select(mask: [bool; 3], a: DVec3, b: DVec3) -> DVec3 {
     )
 }
 
+/// [`select`], or `a` when every component is set (`ALL`): the common case, a loop
+/// without per-component choices.
+#[inline(always)]
+fn pick<const ALL: bool>(mask: [bool; 3], a: DVec3, b: DVec3) -> DVec3 {
+    if ALL { a } else { select(mask, a, b) }
+}
+
+/// One chunk of pass 2: `x += α p`, `r −= α q` for the `active` coordinates; returns
+/// the chunk's `Σ r²` and `Σ r z` (`z = r / d`), summed row by row.
+#[inline(always)]
+fn update_chunk<const ALL: bool>(
+    active: [bool; 3],
+    alpha: DVec3,
+    (x, r): (&mut [DVec3], &mut [DVec3]),
+    (p, q, d): (&[DVec3], &[DVec3], &[f64]),
+) -> [DVec3; 2] {
+    let mut sums = [DVec3::ZERO; 2];
+    for ((x, r), ((p, q), d)) in x.iter_mut().zip(r).zip(p.iter().zip(q).zip(d)) {
+        *x = pick::<ALL>(active, *x + alpha * *p, *x);
+        *r = pick::<ALL>(active, *r - alpha * *q, *r);
+        let z = *r / *d;
+        sums[0] += *r * *r;
+        sums[1] += *r * z;
+    }
+    sums
+}
+
+/// One chunk of pass 3: `p = z + β p` (`z = r / d`) for the `update` coordinates.
+#[inline(always)]
+fn direction_chunk<const ALL: bool>(
+    update: [bool; 3],
+    beta: DVec3,
+    p: &mut [DVec3],
+    (r, d): (&[DVec3], &[f64]),
+) {
+    for (p, (r, d)) in p.iter_mut().zip(r.iter().zip(d)) {
+        let z = *r / *d;
+        *p = pick::<ALL>(update, z + beta * *p, *p);
+    }
+}
+
 impl Cg {
-    /// Solves `A x = b` for the three coordinates, starting from `initial`; `rhs` holds
-    /// `b` on entry and `x` on return. Each coordinate stops when `‖b − A x‖₂ ≤
+    /// Solves `A x = b` for the three coordinates, `b` the right-hand side of `initial`
+    /// ([`System::rhs`], formed here in the first pass), starting from `initial`; `x`
+    /// holds the solution on return. Each coordinate stops when `‖b − A x‖₂ ≤
     /// tolerance ‖b‖₂` (its iterate then stays fixed) or after `max_iterations`
     /// iterations; the whole solve stops at the first direction of non-positive
     /// curvature. The residual returned is recomputed from `A x`, not the recursively
@@ -89,19 +117,19 @@ impl Cg {
         &mut self,
         system: &System,
         initial: &[DVec3],
-        rhs: &mut [DVec3],
+        x: &mut [DVec3],
         tolerance: f64,
         max_iterations: usize,
     ) -> CgOutcome {
-        let n = rhs.len();
+        let n = x.len();
         for v in [&mut self.b, &mut self.r, &mut self.p, &mut self.q] {
             v.resize(n, DVec3::ZERO);
         }
         let Self { b, r, p, q } = self;
         let d = &system.diagonal;
 
-        // b ← rhs, x ← initial, r = b − A x, p = z = r / d; Σ b², Σ r², Σ r z.
-        let partials: Vec<[DVec3; 3]> = rhs
+        // b = rhs(initial), x ← initial, r = b − A x, p = z = r / d; Σ b², Σ r², Σ r z.
+        let partials: Vec<[DVec3; 3]> = x
             .par_chunks_mut(CHUNK)
             .zip(b.par_chunks_mut(CHUNK))
             .zip(r.par_chunks_mut(CHUNK))
@@ -112,9 +140,9 @@ impl Cg {
                 let mut sums = [DVec3::ZERO; 3];
                 for k in 0..x.len() {
                     let i = first + k;
-                    b[k] = x[k];
+                    b[k] = system.rhs_row(initial, i);
                     x[k] = initial[i];
-                    r[k] = b[k] - row_product(system, initial, i);
+                    r[k] = b[k] - system.row_product(initial, i);
                     p[k] = r[k] / d[i];
                     sums[0] += b[k] * b[k];
                     sums[1] += r[k] * r[k];
@@ -143,7 +171,6 @@ impl Cg {
         let mut iterations = 0;
         let mut longest = 0;
         let mut indefinite = false;
-        let x = &mut *rhs;
         while active.iter().any(|&a| a) && longest < max_iterations {
             // q = A p; Σ p q.
             let partials: Vec<[DVec3; 1]> = q
@@ -154,7 +181,7 @@ impl Cg {
                     let mut pq = DVec3::ZERO;
                     for (k, qk) in q.iter_mut().enumerate() {
                         let i = first + k;
-                        *qk = row_product(system, p, i);
+                        *qk = system.row_product(p, i);
                         pq += p[i] * *qk;
                     }
                     [pq]
@@ -179,17 +206,13 @@ impl Cg {
                 .zip(r.par_chunks_mut(CHUNK))
                 .enumerate()
                 .map(|(c, (x, r))| {
-                    let first = c * CHUNK;
-                    let mut sums = [DVec3::ZERO; 2];
-                    for k in 0..x.len() {
-                        let i = first + k;
-                        x[k] = select(active, x[k] + alpha * p[i], x[k]);
-                        r[k] = select(active, r[k] - alpha * q[i], r[k]);
-                        let z = r[k] / d[i];
-                        sums[0] += r[k] * r[k];
-                        sums[1] += r[k] * z;
+                    let rows = c * CHUNK..c * CHUNK + x.len();
+                    let read = (&p[rows.clone()], &q[rows.clone()], &d[rows]);
+                    if active == [true; 3] {
+                        update_chunk::<true>(active, alpha, (x, r), read)
+                    } else {
+                        update_chunk::<false>(active, alpha, (x, r), read)
                     }
-                    sums
                 })
                 .collect();
             let [rr, rz_next] = total(&partials);
@@ -216,10 +239,11 @@ impl Cg {
                     .zip(r.par_chunks(CHUNK))
                     .enumerate()
                     .for_each(|(c, (p, r))| {
-                        let first = c * CHUNK;
-                        for k in 0..p.len() {
-                            let z = r[k] / d[first + k];
-                            p[k] = select(update, z + beta * p[k], p[k]);
+                        let d = &d[c * CHUNK..c * CHUNK + p.len()];
+                        if update == [true; 3] {
+                            direction_chunk::<true>(update, beta, p, (r, d));
+                        } else {
+                            direction_chunk::<false>(update, beta, p, (r, d));
                         }
                     });
             }
@@ -233,7 +257,7 @@ impl Cg {
                 let first = c * CHUNK;
                 let mut sum = DVec3::ZERO;
                 for (k, bk) in b.iter().enumerate() {
-                    let e = *bk - row_product(system, x, first + k);
+                    let e = *bk - system.row_product(x, first + k);
                     sum += e * e;
                 }
                 [sum]

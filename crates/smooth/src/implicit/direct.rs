@@ -70,7 +70,7 @@ impl Direct {
         col_ptr.push(0);
         for i in 0..n {
             column.clear();
-            for slot in system.offsets[i]..system.offsets[i + 1] {
+            for slot in system.slots(i) {
                 let j = system.neighbours[slot] as usize;
                 if j < i {
                     column.push((j, slot));

@@ -1,6 +1,8 @@
 //! The linear system of one backward-Euler step, `(M − t L) x' = M x`, in the row layout
 //! of the [`Laplacian`]: one slot per halfedge `i → j`, rows in one-ring order.
 
+use std::ops::Range;
+
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::Laplacian;
 use rayon::prelude::*;
@@ -13,8 +15,9 @@ use super::CHUNK;
 /// symmetric.
 #[derive(Clone, Debug)]
 pub(super) struct System {
-    /// Row `i` is `offsets[i]..offsets[i + 1]`.
-    pub(super) offsets: Vec<usize>,
+    /// Row `i` is `offsets[i]..offsets[i + 1]` (see [`slots`](Self::slots)); `u32`
+    /// like the halfedge handles, half the bytes the matrix passes stream.
+    offsets: Vec<u32>,
     /// The neighbour `j` of each slot.
     pub(super) neighbours: Vec<u32>,
     /// The slot of the twin halfedge `j → i`.
@@ -23,8 +26,6 @@ pub(super) struct System {
     fixed: Vec<bool>,
     /// The time step `t`.
     time_step: f64,
-    /// The operator's weights per slot (scratch of [`assemble`](Self::assemble)).
-    raw: Vec<f64>,
     /// Symmetrised weights `½ (w_ij + w_ji)` per slot.
     weights: Vec<f64>,
     /// The lumped mass `M_ii` (vertex area or weight sum).
@@ -33,7 +34,8 @@ pub(super) struct System {
     pub(super) free: Vec<bool>,
     /// The diagonal of `A` (1 for a Dirichlet row).
     pub(super) diagonal: Vec<f64>,
-    /// The off-diagonal `A_ij` per slot (0 when `i` or `j` is Dirichlet).
+    /// The off-diagonal `A_ij` per slot (0 when `i` or `j` is Dirichlet); during
+    /// [`assemble`](Self::assemble) first the operator's weights per slot.
     pub(super) off_diagonal: Vec<f64>,
     /// Vertices that should move but cannot (see [`assemble`](Self::assemble)).
     pub(super) stuck: usize,
@@ -48,12 +50,13 @@ pub(super) struct NonFiniteEntry {
 
 /// Splits `data` (one entry per slot) into the slots of consecutive chunks of
 /// [`CHUNK`] rows: `(first row, slots)` per chunk.
-fn row_chunks<'a, T>(offsets: &[usize], mut data: &'a mut [T]) -> Vec<(usize, &'a mut [T])> {
+fn row_chunks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<(usize, &'a mut [T])> {
     let n = offsets.len() - 1;
     let mut out = Vec::with_capacity(n.div_ceil(CHUNK));
     for first in (0..n).step_by(CHUNK) {
         let last = (first + CHUNK).min(n);
-        let (head, rest) = std::mem::take(&mut data).split_at_mut(offsets[last] - offsets[first]);
+        let (head, rest) = std::mem::take(&mut data)
+            .split_at_mut(offsets[last] as usize - offsets[first] as usize);
         out.push((first, head));
         data = rest;
     }
@@ -71,11 +74,12 @@ impl System {
     ) -> Self {
         let n = laplacian.n_rows();
         let mut offsets = Vec::with_capacity(n + 1);
-        offsets.push(0);
-        let mut total = 0;
+        offsets.push(0u32);
+        let mut total = 0usize;
         for i in 0..n {
             total += laplacian.row_halfedges(VertexId::new(i as u32)).len();
-            offsets.push(total);
+            // At most one slot per halfedge, and halfedge handles are `u32`.
+            offsets.push(total as u32);
         }
         let mut neighbours = vec![0u32; total];
         let mut twins = vec![0u32; total];
@@ -83,11 +87,11 @@ impl System {
             .into_par_iter()
             .zip(row_chunks(&offsets, &mut twins))
             .for_each(|((first, nb), (_, tw))| {
-                let base = offsets[first];
+                let base = offsets[first] as usize;
                 let last = (first + CHUNK).min(n);
                 for i in first..last {
                     let v = VertexId::new(i as u32);
-                    let slots = offsets[i] - base..offsets[i + 1] - base;
+                    let slots = offsets[i] as usize - base..offsets[i + 1] as usize - base;
                     for ((&h, (j, _)), (nb, tw)) in laplacian
                         .row_halfedges(v)
                         .iter()
@@ -101,7 +105,7 @@ impl System {
                             .iter()
                             .position(|&g| g == h ^ 1)
                             .expect("every halfedge lies in the row of the vertex it leaves");
-                        *tw = (offsets[j.index()] + k) as u32;
+                        *tw = offsets[j.index()] + k as u32;
                     }
                 }
             });
@@ -112,7 +116,6 @@ impl System {
             twins,
             fixed,
             time_step,
-            raw: vec![0.0; total],
             weights: vec![0.0; total],
             mass: vec![0.0; n],
             free: vec![false; n],
@@ -120,6 +123,12 @@ impl System {
             off_diagonal: vec![0.0; total],
             stuck: 0,
         }
+    }
+
+    /// The slots of row `i`.
+    #[inline]
+    pub(super) fn slots(&self, i: usize) -> Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
     }
 
     /// The number of unknowns (vertices).
@@ -146,12 +155,13 @@ impl System {
     ) -> Result<(), NonFiniteEntry> {
         let n = self.n();
         let offsets = &self.offsets;
-        row_chunks(offsets, &mut self.raw)
+        // The operator's weights per slot, in `off_diagonal` until the last pass.
+        row_chunks(offsets, &mut self.off_diagonal)
             .into_par_iter()
             .for_each(|(first, raw)| {
-                let base = offsets[first];
+                let base = offsets[first] as usize;
                 for i in first..(first + CHUNK).min(n) {
-                    let slots = offsets[i] - base..offsets[i + 1] - base;
+                    let slots = offsets[i] as usize - base..offsets[i + 1] as usize - base;
                     for (slot, (_, w)) in raw[slots]
                         .iter_mut()
                         .zip(laplacian.row(VertexId::new(i as u32)))
@@ -161,7 +171,7 @@ impl System {
                 }
             });
         let t = self.time_step;
-        let (raw, twins, fixed) = (&self.raw, &self.twins, &self.fixed);
+        let (raw, twins, fixed) = (&self.off_diagonal, &self.twins, &self.fixed);
         let rows = self
             .mass
             .par_chunks_mut(CHUNK)
@@ -171,12 +181,12 @@ impl System {
             .into_par_iter()
             .zip(rows)
             .map(|((first, weights), ((mass, free), diagonal))| {
-                let base = offsets[first];
+                let base = offsets[first] as usize;
                 let mut stuck = 0;
                 let mut bad = None;
                 for k in 0..mass.len() {
                     let i = first + k;
-                    let slots = offsets[i]..offsets[i + 1];
+                    let slots = offsets[i] as usize..offsets[i + 1] as usize;
                     let row = &mut weights[slots.start - base..slots.end - base];
                     // ½ w + ½ w is w exactly, so symmetric schemes keep their bits.
                     for (w, s) in row.iter_mut().zip(slots) {
@@ -206,10 +216,10 @@ impl System {
         let off_bad: Vec<Option<u32>> = row_chunks(offsets, &mut self.off_diagonal)
             .into_par_iter()
             .map(|(first, off)| {
-                let base = offsets[first];
+                let base = offsets[first] as usize;
                 let mut bad = None;
                 for i in first..(first + CHUNK).min(n) {
-                    for s in offsets[i]..offsets[i + 1] {
+                    for s in offsets[i] as usize..offsets[i + 1] as usize {
                         let j = neighbours[s] as usize;
                         let a = if free[i] && free[j] {
                             -t * weights[s]
@@ -237,24 +247,43 @@ impl System {
     /// plus `t w_ij x_j` for every Dirichlet neighbour `j` of a free row, and `x_i` for
     /// a Dirichlet row.
     pub(super) fn rhs(&self, x: &[DVec3], b: &mut [DVec3]) {
-        let t = self.time_step;
         b.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
             let first = c * CHUNK;
             for (k, bi) in out.iter_mut().enumerate() {
-                let i = first + k;
-                *bi = if self.free[i] {
-                    let mut s = x[i] * self.mass[i];
-                    for slot in self.offsets[i]..self.offsets[i + 1] {
-                        let j = self.neighbours[slot] as usize;
-                        if !self.free[j] {
-                            s += x[j] * (t * self.weights[slot]);
-                        }
-                    }
-                    s
-                } else {
-                    x[i]
-                };
+                *bi = self.rhs_row(x, first + k);
             }
         });
+    }
+
+    /// Row `i` of [`rhs`](Self::rhs).
+    #[inline]
+    pub(super) fn rhs_row(&self, x: &[DVec3], i: usize) -> DVec3 {
+        if self.free[i] {
+            let t = self.time_step;
+            let mut s = x[i] * self.mass[i];
+            for slot in self.slots(i) {
+                let j = self.neighbours[slot] as usize;
+                if !self.free[j] {
+                    s += x[j] * (t * self.weights[slot]);
+                }
+            }
+            s
+        } else {
+            x[i]
+        }
+    }
+
+    /// `(A x)_i` for row `i`.
+    #[inline(always)]
+    pub(super) fn row_product(&self, x: &[DVec3], i: usize) -> DVec3 {
+        let slots = self.slots(i);
+        let mut s = x[i] * self.diagonal[i];
+        for (&a, &j) in self.off_diagonal[slots.clone()]
+            .iter()
+            .zip(&self.neighbours[slots])
+        {
+            s += x[j as usize] * a;
+        }
+        s
     }
 }
