@@ -2,7 +2,7 @@
 //! file, for `docs/performance/io.md` (a benchmark aid, not a test):
 //!
 //! ```sh
-//! cargo run --release -p beltrami-io --example ply_timing -- /work/meshes/s8.ply 7
+//! cargo run --release -p beltrami-io --example ply_timing -- s8.ply 7
 //! ```
 //!
 //! Prints the median and the range of each step over the given number of runs
