@@ -1,6 +1,7 @@
 """beltrami: the release `beltrami smooth` binary (path in $BELTRAMI), timed through
 its `--report` JSON (seconds.weights + seconds.updates: operator assembly, weight
 refreshes and sweeps, without file IO) and by the wall time of the whole process.
+`--no-step-stats`: like the peers, no per-iteration displacement statistics.
 
 Every scheme (uniform, distance, cotangent) with weights recomputed every iteration
 and frozen, lambda 0.8, weight-sum normalisation, free boundary (the paper's and
@@ -24,7 +25,7 @@ SCHEMES = ("uniform", "distance", "cotangent")
 def smooth(src, dst, report, scheme, update, lam, boundary, threads=None):
     cmd = [BIN, "smooth", src, dst, "--weights", scheme, "--update", update,
            "--iterations", str(H.ITERATIONS), "--lambda", str(lam), "--normalize", "sum",
-           "--boundary", boundary, "--report", report]
+           "--boundary", boundary, "--report", report, "--no-step-stats"]
     env = dict(os.environ)
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)
