@@ -146,81 +146,62 @@ impl CotangentPlan {
     /// do not fit in `u32`.
     fn new(mesh: &HalfedgeMesh, halfedges: &[u32]) -> Option<Self> {
         let n_faces = mesh.n_faces();
-        let sentinel = u32::try_from(3 * n_faces).ok()?;
+        u32::try_from(3 * n_faces).ok()?;
+        // Each triangle's vertices in face order and its smallest vertex id (the sort
+        // key), in parallel; `None` for a face that is not a triangle.
+        let corners: Vec<Option<[u32; 3]>> = (0..n_faces)
+            .into_par_iter()
+            .with_min_len(PAR_CHUNK)
+            .map(|f| {
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                (mesh.next(h2) == h0).then(|| {
+                    [
+                        mesh.to_vertex(h0).raw(),
+                        mesh.to_vertex(h1).raw(),
+                        mesh.to_vertex(h2).raw(),
+                    ]
+                })
+            })
+            .collect();
         // Triangles by their smallest vertex id (a counting sort: stable, O(F + V)).
-        let mut key: Vec<u32> = vec![u32::MAX; n_faces];
         let mut counts = vec![0u32; mesh.n_vertices() + 1];
-        for f in mesh.faces() {
-            let h0 = mesh.face_halfedge(f);
-            let h1 = mesh.next(h0);
-            let h2 = mesh.next(h1);
-            if mesh.next(h2) == h0 {
-                let m = mesh
-                    .to_vertex(h0)
-                    .raw()
-                    .min(mesh.to_vertex(h1).raw())
-                    .min(mesh.to_vertex(h2).raw());
-                key[f.index()] = m;
-                counts[m as usize + 1] += 1;
-            }
+        for t in corners.iter().flatten() {
+            counts[t[0].min(t[1]).min(t[2]) as usize + 1] += 1;
         }
         for i in 1..counts.len() {
             counts[i] += counts[i - 1];
         }
         let n_triangles = counts[mesh.n_vertices()] as usize;
+        let sentinel = u32::try_from(3 * n_triangles).ok()?;
         let mut face_ids = vec![0u32; n_triangles];
-        let mut position = vec![u32::MAX; n_faces];
-        for f in mesh.faces() {
-            let k = key[f.index()];
-            if k != u32::MAX {
-                let slot = &mut counts[k as usize];
-                face_ids[*slot as usize] = f.raw();
-                position[f.index()] = *slot;
+        let mut triangles = vec![[0u32; 3]; n_triangles];
+        // Where the cotangent opposite each halfedge lands in `face_cots` (the sentinel
+        // for a boundary halfedge or a face that is not a triangle): triangle `p`'s
+        // halfedges in face order take `3p`, `3p + 1`, `3p + 2`.
+        let mut cot_of = vec![sentinel; mesh.n_halfedges()];
+        for (f, t) in corners.iter().enumerate() {
+            if let Some(t) = t {
+                let slot = &mut counts[t[0].min(t[1]).min(t[2]) as usize];
+                let p = *slot;
                 *slot += 1;
+                face_ids[p as usize] = f as u32;
+                triangles[p as usize] = *t;
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                cot_of[h0.index()] = 3 * p;
+                cot_of[h1.index()] = 3 * p + 1;
+                cot_of[mesh.next(h1).index()] = 3 * p + 2;
             }
         }
-        let sentinel = if n_triangles == n_faces {
-            sentinel
-        } else {
-            u32::try_from(3 * n_triangles).ok()?
-        };
-        let triangles: Vec<[u32; 3]> = face_ids
-            .par_iter()
-            .map(|&f| {
-                let h0 = mesh.face_halfedge(FaceId::new(f));
-                let h1 = mesh.next(h0);
-                let h2 = mesh.next(h1);
-                [
-                    mesh.to_vertex(h0).raw(),
-                    mesh.to_vertex(h1).raw(),
-                    mesh.to_vertex(h2).raw(),
-                ]
-            })
-            .collect();
-        // Where the cotangent opposite each halfedge lands in `face_cots`.
-        let cot_index = |h: HalfedgeId| -> u32 {
-            let Some(f) = mesh.face(h) else {
-                return sentinel;
-            };
-            let p = position[f.index()];
-            if p == u32::MAX {
-                return sentinel;
-            }
-            let h0 = mesh.face_halfedge(f);
-            let k = if h == h0 {
-                0
-            } else if h == mesh.next(h0) {
-                1
-            } else {
-                2
-            };
-            3 * p + k
-        };
+        drop(corners);
         let slot_cots: Vec<[u32; 2]> = halfedges
             .par_iter()
+            .with_min_len(PAR_CHUNK)
             .map(|&h| {
                 let h = HalfedgeId::new(h);
-                [cot_index(h), cot_index(h.twin())]
+                [cot_of[h.index()], cot_of[h.twin().index()]]
             })
             .collect();
         Some(Self {
