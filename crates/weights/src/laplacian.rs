@@ -810,11 +810,9 @@ impl Laplacian {
 }
 
 /// `L x_i` of a movable row (see [`Laplacian::laplacian_at`] for the arithmetic):
-/// weight sum `(Σ_j w_ij x_j) · scale − x_i`, area `(Σ_j w_ij (x_j − x_i)) · scale`, each
-/// sum from zero in row order. With unit weights the products `· 1` are left out (they
-/// are exact). The sums run in [`Xy`] lanes: the same IEEE operations per coordinate, in
-/// the same order, as the `DVec3` expressions (the same bits), two coordinates per
-/// instruction.
+/// weight sum `(Σ_j w_ij x_j) · scale − x_i`, area `(Σ_j w_ij (x_j − x_i)) · scale`, the
+/// sum [`gather_sum`]'s (the same bits as the `DVec3` expressions). The flags are
+/// loop-invariant for a caller walking many rows (perfectly predicted).
 #[inline(always)]
 fn row_sum(
     area: bool,
@@ -825,35 +823,14 @@ fn row_sum(
     positions: &[DVec3],
     scale: f64,
 ) -> DVec3 {
-    let mut s = Xy::ZERO;
-    match (area, unit) {
-        (false, true) => {
-            for &j in nb {
-                s = s + Xy::from(positions[j as usize]);
-            }
-            (s * scale).to_dvec3() - xi
-        }
-        (false, false) => {
-            for (&j, &w) in nb.iter().zip(ws) {
-                s = s + Xy::from(positions[j as usize]) * w;
-            }
-            (s * scale).to_dvec3() - xi
-        }
-        (true, true) => {
-            let c = Xy::from(xi);
-            for &j in nb {
-                s = s + (Xy::from(positions[j as usize]) - c);
-            }
-            (s * scale).to_dvec3()
-        }
-        (true, false) => {
-            let c = Xy::from(xi);
-            for (&j, &w) in nb.iter().zip(ws) {
-                s = s + (Xy::from(positions[j as usize]) - c) * w;
-            }
-            (s * scale).to_dvec3()
-        }
-    }
+    let x = Xy::from(xi);
+    let s = match (area, unit) {
+        (false, true) => gather_sum::<false, true>(nb, ws, positions, x),
+        (false, false) => gather_sum::<false, false>(nb, ws, positions, x),
+        (true, true) => gather_sum::<true, true>(nb, ws, positions, x),
+        (true, false) => gather_sum::<true, false>(nb, ws, positions, x),
+    };
+    if area { s * scale } else { s * scale - x }.to_dvec3()
 }
 
 /// The row sum of [`Laplacian::sweep_rows`], from zero in row order: `Σ_j w_j x_j`, or
