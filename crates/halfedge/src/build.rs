@@ -258,7 +258,7 @@ impl Origin<'_> {
     }
 }
 
-fn check_count(kind: &'static str, count: usize) -> Result<(), TopologyError> {
+pub(crate) fn check_count(kind: &'static str, count: usize) -> Result<(), TopologyError> {
     if count > MAX_ELEMENTS {
         return Err(TopologyError::TooManyElements {
             kind,
@@ -270,7 +270,7 @@ fn check_count(kind: &'static str, count: usize) -> Result<(), TopologyError> {
 }
 
 /// The first vertex that appears twice in `face` (in order of its second appearance).
-fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
+pub(crate) fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
     if face.len() <= 16 {
         for (i, &v) in face.iter().enumerate() {
             if face[..i].contains(&v) {
@@ -288,14 +288,14 @@ fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
 
 /// Per-corner facts of a polygon list. Corner `k` is entry `k` of the flat index
 /// buffer; it starts the directed edge `indices[k] -> indices[next[k]]`.
-struct Corners<'a> {
-    indices: &'a [u32],
-    face: Vec<u32>,
-    next: Vec<u32>,
+pub(crate) struct Corners<'a> {
+    pub(crate) indices: &'a [u32],
+    pub(crate) face: Vec<u32>,
+    pub(crate) next: Vec<u32>,
 }
 
 impl<'a> Corners<'a> {
-    fn new(list: &'a PolygonList) -> Self {
+    pub(crate) fn new(list: &'a PolygonList) -> Self {
         let n = list.n_corners();
         let mut face = Vec::with_capacity(n);
         let mut next = Vec::with_capacity(n);
@@ -312,15 +312,15 @@ impl<'a> Corners<'a> {
         }
     }
 
-    fn from(&self, k: u32) -> u32 {
+    pub(crate) fn from(&self, k: u32) -> u32 {
         self.indices[k as usize]
     }
 
-    fn to(&self, k: u32) -> u32 {
+    pub(crate) fn to(&self, k: u32) -> u32 {
         self.indices[self.next[k as usize] as usize]
     }
 
-    fn face(&self, k: u32) -> usize {
+    pub(crate) fn face(&self, k: u32) -> usize {
         self.face[k as usize] as usize
     }
 
@@ -330,7 +330,7 @@ impl<'a> Corners<'a> {
     /// A counting sort by the lower vertex of the pair (stable, so each bucket is in
     /// corner order), then a sort of each small bucket by (higher vertex, corner):
     /// O(C) plus the buckets' sorts, instead of one sort of all C keys.
-    fn edge_groups(&self) -> (Vec<u32>, Vec<usize>) {
+    pub(crate) fn edge_groups(&self) -> (Vec<u32>, Vec<usize>) {
         let n_corners = self.indices.len();
         let n_vertices = self.indices.iter().max().map_or(0, |&m| m as usize + 1);
         let pair = |k: u32| {

@@ -27,6 +27,10 @@
 //! # Ok::<(), beltrami_halfedge::TopologyError>(())
 //! ```
 //!
+//! A polygon soup that does not build (pinched vertices, edges of more than two faces,
+//! duplicate or degenerate faces, inconsistent orientation) can be cleaned with
+//! [`repair`], which returns a face list that builds and a report of every change.
+//!
 //! See `docs/conventions.md` in the repository for the half-edge conventions with a
 //! diagram.
 
@@ -43,6 +47,7 @@ mod mesh;
 mod polygons;
 pub mod primitives;
 pub mod reorder;
+mod repair;
 
 pub use boundary::BoundaryLoops;
 pub use build::{BuildOptions, BuildReport, MAX_ELEMENTS, VertexSplit};
@@ -57,3 +62,4 @@ pub use ids::{EdgeId, ElementId, FaceId, HalfedgeId, IdRange, VertexId};
 pub use map::{EdgeMap, FaceMap, HalfedgeMap, IdMap, VertexMap};
 pub use mesh::HalfedgeMesh;
 pub use polygons::PolygonList;
+pub use repair::{RepairOptions, RepairReport, Repaired, repair};
