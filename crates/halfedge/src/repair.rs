@@ -169,7 +169,8 @@ impl Repaired {
 
 /// What [`repair`] changed, element by element, in input indices (faces and vertices
 /// 0-based, as given to [`repair`]) unless a field says otherwise. Every list is in
-/// ascending order of its first member.
+/// ascending order of its first member, except
+/// [`split_vertices`](Self::split_vertices), in ascending order of the copies.
 ///
 /// Every input face is either kept ([`face_origin`](Self::face_origin)), dropped as
 /// degenerate or dropped as a duplicate: output faces + degenerate + duplicate = input

@@ -188,6 +188,21 @@ fn check(positions: &[DVec3], faces: &PolygonList, repaired: &Repaired) {
             |f: usize| cleaned(faces.get(f).expect("in range"), &target).map(|c| cycle_key(&c));
         assert_eq!(key(f), key(g));
     }
+    // Cut edges: exactly the edges of more than two kept faces.
+    let mut uses = std::collections::BTreeMap::new();
+    for &f in &report.face_origin {
+        let face = cleaned(faces.get(f).expect("in range"), &target).expect("kept");
+        for (i, &a) in face.iter().enumerate() {
+            let b = face[(i + 1) % face.len()];
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let shared: Vec<(u32, u32)> = uses
+        .into_iter()
+        .filter(|&(_, c)| c > 2)
+        .map(|(e, _)| e)
+        .collect();
+    assert_eq!(report.cut_edges, shared);
     assert_eq!(report.is_empty(), report.to_string() == "no repair needed");
 }
 
