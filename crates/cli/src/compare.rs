@@ -9,9 +9,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use beltrami_halfedge::TopologyError;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
-use beltrami_halfedge::{DVec3, TopologyError};
-use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, write_ply};
+use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_ply};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
@@ -22,7 +22,9 @@ use beltrami_viz::render::ColorMap;
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::{LoadedMesh, load};
+use crate::load::{LoadedMesh, ReadArgs, load};
+use crate::output::{Outputs, Staged};
+use crate::text::number;
 
 /// The seed of the surface samples of `--samples`: fixed, so that a run is repeatable.
 const SAMPLE_SEED: u64 = 1;
@@ -45,9 +47,12 @@ pub(crate) struct CompareArgs {
     /// by area (fixed seed), not only from the vertices (N up to 10 million).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
-    /// Replace the --scalars file even when it is MESH or REFERENCE.
+    /// Replace the --scalars file even when it is MESH or REFERENCE or
+    /// write-protected.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 /// Everything `compare` reports; also the JSON schema of `compare --json`.
@@ -163,11 +168,13 @@ struct Scalars {
 pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliError> {
     if let Some(path) = &args.scalars {
         check_ply_path("--scalars", path)?;
-        crate::output::check_not_input(path, &[&args.mesh, &args.reference], args.force)?;
     }
+    let mut outputs = Outputs::new();
+    outputs.add_opt(args.scalars.as_ref(), "--scalars");
+    outputs.check(&[&args.mesh, &args.reference], args.force)?;
     let start = Instant::now();
-    let mesh = load_input(&args.mesh, Some("compare"))?;
-    let reference = load_input(&args.reference, Some("compare"))?;
+    let mesh = load_input(&args.mesh, &args.read, Some("compare"))?;
+    let reference = load_input(&args.reference, &args.read, Some("compare"))?;
     let read = start.elapsed().as_secs_f64();
     let on_mesh = metrics_error(&args.mesh);
     let on_reference = metrics_error(&args.reference);
@@ -275,10 +282,18 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         reference: surface_area(&reference.mesh, &reference.positions).map_err(&on_reference)?,
     };
 
+    let mut staged = Staged::new();
     let scalars = match &args.scalars {
-        Some(path) => Some(write_scalar_ply(path, &mesh, "signed_distance", &signed)?),
+        Some(path) => Some(stage_scalar_ply(
+            &mut staged,
+            path,
+            &mesh,
+            "signed_distance",
+            &signed,
+        )?),
         None => None,
     };
+    staged.commit()?;
 
     let mut comparison = Comparison {
         mesh: summary(&args.mesh, &mesh),
@@ -513,19 +528,15 @@ pub(crate) fn metrics_error(path: &Path) -> impl Fn(MetricsError) -> CliError + 
 /// `needs_surface` names what needs them.
 pub(crate) fn load_input(
     path: &Path,
+    read: &ReadArgs,
     needs_surface: Option<&'static str>,
 ) -> Result<LoadedMesh, CliError> {
-    let loaded = load(path, false)?;
+    let loaded = load(path, read)?;
     if loaded.mesh.n_vertices() == 0 {
         return Err(metrics_error(path)(MetricsError::Empty { what: "mesh" }));
     }
     if let Some(needed_by) = needs_surface {
-        if loaded.mesh.n_faces() == 0 {
-            return Err(CliError::NoFaces {
-                path: path.to_path_buf(),
-                needed_by,
-            });
-        }
+        loaded.require_faces(path, needed_by)?;
     }
     Ok(loaded)
 }
@@ -543,11 +554,13 @@ pub(crate) fn check_ply_path(option: &str, path: &Path) -> Result<(), CliError> 
     }
 }
 
-/// Writes `loaded` (its positions and faces as read) to the PLY file `path` with one
+/// Stages `loaded` (its positions and faces as read) for the PLY file `path` with one
 /// scalar per vertex as `property double <name>` and vertex colours from a diverging
 /// map symmetric about 0 (blue at `−m`, white at 0, red at `m`, with `m` the largest
-/// absolute value), atomically. Returns the file name and `m`.
-pub(crate) fn write_scalar_ply(
+/// absolute value); the file is written when `staged` is committed. Returns the file
+/// name and `m`.
+pub(crate) fn stage_scalar_ply(
+    staged: &mut Staged,
     path: &Path,
     loaded: &LoadedMesh,
     name: &str,
@@ -562,46 +575,8 @@ pub(crate) fn write_scalar_ply(
         scalars: vec![(name.to_string(), values.to_vec())],
         colors: Some(values.iter().map(|&v| map.color(v)).collect()),
     };
-    write_ply(path, &data, &attributes, &WriteOptions::default()).map_err(|source| {
-        CliError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
+    staged.push(path, |path| {
+        stage_ply(path, &data, &attributes, &WriteOptions::default())
     })?;
     Ok((path.display().to_string(), map.max))
-}
-
-/// A number for a table: six significant digits, without trailing zeros; scientific
-/// notation below 10⁻⁴ and from 10⁶ on.
-pub(crate) fn number(x: f64) -> String {
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    let magnitude = x.abs().log10().floor();
-    if (-4.0..6.0).contains(&magnitude) {
-        let decimals = (5.0 - magnitude).max(0.0) as usize;
-        trim_zeros(&format!("{x:.decimals$}")).to_string()
-    } else {
-        let text = format!("{x:.5e}");
-        match text.split_once('e') {
-            Some((mantissa, exponent)) => format!("{}e{exponent}", trim_zeros(mantissa)),
-            None => text,
-        }
-    }
-}
-
-fn trim_zeros(text: &str) -> &str {
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        text
-    }
-}
-
-/// A point or direction as `(x, y, z)` with [`number`]s.
-pub(crate) fn vector(v: DVec3) -> String {
-    format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
 }

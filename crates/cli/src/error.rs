@@ -35,6 +35,7 @@ pub(crate) enum CliError {
     NoFaces {
         path: PathBuf,
         needed_by: &'static str,
+        vertices: usize,
     },
     /// The study failed.
     Study(beltrami_study::StudyError),
@@ -42,6 +43,9 @@ pub(crate) enum CliError {
     Stdout(std::io::Error),
     /// An output path names an input file and `--force` was not given.
     OverwritesInput { output: PathBuf, input: PathBuf },
+    /// An output is an existing file without write permission and `--force` was not
+    /// given.
+    WriteProtected { path: PathBuf },
     /// The run would need more memory than `--max-memory` allows.
     MemoryLimit {
         path: PathBuf,
@@ -55,15 +59,31 @@ impl CliError {
     /// everything else.
     pub(crate) fn exit_code(&self) -> u8 {
         match self {
-            Self::Usage(_)
-            | Self::OverwritesInput { .. }
-            | Self::Smooth {
-                source: SmoothError::InvalidLambda { .. } | SmoothError::CurveNeedsWeightSum,
-                ..
-            } => 2,
+            Self::Usage(_) | Self::OverwritesInput { .. } => 2,
+            Self::Smooth { source, .. } if is_usage(source) => 2,
             _ => 1,
         }
     }
+}
+
+/// Whether a smoothing error is decided by the options alone (a bad value or a bad
+/// combination), not by the mesh: a usage error, exit code 2, reported without the
+/// input's path. An unstable step depends on the mesh, but the fix is an option.
+fn is_usage(e: &SmoothError) -> bool {
+    matches!(
+        e,
+        SmoothError::InvalidLambda { .. }
+            | SmoothError::CurveNeedsWeightSum
+            | SmoothError::InvalidTaubin { .. }
+            | SmoothError::InvalidHc { .. }
+            | SmoothError::VolumeWithPinned
+            | SmoothError::InvalidDuration { .. }
+            | SmoothError::InvalidUntilChange { .. }
+            | SmoothError::InvalidTimeStep { .. }
+            | SmoothError::InvalidSolverSettings { .. }
+            | SmoothError::CurveNotImplicit
+            | SmoothError::UnstableStep { .. }
+    )
 }
 
 impl fmt::Display for CliError {
@@ -77,17 +97,38 @@ impl fmt::Display for CliError {
             } => {
                 write!(f, "{}: {source}", path.display())?;
                 if *repairable {
-                    write!(f, " (--repair can fix this)")?;
+                    write!(
+                        f,
+                        " (pass --repair, or keep a repaired copy with 'beltrami repair {} REPAIRED')",
+                        path.display()
+                    )?;
                 }
                 Ok(())
             }
             Self::Usage(message) => write!(f, "{message} (see 'beltrami --help')"),
+            Self::Smooth { source, .. } if is_usage(source) => {
+                write!(f, "{source} (see 'beltrami smooth --help')")
+            }
             Self::Smooth { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Metrics { subject, source } => write!(f, "{subject}: {source}"),
-            Self::NoFaces { path, needed_by } => write!(
+            Self::NoFaces {
+                path,
+                needed_by,
+                vertices: 0,
+            } => write!(
                 f,
-                "{}: the mesh has no faces ({needed_by} needs a surface)",
+                "{}: the mesh is empty: no vertices, no faces ({needed_by} needs a surface)",
                 path.display()
+            ),
+            Self::NoFaces {
+                path,
+                needed_by,
+                vertices,
+            } => write!(
+                f,
+                "{}: the mesh has {vertices} {} but no faces (points or lines only; {needed_by} needs a surface of triangles)",
+                path.display(),
+                crate::text::plural(*vertices, "vertex", "vertices")
             ),
             Self::Study(e) => write!(f, "study: {e}"),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
@@ -96,6 +137,11 @@ impl fmt::Display for CliError {
                 "{}: refusing to overwrite the input file {} (pass --force to replace it)",
                 output.display(),
                 input.display()
+            ),
+            Self::WriteProtected { path } => write!(
+                f,
+                "{}: the file is write-protected (pass --force to replace it)",
+                path.display()
             ),
             Self::MemoryLimit {
                 path,

@@ -7,8 +7,10 @@ use beltrami_metrics::fits::{FitOptions, FitPoints, fit_circle, fit_cylinder, fi
 use clap::ValueEnum;
 use serde::Serialize;
 
-use crate::compare::{load_input, metrics_error, number, vector};
+use crate::compare::{load_input, metrics_error};
 use crate::error::CliError;
+use crate::load::ReadArgs;
+use crate::text::{number, vector};
 
 /// Arguments of `beltrami fit`.
 #[derive(Debug, clap::Args)]
@@ -25,6 +27,8 @@ pub(crate) struct FitArgs {
     /// areas): a fit over the surface rather than over the vertex set.
     #[arg(long)]
     weighted: bool,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
@@ -61,7 +65,11 @@ struct FitSummary {
 
 /// Runs `beltrami fit`.
 pub(crate) fn run(args: &FitArgs, out: &mut impl Write) -> Result<(), CliError> {
-    let loaded = load_input(&args.mesh, args.weighted.then_some("--weighted"))?;
+    let loaded = load_input(
+        &args.mesh,
+        &args.read,
+        args.weighted.then_some("--weighted"),
+    )?;
     let on_mesh = metrics_error(&args.mesh);
     let input = if args.weighted {
         FitPoints::area_weighted(&loaded.mesh, &loaded.positions).map_err(&on_mesh)?

@@ -3,11 +3,23 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use beltrami_io::{MeshData, WriteOptions, write_mesh};
+use beltrami_io::{MeshData, WriteOptions, stage_mesh};
 use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise};
 use clap::ValueEnum;
 
 use crate::error::CliError;
+use crate::output::{Outputs, Staged};
+use crate::text::{counted, number};
+
+/// `" mm"` for a surface in millimetres, nothing for a unitless one (the unit sphere,
+/// whose unit is written `1`).
+fn unit_suffix(unit: &str) -> String {
+    if unit.is_empty() || unit == "1" {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
 
 /// Arguments of `beltrami generate`.
 #[derive(Debug, clap::Args)]
@@ -17,12 +29,23 @@ pub(crate) struct GenerateArgs {
     surface: SurfaceArg,
     /// The output mesh (.ply, .stl or .obj).
     output: PathBuf,
-    /// Add Gaussian noise along the vertex normals with this standard deviation (in the
-    /// surface's unit, or relative to the mean edge length with --relative).
-    #[arg(long)]
+    /// Add Gaussian noise along the vertex normals with this standard deviation, as a
+    /// multiple of the mean edge length (as in `study`), or in the surface's length
+    /// unit with --absolute-noise.
+    #[arg(long, allow_negative_numbers = true)]
     noise: Option<f64>,
-    /// Read --noise as a multiple of the mean edge length.
+    /// Read --noise in the surface's length unit instead of as a multiple of the mean
+    /// edge length.
     #[arg(long, requires = "noise")]
+    absolute_noise: bool,
+    /// Read --noise as a multiple of the mean edge length (the default; kept for
+    /// scripts written when the default was absolute).
+    #[arg(
+        long,
+        requires = "noise",
+        conflicts_with = "absolute_noise",
+        hide = true
+    )]
     relative: bool,
     /// Seed of the noise (the same seed gives the same numbers on every platform).
     #[arg(long, default_value_t = 1, requires = "noise")]
@@ -30,6 +53,9 @@ pub(crate) struct GenerateArgs {
     /// Also write the clean surface (the reference) to this file.
     #[arg(long, requires = "noise")]
     clean: Option<PathBuf>,
+    /// Replace write-protected output files.
+    #[arg(long)]
+    force: bool,
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
@@ -69,7 +95,8 @@ impl SurfaceArg {
     }
 }
 
-fn write(
+fn stage(
+    staged: &mut Staged,
     path: &Path,
     surface: &Surface,
     positions: Vec<beltrami_halfedge::DVec3>,
@@ -87,14 +114,16 @@ fn write(
         },
         ..WriteOptions::default()
     };
-    write_mesh(path, &data, &options).map_err(|source| CliError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    staged.push(path, |path| stage_mesh(path, &data, &options))
 }
 
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
+    let mut outputs = Outputs::new();
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.clean.as_ref(), "--clean");
+    outputs.check(&[], args.force)?;
     let surface = match (args.surface, args.level) {
         (SurfaceArg::Sphere, Some(level)) => beltrami_surfaces::sphere(level),
         (_, Some(_)) => {
@@ -111,16 +140,23 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
     let positions = match args.noise {
         None => surface.positions.clone(),
         Some(level) => {
-            let level = if args.relative {
-                NoiseLevel::RelativeToMeanEdge(level)
-            } else {
+            let noise = if args.absolute_noise {
                 NoiseLevel::Absolute(level)
+            } else {
+                NoiseLevel::RelativeToMeanEdge(level)
             };
-            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, level, args.seed)
+            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, noise, args.seed)
                 .map_err(|e| CliError::Usage(e.to_string()))?;
+            let how = if args.absolute_noise {
+                String::new()
+            } else {
+                format!(", {} x the mean edge length", number(level))
+            };
             note = format!(
-                ", normal noise sigma = {sigma} {} (seed {})",
-                surface.unit, args.seed
+                ", normal noise sigma = {}{}{how} (seed {})",
+                number(sigma),
+                unit_suffix(surface.unit),
+                args.seed
             );
             noisy
         }
@@ -134,20 +170,32 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
             (surface.shuffled(seed), noisy)
         }
     };
+    let mut staged = Staged::new();
+    stage(&mut staged, &args.output, &surface, positions, args.ascii)?;
     if let Some(clean) = &args.clean {
-        write(clean, &surface, surface.positions.clone(), args.ascii)?;
+        stage(
+            &mut staged,
+            clean,
+            &surface,
+            surface.positions.clone(),
+            args.ascii,
+        )?;
     }
-    write(&args.output, &surface, positions, args.ascii)?;
+    staged.commit()?;
     if let Some(seed) = args.shuffle {
         note.push_str(&format!(", vertices shuffled (seed {seed})"));
     }
     writeln!(
         out,
-        "generated {} ({} vertices, {} faces, unit {}){note} -> {}",
+        "generated {} ({}, {}, {}){note} -> {}",
         surface.name,
-        mesh.n_vertices(),
-        mesh.n_faces(),
-        surface.unit,
+        counted(mesh.n_vertices(), "vertex", "vertices"),
+        counted(mesh.n_faces(), "face", "faces"),
+        if unit_suffix(surface.unit).is_empty() {
+            "unitless".to_string()
+        } else {
+            format!("lengths in {}", surface.unit)
+        },
         args.output.display()
     )?;
     if let Some(clean) = &args.clean {

@@ -4,11 +4,13 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::MeshFormat;
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::{LoadedMesh, load};
+use crate::load::{LoadedMesh, ReadArgs, load};
+use crate::text::{number, vector};
 
 /// Arguments of `beltrami info`.
 #[derive(Debug, clap::Args)]
@@ -18,10 +20,8 @@ pub(crate) struct InfoArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
-    /// Repair what is well defined (drop degenerate faces, re-orient, split pinched
-    /// vertices) instead of failing, and report what changed.
-    #[arg(long)]
-    repair: bool,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 /// Everything `info` reports; also the JSON schema of `info --json`.
@@ -38,8 +38,12 @@ struct Summary {
     components: usize,
     euler_characteristic: i64,
     closed: bool,
-    /// Genus of a closed, connected mesh; null otherwise.
+    /// Genus of a connected mesh, open or closed (χ = 2 − 2g − b); null for several
+    /// components (see `component_genus`) or a mesh without faces.
     genus: Option<u32>,
+    /// The genus of each connected component, in the order of their lowest vertex;
+    /// null for an isolated vertex.
+    component_genus: Vec<Option<u32>>,
     isolated_vertices: usize,
     degenerate_faces: usize,
     bbox_min: Option<[f64; 3]>,
@@ -63,7 +67,7 @@ fn format_name(format: MeshFormat) -> &'static str {
         MeshFormat::Ply => "PLY",
         MeshFormat::Stl => "STL",
         MeshFormat::Obj => "OBJ",
-        _ => "unknown",
+        _ => "mesh",
     }
 }
 
@@ -75,6 +79,9 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
     loop_lengths.sort_unstable_by(|a, b| b.cmp(a));
     let bbox = geometry.bounding_box();
     let triangle_mesh = mesh.is_triangle_mesh();
+    let components = mesh.connected_components();
+    let component_genus: Vec<Option<u32>> =
+        components.summaries.iter().map(|c| c.genus()).collect();
     let degenerate_faces = mesh
         .faces()
         .filter(|&f| geometry.is_degenerate_face(f))
@@ -88,16 +95,20 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
         triangle_mesh,
         boundary_loops: loop_lengths.len(),
         boundary_loop_lengths: loop_lengths,
-        components: mesh.connected_components().count(),
+        components: components.count(),
         euler_characteristic: mesh.euler_characteristic(),
         closed: mesh.is_closed(),
-        genus: mesh.genus(),
+        genus: match component_genus.as_slice() {
+            [only] => *only,
+            _ => None,
+        },
+        component_genus,
         isolated_vertices: mesh.vertices().filter(|&v| mesh.is_isolated(v)).count(),
         degenerate_faces,
         bbox_min: bbox.map(|(lo, _)| lo.to_array()),
         bbox_max: bbox.map(|(_, hi)| hi.to_array()),
         mean_edge_length: geometry.mean_edge_length(),
-        area: geometry.surface_area(),
+        area: surface_area(&geometry, mesh, &loaded.positions),
         volume: geometry.volume().ok(),
         repairs: Repairs {
             dropped_faces: loaded.report.dropped_faces.clone(),
@@ -112,15 +123,40 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
     }
 }
 
+/// The surface area, computed again at a power-of-two scale when the face areas
+/// overflow (coordinates beyond about 1e154), so that `inf` means that the true area
+/// is beyond `f64`.
+fn surface_area(geometry: &Geometry<'_>, mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
+    let area = geometry.surface_area();
+    if area.is_finite() {
+        return area;
+    }
+    let largest = positions
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0f64, f64::max);
+    if !largest.is_finite() || largest == 0.0 {
+        return area;
+    }
+    // 2^-k with 2^k near the largest coordinate: exact scaling, areas scale by 4^-k.
+    let k = largest.log2().ceil();
+    let scale = (-k).exp2();
+    let scaled: Vec<DVec3> = positions.iter().map(|p| *p * scale).collect();
+    match Geometry::new(mesh, &scaled) {
+        Ok(g) => g.surface_area() * (2.0 * k).exp2(),
+        Err(_) => area,
+    }
+}
+
 /// Runs `beltrami info`.
 pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError> {
-    let loaded = load(&args.mesh, args.repair)?;
+    let loaded = load(&args.mesh, &args.read)?;
     let summary = summarise(args, &loaded);
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
     } else {
-        write_table(&summary, out)?;
+        write_table(&summary, &loaded.repair_lines, out)?;
     }
     Ok(())
 }
@@ -130,10 +166,10 @@ fn opt<T: std::fmt::Display>(value: Option<T>, none: &str) -> String {
 }
 
 fn vec3(v: [f64; 3]) -> String {
-    format!("({}, {}, {})", v[0], v[1], v[2])
+    vector(DVec3::from_array(v))
 }
 
-fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
+fn write_table(s: &Summary, repair_lines: &[String], out: &mut impl Write) -> std::io::Result<()> {
     let rows: Vec<(&str, String)> = vec![
         ("file", format!("{} ({})", s.file, s.format)),
         ("vertices", s.vertices.to_string()),
@@ -166,42 +202,34 @@ fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
         ("components", s.components.to_string()),
         ("euler characteristic", s.euler_characteristic.to_string()),
         ("closed", if s.closed { "yes" } else { "no" }.to_string()),
-        ("genus", opt(s.genus, "- (open or several components)")),
+        (
+            "genus",
+            match (s.genus, s.component_genus.len()) {
+                (Some(g), _) => g.to_string(),
+                (None, 0 | 1) => "- (no faces)".to_string(),
+                (None, _) => format!(
+                    "per component: {}",
+                    s.component_genus
+                        .iter()
+                        .map(|g| opt(*g, "-"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            },
+        ),
         ("isolated vertices", s.isolated_vertices.to_string()),
         ("degenerate faces", s.degenerate_faces.to_string()),
         ("bbox min", opt(s.bbox_min.map(vec3), "-")),
         ("bbox max", opt(s.bbox_max.map(vec3), "-")),
-        ("mean edge length", opt(s.mean_edge_length, "-")),
-        ("area", s.area.to_string()),
-        ("volume", opt(s.volume, "- (open mesh)")),
+        ("mean edge length", opt(s.mean_edge_length.map(number), "-")),
+        ("area", number(s.area)),
+        ("volume", opt(s.volume.map(number), "- (open mesh)")),
     ];
     for (key, value) in rows {
         writeln!(out, "{key:<21} {value}")?;
     }
-    let r = &s.repairs;
-    if !r.dropped_faces.is_empty() {
-        writeln!(
-            out,
-            "repaired: dropped {} degenerate face(s): {:?}",
-            r.dropped_faces.len(),
-            r.dropped_faces
-        )?;
-    }
-    if !r.flipped_faces.is_empty() {
-        writeln!(
-            out,
-            "repaired: flipped {} face(s): {:?}",
-            r.flipped_faces.len(),
-            r.flipped_faces
-        )?;
-    }
-    if !r.split_vertices.is_empty() {
-        writeln!(
-            out,
-            "repaired: split {} pinched vertex copy(ies) of vertices {:?}",
-            r.split_vertices.len(),
-            r.split_vertices
-        )?;
+    for line in repair_lines {
+        writeln!(out, "{line}")?;
     }
     Ok(())
 }

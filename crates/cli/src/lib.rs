@@ -11,15 +11,17 @@
 //! std::process::exit(i32::from(beltrami_cli::main_with(registry) != std::process::ExitCode::SUCCESS));
 //! ```
 //!
-//! Errors are one line on stderr starting with `error:`; the exit code is 1 for bad
-//! input (unreadable or invalid mesh, failed run) and 2 for bad usage.
+//! Errors are one line on stderr starting with `error:` (clap's usage errors add the
+//! usage line and tips); the exit code is 1 for bad input (unreadable or invalid mesh,
+//! failed run, a file that cannot be written), 2 for bad usage (a bad value or
+//! combination of options) and 130 after an interrupt.
 
 use std::ffi::OsString;
 use std::io::Write;
 use std::process::ExitCode;
 
 use beltrami_weights::WeightRegistry;
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod compare;
 mod error;
@@ -32,6 +34,7 @@ mod output;
 mod residual;
 mod smooth;
 mod study;
+mod text;
 
 use error::CliError;
 
@@ -61,12 +64,87 @@ enum Command {
     /// Compute the ISO 25178-2 areal parameters of a measured mesh's residual from its
     /// smoothed version.
     Residual(residual::ResidualArgs),
+    /// List the weight schemes `smooth --weights` and `study --weights` accept.
+    Schemes(SchemesArgs),
+}
+
+/// Arguments of `beltrami schemes`.
+#[derive(Debug, clap::Args)]
+struct SchemesArgs {
+    /// Print a JSON array of {name, description} objects instead.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One line per registered scheme: its name and description.
+fn scheme_lines(registry: &WeightRegistry) -> Vec<String> {
+    let width = registry.names().iter().map(|n| n.len()).max().unwrap_or(0);
+    registry
+        .iter()
+        .map(|s| format!("{:width$}  {}", s.name(), first_line(s.description())))
+        .collect()
+}
+
+fn first_line(text: &str) -> &str {
+    text.lines().next().unwrap_or("").trim()
+}
+
+fn schemes(
+    args: &SchemesArgs,
+    registry: &WeightRegistry,
+    out: &mut impl Write,
+) -> Result<(), CliError> {
+    if args.json {
+        let list: Vec<serde_json::Value> = registry
+            .iter()
+            .map(|s| serde_json::json!({"name": s.name(), "description": s.description()}))
+            .collect();
+        serde_json::to_writer_pretty(&mut *out, &list).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+    } else {
+        for line in scheme_lines(registry) {
+            writeln!(out, "{line}")?;
+        }
+    }
+    Ok(())
+}
+
+/// The clap command with the schemes of `registry` listed in the help of
+/// `smooth --weights` and `study --weights`.
+fn command(registry: &WeightRegistry) -> clap::Command {
+    let list = scheme_lines(registry).join("\n  ");
+    let help = format!(
+        "The weight scheme (default: cotangent). Registered schemes ('beltrami schemes' lists them):\n  {list}"
+    );
+    let study_help = format!(
+        "The weight schemes, comma-separated (default: every registered scheme):\n  {list}"
+    );
+    Cli::command()
+        .mut_subcommand("smooth", |c| {
+            c.mut_arg("weights", |a| a.long_help(help.clone()))
+        })
+        .mut_subcommand("study", |c| {
+            c.mut_arg("weights", |a| a.long_help(study_help.clone()))
+        })
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
 #[must_use]
 pub fn main_with(registry: WeightRegistry) -> ExitCode {
+    remove_temporary_files_on_signal();
     run_with(std::env::args_os(), &registry)
+}
+
+/// On Ctrl-C, `SIGTERM` or `SIGHUP`, removes the temporary files of outputs being
+/// written (the targets stay as they were) and exits with code 130.
+fn remove_temporary_files_on_signal() {
+    // Fails only when a handler is already set (a program embedding the CLI set its
+    // own); that handler then decides.
+    let _ = ctrlc::set_handler(|| {
+        beltrami_io::remove_staged_files();
+        eprintln!("error: interrupted; no output was written");
+        std::process::exit(130);
+    });
 }
 
 /// Runs the CLI on `args` (the first is the program name) with the schemes of
@@ -76,7 +154,10 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(args) {
+    let cli = match command(registry)
+        .try_get_matches_from(args)
+        .and_then(|matches| Cli::from_arg_matches(&matches))
+    {
         Ok(cli) => cli,
         Err(err) => return usage_error(&err),
     };
@@ -89,6 +170,7 @@ where
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),
+        Command::Schemes(args) => schemes(args, registry, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,
@@ -99,8 +181,8 @@ where
     }
 }
 
-/// Help and version go to stdout with exit code 0; any other parse failure is one
-/// `error:` line on stderr and exit code 2.
+/// Help and version go to stdout with exit code 0; any other parse failure is clap's
+/// message on stderr (starting with `error:`) and exit code 2.
 fn usage_error(err: &clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     match err.kind() {
@@ -113,10 +195,13 @@ fn usage_error(err: &clap::Error) -> ExitCode {
             ExitCode::from(2)
         }
         _ => {
+            // Clap's whole message: the problem, the usage line that names what is
+            // missing, possible values and "did you mean" tips.
             let text = err.to_string();
-            let line = text.lines().next().unwrap_or("error: invalid usage");
-            let line = line.strip_prefix("error: ").unwrap_or(line);
-            eprintln!("error: {line} (see 'beltrami --help')");
+            eprint!("{text}");
+            if !text.ends_with('\n') {
+                eprintln!();
+            }
             ExitCode::from(2)
         }
     }

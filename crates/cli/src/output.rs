@@ -1,7 +1,20 @@
-//! Guards for output files: a command never overwrites one of its inputs unless told
-//! to with `--force`.
+//! Output files: every command checks all of its outputs before any work, stages them
+//! as temporary files beside their targets, and replaces the targets only once every
+//! output has been produced.
+//!
+//! The checks, in order, before anything is read or computed:
+//! 1. no two outputs name the same file (by path after resolving `..` and symbolic
+//!    links, or by inode, which also catches hard links);
+//! 2. no output is an input, unless `--force`;
+//! 3. every output's directory exists and a file can be created in it;
+//! 4. no output is a write-protected file, unless `--force` (as `cp` refuses).
+//!
+//! An output that is a symbolic link is written through: the link stays and its
+//! target is replaced.
 
 use std::path::{Path, PathBuf};
+
+use beltrami_io::{IoError, StagedFile, check_writable, resolve_target};
 
 use crate::error::CliError;
 
@@ -26,6 +39,29 @@ pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
+/// The absolute path a write to `path` creates or replaces, with symbolic links and
+/// `..` resolved as far as the file system allows (the file itself may not exist yet).
+fn destination(path: &Path) -> PathBuf {
+    let target = resolve_target(path).unwrap_or_else(|_| path.to_path_buf());
+    if let Ok(full) = std::fs::canonicalize(&target) {
+        return full;
+    }
+    let name = target.file_name().map(ToOwned::to_owned);
+    let parent = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    match (std::fs::canonicalize(&parent), name) {
+        (Ok(dir), Some(name)) => dir.join(name),
+        _ => target,
+    }
+}
+
+/// Whether a write to `a` and a write to `b` would land in the same file.
+fn same_destination(a: &Path, b: &Path) -> bool {
+    same_file(a, b) || destination(a) == destination(b)
+}
+
 /// Fails with [`CliError::OverwritesInput`] when `output` is one of `inputs` and
 /// `force` is not set. Call it before reading anything, so that a refused run changes
 /// nothing.
@@ -43,6 +79,111 @@ pub(crate) fn check_not_input(
             input: (*input).clone(),
         }),
         None => Ok(()),
+    }
+}
+
+/// Whether `path` (the target of a symbolic link) is an existing file without write
+/// permission for anyone.
+fn write_protected(path: &Path) -> bool {
+    let target = resolve_target(path).unwrap_or_else(|_| path.to_path_buf());
+    std::fs::metadata(target).is_ok_and(|m| m.is_file() && m.permissions().readonly())
+}
+
+/// The outputs of one command, with the option that names each (`OUTPUT`,
+/// `--report`, …), checked together before any work.
+#[derive(Debug, Default)]
+pub(crate) struct Outputs {
+    entries: Vec<(PathBuf, &'static str)>,
+}
+
+impl Outputs {
+    /// No outputs yet.
+    pub(crate) fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the output `path`, named by `option` in messages.
+    pub(crate) fn add(&mut self, path: &Path, option: &'static str) -> &mut Self {
+        self.entries.push((path.to_path_buf(), option));
+        self
+    }
+
+    /// Adds `path` when it is given.
+    pub(crate) fn add_opt(&mut self, path: Option<&PathBuf>, option: &'static str) -> &mut Self {
+        if let Some(path) = path {
+            self.add(path, option);
+        }
+        self
+    }
+
+    /// Runs every check of the module documentation against `inputs`.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] for two outputs naming one file;
+    /// [`CliError::OverwritesInput`] and [`CliError::WriteProtected`] without
+    /// `force`; [`CliError::Io`] for an output that cannot be written.
+    pub(crate) fn check(&self, inputs: &[&PathBuf], force: bool) -> Result<(), CliError> {
+        for (i, (a, option_a)) in self.entries.iter().enumerate() {
+            for (b, option_b) in &self.entries[..i] {
+                if same_destination(a, b) {
+                    return Err(CliError::Usage(format!(
+                        "{option_b} and {option_a} name the same file {}; each output needs its own file",
+                        b.display()
+                    )));
+                }
+            }
+        }
+        for (path, _) in &self.entries {
+            check_not_input(path, inputs, force)?;
+        }
+        for (path, _) in &self.entries {
+            check_writable(path).map_err(|source| CliError::Io {
+                path: path.clone(),
+                source,
+            })?;
+            if !force && write_protected(path) {
+                return Err(CliError::WriteProtected { path: path.clone() });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Outputs written to temporary files, replacing their targets all at once on
+/// [`commit`](Self::commit). Dropped uncommitted, they leave every target untouched.
+#[derive(Debug, Default)]
+pub(crate) struct Staged {
+    files: Vec<(PathBuf, StagedFile)>,
+}
+
+impl Staged {
+    /// Nothing staged yet.
+    pub(crate) fn new() -> Self {
+        Self::default()
+    }
+
+    /// Stages one output: `stage` writes it to a temporary file (one of
+    /// `beltrami_io`'s `stage_*` functions); errors name `path`.
+    pub(crate) fn push(
+        &mut self,
+        path: &Path,
+        stage: impl FnOnce(&Path) -> Result<StagedFile, IoError>,
+    ) -> Result<(), CliError> {
+        let file = stage(path).map_err(|source| CliError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        self.files.push((path.to_path_buf(), file));
+        Ok(())
+    }
+
+    /// Replaces every target, in the order staged.
+    pub(crate) fn commit(self) -> Result<(), CliError> {
+        for (path, file) in self.files {
+            file.commit()
+                .map_err(|source| CliError::Io { path, source })?;
+        }
+        Ok(())
     }
 }
 
@@ -73,5 +214,34 @@ mod tests {
         assert!(check_not_input(&hard, &[&b, &a], false).is_err());
         assert!(check_not_input(&hard, &[&b, &a], true).is_ok());
         assert!(check_not_input(&b, &[&a], false).is_ok());
+    }
+
+    #[test]
+    fn two_outputs_to_one_new_file_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out.ply");
+        let alias = dir.path().join("sub").join("..").join("out.ply");
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let mut outputs = Outputs::new();
+        outputs.add(&out, "OUTPUT").add(&alias, "--report");
+        let e = outputs.check(&[], false).unwrap_err().to_string();
+        assert!(e.contains("OUTPUT and --report"), "{e}");
+        let mut distinct = Outputs::new();
+        distinct
+            .add(&out, "OUTPUT")
+            .add(&dir.path().join("r.json"), "--report");
+        distinct.check(&[], false).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_to_another_output_is_the_same_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out.ply");
+        let link = dir.path().join("link.json");
+        std::os::unix::fs::symlink(&out, &link).unwrap();
+        let mut outputs = Outputs::new();
+        outputs.add(&out, "OUTPUT").add(&link, "--report");
+        assert!(outputs.check(&[], false).is_err());
     }
 }

@@ -10,10 +10,11 @@ use beltrami_metrics::distance::check_same_topology;
 use beltrami_metrics::residual::{Datum, areal_parameters, normal_residual};
 use serde::Serialize;
 
-use crate::compare::{
-    check_ply_path, load_input, metrics_error, number, pair_subject, write_scalar_ply,
-};
+use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
 use crate::error::CliError;
+use crate::load::ReadArgs;
+use crate::output::{Outputs, Staged};
+use crate::text::number;
 
 /// Arguments of `beltrami residual`.
 #[derive(Debug, clap::Args)]
@@ -27,16 +28,20 @@ pub(crate) struct ResidualArgs {
     #[arg(long)]
     json: bool,
     /// Write the smoothed mesh to this PLY file with the residual of every vertex as the
-    /// property `residual` and a colour map (blue pits, white 0, red peaks).
-    #[arg(long, value_name = "RESIDUAL.ply")]
-    out: Option<PathBuf>,
+    /// property `residual` and a colour map (blue pits, white 0, red peaks), as
+    /// `compare --scalars` writes signed distances. `--out` is an older name.
+    #[arg(long, value_name = "RESIDUAL.ply", alias = "out")]
+    scalars: Option<PathBuf>,
     /// Measure heights from the residual's area-weighted mean instead of from the
     /// smoothed surface.
     #[arg(long)]
     remove_mean: bool,
-    /// Replace the --out file even when it is MEASURED or SMOOTHED.
+    /// Replace the --scalars file even when it is MEASURED or SMOOTHED or
+    /// write-protected.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 /// What `residual` reports; also the JSON schema of `residual --json`.
@@ -63,18 +68,20 @@ struct Summary {
     mean: f64,
     /// The smoothed surface's area.
     area: f64,
-    /// The `--out` file, or null.
-    out: Option<String>,
+    /// The `--scalars` file, or null.
+    scalars: Option<String>,
 }
 
 /// Runs `beltrami residual`.
 pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliError> {
-    if let Some(path) = &args.out {
-        check_ply_path("--out", path)?;
-        crate::output::check_not_input(path, &[&args.measured, &args.smoothed], args.force)?;
+    if let Some(path) = &args.scalars {
+        check_ply_path("--scalars", path)?;
     }
-    let measured = load_input(&args.measured, Some("residual"))?;
-    let smoothed = load_input(&args.smoothed, Some("residual"))?;
+    let mut outputs = Outputs::new();
+    outputs.add_opt(args.scalars.as_ref(), "--scalars");
+    outputs.check(&[&args.measured, &args.smoothed], args.force)?;
+    let measured = load_input(&args.measured, &args.read, Some("residual"))?;
+    let smoothed = load_input(&args.smoothed, &args.read, Some("residual"))?;
     let pair = pair_subject(&args.measured, &args.smoothed);
     let on_pair = |source| CliError::Metrics {
         subject: pair.clone(),
@@ -100,14 +107,16 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
             }
             e => on_pair(e),
         })?;
-    let written = match &args.out {
+    let mut staged = Staged::new();
+    let written = match &args.scalars {
         Some(path) => {
             let shift = if args.remove_mean { s.mean } else { 0.0 };
             let heights: Vec<f64> = residual.as_slice().iter().map(|r| r - shift).collect();
-            Some(write_scalar_ply(path, &smoothed, "residual", &heights)?.0)
+            Some(stage_scalar_ply(&mut staged, path, &smoothed, "residual", &heights)?.0)
         }
         None => None,
     };
+    staged.commit()?;
     let summary = Summary {
         measured: args.measured.display().to_string(),
         smoothed: args.smoothed.display().to_string(),
@@ -129,7 +138,7 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         sdr: s.sdr,
         mean: s.mean,
         area: s.area,
-        out: written,
+        scalars: written,
     };
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
@@ -180,7 +189,7 @@ fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
     for (key, value, what) in rows {
         writeln!(out, "{key:<4} {value:<24} {what}")?;
     }
-    if let Some(file) = &s.out {
+    if let Some(file) = &s.scalars {
         writeln!(out, "residual -> {file}")?;
     }
     Ok(())

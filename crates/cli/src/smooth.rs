@@ -6,11 +6,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use beltrami_halfedge::VertexId;
-use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_io::{
-    Encoding, MeshData, WriteOptions, declared_counts, write_bytes_atomic, write_mesh,
-};
+use beltrami_io::{Encoding, MeshData, WriteOptions, declared_counts, stage_bytes, stage_mesh};
 use beltrami_smooth::{
     Boundary, DiffusionTime, ImplicitConfig, ImplicitSmoother, ImplicitSolver, Method,
     SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, Statistics, StopReason,
@@ -22,9 +20,10 @@ use clap::ValueEnum;
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::load_checked;
+use crate::load::{ReadArgs, load_checked};
 use crate::memory::{LARGE_RUN_VERTICES, MemoryEstimate, parse_size};
-use crate::output::check_not_input;
+use crate::output::{Outputs, Staged};
+use crate::text::{number, plural};
 
 /// Arguments of `beltrami smooth`.
 ///
@@ -42,12 +41,19 @@ pub(crate) struct SmoothArgs {
     #[arg(long, default_value = "cotangent")]
     weights: String,
     /// The step. Weight-sum normalisation: a fraction in (0, 1]. Area
-    /// normalisation: a diffusion time per iteration, in length².
-    #[arg(long, default_value_t = 0.8)]
-    lambda: f64,
+    /// normalisation: a diffusion time per iteration, in length², which an explicit
+    /// run must keep below its stability limit (checked before the run). Default 0.8;
+    /// 0.6307 for --method taubin (Taubin's classic pair with μ = -0.6732, pass band
+    /// 0.1).
+    #[arg(long, allow_negative_numbers = true)]
+    lambda: Option<f64>,
     /// The number of iterations (the upper limit with --until-change).
     #[arg(long, default_value_t = 10)]
     iterations: usize,
+    /// Refuse a run that plans more iterations than this (a --time or --cutoff in the
+    /// wrong unit can mean millions).
+    #[arg(long, default_value_t = DEFAULT_MAX_ITERATIONS)]
+    max_iterations: usize,
     /// How boundary vertices move: fixed (never), free (like interior ones), curve
     /// (along the boundary polyline only).
     #[arg(long, value_enum, default_value_t = BoundaryArg::Fixed)]
@@ -61,9 +67,10 @@ pub(crate) struct SmoothArgs {
     #[arg(long, value_enum, default_value_t = NegativeArg::Keep)]
     cotangent_negative: NegativeArg,
     /// Row normalisation: sum (divide by the weight sum, paper Eq. 2) or area (divide
-    /// by the vertex area, paper Eq. 6).
-    #[arg(long, value_enum, default_value_t = NormalizeArg::Sum)]
-    normalize: NormalizeArg,
+    /// by the vertex area, paper Eq. 6). Default: sum; area for --method implicit
+    /// with --time or --cutoff, whose time in length² needs it.
+    #[arg(long, value_enum)]
+    normalize: Option<NormalizeArg>,
     /// The vertex area for --normalize area.
     #[arg(long, value_enum, default_value_t = AreaArg::Mixed)]
     vertex_area: AreaArg,
@@ -74,23 +81,25 @@ pub(crate) struct SmoothArgs {
     /// --normalize area). See docs/methods.md and docs/implicit.md.
     #[arg(long, value_enum, default_value_t = MethodArg::Explicit)]
     method: MethodArg,
-    /// The linear solver of --method implicit: cg (Jacobi-preconditioned conjugate
-    /// gradient to a relative residual of 1e-10, no set-up, memory linear in the mesh;
-    /// the default) or cholesky (sparse factorisation, exact to rounding, factorised once
-    /// while the weights are frozen; pays off for many frozen steps of a large λ on a
-    /// mesh small enough to factorise). The library's default is Cholesky.
-    #[arg(long, value_enum, default_value_t = SolverArg::Cg)]
-    solver: SolverArg,
-    /// Taubin's negative step μ (< -λ; pass band 1/λ + 1/μ). Default: the μ giving a
-    /// pass band of 0.1.
+    /// The linear solver of --method implicit (only): cg (Jacobi-preconditioned
+    /// conjugate gradient to a relative residual of 1e-10, no set-up, memory linear in
+    /// the mesh; the default) or cholesky (sparse factorisation, exact to rounding,
+    /// factorised once while the weights are frozen; pays off for many frozen steps of
+    /// a large λ on a mesh small enough to factorise).
+    #[arg(long, value_enum)]
+    solver: Option<SolverArg>,
+    /// Taubin's negative step μ (--method taubin only; μ < -λ, pass band 1/λ + 1/μ).
+    /// Default: the μ giving a pass band of 0.1.
     #[arg(long, allow_negative_numbers = true)]
     mu: Option<f64>,
-    /// HC: the pull towards the input positions, in [0, 1].
-    #[arg(long, default_value_t = 0.1)]
-    hc_alpha: f64,
-    /// HC: the weight of a vertex's own correction against its neighbours', in [0, 1].
-    #[arg(long, default_value_t = 0.6)]
-    hc_beta: f64,
+    /// HC (--method hc only): the pull towards the input positions, in [0, 1].
+    /// Default 0.1.
+    #[arg(long, allow_negative_numbers = true)]
+    hc_alpha: Option<f64>,
+    /// HC (--method hc only): the weight of a vertex's own correction against its
+    /// neighbours', in [0, 1]. Default 0.6.
+    #[arg(long, allow_negative_numbers = true)]
+    hc_beta: Option<f64>,
     /// Rescale about the centroid after every iteration so that the enclosed volume
     /// stays the input's (closed meshes only).
     #[arg(long)]
@@ -121,18 +130,35 @@ pub(crate) struct SmoothArgs {
     /// Write PLY output as ascii text instead of binary (STL likewise).
     #[arg(long)]
     ascii: bool,
-    /// Replace OUT (or the --report file) even when it is the input file.
+    /// Replace OUT (or the --report file) even when it is the input file or
+    /// write-protected.
     #[arg(long)]
     force: bool,
     /// Fail before building the mesh when the run is estimated to need more memory
     /// than this: bytes, or with a binary unit K, M, G, T (512M, 2G, 1.5G).
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     max_memory: Option<u64>,
-    /// Print the estimated memory of the run on stderr (printed anyway for more
-    /// than a million vertices).
+    /// Print the estimated memory and the planned iterations of the run on stderr
+    /// (printed anyway for more than a million vertices or 10 000 iterations).
     #[arg(long)]
     verbose: bool,
+    #[command(flatten)]
+    read: ReadArgs,
 }
+
+/// The default of `--max-iterations`.
+const DEFAULT_MAX_ITERATIONS: usize = 1_000_000;
+
+/// Runs planning more iterations than this print their plan without `--verbose`.
+const LARGE_RUN_ITERATIONS: usize = 10_000;
+
+/// The default λ, and Taubin's classic pair (λ, μ) = (0.6307, −0.6732), whose pass
+/// band `1/λ + 1/μ` is 0.1 (Taubin 1995).
+const DEFAULT_LAMBDA: f64 = 0.8;
+const TAUBIN_LAMBDA: f64 = 0.6307;
+const TAUBIN_PASS_BAND: f64 = 0.1;
+const HC_ALPHA: f64 = 0.1;
+const HC_BETA: f64 = 0.6;
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -173,7 +199,7 @@ enum SolverArg {
     Cg,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 enum NormalizeArg {
     Sum,
@@ -188,8 +214,77 @@ enum AreaArg {
 }
 
 impl SmoothArgs {
+    /// λ as given, or the method's default.
+    fn lambda(&self) -> f64 {
+        self.lambda.unwrap_or(match self.method {
+            MethodArg::Taubin => TAUBIN_LAMBDA,
+            _ => DEFAULT_LAMBDA,
+        })
+    }
+
+    /// The normalisation as given, or the default: area for an implicit run for a
+    /// time, weight sum otherwise.
+    fn normalize(&self) -> NormalizeArg {
+        self.normalize.unwrap_or(
+            if self.method == MethodArg::Implicit && (self.time.is_some() || self.cutoff.is_some())
+            {
+                NormalizeArg::Area
+            } else {
+                NormalizeArg::Sum
+            },
+        )
+    }
+
+    fn solver(&self) -> SolverArg {
+        self.solver.unwrap_or(SolverArg::Cg)
+    }
+
+    /// Refuses options that the chosen method would ignore, before any work.
+    fn check_combination(&self) -> Result<(), CliError> {
+        let method = format!("{:?}", self.method).to_lowercase();
+        let refuse = |option: &str, wanted: &str| {
+            Err(CliError::Usage(format!(
+                "{option} applies to --method {wanted} only, not to --method {method}"
+            )))
+        };
+        if self.mu.is_some() && self.method != MethodArg::Taubin {
+            return refuse("--mu", "taubin");
+        }
+        if self.hc_alpha.is_some() && self.method != MethodArg::Hc {
+            return refuse("--hc-alpha", "hc");
+        }
+        if self.hc_beta.is_some() && self.method != MethodArg::Hc {
+            return refuse("--hc-beta", "hc");
+        }
+        if self.solver.is_some() && self.method != MethodArg::Implicit {
+            return refuse("--solver", "implicit");
+        }
+        if self.method == MethodArg::Implicit {
+            if self.preserve_volume {
+                return Err(CliError::Usage(
+                    "--preserve-volume does not apply to --method implicit".into(),
+                ));
+            }
+            if (self.time.is_some() || self.cutoff.is_some())
+                && self.normalize == Some(NormalizeArg::Sum)
+            {
+                return Err(CliError::Usage(
+                    "--method implicit with --time or --cutoff needs --normalize area (a time in length²); leave --normalize out to get it".into(),
+                ));
+            }
+        }
+        if matches!(self.method, MethodArg::Taubin | MethodArg::Hc)
+            && (self.time.is_some() || self.cutoff.is_some())
+        {
+            return Err(CliError::Usage(format!(
+                "--time and --cutoff apply to plain diffusion (--method explicit or implicit), not to --method {method}"
+            )));
+        }
+        Ok(())
+    }
+
     fn config(&self) -> SmoothConfig {
-        let normalization = match (self.normalize, self.vertex_area) {
+        let normalization = match (self.normalize(), self.vertex_area) {
             (NormalizeArg::Sum, _) => Normalization::WeightSum,
             (NormalizeArg::Area, AreaArg::Mixed) => {
                 Normalization::Area(VertexAreaKind::MixedVoronoi)
@@ -203,7 +298,7 @@ impl SmoothArgs {
             NegativeArg::Clamp => NegativeWeights::Clamp,
             NegativeArg::Abs => NegativeWeights::Abs,
         };
-        let mut config = SmoothConfig::new(self.lambda, self.iterations)
+        let mut config = SmoothConfig::new(self.lambda(), self.iterations)
             .boundary(match self.boundary {
                 BoundaryArg::Fixed => Boundary::Fixed,
                 BoundaryArg::Free => Boundary::Free,
@@ -240,11 +335,11 @@ impl SmoothArgs {
             MethodArg::Explicit | MethodArg::Implicit => Method::Laplacian,
             MethodArg::Taubin => match self.mu {
                 Some(mu) => Method::Taubin { mu },
-                None => Method::taubin_pass_band(self.lambda, 0.1),
+                None => Method::taubin_pass_band(self.lambda(), TAUBIN_PASS_BAND),
             },
             MethodArg::Hc => Method::Hc {
-                alpha: self.hc_alpha,
-                beta: self.hc_beta,
+                alpha: self.hc_alpha.unwrap_or(HC_ALPHA),
+                beta: self.hc_beta.unwrap_or(HC_BETA),
             },
         }
     }
@@ -340,10 +435,12 @@ pub(crate) fn run(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let scheme = registry.get(&args.weights)?;
-    check_not_input(&args.output, &[&args.input], args.force)?;
-    if let Some(report) = &args.report {
-        check_not_input(report, &[&args.input, &args.output], args.force)?;
-    }
+    args.check_combination()?;
+    let mut outputs = Outputs::new();
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.report.as_ref(), "--report");
+    outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
     // A first check on the counts the file declares (PLY header, binary STL count),
     // before anything is read; then on the exact counts, before the mesh is built.
@@ -356,7 +453,7 @@ pub(crate) fn run(
         };
         check_memory(args, &estimate, false)?;
     }
-    let loaded = load_checked(&args.input, false, |data| {
+    let loaded = load_checked(&args.input, &args.read, |data| {
         let estimate = MemoryEstimate::new(
             data.positions.len(),
             data.faces.len(),
@@ -364,19 +461,15 @@ pub(crate) fn run(
         );
         check_memory(args, &estimate, true)
     })?;
+    loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
-    let smooth_error = |source| CliError::Smooth {
-        path: args.input.clone(),
-        source,
-    };
     let (smoothed, implicit) = if args.method == MethodArg::Implicit {
         let (smoothed, implicit) =
             run_implicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
         (smoothed, Some(implicit))
     } else {
         (
-            run_explicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())
-                .map_err(smooth_error)?,
+            run_explicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?,
             None,
         )
     };
@@ -387,53 +480,25 @@ pub(crate) fn run(
     } else {
         Encoding::BinaryLittleEndian
     };
+    let change = Change::between(&loaded.mesh, &loaded.positions, &smoothed.positions);
     let data = MeshData {
         positions: smoothed.positions,
         faces: loaded.faces,
     };
-    write_mesh(
-        &args.output,
-        &data,
-        &WriteOptions {
-            encoding,
-            ..WriteOptions::default()
-        },
-    )
-    .map_err(|source| CliError::Io {
-        path: args.output.clone(),
-        source,
+    let mut staged = Staged::new();
+    staged.push(&args.output, |path| {
+        stage_mesh(
+            path,
+            &data,
+            &WriteOptions {
+                encoding,
+                ..WriteOptions::default()
+            },
+        )
     })?;
     let write_seconds = t1.elapsed().as_secs_f64();
 
     let r = &smoothed.report;
-    writeln!(
-        out,
-        "smoothed {} ({} vertices) with {} weights, {}: {} iteration(s), lambda {}, {} boundary, {} -> {}",
-        args.input.display(),
-        data.positions.len(),
-        r.scheme,
-        method_label(args),
-        r.iterations,
-        r.config.lambda,
-        format!("{:?}", args.boundary).to_lowercase(),
-        r.stop.name(),
-        args.output.display()
-    )?;
-    if let Some(d) = r.config.duration {
-        writeln!(
-            out,
-            "diffusion time {} (length²), Gaussian sigma {}",
-            d.time(),
-            d.sigma()
-        )?;
-    }
-    if r.max_stuck_vertices > 0 {
-        writeln!(
-            out,
-            "note: up to {} vertex(es) per iteration could not move (weights summing to <= 0 or zero area)",
-            r.max_stuck_vertices
-        )?;
-    }
     if let Some(path) = &args.report {
         let read = ReadSeconds {
             total: read_seconds,
@@ -444,12 +509,114 @@ pub(crate) fn run(
         report.implicit = implicit;
         let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
         json.push(b'\n');
-        write_bytes_atomic(path, &json).map_err(|source| CliError::Io {
-            path: path.clone(),
-            source,
-        })?;
+        staged.push(path, |path| stage_bytes(path, &json))?;
+    }
+    staged.commit()?;
+
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    let boundary = if loaded.mesh.is_closed() {
+        "no boundary".to_string()
+    } else {
+        format!("{} boundary", format!("{:?}", args.boundary).to_lowercase())
+    };
+    writeln!(
+        out,
+        "smoothed {} ({} vertices) with {} weights, {}: {} {}, lambda {}, {boundary}, {}; mean displacement {}{} -> {}",
+        args.input.display(),
+        data.positions.len(),
+        r.scheme,
+        method_label(args),
+        r.iterations,
+        plural(r.iterations, "iteration", "iterations"),
+        number(r.config.lambda),
+        r.stop.name(),
+        number(change.mean_displacement),
+        change
+            .volume
+            .map(|(before, after)| format!(
+                ", volume {} -> {} ({:+.3} %)",
+                number(before),
+                number(after),
+                100.0 * (after - before) / before
+            ))
+            .unwrap_or_default(),
+        args.output.display()
+    )?;
+    if let Some(d) = r.config.duration {
+        writeln!(
+            out,
+            "diffusion time {} (length²), Gaussian sigma {}",
+            number(d.time()),
+            number(d.sigma())
+        )?;
+    }
+    if r.max_stuck_vertices > 0 {
+        writeln!(
+            out,
+            "note: up to {} {} per iteration could not move (weights summing to <= 0 or zero area)",
+            r.max_stuck_vertices,
+            plural(r.max_stuck_vertices, "vertex", "vertices"),
+        )?;
     }
     Ok(())
+}
+
+/// How far a run moved the mesh: the mean vertex displacement, and for a closed mesh
+/// the enclosed volume before and after.
+struct Change {
+    mean_displacement: f64,
+    volume: Option<(f64, f64)>,
+}
+
+impl Change {
+    fn between(mesh: &HalfedgeMesh, before: &[DVec3], after: &[DVec3]) -> Self {
+        let n = before.len().max(1);
+        let mean_displacement = before
+            .iter()
+            .zip(after)
+            .map(|(a, b)| a.distance(*b))
+            .sum::<f64>()
+            / n as f64;
+        let volume = |positions| {
+            Geometry::new(mesh, positions)
+                .ok()
+                .and_then(|g| g.volume().ok())
+        };
+        let volume = if mesh.is_closed() {
+            volume(before).zip(volume(after)).filter(|(b, _)| *b != 0.0)
+        } else {
+            None
+        };
+        Self {
+            mean_displacement,
+            volume,
+        }
+    }
+}
+
+/// An invalid Taubin pair, with a pair that works: Taubin's classic (0.6307, −0.6732),
+/// or with the μ given, the largest λ that keeps both conditions.
+fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
+    let CliError::Smooth {
+        source: source @ SmoothError::InvalidTaubin { .. },
+        ..
+    } = &e
+    else {
+        return e;
+    };
+    let hint = match args.mu {
+        Some(mu) if mu.is_finite() && mu < 0.0 => {
+            // λ < −μ (positive pass band) and (1 − 2λ)(1 − 2μ) > −1 (no growth).
+            let limit = (-mu).min(0.5 * (1.0 + 1.0 / (1.0 - 2.0 * mu)));
+            format!("with --mu {mu}, take --lambda below {}", number(limit))
+        }
+        _ => format!(
+            "leave --lambda out for Taubin's classic pair (lambda {TAUBIN_LAMBDA}, mu -0.6732, pass band {TAUBIN_PASS_BAND})"
+        ),
+    };
+    CliError::Usage(format!("{source}; {hint}"))
 }
 
 /// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`; with
@@ -497,12 +664,12 @@ fn build_report<'a>(
         faces: data.faces.len(),
         parameters: Parameters {
             weights: &args.weights,
-            lambda: args.lambda,
+            lambda: args.lambda(),
             iterations: args.iterations,
             boundary: args.boundary,
             update: args.update,
             cotangent_negative: args.cotangent_negative,
-            normalize: args.normalize,
+            normalize: args.normalize(),
             vertex_area: args.vertex_area,
             pinned: args.pin.len(),
             method: args.method,
@@ -580,19 +747,61 @@ fn run_explicit(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     scheme: &dyn WeightScheme,
-) -> Result<Smoothed, SmoothError> {
-    let smoother = Smoother::new(mesh, positions, scheme, args.config())?;
+) -> Result<Smoothed, CliError> {
+    let smooth_error = |source| {
+        taubin_hint(
+            args,
+            CliError::Smooth {
+                path: args.input.clone(),
+                source,
+            },
+        )
+    };
+    let smoother = Smoother::new(mesh, positions, scheme, args.config()).map_err(smooth_error)?;
+    // A step given directly must be stable; a time chooses its own stable step.
+    if let Some(limit) = smoother.stable_step_limit()
+        && smoother.config().duration.is_none()
+        && smoother.config().lambda > limit
+    {
+        return Err(smooth_error(SmoothError::UnstableStep {
+            lambda: smoother.config().lambda,
+            max_stable: limit,
+        }));
+    }
+    check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
     let progress = progress_bar(smoother.config().iterations);
-    let smoothed = smoother.run(|it| {
-        if let Some(bar) = &progress {
-            bar.set_position(it.index as u64);
-        }
-        ControlFlow::Continue(())
-    })?;
+    let smoothed = smoother
+        .run(|it| {
+            if let Some(bar) = &progress {
+                bar.set_position(it.index as u64);
+            }
+            ControlFlow::Continue(())
+        })
+        .map_err(smooth_error)?;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
     Ok(smoothed)
+}
+
+/// Refuses a run planning more than `--max-iterations` iterations, and prints the
+/// plan on stderr with `--verbose` or for a long run.
+fn check_plan(args: &SmoothArgs, iterations: usize, step: f64) -> Result<(), CliError> {
+    if iterations > args.max_iterations {
+        return Err(CliError::Usage(format!(
+            "the run would take {iterations} iterations of step {}, more than --max-iterations {} (is --time or --cutoff in the mesh's length unit? raise --max-iterations to run it anyway)",
+            number(step),
+            args.max_iterations
+        )));
+    }
+    if args.verbose || iterations > LARGE_RUN_ITERATIONS {
+        eprintln!(
+            "note: planned {iterations} {} of step {}",
+            plural(iterations, "iteration", "iterations"),
+            number(step)
+        );
+    }
+    Ok(())
 }
 
 /// `--method implicit` through [`ImplicitSmoother`], reported like an explicit run
@@ -604,29 +813,17 @@ fn run_implicit(
     scheme: &dyn WeightScheme,
 ) -> Result<(Smoothed, ImplicitFigures), CliError> {
     let explicit = args.config();
-    if args.preserve_volume || args.mu.is_some() {
-        return Err(CliError::Usage(
-            "--preserve-volume and --mu do not apply to --method implicit".into(),
-        ));
-    }
     let (time_step, steps) = match explicit.duration {
-        Some(d) => {
-            if explicit.laplacian.normalization == Normalization::WeightSum {
-                return Err(CliError::Usage(
-                    "--method implicit with --time or --cutoff needs --normalize area (a time in length²)"
-                        .into(),
-                ));
-            }
-            (d.time(), 1)
-        }
-        None => (args.lambda, args.iterations),
+        Some(d) => (d.time(), 1),
+        None => (args.lambda(), args.iterations),
     };
+    check_plan(args, steps, time_step)?;
     let config = ImplicitConfig::new(time_step, steps)
         .boundary(explicit.boundary)
         .update(explicit.update)
         .laplacian(explicit.laplacian)
         .pinned(explicit.pinned.clone())
-        .solver(match args.solver {
+        .solver(match args.solver() {
             SolverArg::Cholesky => ImplicitSolver::Cholesky,
             SolverArg::Cg => ImplicitSolver::conjugate_gradient(),
         });
@@ -657,7 +854,7 @@ fn run_implicit(
     }
     let r = out.report;
     let figures = ImplicitFigures {
-        solver: args.solver,
+        solver: args.solver(),
         time_step,
         numeric_factorizations: r.numeric_factorizations,
         factor_nonzeros: r.factor_nonzeros,

@@ -1,18 +1,18 @@
 //! `beltrami study`: the whole comparison in one command.
 
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use beltrami_io::{check_writable, stage_dir};
 use beltrami_smooth::{Boundary, WeightUpdate};
-use beltrami_study::{
-    Countermeasure, Progress, StudyConfig, Verdict, paper_iterations, run_study, write_study,
-};
+use beltrami_study::{Countermeasure, Progress, StudyConfig, Verdict, run_study, write_study};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
 use clap::ValueEnum;
 
 use crate::error::CliError;
+use crate::text::counted;
 
 /// Arguments of `beltrami study`.
 ///
@@ -20,9 +20,13 @@ use crate::error::CliError;
 /// scheme, 10, 20, …, 100 and 200 iterations, λ = 0.8, noise σ = 0.2 × mean edge
 /// length, a free boundary (the paper's F-lens loses its outline), weights recomputed
 /// every iteration.
+///
+/// DIR is replaced as a whole when the study has finished: a failed or interrupted
+/// run leaves an earlier study in DIR as it was, and no stale plots survive.
 #[derive(Debug, clap::Args)]
 pub(crate) struct StudyArgs {
-    /// The output directory (created if needed).
+    /// The output directory: new, empty, or holding an earlier study (which is
+    /// replaced as a whole once the new one has been written).
     #[arg(long, default_value = "study")]
     out: PathBuf,
     /// The surfaces, comma-separated: flens, sphere, block, golfball.
@@ -35,15 +39,20 @@ pub(crate) struct StudyArgs {
     /// The weight schemes, comma-separated (default: every registered scheme).
     #[arg(long, value_delimiter = ',')]
     weights: Vec<String>,
-    /// The iteration counts to observe, comma-separated and ascending.
-    #[arg(long, value_delimiter = ',')]
+    /// The iteration counts to observe, comma-separated and ascending (the paper's by
+    /// default).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "10,20,30,40,50,60,70,80,90,100,200"
+    )]
     iterations: Vec<usize>,
     /// The step λ, in (0, 1].
-    #[arg(long, default_value_t = 0.8)]
+    #[arg(long, default_value_t = 0.8, allow_negative_numbers = true)]
     lambda: f64,
     /// The noise σ as a multiple of the mean edge length (or absolute with
-    /// --absolute-noise).
-    #[arg(long, default_value_t = 0.2)]
+    /// --absolute-noise), as in `generate`.
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
     noise: f64,
     /// Read --noise in the surfaces' length unit instead.
     #[arg(long)]
@@ -51,7 +60,8 @@ pub(crate) struct StudyArgs {
     /// The seed of the noise.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// How boundary vertices move.
+    /// How boundary vertices move. Free by default, as in the paper, whose F-lens
+    /// loses its outline (`smooth` keeps a measured patch's outline: fixed).
     #[arg(long, value_enum, default_value_t = BoundaryArg::Free)]
     boundary: BoundaryArg,
     /// When weights are computed.
@@ -100,11 +110,7 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
         surfaces,
         size: if args.small { Size::Small } else { Size::Paper },
         schemes,
-        iterations: if args.iterations.is_empty() {
-            paper_iterations()
-        } else {
-            args.iterations.clone()
-        },
+        iterations: args.iterations.clone(),
         lambda: args.lambda,
         noise: if args.absolute_noise {
             NoiseLevel::Absolute(args.noise)
@@ -143,6 +149,49 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
     Ok(config)
 }
 
+/// The entries a study writes into its directory.
+const STUDY_ENTRIES: [&str; 6] = [
+    "report.md",
+    "results.csv",
+    "results.json",
+    "countermeasures.csv",
+    "plots",
+    "renders",
+];
+
+/// Refuses an output directory that holds anything but an earlier study (which the
+/// new one replaces), before the study runs.
+fn check_out_dir(dir: &Path) -> Result<(), CliError> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    check_writable(&parent.join("report.md")).map_err(|source| CliError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        if dir.exists() {
+            return Err(CliError::Usage(format!(
+                "--out {} is not a directory",
+                dir.display()
+            )));
+        }
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if !STUDY_ENTRIES.contains(&name.as_ref()) {
+            return Err(CliError::Usage(format!(
+                "--out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
+                dir.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Runs `beltrami study`.
 pub(crate) fn run(
     args: &StudyArgs,
@@ -150,6 +199,7 @@ pub(crate) fn run(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let config = config(args, registry)?;
+    check_out_dir(&args.out)?;
     let terminal = std::io::stderr().is_terminal();
     let mut bar: Option<indicatif::ProgressBar> = None;
     let mut progress = |p: Progress<'_>| {
@@ -181,14 +231,25 @@ pub(crate) fn run(
         }
     };
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
-    let written = write_study(&results, &args.out).map_err(CliError::Study)?;
+    let io = |source| CliError::Io {
+        path: args.out.clone(),
+        source,
+    };
+    let staged = stage_dir(&args.out).map_err(io)?;
+    let written = write_study(&results, staged.path()).map_err(CliError::Study)?;
+    staged.commit().map_err(io)?;
     writeln!(
         out,
-        "study: {} surface(s) x {} scheme(s), {} observation(s), {:.1} s -> {}",
-        config.surfaces.len(),
-        config.schemes.len(),
-        written.rows.len(),
+        "study: {} x {}, {}, {:.1} s -> {}",
+        counted(config.surfaces.len(), "surface", "surfaces"),
+        counted(config.schemes.len(), "scheme", "schemes"),
+        counted(written.rows.len(), "observation", "observations"),
         results.wall_time_s,
+        args.out.join("report.md").display()
+    )?;
+    writeln!(
+        out,
+        "the paper's statements checked (evidence and numbers in {}):",
         args.out.join("report.md").display()
     )?;
     for f in &written.findings {

@@ -352,7 +352,7 @@ fn bad_input_is_one_error_line_and_exit_1() {
     std::fs::write(&cloud, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
     let out = beltrami(&["compare", s(&good), s(&cloud)]);
     assert_eq!(out.status.code(), Some(1));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: cloud.obj: the mesh has no faces (compare needs a surface)");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: cloud.obj: the mesh has 3 vertices but no faces (points or lines only; compare needs a surface of triangles)");
 
     let quad = dir.path().join("quad.obj");
     std::fs::write(&quad, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();

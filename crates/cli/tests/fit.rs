@@ -134,7 +134,7 @@ fn circle_fit_on_a_point_set_gives_centre_normal_and_radius() {
     // A point set has no surface to weigh by.
     let out = beltrami(&["fit", "circle", s(&ring), "--weighted"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: ring.obj: the mesh has no faces (--weighted needs a surface)");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: ring.obj: the mesh has 24 vertices but no faces (points or lines only; --weighted needs a surface of triangles)");
 }
 
 #[test]
@@ -215,7 +215,14 @@ fn unknown_shape_is_a_usage_error() {
     let dir = Path::new("/nonexistent");
     let out = beltrami(&["fit", "cone", "part.ply"]);
     assert_eq!(out.status.code(), Some(2));
-    assert_snapshot!(error_line(&out, dir), @"error: invalid value 'cone' for '<SHAPE>' (see 'beltrami --help')");
+    assert_snapshot!(error_line(&out, dir), @r#"
+error: invalid value 'cone' for '<SHAPE>'
+  [possible values: sphere, circle, cylinder]
+
+  tip: a similar value exists: 'cylinder'
+
+For more information, try '--help'.
+"#);
     let out = beltrami(&["fit", "sphere"]);
     assert_eq!(out.status.code(), Some(2));
     error_line(&out, dir);

@@ -169,21 +169,76 @@ fn bad_method_parameters_are_one_line_errors() {
     let g = primitives::grid(3, 3);
     let open = write(dir.path(), "grid.ply", g.positions.clone(), g.faces.clone());
     let out = dir.path().join("out.ply");
-    let run = |extra: &[&str], input: &std::path::Path| {
+    // A bad value or combination of options is a usage error (exit 2) that does not
+    // start with the input's path; a mesh that does not suit the options is exit 1.
+    let run = |extra: &[&str], input: &std::path::Path, code: i32| {
         let mut args = vec!["smooth", s(input), s(&out)];
         args.extend_from_slice(extra);
         let o = beltrami(&args);
-        assert_eq!(o.status.code(), Some(1), "{extra:?}");
+        assert_eq!(o.status.code(), Some(code), "{extra:?}");
         assert!(!out.exists(), "{extra:?} wrote an output");
         error_line(&o, dir.path())
     };
-    assert_snapshot!(run(&["--method", "taubin", "--mu", "-0.1"], &input), @"error: sphere.ply: Taubin's mu = -0.1 with lambda = 0.8 is invalid: the pass band 1/lambda + 1/mu must be positive, i.e. mu < -lambda");
-    assert_snapshot!(run(&["--method", "taubin"], &input), @"error: sphere.ply: Taubin's mu = -0.8695652173913044 with lambda = 0.8 is invalid: the highest frequency would grow: (1 - 2 lambda)(1 - 2 mu) must exceed -1");
-    assert_snapshot!(run(&["--method", "hc", "--hc-alpha", "2"], &input), @"error: sphere.ply: HC parameters must lie in [0, 1], got alpha = 2, beta = 0.6");
-    assert_snapshot!(run(&["--preserve-volume"], &open), @"error: grid.ply: volume preservation needs a closed mesh, this one has 1 boundary loop(s); use the HC or Taubin method on open patches");
-    assert_snapshot!(run(&["--time", "-1"], &input), @"error: sphere.ply: invalid diffusion time: Time(-1.0) gives the time -1; it must be finite and >= 0");
-    assert_snapshot!(run(&["--method", "hc", "--cutoff", "1"], &input), @"error: sphere.ply: invalid diffusion time: a diffusion time applies to plain Laplacian diffusion only, not to method 'hc'");
-    assert_snapshot!(run(&["--until-change", "0"], &input), @"error: sphere.ply: the convergence threshold must be positive and finite, got 0");
+    assert_snapshot!(run(&["--method", "taubin", "--mu", "-0.1"], &input, 2), @"error: Taubin's mu = -0.1 with lambda = 0.6307 is invalid: the pass band 1/lambda + 1/mu must be positive, i.e. mu < -lambda; with --mu -0.1, take --lambda below 0.1 (see 'beltrami --help')");
+    assert_snapshot!(run(&["--method", "taubin", "--lambda", "0.8"], &input, 2), @"error: Taubin's mu = -0.869565 with lambda = 0.8 is invalid: the highest frequency would grow: (1 - 2 lambda)(1 - 2 mu) must exceed -1; leave --lambda out for Taubin's classic pair (lambda 0.6307, mu -0.6732, pass band 0.1) (see 'beltrami --help')");
+    assert_snapshot!(run(&["--method", "hc", "--hc-alpha", "2"], &input, 2), @"error: HC parameters must lie in [0, 1], got alpha = 2, beta = 0.6 (see 'beltrami smooth --help')");
+    assert_snapshot!(run(&["--preserve-volume"], &open, 1), @"error: grid.ply: volume preservation needs a closed mesh, this one has 1 boundary loop(s); use the HC or Taubin method on open patches");
+    assert_snapshot!(run(&["--time", "-1"], &input, 2), @"error: invalid diffusion time: the time must be finite and >= 0, got -1 (see 'beltrami smooth --help')");
+    assert_snapshot!(run(&["--cutoff", "1e300"], &input, 2), @"error: invalid diffusion time: the cut-off must be finite and >= 0 and give a finite time, got 1e300 (time inf) (see 'beltrami smooth --help')");
+    assert_snapshot!(run(&["--method", "hc", "--cutoff", "1"], &input, 2), @"error: --time and --cutoff apply to plain diffusion (--method explicit or implicit), not to --method hc (see 'beltrami --help')");
+    assert_snapshot!(run(&["--until-change", "0"], &input, 2), @"error: the convergence threshold must be positive and finite, got 0 (see 'beltrami smooth --help')");
+    // Options that the method would ignore are refused, not dropped silently.
+    assert_snapshot!(run(&["--mu", "-0.9"], &input, 2), @"error: --mu applies to --method taubin only, not to --method explicit (see 'beltrami --help')");
+    assert_snapshot!(run(&["--method", "taubin", "--hc-alpha", "0.2"], &input, 2), @"error: --hc-alpha applies to --method hc only, not to --method taubin (see 'beltrami --help')");
+    assert_snapshot!(run(&["--solver", "cholesky"], &input, 2), @"error: --solver applies to --method implicit only, not to --method explicit (see 'beltrami --help')");
+    // An explicit area-normalised step beyond the stability limit, with the limit.
+    let o = run(&["--normalize", "area"], &input, 2);
+    assert!(o.starts_with("error: lambda 0.8 is not a stable explicit step with area normalisation on this mesh: the largest stable step is "), "{o}");
+    // A cut-off in the wrong unit: the plan is refused before it runs.
+    let o = run(&["--cutoff", "10000"], &input, 2);
+    assert!(o.contains("more than --max-iterations 1000000"), "{o}");
+}
+
+#[test]
+fn taubin_runs_with_its_defaults_and_negative_values_are_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _, _) = sphere(dir.path());
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&["smooth", s(&input), s(&out), "--method", "taubin"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8(o.stdout).unwrap();
+    assert!(stdout.contains("taubin (mu -0.673156)"), "{stdout}");
+    assert!(stdout.contains("lambda 0.6307"), "{stdout}");
+    // A negative λ reaches the range check instead of being taken for an option.
+    let o = beltrami(&["smooth", s(&input), s(&out), "--lambda", "-0.5", "--force"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_snapshot!(error_line(&o, dir.path()), @"error: lambda must be in (0, 1] with weight-sum normalisation, got -0.5 (see 'beltrami smooth --help')");
+}
+
+#[test]
+fn a_time_of_area_normalised_steps_finds_its_own_stable_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _, _) = sphere(dir.path());
+    let out = dir.path().join("out.ply");
+    // λ 0.8 is far beyond the stability limit; --time picks the iterations itself.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--normalize",
+        "area",
+        "--time",
+        "0.001",
+        "--verbose",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (y, _) = smoothed(&out);
+    assert!(
+        y.iter()
+            .all(|p| p.is_finite() && (p.length() - 1.0).abs() < 0.05)
+    );
+    let stderr = String::from_utf8(o.stderr).unwrap();
+    assert!(stderr.contains("note: planned "), "{stderr}");
 }
 
 #[test]
@@ -304,7 +359,23 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
     let r = y.iter().map(|p| p.length()).sum::<f64>() / y.len() as f64;
     assert!((r - (1.0 - 4.0 * t).sqrt()).abs() < 2e-3, "{r}");
 
-    // A time needs a length² operator.
+    // A time implies the length² operator: the same result without --normalize.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--time",
+        &t.to_string(),
+        "--vertex-area",
+        "barycentric",
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (y, _) = smoothed(&out);
+    assert_eq!(y, expected);
+    // ... and refuses the weight sum asked for explicitly.
     let o = beltrami(&[
         "smooth",
         s(&input),
@@ -313,9 +384,11 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         "implicit",
         "--time",
         "0.01",
+        "--normalize",
+        "sum",
     ]);
     assert_eq!(o.status.code(), Some(2));
-    assert_snapshot!(error_line(&o, dir.path()), @"error: --method implicit with --time or --cutoff needs --normalize area (a time in length²) (see 'beltrami --help')");
+    assert_snapshot!(error_line(&o, dir.path()), @"error: --method implicit with --time or --cutoff needs --normalize area (a time in length²); leave --normalize out to get it (see 'beltrami --help')");
 }
 
 #[test]

@@ -151,7 +151,7 @@ fn max_memory_stops_the_run_before_the_mesh_is_built() {
     );
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "note: this run needs about 16.4 MiB (642 vertices, 1280 faces) of memory\n"
+        "note: this run needs about 16.4 MiB (642 vertices, 1280 faces) of memory\nnote: planned 10 iterations of step 0.8\n"
     );
     assert!(output.exists());
     // Small runs print nothing without --verbose.
@@ -166,6 +166,10 @@ fn a_bad_size_is_a_usage_error() {
     let output = dir.path().join("out.ply");
     let out = beltrami(&["smooth", s(&input), s(&output), "--max-memory", "12X"]);
     assert_eq!(out.status.code(), Some(2));
-    assert_snapshot!(error_line(&out, dir.path()), @r#"error: invalid value '12X' for '--max-memory <SIZE>': unknown unit "X" (use K, M, G or T) (see 'beltrami --help')"#);
+    assert_snapshot!(error_line(&out, dir.path()), @r#"
+error: invalid value '12X' for '--max-memory <SIZE>': unknown unit "X" (use K, M, G or T)
+
+For more information, try '--help'.
+"#);
     assert!(!output.exists());
 }

@@ -191,7 +191,7 @@ fn residual_ply_holds_the_heights_on_the_smoothed_surface() {
             args.push("--remove-mean");
         }
         let j = json(&args);
-        assert_eq!(j["out"], s(&out_ply));
+        assert_eq!(j["scalars"], s(&out_ply));
         let shift = if remove_mean { f(&j["mean"]) } else { 0.0 };
 
         let mut file = std::fs::File::open(&out_ply).unwrap();
@@ -278,11 +278,11 @@ fn bad_input_and_usage() {
     std::fs::write(&cloud, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
     let out = beltrami(&["residual", s(&cloud), s(&cloud)]);
     assert_eq!(out.status.code(), Some(1));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: cloud.obj: the mesh has no faces (residual needs a surface)");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: cloud.obj: the mesh has 3 vertices but no faces (points or lines only; residual needs a surface of triangles)");
 
     let obj = dir.path().join("residual.obj");
     let out = beltrami(&["residual", s(&measured), s(&flat), "--out", s(&obj)]);
     assert_eq!(out.status.code(), Some(2));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: --out writes a PLY file (per-vertex scalars need PLY), got 'residual.obj' (see 'beltrami --help')");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: --scalars writes a PLY file (per-vertex scalars need PLY), got 'residual.obj' (see 'beltrami --help')");
     assert!(!obj.exists());
 }

@@ -1,65 +1,457 @@
-//! Atomic file replacement: write beside the target, then rename over it.
+//! Atomic file replacement: write beside the target, then rename over it; and staged
+//! writes, which keep the renamed-over step for later so that a command with several
+//! outputs replaces all of them or none.
 //!
 //! The protocol, in order: create a temporary file `.beltrami-XXXXXX.tmp` in the
 //! target's directory (same file system, so the rename is atomic), write, `fsync` the
 //! file, rename it over the target, `fsync` the directory (Unix) so that the rename
 //! itself survives a power loss. Until the rename, the target is untouched; after it,
 //! the target is the whole new file. A reader therefore sees the old file or the new
-//! one, never a mixture, even when the writing process is killed. On every error the
-//! temporary file is removed; only a process killed outright (`SIGKILL`, power loss)
-//! can leave one behind, under a fresh random name that no later write reuses.
+//! one, never a mixture, even when the writing process is killed.
+//!
+//! On every error the temporary file is removed. Every temporary file alive is also
+//! listed in a process-wide registry, so that a program's signal handler can remove
+//! them with [`remove_staged_files`] before it exits (the `beltrami` CLI does this on
+//! Ctrl-C and `SIGTERM`). Only a process killed outright (`SIGKILL`, power loss) can
+//! leave one behind, under a fresh random name that no later write reuses.
+//!
+//! A target that is a symbolic link is written through: the link stays, and the file
+//! it points to is replaced.
 
 use std::fs;
-use std::path::Path;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
-use tempfile::NamedTempFile;
+use tempfile::{NamedTempFile, TempPath};
 
 use crate::error::IoError;
+use crate::format::{MeshFormat, VertexAttributes, WriteOptions};
+use crate::mesh::MeshData;
+use crate::write::{write_mesh_to, write_ply_to};
 
-/// Runs `write` on a temporary file in the directory of `path`, flushes it to disk,
-/// renames it over `path` and flushes the directory. On any error before the rename
-/// the temporary file is removed and an existing `path` is left untouched.
+/// The temporary files of staged writes that are neither committed nor dropped yet.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while the list was held leaves it consistent (push/retain only).
+    LIVE.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Removes every temporary file of a staged or in-progress atomic write of this
+/// process, and returns how many were removed. Meant for a signal handler that is
+/// about to end the process (Ctrl-C, `SIGTERM`): the targets stay untouched, and no
+/// `.beltrami-*.tmp` file is left behind. Staged files whose temporary file is gone
+/// fail to commit afterwards.
+pub fn remove_staged_files() -> usize {
+    let mut list = live();
+    let mut removed = 0;
+    for path in list.drain(..) {
+        let done = if path.is_dir() {
+            fs::remove_dir_all(&path)
+        } else {
+            fs::remove_file(&path)
+        };
+        if done.is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
+/// A file written to a temporary file beside its target and flushed to disk, waiting
+/// for [`commit`](Self::commit) to rename it over the target. Dropping it removes
+/// the temporary file and leaves the target untouched.
 ///
-/// A new file gets the permissions a plain create would give it (`0o666` less the
-/// umask on Unix); an existing file keeps its permissions.
-pub(crate) fn write_atomic(
-    path: &Path,
-    write: impl FnOnce(&mut NamedTempFile) -> Result<(), IoError>,
-) -> Result<(), IoError> {
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
+/// Stage every output of a command first, then commit them all: a failure while
+/// producing any output then changes no file.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::stage_bytes;
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let (a, b) = (dir.path().join("a.json"), dir.path().join("b.json"));
+/// let staged = [stage_bytes(&a, b"{}")?, stage_bytes(&b, b"[]")?];
+/// assert!(!a.exists() && !b.exists());
+/// for file in staged {
+///     file.commit()?;
+/// }
+/// assert_eq!(std::fs::read(&b)?, b"[]");
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Debug)]
+#[must_use = "a staged file is removed unless it is committed"]
+pub struct StagedFile {
+    temp: Option<TempPath>,
+    /// The file that the commit replaces (a symbolic link resolved).
+    target: PathBuf,
+    /// The directory of `target`, flushed after the rename.
+    dir: PathBuf,
+}
+
+impl StagedFile {
+    /// The file that [`commit`](Self::commit) replaces: the path given, or the file
+    /// it links to when it is a symbolic link.
+    #[must_use]
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Renames the temporary file over the target and flushes the directory.
+    ///
+    /// # Errors
+    /// [`IoError::Io`] when the rename fails (then the temporary file is removed and
+    /// the target untouched) or the directory cannot be flushed.
+    pub fn commit(mut self) -> Result<(), IoError> {
+        let Some(temp) = self.temp.take() else {
+            unreachable!("a staged file holds its temporary file until commit or drop")
+        };
+        let temp_path = temp.to_path_buf();
+        let result = temp.persist(&self.target);
+        forget(&temp_path);
+        // On failure the returned `PathPersistError` owns the temporary path, and
+        // dropping it removes the file.
+        result.map_err(|e| IoError::Io {
+            operation: "replace the target file",
+            source: without_path(&e.error),
+        })?;
+        sync_directory(&self.dir)
+    }
+}
+
+impl Drop for StagedFile {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            forget(&temp);
+            drop(temp);
+        }
+    }
+}
+
+/// Takes `path` off the list of live temporary files.
+fn forget(path: &Path) {
+    live().retain(|p| p != path);
+}
+
+/// An `std::io::Error` of the same kind and OS code, without the temporary file's
+/// name that `tempfile` adds: messages name the path the user gave, not
+/// `.beltrami-XXXXXX.tmp`.
+fn without_path(e: &std::io::Error) -> std::io::Error {
+    match e.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code),
+        None => std::io::Error::from(e.kind()),
+    }
+}
+
+/// The file a write to `path` replaces: `path` itself, or for a symbolic link the
+/// file it points to (followed through chains of links; a dangling link names the
+/// file it would create).
+///
+/// # Errors
+/// [`IoError::Io`] when a link cannot be read or the links form a loop.
+pub fn resolve_target(path: &Path) -> Result<PathBuf, IoError> {
+    let mut current = path.to_path_buf();
+    // Linux's own limit on links followed in one lookup.
+    for _ in 0..40 {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current)
+                    .map_err(|e| IoError::io("read the symbolic link")(without_path(&e)))?;
+                current = match current.parent() {
+                    Some(parent) if link.is_relative() => parent.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(IoError::Io {
+        operation: "follow the symbolic link",
+        source: std::io::Error::other("too many levels of symbolic links"),
+    })
+}
+
+/// The directory a file at `path` lives in (`.` for a bare file name).
+fn directory_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Checks, without writing anything that stays, that a file can be written at
+/// `path`: its directory (of the link's target, for a symbolic link) exists, is a
+/// directory, and a file can be created in it. Call it for every output before a
+/// long computation, so that a typo in a directory name fails at once.
+///
+/// # Errors
+/// [`IoError::Io`] naming what failed: the directory does not exist or is not a
+/// directory, or a file cannot be created in it (permissions, read-only file
+/// system, full disk).
+pub fn check_writable(path: &Path) -> Result<(), IoError> {
+    let target = resolve_target(path)?;
+    let dir = directory_of(&target);
+    match fs::metadata(&dir) {
+        Ok(meta) if meta.is_dir() => {}
+        Ok(_) => {
+            return Err(IoError::Io {
+                operation: "use the output's directory",
+                source: std::io::Error::other(format!("{} is not a directory", dir.display())),
+            });
+        }
+        Err(e) => {
+            return Err(IoError::Io {
+                operation: "find the output's directory",
+                source: std::io::Error::new(
+                    e.kind(),
+                    format!("{}: {}", dir.display(), without_path(&e)),
+                ),
+            });
+        }
+    }
+    if fs::metadata(&target).is_ok_and(|m| m.is_dir()) {
+        return Err(IoError::Io {
+            operation: "write the output",
+            source: std::io::Error::other("it is a directory"),
+        });
+    }
+    // The probe file is removed when it is dropped.
+    temp_builder()
+        .tempfile_in(&dir)
+        .map(drop)
+        .map_err(|e| IoError::Io {
+            operation: "create a file in the output's directory",
+            source: without_path(&e),
+        })
+}
+
+fn temp_builder() -> tempfile::Builder<'static, 'static> {
     let mut builder = tempfile::Builder::new();
     builder.prefix(".beltrami-").suffix(".tmp");
     #[cfg(unix)]
-    let permissions = {
+    {
         use std::os::unix::fs::PermissionsExt;
-        fs::Permissions::from_mode(0o666)
-    };
-    #[cfg(unix)]
-    builder.permissions(permissions);
-    let mut file = builder
-        .tempfile_in(dir)
-        .map_err(IoError::io("create a temporary file beside the target"))?;
-    if let Ok(existing) = fs::metadata(path) {
-        if existing.is_file() {
-            file.as_file()
-                .set_permissions(existing.permissions())
-                .map_err(IoError::io("copy the permissions of the existing file"))?;
+        builder.permissions(fs::Permissions::from_mode(0o666));
+    }
+    builder
+}
+
+/// Runs `write` on a temporary file in the directory of `path` (of its target, for a
+/// symbolic link) and flushes it to disk. The result replaces the target on
+/// [`StagedFile::commit`]; on any error, or when the result is dropped, the
+/// temporary file is removed and the target is untouched.
+///
+/// A new file gets the permissions a plain create would give it (`0o666` less the
+/// umask on Unix); an existing file keeps its permissions.
+///
+/// # Errors
+/// [`IoError::Io`] naming the operation that failed, and every error of `write`.
+pub fn stage_with(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
+) -> Result<StagedFile, IoError> {
+    let target = resolve_target(path)?;
+    let dir = directory_of(&target);
+    let mut file: NamedTempFile = temp_builder().tempfile_in(&dir).map_err(|e| IoError::Io {
+        operation: "create a file in the output's directory",
+        source: without_path(&e),
+    })?;
+    live().push(file.path().to_path_buf());
+    let result = (|| {
+        if let Ok(existing) = fs::metadata(&target) {
+            if existing.is_file() {
+                file.as_file()
+                    .set_permissions(existing.permissions())
+                    .map_err(|e| IoError::io("copy the permissions of the existing file")(e))?;
+            }
+        }
+        write(&mut file)?;
+        file.as_file()
+            .sync_all()
+            .map_err(IoError::io("flush the file to disk"))
+    })();
+    let temp = file.into_temp_path();
+    match result {
+        Ok(()) => Ok(StagedFile {
+            temp: Some(temp),
+            target,
+            dir,
+        }),
+        Err(e) => {
+            forget(&temp);
+            drop(temp);
+            Err(e)
         }
     }
-    write(&mut file)?;
-    file.as_file()
-        .sync_all()
-        .map_err(IoError::io("flush the file to disk"))?;
-    // On failure the returned `PersistError` owns the temporary file, and dropping it
-    // removes the file.
-    file.persist(path).map_err(|e| IoError::Io {
-        operation: "replace the target file",
-        source: e.error,
-    })?;
-    sync_directory(dir)
+}
+
+/// A directory being filled beside its target, which [`commit`](Self::commit) puts in
+/// the target's place (replacing an earlier directory there as a whole). Dropping it
+/// removes it and everything in it, and leaves the target untouched.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::stage_dir;
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let parent = tempfile::tempdir()?;
+/// let target = parent.path().join("results");
+/// let staged = stage_dir(&target)?;
+/// std::fs::write(staged.path().join("table.csv"), "a,b\n")?;
+/// assert!(!target.exists());
+/// staged.commit()?;
+/// assert!(target.join("table.csv").exists());
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Debug)]
+#[must_use = "a staged directory is removed unless it is committed"]
+pub struct StagedDir {
+    temp: Option<tempfile::TempDir>,
+    target: PathBuf,
+}
+
+/// Creates an empty directory beside `path` (a hidden `.beltrami-XXXXXX.tmp` in the
+/// same parent directory), to be filled and then put in place of `path` by
+/// [`StagedDir::commit`]. Like staged files, it is listed for
+/// [`remove_staged_files`].
+///
+/// # Errors
+/// [`IoError::Io`] when the directory cannot be created (a missing parent,
+/// permissions).
+pub fn stage_dir(path: &Path) -> Result<StagedDir, IoError> {
+    let parent = directory_of(path);
+    let temp = tempfile::Builder::new()
+        .prefix(".beltrami-")
+        .suffix(".tmp")
+        .tempdir_in(&parent)
+        .map_err(|e| IoError::Io {
+            operation: "create a directory beside the output directory",
+            source: without_path(&e),
+        })?;
+    live().push(temp.path().to_path_buf());
+    Ok(StagedDir {
+        temp: Some(temp),
+        target: path.to_path_buf(),
+    })
+}
+
+impl StagedDir {
+    /// The directory to fill.
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        self.temp
+            .as_ref()
+            .map_or(self.target.as_path(), tempfile::TempDir::path)
+    }
+
+    /// Puts the filled directory in place of the target: an existing target
+    /// directory is first renamed aside, then removed once the new one is in place.
+    ///
+    /// # Errors
+    /// [`IoError::Io`] when a rename fails; the target is then as it was.
+    pub fn commit(mut self) -> Result<(), IoError> {
+        let Some(temp) = self.temp.take() else {
+            unreachable!("a staged directory holds its directory until commit or drop")
+        };
+        let new = temp.keep();
+        forget(&new);
+        let parent = directory_of(&self.target);
+        let old = if self.target.exists() {
+            let aside = tempfile::Builder::new()
+                .prefix(".beltrami-")
+                .suffix(".old")
+                .tempdir_in(&parent)
+                .map_err(|e| {
+                    IoError::io("create a directory beside the output directory")(without_path(&e))
+                })?
+                .keep();
+            // A rename over an empty directory replaces it.
+            if let Err(e) = fs::rename(&self.target, &aside) {
+                let _ = fs::remove_dir_all(&new);
+                let _ = fs::remove_dir(&aside);
+                return Err(IoError::io("move the earlier output directory aside")(
+                    without_path(&e),
+                ));
+            }
+            Some(aside)
+        } else {
+            None
+        };
+        if let Err(e) = fs::rename(&new, &self.target) {
+            if let Some(aside) = &old {
+                let _ = fs::rename(aside, &self.target);
+            }
+            let _ = fs::remove_dir_all(&new);
+            return Err(IoError::io("put the output directory in place")(
+                without_path(&e),
+            ));
+        }
+        if let Some(aside) = old {
+            fs::remove_dir_all(&aside).map_err(|e| {
+                IoError::io("remove the earlier output directory")(without_path(&e))
+            })?;
+        }
+        sync_directory(&parent)
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            forget(temp.path());
+            drop(temp);
+        }
+    }
+}
+
+/// Runs `write` on a temporary file beside `path`, then renames it over `path`: the
+/// atomic replacement of one file (see the module documentation).
+pub(crate) fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    stage_with(path, write)?.commit()
+}
+
+/// Stages `bytes` for `path` (see [`stage_with`]).
+///
+/// # Errors
+/// As [`stage_with`].
+pub fn stage_bytes(path: &Path, bytes: &[u8]) -> Result<StagedFile, IoError> {
+    stage_with(path, |file| {
+        file.write_all(bytes).map_err(IoError::io("write the file"))
+    })
+}
+
+/// Stages a mesh file for `path`, in the format of its extension, as
+/// [`write_mesh`](crate::write_mesh) writes it (see [`stage_with`]).
+///
+/// # Errors
+/// The errors of [`write_mesh`](crate::write_mesh).
+pub fn stage_mesh(
+    path: &Path,
+    mesh: &MeshData,
+    options: &WriteOptions,
+) -> Result<StagedFile, IoError> {
+    let format = MeshFormat::from_path(path)?;
+    stage_with(path, |file| write_mesh_to(file, mesh, format, options))
+}
+
+/// Stages a PLY file with per-vertex attributes for `path`, as
+/// [`write_ply`](crate::write_ply) writes it (see [`stage_with`]).
+///
+/// # Errors
+/// The errors of [`write_ply`](crate::write_ply).
+pub fn stage_ply(
+    path: &Path,
+    mesh: &MeshData,
+    attributes: &VertexAttributes,
+    options: &WriteOptions,
+) -> Result<StagedFile, IoError> {
+    stage_with(path, |file| write_ply_to(file, mesh, attributes, options))
 }
 
 /// Flushes the directory entry of a renamed file to disk. File systems that cannot
@@ -95,8 +487,72 @@ fn sync_directory(_dir: &Path) -> Result<(), IoError> {
 /// [`IoError::Io`] naming the operation that failed (creating the temporary file in
 /// the target's directory, writing, flushing, renaming, flushing the directory).
 pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
-    use std::io::Write;
-    write_atomic(path, |file| {
-        file.write_all(bytes).map_err(IoError::io("write the file"))
-    })
+    stage_bytes(path, bytes)?.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temporaries(dir: &Path) -> Vec<String> {
+        fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name.starts_with(".beltrami-"))
+            .collect()
+    }
+
+    #[test]
+    fn a_dropped_stage_leaves_the_target_and_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.json");
+        fs::write(&path, b"old").unwrap();
+        let staged = stage_bytes(&path, b"new").unwrap();
+        assert_eq!(temporaries(dir.path()).len(), 1);
+        assert_eq!(fs::read(&path).unwrap(), b"old");
+        drop(staged);
+        assert_eq!(fs::read(&path).unwrap(), b"old");
+        assert!(temporaries(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn remove_staged_files_clears_the_temporaries_and_commit_then_fails() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.json");
+        let staged = stage_bytes(&path, b"new").unwrap();
+        assert!(remove_staged_files() >= 1);
+        assert!(temporaries(dir.path()).is_empty());
+        assert!(staged.commit().is_err());
+        assert!(!path.exists());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.json");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("link.json");
+        std::os::unix::fs::symlink("real.json", &link).unwrap();
+        write_bytes_atomic(&link, b"new").unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+    }
+
+    #[test]
+    fn check_writable_names_a_missing_directory_not_a_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("nope").join("out.ply");
+        let e = check_writable(&missing).unwrap_err().to_string();
+        assert!(e.contains("nope"), "{e}");
+        assert!(!e.contains(".beltrami-"), "{e}");
+        check_writable(&dir.path().join("out.ply")).unwrap();
+        assert!(check_writable(dir.path()).is_err());
+        assert!(temporaries(dir.path()).is_empty());
+    }
 }

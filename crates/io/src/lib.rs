@@ -55,6 +55,11 @@
 //!   a temporary file beside the target, flush it to disk, rename it over the target
 //!   and flush the directory; on any error the target is untouched and the temporary
 //!   file removed, and a killed process leaves the old file or the new one, whole.
+//!   [`stage_mesh`], [`stage_ply`] and [`stage_bytes`] stop before the rename, so that
+//!   a command with several outputs replaces all of them or none
+//!   ([`StagedFile::commit`]); [`remove_staged_files`] lets a signal handler remove
+//!   the temporary files before the process exits. A symbolic link is written
+//!   through to its target.
 //!
 //! [`HalfedgeMesh::from_polygons`]: beltrami_halfedge::HalfedgeMesh::from_polygons
 
@@ -70,7 +75,10 @@ mod text;
 mod validate;
 mod write;
 
-pub use atomic::write_bytes_atomic;
+pub use atomic::{
+    StagedDir, StagedFile, check_writable, remove_staged_files, resolve_target, stage_bytes,
+    stage_dir, stage_mesh, stage_ply, stage_with, write_bytes_atomic,
+};
 pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};

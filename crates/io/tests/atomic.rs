@@ -27,7 +27,7 @@ fn writing_into_a_missing_directory_fails_and_leaves_nothing() {
     assert!(matches!(
         e,
         IoError::Io {
-            operation: "create a temporary file beside the target",
+            operation: "create a file in the output's directory",
             ..
         }
     ));

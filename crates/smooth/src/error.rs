@@ -14,6 +14,21 @@ pub enum SmoothError {
         /// The valid range in words.
         range: &'static str,
     },
+    /// An explicit area-normalised step too large for the mesh: `λ · max_i W_i / A_i`
+    /// exceeds 1 (weight sum over vertex area), so the highest frequencies would grow
+    /// (see [`Smoother::stable_step_limit`](crate::Smoother::stable_step_limit); the
+    /// smoother itself runs any step it is given).
+    #[error(
+        "lambda {} is not a stable explicit step with area normalisation on this mesh: the largest stable step is {} (length²); take a smaller --lambda, give --time or --cutoff (which choose a stable step), or use --method implicit",
+        Short(*lambda),
+        Short(*max_stable)
+    )]
+    UnstableStep {
+        /// The step given, a time per iteration in length².
+        lambda: f64,
+        /// The largest stable step, `1 / max_i (W_i / A_i)`, in length².
+        max_stable: f64,
+    },
     /// A boundary mode that does not combine with the normalisation.
     #[error("boundary mode 'curve' needs weight-sum normalisation")]
     CurveNeedsWeightSum,
@@ -43,7 +58,7 @@ pub enum SmoothError {
     },
     /// Taubin's μ violates the pass-band or stability condition (see
     /// [`Method::Taubin`](crate::Method::Taubin)).
-    #[error("Taubin's mu = {mu} with lambda = {lambda} is invalid: {reason}")]
+    #[error("Taubin's mu = {} with lambda = {} is invalid: {reason}", Short(*mu), Short(*lambda))]
     InvalidTaubin {
         /// λ.
         lambda: f64,
@@ -151,4 +166,37 @@ pub enum SmoothError {
     /// The weights could not be computed.
     #[error(transparent)]
     Weights(#[from] WeightError),
+}
+
+/// A number in a message: six significant digits without trailing zeros, scientific
+/// notation below 1e-4 and from 1e6 on (`0.0190315`, `-0.869565`, `1e300`).
+pub(crate) struct Short(pub(crate) f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x == 0.0 || !x.is_finite() {
+            return write!(f, "{x}");
+        }
+        let trim = |t: &str| -> String {
+            if t.contains('.') {
+                t.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                t.to_string()
+            }
+        };
+        let magnitude = x.abs();
+        if (1e-4..1e6).contains(&magnitude) {
+            #[allow(clippy::cast_possible_truncation, reason = "a small exponent")]
+            let exponent = magnitude.log10().floor() as i32;
+            let decimals = usize::try_from((5 - exponent).max(0)).unwrap_or(0);
+            f.write_str(&trim(&format!("{x:.decimals$}")))
+        } else {
+            let text = format!("{x:.5e}");
+            match text.split_once('e') {
+                Some((mantissa, exponent)) => write!(f, "{}e{exponent}", trim(mantissa)),
+                None => f.write_str(&text),
+            }
+        }
+    }
 }

@@ -11,8 +11,8 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, RowSweep, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, Method, SmoothConfig, Statistics, WeightUpdate};
-use crate::error::SmoothError;
+use crate::config::{Boundary, DiffusionTime, Method, SmoothConfig, Statistics, WeightUpdate};
+use crate::error::{Short, SmoothError};
 
 /// Vertices per parallel work unit. Fixed, so that per-chunk partial sums (and hence
 /// the reported statistics) do not depend on the number of threads.
@@ -907,6 +907,27 @@ impl<'a> Smoother<'a> {
         Ok(Smoothed { positions, report })
     }
 
+    /// The largest stable explicit step of an area-normalised operator on the current
+    /// positions, in length² (a time per iteration): `1 / max_i (W_i / A_i)` over the
+    /// moving vertices, with `W_i` the weight sum and `A_i` the vertex area. The step
+    /// `x + λ M⁻¹ L x` has the eigenvalues of `λ M⁻¹ L` in `[−2 λ r, 0]` by
+    /// Gershgorin's theorem (non-negative weights), so `λ ≤ 1 / r` keeps every
+    /// frequency from growing. `None` with weight-sum normalisation (whose stable range
+    /// is λ ≤ 1) or when no vertex moves. Weights recomputed every iteration move the
+    /// limit a little as the mesh changes.
+    ///
+    /// A step from [`DiffusionTime`](crate::DiffusionTime) is chosen below half this
+    /// limit; a step given directly is the caller's to check, e.g. to fail with
+    /// [`SmoothError::UnstableStep`].
+    #[must_use]
+    pub fn stable_step_limit(&self) -> Option<f64> {
+        if self.config.laplacian.normalization == Normalization::WeightSum {
+            return None;
+        }
+        let rate = area_rate(&self.laplacian, &self.roles);
+        (rate > 0.0).then(|| 1.0 / rate)
+    }
+
     /// The configuration of the run; with a [`duration`](SmoothConfig::duration),
     /// `lambda` and `iterations` are the step and count the smoother chose.
     #[must_use]
@@ -1252,7 +1273,16 @@ fn validate_method(
         let t = duration.time();
         if !(t >= 0.0 && t.is_finite()) {
             return Err(SmoothError::InvalidDuration {
-                reason: format!("{duration:?} gives the time {t}; it must be finite and >= 0"),
+                reason: match duration {
+                    DiffusionTime::Time(_) => {
+                        format!("the time must be finite and >= 0, got {}", Short(t))
+                    }
+                    DiffusionTime::Cutoff(lc) => format!(
+                        "the cut-off must be finite and >= 0 and give a finite time, got {} (time {})",
+                        Short(lc),
+                        Short(t)
+                    ),
+                },
             });
         }
         if config.method != Method::Laplacian {
@@ -1270,6 +1300,21 @@ fn validate_method(
         return Err(SmoothError::InvalidUntilChange { value: eps });
     }
     Ok(())
+}
+
+/// The largest rate `max_i W_i / A_i` of the moving rows of an area-normalised
+/// Laplacian (weight sum over vertex area, in 1/length²), 0 when no row moves.
+fn area_rate(laplacian: &Laplacian, roles: &[Role]) -> f64 {
+    let mut rate: f64 = 0.0;
+    for (i, role) in roles.iter().enumerate() {
+        let v = VertexId::new(i as u32);
+        if *role == Role::Row
+            && let Some(scale) = laplacian.scale(v)
+        {
+            rate = rate.max(laplacian.weight_sum(v) * scale);
+        }
+    }
+    rate
 }
 
 /// The step and iteration count that diffuse for the time `t` (length²); see
@@ -1322,14 +1367,7 @@ fn resolve_duration(
         }
         // Area normalisation: λ is a time per iteration.
         _ => {
-            let mut rate: f64 = 0.0;
-            for v in (0..positions.len()).map(|i| VertexId::new(i as u32)) {
-                if roles[v.index()] == Role::Row
-                    && let Some(scale) = laplacian.scale(v)
-                {
-                    rate = rate.max(laplacian.weight_sum(v) * scale);
-                }
-            }
+            let rate = area_rate(laplacian, roles);
             let cap = if rate > 0.0 { 0.5 / rate } else { max_lambda };
             (1.0, max_lambda.min(cap))
         }

@@ -1,0 +1,86 @@
+//! Numbers and words in human-readable output. JSON output keeps full precision;
+//! tables and one-line summaries use these.
+
+/// `x` with six significant digits and no trailing zeros: `0.00702`, `1234.57`,
+/// `7.02305e-6`, `1.5e12`. Plain notation for magnitudes from 1e-4 up to 1e6,
+/// scientific otherwise; `0`, `inf`, `-inf` and `NaN` as such.
+///
+/// # Examples
+/// ```ignore
+/// assert_eq!(number(0.0070230492772682895), "0.00702305");
+/// ```
+pub(crate) fn number(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    let magnitude = x.abs();
+    if (1e-4..1e6).contains(&magnitude) {
+        #[allow(clippy::cast_possible_truncation, reason = "a small exponent")]
+        let exponent = magnitude.log10().floor() as i32;
+        let decimals = usize::try_from((5 - exponent).max(0)).unwrap_or(0);
+        let text = format!("{x:.decimals$}");
+        // Rounding may carry into a new digit (999999.5 -> "1000000"); still fine.
+        trim_zeros(&text)
+    } else {
+        let text = format!("{x:.5e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim_zeros(mantissa)),
+            None => text,
+        }
+    }
+}
+
+/// A point or direction as `(x, y, z)` with [`number`]s.
+pub(crate) fn vector(v: glam::DVec3) -> String {
+    format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
+}
+
+/// Removes trailing zeros after a decimal point, and the point itself if nothing
+/// follows it.
+fn trim_zeros(text: &str) -> String {
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text.to_string()
+    }
+}
+
+/// `one` when `n` is 1, `many` otherwise: "1 triangle", "2 triangles".
+pub(crate) fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
+    if n == 1 { one } else { many }
+}
+
+/// `n` followed by the right form of the noun: `counted(1, "face", "faces")` is
+/// "1 face".
+pub(crate) fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", plural(n, one, many))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_have_six_significant_digits_and_no_trailing_zeros() {
+        assert_eq!(number(0.007_023_049_277_268_29), "0.00702305");
+        assert_eq!(number(0.000_007_023_049_277_268_29), "7.02305e-6");
+        assert_eq!(number(0.8), "0.8");
+        assert_eq!(number(-0.5), "-0.5");
+        assert_eq!(number(1234.5678), "1234.57");
+        assert_eq!(number(1.5e12), "1.5e12");
+        assert_eq!(number(10.0), "10");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(f64::INFINITY), "inf");
+        assert_eq!(number(1e-4), "0.0001");
+    }
+
+    #[test]
+    fn words_agree_with_their_count() {
+        assert_eq!(counted(1, "face", "faces"), "1 face");
+        assert_eq!(counted(0, "face", "faces"), "0 faces");
+        assert_eq!(counted(2, "vertex", "vertices"), "2 vertices");
+    }
+}
