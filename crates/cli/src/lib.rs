@@ -29,6 +29,7 @@ mod info;
 mod load;
 mod memory;
 mod output;
+mod render;
 mod residual;
 mod smooth;
 mod study;
@@ -61,6 +62,9 @@ enum Command {
     /// Compute the ISO 25178-2 areal parameters of a measured mesh's residual from its
     /// smoothed version.
     Residual(residual::ResidualArgs),
+    /// Draw a mesh as a shaded PNG image, optionally coloured by a vertex property or by
+    /// the signed distance to a reference surface, with a colour bar.
+    Render(render::RenderArgs),
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
@@ -89,6 +93,7 @@ where
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),
+        Command::Render(args) => render::run(args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,
