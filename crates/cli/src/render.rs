@@ -37,9 +37,9 @@ pub(crate) struct RenderArgs {
     #[arg(value_name = "OUT.png")]
     out: PathBuf,
     /// Colour by this per-vertex property of a PLY mesh, e.g. signed_distance (written
-    /// by `compare --scalars`) or residual (by `residual --out`). Values of both signs
-    /// get a colour bar symmetric about 0 (white = 0), others one from their minimum
-    /// (blue) to their maximum (red).
+    /// by `compare --scalars`) or residual (by `residual --out`). When 0 is within the
+    /// values' range, the colours are symmetric about 0 (white = 0); values all above or
+    /// all below 0 span blue (minimum) to red (maximum).
     #[arg(long, value_name = "NAME", conflicts_with = "distance_to")]
     scalar: Option<String>,
     /// Colour by the signed distance of each vertex to this reference surface (.ply,
@@ -301,8 +301,9 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
     let (values, label, range) = match (&args.scalar, &args.distance_to) {
         (Some(name), _) => {
             let values = vertex_property(&args.mesh, &loaded, name)?;
-            let both_signs = values.iter().any(|&s| s < 0.0) && values.iter().any(|&s| s > 0.0);
-            let range = if both_signs {
+            // 0 inside the range (or at an end): a signed quantity, white at 0.
+            let reaches_zero = values.iter().any(|&s| s <= 0.0) && values.iter().any(|&s| s >= 0.0);
+            let range = if reaches_zero {
                 ColorRange::Symmetric
             } else {
                 ColorRange::MinToMax

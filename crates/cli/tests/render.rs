@@ -260,7 +260,10 @@ fn scalar_colours_by_a_vertex_property_of_a_ply_file() {
             &path,
             &MeshData::from(sphere.clone()),
             &VertexAttributes {
-                scalars: vec![("height".to_owned(), height.clone())],
+                scalars: vec![
+                    ("height".to_owned(), height.clone()),
+                    ("depth".to_owned(), height.iter().map(|h| h - 3.0).collect()),
+                ],
                 colors: None,
             },
             &WriteOptions {
@@ -291,6 +294,23 @@ fn scalar_colours_by_a_vertex_property_of_a_ply_file() {
         images.push(std::fs::read(&out).unwrap());
     }
     assert_eq!(images[0], images[1]);
+    // Values reaching 0 are read as signed: white at 0.
+    let line = run(
+        &[
+            "render",
+            s(&dir.path().join("ascii.ply")),
+            s(&dir.path().join("depth.png")),
+            "--scalar",
+            "depth",
+            "--size",
+            "320x240",
+        ],
+        dir.path(),
+    );
+    assert!(
+        line.contains("coloured by depth in [-2, 0] (colour bar ±2)"),
+        "{line}"
+    );
     // Seen from the front, the top (z = 1, red) and the bottom (z = -1, blue).
     let image = Image::decode_png(&images[0]).unwrap();
     let column: Vec<[u8; 3]> = (0..240).filter_map(|y| image.pixel(160, y)).collect();
