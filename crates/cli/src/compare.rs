@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use beltrami_halfedge::TopologyError;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
-use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_ply};
+use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_bytes, stage_ply};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
@@ -24,6 +24,7 @@ use serde::Serialize;
 use crate::error::CliError;
 use crate::load::{LoadedMesh, ReadArgs, load};
 use crate::output::{Outputs, Staged};
+use crate::render::{ColorRange, DEFAULT_SIZE, VertexScalars, ViewKind, render_png};
 use crate::text::number;
 
 /// The seed of the surface samples of `--samples`: fixed, so that a run is repeatable.
@@ -43,11 +44,16 @@ pub(crate) struct CompareArgs {
     /// property `signed_distance` and a colour map (blue inside, white on, red outside).
     #[arg(long, value_name = "OUT.ply")]
     scalars: Option<PathBuf>,
+    /// Also draw MESH coloured by its signed distance to REFERENCE, with a colour bar,
+    /// as `beltrami render MESH OUT.png --distance-to REFERENCE` does (iso view,
+    /// 1200x900).
+    #[arg(long, value_name = "OUT.png")]
+    png: Option<PathBuf>,
     /// Also measure the Hausdorff distance from N points per surface spread uniformly
     /// by area (fixed seed), not only from the vertices (N up to 10 million).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
-    /// Replace the --scalars file even when it is MESH or REFERENCE or
+    /// Replace the --scalars or --png file even when it is MESH or REFERENCE or
     /// write-protected.
     #[arg(long)]
     force: bool,
@@ -88,6 +94,8 @@ struct Comparison {
     area: Areas,
     /// The `--scalars` output, or null.
     scalars: Option<Scalars>,
+    /// The `--png` image, or null.
+    png: Option<String>,
     /// Wall-clock seconds of each phase (JSON only).
     seconds: Seconds,
 }
@@ -169,8 +177,20 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
     if let Some(path) = &args.scalars {
         check_ply_path("--scalars", path)?;
     }
+    if let Some(path) = &args.png
+        && !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(CliError::Usage(format!(
+            "--png writes a PNG image: it must end in .png, got '{}'",
+            path.display()
+        )));
+    }
     let mut outputs = Outputs::new();
-    outputs.add_opt(args.scalars.as_ref(), "--scalars");
+    outputs
+        .add_opt(args.scalars.as_ref(), "--scalars")
+        .add_opt(args.png.as_ref(), "--png");
     outputs.check(&[&args.mesh, &args.reference], args.force)?;
     let start = Instant::now();
     let mesh = load_input(&args.mesh, &args.read, Some("compare"))?;
@@ -293,6 +313,26 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         )?),
         None => None,
     };
+    if let Some(path) = &args.png {
+        let name = args.reference.file_name().map_or_else(
+            || args.reference.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let label = format!("signed distance to {name} (mesh units)");
+        let rendered = render_png(
+            &mesh.mesh,
+            &mesh.positions,
+            Some(VertexScalars {
+                label: &label,
+                values: &signed,
+                range: ColorRange::Symmetric,
+            }),
+            ViewKind::Iso,
+            DEFAULT_SIZE,
+            path,
+        )?;
+        staged.push(path, |path| stage_bytes(path, &rendered.bytes))?;
+    }
     staged.commit()?;
 
     let mut comparison = Comparison {
@@ -335,6 +375,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             }),
         area,
         scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
+        png: args.png.as_ref().map(|p| p.display().to_string()),
         seconds: Seconds {
             read,
             index_build,
@@ -506,6 +547,9 @@ fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::
             n(-s.color_range),
             n(s.color_range)
         )?;
+    }
+    if let Some(png) = &c.png {
+        writeln!(out, "image of the signed distances -> {png}")?;
     }
     Ok(())
 }

@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{LoadedMesh, ReadArgs, load};
+use crate::repair::RepairJson;
 use crate::text::{number, vector};
 
 /// Arguments of `beltrami info`.
@@ -52,14 +53,8 @@ struct Summary {
     area: f64,
     /// Enclosed volume of a closed mesh; null when open.
     volume: Option<f64>,
-    repairs: Repairs,
-}
-
-#[derive(Debug, Serialize)]
-struct Repairs {
-    dropped_faces: Vec<usize>,
-    flipped_faces: Vec<usize>,
-    split_vertices: Vec<u32>,
+    /// What --repair changed (empty lists without it).
+    repairs: RepairJson,
 }
 
 fn format_name(format: MeshFormat) -> &'static str {
@@ -110,16 +105,7 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
         mean_edge_length: geometry.mean_edge_length(),
         area: surface_area(&geometry, mesh, &loaded.positions),
         volume: geometry.volume().ok(),
-        repairs: Repairs {
-            dropped_faces: loaded.report.dropped_faces.clone(),
-            flipped_faces: loaded.report.flipped_faces.clone(),
-            split_vertices: loaded
-                .report
-                .split_vertices
-                .iter()
-                .map(|s| s.original.raw())
-                .collect(),
-        },
+        repairs: RepairJson::from(&loaded.repair.clone().unwrap_or_default()),
     }
 }
 

@@ -31,6 +31,8 @@ mod info;
 mod load;
 mod memory;
 mod output;
+mod render;
+mod repair;
 mod residual;
 mod smooth;
 mod study;
@@ -48,8 +50,12 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Print counts, topology and geometry of a mesh (PLY, STL or OBJ).
+    /// Print counts, topology and geometry of a mesh (PLY, STL, OBJ or OFF).
     Info(info::InfoArgs),
+    /// Write a mesh that every command accepts: cut non-manifold edges, split pinched
+    /// vertices, re-orient, drop degenerate and duplicate faces and unreferenced
+    /// vertices, optionally merge near-duplicate vertices; say what changed.
+    Repair(repair::RepairArgs),
     /// Smooth a mesh by Laplacian diffusion, x <- x + lambda * L x.
     Smooth(smooth::SmoothArgs),
     /// Write one of the paper's test surfaces, optionally with seeded normal noise.
@@ -66,6 +72,9 @@ enum Command {
     Residual(residual::ResidualArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
     Schemes(SchemesArgs),
+    /// Draw a mesh as a shaded PNG image, optionally coloured by a vertex property or by
+    /// the signed distance to a reference surface, with a colour bar.
+    Render(render::RenderArgs),
 }
 
 /// Arguments of `beltrami schemes`.
@@ -164,6 +173,7 @@ where
     let mut stdout = std::io::stdout().lock();
     let result = match &cli.command {
         Command::Info(args) => info::run(args, &mut stdout),
+        Command::Repair(args) => repair::run(args, &mut stdout),
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
         Command::Generate(args) => generate::run(args, &mut stdout),
         Command::Study(args) => study::run(args, registry, &mut stdout),
@@ -171,6 +181,7 @@ where
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),
         Command::Schemes(args) => schemes(args, registry, &mut stdout),
+        Command::Render(args) => render::run(args, &mut stdout),
     };
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,

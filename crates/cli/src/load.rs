@@ -3,18 +3,19 @@
 use std::path::Path;
 
 use beltrami_halfedge::{
-    BuildOptions, BuildReport, DVec3, HalfedgeMesh, PolygonList, TopologyError,
+    DVec3, HalfedgeMesh, PolygonList, RepairOptions, RepairReport, TopologyError, repair,
 };
 use beltrami_io::{MeshData, MeshFormat, read_mesh};
 
 use crate::error::CliError;
-use crate::text::counted;
 
 /// The options of every command that reads a mesh.
 #[derive(Clone, Debug, Default, clap::Args)]
 pub(crate) struct ReadArgs {
-    /// Repair the input instead of failing, as `beltrami repair` does (drop degenerate
-    /// faces, re-orient, split pinched vertices), and say what changed.
+    /// Repair the input instead of failing, as `beltrami repair` does: drop degenerate
+    /// and duplicate faces, cut non-manifold edges, re-orient, split pinched vertices,
+    /// remove unreferenced vertices; say what changed. Results are written with the
+    /// repaired faces.
     #[arg(long)]
     pub(crate) repair: bool,
 }
@@ -27,7 +28,10 @@ pub(crate) struct LoadedMesh {
     /// The faces to write results with: the input's faces as read, or after a repair
     /// the repaired ones (numbered as `positions`).
     pub(crate) faces: PolygonList,
-    pub(crate) report: BuildReport,
+    /// The vertex and face counts of the file.
+    pub(crate) input_counts: (usize, usize),
+    /// What `--repair` changed; `None` without it.
+    pub(crate) repair: Option<RepairReport>,
     /// One line per kind of repair made, for the command's output.
     pub(crate) repair_lines: Vec<String>,
     /// Wall time of reading and decoding the file, in seconds.
@@ -51,7 +55,7 @@ impl LoadedMesh {
     }
 }
 
-/// Reads `path` and builds its half-edge connectivity, applying every repair when
+/// Reads `path` and builds its half-edge connectivity, repairing it first when
 /// `read.repair` is set (the report says what changed).
 pub(crate) fn load(path: &Path, read: &ReadArgs) -> Result<LoadedMesh, CliError> {
     load_checked(path, read, |_| Ok(()))
@@ -64,6 +68,26 @@ pub(crate) fn load_checked(
     read: &ReadArgs,
     check: impl FnOnce(&MeshData) -> Result<(), CliError>,
 ) -> Result<LoadedMesh, CliError> {
+    let options = read.repair.then(RepairOptions::new);
+    load_inner(path, read, options, check)
+}
+
+/// [`load`], always repairing with `options` (`None`: as `read` says).
+pub(crate) fn load_with(
+    path: &Path,
+    read: &ReadArgs,
+    options: Option<RepairOptions>,
+) -> Result<LoadedMesh, CliError> {
+    let options = options.or_else(|| read.repair.then(RepairOptions::new));
+    load_inner(path, read, options, |_| Ok(()))
+}
+
+fn load_inner(
+    path: &Path,
+    read: &ReadArgs,
+    options: Option<RepairOptions>,
+    check: impl FnOnce(&MeshData) -> Result<(), CliError>,
+) -> Result<LoadedMesh, CliError> {
     let io = |source| CliError::Io {
         path: path.to_path_buf(),
         source,
@@ -73,100 +97,49 @@ pub(crate) fn load_checked(
     let data = read_mesh(path).map_err(io)?;
     let parse_seconds = t0.elapsed().as_secs_f64();
     check(&data)?;
+    let input_counts = (data.positions.len(), data.faces.len());
     let t1 = std::time::Instant::now();
-    let options = if read.repair {
-        BuildOptions::repair_all()
-    } else {
-        BuildOptions::new()
+    let topology = |source| CliError::Topology {
+        path: path.to_path_buf(),
+        repairable: !read.repair && is_repairable(&source),
+        source,
     };
-    let (mesh, report) = HalfedgeMesh::build(data.positions.len(), data.faces.iter(), &options)
-        .map_err(|source| CliError::Topology {
-            path: path.to_path_buf(),
-            repairable: !read.repair && is_repairable(&source),
-            source,
-        })?;
-    let mut positions = data.positions;
-    for split in &report.split_vertices {
-        positions.push(positions[split.original.index()]);
-    }
-    let faces = if report.is_empty() {
-        data.faces
-    } else {
-        mesh_faces(&mesh)
+    let (positions, faces, report) = match options {
+        None => (data.positions, data.faces, None),
+        Some(options) => {
+            let repaired = repair(&data.positions, &data.faces, &options).map_err(topology)?;
+            (repaired.positions, repaired.faces, Some(repaired.report))
+        }
     };
+    let mesh = HalfedgeMesh::from_polygons(positions.len(), faces.iter()).map_err(topology)?;
     let build_seconds = t1.elapsed().as_secs_f64();
-    let repair_lines = describe(&report);
+    let repair_lines = report
+        .as_ref()
+        .map(crate::repair::describe)
+        .unwrap_or_default();
     Ok(LoadedMesh {
         format,
         mesh,
         positions,
         faces,
-        report,
+        input_counts,
+        repair: report,
         repair_lines,
         parse_seconds,
         build_seconds,
     })
 }
 
-/// The faces of `mesh` as vertex lists, in face order.
-fn mesh_faces(mesh: &HalfedgeMesh) -> PolygonList {
-    let mut faces = PolygonList::new();
-    let mut corners = Vec::new();
-    for f in mesh.faces() {
-        corners.clear();
-        corners.extend(mesh.vertices_around_face(f).map(|v| v.raw()));
-        faces.push(&corners);
-    }
-    faces
-}
-
-/// One line per kind of repair in `report`.
-fn describe(report: &BuildReport) -> Vec<String> {
-    let mut lines = Vec::new();
-    if !report.dropped_faces.is_empty() {
-        lines.push(format!(
-            "repaired: dropped {} (input faces {})",
-            counted(
-                report.dropped_faces.len(),
-                "degenerate face",
-                "degenerate faces"
-            ),
-            list(report.dropped_faces.iter())
-        ));
-    }
-    if !report.flipped_faces.is_empty() {
-        lines.push(format!(
-            "repaired: re-oriented {} (input faces {})",
-            counted(report.flipped_faces.len(), "face", "faces"),
-            list(report.flipped_faces.iter())
-        ));
-    }
-    if !report.split_vertices.is_empty() {
-        lines.push(format!(
-            "repaired: split pinched vertices into {} (input vertices {})",
-            counted(report.split_vertices.len(), "new vertex", "new vertices"),
-            list(report.split_vertices.iter().map(|s| s.original.raw()))
-        ));
-    }
-    lines
-}
-
-/// At most 10 items, comma-separated, then "and N more".
-fn list<T: std::fmt::Display>(items: impl ExactSizeIterator<Item = T>) -> String {
-    let n = items.len();
-    let mut text: Vec<String> = items.take(10).map(|i| i.to_string()).collect();
-    if n > 10 {
-        text.push(format!("and {} more", n - 10));
-    }
-    text.join(", ")
-}
-
+/// Whether `beltrami repair` (and `--repair`) fixes `e`: every topological problem of
+/// a face list with valid indices.
 fn is_repairable(e: &TopologyError) -> bool {
     matches!(
         e,
         TopologyError::FaceTooSmall { .. }
             | TopologyError::RepeatedVertex { .. }
+            | TopologyError::NonManifoldEdge { .. }
             | TopologyError::InconsistentOrientation { .. }
             | TopologyError::NonManifoldVertex { .. }
+            | TopologyError::NonOrientable { .. }
     )
 }

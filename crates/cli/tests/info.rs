@@ -138,7 +138,8 @@ fn invalid_topology_is_one_error_line_and_exit_1() {
     let j: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(j["vertices"], 6);
     assert_eq!(j["components"], 2);
-    assert_eq!(j["repairs"]["split_vertices"], serde_json::json!([0]));
+    // [input vertex, its new copy]: vertex 0 split, the copy numbered after the 5 others.
+    assert_eq!(j["repairs"]["split_vertices"], serde_json::json!([[0, 5]]));
 }
 
 #[test]

@@ -4,8 +4,9 @@
 //! smooth shading from area-weighted vertex normals with two-sided Lambert light, and
 //! per-vertex scalars (a signed distance to a reference, say) through a diverging
 //! blue–white–red [`ColorMap`]. [`grid`] assembles renders into a figure with a title,
-//! row and column labels and a colour bar; its text is rasterised from the bundled
-//! DejaVu Sans, never from system fonts.
+//! row and column labels and a colour bar; [`render_with_colorbar`] draws one mesh with
+//! its colour bar ([`ColorBar`]) below, at an exact image size. Text is rasterised from
+//! the bundled DejaVu Sans, never from system fonts.
 //!
 //! The rasteriser is written here: no maintained crate offers a small, deterministic,
 //! z-buffered triangle rasteriser with per-vertex colours and smooth shading without
@@ -29,12 +30,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod colorbar;
 mod colormap;
 mod grid;
 mod image;
 mod raster;
 mod view;
 
+pub use colorbar::{ColorBar, ColorBarTicks, MIN_COLORBAR_RENDER_SIZE, render_with_colorbar};
 pub use colormap::ColorMap;
 pub use grid::{MAX_GRID_SIZE, grid};
 pub use image::Image;

@@ -115,6 +115,46 @@ pub(crate) fn format_tick(value: f64, step: f64, magnitude: f64) -> String {
     }
 }
 
+/// `value` to `digits` significant digits (at least 1), without trailing zeros: plain
+/// decimals from 10⁻³ up to 10⁶, otherwise scientific notation (`-1.23e-4`). For the
+/// labels of values that are not round, such as the ends of a colour bar.
+pub(crate) fn format_significant(value: f64, digits: usize) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return if value == 0.0 {
+            "0".to_owned()
+        } else {
+            format!("{value}")
+        };
+    }
+    let digits = digits.max(1) as i32;
+    let mut exponent = value.abs().log10().floor() as i32;
+    // Rounding can carry into the next decade (9.996 → 10.0).
+    let rounded = |exponent: i32| {
+        let scale = 10f64.powi(digits - 1 - exponent);
+        (value.abs() * scale).round() / scale
+    };
+    if rounded(exponent) >= 10f64.powi(exponent + 1) {
+        exponent += 1;
+    }
+    if (-3..6).contains(&exponent) {
+        let decimals = (digits - 1 - exponent).max(0) as usize;
+        trim_zeros(&format!("{value:.decimals$}")).to_owned()
+    } else {
+        let mantissa = value / 10f64.powi(exponent);
+        let text = format!("{mantissa:.*}", (digits - 1) as usize);
+        format!("{}e{exponent}", trim_zeros(&text))
+    }
+}
+
+/// `text` without the trailing zeros of its fraction (and without a bare point).
+fn trim_zeros(text: &str) -> &str {
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        text
+    }
+}
+
 /// A label for the value `10^exponent10` on a log axis: a plain number between 10⁻³ and
 /// 10⁵, otherwise `2e-5`.
 pub(crate) fn format_log_tick(exponent10: f64) -> String {
@@ -166,6 +206,23 @@ mod tests {
         assert_eq!(format_tick(40.0, 20.0, 100.0), "40");
         assert_eq!(format_tick(-0.5, 0.5, 1.0), "-0.5");
         assert_eq!(format_tick(2.5, 2.5, 10.0), "2.5");
+    }
+
+    #[test]
+    fn significant_digits_label_values_that_are_not_round() {
+        let labels: Vec<String> = [
+            0.012345, -0.012345, 255.0, 3.2, 1.5e-4, -2.0e-5, 9.9996, 0.0, 1234.6, 2.5e7,
+        ]
+        .iter()
+        .map(|&v| format_significant(v, 3))
+        .collect();
+        assert_eq!(
+            labels,
+            [
+                "0.0123", "-0.0123", "255", "3.2", "1.5e-4", "-2e-5", "10", "0", "1235", "2.5e7"
+            ]
+        );
+        assert_eq!(format_significant(0.00099996, 3), "0.001");
     }
 
     #[test]

@@ -1,9 +1,9 @@
 //! Figure grids: panels in rows and columns with a title, labels and a colour bar.
 
+use super::colorbar::Bar;
 use super::{ColorMap, Image};
 use crate::VizError;
 use crate::font::TextStyle;
-use crate::ticks;
 
 /// The largest accepted grid width or height, in pixels.
 pub const MAX_GRID_SIZE: u32 = 16384;
@@ -113,7 +113,7 @@ pub fn grid(
     } else {
         line(&text) + gap
     };
-    let bar = colorbar.map(|(map, label)| Bar::new(map, label, grid_w, base, &text));
+    let bar = colorbar.map(|(map, label)| Bar::for_grid(map, label, grid_w, base, &text));
     let bar_h = bar.as_ref().map_or(0, |b| pad + b.height(&text));
 
     let width = content_w.max(title_w) + 2 * pad;
@@ -160,89 +160,4 @@ pub fn grid(
         bar.draw(&mut image, &text, x0, top);
     }
     Ok(image)
-}
-
-/// A horizontal colour bar: gradient, tick marks, tick labels, label.
-struct Bar<'a> {
-    map: &'a ColorMap,
-    label: &'a str,
-    width: i64,
-    thickness: i64,
-    tick: i64,
-    ticks: Vec<(f64, String)>,
-}
-
-impl<'a> Bar<'a> {
-    fn new(map: &'a ColorMap, label: &'a str, grid_w: i64, base: f32, text: &TextStyle) -> Self {
-        let width = ((grid_w as f32 * 0.6) as i64).clamp(grid_w.min(160), 1200);
-        let thickness = (base * 0.9).round() as i64;
-        let tick = (base * 0.35).round().max(3.0) as i64;
-        let ticks = if map.max > map.min {
-            // About one tick per four label widths, at least three.
-            let sample = ticks::format_tick(map.max, (map.max - map.min) / 4.0, map.max.abs());
-            let room = (width as f32 / (4.0 * text.width(&sample).max(1.0))) as usize;
-            // At least three ticks: a finer step when round values miss the ends.
-            let mut target = room.clamp(3, 8);
-            let (mut values, mut step) = ticks::linear_ticks(map.min, map.max, target);
-            while values.len() < 3 && target < 16 {
-                target += 1;
-                (values, step) = ticks::linear_ticks(map.min, map.max, target);
-            }
-            let magnitude = values.iter().fold(0f64, |m, v| m.max(v.abs()));
-            values
-                .into_iter()
-                .map(|v| (v, ticks::format_tick(v, step, magnitude)))
-                .collect()
-        } else {
-            let magnitude = map.min.abs();
-            let step = if magnitude > 0.0 { magnitude } else { 1.0 };
-            vec![(map.min, ticks::format_tick(map.min, step, magnitude))]
-        };
-        Self {
-            map,
-            label,
-            width,
-            thickness,
-            tick,
-            ticks,
-        }
-    }
-
-    fn height(&self, text: &TextStyle) -> i64 {
-        let line = text.height().ceil() as i64;
-        let label = if self.label.is_empty() { 0 } else { line };
-        self.thickness + self.tick + 2 + line + label
-    }
-
-    /// The x pixel (within the bar) of `value`.
-    fn position(&self, value: f64) -> i64 {
-        let span = self.map.max - self.map.min;
-        let t = if span > 0.0 {
-            (value - self.map.min) / span
-        } else {
-            0.5
-        };
-        (t * (self.width - 1) as f64).round() as i64
-    }
-
-    fn draw(&self, image: &mut Image, text: &TextStyle, x0: i64, top: i64) {
-        for i in 0..self.width {
-            let t = i as f64 / (self.width - 1).max(1) as f64;
-            let value = self.map.min + t * (self.map.max - self.map.min);
-            image.fill_rect(x0 + i, top, 1, self.thickness, self.map.color(value));
-        }
-        image.outline_rect(x0 - 1, top - 1, self.width + 2, self.thickness + 2, [90; 3]);
-        let tick_top = top + self.thickness;
-        let baseline = (tick_top + self.tick + 2) as f32 + text.ascent();
-        for (value, label) in &self.ticks {
-            let x = x0 + self.position(*value);
-            image.fill_rect(x, tick_top, 1, self.tick, TEXT);
-            let lx = x as f32 - text.width(label) / 2.0;
-            image.draw_text(text, label, lx, baseline, TEXT);
-        }
-        if !self.label.is_empty() {
-            let lx = (x0 + self.width / 2) as f32 - text.width(self.label) / 2.0;
-            image.draw_text(text, self.label, lx, baseline + text.height(), TEXT);
-        }
-    }
 }

@@ -109,6 +109,49 @@ impl Image {
         Ok(bytes)
     }
 
+    /// Decodes PNG bytes holding an 8-bit RGB image, as [`encode_png`](Self::encode_png)
+    /// writes them: to check a written figure, or to compare two.
+    ///
+    /// # Errors
+    /// [`VizError::Invalid`] when the bytes are not a PNG image or not 8-bit RGB.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_viz::render::Image;
+    /// let image = Image::filled(3, 2, [10, 20, 30]);
+    /// assert_eq!(Image::decode_png(&image.encode_png()?)?, image);
+    /// # Ok::<(), beltrami_viz::VizError>(())
+    /// ```
+    pub fn decode_png(bytes: &[u8]) -> Result<Self, VizError> {
+        let invalid = |reason: String| VizError::Invalid {
+            what: "PNG",
+            reason,
+        };
+        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+        let mut reader = decoder.read_info().map_err(|e| invalid(e.to_string()))?;
+        let (color, depth) = reader.output_color_type();
+        if (color, depth) != (png::ColorType::Rgb, png::BitDepth::Eight) {
+            return Err(invalid(format!(
+                "{color:?} with {depth:?} bits per channel; expected 8-bit RGB"
+            )));
+        }
+        let size = reader
+            .output_buffer_size()
+            .ok_or_else(|| invalid("the image is too large".to_owned()))?;
+        let mut rgb = vec![0; size];
+        let info = reader
+            .next_frame(&mut rgb)
+            .map_err(|e| invalid(e.to_string()))?;
+        rgb.truncate(info.buffer_size());
+        let image = Self {
+            width: info.width,
+            height: info.height,
+            rgb,
+        };
+        image.validate()?;
+        Ok(image)
+    }
+
     /// Writes the image as PNG to `path`, atomically (a failed write leaves no partial
     /// file and an existing file untouched).
     ///

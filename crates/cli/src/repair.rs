@@ -1,0 +1,277 @@
+//! `beltrami repair`: write a mesh that every command accepts, and say what changed,
+//! per element. Also the report that `--repair` prints on every reading command.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use beltrami_halfedge::{RepairOptions, RepairReport};
+use beltrami_io::{Encoding, MeshData, WriteOptions, stage_mesh};
+use serde::Serialize;
+
+use crate::error::CliError;
+use crate::load::{ReadArgs, load_with};
+use crate::output::{Outputs, Staged};
+use crate::text::counted;
+
+/// Arguments of `beltrami repair`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct RepairArgs {
+    /// The mesh to repair (.ply, .stl, .obj or .off).
+    input: PathBuf,
+    /// The repaired mesh (.ply, .stl, .obj or .off by extension).
+    output: PathBuf,
+    /// Also merge vertices closer than this distance (in the mesh's length unit) into
+    /// the lowest-numbered one, e.g. the duplicated corners of a scan stitched from
+    /// patches. Off by default.
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    merge_distance: Option<f64>,
+    /// Print what was repaired as one JSON object, every element listed.
+    #[arg(long)]
+    json: bool,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Replace OUTPUT even when it is the input or write-protected.
+    #[arg(long)]
+    force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+}
+
+/// What `repair --json` prints: every repair, per element, in the input's indices.
+#[derive(Debug, Serialize)]
+pub(crate) struct RepairJson {
+    /// `[vertex, the vertex it merged into]`.
+    pub(crate) merged_vertices: Vec<[u32; 2]>,
+    /// Faces with fewer than three distinct vertices.
+    pub(crate) dropped_degenerate_faces: Vec<usize>,
+    /// `[face, the earlier face it repeats]` (either orientation).
+    pub(crate) dropped_duplicate_faces: Vec<[usize; 2]>,
+    /// Faces that listed a vertex twice in a row, kept with it once.
+    pub(crate) shortened_faces: Vec<usize>,
+    /// `[a, b]`: edges of more than two faces, cut into manifold sheets.
+    pub(crate) cut_edges: Vec<[u32; 2]>,
+    /// `[a, b]`: edges opened to make a component orientable or to untangle sheets.
+    pub(crate) opened_edges: Vec<[u32; 2]>,
+    /// Faces whose orientation was reversed.
+    pub(crate) flipped_faces: Vec<usize>,
+    /// `[input vertex, new output vertex]`: pinched vertices split into one copy per fan.
+    pub(crate) split_vertices: Vec<[u32; 2]>,
+    /// Vertices that no face used, removed.
+    pub(crate) removed_vertices: Vec<u32>,
+}
+
+impl From<&RepairReport> for RepairJson {
+    fn from(r: &RepairReport) -> Self {
+        Self {
+            merged_vertices: r.merged_vertices.iter().map(|&(a, b)| [a, b]).collect(),
+            dropped_degenerate_faces: r.dropped_degenerate_faces.clone(),
+            dropped_duplicate_faces: r
+                .dropped_duplicate_faces
+                .iter()
+                .map(|&(a, b)| [a, b])
+                .collect(),
+            shortened_faces: r.shortened_faces.clone(),
+            cut_edges: r.cut_edges.iter().map(|&(a, b)| [a, b]).collect(),
+            opened_edges: r.opened_edges.iter().map(|&(a, b)| [a, b]).collect(),
+            flipped_faces: r.flipped_faces.clone(),
+            split_vertices: r.split_vertices.iter().map(|&(a, b)| [a, b]).collect(),
+            removed_vertices: r.removed_vertices.clone(),
+        }
+    }
+}
+
+/// One line per kind of repair, naming the first elements: what `--repair` and
+/// `beltrami repair` print.
+pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = |n: usize, what: String, items: String| {
+        if n > 0 {
+            lines.push(format!("repaired: {what} ({items})"));
+        }
+    };
+    line(
+        r.merged_vertices.len(),
+        format!(
+            "merged {}",
+            counted(r.merged_vertices.len(), "vertex", "vertices")
+        ),
+        list(
+            r.merged_vertices
+                .iter()
+                .map(|(a, b)| format!("{a} into {b}")),
+        ),
+    );
+    line(
+        r.dropped_degenerate_faces.len(),
+        format!(
+            "dropped {}",
+            counted(
+                r.dropped_degenerate_faces.len(),
+                "degenerate face",
+                "degenerate faces"
+            )
+        ),
+        format!("input faces {}", list(r.dropped_degenerate_faces.iter())),
+    );
+    line(
+        r.dropped_duplicate_faces.len(),
+        format!(
+            "dropped {}",
+            counted(
+                r.dropped_duplicate_faces.len(),
+                "duplicate face",
+                "duplicate faces"
+            )
+        ),
+        list(
+            r.dropped_duplicate_faces
+                .iter()
+                .map(|(a, b)| format!("face {a} repeats face {b}")),
+        ),
+    );
+    line(
+        r.shortened_faces.len(),
+        format!(
+            "removed a repeated corner from {}",
+            counted(r.shortened_faces.len(), "face", "faces")
+        ),
+        format!("input faces {}", list(r.shortened_faces.iter())),
+    );
+    line(
+        r.cut_edges.len(),
+        format!(
+            "cut {} into manifold sheets",
+            counted(r.cut_edges.len(), "non-manifold edge", "non-manifold edges")
+        ),
+        list(r.cut_edges.iter().map(|(a, b)| format!("{a}-{b}"))),
+    );
+    line(
+        r.opened_edges.len(),
+        format!(
+            "opened {} to make the surface orientable",
+            counted(r.opened_edges.len(), "edge", "edges")
+        ),
+        list(r.opened_edges.iter().map(|(a, b)| format!("{a}-{b}"))),
+    );
+    line(
+        r.flipped_faces.len(),
+        format!(
+            "re-oriented {}",
+            counted(r.flipped_faces.len(), "face", "faces")
+        ),
+        format!("input faces {}", list(r.flipped_faces.iter())),
+    );
+    line(
+        r.split_vertices.len(),
+        format!(
+            "split pinched vertices into {}",
+            counted(r.split_vertices.len(), "new vertex", "new vertices")
+        ),
+        format!(
+            "input vertices {}",
+            list(r.split_vertices.iter().map(|(a, _)| a))
+        ),
+    );
+    line(
+        r.removed_vertices.len(),
+        format!(
+            "removed {}",
+            counted(
+                r.removed_vertices.len(),
+                "unreferenced vertex",
+                "unreferenced vertices"
+            )
+        ),
+        format!("input vertices {}", list(r.removed_vertices.iter())),
+    );
+    lines
+}
+
+/// At most 10 items, comma-separated, then "and N more".
+fn list<T: std::fmt::Display>(items: impl ExactSizeIterator<Item = T>) -> String {
+    let n = items.len();
+    let mut text: Vec<String> = items.take(10).map(|i| i.to_string()).collect();
+    if n > 10 {
+        text.push(format!("and {} more", n - 10));
+    }
+    text.join(", ")
+}
+
+/// The JSON of `repair --json`.
+#[derive(Debug, Serialize)]
+struct Summary {
+    input: String,
+    output: String,
+    vertices_in: usize,
+    faces_in: usize,
+    vertices: usize,
+    faces: usize,
+    repairs: RepairJson,
+}
+
+/// Runs `beltrami repair`.
+pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliError> {
+    if let Some(d) = args.merge_distance
+        && !(d >= 0.0 && d.is_finite())
+    {
+        return Err(CliError::Usage(format!(
+            "--merge-distance must be a finite distance >= 0, got {d}"
+        )));
+    }
+    let mut outputs = Outputs::new();
+    outputs.add(&args.output, "OUTPUT");
+    outputs.check(&[&args.input], args.force)?;
+    let options = RepairOptions::new().merge_distance(args.merge_distance);
+    let loaded = load_with(&args.input, &args.read, Some(options))?;
+    let report = loaded.repair.clone().unwrap_or_default();
+    let data = MeshData {
+        positions: loaded.positions,
+        faces: loaded.faces,
+    };
+    let encoding = if args.ascii {
+        Encoding::Ascii
+    } else {
+        Encoding::BinaryLittleEndian
+    };
+    let mut staged = Staged::new();
+    staged.push(&args.output, |path| {
+        stage_mesh(
+            path,
+            &data,
+            &WriteOptions {
+                encoding,
+                ..WriteOptions::default()
+            },
+        )
+    })?;
+    staged.commit()?;
+    if args.json {
+        let summary = Summary {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            vertices_in: loaded.input_counts.0,
+            faces_in: loaded.input_counts.1,
+            vertices: data.positions.len(),
+            faces: data.faces.len(),
+            repairs: RepairJson::from(&report),
+        };
+        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+        return Ok(());
+    }
+    for line in describe(&report) {
+        writeln!(out, "{line}")?;
+    }
+    writeln!(
+        out,
+        "repaired {} ({}, {}): {report} -> {} ({}, {})",
+        args.input.display(),
+        counted(loaded.input_counts.0, "vertex", "vertices"),
+        counted(loaded.input_counts.1, "face", "faces"),
+        args.output.display(),
+        counted(data.positions.len(), "vertex", "vertices"),
+        counted(data.faces.len(), "face", "faces"),
+    )?;
+    Ok(())
+}
