@@ -62,6 +62,21 @@ pub enum MetricsError {
         /// Its index.
         index: usize,
     },
+    /// A coordinate too large for the arithmetic of the metric (its squares or
+    /// products would overflow): the mesh is in a unit far too small for its size.
+    #[error(
+        "{what} {index} has the coordinate {value:e}, beyond the {limit:e} this computation supports; express the mesh in a larger unit"
+    )]
+    CoordinateTooLarge {
+        /// `"vertex"`, `"query point"`, ….
+        what: &'static str,
+        /// The index of the first offending point.
+        index: usize,
+        /// The offending coordinate.
+        value: f64,
+        /// The largest supported magnitude.
+        limit: f64,
+    },
     /// An invalid parameter (a zero plane normal, a negative threshold…).
     #[error("invalid {name}: {reason}")]
     InvalidParameter {

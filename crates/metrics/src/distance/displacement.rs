@@ -66,8 +66,8 @@ pub fn displacements(
             .into());
         }
     }
-    super::index::check_points(positions, "position")?;
-    super::index::check_points(reference_positions, "reference position")?;
+    super::index::check_points(positions, "vertex")?;
+    super::index::check_points(reference_positions, "reference vertex")?;
     Ok(positions
         .iter()
         .zip(reference_positions)

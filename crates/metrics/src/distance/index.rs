@@ -147,7 +147,7 @@ impl SurfaceIndex {
             }
             .into());
         }
-        check_points(positions, "reference position")?;
+        check_points(positions, "surface vertex")?;
         if mesh.n_faces() == 0 {
             return Err(MetricsError::Empty {
                 what: "reference mesh",
@@ -561,9 +561,15 @@ pub(crate) fn check_points(points: &[DVec3], what: &'static str) -> Result<(), M
             return Err(MetricsError::NonFinite { what, index });
         }
         if p.abs().max_element() > MAX_COORDINATE {
-            return Err(MetricsError::InvalidParameter {
-                name: what,
-                reason: "a coordinate exceeds 1e60 in magnitude",
+            let value = [p.x, p.y, p.z]
+                .into_iter()
+                .find(|c| c.abs() > MAX_COORDINATE)
+                .unwrap_or(p.x);
+            return Err(MetricsError::CoordinateTooLarge {
+                what,
+                index,
+                value,
+                limit: MAX_COORDINATE,
             });
         }
     }

@@ -202,7 +202,7 @@ pub fn signed_distance_stats(
     if positions.is_empty() {
         return Err(MetricsError::Empty { what: "mesh" });
     }
-    super::index::check_points(positions, "position")?;
+    super::index::check_points(positions, "vertex")?;
     let signed = reference.signed_distances(positions)?;
     SignedDistanceStats::new(&signed)
 }
@@ -218,7 +218,7 @@ pub(crate) fn vertex_areas(
     if positions.is_empty() {
         return Err(MetricsError::Empty { what: "mesh" });
     }
-    super::index::check_points(positions, "position")?;
+    super::index::check_points(positions, "vertex")?;
     let face_areas: Vec<f64> = (0..mesh.n_faces())
         .into_par_iter()
         .map(|f| geometry.face_area(FaceId::from_index(f)))

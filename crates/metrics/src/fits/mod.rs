@@ -177,6 +177,27 @@ impl<'a> FitPoints<'a> {
             spread.add(self.weight(i) * (self.points[i] - origin).length_squared());
         }
         let scale = (spread.value() / total).sqrt();
+        if scale.is_infinite() || !origin.is_finite() {
+            // The squared distances overflow: name the largest coordinate.
+            let (index, value) = used
+                .iter()
+                .flat_map(|&i| {
+                    [
+                        (i, self.points[i].x),
+                        (i, self.points[i].y),
+                        (i, self.points[i].z),
+                    ]
+                })
+                .fold((0, 0.0f64), |best, (i, c)| {
+                    if c.abs() > best.1.abs() { (i, c) } else { best }
+                });
+            return Err(MetricsError::CoordinateTooLarge {
+                what: "point",
+                index,
+                value,
+                limit: MAX_FIT_COORDINATE,
+            });
+        }
         if !(scale > 0.0 && scale.is_finite()) {
             return Err(MetricsError::Degenerate {
                 shape,
@@ -194,6 +215,11 @@ impl<'a> FitPoints<'a> {
         })
     }
 }
+
+/// The magnitude of coordinates beyond which the squared distances of a fit may
+/// overflow (the square root of the largest `f64`, divided by the point count's
+/// headroom).
+const MAX_FIT_COORDINATE: f64 = 1e150;
 
 /// Iteration controls of the geometric refinement.
 #[derive(Clone, Copy, Debug, PartialEq)]
