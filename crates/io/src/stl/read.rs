@@ -8,7 +8,7 @@ use super::weld::Welder;
 use super::{BINARY_HEADER, BINARY_TRIANGLE};
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{LineReader, any_binary_bytes, parse_number, stream_len, token_text};
+use crate::text::{BOM, LineReader, any_binary_bytes, parse_number, stream_len, token_text};
 
 /// Reads an STL file from `reader`, streaming its triangles.
 ///
@@ -37,7 +37,11 @@ pub(crate) fn read_stl<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
         file_length,
     };
     rewind(&mut reader)?;
-    if starts_with_solid(&mut reader)? {
+    let start = first_word(&mut reader)?;
+    if start == Start::Blank {
+        return Err(IoError::Empty);
+    }
+    if start == Start::Solid {
         rewind(&mut reader)?;
         return match read_ascii(&mut reader) {
             Ok(mesh) => Ok(mesh),
@@ -92,12 +96,27 @@ fn binary_length(n: u32) -> Option<usize> {
         .checked_add(BINARY_HEADER)
 }
 
-/// Whether the text after leading whitespace starts with the word `solid`.
-fn starts_with_solid(reader: &mut impl BufRead) -> Result<bool, IoError> {
+/// How a file starts, after a byte order mark and whitespace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    /// The word `solid` (any letter case): ascii STL.
+    Solid,
+    /// Anything else.
+    Other,
+    /// Nothing: the file holds only whitespace.
+    Blank,
+}
+
+/// How the text after a byte order mark and leading whitespace starts.
+fn first_word(reader: &mut impl BufRead) -> Result<Start, IoError> {
+    let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
+    if buffer.starts_with(BOM) {
+        reader.consume(BOM.len());
+    }
     loop {
         let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
         if buffer.is_empty() {
-            return Ok(false);
+            return Ok(Start::Blank);
         }
         match buffer.iter().position(|b| !b.is_ascii_whitespace()) {
             Some(start) => {
@@ -115,10 +134,11 @@ fn starts_with_solid(reader: &mut impl BufRead) -> Result<bool, IoError> {
         .take(6)
         .read_to_end(&mut word)
         .map_err(IoError::io("read the file"))?;
-    Ok(word
+    let solid = word
         .get(..5)
         .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
-        && word.get(5).is_none_or(u8::is_ascii_whitespace))
+        && word.get(5).is_none_or(u8::is_ascii_whitespace);
+    Ok(if solid { Start::Solid } else { Start::Other })
 }
 
 fn read_binary(mut reader: impl Read, n: usize) -> Result<MeshData, IoError> {
