@@ -26,14 +26,14 @@ pub enum IoError {
     },
 
     /// The path has an extension that names no supported format.
-    #[error("unsupported file extension {extension:?} (expected .ply, .stl or .obj)")]
+    #[error("unsupported file extension {extension:?} (expected .ply, .stl, .obj or .off)")]
     UnsupportedExtension {
         /// The extension as written in the path, without the dot.
         extension: String,
     },
 
     /// The path has no extension, so the format is unknown.
-    #[error("no file extension (expected .ply, .stl or .obj)")]
+    #[error("no file extension (expected .ply, .stl, .obj or .off)")]
     MissingExtension,
 
     /// The file has no bytes at all.
@@ -217,8 +217,8 @@ pub enum IoError {
         line: usize,
         /// That word.
         keyword: String,
-        /// The format the file looks like, when its first word tells (`ply`,
-        /// `solid`).
+        /// The format the file looks like, when its first word tells (`ply`, `solid`,
+        /// `OFF`).
         format: Option<MeshFormat>,
     },
 
@@ -249,6 +249,15 @@ pub enum IoError {
     UnsupportedFaceElement {
         /// The element, e.g. `"range_grid"`.
         element: String,
+    },
+
+    /// The OFF header is malformed or names a variant that is not supported.
+    #[error("{}invalid off header: {reason}", at(.line))]
+    OffHeader {
+        /// Header line, when known.
+        line: Option<usize>,
+        /// What is wrong.
+        reason: String,
     },
 
     /// The triangle count in a binary STL header disagrees with the file length.
@@ -340,6 +349,7 @@ impl IoError {
     pub fn line(&self) -> Option<usize> {
         match self {
             Self::PlyHeader { line, .. }
+            | Self::OffHeader { line, .. }
             | Self::TrailingData { line, .. }
             | Self::PlyData { line, .. }
             | Self::NonFiniteCoordinate { line, .. }

@@ -6,9 +6,10 @@ use std::path::Path;
 use crate::error::IoError;
 use crate::format::MeshFormat;
 use crate::mesh::MeshData;
-use crate::{obj, ply, stl};
+use crate::{obj, off, ply, stl};
 
-/// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`).
+/// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
+/// `.off`).
 ///
 /// The file is streamed: it is read through a buffer of 256 KiB, element by element,
 /// and only the mesh itself (24 bytes per vertex, about 20 per triangle) is held, so
@@ -59,10 +60,13 @@ const READ_BUFFER: usize = 256 << 10;
 /// ```
 ///
 /// # Errors
-/// Every malformed input gives an error, never a panic: [`IoError::Empty`];
-/// syntax and header errors ([`IoError::Syntax`], [`IoError::PlyHeader`], …);
-/// counts that the input cannot hold ([`IoError::CountExceedsFile`],
-/// [`IoError::StlTriangleCount`], [`IoError::Truncated`]); non-finite coordinates
+/// Every malformed input gives an error, never a panic: [`IoError::Empty`] (also
+/// for nothing but whitespace); syntax and header errors ([`IoError::Syntax`],
+/// [`IoError::PlyHeader`], [`IoError::OffHeader`], …); a text file read as OBJ that
+/// is none ([`IoError::NotObj`]); counts that the input cannot hold
+/// ([`IoError::CountExceedsFile`], [`IoError::StlTriangleCount`],
+/// [`IoError::Truncated`]) or more than the header declares
+/// ([`IoError::TrailingData`]); non-finite coordinates
 /// ([`IoError::NonFiniteCoordinate`], [`IoError::NonFiniteFacet`]); face indices that
 /// name no vertex ([`IoError::FaceIndexOutOfRange`], [`IoError::NegativeIndex`],
 /// [`IoError::ZeroIndex`]). Faces with fewer than three vertices or repeated
@@ -80,6 +84,7 @@ fn read_stream<R: BufRead + Seek>(reader: R, format: MeshFormat) -> Result<MeshD
         MeshFormat::Ply => ply::read_ply(reader),
         MeshFormat::Stl => stl::read_stl(reader),
         MeshFormat::Obj => obj::read_obj(reader),
+        MeshFormat::Off => off::read_off(reader),
     }
 }
 
@@ -87,16 +92,17 @@ fn read_stream<R: BufRead + Seek>(reader: R, format: MeshFormat) -> Result<MeshD
 #[non_exhaustive]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DeclaredCounts {
-    /// The vertex count of a PLY header; `None` for an STL, whose vertices are known
-    /// only after welding.
+    /// The vertex count of a PLY or OFF header; `None` for an STL, whose vertices are
+    /// known only after welding.
     pub vertices: Option<usize>,
-    /// The face count of a PLY header (0 without a `face` element), or the triangle
-    /// count of a binary STL.
+    /// The face count of a PLY header (0 without a `face` element: the triangles of
+    /// strips are known only once read) or an OFF header, or the triangle count of a
+    /// binary STL.
     pub faces: usize,
 }
 
 /// The element counts a mesh file declares up front, read without decoding any
-/// element: the header of a PLY file, the triangle count of a binary STL. `None` for
+/// element: the header of a PLY or OFF file, the triangle count of a binary STL. `None` for
 /// formats that declare nothing (OBJ, ascii STL), whose counts are known only after
 /// a full pass. Meant for checks before a large read (memory limits); the counts
 /// are what the file claims, which [`read_mesh`] verifies.
@@ -116,7 +122,7 @@ pub struct DeclaredCounts {
 ///
 /// # Errors
 /// An unsupported extension; [`IoError::Io`] when the file cannot be opened or read;
-/// [`IoError::Empty`]; for PLY the header errors of [`read_mesh`].
+/// [`IoError::Empty`]; for PLY and OFF the header errors of [`read_mesh`].
 pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("open the file"))?;
@@ -136,6 +142,7 @@ pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
                 faces,
             })
         }),
+        MeshFormat::Off => off::declared_counts(&mut reader).map(Some),
         MeshFormat::Obj => Ok(None),
     }
 }

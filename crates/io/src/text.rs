@@ -1,4 +1,4 @@
-//! Helpers shared by the text readers (OBJ, ascii STL, ascii PLY).
+//! Helpers shared by the text readers (OBJ, OFF, ascii STL, ascii PLY).
 
 use std::io::{BufRead, Seek, SeekFrom};
 
@@ -21,6 +21,8 @@ pub(crate) struct LineReader<R> {
     after_cr: bool,
     /// Whether the stream starts at the start of the file (where a BOM may be).
     at_file_start: bool,
+    /// Bytes consumed from the stream so far.
+    consumed: u64,
 }
 
 impl<R: BufRead> LineReader<R> {
@@ -32,6 +34,7 @@ impl<R: BufRead> LineReader<R> {
             number: 0,
             after_cr: false,
             at_file_start: true,
+            consumed: 0,
         }
     }
 
@@ -58,6 +61,7 @@ impl<R: BufRead> LineReader<R> {
             }
             if std::mem::take(&mut self.after_cr) && available[0] == b'\n' {
                 self.reader.consume(1);
+                self.consumed += 1;
                 continue;
             }
             started = true;
@@ -65,11 +69,13 @@ impl<R: BufRead> LineReader<R> {
                 self.buffer.extend_from_slice(&available[..end]);
                 self.after_cr = available[end] == b'\r';
                 self.reader.consume(end + 1);
+                self.consumed += end as u64 + 1;
                 break;
             }
             self.buffer.extend_from_slice(available);
             let n = available.len();
             self.reader.consume(n);
+            self.consumed += n as u64;
         }
         if !started {
             return Ok(None);
@@ -89,6 +95,12 @@ impl<R: BufRead> LineReader<R> {
     /// The number of lines read so far.
     pub(crate) fn lines_read(&self) -> usize {
         self.number
+    }
+
+    /// The number of bytes read so far (the ending of the last line included, except
+    /// the `\n` of a `\r\n` ending, which is read with the next line).
+    pub(crate) fn bytes_read(&self) -> u64 {
+        self.consumed
     }
 }
 

@@ -145,6 +145,10 @@ fn files_of_other_formats_are_not_read_as_empty_obj() {
             "line 1: \"solid\" is not an obj statement; is this an stl file? rename it to .stl",
         ),
         (
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n".to_owned(),
+            "line 1: \"OFF\" is not an obj statement; is this an off file? rename it to .off",
+        ),
+        (
             "# points\n\n0.5 1 2\n1 2 3\n".to_owned(),
             "line 3: \"0.5\" is not an obj statement, and the file has no vertex (\"v\") lines",
         ),
@@ -202,7 +206,12 @@ fn obj_points_and_polylines_read_as_vertices_without_faces() {
 
 #[test]
 fn blank_files_are_empty_in_every_format() {
-    for format in [MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Obj] {
+    for format in [
+        MeshFormat::Ply,
+        MeshFormat::Stl,
+        MeshFormat::Obj,
+        MeshFormat::Off,
+    ] {
         for text in ["", " ", "\n\n", " \r\n\t\n", "\u{feff}", "\u{feff}\n  "] {
             let e = error(text.as_bytes(), format);
             assert!(matches!(e, IoError::Empty), "{format} {text:?}: {e}");

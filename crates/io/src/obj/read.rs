@@ -73,7 +73,7 @@ const IGNORED: [&[u8]; 42] = [
 ///
 /// Words that are no OBJ statement are ignored in a file that has vertices; in a file
 /// without any `v` line, the first of them is an [`IoError::NotObj`] (the file is not
-/// OBJ at all: a PLY or STL file with the wrong extension reads as no mesh
+/// OBJ at all: a PLY, STL or OFF file with the wrong extension reads as no mesh
 /// instead of an empty one). A file with nothing but whitespace is
 /// [`IoError::Empty`].
 pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
@@ -231,6 +231,8 @@ fn format_named_by(word: &str) -> Option<MeshFormat> {
         Some(MeshFormat::Ply)
     } else if word.eq_ignore_ascii_case("solid") {
         Some(MeshFormat::Stl)
+    } else if crate::off::is_off_keyword(word.as_bytes()) {
+        Some(MeshFormat::Off)
     } else {
         None
     }
