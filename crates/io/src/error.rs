@@ -260,6 +260,13 @@ pub enum IoError {
         reason: String,
     },
 
+    /// A weld tolerance that is negative, NaN or infinite.
+    #[error("invalid weld tolerance {value}: expected a finite number, 0 or more")]
+    WeldTolerance {
+        /// The tolerance given.
+        value: f64,
+    },
+
     /// The triangle count in a binary STL header disagrees with the file length.
     #[error(
         "binary stl header declares {declared} triangles, which needs {} bytes, but the file has {file_length} bytes",

@@ -33,7 +33,7 @@
 //! | format | read | written by [`write_mesh`] |
 //! |---|---|---|
 //! | PLY | ascii, binary little- and big-endian; `x y z` of any numeric type; faces from the `vertex_indices` or `vertex_index` lists of the `face` element and of triangle strips (`tristrips`, `-1` between strips); other elements and properties ignored; exactly what the header declares (after the last element, only whitespace) | `x y z` as `double` (or `float`), faces as `list uchar int vertex_indices`; [`write_ply`] adds scalar attributes and colours |
-//! | STL | binary or ascii, told apart by content; the triangle soup is welded exactly | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
+//! | STL | binary or ascii, told apart by content; the triangle soup is welded, by default within `1e-6` of the bounding-box diagonal ([`Weld`]; [`read_mesh_with`] chooses and reports) | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
 //! | OBJ | `v` and `f` (all corner forms, negative indices), `\` line continuations; the other statements of the specification (`vt`, `vn`, `l`, `p`, `g`, …) ignored; a file without `v` lines that holds a word that is no OBJ statement is refused (another format under the wrong name) | `v` and `f` lines |
 //! | OFF | ascii, keyword `OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`, … or none; counts on the keyword line or the next; values after `x y z` and after a face's indices (normals, colours, texture coordinates) ignored; `#` comments; exactly the declared vertices and faces; binary OFF refused | `OFF`, the counts, `x y z` lines and 0-based `n i0 … i(n-1)` face lines |
 //!
@@ -73,6 +73,7 @@ mod obj;
 mod off;
 mod ply;
 mod read;
+mod read_options;
 mod stl;
 mod text;
 mod validate;
@@ -83,5 +84,8 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use mesh::MeshData;
-pub use read::{DeclaredCounts, declared_counts, read_mesh, read_mesh_from};
+pub use read::{
+    DeclaredCounts, declared_counts, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
+};
+pub use read_options::{ReadOptions, ReadReport, Weld};
 pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};
