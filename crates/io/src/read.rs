@@ -1,12 +1,13 @@
 //! Reading entry points.
 
-use std::io::{BufRead, BufReader, Cursor, Seek};
+use std::io::{BufRead, BufReader, Cursor, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::error::IoError;
 use crate::format::MeshFormat;
 use crate::mesh::MeshData;
 use crate::read_options::{ReadOptions, ReadReport};
+use crate::text::is_blank_stream;
 use crate::{obj, off, ply, stl};
 
 /// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
@@ -194,7 +195,8 @@ pub struct DeclaredCounts {
 ///
 /// # Errors
 /// An unsupported extension; [`IoError::Io`] when the file cannot be opened or read;
-/// [`IoError::Empty`]; for PLY and OFF the header errors of [`read_mesh`].
+/// [`IoError::Empty`] for a file of nothing but whitespace; for PLY and OFF the
+/// header errors of [`read_mesh`].
 pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("open the file"))?;
@@ -206,6 +208,13 @@ pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
         return Err(IoError::Empty);
     }
     let mut reader = BufReader::new(file);
+    // Nothing but whitespace: empty, as the readers say (stops at the first other byte).
+    if is_blank_stream(&mut reader)? {
+        return Err(IoError::Empty);
+    }
+    reader
+        .seek(SeekFrom::Start(0))
+        .map_err(IoError::io("read the file"))?;
     match format {
         MeshFormat::Ply => ply::declared_counts(&mut reader).map(Some),
         MeshFormat::Stl => stl::declared_triangles(&mut reader, length).map(|triangles| {

@@ -3,7 +3,7 @@
 //! another, PLY files that hold more or other than their header declares, blank files.
 //! Each of these was once read as a different mesh than the file holds.
 
-use beltrami_io::{IoError, MeshData, MeshFormat, PolygonList, read_mesh_from};
+use beltrami_io::{IoError, MeshData, MeshFormat, PolygonList, declared_counts, read_mesh_from};
 use glam::DVec3;
 
 fn read(bytes: &[u8], format: MeshFormat) -> MeshData {
@@ -216,6 +216,14 @@ fn blank_files_are_empty_in_every_format() {
             let e = error(text.as_bytes(), format);
             assert!(matches!(e, IoError::Empty), "{format} {text:?}: {e}");
         }
+    }
+    // The same for the counts a file declares.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    for name in ["blank.ply", "blank.stl", "blank.obj", "blank.off"] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, " \n\t\r\n").expect("write");
+        let e = declared_counts(&path).expect_err("blank");
+        assert!(matches!(e, IoError::Empty), "{name}: {e}");
     }
     // A comment is content: an OBJ file of comments is an empty mesh, not an empty file.
     assert_eq!(read(b"# nothing\n", MeshFormat::Obj), MeshData::default());
