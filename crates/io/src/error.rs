@@ -26,14 +26,14 @@ pub enum IoError {
     },
 
     /// The path has an extension that names no supported format.
-    #[error("unsupported file extension {extension:?} (expected .ply, .stl or .obj)")]
+    #[error("unsupported file extension {extension:?} (expected .ply, .stl, .obj or .off)")]
     UnsupportedExtension {
         /// The extension as written in the path, without the dot.
         extension: String,
     },
 
     /// The path has no extension, so the format is unknown.
-    #[error("no file extension (expected .ply, .stl or .obj)")]
+    #[error("no file extension (expected .ply, .stl, .obj or .off)")]
     MissingExtension,
 
     /// The file has no bytes at all.
@@ -208,6 +208,65 @@ pub enum IoError {
         line: usize,
     },
 
+    /// A file read as OBJ has no vertex (`v`) lines and a line that starts with no OBJ
+    /// statement: it is not an OBJ file, often a file of another format with the
+    /// wrong extension.
+    #[error("line {line}: {keyword:?} is not an obj statement{}", format_hint(.format))]
+    NotObj {
+        /// The line of the first word that is no OBJ statement.
+        line: usize,
+        /// That word.
+        keyword: String,
+        /// The format the file looks like, when its first word tells (`ply`, `solid`,
+        /// `OFF`).
+        format: Option<MeshFormat>,
+    },
+
+    /// The file holds more than its header declares: elements beyond the declared
+    /// counts, or bytes after the last binary element.
+    #[error(
+        "{}{} after the {} the header declares",
+        at(.line),
+        unexpected(.bytes),
+        counted(.element, *.count)
+    )]
+    TrailingData {
+        /// The first line of the extra data in a text file.
+        line: Option<usize>,
+        /// The number of extra bytes in a binary file.
+        bytes: Option<u64>,
+        /// The last element of the header, e.g. `"face"`.
+        element: String,
+        /// Its declared count.
+        count: usize,
+    },
+
+    /// A PLY file keeps its faces in an element this reader cannot read (only `face`
+    /// and `tristrips` are read).
+    #[error(
+        "element {element:?} holds vertex indices but is no face element this reader supports (\"face\", \"tristrips\")"
+    )]
+    UnsupportedFaceElement {
+        /// The element, e.g. `"range_grid"`.
+        element: String,
+    },
+
+    /// The OFF header is malformed or names a variant that is not supported.
+    #[error("{}invalid off header: {reason}", at(.line))]
+    OffHeader {
+        /// Header line, when known.
+        line: Option<usize>,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A weld tolerance that is negative, NaN or infinite.
+    #[error("invalid weld tolerance {value}: expected a finite number, 0 or more")]
+    WeldTolerance {
+        /// The tolerance given.
+        value: f64,
+    },
+
     /// The triangle count in a binary STL header disagrees with the file length.
     #[error(
         "binary stl header declares {declared} triangles, which needs {} bytes, but the file has {file_length} bytes",
@@ -297,14 +356,17 @@ impl IoError {
     pub fn line(&self) -> Option<usize> {
         match self {
             Self::PlyHeader { line, .. }
+            | Self::OffHeader { line, .. }
+            | Self::TrailingData { line, .. }
             | Self::PlyData { line, .. }
             | Self::NonFiniteCoordinate { line, .. }
             | Self::NonFiniteFacet { line, .. }
             | Self::FaceIndexOutOfRange { line, .. }
             | Self::NegativeIndex { line, .. } => *line,
-            Self::ZeroIndex { line, .. } | Self::Syntax { line, .. } | Self::NotText { line } => {
-                Some(*line)
-            }
+            Self::ZeroIndex { line, .. }
+            | Self::Syntax { line, .. }
+            | Self::NotText { line }
+            | Self::NotObj { line, .. } => Some(*line),
             _ => None,
         }
     }
@@ -335,6 +397,38 @@ fn plural(element: &str) -> String {
         "vertex" => "vertices".to_owned(),
         "face" => "faces".to_owned(),
         other => format!("{other:?} elements"),
+    }
+}
+
+/// `"4 faces"`, `"1 vertex"`, `"2 \"edge\" elements"`.
+fn counted(element: &str, n: usize) -> String {
+    match (element, n) {
+        ("vertex", 1) => "1 vertex".to_owned(),
+        ("face", 1) => "1 face".to_owned(),
+        (other, 1) => format!("1 {other:?} element"),
+        _ => format!("{n} {}", plural(element)),
+    }
+}
+
+fn unexpected(bytes: &Option<u64>) -> String {
+    match bytes {
+        None => "unexpected data".to_owned(),
+        Some(1) => "1 unexpected byte".to_owned(),
+        Some(n) => format!("{n} unexpected bytes"),
+    }
+}
+
+fn format_hint(format: &Option<MeshFormat>) -> String {
+    match format {
+        Some(format) => {
+            let article = if *format == MeshFormat::Ply {
+                "a"
+            } else {
+                "an"
+            };
+            format!("; is this {article} {format} file? rename it to .{format}")
+        }
+        None => ", and the file has no vertex (\"v\") lines".to_owned(),
     }
 }
 

@@ -15,11 +15,14 @@ pub enum MeshFormat {
     Stl,
     /// Wavefront OBJ (text): positions and polygon faces only.
     Obj,
+    /// Geomview OFF (text): positions and polygon faces; colours, normals and texture
+    /// coordinates ignored.
+    Off,
 }
 
 impl MeshFormat {
-    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, in any
-    /// letter case).
+    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, `.off`, in
+    /// any letter case).
     ///
     /// # Examples
     /// ```
@@ -40,6 +43,7 @@ impl MeshFormat {
             "ply" => Ok(Self::Ply),
             "stl" => Ok(Self::Stl),
             "obj" => Ok(Self::Obj),
+            "off" => Ok(Self::Off),
             _ => Err(IoError::UnsupportedExtension {
                 extension: extension.into_owned(),
             }),
@@ -53,6 +57,7 @@ impl fmt::Display for MeshFormat {
             Self::Ply => "ply",
             Self::Stl => "stl",
             Self::Obj => "obj",
+            Self::Off => "off",
         })
     }
 }
@@ -61,7 +66,7 @@ impl fmt::Display for MeshFormat {
 ///
 /// PLY supports all three. STL supports [`Ascii`](Self::Ascii) and
 /// [`BinaryLittleEndian`](Self::BinaryLittleEndian) (binary STL is little-endian by
-/// definition). OBJ is always text and ignores the encoding.
+/// definition). OBJ and OFF are always text and ignore the encoding.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Encoding {
     /// Human-readable text; numbers in their shortest exact decimal form.
@@ -91,8 +96,8 @@ pub enum Precision {
     /// 64-bit floats: coordinates are written exactly (the default).
     #[default]
     Double,
-    /// 32-bit floats: half the size, coordinates rounded to the nearest `f32`. OBJ
-    /// writes the shortest decimal that identifies that `f32` (at most 9 significant
+    /// 32-bit floats: half the size, coordinates rounded to the nearest `f32`. OBJ and OFF
+    /// write the shortest decimal that identifies that `f32` (at most 9 significant
     /// digits); read back as `f64` it is not the `f32` itself but rounds to it.
     Single,
 }
@@ -105,7 +110,7 @@ pub enum Precision {
 pub struct WriteOptions {
     /// Text or binary (see [`Encoding`] for what each format supports).
     pub encoding: Encoding,
-    /// Coordinate precision (PLY and OBJ).
+    /// Coordinate precision (PLY, OBJ and OFF).
     pub precision: Precision,
 }
 

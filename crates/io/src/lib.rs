@@ -1,7 +1,8 @@
 //! # beltrami-io
 //!
 //! Readers and writers for the mesh files of surface metrology: Stanford PLY (ascii,
-//! binary little- and big-endian), STL (binary and ascii) and Wavefront OBJ.
+//! binary little- and big-endian), STL (binary and ascii), Wavefront OBJ and Geomview
+//! OFF.
 //!
 //! A file is read into a [`MeshData`]: `f64` positions and a [`PolygonList`] of faces,
 //! ready for [`HalfedgeMesh::from_polygons`]. Coordinates are whatever the file
@@ -31,14 +32,20 @@
 //!
 //! | format | read | written by [`write_mesh`] |
 //! |---|---|---|
-//! | PLY | ascii, binary little- and big-endian; `x y z` of any numeric type; faces from `vertex_indices` or `vertex_index` lists; other elements and properties ignored | `x y z` as `double` (or `float`), faces as `list uchar int vertex_indices`; [`write_ply`] adds scalar attributes and colours |
-//! | STL | binary or ascii, told apart by content; the triangle soup is welded exactly | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
-//! | OBJ | `v` and `f` (all corner forms, negative indices); everything else ignored | `v` and `f` lines |
+//! | PLY | ascii, binary little- and big-endian; `x y z` of any numeric type; faces from the `vertex_indices` or `vertex_index` lists of the `face` element and of triangle strips (`tristrips`, `-1` between strips); other elements and properties ignored; exactly what the header declares (after the last element, only whitespace) | `x y z` as `double` (or `float`), faces as `list uchar int vertex_indices`; [`write_ply`] adds scalar attributes and colours |
+//! | STL | binary or ascii, told apart by content; the triangle soup is welded, by default within `1e-6` of the bounding-box diagonal ([`Weld`]; [`read_mesh_with`] chooses and reports) | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
+//! | OBJ | `v` and `f` (all corner forms, negative indices), `\` line continuations; the other statements of the specification (`vt`, `vn`, `l`, `p`, `g`, …) ignored; a file without `v` lines that holds a word that is no OBJ statement is refused (another format under the wrong name) | `v` and `f` lines |
+//! | OFF | ascii, keyword `OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`, … or none; counts on the keyword line or the next; values after `x y z` and after a face's indices (normals, colours, texture coordinates) ignored; `#` comments; exactly the declared vertices and faces; binary OFF refused | `OFF`, the counts, `x y z` lines and 0-based `n i0 … i(n-1)` face lines |
+//!
+//! Text may end its lines with `\n`, `\r\n` or a lone `\r` (a PLY header needs one of
+//! the first two), and may start with a UTF-8 byte order mark. A file of nothing but
+//! whitespace is [`IoError::Empty`]; a file with a valid header and no vertices is an
+//! empty mesh.
 //!
 //! ## Guarantees
 //!
-//! - **Exact round trips.** Binary PLY in double precision keeps every bit; ascii PLY
-//!   and OBJ write the shortest decimal that reads back to the same `f64`. STL holds
+//! - **Exact round trips.** Binary PLY in double precision keeps every bit; ascii PLY,
+//!   OBJ and OFF write the shortest decimal that reads back to the same `f64`. STL holds
 //!   `f32` by definition, so it is exact only for coordinates that are.
 //! - **Validation.** Every reader rejects non-finite coordinates and face indices that
 //!   name no vertex, with the vertex or face (and the line in text formats). Faces
@@ -68,8 +75,10 @@ mod error;
 mod format;
 mod mesh;
 mod obj;
+mod off;
 mod ply;
 mod read;
+mod read_options;
 mod stl;
 mod text;
 mod validate;
@@ -83,5 +92,8 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use mesh::MeshData;
-pub use read::{DeclaredCounts, declared_counts, read_mesh, read_mesh_from};
+pub use read::{
+    DeclaredCounts, declared_counts, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
+};
+pub use read_options::{ReadOptions, ReadReport, Weld};
 pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};

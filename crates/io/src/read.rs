@@ -1,22 +1,30 @@
 //! Reading entry points.
 
-use std::io::{BufRead, BufReader, Cursor, Seek};
+use std::io::{BufRead, BufReader, Cursor, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::error::IoError;
 use crate::format::MeshFormat;
 use crate::mesh::MeshData;
-use crate::{obj, ply, stl};
+use crate::read_options::{ReadOptions, ReadReport};
+use crate::text::is_blank_stream;
+use crate::{obj, off, ply, stl};
 
-/// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`).
+/// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
+/// `.off`).
 ///
 /// The file is streamed: it is read through a buffer of 256 KiB, element by element,
 /// and only the mesh itself (24 bytes per vertex, about 20 per triangle) is held, so
 /// a 2 GB file needs no 2 GB buffer. Checks that need the whole file (counts against
-/// the size, an ascii PLY's line count) make a separate pass over it. Coordinates are returned as stored, in
-/// the file's units (no scaling). STL triangle soups are welded exactly (identical
-/// `f32` coordinates become one vertex, `-0.0` equal to `0.0`; ids in order of first
-/// appearance).
+/// the size, an ascii PLY's line count) make a separate pass over it. Coordinates are
+/// returned as stored, in the file's units (no scaling). STL triangle soups are welded
+/// with the default of [`ReadOptions`]: corners within [`Weld::DEFAULT_RELATIVE`] of
+/// the bounding-box diagonal become one vertex (the rule: [`Weld`]; ids in order of
+/// first appearance), and triangles that collapse are left out. [`read_mesh_with`]
+/// chooses the tolerance and reports what welding did.
+///
+/// [`Weld`]: crate::Weld
+/// [`Weld::DEFAULT_RELATIVE`]: crate::Weld::DEFAULT_RELATIVE
 ///
 /// # Examples
 /// ```
@@ -35,9 +43,39 @@ use crate::{obj, ply, stl};
 /// [`IoError::Io`] when the file cannot be read; an unsupported extension; and the
 /// errors of [`read_mesh_from`] for malformed content.
 pub fn read_mesh(path: &Path) -> Result<MeshData, IoError> {
+    read_mesh_with(path, &ReadOptions::default()).map(|(mesh, _)| mesh)
+}
+
+/// Reads a mesh file as [`read_mesh`] does, with `options`, and reports what the read
+/// did beyond decoding (STL welding: the distance used, the vertices merged, the
+/// triangles dropped).
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_mesh_with, write_mesh, MeshData, ReadOptions, Weld, WriteOptions};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("cube.stl");
+/// write_mesh(&path, &MeshData::from(beltrami_halfedge::primitives::cube()), &WriteOptions::default())?;
+/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// let (mesh, report) = read_mesh_with(&path, &exact)?;
+/// assert_eq!(mesh.positions.len(), 8);
+/// assert_eq!((report.weld_distance, report.welded_vertices), (Some(0.0), 0));
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// [`IoError::WeldTolerance`] for a negative, NaN or infinite tolerance (whatever the
+/// format); otherwise those of [`read_mesh`].
+pub fn read_mesh_with(
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<(MeshData, ReadReport), IoError> {
+    options.weld.check()?;
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("read the file"))?;
-    read_stream(BufReader::with_capacity(READ_BUFFER, file), format)
+    read_stream(BufReader::with_capacity(READ_BUFFER, file), format, options)
 }
 
 /// The read buffer of [`read_mesh`], in bytes.
@@ -59,27 +97,67 @@ const READ_BUFFER: usize = 256 << 10;
 /// ```
 ///
 /// # Errors
-/// Every malformed input gives an error, never a panic: [`IoError::Empty`];
-/// syntax and header errors ([`IoError::Syntax`], [`IoError::PlyHeader`], …);
-/// counts that the input cannot hold ([`IoError::CountExceedsFile`],
-/// [`IoError::StlTriangleCount`], [`IoError::Truncated`]); non-finite coordinates
+/// Every malformed input gives an error, never a panic: [`IoError::Empty`] (also
+/// for nothing but whitespace); syntax and header errors ([`IoError::Syntax`],
+/// [`IoError::PlyHeader`], [`IoError::OffHeader`], …); a text file read as OBJ that
+/// is none ([`IoError::NotObj`]); counts that the input cannot hold
+/// ([`IoError::CountExceedsFile`], [`IoError::StlTriangleCount`],
+/// [`IoError::Truncated`]) or more than the header declares
+/// ([`IoError::TrailingData`]); non-finite coordinates
 /// ([`IoError::NonFiniteCoordinate`], [`IoError::NonFiniteFacet`]); face indices that
 /// name no vertex ([`IoError::FaceIndexOutOfRange`], [`IoError::NegativeIndex`],
 /// [`IoError::ZeroIndex`]). Faces with fewer than three vertices or repeated
 /// vertices are passed through, for the half-edge builder to report.
-pub fn read_mesh_from<R: BufRead>(mut reader: R, format: MeshFormat) -> Result<MeshData, IoError> {
+pub fn read_mesh_from<R: BufRead>(reader: R, format: MeshFormat) -> Result<MeshData, IoError> {
+    read_mesh_from_with(reader, format, &ReadOptions::default()).map(|(mesh, _)| mesh)
+}
+
+/// Reads a mesh as [`read_mesh_from`] does, with `options`, and reports what the read
+/// did beyond decoding (see [`read_mesh_with`]).
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_mesh_from_with, MeshFormat, ReadOptions, Weld};
+/// // Two triangles of an STL soup whose shared corners differ by round-off.
+/// let stl = "solid s\n\
+///     facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
+///     facet normal 0 0 1\nouter loop\nvertex 1 2.7e-16 0\nvertex 1 1 0\nvertex 0 1.0000001 0\nendloop\nendfacet\n\
+///     endsolid s\n";
+/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// let (cracked, _) = read_mesh_from_with(stl.as_bytes(), MeshFormat::Stl, &exact)?;
+/// assert_eq!(cracked.positions.len(), 6);
+/// let (mesh, report) = read_mesh_from_with(stl.as_bytes(), MeshFormat::Stl, &ReadOptions::default())?;
+/// assert_eq!((mesh.positions.len(), report.welded_vertices), (4, 2));
+/// # Ok::<(), beltrami_io::IoError>(())
+/// ```
+///
+/// # Errors
+/// [`IoError::WeldTolerance`] for a negative, NaN or infinite tolerance (whatever the
+/// format); otherwise those of [`read_mesh_from`].
+pub fn read_mesh_from_with<R: BufRead>(
+    mut reader: R,
+    format: MeshFormat,
+    options: &ReadOptions,
+) -> Result<(MeshData, ReadReport), IoError> {
+    options.weld.check()?;
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)
         .map_err(IoError::io("read the input"))?;
-    read_stream(Cursor::new(&bytes[..]), format)
+    read_stream(Cursor::new(&bytes[..]), format, options)
 }
 
-fn read_stream<R: BufRead + Seek>(reader: R, format: MeshFormat) -> Result<MeshData, IoError> {
+fn read_stream<R: BufRead + Seek>(
+    reader: R,
+    format: MeshFormat,
+    options: &ReadOptions,
+) -> Result<(MeshData, ReadReport), IoError> {
+    let unwelded = |mesh| (mesh, ReadReport::default());
     match format {
-        MeshFormat::Ply => ply::read_ply(reader),
-        MeshFormat::Stl => stl::read_stl(reader),
-        MeshFormat::Obj => obj::read_obj(reader),
+        MeshFormat::Ply => ply::read_ply(reader).map(unwelded),
+        MeshFormat::Stl => stl::read_stl(reader, &options.weld),
+        MeshFormat::Obj => obj::read_obj(reader).map(unwelded),
+        MeshFormat::Off => off::read_off(reader).map(unwelded),
     }
 }
 
@@ -87,16 +165,17 @@ fn read_stream<R: BufRead + Seek>(reader: R, format: MeshFormat) -> Result<MeshD
 #[non_exhaustive]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DeclaredCounts {
-    /// The vertex count of a PLY header; `None` for an STL, whose vertices are known
-    /// only after welding.
+    /// The vertex count of a PLY or OFF header; `None` for an STL, whose vertices are
+    /// known only after welding.
     pub vertices: Option<usize>,
-    /// The face count of a PLY header (0 without a `face` element), or the triangle
-    /// count of a binary STL.
+    /// The face count of a PLY header (0 without a `face` element: the triangles of
+    /// strips are known only once read) or an OFF header, or the triangle count of a
+    /// binary STL.
     pub faces: usize,
 }
 
 /// The element counts a mesh file declares up front, read without decoding any
-/// element: the header of a PLY file, the triangle count of a binary STL. `None` for
+/// element: the header of a PLY or OFF file, the triangle count of a binary STL. `None` for
 /// formats that declare nothing (OBJ, ascii STL), whose counts are known only after
 /// a full pass. Meant for checks before a large read (memory limits); the counts
 /// are what the file claims, which [`read_mesh`] verifies.
@@ -116,7 +195,8 @@ pub struct DeclaredCounts {
 ///
 /// # Errors
 /// An unsupported extension; [`IoError::Io`] when the file cannot be opened or read;
-/// [`IoError::Empty`]; for PLY the header errors of [`read_mesh`].
+/// [`IoError::Empty`] for a file of nothing but whitespace; for PLY and OFF the
+/// header errors of [`read_mesh`].
 pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("open the file"))?;
@@ -128,6 +208,13 @@ pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
         return Err(IoError::Empty);
     }
     let mut reader = BufReader::new(file);
+    // Nothing but whitespace: empty, as the readers say (stops at the first other byte).
+    if is_blank_stream(&mut reader)? {
+        return Err(IoError::Empty);
+    }
+    reader
+        .seek(SeekFrom::Start(0))
+        .map_err(IoError::io("read the file"))?;
     match format {
         MeshFormat::Ply => ply::declared_counts(&mut reader).map(Some),
         MeshFormat::Stl => stl::declared_triangles(&mut reader, length).map(|triangles| {
@@ -136,6 +223,7 @@ pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
                 faces,
             })
         }),
+        MeshFormat::Off => off::declared_counts(&mut reader).map(Some),
         MeshFormat::Obj => Ok(None),
     }
 }

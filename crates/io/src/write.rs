@@ -7,9 +7,10 @@ use crate::atomic::write_atomic;
 use crate::error::IoError;
 use crate::format::{Encoding, MeshFormat, VertexAttributes, WriteOptions};
 use crate::mesh::MeshData;
-use crate::{obj, ply, stl};
+use crate::{obj, off, ply, stl};
 
-/// Writes a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`).
+/// Writes a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
+/// `.off`).
 ///
 /// The file is replaced atomically: the data goes to a temporary file in the same
 /// directory, which is flushed to disk and then renamed over `path`. On any error
@@ -25,6 +26,9 @@ use crate::{obj, ply, stl};
 /// - OBJ: always text; `v` lines with the shortest decimal that reads back to the
 ///   same `f64` (or `f32` with [`Precision::Single`](crate::Precision::Single)),
 ///   1-based `f` lines. The encoding option is ignored.
+/// - OFF: always text; `OFF`, the counts `vertices faces 0`, `x y z` lines with the
+///   shortest decimal as for OBJ, 0-based `n i0 … i(n-1)` face lines. The encoding
+///   option is ignored.
 ///
 /// # Examples
 /// ```
@@ -80,6 +84,7 @@ pub fn write_mesh_to<W: Write>(
         MeshFormat::Ply => ply::write_ply_to(writer, mesh, &VertexAttributes::default(), options),
         MeshFormat::Stl => stl::write_stl_to(writer, mesh, options.encoding),
         MeshFormat::Obj => obj::write_obj_to(writer, mesh, options.precision),
+        MeshFormat::Off => off::write_off_to(writer, mesh, options.precision),
     }
 }
 

@@ -70,7 +70,12 @@ fn unknown_extension() {
 
 #[test]
 fn empty_files() {
-    for format in [MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Obj] {
+    for format in [
+        MeshFormat::Ply,
+        MeshFormat::Stl,
+        MeshFormat::Obj,
+        MeshFormat::Off,
+    ] {
         assert_eq!(read_error(b"", format).to_string(), "the file is empty");
     }
 }
@@ -622,7 +627,12 @@ fn write_mesh_errors() {
     let mut nan = triangle();
     nan.positions[2].y = f64::NAN;
     let mut sink = Vec::new();
-    for format in [MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Obj] {
+    for format in [
+        MeshFormat::Ply,
+        MeshFormat::Stl,
+        MeshFormat::Obj,
+        MeshFormat::Off,
+    ] {
         let e = write_mesh_to(&mut sink, &nan, format, &WriteOptions::default()).expect_err("nan");
         assert_eq!(e.to_string(), "vertex 2 has a non-finite coordinate (NaN)");
     }

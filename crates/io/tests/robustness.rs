@@ -62,7 +62,12 @@ fn random_mutations_read_or_fail_cleanly() {
                 }
             }
             // Reading as every format: an STL read as PLY must fail cleanly too.
-            for other in [MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Obj] {
+            for other in [
+                MeshFormat::Ply,
+                MeshFormat::Stl,
+                MeshFormat::Obj,
+                MeshFormat::Off,
+            ] {
                 let _ = read_mesh_from(&mutated[..], other);
             }
             let _ = format;

@@ -308,7 +308,12 @@ fn files_round_trip_through_paths() {
 #[test]
 fn empty_meshes_round_trip() {
     let empty = MeshData::default();
-    for format in [MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Obj] {
+    for format in [
+        MeshFormat::Ply,
+        MeshFormat::Stl,
+        MeshFormat::Obj,
+        MeshFormat::Off,
+    ] {
         for encoding in [Encoding::Ascii, Encoding::BinaryLittleEndian] {
             let back = through(&empty, format, &options(encoding, Precision::Double));
             assert_eq!(back, empty, "{format} {encoding}");

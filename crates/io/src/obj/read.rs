@@ -6,18 +6,76 @@ use beltrami_halfedge::PolygonList;
 use glam::DVec3;
 
 use crate::error::IoError;
+use crate::format::MeshFormat;
 use crate::mesh::MeshData;
 use crate::text::{LineReader, has_binary_bytes, parse_number, token_text, tokens};
 use crate::validate::check_faces;
+
+/// The statements of the OBJ specification (Wavefront, version 3.0) other than `v`
+/// and `f`, superseded ones included: read past without effect. Free-form geometry,
+/// texture coordinates, normals, groups, materials, points (`p`) and lines (`l`) are
+/// not part of a polygon mesh.
+const IGNORED: [&[u8]; 42] = [
+    b"vt",
+    b"vn",
+    b"vp",
+    b"p",
+    b"l",
+    b"g",
+    b"o",
+    b"s",
+    b"mg",
+    b"usemtl",
+    b"mtllib",
+    b"usemap",
+    b"maplib",
+    b"cstype",
+    b"deg",
+    b"bmat",
+    b"step",
+    b"curv",
+    b"curv2",
+    b"surf",
+    b"parm",
+    b"trim",
+    b"hole",
+    b"scrv",
+    b"sp",
+    b"end",
+    b"con",
+    b"lod",
+    b"ctech",
+    b"stech",
+    b"shadow_obj",
+    b"trace_obj",
+    b"call",
+    b"csh",
+    b"bevel",
+    b"c_interp",
+    b"d_interp",
+    b"res",
+    b"bsp",
+    b"bzp",
+    b"cdc",
+    b"cdp",
+];
 
 /// Reads an OBJ file line by line from `reader`.
 ///
 /// `v x y z [w]` adds a vertex (values after `z`, such as `w` or vertex colours, are
 /// ignored); `f` adds a polygon whose corners are `a`, `a/b`, `a//c` or `a/b/c`, of
 /// which only the vertex index `a` is used: 1-based, or negative to count back from
-/// the last vertex defined so far. Every other statement (`vt`, `vn`, `g`, `usemtl`,
-/// …) is ignored, and so is everything after a `#`. Line continuations (`\` at the end of a line) are not
-/// supported.
+/// the last vertex defined so far. The other statements of the specification (`vt`,
+/// `vn`, `g`, `usemtl`, `l`, `p`, …) are ignored, and so is everything after a `#`.
+/// A `\` that ends the statement part of a line (before any `#`) joins the next line
+/// to it; errors name the first line of a joined statement. Lines end at `\n`,
+/// `\r\n` or a lone `\r`; a UTF-8 byte order mark at the start is skipped.
+///
+/// Words that are no OBJ statement are ignored in a file that has vertices; in a file
+/// without any `v` line, the first of them is an [`IoError::NotObj`] (the file is not
+/// OBJ at all: a PLY, STL or OFF file with the wrong extension reads as no mesh
+/// instead of an empty one). A file with nothing but whitespace is
+/// [`IoError::Empty`].
 pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
     let mut lines = LineReader::new(reader);
     let mut positions = Vec::new();
@@ -27,13 +85,19 @@ pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
     // checked at the end), with their lines: the line of an error without a second
     // pass over the file.
     let mut forward: Vec<(usize, usize)> = Vec::new();
+    // The first word that is no OBJ statement, with its line.
+    let mut unknown: Option<(usize, String)> = None;
+    let mut blank = true;
+    // A statement continued over several lines, joined.
+    let mut joined = Vec::new();
     while let Some(line) = lines.next_line()? {
         let text = lines.line();
-        // `#` starts a comment, also after a statement.
-        let statement = text
-            .iter()
-            .position(|&b| b == b'#')
-            .map_or(text, |start| &text[..start]);
+        blank &= text.iter().all(u8::is_ascii_whitespace);
+        let mut statement = without_comment(text);
+        if continued(statement).is_some() {
+            join_continued(&mut lines, &mut joined)?;
+            statement = &joined;
+        }
         let mut words = tokens(statement);
         match words.next() {
             Some(b"v") => {
@@ -73,15 +137,30 @@ pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
                 }
                 faces.push(&corners);
             }
-            _ => {
-                if has_binary_bytes(text) {
+            word => {
+                // Control bytes: a binary file (checked here only, to keep the `v` and
+                // `f` lines fast).
+                if has_binary_bytes(lines.line()) || has_binary_bytes(statement) {
                     return Err(IoError::NotText { line });
+                }
+                if let Some(word) = word
+                    && unknown.is_none()
+                    && !IGNORED.contains(&word)
+                {
+                    unknown = Some((line, token_text(word)));
                 }
             }
         }
     }
-    if lines.lines_read() == 0 {
+    if blank {
         return Err(IoError::Empty);
+    }
+    if let (true, Some((line, keyword))) = (positions.is_empty(), unknown) {
+        return Err(IoError::NotObj {
+            line,
+            format: format_named_by(&keyword),
+            keyword,
+        });
     }
     let mesh = MeshData { positions, faces };
     // Positive indices may refer forward; check them now that all vertices are known.
@@ -105,6 +184,58 @@ pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
         });
     }
     Ok(mesh)
+}
+
+/// The line before its `#` comment.
+fn without_comment(text: &[u8]) -> &[u8] {
+    text.iter()
+        .position(|&b| b == b'#')
+        .map_or(text, |start| &text[..start])
+}
+
+/// The statement without its final `\`, when it ends with one (trailing whitespace
+/// aside): it continues on the next line.
+fn continued(statement: &[u8]) -> Option<&[u8]> {
+    statement.trim_ascii_end().strip_suffix(b"\\")
+}
+
+/// Joins the current line of `lines`, which ends with `\`, and the lines it continues
+/// on into `joined` (each `\` replaced by a space). A `\` on the last line of the
+/// file continues on nothing.
+fn join_continued(
+    lines: &mut LineReader<impl BufRead>,
+    joined: &mut Vec<u8>,
+) -> Result<(), IoError> {
+    joined.clear();
+    let mut part = continued(without_comment(lines.line())).unwrap_or_default();
+    loop {
+        joined.extend_from_slice(part);
+        joined.push(b' ');
+        if lines.next_line()?.is_none() {
+            return Ok(());
+        }
+        let statement = without_comment(lines.line());
+        match continued(statement) {
+            Some(rest) => part = rest,
+            None => {
+                joined.extend_from_slice(statement);
+                return Ok(());
+            }
+        }
+    }
+}
+
+/// The format whose files start with `word`, for a hint in [`IoError::NotObj`].
+fn format_named_by(word: &str) -> Option<MeshFormat> {
+    if word == "ply" {
+        Some(MeshFormat::Ply)
+    } else if word.eq_ignore_ascii_case("solid") {
+        Some(MeshFormat::Stl)
+    } else if crate::off::is_off_keyword(word.as_bytes()) {
+        Some(MeshFormat::Off)
+    } else {
+        None
+    }
 }
 
 /// The 0-based vertex of a corner token `a[/b[/c]]`; `defined` vertices precede it.

@@ -689,6 +689,27 @@ mod tests {
     }
 
     #[test]
+    fn bytes_after_the_last_element_are_refused_on_both_paths() {
+        let elements = "element vertex 2\nproperty double x\nproperty float y\nproperty double z\n\
+            element face 1\nproperty list uchar int vertex_indices\n";
+        let mut values = Vec::new();
+        for v in 0..2 {
+            values.extend([V::F64(f64::from(v)), V::F32(0.5), V::F64(2.0)]);
+        }
+        values.extend([V::U8(2), V::I32(0), V::I32(1)]);
+        for big in [false, true] {
+            let mut bytes = file(elements, &values, big);
+            assert!(read_ply(Cursor::new(&bytes[..])).is_ok());
+            bytes.extend([0, 1, 2]);
+            check_same(&bytes);
+            assert!(matches!(
+                read_ply(Cursor::new(&bytes[..])),
+                Err(IoError::TrailingData { bytes: Some(3), .. })
+            ));
+        }
+    }
+
+    #[test]
     fn vertex_lists_and_float_lengths_use_ply_rs() {
         let listed = "element vertex 1\nproperty double x\nproperty double y\nproperty double z\nproperty list uchar int ids\n";
         let element = |text: &str| {

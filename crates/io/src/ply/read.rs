@@ -16,17 +16,30 @@ use super::fast::{self, FaceLayout, VertexLayout};
 use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{LineReader, Lines, count_lines_in, stream_len, token_text};
+use crate::text::{
+    BOM, LineReader, Lines, count_lines_in, is_blank_stream, stream_len, token_text, tokens,
+};
 use crate::validate::check_faces;
 
 /// Reads a PLY file from `reader`, element by element.
+///
+/// Faces come from the `face` element and from triangle strips (`tristrips`). The
+/// file must hold exactly what the header declares: more elements (ascii) or bytes
+/// (binary) after the last one are an error; whitespace after the last ascii line is
+/// not. A UTF-8 byte order mark before `ply` is skipped.
 pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoError> {
     let length = stream_len(&mut reader)?;
     if length == 0 {
         return Err(IoError::Empty);
     }
-    let start = reader.fill_buf().map_err(IoError::io("read the file"))?;
-    check_magic(start)?;
+    if let Err(e) = check_magic(&mut reader) {
+        seek_to(&mut reader, 0)?;
+        return Err(if is_blank_stream(&mut reader)? {
+            IoError::Empty
+        } else {
+            e
+        });
+    }
     let mut ply_reader = Reader::new(reader);
     let header = Parser::<Skip>::new().read_header(&mut ply_reader);
     let mut reader = ply_reader.into_inner();
@@ -41,6 +54,7 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
         .stream_position()
         .map_err(IoError::io("read the file"))?;
     let payload = usize::try_from(length - header_length).unwrap_or(usize::MAX);
+    check_unique_names(&mut reader, header_length)?;
     check_schema(&header)?;
     let mut mesh = MeshData::default();
     let face_line = match header.encoding {
@@ -54,12 +68,35 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
         Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
             check_counts(&header, payload, min_record_size)?;
             let big_endian = header.encoding == Encoding::BinaryBigEndian;
-            read_binary(&header, reader, payload, big_endian, &mut mesh)?;
+            let left = read_binary(&header, reader, payload, big_endian, &mut mesh)?;
+            if left > 0 {
+                return Err(trailing_data(&header, None, Some(left as u64)));
+            }
             None
         }
     };
+    // Faces from triangle strips are not one per line.
+    let face_line = face_line.filter(|_| !header.elements.contains_key(TRISTRIPS));
     check_faces(&mesh, face_line)?;
     Ok(mesh)
+}
+
+/// The element of triangle strips: index lists in which `-1` ends a strip.
+const TRISTRIPS: &str = "tristrips";
+
+/// An [`IoError::TrailingData`] after the last element of `header`.
+fn trailing_data(header: &Header, line: Option<usize>, bytes: Option<u64>) -> IoError {
+    let (element, count) = header
+        .elements
+        .values()
+        .last()
+        .map_or((String::new(), 0), |e| (e.name.clone(), e.count));
+    IoError::TrailingData {
+        line,
+        bytes,
+        element,
+        count,
+    }
 }
 
 fn seek_to(reader: &mut impl Seek, position: u64) -> Result<(), IoError> {
@@ -88,20 +125,29 @@ fn header_line<R: BufRead + Seek>(reader: &mut R, n: usize) -> Option<String> {
     }
     let text = line.strip_suffix(b"\n").unwrap_or(&line);
     let text = text.strip_suffix(b"\r").unwrap_or(text);
+    let text = if n == 1 {
+        text.strip_prefix(BOM).unwrap_or(text)
+    } else {
+        text
+    };
     Some(token_text(text))
 }
 
 /// The vertex and face counts of a PLY header, read from the start of `reader`
-/// without decoding any element.
-pub(crate) fn declared_counts(
-    reader: &mut impl BufRead,
+/// without decoding any element. The face count of a file with triangle strips only
+/// is 0 (their triangles are known only once read).
+pub(crate) fn declared_counts<R: BufRead + Seek>(
+    reader: &mut R,
 ) -> Result<crate::read::DeclaredCounts, IoError> {
-    // Peek at the buffered start of the file (without consuming it) to tell a PLY file.
-    check_magic(reader.fill_buf().map_err(IoError::io("read the file"))?)?;
-    let mut reader = Reader::new(reader);
+    check_magic(reader)?;
+    let mut ply_reader = Reader::new(&mut *reader);
     let header = Parser::<Skip>::new()
-        .read_header(&mut reader)
+        .read_header(&mut ply_reader)
         .map_err(|e| header_error(&e, None))?;
+    let header_length = reader
+        .stream_position()
+        .map_err(IoError::io("read the file"))?;
+    check_unique_names(reader, header_length)?;
     check_schema(&header)?;
     let count = |name| header.elements.get(name).map(|e| e.count);
     Ok(crate::read::DeclaredCounts {
@@ -110,21 +156,87 @@ pub(crate) fn declared_counts(
     })
 }
 
-/// The first line must be `ply`: anything else is not a PLY file at all.
-fn check_magic(bytes: &[u8]) -> Result<(), IoError> {
+/// The first line must be `ply`: anything else is not a PLY file at all. Looks at the
+/// start of the buffer without consuming it, except a byte order mark before `ply`.
+fn check_magic(reader: &mut impl BufRead) -> Result<(), IoError> {
+    let mut bytes = reader.fill_buf().map_err(IoError::io("read the file"))?;
+    let marked = bytes.starts_with(BOM);
+    if marked {
+        bytes = &bytes[BOM.len()..];
+    }
     let first = Lines::new(bytes).next().map_or(&b""[..], |(_, line)| line);
-    if first.trim_ascii_end() == b"ply" {
-        Ok(())
-    } else {
-        Err(IoError::PlyHeader {
+    if first.trim_ascii_end() != b"ply" {
+        return Err(IoError::PlyHeader {
             line: Some(1),
             reason: "not a ply file (the first line must be \"ply\")".to_owned(),
-        })
+        });
     }
+    // `ply`, then `\r` and no `\n`: the line endings of classic Mac OS.
+    let ending = &bytes[first.len()..];
+    if ending.first() == Some(&b'\r') && ending.get(1) != Some(&b'\n') {
+        return Err(IoError::PlyHeader {
+            line: Some(1),
+            reason: "the lines end with a bare carriage return (classic Mac OS); convert the line endings to \\n or \\r\\n".to_owned(),
+        });
+    }
+    if marked {
+        reader.consume(BOM.len());
+    }
+    Ok(())
 }
 
-/// The `vertex` element with scalar `x`, `y`, `z`; a `face` element, when present,
-/// with an integer list `vertex_indices` (or `vertex_index`).
+/// Every element name once, every property name once within its element: the header
+/// parser keeps only the last of equal names, which would shift the values of a
+/// record. Reads the `header_length` bytes of the header from the start of `reader`.
+fn check_unique_names<R: BufRead + Seek>(
+    reader: &mut R,
+    header_length: u64,
+) -> Result<(), IoError> {
+    let end = reader
+        .stream_position()
+        .map_err(IoError::io("read the file"))?;
+    seek_to(reader, 0)?;
+    let mut lines = LineReader::new((&mut *reader).take(header_length));
+    let mut elements: Vec<Vec<u8>> = Vec::new();
+    let mut properties: Vec<Vec<u8>> = Vec::new();
+    while let Some(line) = lines.next_line()? {
+        let words: Vec<&[u8]> = tokens(lines.line()).collect();
+        let twice = |what: &str, name: &[u8], of: Option<&[u8]>| IoError::PlyHeader {
+            line: Some(line),
+            reason: match of {
+                Some(element) => format!(
+                    "{what} {:?} of element {:?} is declared twice",
+                    token_text(name),
+                    token_text(element)
+                ),
+                None => format!("{what} {:?} is declared twice", token_text(name)),
+            },
+        };
+        match words[..] {
+            [b"element", name, ..] => {
+                if elements.iter().any(|e| e == name) {
+                    return Err(twice("element", name, None));
+                }
+                elements.push(name.to_vec());
+                properties.clear();
+            }
+            [b"property", .., name] => {
+                if properties.iter().any(|p| p == name) {
+                    let element = elements.last().map(Vec::as_slice);
+                    return Err(twice("property", name, element));
+                }
+                properties.push(name.to_vec());
+            }
+            _ => {}
+        }
+    }
+    seek_to(reader, end)
+}
+
+/// The `vertex` element with scalar `x`, `y`, `z`; `face` and `tristrips` elements,
+/// when present, with an integer list `vertex_indices` (or `vertex_index`). Without
+/// either, no other element (but `edge`) may hold such a list: its faces would be
+/// silently lost.
 fn check_schema(header: &Header) -> Result<(), IoError> {
     let vertex = header
         .elements
@@ -148,13 +260,18 @@ fn check_schema(header: &Header) -> Result<(), IoError> {
             max: MAX_ELEMENTS,
         });
     }
-    if let Some(face) = header.elements.get("face") {
+    let mut has_faces = false;
+    for name in ["face", TRISTRIPS] {
+        let Some(face) = header.elements.get(name) else {
+            continue;
+        };
+        has_faces = true;
         let property = face
             .properties
             .values()
             .find(|p| is_index_list_name(&p.name))
             .ok_or_else(|| IoError::MissingProperty {
-                element: "face".to_owned(),
+                element: name.to_owned(),
                 property: "vertex_indices".to_owned(),
             })?;
         let integer_list = matches!(
@@ -163,11 +280,25 @@ fn check_schema(header: &Header) -> Result<(), IoError> {
         );
         if !integer_list {
             return Err(type_error(
-                "face",
+                name,
                 &property.name,
                 &property.data_type,
                 "a list of integers",
             ));
+        }
+    }
+    if !has_faces {
+        let other = header.elements.values().find(|e| {
+            e.name != "vertex"
+                && e.name != "edge"
+                && e.properties.values().any(|p| {
+                    is_index_list_name(&p.name) && matches!(p.data_type, PropertyType::List(..))
+                })
+        });
+        if let Some(element) = other {
+            return Err(IoError::UnsupportedFaceElement {
+                element: element.name.clone(),
+            });
         }
     }
     Ok(())
@@ -272,8 +403,9 @@ fn read_ascii(
     let vertex_parser = Parser::<VertexRecord>::new();
     let face_parser = Parser::<FaceRecord>::new();
     let mut scratch = Vec::new();
+    let mut strip = Vec::new();
     let mut face_line = None;
-    let mut lines = LineReader::new(reader);
+    let mut lines = LineReader::mid_file(reader);
     for element in header.elements.values() {
         let name = element.name.as_str();
         if name == "face" {
@@ -283,10 +415,11 @@ fn read_ascii(
             // Capacities are hints bounded by the file size: "0 0 0" and "3 0 1 2"
             // are the shortest lines a vertex and a triangle take.
             mesh.positions.reserve_exact(element.count.min(payload / 6));
-        } else if name == "face" {
+        } else if name == "face" && mesh.faces.is_empty() {
             let faces = element.count.min(payload / 8);
             mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
         }
+        let decoded = matches!(name, "vertex" | "face" | TRISTRIPS);
         for index in 0..element.count {
             // The line count was checked against the header before.
             let Some(number) = lines.next_line()? else {
@@ -297,7 +430,7 @@ fn read_ascii(
             };
             let line = lines.line();
             let line_number = Some(header_lines + number);
-            if name != "vertex" && name != "face" {
+            if !decoded {
                 continue;
             }
             let text = std::str::from_utf8(line).map_err(|_| IoError::PlyData {
@@ -306,29 +439,78 @@ fn read_ascii(
                 index,
                 reason: "the line is not valid text".to_owned(),
             })?;
+            let extra_values = |()| {
+                extra_values(text, element).map_or(Ok(()), |reason| {
+                    Err(IoError::PlyData {
+                        line: line_number,
+                        element: element.name.clone(),
+                        index,
+                        reason,
+                    })
+                })
+            };
             if name == "vertex" {
                 let record = vertex_parser
                     .read_ascii_element(text, element)
                     .map_err(|e| element_error(&e, line_number, name, index, text))?;
+                extra_values(())?;
                 push_vertex(&mut mesh.positions, &record, line_number)?;
             } else {
                 let record = face_parser
                     .read_ascii_element(text, element)
                     .map_err(|e| element_error(&e, line_number, name, index, text))?;
-                push_face(&mut mesh.faces, &mut scratch, &record, line_number)?;
+                extra_values(())?;
+                if name == TRISTRIPS {
+                    push_strips(&mut mesh.faces, &mut strip, &record, line_number, index)?;
+                } else {
+                    push_face(&mut mesh.faces, &mut scratch, &record, line_number)?;
+                }
             }
+        }
+    }
+    // Nothing but whitespace may follow the last element.
+    while let Some(number) = lines.next_line()? {
+        if !lines.line().iter().all(u8::is_ascii_whitespace) {
+            return Err(trailing_data(header, Some(header_lines + number), None));
         }
     }
     Ok(face_line)
 }
 
+/// What is wrong when an ascii record that was decoded holds more values than the
+/// properties of `element` take (the decoder ignores them): a line of another element,
+/// or a file that does not follow its header.
+fn extra_values(text: &str, element: &ElementDef) -> Option<String> {
+    let mut words = text.split_ascii_whitespace();
+    let mut taken = 0_usize;
+    for property in element.properties.values() {
+        taken += 1;
+        let word = words.next();
+        if let PropertyType::List(..) = property.data_type {
+            let n: usize = word?.parse().ok()?;
+            if n > 0 {
+                words.nth(n - 1)?;
+            }
+            taken += n;
+        }
+    }
+    let extra = words.count();
+    (extra > 0).then(|| {
+        format!(
+            "the line holds {} values, but the properties of the element take {taken}",
+            taken + extra
+        )
+    })
+}
+
+/// Reads the binary payload; returns the number of its bytes after the last element.
 fn read_binary<R: BufRead + Seek>(
     header: &Header,
     mut cursor: R,
     payload: usize,
     big_endian: bool,
     mesh: &mut MeshData,
-) -> Result<(), IoError> {
+) -> Result<usize, IoError> {
     let start = cursor
         .stream_position()
         .map_err(IoError::io("read the file"))?;
@@ -355,8 +537,10 @@ fn read_binary<R: BufRead + Seek>(
                 }
             }
             "face" => {
-                let faces = element.count.min(payload / 13);
-                mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
+                if mesh.faces.is_empty() {
+                    let faces = element.count.min(payload / 13);
+                    mesh.faces = PolygonList::with_capacity(faces, 3 * faces);
+                }
                 if let Some(layout) = FaceLayout::of(element).filter(|_| fast::enabled()) {
                     fast::read_faces(
                         &mut cursor,
@@ -370,6 +554,7 @@ fn read_binary<R: BufRead + Seek>(
                     read_faces_generic(&mut cursor, element, big_endian, &mut mesh.faces)?;
                 }
             }
+            TRISTRIPS => read_strips(&mut cursor, element, big_endian, &mut mesh.faces)?,
             _ => skip_binary_element(&mut cursor, remaining, element, big_endian)?,
         }
         let read = cursor
@@ -378,7 +563,7 @@ fn read_binary<R: BufRead + Seek>(
         let read = usize::try_from(read.saturating_sub(start)).unwrap_or(usize::MAX);
         remaining = payload.saturating_sub(read);
     }
-    Ok(())
+    Ok(remaining)
 }
 
 /// The vertex element through `ply-rs-bw`, for layouts [`VertexLayout`] does not cover.
@@ -410,6 +595,23 @@ fn read_faces_generic(
         let record = read_binary_element(&parser, cursor, element, big_endian)
             .map_err(|e| element_error(&e, None, "face", index, ""))?;
         push_face(faces, &mut scratch, &record, None)?;
+    }
+    Ok(())
+}
+
+/// The triangle strips element through `ply-rs-bw` (rare: no fast path).
+fn read_strips(
+    cursor: &mut impl Read,
+    element: &ElementDef,
+    big_endian: bool,
+    faces: &mut PolygonList,
+) -> Result<(), IoError> {
+    let mut strip = Vec::new();
+    let parser = Parser::<FaceRecord>::new();
+    for index in 0..element.count {
+        let record = read_binary_element(&parser, cursor, element, big_endian)
+            .map_err(|e| element_error(&e, None, TRISTRIPS, index, ""))?;
+        push_strips(faces, &mut strip, &record, None, index)?;
     }
     Ok(())
 }
@@ -497,6 +699,46 @@ fn push_face(
             index,
         })?;
     faces.push(scratch);
+    Ok(())
+}
+
+/// Appends the triangles of the strips in record `index` of the `tristrips` element.
+///
+/// The index list holds strips separated by `-1`. In each strip, triangle `k` has the
+/// corners `k, k+1, k+2`, with the first two swapped for odd `k` so that all
+/// triangles have the orientation of the first (as OpenGL's `GL_TRIANGLE_STRIP`).
+/// Triangles with a repeated corner join strips and are no faces: they are skipped.
+fn push_strips(
+    faces: &mut PolygonList,
+    strip: &mut Vec<i64>,
+    record: &FaceRecord,
+    line: Option<usize>,
+    index: usize,
+) -> Result<(), IoError> {
+    strip.clear();
+    record.indices.append_signed_to(strip);
+    if let Some(&negative) = strip.iter().find(|&&i| i < -1) {
+        return Err(IoError::PlyData {
+            line,
+            element: TRISTRIPS.to_owned(),
+            index,
+            reason: format!(
+                "vertex index {negative} (only -1, which ends a strip, may be negative)"
+            ),
+        });
+    }
+    for run in strip.split(|&i| i == -1) {
+        for (k, corners) in run.windows(3).enumerate() {
+            // Every value is in 0..=u32::MAX here (the list types are at most 32 bits).
+            let vertex = |i: i64| u32::try_from(i).unwrap_or(u32::MAX);
+            let [a, b, c] = [corners[0], corners[1], corners[2]].map(vertex);
+            if a == b || b == c || a == c {
+                continue;
+            }
+            let triangle = if k % 2 == 0 { [a, b, c] } else { [b, a, c] };
+            faces.push(&triangle);
+        }
+    }
     Ok(())
 }
 

@@ -93,6 +93,24 @@ impl IndexList {
     }
 }
 
+impl IndexList {
+    /// Appends the indices as `i64`, negative ones included.
+    pub(super) fn append_signed_to(&self, out: &mut Vec<i64>) {
+        fn append<T: Copy + Into<i64>>(values: &[T], out: &mut Vec<i64>) {
+            out.extend(values.iter().map(|&v| v.into()));
+        }
+        match self {
+            Self::Unset => {}
+            Self::I8(v) => append(v, out),
+            Self::U8(v) => append(v, out),
+            Self::I16(v) => append(v, out),
+            Self::U16(v) => append(v, out),
+            Self::I32(v) => append(v, out),
+            Self::U32(v) => append(v, out),
+        }
+    }
+}
+
 /// One decoded face: the first `vertex_indices` or `vertex_index` list; other
 /// properties ignored.
 #[derive(Debug, Default)]

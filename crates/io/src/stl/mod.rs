@@ -1,8 +1,9 @@
 //! STL, binary and ascii, written by hand.
 //!
-//! No maintained STL crate welds the way metrology needs it (exactly: identical
-//! `f32` bit patterns, with `-0.0` treated as `0.0`, ids in order of first
-//! appearance), and the format is small enough to read directly.
+//! No maintained STL crate welds the way metrology needs it (identical `f32` bit
+//! patterns, with `-0.0` treated as `0.0`, then within a tolerance by a rule that
+//! depends on the file alone; ids in order of first appearance), and the format is
+//! small enough to read directly.
 
 mod read;
 mod weld;

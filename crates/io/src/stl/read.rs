@@ -3,19 +3,70 @@
 use std::io::{BufRead, Read, Seek, SeekFrom};
 
 use beltrami_halfedge::PolygonList;
+use glam::DVec3;
 
-use super::weld::Welder;
+use super::weld::{Welder, weld_within};
 use super::{BINARY_HEADER, BINARY_TRIANGLE};
 use crate::error::IoError;
 use crate::mesh::MeshData;
-use crate::text::{LineReader, any_binary_bytes, parse_number, stream_len, token_text};
+use crate::read_options::{ReadReport, Weld};
+use crate::text::{BOM, LineReader, any_binary_bytes, parse_number, stream_len, token_text};
 
-/// Reads an STL file from `reader`, streaming its triangles.
+/// Reads an STL file from `reader`, streaming its triangles, and welds its corners as
+/// `weld` says (see [`Weld`] for the rule).
 ///
 /// A file whose length is exactly what its binary triangle count says is binary, even
 /// when it starts with `solid` (many binary exporters write that). Otherwise a file
 /// starting with `solid` is ascii; the rest is a binary file whose count is wrong.
-pub(crate) fn read_stl<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoError> {
+pub(crate) fn read_stl<R: BufRead + Seek>(
+    reader: R,
+    weld: &Weld,
+) -> Result<(MeshData, ReadReport), IoError> {
+    let Soup {
+        positions,
+        triangles,
+    } = read_welded_exactly(reader)?;
+    let distance = weld.distance(diagonal(&positions))?;
+    if distance == 0.0 {
+        let report = ReadReport {
+            weld_distance: Some(0.0),
+            ..ReadReport::default()
+        };
+        let faces = PolygonList::from_triangles(&triangles);
+        return Ok((MeshData { positions, faces }, report));
+    }
+    let welded = weld_within(positions, &triangles, distance);
+    let report = ReadReport {
+        weld_distance: Some(distance),
+        welded_vertices: welded.merged,
+        dropped_faces: welded.dropped,
+    };
+    let mesh = MeshData {
+        positions: welded.positions,
+        faces: welded.faces,
+    };
+    Ok((mesh, report))
+}
+
+/// The diagonal of the bounding box of `positions` (0 for none).
+fn diagonal(positions: &[DVec3]) -> f64 {
+    let Some(&first) = positions.first() else {
+        return 0.0;
+    };
+    let (low, high) = positions
+        .iter()
+        .fold((first, first), |(low, high), &p| (low.min(p), high.max(p)));
+    (high - low).length()
+}
+
+/// Triangles on exactly welded vertices.
+struct Soup {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// The triangle soup with identical corners welded (see [`Welder`]).
+fn read_welded_exactly<R: BufRead + Seek>(mut reader: R) -> Result<Soup, IoError> {
     let length = stream_len(&mut reader)?;
     if length == 0 {
         return Err(IoError::Empty);
@@ -37,7 +88,11 @@ pub(crate) fn read_stl<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
         file_length,
     };
     rewind(&mut reader)?;
-    if starts_with_solid(&mut reader)? {
+    let start = first_word(&mut reader)?;
+    if start == Start::Blank {
+        return Err(IoError::Empty);
+    }
+    if start == Start::Solid {
         rewind(&mut reader)?;
         return match read_ascii(&mut reader) {
             Ok(mesh) => Ok(mesh),
@@ -92,12 +147,27 @@ fn binary_length(n: u32) -> Option<usize> {
         .checked_add(BINARY_HEADER)
 }
 
-/// Whether the text after leading whitespace starts with the word `solid`.
-fn starts_with_solid(reader: &mut impl BufRead) -> Result<bool, IoError> {
+/// How a file starts, after a byte order mark and whitespace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    /// The word `solid` (any letter case): ascii STL.
+    Solid,
+    /// Anything else.
+    Other,
+    /// Nothing: the file holds only whitespace.
+    Blank,
+}
+
+/// How the text after a byte order mark and leading whitespace starts.
+fn first_word(reader: &mut impl BufRead) -> Result<Start, IoError> {
+    let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
+    if buffer.starts_with(BOM) {
+        reader.consume(BOM.len());
+    }
     loop {
         let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
         if buffer.is_empty() {
-            return Ok(false);
+            return Ok(Start::Blank);
         }
         match buffer.iter().position(|b| !b.is_ascii_whitespace()) {
             Some(start) => {
@@ -115,16 +185,17 @@ fn starts_with_solid(reader: &mut impl BufRead) -> Result<bool, IoError> {
         .take(6)
         .read_to_end(&mut word)
         .map_err(IoError::io("read the file"))?;
-    Ok(word
+    let solid = word
         .get(..5)
         .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
-        && word.get(5).is_none_or(u8::is_ascii_whitespace))
+        && word.get(5).is_none_or(u8::is_ascii_whitespace);
+    Ok(if solid { Start::Solid } else { Start::Other })
 }
 
-fn read_binary(mut reader: impl Read, n: usize) -> Result<MeshData, IoError> {
+fn read_binary(mut reader: impl Read, n: usize) -> Result<Soup, IoError> {
     // A closed triangle mesh has about half as many vertices as triangles.
     let mut welder = Welder::with_capacity(n / 2 + 3);
-    let mut faces = PolygonList::with_capacity(n, 3 * n);
+    let mut triangles = Vec::with_capacity(n);
     let mut record = [0u8; BINARY_TRIANGLE];
     for facet in 0..n {
         // The file length was checked against the count: a short read is an I/O error.
@@ -141,11 +212,11 @@ fn read_binary(mut reader: impl Read, n: usize) -> Result<MeshData, IoError> {
             ];
             *id = insert(&mut welder, p, facet, None)?;
         }
-        faces.push(&triangle);
+        triangles.push(triangle);
     }
-    Ok(MeshData {
+    Ok(Soup {
         positions: welder.into_positions(),
-        faces,
+        triangles,
     })
 }
 
@@ -258,17 +329,17 @@ fn end_of_file(line: usize, expected: &'static str) -> IoError {
 
 /// `solid name`, then facets, then `endsolid name`; several solids may follow each
 /// other. Keywords are matched in any letter case.
-fn read_ascii(reader: impl BufRead) -> Result<MeshData, IoError> {
+fn read_ascii(reader: impl BufRead) -> Result<Soup, IoError> {
     let mut tokens = Tokens::new(reader);
     let mut welder = Welder::with_capacity(0);
-    let mut faces = PolygonList::new();
+    let mut triangles = Vec::new();
     tokens.expect("solid", "\"solid\"")?;
     tokens.skip_line();
     loop {
         match tokens.next()? {
             Some((_, t)) if t.eq_ignore_ascii_case(b"facet") => {
-                let triangle = read_facet(&mut tokens, &mut welder, faces.len())?;
-                faces.push(&triangle);
+                let triangle = read_facet(&mut tokens, &mut welder, triangles.len())?;
+                triangles.push(triangle);
             }
             Some((_, t)) if t.eq_ignore_ascii_case(b"endsolid") => {
                 tokens.skip_line();
@@ -282,9 +353,9 @@ fn read_ascii(reader: impl BufRead) -> Result<MeshData, IoError> {
             None => return Err(end_of_file(tokens.line, "\"facet\" or \"endsolid\"")),
         }
     }
-    Ok(MeshData {
+    Ok(Soup {
         positions: welder.into_positions(),
-        faces,
+        triangles,
     })
 }
 

@@ -1,9 +1,9 @@
-//! Exact vertex welding for triangle soups.
+//! Vertex welding for triangle soups: exact, then within a tolerance.
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 
-use beltrami_halfedge::MAX_ELEMENTS;
+use beltrami_halfedge::{MAX_ELEMENTS, PolygonList};
 use glam::DVec3;
 
 use crate::error::IoError;
@@ -55,6 +55,167 @@ impl Welder {
     /// The welded positions, in id order.
     pub(super) fn into_positions(self) -> Vec<DVec3> {
         self.positions
+    }
+}
+
+/// The result of [`weld_within`].
+pub(super) struct Welded {
+    /// The kept vertices, in order of first appearance.
+    pub(super) positions: Vec<DVec3>,
+    /// The triangles on the kept vertices, collapsed ones left out.
+    pub(super) faces: PolygonList,
+    /// The number of vertices merged into others.
+    pub(super) merged: usize,
+    /// The triangles (0-based, input order) that collapsed.
+    pub(super) dropped: Vec<usize>,
+}
+
+/// Merges exactly welded vertices that lie within `distance` (> 0) of each other:
+/// in id order, each vertex joins the earliest kept vertex within `distance`
+/// (Euclidean), else it is kept. Triangles follow; a triangle with distinct vertices
+/// that ends up with a repeated one is dropped (triangles that repeated a vertex
+/// before are kept).
+///
+/// The coordinates are `f32` values (STL), which the neighbour search relies on:
+/// kept vertices are hashed by cubic cells of side `4 × distance`, and a vertex
+/// looks in the 8 cells that hold every point within `distance` of it. Cell numbers
+/// `floor(x / cell)` are exact enough below `2^49`, where a rounding error is at most
+/// `1/16` of a cell; beyond, `distance` is below `2^-51 |x|`, less than the spacing of
+/// `f32` values near `x`, so that coordinates within `distance` are equal and fall in
+/// the same cell. A cell holds at most a few dozen kept vertices, which are more than
+/// `distance` apart, and cells that share a hash slot only share a list: the merge
+/// takes linear time. Memory beyond the result: 16 bytes per vertex at most.
+///
+/// # Complexity
+/// O(V + T) expected for V vertices and T triangles.
+pub(super) fn weld_within(
+    mut positions: Vec<DVec3>,
+    triangles: &[[u32; 3]],
+    distance: f64,
+) -> Welded {
+    /// No next vertex in a slot's list.
+    const END: u32 = u32::MAX;
+    let n = positions.len();
+    let cell = 4.0 * distance;
+    // Hash slots of cells: `slots[h]` is the last kept vertex in a cell hashed to
+    // `h`, `next[k]` the kept vertex before `k` in its slot.
+    let mask = (2 * n).next_power_of_two().max(16) - 1;
+    let mut slots = vec![END; mask + 1];
+    let mut next: Vec<u32> = Vec::with_capacity(n);
+    let mut map: Vec<u32> = Vec::with_capacity(n);
+    let mut kept = 0_usize;
+    let mut candidates = Vec::with_capacity(8);
+    for i in 0..n {
+        let p = positions[i];
+        let axes = p.to_array().map(|x| CellRange::of(x, cell));
+        candidates.clear();
+        for corner in 0..8 {
+            let key = CellKey([
+                axes[0].key(corner & 1),
+                axes[1].key((corner >> 1) & 1),
+                axes[2].key(corner >> 2),
+            ]);
+            let slot = key.slot(mask);
+            if !candidates.contains(&slot) {
+                candidates.push(slot);
+            }
+        }
+        let mut earliest: Option<u32> = None;
+        for &slot in &candidates {
+            let mut at = slots[slot];
+            while at != END {
+                let within = (positions[at as usize] - p).length() <= distance;
+                if within && earliest.is_none_or(|e| at < e) {
+                    earliest = Some(at);
+                }
+                at = next[at as usize];
+            }
+        }
+        let id = earliest.unwrap_or_else(|| {
+            // Kept vertices move to the front, in order: `kept <= i`.
+            positions[kept] = p;
+            // Fewer kept vertices than exact ones, which are numbered by `u32`.
+            let id = u32::try_from(kept).unwrap_or(END);
+            let own = CellKey([axes[0].key(0), axes[1].key(0), axes[2].key(0)]).slot(mask);
+            next.push(slots[own]);
+            slots[own] = id;
+            kept += 1;
+            id
+        });
+        map.push(id);
+    }
+    drop(slots);
+    drop(next);
+    positions.truncate(kept);
+    let mut faces = PolygonList::with_capacity(triangles.len(), 3 * triangles.len());
+    let mut dropped = Vec::new();
+    for (t, triangle) in triangles.iter().enumerate() {
+        let welded = triangle.map(|v| map[v as usize]);
+        if is_degenerate(welded) && !is_degenerate(*triangle) {
+            dropped.push(t);
+        } else {
+            faces.push(&welded);
+        }
+    }
+    Welded {
+        positions,
+        faces,
+        merged: n - kept,
+        dropped,
+    }
+}
+
+fn is_degenerate([a, b, c]: [u32; 3]) -> bool {
+    a == b || b == c || a == c
+}
+
+/// The cells of one axis that hold every point within a quarter cell of `x`: its own
+/// and the nearer neighbour.
+#[derive(Clone, Copy)]
+struct CellRange {
+    /// The cell number `floor(x / cell)`, or `None` when it overflows (a tolerance
+    /// tiny against the coordinate: then only equal coordinates are within it).
+    floor: Option<f64>,
+    /// The neighbour on the side `x` is nearer: -1 or +1.
+    side: f64,
+    /// The coordinate's bits, the key when `floor` overflows.
+    bits: u64,
+}
+
+impl CellRange {
+    fn of(x: f64, cell: f64) -> Self {
+        let q = x / cell;
+        let floor = q.floor();
+        Self {
+            floor: floor.is_finite().then_some(floor),
+            side: if q - floor >= 0.5 { 1.0 } else { -1.0 },
+            bits: (x + 0.0).to_bits(),
+        }
+    }
+
+    /// The key of its own cell (`i = 0`) or of the nearer neighbour (`i = 1`).
+    fn key(self, i: usize) -> u64 {
+        match self.floor {
+            // `+ 0.0` makes -0.0 the key of 0.0.
+            Some(floor) => (floor + if i == 0 { 0.0 } else { self.side } + 0.0).to_bits(),
+            None => self.bits,
+        }
+    }
+}
+
+/// A cell of the grid of [`weld_within`]: per axis, the bits of its number.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct CellKey([u64; 3]);
+
+impl CellKey {
+    /// Its slot in a table of `mask + 1` slots (a power of two).
+    fn slot(self, mask: usize) -> usize {
+        let mut hasher = KeyHasher::default();
+        for word in self.0 {
+            hasher.write_u64(word);
+        }
+        // The low bits of the finished hash depend on every input bit.
+        (hasher.finish() as usize) & mask
     }
 }
 

@@ -1,0 +1,145 @@
+//! Options for the readers, and what a read did beyond decoding.
+
+use crate::error::IoError;
+
+/// How the corners of an STL triangle soup become shared vertices.
+///
+/// STL stores each triangle with its own three corners; a reader must decide which
+/// corners are the same vertex. Exact welding merges identical coordinates only. CAD
+/// exporters often write the same point with different round-off (`2.7e-16` where
+/// another triangle has `0`, or one `f32` step apart), and exact welding then opens a
+/// crack along every such edge: welding within a tolerance closes them.
+///
+/// The rule within a tolerance `t` (a distance in the file's units): corners are
+/// first welded exactly, which numbers the vertices in order of first appearance in
+/// the file. Then, in that order, each vertex joins the earliest vertex kept so far
+/// whose Euclidean distance to it is at most `t`, or is kept itself when there is
+/// none. A kept vertex keeps its position (no averaging) and the kept vertices are
+/// renumbered in their order; the result depends on the file alone, never on hashing
+/// or threads. Chains do not merge through: with `|ab| ≤ t`, `|bc| ≤ t` and
+/// `|ac| > t`, `b` joins `a` and `c` stays. `t = 0` is exact welding.
+///
+/// Only STL is welded; PLY, OBJ and OFF store shared vertices and are read as stored.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{ReadOptions, Weld};
+/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// assert_eq!(ReadOptions::default().weld, Weld::Relative(1e-6));
+/// assert_ne!(exact, ReadOptions::default());
+/// ```
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Weld {
+    /// Identical coordinates only: the same `f32` bit patterns, `-0.0` equal to `0.0`.
+    Exact,
+    /// Within this fraction of the diagonal of the bounding box of the corners (after
+    /// exact welding). Scale-free: the right choice when the units are unknown.
+    Relative(f64),
+    /// Within this distance, in the file's units (e.g. millimetres).
+    Absolute(f64),
+}
+
+impl Weld {
+    /// The default relative tolerance, `1e-6` of the bounding-box diagonal.
+    ///
+    /// An STL coordinate is an `f32`, whose spacing is `2^-23` (about `1.2e-7`) of its
+    /// magnitude: round-off that moves a corner by a few such steps on a part whose
+    /// coordinates are of the size of its diagonal stays within `1e-6` of the
+    /// diagonal, and coordinates such as `2.7e-16` for `0` are far within. Real
+    /// features are far larger: a mesh of a million even triangles has edges of about
+    /// `1e-3` of its diagonal, a thousand times the tolerance (it takes 10¹² triangles
+    /// for edges to shrink to `1e-6`). On a 100 mm part the tolerance is 0.1 µm,
+    /// below what any STL exporter resolves on purpose.
+    pub const DEFAULT_RELATIVE: f64 = 1e-6;
+
+    /// The weld distance for corners whose bounding box has the diagonal `diagonal`
+    /// (in the file's units): 0 for [`Weld::Exact`].
+    ///
+    /// # Errors
+    /// [`IoError::WeldTolerance`] when the tolerance is negative, NaN or infinite.
+    pub fn distance(&self, diagonal: f64) -> Result<f64, IoError> {
+        self.check()?;
+        Ok(match *self {
+            Self::Exact => 0.0,
+            Self::Relative(fraction) => fraction * diagonal,
+            Self::Absolute(distance) => distance,
+        })
+    }
+
+    /// Checks that the tolerance is finite and not negative.
+    ///
+    /// # Errors
+    /// [`IoError::WeldTolerance`] otherwise.
+    pub fn check(&self) -> Result<(), IoError> {
+        match *self {
+            Self::Exact => Ok(()),
+            Self::Relative(value) | Self::Absolute(value) => {
+                if value.is_finite() && value >= 0.0 {
+                    Ok(())
+                } else {
+                    Err(IoError::WeldTolerance { value })
+                }
+            }
+        }
+    }
+}
+
+impl Default for Weld {
+    /// [`Weld::Relative`] with [`Weld::DEFAULT_RELATIVE`].
+    fn default() -> Self {
+        Self::Relative(Self::DEFAULT_RELATIVE)
+    }
+}
+
+/// Options for [`read_mesh_with`](crate::read_mesh_with) and
+/// [`read_mesh_from_with`](crate::read_mesh_from_with).
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{ReadOptions, Weld};
+/// // A command-line `--weld-tolerance 0.01` in millimetres:
+/// let options = ReadOptions::default().with_weld(Weld::Absolute(0.01));
+/// assert_eq!(options.weld, Weld::Absolute(0.01));
+/// ```
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReadOptions {
+    /// How STL corners are welded (the default: [`Weld::Relative`] with
+    /// [`Weld::DEFAULT_RELATIVE`]).
+    pub weld: Weld,
+}
+
+impl ReadOptions {
+    /// These options with `weld`.
+    #[must_use]
+    pub fn with_weld(self, weld: Weld) -> Self {
+        Self { weld }
+    }
+}
+
+/// What a read did to the file's content beyond decoding it.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_mesh_from_with, MeshFormat, ReadOptions};
+/// let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+/// let (_, report) = read_mesh_from_with(obj.as_bytes(), MeshFormat::Obj, &ReadOptions::default())?;
+/// assert_eq!(report.weld_distance, None); // OBJ is not welded
+/// # Ok::<(), beltrami_io::IoError>(())
+/// ```
+#[non_exhaustive]
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReadReport {
+    /// The weld distance used, in the file's units: `Some(0.0)` for exact welding,
+    /// `None` for formats that are not welded (all but STL).
+    pub weld_distance: Option<f64>,
+    /// The number of vertices merged into others by welding within the tolerance,
+    /// beyond exact welding (0 for exact welding).
+    pub welded_vertices: usize,
+    /// The triangles, as 0-based facet numbers in file order, that welding within the
+    /// tolerance collapsed (two of their corners became one vertex): they are left
+    /// out of the mesh. A triangle with repeated corners in the file itself is kept,
+    /// for the half-edge builder to report.
+    pub dropped_faces: Vec<usize>,
+}
