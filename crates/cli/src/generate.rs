@@ -27,7 +27,7 @@ pub(crate) struct GenerateArgs {
     /// The surface: flens (open free-form lens, mm), sphere (unit icosphere), block
     /// (genus-3 part with sharp edges, mm), golfball (dimpled ball, mm).
     surface: SurfaceArg,
-    /// The output mesh (.ply, .stl or .obj).
+    /// The output mesh (.ply, .stl, .obj or .off).
     output: PathBuf,
     /// Add Gaussian noise along the vertex normals with this standard deviation, as a
     /// multiple of the mean edge length (as in `study`), or in the surface's length

@@ -16,7 +16,7 @@ use crate::text::{number, vector};
 /// Arguments of `beltrami info`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct InfoArgs {
-    /// The mesh file (.ply, .stl or .obj).
+    /// The mesh file (.ply, .stl, .obj or .off).
     mesh: PathBuf,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -62,6 +62,7 @@ fn format_name(format: MeshFormat) -> &'static str {
         MeshFormat::Ply => "PLY",
         MeshFormat::Stl => "STL",
         MeshFormat::Obj => "OBJ",
+        MeshFormat::Off => "OFF",
         _ => "mesh",
     }
 }
@@ -92,7 +93,7 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
         boundary_loop_lengths: loop_lengths,
         components: components.count(),
         euler_characteristic: mesh.euler_characteristic(),
-        closed: mesh.is_closed(),
+        closed: mesh.n_faces() > 0 && mesh.is_closed(),
         genus: match component_genus.as_slice() {
             [only] => *only,
             _ => None,

@@ -151,7 +151,7 @@ fn remove_temporary_files_on_signal() {
     // own); that handler then decides.
     let _ = ctrlc::set_handler(|| {
         beltrami_io::remove_staged_files();
-        eprintln!("error: interrupted; no output was written");
+        eprintln!("error: interrupted; outputs not yet complete were discarded");
         std::process::exit(130);
     });
 }

@@ -5,9 +5,10 @@ use std::path::Path;
 use beltrami_halfedge::{
     DVec3, HalfedgeMesh, PolygonList, RepairOptions, RepairReport, TopologyError, repair,
 };
-use beltrami_io::{MeshData, MeshFormat, read_mesh};
+use beltrami_io::{MeshData, MeshFormat, ReadOptions, Weld, read_mesh_with};
 
 use crate::error::CliError;
+use crate::text::{counted, number};
 
 /// The options of every command that reads a mesh.
 #[derive(Clone, Debug, Default, clap::Args)]
@@ -18,6 +19,26 @@ pub(crate) struct ReadArgs {
     /// repaired faces.
     #[arg(long)]
     pub(crate) repair: bool,
+    /// Weld an STL's triangle corners closer than this fraction of the bounding-box
+    /// diagonal into one vertex (CAD exporters write 2.7e-16 where 0 was meant), or 0
+    /// to weld identical coordinates only. Indexed formats (PLY, OBJ, OFF) are read as
+    /// they are.
+    #[arg(long, value_name = "FRACTION", default_value_t = Weld::DEFAULT_RELATIVE, allow_negative_numbers = true)]
+    pub(crate) weld_tolerance: f64,
+}
+
+impl ReadArgs {
+    /// The reader's options: the weld tolerance.
+    fn options(&self) -> Result<ReadOptions, CliError> {
+        let weld = if self.weld_tolerance == 0.0 {
+            Weld::Exact
+        } else {
+            Weld::Relative(self.weld_tolerance)
+        };
+        weld.check()
+            .map_err(|e| CliError::Usage(format!("--weld-tolerance: {e}")))?;
+        Ok(ReadOptions::default().with_weld(weld))
+    }
 }
 
 /// A mesh read from a file: connectivity, positions and what repairs changed.
@@ -93,8 +114,9 @@ fn load_inner(
         source,
     };
     let format = MeshFormat::from_path(path).map_err(io)?;
+    let read_options = read.options()?;
     let t0 = std::time::Instant::now();
-    let data = read_mesh(path).map_err(io)?;
+    let (data, read_report) = read_mesh_with(path, &read_options).map_err(io)?;
     let parse_seconds = t0.elapsed().as_secs_f64();
     check(&data)?;
     let input_counts = (data.positions.len(), data.faces.len());
@@ -113,10 +135,27 @@ fn load_inner(
     };
     let mesh = HalfedgeMesh::from_polygons(positions.len(), faces.iter()).map_err(topology)?;
     let build_seconds = t1.elapsed().as_secs_f64();
-    let repair_lines = report
-        .as_ref()
-        .map(crate::repair::describe)
-        .unwrap_or_default();
+    let mut repair_lines = Vec::new();
+    if read_report.welded_vertices > 0 || !read_report.dropped_faces.is_empty() {
+        repair_lines.push(format!(
+            "note: welded {} of {} within {} (--weld-tolerance {} of the diagonal; 0 welds identical coordinates only){}",
+            counted(read_report.welded_vertices, "vertex", "vertices"),
+            path.display(),
+            number(read_report.weld_distance.unwrap_or(0.0)),
+            number(read.weld_tolerance),
+            if read_report.dropped_faces.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; dropped {} that collapsed",
+                    counted(read_report.dropped_faces.len(), "triangle", "triangles")
+                )
+            }
+        ));
+    }
+    if let Some(report) = &report {
+        repair_lines.extend(crate::repair::describe(report));
+    }
     Ok(LoadedMesh {
         format,
         mesh,

@@ -32,7 +32,7 @@ Examples:
   beltrami compare smoothed.ply clean.ply --scalars distance.ply
   beltrami render distance.ply distance.png --scalar signed_distance --size 800x600")]
 pub(crate) struct RenderArgs {
-    /// The mesh to draw (.ply, .stl or .obj).
+    /// The mesh to draw (.ply, .stl, .obj or .off).
     mesh: PathBuf,
     /// The image to write (.png); it is replaced atomically.
     #[arg(value_name = "OUT.png")]
@@ -44,7 +44,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "NAME", conflicts_with = "distance_to")]
     scalar: Option<String>,
     /// Colour by the signed distance of each vertex to this reference surface (.ply,
-    /// .stl or .obj), as `compare` measures it: blue inside, white on, red outside,
+    /// .stl, .obj or .off), as `compare` measures it: blue inside, white on, red outside,
     /// symmetric about 0.
     #[arg(long, value_name = "REF")]
     distance_to: Option<PathBuf>,

@@ -19,7 +19,7 @@ use crate::text::number;
 /// Arguments of `beltrami residual`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct ResidualArgs {
-    /// The measured mesh (.ply, .stl or .obj).
+    /// The measured mesh (.ply, .stl, .obj or .off).
     measured: PathBuf,
     /// Its smoothed version, the reference form: the same vertices and faces, new
     /// positions (e.g. the output of `beltrami smooth`).

@@ -33,9 +33,9 @@ use crate::text::{number, plural};
 /// patch keeps its outline.
 #[derive(Debug, clap::Args)]
 pub(crate) struct SmoothArgs {
-    /// The input mesh (.ply, .stl or .obj).
+    /// The input mesh (.ply, .stl, .obj or .off).
     input: PathBuf,
-    /// The output mesh (.ply, .stl or .obj); same vertices and faces, new positions.
+    /// The output mesh (.ply, .stl, .obj or .off); same vertices and faces, new positions.
     output: PathBuf,
     /// The weight scheme: uniform, distance, cotangent, or a registered name.
     #[arg(long, default_value = "cotangent")]

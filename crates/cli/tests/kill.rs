@@ -96,3 +96,49 @@ fn a_killed_writer_leaves_the_old_file_or_the_new_one() {
     assert_eq!(std::fs::read(&output).unwrap(), new);
     assert_eq!(temporaries(dir.path()), left);
 }
+
+/// Ctrl-C and `SIGTERM`, unlike `SIGKILL`, reach the process: it removes the temporary
+/// file of the output it was writing, leaves the old file in place and exits with 130.
+#[test]
+fn an_interrupted_writer_leaves_the_old_file_and_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference.ply");
+    let start = Instant::now();
+    assert!(generate(&reference).status().unwrap().success());
+    let duration = start.elapsed();
+    let new = std::fs::read(&reference).unwrap();
+    let output = dir.path().join("out.ply");
+    std::fs::write(&output, b"old").unwrap();
+
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut interrupted = 0;
+    for signal in ["-TERM", "-INT"].into_iter().cycle().take(24) {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let fraction = (state >> 11) as f64 / (1u64 << 53) as f64;
+        let mut child = generate(&output).spawn().unwrap();
+        std::thread::sleep(duration.mul_f64(fraction));
+        let _ = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status();
+        let status = child.wait().unwrap();
+        let now = std::fs::read(&output).unwrap();
+        match status.code() {
+            Some(130) => {
+                interrupted += 1;
+                assert_eq!(now, b"old", "an interrupted run replaced the output");
+            }
+            Some(0) => {
+                assert_eq!(now, new);
+                std::fs::write(&output, b"old").unwrap();
+            }
+            // A signal that arrived before the handler was installed ends the
+            // process the default way; the output is untouched then too.
+            None => assert_eq!(now, b"old"),
+            Some(code) => panic!("exit code {code}"),
+        }
+        assert_eq!(temporaries(dir.path()), 0, "a temporary file was left");
+    }
+    assert!(interrupted > 0, "no run was interrupted while writing");
+}

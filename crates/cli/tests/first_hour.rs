@@ -1,0 +1,546 @@
+//! A new user's first hour: the cases a careless and a hostile user tried, each with
+//! what must happen now. Files from the wild are in `tests/wild/` (see its README).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{beltrami, error_line, s};
+
+fn wild(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/wild")
+        .join(name)
+}
+
+fn wild_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/wild")
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+}
+
+fn stdout(args: &[&str]) -> String {
+    let out = beltrami(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn info(path: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["info", s(path), "--json"];
+    args.extend_from_slice(extra);
+    serde_json::from_str(&stdout(&args)).unwrap()
+}
+
+fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".beltrami-"))
+        .collect()
+}
+
+// A. An output is never lost.
+
+#[test]
+fn two_outputs_naming_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = fixture("icosphere_2.ply");
+    let out = d.join("out.ply");
+    let o = beltrami(&["smooth", s(&input), s(&out), "--report", s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        error_line(&o, d),
+        "error: OUTPUT and --report name the same file out.ply; each output needs its own file (see 'beltrami --help')"
+    );
+    assert!(!out.exists());
+    // The same file by another spelling, a symbolic link or a hard link.
+    std::fs::write(&out, b"old").unwrap();
+    let alias = d.join(".").join("out.ply");
+    let hard = d.join("hard.ply");
+    std::fs::hard_link(&out, &hard).unwrap();
+    let mut aliases = vec![alias, hard];
+    #[cfg(unix)]
+    {
+        let link = d.join("link.json");
+        std::os::unix::fs::symlink(&out, &link).unwrap();
+        aliases.push(link);
+    }
+    for report in &aliases {
+        let o = beltrami(&["smooth", s(&input), s(&out), "--report", s(report)]);
+        assert_eq!(o.status.code(), Some(2), "{report:?}");
+        assert_eq!(std::fs::read(&out).unwrap(), b"old");
+    }
+    let g = d.join("g.ply");
+    let o = beltrami(&[
+        "generate",
+        "flens",
+        s(&g),
+        "--noise",
+        "0.1",
+        "--clean",
+        s(&g),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(error_line(&o, d).contains("OUTPUT and --clean name the same file"));
+    assert!(!g.exists());
+    let o = beltrami(&[
+        "compare",
+        s(&input),
+        s(&input),
+        "--scalars",
+        s(&d.join("x.ply")),
+        "--png",
+        s(&d.join("x.ply")),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn a_failed_run_writes_nothing_and_names_the_path_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("r.ply");
+    std::fs::write(&out, b"old").unwrap();
+    let missing = d.join("nonexist").join("r.json");
+    let o = beltrami(&[
+        "smooth",
+        s(&fixture("icosphere_2.ply")),
+        s(&out),
+        "--report",
+        s(&missing),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, d);
+    assert!(
+        line.starts_with("error: nonexist/r.json: failed to find the output's directory: "),
+        "{line}"
+    );
+    assert!(line.contains("nonexist"), "{line}");
+    assert!(!line.contains(".beltrami-"), "{line}");
+    assert!(o.stdout.is_empty());
+    assert_eq!(std::fs::read(&out).unwrap(), b"old");
+    assert!(temporaries(d).is_empty());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_write_protected_output_is_refused_without_force_and_a_link_is_written_through() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = fixture("icosphere_2.ply");
+    let out = d.join("ro.ply");
+    std::fs::write(&out, b"old").unwrap();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let o = beltrami(&["smooth", s(&input), s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o, d),
+        "error: ro.ply: the file is write-protected (pass --force to replace it)"
+    );
+    assert_eq!(std::fs::read(&out).unwrap(), b"old");
+    stdout(&["smooth", s(&input), s(&out), "--force"]);
+    assert_ne!(std::fs::read(&out).unwrap(), b"old");
+    assert!(
+        std::fs::metadata(&out).unwrap().permissions().readonly(),
+        "the file keeps its permissions"
+    );
+
+    let target = d.join("target.ply");
+    std::fs::write(&target, b"old").unwrap();
+    let link = d.join("link.ply");
+    std::os::unix::fs::symlink("target.ply", &link).unwrap();
+    stdout(&["smooth", s(&input), s(&link)]);
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(
+        beltrami_io::read_mesh(&target).unwrap().positions.len(),
+        162
+    );
+}
+
+// B and G. Files from the wild: read as the other tools read them, or refused with a
+// message naming what is wrong (and a repair that works).
+
+#[test]
+fn files_from_the_wild_read_right_or_fail_with_the_line_or_element() {
+    // (file, vertices, faces, closed)
+    for (name, vertices, faces, closed) in [
+        ("bom.obj", 4, 4, true),
+        ("cr_only.obj", 4, 4, true),
+        ("continuation.obj", 4, 4, true),
+        ("cube.off", 8, 12, true),
+        ("cad_roundoff.stl", 8, 12, true),
+        ("tristrips.ply", 4, 2, false),
+        ("lines_only.obj", 3, 0, false),
+    ] {
+        let j = info(&wild(name), &[]);
+        assert_eq!(j["vertices"], vertices, "{name}");
+        assert_eq!(j["faces"], faces, "{name}");
+        assert_eq!(j["closed"], closed, "{name}");
+    }
+    let dir = wild_dir();
+    for (name, message) in [
+        (
+            "ply_renamed.obj",
+            "line 1: \"ply\" is not an obj statement; is this a ply file? rename it to .ply",
+        ),
+        (
+            "extra_faces.ply",
+            "line 17: unexpected data after the 3 faces the header declares",
+        ),
+        (
+            "trailing_bytes.ply",
+            "22 unexpected bytes after the 4 faces the header declares",
+        ),
+        (
+            "duplicate_property.ply",
+            "line 5: invalid ply header: property \"x\" of element \"vertex\" is declared twice",
+        ),
+    ] {
+        let o = beltrami(&["info", s(&wild(name))]);
+        assert_eq!(o.status.code(), Some(1), "{name}");
+        assert_eq!(error_line(&o, &dir), format!("error: {name}: {message}"));
+    }
+    // A CAD part welded by exact bits only: cracks, which the default tolerance closes.
+    let o = beltrami(&[
+        "info",
+        s(&wild("cad_roundoff.stl")),
+        "--weld-tolerance",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = stdout(&["info", s(&wild("cad_roundoff.stl"))]);
+    assert!(text.contains("note: welded 11 vertices"), "{text}");
+}
+
+#[test]
+fn every_command_that_needs_faces_refuses_a_mesh_without_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let lines = wild("lines_only.obj");
+    let empty = d.join("empty.ply");
+    beltrami_io::write_mesh(
+        &empty,
+        &beltrami_io::MeshData::default(),
+        &beltrami_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let out = d.join("out.ply");
+    let repaired = d.join("repaired.ply");
+    let png = d.join("out.png");
+    for args in [
+        vec!["smooth", s(&lines), s(&out)],
+        vec!["repair", s(&lines), s(&repaired)],
+        vec!["render", s(&lines), s(&png)],
+        vec!["compare", s(&lines), s(&lines)],
+        vec!["residual", s(&lines), s(&lines)],
+    ] {
+        let o = beltrami(&args);
+        if args[0] == "repair" {
+            // A wireframe repaired is still a wireframe: written, with no faces.
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            continue;
+        }
+        let line = error_line(&o, &wild_dir());
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert!(line.contains("has 3 vertices but no faces"), "{line}");
+    }
+    let o = beltrami(&["smooth", s(&empty), s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(error_line(&o, d).contains("the mesh is empty"));
+    assert!(!out.exists());
+}
+
+// D. A repaired mesh you can keep.
+
+#[test]
+fn a_duplicate_face_is_dropped_not_turned_into_a_pinch() {
+    let j = info(&wild("tet_duplicate_face.obj"), &["--repair"]);
+    assert_eq!(j["vertices"], 4);
+    assert_eq!(j["components"], 1);
+    assert_eq!(j["closed"], true);
+    assert_eq!(
+        j["repairs"]["dropped_duplicate_faces"],
+        serde_json::json!([[4, 1]])
+    );
+}
+
+#[test]
+fn repair_writes_a_mesh_every_command_accepts() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = wild("two_tets_on_an_edge.obj");
+    // The error names a command that exists and fixes it.
+    let o = beltrami(&["smooth", s(&input), s(&d.join("s.ply"))]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, &wild_dir());
+    assert!(
+        line.ends_with(
+            "(pass --repair, or keep a repaired copy with 'beltrami repair two_tets_on_an_edge.obj REPAIRED')"
+        ),
+        "{line}"
+    );
+    let repaired = d.join("repaired.ply");
+    let text = stdout(&["repair", s(&input), s(&repaired)]);
+    assert!(
+        text.contains("repaired: cut 1 non-manifold edge into manifold sheets (0-1)"),
+        "{text}"
+    );
+    let j = info(&repaired, &[]);
+    assert_eq!(j["components"], 2);
+    assert_eq!(j["closed"], true);
+    assert_eq!(j["component_genus"], serde_json::json!([0, 0]));
+    stdout(&["smooth", s(&repaired), s(&d.join("s.ply"))]);
+    // --repair on the reading command does the same in one step.
+    let text = stdout(&["smooth", s(&input), s(&d.join("t.ply")), "--repair"]);
+    assert!(text.contains("repaired: cut 1 non-manifold edge"), "{text}");
+    // --json lists every element.
+    let j: serde_json::Value = serde_json::from_str(&stdout(&[
+        "repair",
+        s(&input),
+        s(&d.join("u.obj")),
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(j["repairs"]["cut_edges"], serde_json::json!([[0, 1]]));
+    assert_eq!(j["vertices"], 8);
+}
+
+#[test]
+fn near_duplicate_vertices_merge_with_a_distance() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Two triangles of a square whose shared edge is duplicated 1e-9 apart.
+    let soup = d.join("soup.obj");
+    std::fs::write(
+        &soup,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 1e-9\nv 1 1 1e-9\nv 0 1 0\nf 1 2 3\nf 4 5 6\n",
+    )
+    .unwrap();
+    let out = d.join("merged.ply");
+    let text = stdout(&["repair", s(&soup), s(&out), "--merge-distance", "1e-6"]);
+    assert!(
+        text.contains("repaired: merged 2 vertices (3 into 0, 4 into 2)"),
+        "{text}"
+    );
+    let j = info(&out, &[]);
+    assert_eq!(j["vertices"], 4);
+    assert_eq!(j["boundary_loops"], 1);
+    let o = beltrami(&["repair", s(&soup), s(&out), "--merge-distance", "-1"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+// E. Messages and exit codes.
+
+#[test]
+fn usage_errors_keep_the_parsers_whole_message() {
+    let o = beltrami(&["smooth", "in.ply"]);
+    assert_eq!(o.status.code(), Some(2));
+    let text = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        text.starts_with(
+            "error: the following required arguments were not provided:\n  <OUTPUT>\n"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("Usage: beltrami smooth"), "{text}");
+    let o = beltrami(&["smooth", "a.ply", "b.ply", "--method", "taubn"]);
+    let text = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        text.contains("[possible values: explicit, taubin, hc, implicit]"),
+        "{text}"
+    );
+    assert!(
+        text.contains("tip: a similar value exists: 'taubin'"),
+        "{text}"
+    );
+}
+
+#[test]
+fn every_command_exits_2_for_usage_and_1_for_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let bad = d.join("bad.ply");
+    std::fs::write(&bad, b"not a ply file").unwrap();
+    let good = fixture("icosphere_2.ply");
+    let out = d.join("o.ply");
+    let png = d.join("o.png");
+    let nowhere = d.join("missing").join("x.ply");
+    let cases: Vec<(Vec<&str>, Vec<&str>)> = vec![
+        (
+            vec!["info", s(&good), "--frobnicate"],
+            vec!["info", s(&bad)],
+        ),
+        (
+            vec!["smooth", s(&good), s(&out), "--lambda", "2"],
+            vec!["smooth", s(&bad), s(&out)],
+        ),
+        (
+            vec!["repair", s(&good), s(&out), "--merge-distance", "nan"],
+            vec!["repair", s(&bad), s(&out)],
+        ),
+        (
+            vec!["generate", "teapot", s(&out)],
+            vec!["generate", "flens", s(&nowhere)],
+        ),
+        (
+            vec!["compare", s(&good)],
+            vec!["compare", s(&bad), s(&good)],
+        ),
+        (
+            vec!["fit", "cone", s(&good)],
+            vec!["fit", "sphere", s(&bad)],
+        ),
+        (
+            vec!["residual", s(&good), s(&good), "--scalars", "x.obj"],
+            vec!["residual", s(&bad), s(&good)],
+        ),
+        (
+            vec!["render", s(&good), s(&png), "--size", "0x0"],
+            vec!["render", s(&bad), s(&png)],
+        ),
+        (vec!["schemes", "--frobnicate"], vec![]),
+        (vec!["study", "--surfaces", "teapot"], vec![]),
+    ];
+    for (usage, input) in cases {
+        let o = beltrami(&usage);
+        assert_eq!(o.status.code(), Some(2), "{usage:?}");
+        let line = error_line(&o, d);
+        assert!(
+            !line.starts_with(&format!("error: {}", s(&good))),
+            "a usage error starts with the input path: {line}"
+        );
+        if !input.is_empty() {
+            let o = beltrami(&input);
+            assert_eq!(o.status.code(), Some(1), "{input:?}");
+            error_line(&o, d);
+        }
+    }
+}
+
+#[test]
+fn numbers_read_as_english_and_with_sensible_digits() {
+    let text = stdout(&["info", s(&fixture("flens_68x33.ply"))]);
+    assert!(
+        text.contains("bbox min              (-30.0362, -14.552, -0.34809)"),
+        "{text}"
+    );
+    assert!(text.contains("mean edge length      1.09288"), "{text}");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.ply");
+    let text = stdout(&["generate", "sphere", s(&out), "--level", "0"]);
+    assert!(
+        text.starts_with("generated sphere (12 vertices, 20 faces, unitless) -> "),
+        "{text}"
+    );
+    // The area is inf only when the true area is beyond f64.
+    let big = dir.path().join("big.obj");
+    std::fs::write(&big, "v 0 0 0\nv 1.5e154 0 0\nv 0 1.5e154 0\nf 1 2 3\n").unwrap();
+    let area = info(&big, &[])["area"].as_f64().unwrap();
+    assert!((area / 1.125e308 - 1.0).abs() < 1e-15, "{area}");
+    let huge = dir.path().join("huge.obj");
+    std::fs::write(&huge, "v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nf 1 2 3\n").unwrap();
+    assert!(stdout(&["info", s(&huge)]).contains("area                  inf"));
+    // A fit on coordinates beyond its arithmetic says so.
+    let far = dir.path().join("far.obj");
+    std::fs::write(
+        &far,
+        "v 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\nv -1e200 0 0\nv 0 -1e200 0\nv 0 0 -1e200\n",
+    )
+    .unwrap();
+    let o = beltrami(&["fit", "sphere", s(&far)]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o, dir.path()),
+        "error: far.obj: point 0 has the coordinate 1e200, beyond the 1e150 this computation supports; express the mesh in a larger unit"
+    );
+}
+
+#[test]
+fn smooth_summarises_boundary_displacement_and_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.ply");
+    let text = stdout(&["smooth", s(&fixture("icosphere_2.ply")), s(&out)]);
+    assert!(
+        text.contains(", no boundary, completed; mean displacement "),
+        "{text}"
+    );
+    assert!(text.contains(", volume 4.04704 -> "), "{text}");
+    let text = stdout(&["smooth", s(&fixture("flens_68x33.ply")), s(&out), "--force"]);
+    assert!(
+        text.contains(", fixed boundary, completed; mean displacement "),
+        "{text}"
+    );
+    assert!(!text.contains("volume"), "{text}");
+}
+
+// F. What a user expects to find.
+
+#[test]
+fn the_schemes_are_listed_where_a_user_looks() {
+    let text = stdout(&["schemes"]);
+    for name in ["uniform", "distance", "cotangent", "bilateral"] {
+        assert!(
+            text.lines().any(|l| l.starts_with(name)),
+            "{name} missing: {text}"
+        );
+    }
+    let help = stdout(&["smooth", "--help"]);
+    assert!(help.contains("bilateral"), "{help}");
+    assert!(help.contains("'beltrami schemes' lists them"), "{help}");
+    let help = stdout(&["study", "--help"]);
+    assert!(
+        help.contains("[default: 10,20,30,40,50,60,70,80,90,100,200]"),
+        "{help}"
+    );
+}
+
+#[test]
+fn study_refuses_a_directory_that_holds_other_files() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("thesis.tex"), b"precious").unwrap();
+    let o = beltrami(&["study", "--out", s(dir.path()), "--small"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(error_line(&o, dir.path()).contains("holds 'thesis.tex'"));
+    assert_eq!(
+        std::fs::read(dir.path().join("thesis.tex")).unwrap(),
+        b"precious"
+    );
+}
+
+#[test]
+fn noise_is_relative_to_the_mean_edge_in_generate_as_in_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("n.ply");
+    let text = stdout(&["generate", "flens", s(&out), "--noise", "0.2"]);
+    assert!(
+        text.contains("normal noise sigma = 0.21052 mm, 0.2 x the mean edge length"),
+        "{text}"
+    );
+    let text = stdout(&[
+        "generate",
+        "flens",
+        s(&out),
+        "--noise",
+        "0.2",
+        "--absolute-noise",
+    ]);
+    assert!(
+        text.contains("normal noise sigma = 0.2 mm (seed 1)"),
+        "{text}"
+    );
+}
