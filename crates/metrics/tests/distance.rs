@@ -794,7 +794,7 @@ fn bad_input_is_rejected_with_a_typed_error() {
     assert_eq!(
         SurfaceIndex::new(&mesh, &cube.positions).unwrap_err(),
         MetricsError::NonFinite {
-            what: "reference position",
+            what: "surface vertex",
             index: 3
         }
     );
@@ -829,10 +829,15 @@ fn bad_input_is_rejected_with_a_typed_error() {
             index: 2
         }
     );
-    assert!(matches!(
+    assert_eq!(
         index.closest_point(DVec3::splat(1e70)).unwrap_err(),
-        MetricsError::InvalidParameter { .. }
-    ));
+        MetricsError::CoordinateTooLarge {
+            what: "query point",
+            index: 0,
+            value: 1e70,
+            limit: 1e60
+        }
+    );
     let no_vertices = HalfedgeMesh::from_polygons(0, &[] as &[[u32; 3]]).unwrap();
     assert_eq!(
         distance_stats(&no_vertices, &[], &index).unwrap_err(),
