@@ -151,9 +151,10 @@ fn write_table(s: &FitSummary, out: &mut impl Write) -> std::io::Result<()> {
     let shape = format!("{:?}", s.shape).to_lowercase();
     writeln!(
         out,
-        "Least-squares {shape} (orthogonal distances) through {} {}point(s) of {}; lengths in the file's unit.",
+        "Least-squares {shape} (orthogonal distances) through {} {}{} of {}; lengths in the file's unit.",
         s.points,
         if s.weighted { "area-weighted " } else { "" },
+        crate::text::plural(s.points, "point", "points"),
         s.file
     )?;
     let v = |a: [f64; 3]| vector(glam::DVec3::from_array(a));

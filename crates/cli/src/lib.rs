@@ -42,7 +42,12 @@ use error::CliError;
 
 /// Discrete Laplace–Beltrami operators on triangle meshes, for surface metrology.
 #[derive(Debug, Parser)]
-#[command(name = "beltrami", version = env!("BELTRAMI_LONG_VERSION"), about, long_about = None)]
+#[command(
+    name = "beltrami",
+    version = env!("BELTRAMI_LONG_VERSION"),
+    about = "Discrete Laplace-Beltrami smoothing of triangle meshes, for surface metrology",
+    long_about = None
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -52,16 +57,15 @@ struct Cli {
 enum Command {
     /// Print counts, topology and geometry of a mesh (PLY, STL, OBJ or OFF).
     Info(info::InfoArgs),
-    /// Write a mesh that every command accepts: cut non-manifold edges, split pinched
-    /// vertices, re-orient, drop degenerate and duplicate faces and unreferenced
-    /// vertices, optionally merge near-duplicate vertices; say what changed.
+    /// Write a mesh every command accepts (non-manifold edges cut, pinched vertices
+    /// split, faces re-oriented, degenerate and duplicate faces dropped) and say what
+    /// changed.
     Repair(repair::RepairArgs),
     /// Smooth a mesh by Laplacian diffusion, x <- x + lambda * L x.
     Smooth(smooth::SmoothArgs),
-    /// Write one of the paper's test surfaces, optionally with seeded normal noise.
-    Generate(generate::GenerateArgs),
-    /// Run the whole comparison study and write its report, plots and renders.
-    Study(study::StudyArgs),
+    /// Draw a mesh as a shaded PNG, optionally coloured by a vertex property or by the
+    /// signed distance to a reference surface.
+    Render(render::RenderArgs),
     /// Measure a mesh against a reference surface: distances, Hausdorff, normals,
     /// areas, volumes.
     Compare(compare::CompareArgs),
@@ -70,11 +74,12 @@ enum Command {
     /// Compute the ISO 25178-2 areal parameters of a measured mesh's residual from its
     /// smoothed version.
     Residual(residual::ResidualArgs),
+    /// Write one of the paper's test surfaces, optionally with seeded normal noise.
+    Generate(generate::GenerateArgs),
+    /// Run the whole comparison study and write its report, plots and renders.
+    Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
     Schemes(SchemesArgs),
-    /// Draw a mesh as a shaded PNG image, optionally coloured by a vertex property or by
-    /// the signed distance to a reference surface, with a colour bar.
-    Render(render::RenderArgs),
 }
 
 /// Arguments of `beltrami schemes`.

@@ -544,3 +544,37 @@ fn noise_is_relative_to_the_mean_edge_in_generate_as_in_study() {
         "{text}"
     );
 }
+
+#[test]
+fn study_replaces_an_earlier_study_as_a_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let args = [
+        "study",
+        "--out",
+        s(&out),
+        "--small",
+        "--surfaces",
+        "flens",
+        "--weights",
+        "uniform",
+        "--iterations",
+        "1",
+        "--no-countermeasures",
+    ];
+    let text = stdout(&args);
+    assert!(
+        text.contains(&format!(
+            "the paper's statements checked (evidence and numbers in {}):",
+            s(&out.join("report.md"))
+        )),
+        "{text}"
+    );
+    // A plot of an earlier, larger study does not survive the next one.
+    let stale = out.join("plots").join("rms_golfball.svg");
+    std::fs::write(&stale, b"stale").unwrap();
+    stdout(&args);
+    assert!(!stale.exists());
+    assert!(out.join("report.md").exists());
+    assert!(temporaries(dir.path()).is_empty());
+}

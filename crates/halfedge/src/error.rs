@@ -85,7 +85,10 @@ pub enum TopologyError {
         face: usize,
     },
     /// A query that needs a closed mesh (e.g. an enclosed volume) was asked of an open one.
-    #[error("the mesh is not closed: it has {boundary_loops} boundary loop(s)")]
+    #[error(
+        "the mesh is not closed: it has {boundary_loops} boundary {}",
+        if *boundary_loops == 1 { "loop" } else { "loops" }
+    )]
     NotClosed {
         /// How many boundary loops the mesh has.
         boundary_loops: usize,

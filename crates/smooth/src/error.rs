@@ -77,7 +77,8 @@ pub enum SmoothError {
     },
     /// Volume preservation asked of a mesh with a boundary.
     #[error(
-        "volume preservation needs a closed mesh, this one has {boundary_loops} boundary loop(s); use the HC or Taubin method on open patches"
+        "volume preservation needs a closed mesh, this one has {boundary_loops} boundary {}; use the HC or Taubin method on open patches",
+        if *boundary_loops == 1 { "loop" } else { "loops" }
     )]
     VolumeNeedsClosedMesh {
         /// The number of boundary loops.
