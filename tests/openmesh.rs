@@ -122,7 +122,7 @@ fn load(listed: &Listed) -> Fixture {
     let reference = Reference::load(&dir).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(reference.summary.fixture, name);
     let input =
-        read_mesh(&root().join(&reference.summary.input)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        read_mesh(root().join(&reference.summary.input)).unwrap_or_else(|e| panic!("{name}: {e}"));
     let mesh = HalfedgeMesh::from_polygons(input.positions.len(), input.faces.iter())
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     mesh.check_integrity().expect("integrity");

@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Encoding::BinaryLittleEndian
     };
     write_mesh(
-        &PathBuf::from(out),
+        PathBuf::from(out),
         &MeshData {
             positions,
             faces: p.faces,

@@ -166,7 +166,7 @@ fn check_out_dir(dir: &Path) -> Result<(), CliError> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    check_writable(&parent.join("report.md")).map_err(|source| CliError::Io {
+    check_writable(parent.join("report.md")).map_err(|source| CliError::Io {
         path: dir.to_path_buf(),
         source,
     })?;

@@ -97,7 +97,7 @@ pub(crate) fn write_fixtures(dir: &Path) -> Result<(), IoError> {
             encoding,
             ..WriteOptions::default()
         };
-        write_mesh(&dir.join(name), &mesh, &options)?;
+        write_mesh(dir.join(name), &mesh, &options)?;
     }
     std::fs::write(dir.join("cube_quads.obj"), cube_quads_obj()).map_err(|source| IoError::Io {
         operation: "write cube_quads.obj",

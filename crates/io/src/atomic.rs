@@ -152,7 +152,8 @@ fn without_path(e: &std::io::Error) -> std::io::Error {
 ///
 /// # Errors
 /// [`IoError::Io`] when a link cannot be read or the links form a loop.
-pub fn resolve_target(path: &Path) -> Result<PathBuf, IoError> {
+pub fn resolve_target(path: impl AsRef<Path>) -> Result<PathBuf, IoError> {
+    let path = path.as_ref();
     let mut current = path.to_path_buf();
     // Linux's own limit on links followed in one lookup.
     for _ in 0..40 {
@@ -191,7 +192,8 @@ fn directory_of(path: &Path) -> PathBuf {
 /// [`IoError::Io`] naming what failed: the directory does not exist or is not a
 /// directory, or a file cannot be created in it (permissions, read-only file
 /// system, full disk).
-pub fn check_writable(path: &Path) -> Result<(), IoError> {
+pub fn check_writable(path: impl AsRef<Path>) -> Result<(), IoError> {
+    let path = path.as_ref();
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
     match fs::metadata(&dir) {
@@ -250,9 +252,10 @@ fn temp_builder() -> tempfile::Builder<'static, 'static> {
 /// # Errors
 /// [`IoError::Io`] naming the operation that failed, and every error of `write`.
 pub fn stage_with(
-    path: &Path,
+    path: impl AsRef<Path>,
     write: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
 ) -> Result<StagedFile, IoError> {
+    let path = path.as_ref();
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
     let mut file: NamedTempFile = temp_builder().tempfile_in(&dir).map_err(|e| IoError::Io {
@@ -321,7 +324,8 @@ pub struct StagedDir {
 /// # Errors
 /// [`IoError::Io`] when the directory cannot be created (a missing parent,
 /// permissions).
-pub fn stage_dir(path: &Path) -> Result<StagedDir, IoError> {
+pub fn stage_dir(path: impl AsRef<Path>) -> Result<StagedDir, IoError> {
+    let path = path.as_ref();
     let parent = directory_of(path);
     let temp = tempfile::Builder::new()
         .prefix(".beltrami-")
@@ -420,7 +424,8 @@ pub(crate) fn write_atomic(
 ///
 /// # Errors
 /// As [`stage_with`].
-pub fn stage_bytes(path: &Path, bytes: &[u8]) -> Result<StagedFile, IoError> {
+pub fn stage_bytes(path: impl AsRef<Path>, bytes: &[u8]) -> Result<StagedFile, IoError> {
+    let path = path.as_ref();
     stage_with(path, |file| {
         file.write_all(bytes).map_err(IoError::io("write the file"))
     })
@@ -432,10 +437,11 @@ pub fn stage_bytes(path: &Path, bytes: &[u8]) -> Result<StagedFile, IoError> {
 /// # Errors
 /// The errors of [`write_mesh`](crate::write_mesh).
 pub fn stage_mesh(
-    path: &Path,
+    path: impl AsRef<Path>,
     mesh: &MeshData,
     options: &WriteOptions,
 ) -> Result<StagedFile, IoError> {
+    let path = path.as_ref();
     let format = MeshFormat::from_path(path)?;
     stage_with(path, |file| write_mesh_to(file, mesh, format, options))
 }
@@ -446,11 +452,12 @@ pub fn stage_mesh(
 /// # Errors
 /// The errors of [`write_ply`](crate::write_ply).
 pub fn stage_ply(
-    path: &Path,
+    path: impl AsRef<Path>,
     mesh: &MeshData,
     attributes: &VertexAttributes,
     options: &WriteOptions,
 ) -> Result<StagedFile, IoError> {
+    let path = path.as_ref();
     stage_with(path, |file| write_ply_to(file, mesh, attributes, options))
 }
 
@@ -486,7 +493,8 @@ fn sync_directory(_dir: &Path) -> Result<(), IoError> {
 /// # Errors
 /// [`IoError::Io`] naming the operation that failed (creating the temporary file in
 /// the target's directory, writing, flushing, renaming, flushing the directory).
-pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+pub fn write_bytes_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), IoError> {
+    let path = path.as_ref();
     stage_bytes(path, bytes)?.commit()
 }
 
@@ -551,7 +559,7 @@ mod tests {
         let e = check_writable(&missing).unwrap_err().to_string();
         assert!(e.contains("nope"), "{e}");
         assert!(!e.contains(".beltrami-"), "{e}");
-        check_writable(&dir.path().join("out.ply")).unwrap();
+        check_writable(dir.path().join("out.ply")).unwrap();
         assert!(check_writable(dir.path()).is_err());
         assert!(temporaries(dir.path()).is_empty());
     }

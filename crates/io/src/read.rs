@@ -42,7 +42,8 @@ use crate::{obj, off, ply, stl};
 /// # Errors
 /// [`IoError::Io`] when the file cannot be read; an unsupported extension; and the
 /// errors of [`read_mesh_from`] for malformed content.
-pub fn read_mesh(path: &Path) -> Result<MeshData, IoError> {
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
+    let path = path.as_ref();
     read_mesh_with(path, &ReadOptions::default()).map(|(mesh, _)| mesh)
 }
 
@@ -69,9 +70,10 @@ pub fn read_mesh(path: &Path) -> Result<MeshData, IoError> {
 /// [`IoError::WeldTolerance`] for a negative, NaN or infinite tolerance (whatever the
 /// format); otherwise those of [`read_mesh`].
 pub fn read_mesh_with(
-    path: &Path,
+    path: impl AsRef<Path>,
     options: &ReadOptions,
 ) -> Result<(MeshData, ReadReport), IoError> {
+    let path = path.as_ref();
     options.weld.check()?;
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("read the file"))?;
@@ -197,7 +199,8 @@ pub struct DeclaredCounts {
 /// An unsupported extension; [`IoError::Io`] when the file cannot be opened or read;
 /// [`IoError::Empty`] for a file of nothing but whitespace; for PLY and OFF the
 /// header errors of [`read_mesh`].
-pub fn declared_counts(path: &Path) -> Result<Option<DeclaredCounts>, IoError> {
+pub fn declared_counts(path: impl AsRef<Path>) -> Result<Option<DeclaredCounts>, IoError> {
+    let path = path.as_ref();
     let format = MeshFormat::from_path(path)?;
     let file = std::fs::File::open(path).map_err(IoError::io("open the file"))?;
     let length = file

@@ -51,7 +51,12 @@ use crate::{obj, off, ply, stl};
 /// no reader would accept; [`IoError::CoordinateOutOfRange`] when a coordinate
 /// exceeds `f32` (STL, single precision); [`IoError::TooManyTriangles`] for a binary
 /// STL; [`IoError::Io`] when the file cannot be created, written or renamed.
-pub fn write_mesh(path: &Path, mesh: &MeshData, options: &WriteOptions) -> Result<(), IoError> {
+pub fn write_mesh(
+    path: impl AsRef<Path>,
+    mesh: &MeshData,
+    options: &WriteOptions,
+) -> Result<(), IoError> {
+    let path = path.as_ref();
     let format = MeshFormat::from_path(path)?;
     check_encoding(format, options.encoding)?;
     write_atomic(path, |file| write_mesh_to(file, mesh, format, options))
@@ -120,11 +125,12 @@ pub fn write_mesh_to<W: Write>(
 /// for NaN or infinite attribute values in ascii; the mesh errors and
 /// [`IoError::Io`] of [`write_mesh`].
 pub fn write_ply(
-    path: &Path,
+    path: impl AsRef<Path>,
     mesh: &MeshData,
     attributes: &VertexAttributes,
     options: &WriteOptions,
 ) -> Result<(), IoError> {
+    let path = path.as_ref();
     write_atomic(path, |file| write_ply_to(file, mesh, attributes, options))
 }
 

@@ -61,7 +61,7 @@ fn fixtures_are_up_to_date() {
 #[test]
 fn fixtures_read_back_as_their_primitives() {
     for (name, mesh) in expected() {
-        let read = read_mesh(&fixture(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let read = read_mesh(fixture(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         if name.ends_with(".stl") {
             // Coordinates of these primitives are not all exact in f32.
             let exact = common::f32_mesh(&mesh);
@@ -79,8 +79,8 @@ fn stl_welding_matches_the_ply_of_the_same_mesh() {
         ("cube_ascii.stl", "cube_ascii.ply"),
         ("icosphere_2.stl", "icosphere_2.ply"),
     ] {
-        let welded = read_mesh(&fixture(stl)).expect("stl");
-        let indexed = read_mesh(&fixture(ply)).expect("ply");
+        let welded = read_mesh(fixture(stl)).expect("stl");
+        let indexed = read_mesh(fixture(ply)).expect("ply");
         assert_eq!(welded.positions.len(), indexed.positions.len(), "{stl}");
         assert_same_up_to_renumbering(&common::f32_mesh(&indexed), &welded);
     }

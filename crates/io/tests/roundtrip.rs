@@ -323,7 +323,7 @@ fn empty_meshes_round_trip() {
 
 #[test]
 fn fixture_cube_quads_obj_reads_as_the_primitive() {
-    let mesh = read_mesh(&fixture("cube_quads.obj")).expect("read");
+    let mesh = read_mesh(fixture("cube_quads.obj")).expect("read");
     assert_bit_identical(&mesh, &primitives::cube_quads().into());
 }
 

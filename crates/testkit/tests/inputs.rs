@@ -33,7 +33,7 @@ fn committed_inputs_are_up_to_date() {
 #[test]
 fn committed_inputs_read_back_bit_for_bit() {
     for (name, mesh) in openmesh_inputs() {
-        let read = beltrami_io::read_mesh(&fixtures_dir().join(format!("{name}.ply")))
+        let read = beltrami_io::read_mesh(fixtures_dir().join(format!("{name}.ply")))
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(read.faces, mesh.faces, "{name}");
         let same = read

@@ -154,8 +154,8 @@ pub fn plot_png(plot: &LinePlot, width: u32, height: u32) -> Result<Vec<u8>, Viz
 pub fn write_plot(plot: &LinePlot, stem: &Path) -> Result<(), VizError> {
     let svg = plot_svg(plot, SVG_SIZE.0, SVG_SIZE.1)?;
     let png = plot_png(plot, PNG_SIZE.0, PNG_SIZE.1)?;
-    beltrami_io::write_bytes_atomic(&with_suffix(stem, ".svg"), svg.as_bytes())?;
-    beltrami_io::write_bytes_atomic(&with_suffix(stem, ".png"), &png)?;
+    beltrami_io::write_bytes_atomic(with_suffix(stem, ".svg"), svg.as_bytes())?;
+    beltrami_io::write_bytes_atomic(with_suffix(stem, ".png"), &png)?;
     Ok(())
 }
 
