@@ -21,6 +21,9 @@ pub(crate) enum CliError {
         path: PathBuf,
         source: TopologyError,
         repairable: bool,
+        /// Vertices within the distance of another (count, distance) when merging them
+        /// would help: a file whose coincident vertices were written apart.
+        near_duplicates: Option<(usize, f64)>,
     },
     /// Bad usage found after parsing (an unknown scheme name, a bad vertex list).
     Usage(String),
@@ -94,14 +97,28 @@ impl fmt::Display for CliError {
                 path,
                 source,
                 repairable,
+                near_duplicates,
             } => {
                 write!(f, "{}: {source}", path.display())?;
-                if *repairable {
-                    write!(
+                let near = near_duplicates.map(|(n, d)| {
+                    (
+                        format!(
+                            "{n} {} within {} of another: ",
+                            crate::text::plural(n, "vertex lies", "vertices lie"),
+                            crate::text::number(d)
+                        ),
+                        format!(" --merge-distance {}", crate::text::number(d)),
+                    )
+                });
+                let (why, merge) = near.unwrap_or_default();
+                match (repairable, merge.is_empty()) {
+                    (true, _) => write!(
                         f,
-                        " (pass --repair, or keep a repaired copy with 'beltrami repair {} REPAIRED')",
+                        " ({why}pass --repair{merge}, or keep a repaired copy with 'beltrami repair {} REPAIRED{merge}')",
                         path.display()
-                    )?;
+                    )?,
+                    (false, false) => write!(f, " ({why}add{merge})")?,
+                    (false, true) => {}
                 }
                 Ok(())
             }

@@ -25,6 +25,12 @@ pub(crate) struct ReadArgs {
     /// they are.
     #[arg(long, value_name = "FRACTION", default_value_t = Weld::DEFAULT_RELATIVE, allow_negative_numbers = true)]
     pub(crate) weld_tolerance: f64,
+    /// With --repair (and in `repair`): first merge vertices closer than this distance,
+    /// in the mesh's length unit, into the lowest-numbered one (coincident vertices a
+    /// CAD exporter wrote 1e-16 apart, seams of a mesh split for texturing). Off by
+    /// default.
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub(crate) merge_distance: Option<f64>,
 }
 
 impl ReadArgs {
@@ -39,6 +45,46 @@ impl ReadArgs {
             .map_err(|e| CliError::Usage(format!("--weld-tolerance: {e}")))?;
         Ok(ReadOptions::default().with_weld(weld))
     }
+
+    /// The repair options: merging with `--merge-distance`.
+    fn repair_options(&self) -> Result<RepairOptions, CliError> {
+        if let Some(d) = self.merge_distance
+            && !(d >= 0.0 && d.is_finite())
+        {
+            return Err(CliError::Usage(format!(
+                "--merge-distance must be a finite distance >= 0, got {d}"
+            )));
+        }
+        Ok(RepairOptions::new().merge_distance(self.merge_distance))
+    }
+}
+
+/// The merge distance suggested for a mesh that does not build: a millionth of the
+/// bounding-box diagonal (as the STL weld), rounded up to one significant digit, when
+/// merging within it joins vertices. Returns the number of vertices it would merge and
+/// the distance.
+fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f64)> {
+    let (lo, hi) = positions.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let diagonal = (hi - lo).length();
+    if !(diagonal.is_finite() && diagonal > 0.0) {
+        return None;
+    }
+    let raw = diagonal * Weld::DEFAULT_RELATIVE;
+    let scale = 10f64.powf(raw.log10().floor());
+    let distance = (raw / scale).ceil() * scale;
+    let merged = repair(
+        positions,
+        faces,
+        &RepairOptions::new().merge_distance(Some(distance)),
+    )
+    .ok()?
+    .report
+    .merged_vertices
+    .len();
+    (merged > 0).then_some((merged, distance))
 }
 
 /// A mesh read from a file: connectivity, positions and what repairs changed.
@@ -89,18 +135,22 @@ pub(crate) fn load_checked(
     read: &ReadArgs,
     check: impl FnOnce(&MeshData) -> Result<(), CliError>,
 ) -> Result<LoadedMesh, CliError> {
-    let options = read.repair.then(RepairOptions::new);
+    let options = match (read.repair, read.merge_distance) {
+        (true, _) => Some(read.repair_options()?),
+        (false, None) => None,
+        (false, Some(_)) => {
+            return Err(CliError::Usage(
+                "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
+            ));
+        }
+    };
     load_inner(path, read, options, check)
 }
 
-/// [`load`], always repairing with `options` (`None`: as `read` says).
-pub(crate) fn load_with(
-    path: &Path,
-    read: &ReadArgs,
-    options: Option<RepairOptions>,
-) -> Result<LoadedMesh, CliError> {
-    let options = options.or_else(|| read.repair.then(RepairOptions::new));
-    load_inner(path, read, options, |_| Ok(()))
+/// [`load`], always repairing (with `--merge-distance` when given).
+pub(crate) fn load_repaired(path: &Path, read: &ReadArgs) -> Result<LoadedMesh, CliError> {
+    let options = read.repair_options()?;
+    load_inner(path, read, Some(options), |_| Ok(()))
 }
 
 fn load_inner(
@@ -121,19 +171,45 @@ fn load_inner(
     check(&data)?;
     let input_counts = (data.positions.len(), data.faces.len());
     let t1 = std::time::Instant::now();
-    let topology = |source| CliError::Topology {
-        path: path.to_path_buf(),
-        repairable: !read.repair && is_repairable(&source),
-        source,
-    };
-    let (positions, faces, report) = match options {
-        None => (data.positions, data.faces, None),
-        Some(options) => {
-            let repaired = repair(&data.positions, &data.faces, &options).map_err(topology)?;
-            (repaired.positions, repaired.faces, Some(repaired.report))
+    let topology = |source, positions: &[DVec3], faces: &PolygonList| {
+        let repairable = !read.repair && is_repairable(&source);
+        let merge_helps = read.merge_distance.is_none()
+            && matches!(
+                source,
+                TopologyError::NonManifoldVertex { .. } | TopologyError::NonManifoldEdge { .. }
+            );
+        CliError::Topology {
+            path: path.to_path_buf(),
+            repairable,
+            near_duplicates: if merge_helps {
+                near_duplicates(positions, faces)
+            } else {
+                None
+            },
+            source,
         }
     };
-    let mesh = HalfedgeMesh::from_polygons(positions.len(), faces.iter()).map_err(topology)?;
+    // With a repair, the input is kept for the notes about it.
+    let (positions, faces, report, input) = match options {
+        None => (
+            data.positions,
+            data.faces,
+            None,
+            (Vec::new(), PolygonList::new()),
+        ),
+        Some(options) => {
+            let repaired = repair(&data.positions, &data.faces, &options)
+                .map_err(|e| topology(e, &data.positions, &data.faces))?;
+            (
+                repaired.positions,
+                repaired.faces,
+                Some(repaired.report),
+                (data.positions, data.faces),
+            )
+        }
+    };
+    let mesh = HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+        .map_err(|e| topology(e, &positions, &faces))?;
     let build_seconds = t1.elapsed().as_secs_f64();
     let mut repair_lines = Vec::new();
     if read_report.welded_vertices > 0 || !read_report.dropped_faces.is_empty() {
@@ -155,6 +231,18 @@ fn load_inner(
     }
     if let Some(report) = &report {
         repair_lines.extend(crate::repair::describe(report));
+        // Pinches and cut edges from vertices that should have been one: say so.
+        if read.merge_distance.is_none()
+            && (!report.split_vertices.is_empty() || !report.cut_edges.is_empty())
+            && let Some((n, d)) = near_duplicates(&input.0, &input.1)
+        {
+            repair_lines.push(format!(
+                "note: {} within {} of another; --merge-distance {} joins them instead of cutting the surface apart",
+                counted(n, "vertex lies", "vertices lie"),
+                number(d),
+                number(d)
+            ));
+        }
     }
     Ok(LoadedMesh {
         format,

@@ -4,12 +4,12 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_halfedge::{RepairOptions, RepairReport};
+use beltrami_halfedge::RepairReport;
 use beltrami_io::{Encoding, MeshData, WriteOptions, stage_mesh};
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::{ReadArgs, load_with};
+use crate::load::{ReadArgs, load_repaired};
 use crate::output::{Outputs, Staged};
 use crate::text::counted;
 
@@ -20,11 +20,6 @@ pub(crate) struct RepairArgs {
     input: PathBuf,
     /// The repaired mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
-    /// Also merge vertices closer than this distance (in the mesh's length unit) into
-    /// the lowest-numbered one, e.g. the duplicated corners of a scan stitched from
-    /// patches. Off by default.
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    merge_distance: Option<f64>,
     /// Print what was repaired as one JSON object, every element listed.
     #[arg(long)]
     json: bool,
@@ -212,18 +207,10 @@ struct Summary {
 
 /// Runs `beltrami repair`.
 pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliError> {
-    if let Some(d) = args.merge_distance
-        && !(d >= 0.0 && d.is_finite())
-    {
-        return Err(CliError::Usage(format!(
-            "--merge-distance must be a finite distance >= 0, got {d}"
-        )));
-    }
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
-    let options = RepairOptions::new().merge_distance(args.merge_distance);
-    let loaded = load_with(&args.input, &args.read, Some(options))?;
+    let loaded = load_repaired(&args.input, &args.read)?;
     let report = loaded.repair.clone().unwrap_or_default();
     let data = MeshData {
         positions: loaded.positions,
@@ -260,7 +247,7 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         writeln!(out)?;
         return Ok(());
     }
-    for line in describe(&report) {
+    for line in &loaded.repair_lines {
         writeln!(out, "{line}")?;
     }
     writeln!(

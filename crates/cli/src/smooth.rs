@@ -553,9 +553,17 @@ pub(crate) fn run(
         )?;
     }
     if r.max_stuck_vertices > 0 {
+        let why = if loaded.mesh.is_triangle_mesh() {
+            "weights summing to <= 0 or zero area".to_string()
+        } else {
+            format!(
+                "the mesh has polygon faces, on which {} weights are 0; use --weights uniform or distance, or triangulate the mesh",
+                r.scheme
+            )
+        };
         writeln!(
             out,
-            "note: up to {} {} per iteration could not move (weights summing to <= 0 or zero area)",
+            "note: up to {} {} per iteration could not move ({why})",
             r.max_stuck_vertices,
             plural(r.max_stuck_vertices, "vertex", "vertices"),
         )?;

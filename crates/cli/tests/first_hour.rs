@@ -578,3 +578,73 @@ fn study_replaces_an_earlier_study_as_a_whole() {
     assert!(out.join("report.md").exists());
     assert!(temporaries(dir.path()).is_empty());
 }
+
+#[test]
+fn a_closed_part_with_mixed_winding_is_repaired_facing_outward() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = wild("mixed_winding_cube.obj");
+    let o = beltrami(&["info", s(&input)]);
+    assert_eq!(o.status.code(), Some(1));
+    let out = dir.path().join("cube.ply");
+    stdout(&["repair", s(&input), s(&out)]);
+    // Consistent and outward: the unit cube's volume is +1, not -1.
+    let j = info(&out, &[]);
+    assert_eq!(j["closed"], true);
+    assert_eq!(j["volume"], 1.0);
+}
+
+#[test]
+fn near_duplicate_vertices_are_named_in_the_error_and_merged_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = wild("cad_near_duplicates.obj");
+    let o = beltrami(&["smooth", s(&input), s(&dir.path().join("s.ply"))]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o, &wild_dir()),
+        "error: cad_near_duplicates.obj: non-manifold vertex 8: its faces form 2 separate fans (1 vertex lies within 2e-6 of another: pass --repair --merge-distance 2e-6, or keep a repaired copy with 'beltrami repair cad_near_duplicates.obj REPAIRED --merge-distance 2e-6')"
+    );
+    // Cutting the pinch apart works but opens the surface; the note says why.
+    let cut = dir.path().join("cut.ply");
+    let text = stdout(&["repair", s(&input), s(&cut)]);
+    assert!(
+        text.contains(
+            "note: 1 vertex lies within 2e-6 of another; --merge-distance 2e-6 joins them"
+        ),
+        "{text}"
+    );
+    assert_eq!(info(&cut, &[])["closed"], false);
+    // The suggested command gives the closed cube back.
+    let merged = dir.path().join("merged.ply");
+    stdout(&["repair", s(&input), s(&merged), "--merge-distance", "2e-6"]);
+    let j = info(&merged, &[]);
+    assert_eq!(
+        (j["vertices"].as_u64(), j["closed"].as_bool()),
+        (Some(8), Some(true))
+    );
+    stdout(&[
+        "smooth",
+        s(&input),
+        s(&dir.path().join("s.ply")),
+        "--repair",
+        "--merge-distance",
+        "2e-6",
+    ]);
+    // Without --repair the distance is refused rather than ignored.
+    let o = beltrami(&["info", s(&input), "--merge-distance", "2e-6"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn a_ply_header_without_elements_is_an_empty_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty_header.ply");
+    std::fs::write(&path, "ply\nformat ascii 1.0\nend_header\n").unwrap();
+    let j = info(&path, &[]);
+    assert_eq!(
+        (j["vertices"].as_u64(), j["faces"].as_u64()),
+        (Some(0), Some(0))
+    );
+    std::fs::write(&path, "ply\nformat ascii 1.0\nend_header\n1 2 3\n").unwrap();
+    let o = beltrami(&["info", s(&path)]);
+    assert_eq!(o.status.code(), Some(1));
+}

@@ -42,6 +42,7 @@ pub struct RepairOptions {
     merge_distance: Option<f64>,
     drop_unreferenced: bool,
     cut_non_orientable: bool,
+    orient_outward: bool,
 }
 
 impl Default for RepairOptions {
@@ -52,6 +53,7 @@ impl Default for RepairOptions {
             merge_distance: None,
             drop_unreferenced: true,
             cut_non_orientable: true,
+            orient_outward: true,
         }
     }
 }
@@ -97,6 +99,23 @@ impl RepairOptions {
     pub fn cut_non_orientable(mut self, yes: bool) -> Self {
         self.cut_non_orientable = yes;
         self
+    }
+
+    /// Turn every closed component whose faces enclose a negative volume inside out,
+    /// so that its faces are counter-clockwise seen from outside (default `true`).
+    /// Consistent orientation alone leaves a closed part inside out when most of its
+    /// faces were written clockwise; volumes, signed distances and volume-preserving
+    /// smoothing need them outward. Open components are left as oriented.
+    #[must_use]
+    pub fn orient_outward(mut self, yes: bool) -> Self {
+        self.orient_outward = yes;
+        self
+    }
+
+    /// Whether closed components are turned to face outward.
+    #[must_use]
+    pub fn orients_outward(&self) -> bool {
+        self.orient_outward
     }
 
     /// The merge distance, if vertices are merged.
@@ -479,21 +498,50 @@ pub fn repair(
         }
     };
     let offsets = list.offsets();
-    let mut out_faces = PolygonList::with_capacity(list.len(), list.n_corners());
-    let mut buf = Vec::new();
-    for f in 0..list.len() {
-        buf.clear();
-        buf.extend(
-            classes.out[offsets[f]..offsets[f + 1]]
-                .iter()
-                .map(|&o| renumber(o)),
-        );
-        if flip[f] {
-            buf[1..].reverse();
-            report.flipped_faces.push(origin[f]);
+    let write_faces = |flip: &[bool]| {
+        let mut out_faces = PolygonList::with_capacity(list.len(), list.n_corners());
+        let mut buf = Vec::new();
+        for f in 0..list.len() {
+            buf.clear();
+            buf.extend(
+                classes.out[offsets[f]..offsets[f + 1]]
+                    .iter()
+                    .map(|&o| renumber(o)),
+            );
+            if flip[f] {
+                buf[1..].reverse();
+            }
+            out_faces.push(&buf);
         }
-        out_faces.push(&buf);
+        out_faces
+    };
+    let mut flip = flip;
+    let mut out_faces = write_faces(&flip);
+
+    // 8. Turn every closed component that encloses a negative volume inside out, so
+    // that its faces are counter-clockwise seen from outside.
+    if options.orient_outward
+        && let Ok(mesh) = HalfedgeMesh::from_polygons(out_positions.len(), out_faces.iter())
+    {
+        let inward = inward_components(&mesh, &out_positions);
+        if inward.iter().any(|&i| i) {
+            let components = mesh.connected_components();
+            for (f, flip) in flip.iter_mut().enumerate() {
+                let c = components.face_component[crate::FaceId::new(f as u32)] as usize;
+                if inward[c] {
+                    *flip = !*flip;
+                }
+            }
+            out_faces = write_faces(&flip);
+        }
     }
+    report.flipped_faces = flip
+        .iter()
+        .enumerate()
+        .filter(|&(_, &flipped)| flipped)
+        .map(|(f, _)| origin[f])
+        .collect();
+    report.flipped_faces.sort_unstable();
     report.vertex_map = target
         .iter()
         .map(|&t| Some(final_id[t as usize]).filter(|&id| id != INVALID))
@@ -509,6 +557,39 @@ pub fn repair(
         faces: out_faces,
         report,
     })
+}
+
+/// For each connected component of `mesh`, whether it is closed and encloses a negative
+/// signed volume (its faces turn clockwise seen from outside). The volume is summed over
+/// the fan triangles of each face, relative to the component's first vertex, so that a
+/// component far from the origin keeps its accuracy.
+fn inward_components(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Vec<bool> {
+    let components = mesh.connected_components();
+    let mut origin = vec![None; components.count()];
+    let mut volume = vec![0.0f64; components.count()];
+    for f in mesh.faces() {
+        let c = components.face_component[f] as usize;
+        let mut corners = mesh.vertices_around_face(f).map(|v| positions[v.index()]);
+        let Some(first) = corners.next() else {
+            continue;
+        };
+        let o = *origin[c].get_or_insert(first);
+        let a = first - o;
+        let mut previous: Option<DVec3> = None;
+        for p in corners {
+            let b = p - o;
+            if let Some(prev) = previous {
+                volume[c] += a.dot(prev.cross(b)) / 6.0;
+            }
+            previous = Some(b);
+        }
+    }
+    components
+        .summaries
+        .iter()
+        .zip(volume)
+        .map(|(summary, v)| summary.is_closed() && v < 0.0)
+        .collect()
 }
 
 /// The vertex each vertex merges into (itself when kept), by the greedy rule of

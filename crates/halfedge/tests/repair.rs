@@ -473,11 +473,57 @@ fn inconsistent_orientation_flips_the_fewer_faces() {
     assert_eq!(repaired.report.flipped_faces, [4, 5]);
     assert_eq!(repaired.faces, cube.faces);
     assert_eq!(repaired.report.to_string(), "2 faces flipped");
-    // Faces 0..8 turned round: the other four are flipped, not these eight.
+    // Faces 0..8 turned round: consistency alone flips the other four, not these
+    // eight, which leaves the cube inside out ...
     let faces = reversed(&|f| f >= 8);
+    let consistent = repair(
+        &cube.positions,
+        &faces,
+        &RepairOptions::new().orient_outward(false),
+    )
+    .unwrap();
+    assert_eq!(consistent.report.flipped_faces, [8, 9, 10, 11]);
+    assert!(consistent.mesh().unwrap().is_closed());
+    // ... so by default the closed cube is then turned to face outward: the eight
+    // are flipped back and the faces are the cube's own.
     let repaired = run(&cube.positions, &faces);
-    assert_eq!(repaired.report.flipped_faces, [8, 9, 10, 11]);
-    assert!(repaired.mesh().unwrap().is_closed());
+    assert_eq!(repaired.report.flipped_faces, [0, 1, 2, 3, 4, 5, 6, 7]);
+    assert_eq!(repaired.faces, cube.faces);
+}
+
+#[test]
+fn a_closed_part_written_inside_out_is_turned_outward() {
+    // Every face of the cube clockwise: consistent, closed, negative volume.
+    let cube = primitives::cube();
+    let inside_out: PolygonList = cube
+        .faces
+        .iter()
+        .map(|face| vec![face[0], face[2], face[1]])
+        .collect::<Vec<_>>()
+        .iter()
+        .map(Vec::as_slice)
+        .collect();
+    let repaired = run(&cube.positions, &inside_out);
+    assert_eq!(repaired.report.flipped_faces, (0..12).collect::<Vec<_>>());
+    assert_eq!(repaired.faces, cube.faces);
+    let kept = repair(
+        &cube.positions,
+        &inside_out,
+        &RepairOptions::new().orient_outward(false),
+    )
+    .unwrap();
+    assert!(kept.report.is_empty());
+    // An open patch keeps its orientation whichever way it faces.
+    let grid = primitives::grid(3, 2);
+    let down: PolygonList = grid
+        .faces
+        .iter()
+        .map(|face| vec![face[0], face[2], face[1]])
+        .collect::<Vec<_>>()
+        .iter()
+        .map(Vec::as_slice)
+        .collect();
+    assert!(run(&grid.positions, &down).report.is_empty());
 }
 
 #[test]

@@ -56,6 +56,19 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
     let payload = usize::try_from(length - header_length).unwrap_or(usize::MAX);
     check_unique_names(&mut reader, header_length)?;
     check_schema(&header)?;
+    if header.elements.is_empty() {
+        // A header that declares no element at all: an empty mesh, as with
+        // `element vertex 0`; anything after the header is data no element holds.
+        let mut rest = Vec::new();
+        reader
+            .take(4096)
+            .read_to_end(&mut rest)
+            .map_err(IoError::io("read the file"))?;
+        if rest.iter().any(|b| !b.is_ascii_whitespace()) {
+            return Err(IoError::MissingElement { element: "vertex" });
+        }
+        return Ok(MeshData::default());
+    }
     let mut mesh = MeshData::default();
     let face_line = match header.encoding {
         Encoding::Ascii => {
@@ -151,7 +164,7 @@ pub(crate) fn declared_counts<R: BufRead + Seek>(
     check_schema(&header)?;
     let count = |name| header.elements.get(name).map(|e| e.count);
     Ok(crate::read::DeclaredCounts {
-        vertices: count("vertex"),
+        vertices: count("vertex").or(Some(0)),
         faces: count("face").unwrap_or(0),
     })
 }
@@ -238,6 +251,9 @@ fn check_unique_names<R: BufRead + Seek>(
 /// either, no other element (but `edge`) may hold such a list: its faces would be
 /// silently lost.
 fn check_schema(header: &Header) -> Result<(), IoError> {
+    if header.elements.is_empty() {
+        return Ok(());
+    }
     let vertex = header
         .elements
         .get("vertex")
