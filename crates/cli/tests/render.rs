@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use beltrami_halfedge::{PolygonList, primitives};
-use beltrami_io::{Encoding, MeshData, VertexAttributes, WriteOptions, write_ply};
+use beltrami_io::{Encoding, VertexAttributes, WriteOptions, write_ply};
 use beltrami_viz::render::{ColorMap, Image};
 use common::{beltrami, error_line, s, write};
 
@@ -258,7 +258,7 @@ fn scalar_colours_by_a_vertex_property_of_a_ply_file() {
         let path = dir.path().join(name);
         write_ply(
             &path,
-            &MeshData::from(sphere.clone()),
+            &sphere.clone(),
             &VertexAttributes {
                 scalars: vec![
                     ("height".to_owned(), height.clone()),

@@ -7,29 +7,12 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::error::TopologyError;
-use crate::mesh::HalfedgeMesh;
+use crate::mesh_data::MeshData;
 use crate::polygons::PolygonList;
 
-/// Positions and faces of a procedural mesh.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Primitive {
-    /// Vertex positions.
-    pub positions: Vec<DVec3>,
-    /// Faces, counter-clockwise.
-    pub faces: PolygonList,
-}
-
-impl Primitive {
-    /// Builds the half-edge connectivity.
-    ///
-    /// # Errors
-    /// Never for the primitives of this module; the `Result` is that of
-    /// [`HalfedgeMesh::from_polygons`].
-    pub fn mesh(&self) -> Result<HalfedgeMesh, TopologyError> {
-        HalfedgeMesh::from_polygons(self.positions.len(), self.faces.iter())
-    }
-}
+/// Positions and faces of a procedural mesh: the workspace's [`MeshData`], under the
+/// name the primitives have always returned.
+pub type Primitive = MeshData;
 
 fn tri(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Primitive {
     Primitive {

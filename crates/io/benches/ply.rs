@@ -14,9 +14,7 @@
 use std::hint::black_box;
 
 use beltrami_halfedge::primitives;
-use beltrami_io::{
-    MeshData, MeshFormat, WriteOptions, read_mesh, read_mesh_from, write_mesh, write_mesh_to,
-};
+use beltrami_io::{MeshFormat, WriteOptions, read_mesh, read_mesh_from, write_mesh, write_mesh_to};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn bench_ply(c: &mut Criterion) {
@@ -26,7 +24,7 @@ fn bench_ply(c: &mut Criterion) {
     group.warm_up_time(std::time::Duration::from_secs(1));
     group.measurement_time(std::time::Duration::from_secs(3));
     for level in [6u32, 8] {
-        let mesh = MeshData::from(primitives::icosphere(level));
+        let mesh = primitives::icosphere(level);
         let path = dir.path().join(format!("icosphere{level}.ply"));
         write_mesh(&path, &mesh, &WriteOptions::default()).expect("writes");
         let bytes = std::fs::read(&path).expect("reads");

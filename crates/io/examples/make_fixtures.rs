@@ -17,12 +17,12 @@ use beltrami_io::{Encoding, IoError, MeshData, WriteOptions, write_mesh};
 /// Every fixture: file name, mesh, encoding.
 fn fixtures() -> Vec<(&'static str, MeshData, Encoding)> {
     use Encoding::{Ascii, BinaryBigEndian, BinaryLittleEndian};
-    let tetrahedron = MeshData::from(primitives::tetrahedron());
-    let cube = MeshData::from(primitives::cube());
-    let hexagon_fan = MeshData::from(primitives::hexagon_fan());
-    let grid = MeshData::from(primitives::grid(4, 3));
-    let torus = MeshData::from(primitives::torus(2.0, 0.5, 12, 8));
-    let icosphere = MeshData::from(primitives::icosphere(2));
+    let tetrahedron = primitives::tetrahedron();
+    let cube = primitives::cube();
+    let hexagon_fan = primitives::hexagon_fan();
+    let grid = primitives::grid(4, 3);
+    let torus = primitives::torus(2.0, 0.5, 12, 8);
+    let icosphere = primitives::icosphere(2);
     vec![
         ("tetrahedron_ascii.ply", tetrahedron.clone(), Ascii),
         (

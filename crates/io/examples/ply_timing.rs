@@ -25,8 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             args.next()
                 .ok_or("usage: ply_timing --icosphere LEVEL OUT")?,
         );
-        let mesh =
-            beltrami_io::MeshData::from(beltrami_halfedge::primitives::icosphere(level.parse()?));
+        let mesh = beltrami_halfedge::primitives::icosphere(level.parse()?);
         write_mesh(&out, &mesh, &WriteOptions::default())?;
         return Ok(());
     }

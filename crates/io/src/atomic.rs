@@ -27,8 +27,8 @@ use tempfile::{NamedTempFile, TempPath};
 
 use crate::error::IoError;
 use crate::format::{MeshFormat, VertexAttributes, WriteOptions};
-use crate::mesh::MeshData;
 use crate::write::{write_mesh_to, write_ply_to};
+use beltrami_halfedge::MeshData;
 
 /// The temporary files of staged writes that are neither committed nor dropped yet.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());

@@ -73,7 +73,6 @@
 mod atomic;
 mod error;
 mod format;
-mod mesh;
 mod obj;
 mod off;
 mod ply;
@@ -88,10 +87,10 @@ pub use atomic::{
     StagedDir, StagedFile, check_writable, remove_staged_files, resolve_target, stage_bytes,
     stage_dir, stage_mesh, stage_ply, stage_with, write_bytes_atomic,
 };
+pub use beltrami_halfedge::MeshData;
 pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
-pub use mesh::MeshData;
 pub use read::{
     DeclaredCounts, declared_counts, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
 };

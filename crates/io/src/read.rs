@@ -5,10 +5,10 @@ use std::path::Path;
 
 use crate::error::IoError;
 use crate::format::MeshFormat;
-use crate::mesh::MeshData;
 use crate::read_options::{ReadOptions, ReadReport};
 use crate::text::is_blank_stream;
 use crate::{obj, off, ply, stl};
+use beltrami_halfedge::MeshData;
 
 /// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
 /// `.off`).

@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use crate::error::IoError;
-use crate::mesh::MeshData;
+use beltrami_halfedge::MeshData;
 
 /// Every coordinate finite; with `single`, also within the range of `f32`.
 pub(crate) fn check_positions(positions: &[DVec3], single: bool) -> Result<(), IoError> {

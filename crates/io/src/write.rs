@@ -6,8 +6,8 @@ use std::path::Path;
 use crate::atomic::write_atomic;
 use crate::error::IoError;
 use crate::format::{Encoding, MeshFormat, VertexAttributes, WriteOptions};
-use crate::mesh::MeshData;
 use crate::{obj, off, ply, stl};
+use beltrami_halfedge::MeshData;
 
 /// Writes a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
 /// `.off`).

@@ -22,7 +22,7 @@ fn entries(dir: &Path) -> Vec<String> {
 fn writing_into_a_missing_directory_fails_and_leaves_nothing() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let target = dir.path().join("missing").join("cube.ply");
-    let cube: MeshData = primitives::cube().into();
+    let cube: MeshData = primitives::cube();
     let e = write_mesh(&target, &cube, &WriteOptions::default()).expect_err("no directory");
     assert!(matches!(
         e,
@@ -39,7 +39,7 @@ fn writing_into_a_missing_directory_fails_and_leaves_nothing() {
 fn a_failing_write_leaves_the_existing_file_byte_identical() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let target = dir.path().join("scan.ply");
-    let cube: MeshData = primitives::cube().into();
+    let cube: MeshData = primitives::cube();
     write_mesh(&target, &cube, &WriteOptions::default()).expect("first write");
     let before = fs::read(&target).expect("read");
 
@@ -64,7 +64,7 @@ fn a_successful_write_replaces_the_file_and_leaves_no_temporary() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let target = dir.path().join("mesh.obj");
     fs::write(&target, "old content").expect("write");
-    let torus: MeshData = primitives::torus(2.0, 0.5, 12, 8).into();
+    let torus: MeshData = primitives::torus(2.0, 0.5, 12, 8);
     write_mesh(&target, &torus, &WriteOptions::default()).expect("write");
     assert_eq!(read_mesh(&target).expect("read"), torus);
     assert_eq!(entries(dir.path()), ["mesh.obj"]);
@@ -75,7 +75,7 @@ fn a_successful_write_replaces_the_file_and_leaves_no_temporary() {
 fn permissions_are_kept_for_existing_files_and_ordinary_for_new_ones() {
     use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().expect("temporary directory");
-    let cube: MeshData = primitives::cube().into();
+    let cube: MeshData = primitives::cube();
 
     let fresh = dir.path().join("fresh.stl");
     write_mesh(&fresh, &cube, &WriteOptions::default()).expect("write");
@@ -103,7 +103,7 @@ fn a_relative_path_without_directory_is_written_in_the_current_directory() {
     std::env::set_current_dir(dir.path()).expect("cd");
     let result = write_mesh(
         Path::new("plain.ply"),
-        &primitives::triangle().into(),
+        &primitives::triangle(),
         &WriteOptions::default(),
     );
     std::env::set_current_dir(cwd).expect("cd back");

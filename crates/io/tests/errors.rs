@@ -551,7 +551,7 @@ fn obj_ignores_other_statements_and_latin1_comments() {
 // ---------------------------------------------------------------- writing
 
 fn triangle() -> MeshData {
-    primitives::triangle().into()
+    primitives::triangle()
 }
 
 fn ply_write_error(

@@ -12,11 +12,11 @@ use common::{assert_bit_identical, assert_same_up_to_renumbering, fixture};
 
 /// Every fixture and the primitive it holds.
 fn expected() -> Vec<(&'static str, MeshData)> {
-    let tetrahedron = MeshData::from(primitives::tetrahedron());
-    let cube = MeshData::from(primitives::cube());
-    let hexagon_fan = MeshData::from(primitives::hexagon_fan());
-    let grid = MeshData::from(primitives::grid(4, 3));
-    let icosphere = MeshData::from(primitives::icosphere(2));
+    let tetrahedron = primitives::tetrahedron();
+    let cube = primitives::cube();
+    let hexagon_fan = primitives::hexagon_fan();
+    let grid = primitives::grid(4, 3);
+    let icosphere = primitives::icosphere(2);
     vec![
         ("tetrahedron_ascii.ply", tetrahedron.clone()),
         ("tetrahedron_le.ply", tetrahedron.clone()),
@@ -29,10 +29,10 @@ fn expected() -> Vec<(&'static str, MeshData)> {
         ("hexagon_fan.obj", hexagon_fan),
         ("grid_4x3.ply", grid.clone()),
         ("grid_4x3.obj", grid),
-        ("torus_12x8.ply", primitives::torus(2.0, 0.5, 12, 8).into()),
+        ("torus_12x8.ply", primitives::torus(2.0, 0.5, 12, 8)),
         ("icosphere_2.ply", icosphere.clone()),
         ("icosphere_2.stl", icosphere),
-        ("cube_quads.obj", primitives::cube_quads().into()),
+        ("cube_quads.obj", primitives::cube_quads()),
     ]
 }
 

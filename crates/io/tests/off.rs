@@ -56,7 +56,7 @@ const TRIANGLE: &str = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
 #[test]
 fn the_writer_writes_plain_off() {
     assert_eq!(write(&triangle(), Precision::Double), TRIANGLE);
-    let quads: MeshData = primitives::cube_quads().into();
+    let quads: MeshData = primitives::cube_quads();
     let text = write(&quads, Precision::Double);
     assert!(text.starts_with("OFF\n8 6 0\n"), "{text}");
     assert_eq!(text.lines().filter(|l| l.starts_with("4 ")).count(), 6);
@@ -69,11 +69,11 @@ fn the_writer_writes_plain_off() {
 #[test]
 fn off_round_trips_exactly() {
     let mut meshes: Vec<MeshData> = vec![
-        primitives::triangle().into(),
-        primitives::cube_quads().into(),
-        primitives::hexagon_fan().into(),
-        primitives::torus(2.0, 0.5, 12, 8).into(),
-        primitives::icosphere(2).into(),
+        primitives::triangle(),
+        primitives::cube_quads(),
+        primitives::hexagon_fan(),
+        primitives::torus(2.0, 0.5, 12, 8),
+        primitives::icosphere(2),
         MeshData::default(),
     ];
     // Random bit patterns, subnormals, extremes, faces of 2 and 6 vertices.
@@ -84,7 +84,7 @@ fn off_round_trips_exactly() {
     }
     // Single precision: the shortest decimal of each f32, which reads back as an f64
     // that rounds to it.
-    let torus: MeshData = primitives::torus(2.0, 0.5, 12, 8).into();
+    let torus: MeshData = primitives::torus(2.0, 0.5, 12, 8);
     let back = read(&write(&torus, Precision::Single));
     assert_bit_identical(&f32_mesh(&back), &f32_mesh(&torus));
     assert_ne!(back, f32_mesh(&torus));

@@ -36,14 +36,14 @@ fn rounded(mesh: &MeshData) -> MeshData {
 
 fn primitives_list() -> Vec<MeshData> {
     vec![
-        primitives::triangle().into(),
-        primitives::tetrahedron().into(),
-        primitives::cube().into(),
-        primitives::cube_quads().into(),
-        primitives::hexagon_fan().into(),
-        primitives::grid(4, 3).into(),
-        primitives::torus(2.0, 0.5, 12, 8).into(),
-        primitives::icosphere(2).into(),
+        primitives::triangle(),
+        primitives::tetrahedron(),
+        primitives::cube(),
+        primitives::cube_quads(),
+        primitives::hexagon_fan(),
+        primitives::grid(4, 3),
+        primitives::torus(2.0, 0.5, 12, 8),
+        primitives::icosphere(2),
     ]
 }
 
@@ -81,7 +81,7 @@ fn ply_single_precision_rounds_to_f32_exactly() {
 
 #[test]
 fn ply_header_declares_doubles_and_uchar_int_faces() {
-    let mesh: MeshData = primitives::triangle().into();
+    let mesh: MeshData = primitives::triangle();
     let mut bytes = Vec::new();
     write_ply_to(
         &mut bytes,
@@ -130,7 +130,7 @@ fn ply_with_attributes_reads_back_ignoring_them() {
 
 #[test]
 fn ply_ascii_attributes_are_written_exactly() {
-    let mesh: MeshData = primitives::triangle().into();
+    let mesh: MeshData = primitives::triangle();
     let attributes = VertexAttributes {
         scalars: vec![("d".to_owned(), vec![0.1, -1e-300, 2.5])],
         colors: Some(vec![[1, 2, 3], [4, 5, 6], [7, 8, 9]]),
@@ -200,7 +200,7 @@ fn obj_round_trips_exactly() {
 
 #[test]
 fn obj_single_precision_writes_the_shortest_decimal_of_the_f32() {
-    let mesh: MeshData = primitives::torus(2.0, 0.5, 12, 8).into();
+    let mesh: MeshData = primitives::torus(2.0, 0.5, 12, 8);
     let back = through(
         &mesh,
         MeshFormat::Obj,
@@ -294,7 +294,7 @@ fn files_round_trip_through_paths() {
         write_mesh(&path, &mesh, &WriteOptions::default()).expect("write");
         assert_bit_identical(&read_mesh(&path).expect("read"), &mesh);
     }
-    let cube: MeshData = primitives::cube().into();
+    let cube: MeshData = primitives::cube();
     for (name, encoding) in [
         ("binary.stl", Encoding::BinaryLittleEndian),
         ("ascii.Stl", Encoding::Ascii),
@@ -324,7 +324,7 @@ fn empty_meshes_round_trip() {
 #[test]
 fn fixture_cube_quads_obj_reads_as_the_primitive() {
     let mesh = read_mesh(fixture("cube_quads.obj")).expect("read");
-    assert_bit_identical(&mesh, &primitives::cube_quads().into());
+    assert_bit_identical(&mesh, &primitives::cube_quads());
 }
 
 #[test]
@@ -359,7 +359,7 @@ fn stl_and_obj_round_trips_are_idempotent() {
     // first write rounds, and from the second write on, writing what was read gives
     // the same bytes and the same coordinate bits. OBJ is exact from the first write.
     let dir = tempfile::tempdir().expect("temporary directory");
-    let mesh = MeshData::from(beltrami_halfedge::primitives::icosphere(3));
+    let mesh = beltrami_halfedge::primitives::icosphere(3);
     for (name, encoding) in [
         ("a.stl", Encoding::BinaryLittleEndian),
         ("b.stl", Encoding::Ascii),

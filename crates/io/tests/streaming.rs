@@ -74,7 +74,7 @@ fn ply_header(format: &str, mesh: &MeshData, junk: usize, junk_properties: &str)
 #[test]
 fn readers_hold_the_mesh_not_the_file() {
     let dir = tempfile::tempdir().unwrap();
-    let small = MeshData::from(primitives::icosphere(4));
+    let small = primitives::icosphere(4);
 
     // Binary PLY with a 16 MiB element the mesh ignores (skipped in one seek).
     let junk = PADDING / 16;
@@ -143,7 +143,7 @@ fn readers_hold_the_mesh_not_the_file() {
     check(&path, MeshFormat::Obj, &small, true);
 
     // Ascii STL: about 250 bytes of text per facet, 20 bytes of mesh.
-    let large = MeshData::from(primitives::icosphere(6));
+    let large = primitives::icosphere(6);
     let path = dir.path().join("sphere.stl");
     let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     let ascii = WriteOptions {

@@ -66,7 +66,7 @@ fn step(x: f32, direction: i32) -> f32 {
 /// triangle computed on its own, so that about a third of them are one `f32` step
 /// off, and zeros come out as `±2.7e-16` now and then.
 fn cad_icosphere() -> (MeshData, Vec<u8>) {
-    let sphere = MeshData::from(primitives::icosphere(3));
+    let sphere = primitives::icosphere(3);
     let mut rng = Lcg(2024);
     let mut triangles = Vec::new();
     for face in sphere.faces.iter() {

@@ -24,7 +24,7 @@ fn noisy_block() -> (
         1,
     )
     .unwrap();
-    (mesh, block.positions, noisy)
+    (mesh, block.data.positions, noisy)
 }
 
 fn line(name: &str, m: &Measures) -> String {

@@ -147,10 +147,5 @@ pub fn block(params: &BlockParams) -> Surface {
             q * h
         })
         .collect();
-    Surface {
-        name: "block",
-        positions,
-        faces,
-        unit: "mm",
-    }
+    Surface::new("block", positions, faces, "mm")
 }

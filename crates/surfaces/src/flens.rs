@@ -103,10 +103,5 @@ pub fn flens(params: &FLensParams) -> Surface {
             faces.push(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    Surface {
-        name: "flens",
-        positions,
-        faces,
-        unit: "mm",
-    }
+    Surface::new("flens", positions, faces, "mm")
 }

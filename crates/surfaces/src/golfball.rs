@@ -88,12 +88,7 @@ pub fn geodesic_sphere(nu: u32) -> Surface {
             }
         }
     }
-    Surface {
-        name: "geodesic",
-        positions,
-        faces,
-        unit: "1",
-    }
+    Surface::new("geodesic", positions, faces, "1")
 }
 
 /// Parameters of the golf ball, in millimetres.
@@ -168,17 +163,12 @@ pub fn golf_ball(params: &GolfBallParams) -> Surface {
         params.dimple_depth > 0.0 && params.dimple_depth < params.dimple_diameter / 2.0,
         "a dimple must be shallower than its radius"
     );
-    let axes = geodesic_sphere(params.dimple_frequency).positions;
+    let axes = geodesic_sphere(params.dimple_frequency).data.positions;
     let sphere = geodesic_sphere(params.mesh_frequency);
     let positions = sphere
         .positions
         .iter()
         .map(|&u| u * params.radial_distance(u, &axes))
         .collect();
-    Surface {
-        name: "golfball",
-        positions,
-        faces: sphere.faces,
-        unit: "mm",
-    }
+    Surface::new("golfball", positions, sphere.data.faces, "mm")
 }

@@ -45,8 +45,7 @@ pub fn sphere(level: u32) -> Surface {
     let p = beltrami_halfedge::primitives::icosphere(level);
     Surface {
         name: "sphere",
-        positions: p.positions,
-        faces: p.faces,
+        data: p,
         unit: "1",
     }
 }

@@ -1,29 +1,55 @@
 //! A generated test surface.
 
-use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, TopologyError};
+use beltrami_halfedge::{DVec3, MeshData, PolygonList};
 
-/// A generated surface: positions, counter-clockwise faces (normals outwards for the
-/// closed ones, towards +z for the F-lens), and the unit its coordinates are in.
+/// A generated surface: the workspace's [`MeshData`] (positions and counter-clockwise
+/// faces; normals outwards for the closed surfaces, towards +z for the F-lens), with a
+/// name and the unit its coordinates are in. It dereferences to its [`MeshData`], so
+/// `surface.positions`, `surface.faces` and `surface.mesh()` read as on the data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Surface {
     /// The surface's name (`"flens"`, `"sphere"`, `"block"`, `"golfball"`).
     pub name: &'static str,
-    /// Vertex positions.
-    pub positions: Vec<DVec3>,
-    /// Triangles, counter-clockwise.
-    pub faces: PolygonList,
+    /// Positions and faces.
+    pub data: MeshData,
     /// The length unit of the coordinates (`"mm"`, or `"1"` for the unit sphere).
     pub unit: &'static str,
 }
 
+impl std::ops::Deref for Surface {
+    type Target = MeshData;
+
+    fn deref(&self) -> &MeshData {
+        &self.data
+    }
+}
+
+impl std::ops::DerefMut for Surface {
+    fn deref_mut(&mut self) -> &mut MeshData {
+        &mut self.data
+    }
+}
+
+impl From<Surface> for MeshData {
+    fn from(surface: Surface) -> Self {
+        surface.data
+    }
+}
+
 impl Surface {
-    /// Builds the half-edge connectivity.
-    ///
-    /// # Errors
-    /// Never for the surfaces of this crate (they are valid by construction and tested);
-    /// the `Result` is that of [`HalfedgeMesh::from_polygons`].
-    pub fn mesh(&self) -> Result<HalfedgeMesh, TopologyError> {
-        HalfedgeMesh::from_polygons(self.positions.len(), self.faces.iter())
+    /// A surface named `name` with `positions` and `faces` in `unit`.
+    #[must_use]
+    pub fn new(
+        name: &'static str,
+        positions: Vec<DVec3>,
+        faces: PolygonList,
+        unit: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            data: MeshData::new(positions, faces),
+            unit,
+        }
     }
 
     /// The same surface with its vertices renumbered in a seeded random order (a
@@ -63,12 +89,7 @@ impl Surface {
             face.extend(f.iter().map(|&v| old_to_new[v as usize]));
             faces.push(&face);
         }
-        Self {
-            name: self.name,
-            positions,
-            faces,
-            unit: self.unit,
-        }
+        Self::new(self.name, positions, faces, self.unit)
     }
 }
 

@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use beltrami_io::{IoError, MeshData, WriteOptions, write_mesh};
+use beltrami_io::{IoError, WriteOptions, write_mesh};
 use beltrami_testkit::fixtures::openmesh_inputs;
 
 /// Writes every input into `dir` and returns the paths written.
@@ -23,7 +23,7 @@ pub(crate) fn write_inputs(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
     let mut written = Vec::new();
     for (name, mesh) in openmesh_inputs() {
         let path = dir.join(format!("{name}.ply"));
-        write_mesh(&path, &MeshData::from(mesh), &WriteOptions::default())?;
+        write_mesh(&path, &mesh, &WriteOptions::default())?;
         written.push(path);
     }
     Ok(written)

@@ -58,7 +58,7 @@ pub fn noisy_flens() -> Primitive {
     .expect("a valid noise level");
     Primitive {
         positions,
-        faces: lens.faces,
+        faces: lens.data.faces,
     }
 }
 

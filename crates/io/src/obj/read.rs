@@ -7,9 +7,9 @@ use glam::DVec3;
 
 use crate::error::IoError;
 use crate::format::MeshFormat;
-use crate::mesh::MeshData;
 use crate::text::{LineReader, has_binary_bytes, parse_number, token_text, tokens};
 use crate::validate::check_faces;
+use beltrami_halfedge::MeshData;
 
 /// The statements of the OBJ specification (Wavefront, version 3.0) other than `v`
 /// and `f`, superseded ones included: read past without effect. Free-form geometry,

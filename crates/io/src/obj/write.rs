@@ -4,8 +4,8 @@ use std::io::{BufWriter, Write};
 
 use crate::error::IoError;
 use crate::format::Precision;
-use crate::mesh::MeshData;
 use crate::validate::{check_faces, check_positions};
+use beltrami_halfedge::MeshData;
 
 /// Writes `v x y z` lines (shortest decimal that reads back to the same value) and
 /// 1-based `f` lines.

@@ -6,9 +6,9 @@ use beltrami_halfedge::{MAX_ELEMENTS, PolygonList};
 use glam::DVec3;
 
 use crate::error::IoError;
-use crate::mesh::MeshData;
 use crate::read::DeclaredCounts;
 use crate::text::{LineReader, has_binary_bytes, parse_number, stream_len, token_text, tokens};
+use beltrami_halfedge::MeshData;
 
 /// The fewest bytes a vertex line takes (`0 0 0` and its line ending).
 const MIN_VERTEX_BYTES: u64 = 6;

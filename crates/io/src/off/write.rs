@@ -4,8 +4,8 @@ use std::io::{BufWriter, Write};
 
 use crate::error::IoError;
 use crate::format::Precision;
-use crate::mesh::MeshData;
 use crate::validate::{check_faces, check_positions};
+use beltrami_halfedge::MeshData;
 
 /// Writes `OFF`, the counts (`vertices faces 0`), `x y z` lines (the shortest decimal
 /// that reads back to the same value) and 0-based `n i0 … i(n-1)` face lines.

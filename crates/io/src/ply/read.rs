@@ -15,11 +15,11 @@ use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 use super::fast::{self, FaceLayout, VertexLayout};
 use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
 use crate::error::IoError;
-use crate::mesh::MeshData;
 use crate::text::{
     BOM, LineReader, Lines, count_lines_in, is_blank_stream, stream_len, token_text, tokens,
 };
 use crate::validate::check_faces;
+use beltrami_halfedge::MeshData;
 
 /// Reads a PLY file from `reader`, element by element.
 ///

@@ -11,8 +11,8 @@ use ply_rs_bw::writer::Writer;
 use super::records::{FaceOut, VertexOut};
 use crate::error::IoError;
 use crate::format::{Encoding, Precision, VertexAttributes, WriteOptions};
-use crate::mesh::MeshData;
 use crate::validate::{check_faces, check_positions};
+use beltrami_halfedge::MeshData;
 
 /// Property names the writer uses itself.
 const RESERVED: [&str; 6] = ["x", "y", "z", "red", "green", "blue"];
@@ -416,7 +416,7 @@ mod tests {
 
     #[test]
     fn binary_records_are_the_bytes_ply_rs_writes() {
-        let mut mesh = MeshData::from(beltrami_halfedge::primitives::icosphere(2));
+        let mut mesh = beltrami_halfedge::primitives::icosphere(2);
         mesh.positions[3] = DVec3::new(-0.0, 1e-310, 1.5e30);
         // A polygon of 300 vertices makes the list lengths `uint`.
         let n = mesh.positions.len() as u32;

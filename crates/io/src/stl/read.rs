@@ -8,9 +8,9 @@ use glam::DVec3;
 use super::weld::{Welder, weld_within};
 use super::{BINARY_HEADER, BINARY_TRIANGLE};
 use crate::error::IoError;
-use crate::mesh::MeshData;
 use crate::read_options::{ReadReport, Weld};
 use crate::text::{BOM, LineReader, any_binary_bytes, parse_number, stream_len, token_text};
+use beltrami_halfedge::MeshData;
 
 /// Reads an STL file from `reader`, streaming its triangles, and welds its corners as
 /// `weld` says (see [`Weld`] for the rule).

@@ -7,8 +7,8 @@ use glam::DVec3;
 use super::{BINARY_HEADER, BINARY_TRIANGLE};
 use crate::error::IoError;
 use crate::format::{Encoding, MeshFormat};
-use crate::mesh::MeshData;
 use crate::validate::{check_faces, check_positions};
+use beltrami_halfedge::MeshData;
 
 /// The 80-byte binary header; it must not start with `solid`.
 const HEADER_TEXT: &[u8] = b"binary STL written by beltrami";
