@@ -15,8 +15,9 @@
 //! per iteration (its statistics, the `--report` rows); `factor` is the Cholesky
 //! factor of `--solver cholesky`, whose fill grows faster than the mesh
 //! ([`cholesky_nonzeros`]). The margin covers the allocator's slack: the measured peak
-//! resident memory is up to 11 % above the counted bytes (`docs/reliability.md`,
-//! section 6, has the measurements and the table of coefficients).
+//! resident memory is up to 11 % above the live heap, which the count bounds
+//! (`docs/reliability.md`, section 6, has the measurements and the table of
+//! coefficients).
 
 use std::fmt;
 
@@ -29,7 +30,7 @@ use beltrami_weights::{WeightKernel, WeightScheme};
 pub(crate) const BASE_BYTES: u64 = 16 << 20;
 
 /// The margin over the counted bytes, in percent: the peak resident memory measured
-/// on spheres of 40 962 to 2 621 442 vertices is at most 11 % above the count.
+/// on spheres of 40 962 to 2 621 442 vertices is at most 11 % above the live heap.
 pub(crate) const MARGIN_PERCENT: u64 = 125;
 
 /// Vertex count above which `beltrami smooth` prints its estimate without
