@@ -1,40 +1,265 @@
-//! The memory a `beltrami smooth` run needs, estimated from element counts, and the
-//! `--max-memory` size syntax.
+//! The memory a `beltrami smooth` run needs, estimated from element counts and the
+//! kind of run, and the `--max-memory` size syntax.
 //!
-//! The estimate is linear in the counts:
+//! The estimate is the sum of the buffers the run holds at its peak, counted structure
+//! by structure per vertex, per face corner and per face, plus a margin:
 //!
 //! ```text
-//! bytes = BASE_BYTES + BYTES_PER_VERTEX · V + BYTES_PER_CORNER · C
+//! bytes = BASE_BYTES + 5/4 · (v · V + c · C + f · F + steps + factor)
 //! ```
 //!
-//! with `V` vertices and `C` face corners (the sum of the face sizes: `3 F` for a
-//! triangle mesh). The constants are the live data of a run counted structure by
-//! structure and checked against the peak resident memory of measured runs
-//! (`docs/reliability.md`), which they bound from above.
+//! with `V` vertices, `C` face corners (the sum of the face sizes: `3 F` for a
+//! triangle mesh; each corner stands for one halfedge, the same count in a closed
+//! mesh) and `F` faces. The coefficients `v`, `c`, `f` depend on the method, the
+//! solver, the weight scheme and the options ([`Run`]); `steps` is what the run keeps
+//! per iteration (its statistics, the `--report` rows); `factor` is the Cholesky
+//! factor of `--solver cholesky`, whose fill grows faster than the mesh
+//! ([`cholesky_nonzeros`]). The margin covers the allocator's slack: the measured peak
+//! resident memory is up to 11 % above the live heap, which the count bounds
+//! (`docs/reliability.md`, section 6, has the measurements and the table of
+//! coefficients).
 
 use std::fmt;
 
+use beltrami_smooth::Reorder;
+use beltrami_weights::{WeightKernel, WeightScheme};
+
 /// Resident memory of the process before any mesh data (code, runtime, thread
-/// stacks, buffers), in bytes.
+/// stacks, allocator arenas, I/O buffers), in bytes. A run on a tiny mesh peaks at
+/// about 6 MiB on 2 cores; more cores mean more threads and arenas.
 pub(crate) const BASE_BYTES: u64 = 16 << 20;
 
-/// Bytes per vertex: input positions (24), the smoother's two position buffers (48),
-/// the result (24), the outgoing halfedge (4), Laplacian row offset, weight sum and
-/// scale (20), role (1), rounded up.
-pub(crate) const BYTES_PER_VERTEX: u64 = 128;
-
-/// Bytes per face corner (each corner is one inner halfedge): the face list as read,
-/// kept for the output (4 per corner, 8 per face); four `u32` links per halfedge,
-/// both halves of an edge (32); the Laplacian's neighbour and halfedge ids (8), its
-/// weight (8) and the per-halfedge scratch (16, both halves); the per-face cotangent
-/// buffer (8); rounded up. Measured peaks (`docs/reliability.md`) grow by about
-/// 490 bytes per vertex of a closed triangle mesh (6 corners per vertex), which
-/// `128 + 6 · 80 = 608` bounds with a fifth to spare.
-pub(crate) const BYTES_PER_CORNER: u64 = 80;
+/// The margin over the counted bytes, in percent: the peak resident memory measured
+/// on spheres of 40 962 to 2 621 442 vertices is at most 11 % above the live heap.
+pub(crate) const MARGIN_PERCENT: u64 = 125;
 
 /// Vertex count above which `beltrami smooth` prints its estimate without
 /// `--verbose`.
 pub(crate) const LARGE_RUN_VERTICES: usize = 1_000_000;
+
+/// Bytes per vertex, per face corner (standing for a halfedge) and per face of a group
+/// of buffers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct PerElement {
+    pub(crate) vertex: u64,
+    pub(crate) corner: u64,
+    pub(crate) face: u64,
+}
+
+impl PerElement {
+    const fn new(vertex: u64, corner: u64, face: u64) -> Self {
+        Self {
+            vertex,
+            corner,
+            face,
+        }
+    }
+
+    #[must_use]
+    const fn plus(self, other: Self) -> Self {
+        Self {
+            vertex: self.vertex + other.vertex,
+            corner: self.corner + other.corner,
+            face: self.face + other.face,
+        }
+    }
+
+    /// The bytes for `vertices`, `corners` and `faces` (saturating).
+    fn bytes(self, vertices: usize, faces: usize, corners: usize) -> u64 {
+        self.vertex
+            .saturating_mul(vertices as u64)
+            .saturating_add(self.corner.saturating_mul(corners as u64))
+            .saturating_add(self.face.saturating_mul(faces as u64))
+    }
+}
+
+/// The mesh as read, kept for the output: positions (24 per vertex), the face list's
+/// vertex indices (4 per corner) and offsets (8 per face).
+const INPUT: PerElement = PerElement::new(24, 4, 8);
+/// The half-edge mesh: outgoing halfedge per vertex (4), target, next, previous and
+/// face per halfedge (16), one halfedge per face (4).
+const MESH: PerElement = PerElement::new(4, 16, 4);
+/// An explicit smoother on 50 000 vertices or more renumbers them for locality: a copy
+/// of the mesh, the permutation both ways (8) and the positions (24).
+const REORDERED: PerElement = PerElement::new(4 + 8 + 24, 16, 4);
+/// The operator: row offsets and valences (8), weight sums and scales (16) per vertex;
+/// neighbour and halfedge ids (8) and the weight (8) per row slot (halfedge).
+const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
+/// The cotangent kernel's plan: counting-sort table (4 per vertex), two cotangent
+/// indices per slot (8) and a temporary per-halfedge index (4), per triangle its
+/// vertices (12), face id (4) and three cotangents (24), as `Option<[u32; 3]>` (16)
+/// while the plan is built.
+const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 40);
+/// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
+/// per-halfedge weight buffer (8)...
+const HALFEDGE_WEIGHTS: PerElement = PerElement::new(0, 8, 0);
+/// ...and `bilateral` compares vertex normals: the cotangent fill's per-face buffer
+/// (56), the face normals (24) and the vertex normals (24 per vertex). Counted for
+/// every scheme without a kernel.
+const NORMALS: PerElement = PerElement::new(24, 0, 80);
+/// Area normalisation: the vertex areas of each assembly (8), and the implicit
+/// smoother's copy (8).
+const AREAS: PerElement = PerElement::new(16, 0, 0);
+/// The explicit smoother's second position buffer.
+const EXPLICIT: PerElement = PerElement::new(24, 0, 0);
+/// The positions at the start of a compound step (Taubin, HC, `--preserve-volume`).
+const COMPOUND: PerElement = PerElement::new(24, 0, 0);
+/// HC: the input positions and the push-back vectors.
+const HC: PerElement = PerElement::new(48, 0, 0);
+/// Per-vertex displacements of a reordered run that keeps every iteration's statistics.
+const DISPLACEMENTS: PerElement = PerElement::new(8, 0, 0);
+/// The implicit smoother: positions, next positions (48) and displacements (8); the
+/// system's offsets, Dirichlet flags, mass, free flags and diagonal (22) per vertex,
+/// neighbour, twin, symmetrised weight and off-diagonal entry (24) per slot.
+const IMPLICIT: PerElement = PerElement::new(48 + 8 + 22, 24, 0);
+/// Conjugate gradient: four vectors of three coordinates.
+const CG: PerElement = PerElement::new(96, 0, 0);
+/// Sparse Cholesky besides the factor: the upper triangle's column pointers, diagonal
+/// positions (16), row indices and values (16 per vertex, 8 per slot), the slot map (8
+/// per slot), the right-hand sides (24), faer's symbolic structure and work space (at
+/// most 80 each, measured).
+const CHOLESKY: PerElement = PerElement::new(16 + 16 + 24 + 160, 16, 0);
+/// A fixed work buffer of faer's numeric factorisation.
+const CHOLESKY_FIXED_BYTES: u64 = 4 << 20;
+/// Bytes per non-zero of the Cholesky factor (its values; faer's supernodal structure
+/// holds its row indices per supernode, within [`CHOLESKY`]).
+const FACTOR_BYTES_PER_NONZERO: u64 = 8;
+/// The fill coefficient of [`cholesky_nonzeros`]: the measured non-zeros per vertex
+/// over `log2(V)²` are at most 0.353 on icospheres of 642 to 2 621 442 vertices.
+const FILL: f64 = 0.36;
+
+/// Per planned iteration of an explicit run with `--report`: its statistics (24).
+const STEP_STATS_BYTES: u64 = 24;
+/// Per step of an implicit run: the solver's statistics (56) and their copy (24).
+const IMPLICIT_STEP_BYTES: u64 = 56 + 24;
+/// Per iteration listed in the `--report` JSON: the report's row (40) and its
+/// pretty-printed text (at most 176).
+const REPORT_STEP_BYTES: u64 = 40 + 176;
+
+/// The method of a run, with the solver of an implicit one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Method {
+    /// Plain explicit diffusion.
+    Explicit,
+    /// Taubin's λ|μ.
+    Taubin,
+    /// HC.
+    Hc,
+    /// Implicit steps by conjugate gradient.
+    ImplicitCg,
+    /// Implicit steps by sparse Cholesky.
+    ImplicitCholesky,
+}
+
+/// How the weights are computed, as far as memory goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Weights {
+    /// A kernel that computes each row from the positions (uniform, inverse distance).
+    Rows,
+    /// The cotangent kernel, with its per-face plan.
+    Cotangent,
+    /// A scheme's own `fill_weights` (bilateral, a registered scheme): a per-halfedge
+    /// buffer, and what bilateral needs for its normals.
+    Halfedges,
+}
+
+impl Weights {
+    /// The path `scheme` takes.
+    pub(crate) fn of(scheme: &dyn WeightScheme) -> Self {
+        match scheme.kernel() {
+            Some(WeightKernel::Cotangent) => Self::Cotangent,
+            Some(_) => Self::Rows,
+            None => Self::Halfedges,
+        }
+    }
+}
+
+/// What a smoothing run does, as far as its memory goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Run {
+    pub(crate) method: Method,
+    pub(crate) weights: Weights,
+    /// `--preserve-volume` (explicit methods).
+    pub(crate) preserve_volume: bool,
+    /// Area normalisation.
+    pub(crate) area: bool,
+    /// The planned iterations (steps of an implicit run); 0 when they are known only
+    /// once the operator is built (an explicit run for `--time` or `--cutoff`).
+    pub(crate) iterations: usize,
+    /// Whether the `--report` JSON lists every iteration.
+    pub(crate) report_steps: bool,
+}
+
+impl Run {
+    /// The buffers of this run on `vertices` vertices, per element, before the margin.
+    pub(crate) fn per_element(&self, vertices: usize) -> PerElement {
+        let mut sum = INPUT.plus(MESH).plus(LAPLACIAN);
+        sum = match self.weights {
+            Weights::Rows => sum,
+            Weights::Cotangent => sum.plus(COTANGENT_PLAN),
+            Weights::Halfedges => sum.plus(HALFEDGE_WEIGHTS).plus(NORMALS),
+        };
+        if self.area {
+            sum = sum.plus(AREAS);
+        }
+        match self.method {
+            Method::ImplicitCg => sum.plus(IMPLICIT).plus(CG),
+            Method::ImplicitCholesky => sum.plus(IMPLICIT).plus(CHOLESKY),
+            Method::Explicit | Method::Taubin | Method::Hc => {
+                sum = sum.plus(EXPLICIT);
+                let reordered = Reorder::default().applies(vertices);
+                if reordered {
+                    sum = sum.plus(REORDERED);
+                    if self.report_steps {
+                        sum = sum.plus(DISPLACEMENTS);
+                    }
+                }
+                if self.method != Method::Explicit || self.preserve_volume {
+                    sum = sum.plus(COMPOUND);
+                }
+                if self.method == Method::Hc {
+                    sum = sum.plus(HC);
+                }
+                sum
+            }
+        }
+    }
+
+    /// The bytes kept per planned iteration.
+    fn bytes_per_iteration(&self) -> u64 {
+        let report = if self.report_steps {
+            REPORT_STEP_BYTES
+        } else {
+            0
+        };
+        match self.method {
+            Method::ImplicitCg | Method::ImplicitCholesky => IMPLICIT_STEP_BYTES + report,
+            _ if self.report_steps => STEP_STATS_BYTES + report,
+            _ => 0,
+        }
+    }
+}
+
+/// An upper bound of the non-zeros of the Cholesky factor (diagonal included) of a
+/// mesh with `vertices` vertices: `0.36 · V · log2(V)²`, at least `V`.
+///
+/// The fill of a 2-manifold under a minimum-degree or nested-dissection ordering grows
+/// faster than `V`; on icospheres faer's approximate-minimum-degree factor holds
+/// `0.31 – 0.35 · log2(V)²` non-zeros per vertex from 10 242 to 2 621 442 vertices
+/// (150.6 per vertex at 2 621 442), an open grid patch about half as many.
+pub(crate) fn cholesky_nonzeros(vertices: usize) -> u64 {
+    #[allow(clippy::cast_precision_loss, reason = "an estimate")]
+    let v = vertices as f64;
+    let log = v.max(1.0).log2();
+    let bound = (FILL * v * log * log).ceil();
+    #[allow(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "non-negative; saturates"
+    )]
+    let bound = bound as u64;
+    bound.max(vertices as u64)
+}
 
 /// The estimated peak memory of a smoothing run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,12 +275,20 @@ pub(crate) struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
-    /// The estimate for `vertices` vertices and `faces` faces with `corners` corners
-    /// in all.
-    pub(crate) fn new(vertices: usize, faces: usize, corners: usize) -> Self {
-        let bytes = BASE_BYTES
-            .saturating_add(BYTES_PER_VERTEX.saturating_mul(vertices as u64))
-            .saturating_add(BYTES_PER_CORNER.saturating_mul(corners as u64));
+    /// The estimate of `run` on `vertices` vertices and `faces` faces with `corners`
+    /// corners in all.
+    pub(crate) fn new(run: &Run, vertices: usize, faces: usize, corners: usize) -> Self {
+        let mut counted = run.per_element(vertices).bytes(vertices, faces, corners);
+        counted = counted.saturating_add(
+            run.bytes_per_iteration()
+                .saturating_mul(run.iterations as u64),
+        );
+        if run.method == Method::ImplicitCholesky {
+            counted = counted.saturating_add(CHOLESKY_FIXED_BYTES).saturating_add(
+                FACTOR_BYTES_PER_NONZERO.saturating_mul(cholesky_nonzeros(vertices)),
+            );
+        }
+        let bytes = BASE_BYTES.saturating_add(with_margin(counted));
         Self {
             vertices,
             faces,
@@ -66,9 +299,15 @@ impl MemoryEstimate {
 
     /// The estimate for a file that declares `faces` triangles but not its vertices
     /// (an STL): a closed triangle mesh has about half as many vertices as faces.
-    pub(crate) fn for_triangle_soup(faces: usize) -> Self {
-        Self::new(faces / 2 + 2, faces, faces.saturating_mul(3))
+    pub(crate) fn for_triangle_soup(run: &Run, faces: usize) -> Self {
+        Self::new(run, faces / 2 + 2, faces, faces.saturating_mul(3))
     }
+}
+
+/// `bytes` plus the margin ([`MARGIN_PERCENT`]), saturating.
+fn with_margin(bytes: u64) -> u64 {
+    let scaled = u128::from(bytes) * u128::from(MARGIN_PERCENT) / 100;
+    u64::try_from(scaled).unwrap_or(u64::MAX)
 }
 
 impl fmt::Display for MemoryEstimate {
@@ -144,6 +383,24 @@ pub(crate) fn parse_size(text: &str) -> Result<u64, String> {
 mod tests {
     use super::*;
 
+    fn run(method: Method, weights: Weights) -> Run {
+        Run {
+            method,
+            weights,
+            preserve_volume: false,
+            area: false,
+            iterations: 10,
+            report_steps: false,
+        }
+    }
+
+    /// Bytes per vertex of a closed triangle mesh (`C = 6 V`, `F = 2 V`), before the
+    /// margin.
+    fn per_vertex(run: &Run, vertices: usize) -> u64 {
+        let p = run.per_element(vertices);
+        p.vertex + 6 * p.corner + 2 * p.face
+    }
+
     #[test]
     fn sizes_parse_with_binary_units() {
         assert_eq!(parse_size("512M"), Ok(512 << 20));
@@ -166,17 +423,141 @@ mod tests {
     }
 
     #[test]
-    fn the_estimate_is_linear_in_the_counts() {
-        let e = MemoryEstimate::new(1000, 2000, 6000);
+    fn the_estimate_is_the_counted_bytes_with_a_quarter_more() {
+        // The default run on a small closed mesh: input, mesh, operator, cotangent
+        // plan, the second position buffer.
+        let r = run(Method::Explicit, Weights::Cotangent);
+        assert_eq!(r.per_element(1000), PerElement::new(80, 48, 52));
+        let e = MemoryEstimate::new(&r, 1000, 2000, 6000);
         assert_eq!(
             e.bytes,
-            BASE_BYTES + 1000 * BYTES_PER_VERTEX + 6000 * BYTES_PER_CORNER
+            BASE_BYTES + (80 * 1000 + 48 * 6000 + 52 * 2000) * 5 / 4
         );
-        let soup = MemoryEstimate::for_triangle_soup(2000);
+        let soup = MemoryEstimate::for_triangle_soup(&r, 2000);
         assert_eq!((soup.vertices, soup.corners), (1002, 6000));
         assert_eq!(
-            MemoryEstimate::new(usize::MAX, 0, usize::MAX).bytes,
+            MemoryEstimate::new(&r, usize::MAX, 0, usize::MAX).bytes,
             u64::MAX
         );
+        // The icosphere of `tests/overwrite_and_limits.rs`.
+        assert_eq!(
+            Size(MemoryEstimate::new(&r, 642, 1280, 3840).bytes).to_string(),
+            "16.4 MiB"
+        );
+    }
+
+    #[test]
+    fn the_coefficients_per_method_are_the_documented_ones() {
+        // Bytes per vertex of a closed triangle mesh before the margin, as in
+        // docs/reliability.md: (method, weights, small mesh, 50 000 vertices or more).
+        let table = [
+            (Method::Explicit, Weights::Cotangent, 472, 612),
+            (Method::Taubin, Weights::Cotangent, 496, 636),
+            (Method::Hc, Weights::Cotangent, 544, 684),
+            (Method::Explicit, Weights::Rows, 316, 456),
+            (Method::Explicit, Weights::Halfedges, 548, 688),
+            (Method::ImplicitCg, Weights::Cotangent, 766, 766),
+            (Method::ImplicitCholesky, Weights::Cotangent, 982, 982),
+        ];
+        for (method, weights, small, large) in table {
+            let r = run(method, weights);
+            assert_eq!(per_vertex(&r, 49_999), small, "{method:?} {weights:?}");
+            assert_eq!(per_vertex(&r, 50_000), large, "{method:?} {weights:?}");
+        }
+        let explicit = run(Method::Explicit, Weights::Cotangent);
+        let volume = Run {
+            preserve_volume: true,
+            ..explicit
+        };
+        assert_eq!(per_vertex(&volume, 10) - per_vertex(&explicit, 10), 24);
+        let area = Run {
+            area: true,
+            ..explicit
+        };
+        assert_eq!(per_vertex(&area, 10) - per_vertex(&explicit, 10), 16);
+        // Reordered runs keeping every iteration's statistics hold the displacements.
+        let stats = Run {
+            report_steps: true,
+            ..explicit
+        };
+        assert_eq!(per_vertex(&stats, 10), per_vertex(&explicit, 10));
+        assert_eq!(
+            per_vertex(&stats, 100_000) - per_vertex(&explicit, 100_000),
+            8
+        );
+    }
+
+    #[test]
+    fn every_method_and_scheme_costs_what_it_holds() {
+        let (v, f, c) = (2562, 5120, 15_360);
+        let bytes = |method, weights| MemoryEstimate::new(&run(method, weights), v, f, c).bytes;
+        let cot = |method| bytes(method, Weights::Cotangent);
+        assert!(cot(Method::ImplicitCholesky) > cot(Method::ImplicitCg));
+        assert!(cot(Method::ImplicitCg) > cot(Method::Hc));
+        assert!(cot(Method::Hc) > cot(Method::Taubin));
+        assert!(cot(Method::Taubin) > cot(Method::Explicit));
+        let explicit = |weights| bytes(Method::Explicit, weights);
+        assert!(explicit(Weights::Halfedges) > explicit(Weights::Cotangent));
+        assert!(explicit(Weights::Cotangent) > explicit(Weights::Rows));
+    }
+
+    #[test]
+    fn iterations_cost_what_their_statistics_and_report_rows_hold() {
+        let (v, f, c) = (642, 1280, 3840);
+        let estimate = |r: Run| MemoryEstimate::new(&r, v, f, c).bytes;
+        // The margin is taken of the sum: a difference may round either way.
+        let about = |a: u64, b: u64| a.abs_diff(b) <= 1;
+        let explicit = run(Method::Explicit, Weights::Cotangent);
+        let with = |r: Run, iterations, report_steps| Run {
+            iterations,
+            report_steps,
+            ..r
+        };
+        // Without --report an explicit run keeps nothing per iteration.
+        assert_eq!(estimate(with(explicit, 100_000, false)), estimate(explicit));
+        assert!(about(
+            estimate(with(explicit, 100_000, true)) - estimate(with(explicit, 0, true)),
+            with_margin(100_000 * (STEP_STATS_BYTES + REPORT_STEP_BYTES))
+        ));
+        // An implicit run keeps its steps' statistics anyway.
+        let cg = run(Method::ImplicitCg, Weights::Cotangent);
+        assert!(about(
+            estimate(with(cg, 100_000, false)) - estimate(with(cg, 0, false)),
+            with_margin(100_000 * IMPLICIT_STEP_BYTES)
+        ));
+        assert!(about(
+            estimate(with(cg, 100_000, true)) - estimate(with(cg, 0, true)),
+            with_margin(100_000 * (IMPLICIT_STEP_BYTES + REPORT_STEP_BYTES))
+        ));
+    }
+
+    #[test]
+    fn the_cholesky_fill_bound_holds_on_measured_factors() {
+        // Non-zeros of faer's factor of icospheres of levels 3 to 9
+        // (`beltrami smooth --method implicit --solver cholesky --report`).
+        let measured = [
+            (642, 14_527),
+            (2562, 84_765),
+            (10_242, 642_230),
+            (40_962, 3_112_088),
+            (163_842, 15_166_587),
+            (655_362, 76_850_161),
+            (2_621_442, 394_818_789),
+        ];
+        for (vertices, nonzeros) in measured {
+            let bound = cholesky_nonzeros(vertices);
+            assert!(bound >= nonzeros, "{vertices}: {bound} < {nonzeros}");
+            assert!(
+                bound * 2 < nonzeros * 3,
+                "{vertices}: {bound} is loose for {nonzeros}"
+            );
+        }
+        assert_eq!(cholesky_nonzeros(0), 0);
+        assert_eq!(cholesky_nonzeros(1), 1);
+        assert_eq!(cholesky_nonzeros(usize::MAX), u64::MAX);
+        // The factor dominates large runs: at level 9 it is more than half.
+        let r = run(Method::ImplicitCholesky, Weights::Cotangent);
+        let all = MemoryEstimate::new(&r, 2_621_442, 5_242_880, 15_728_640).bytes;
+        assert!(with_margin(8 * cholesky_nonzeros(2_621_442)) * 2 > all);
     }
 }

@@ -21,7 +21,7 @@ use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load_checked};
-use crate::memory::{LARGE_RUN_VERTICES, MemoryEstimate, parse_size};
+use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate, parse_size};
 use crate::output::{Outputs, Staged};
 use crate::text::{number, plural};
 
@@ -444,17 +444,20 @@ pub(crate) fn run(
     let t0 = Instant::now();
     // A first check on the counts the file declares (PLY header, binary STL count),
     // before anything is read; then on the exact counts, before the mesh is built.
+    let memory = memory_run(args, scheme.as_ref());
     if let Ok(Some(declared)) = declared_counts(&args.input) {
+        let faces = declared.faces;
         let estimate = match declared.vertices {
             Some(vertices) => {
-                MemoryEstimate::new(vertices, declared.faces, declared.faces.saturating_mul(3))
+                MemoryEstimate::new(&memory, vertices, faces, faces.saturating_mul(3))
             }
-            None => MemoryEstimate::for_triangle_soup(declared.faces),
+            None => MemoryEstimate::for_triangle_soup(&memory, faces),
         };
         check_memory(args, &estimate, false)?;
     }
     let loaded = load_checked(&args.input, &args.read, |data| {
         let estimate = MemoryEstimate::new(
+            &memory,
             data.positions.len(),
             data.faces.len(),
             data.faces.n_corners(),
@@ -648,6 +651,33 @@ fn check_memory(
         eprintln!("note: this run needs {estimate} of memory");
     }
     Ok(())
+}
+
+/// What the run does, as far as its memory goes: the method and solver, the weights'
+/// path, the options that add buffers, and the iterations whose statistics it keeps
+/// (unknown before the operator is built for an explicit run for a time).
+fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme) -> memory::Run {
+    let implicit = args.method == MethodArg::Implicit;
+    let for_time = args.time.is_some() || args.cutoff.is_some();
+    memory::Run {
+        method: match (args.method, args.solver()) {
+            (MethodArg::Explicit, _) => memory::Method::Explicit,
+            (MethodArg::Taubin, _) => memory::Method::Taubin,
+            (MethodArg::Hc, _) => memory::Method::Hc,
+            (MethodArg::Implicit, SolverArg::Cg) => memory::Method::ImplicitCg,
+            (MethodArg::Implicit, SolverArg::Cholesky) => memory::Method::ImplicitCholesky,
+        },
+        weights: memory::Weights::of(scheme),
+        preserve_volume: args.preserve_volume,
+        area: args.normalize() == NormalizeArg::Area,
+        iterations: match (implicit, for_time) {
+            (true, true) => 1,
+            (false, true) => 0,
+            (_, false) => args.iterations,
+        },
+        // An implicit run's report lists its steps even with --no-step-stats.
+        report_steps: args.report.is_some() && (implicit || !args.no_step_stats),
+    }
 }
 
 /// The reading time of a run and its two parts, in seconds.
