@@ -61,8 +61,8 @@ impl ReadArgs {
 
 /// The merge distance suggested for a mesh that does not build: a millionth of the
 /// bounding-box diagonal (as the STL weld), rounded up to one significant digit, when
-/// merging within it joins vertices. Returns the number of vertices it would merge and
-/// the distance.
+/// merging within it joins vertices and leaves no edge to cut and no vertex to split.
+/// Returns the number of vertices it would merge and the distance.
 fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f64)> {
     let (lo, hi) = positions.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
@@ -75,16 +75,19 @@ fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f
     let raw = diagonal * Weld::DEFAULT_RELATIVE;
     let scale = 10f64.powf(raw.log10().floor());
     let distance = (raw / scale).ceil() * scale;
-    let merged = repair(
+    let report = repair(
         positions,
         faces,
         &RepairOptions::new().merge_distance(Some(distance)),
     )
     .ok()?
-    .report
-    .merged_vertices
-    .len();
-    (merged > 0).then_some((merged, distance))
+    .report;
+    // Suggested only when merging is the cure: nothing left to cut or split after it.
+    let cured = report.cut_edges.is_empty()
+        && report.split_vertices.is_empty()
+        && report.opened_edges.is_empty();
+    let merged = report.merged_vertices.len();
+    (merged > 0 && cured).then_some((merged, distance))
 }
 
 /// A mesh read from a file: connectivity, positions and what repairs changed.
