@@ -92,7 +92,21 @@ fn is_usage(e: &SmoothError) -> bool {
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Io { path, source } => {
+                write!(f, "{}: {source}", path.display())?;
+                let more_than_declared = match source {
+                    IoError::TrailingData { .. } => true,
+                    IoError::PlyData { reason, .. } => reason.starts_with("the line holds"),
+                    _ => false,
+                };
+                if more_than_declared {
+                    write!(
+                        f,
+                        " (pass --lenient to read what the header declares and ignore the rest)"
+                    )?;
+                }
+                Ok(())
+            }
             Self::Topology {
                 path,
                 source,

@@ -31,6 +31,11 @@ pub(crate) struct ReadArgs {
     /// default.
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub(crate) merge_distance: Option<f64>,
+    /// Read a PLY file that holds more than its header declares (extra values on a
+    /// line, data after the last element) for what the header declares, and say what
+    /// was ignored, instead of failing.
+    #[arg(long)]
+    pub(crate) lenient: bool,
 }
 
 impl ReadArgs {
@@ -43,7 +48,9 @@ impl ReadArgs {
         };
         weld.check()
             .map_err(|e| CliError::Usage(format!("--weld-tolerance: {e}")))?;
-        Ok(ReadOptions::default().with_weld(weld))
+        Ok(ReadOptions::default()
+            .with_weld(weld)
+            .with_lenient(self.lenient))
     }
 
     /// The repair options: merging with `--merge-distance`.
@@ -215,6 +222,32 @@ fn load_inner(
         .map_err(|e| topology(e, &positions, &faces))?;
     let build_seconds = t1.elapsed().as_secs_f64();
     let mut repair_lines = Vec::new();
+    if read_report.ignored_anything() {
+        let mut parts = Vec::new();
+        if let Some(first) = read_report.lines_with_extra_values.first() {
+            parts.push(format!(
+                "values beyond the header's properties on {} (the first: line {first})",
+                counted(read_report.lines_with_extra_values.len(), "line", "lines")
+            ));
+        }
+        if read_report.ignored_trailing_lines > 0 {
+            parts.push(format!(
+                "{} after the last element",
+                counted(read_report.ignored_trailing_lines, "line", "lines")
+            ));
+        }
+        if read_report.ignored_trailing_bytes > 0 {
+            parts.push(format!(
+                "{} bytes after the last element",
+                read_report.ignored_trailing_bytes
+            ));
+        }
+        repair_lines.push(format!(
+            "note: read {} leniently, ignoring {}",
+            path.display(),
+            parts.join(", ")
+        ));
+    }
     if read_report.welded_vertices > 0 || !read_report.dropped_faces.is_empty() {
         repair_lines.push(format!(
             "note: welded {} of {} within {} (--weld-tolerance {} of the diagonal; 0 welds identical coordinates only){}",

@@ -200,11 +200,11 @@ fn files_from_the_wild_read_right_or_fail_with_the_line_or_element() {
         ),
         (
             "extra_faces.ply",
-            "line 17: unexpected data after the 3 faces the header declares",
+            "line 17: unexpected data after the 3 faces the header declares (pass --lenient to read what the header declares and ignore the rest)",
         ),
         (
             "trailing_bytes.ply",
-            "22 unexpected bytes after the 4 faces the header declares",
+            "22 unexpected bytes after the 4 faces the header declares (pass --lenient to read what the header declares and ignore the rest)",
         ),
         (
             "duplicate_property.ply",
@@ -647,4 +647,50 @@ fn a_ply_header_without_elements_is_an_empty_mesh() {
     std::fs::write(&path, "ply\nformat ascii 1.0\nend_header\n1 2 3\n").unwrap();
     let o = beltrami(&["info", s(&path)]);
     assert_eq!(o.status.code(), Some(1));
+}
+
+#[test]
+fn a_ply_that_holds_more_than_its_header_reads_with_lenient() {
+    let dir = wild_dir();
+    for (name, faces, ignored) in [
+        (
+            "extra_faces.ply",
+            3,
+            "ignoring 1 line after the last element",
+        ),
+        (
+            "trailing_bytes.ply",
+            4,
+            "ignoring 22 bytes after the last element",
+        ),
+    ] {
+        let o = beltrami(&["info", s(&wild(name))]);
+        assert_eq!(o.status.code(), Some(1));
+        assert!(
+            error_line(&o, &dir)
+                .ends_with("(pass --lenient to read what the header declares and ignore the rest)"),
+            "{name}"
+        );
+        let text = stdout(&["info", s(&wild(name)), "--lenient"]);
+        assert!(text.contains(ignored), "{text}");
+        assert_eq!(info(&wild(name), &["--lenient"])["faces"], faces, "{name}");
+    }
+    // Extra values on a line: the declared ones are read, the rest ignored.
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("extra_values.ply");
+    std::fs::write(
+        &path,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 9 1 1 1 1 1 1 1 1 1\n",
+    )
+    .unwrap();
+    let o = beltrami(&["info", s(&path)]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = stdout(&["info", s(&path), "--lenient"]);
+    assert!(
+        text.contains(
+            "ignoring values beyond the header's properties on 1 line (the first: line 13)"
+        ),
+        "{text}"
+    );
+    assert_eq!(info(&path, &["--lenient"])["faces"], 1);
 }

@@ -156,7 +156,7 @@ fn read_stream<R: BufRead + Seek>(
 ) -> Result<(MeshData, ReadReport), IoError> {
     let unwelded = |mesh| (mesh, ReadReport::default());
     match format {
-        MeshFormat::Ply => ply::read_ply(reader).map(unwelded),
+        MeshFormat::Ply => ply::read_ply(reader, options.lenient),
         MeshFormat::Stl => stl::read_stl(reader, &options.weld),
         MeshFormat::Obj => obj::read_obj(reader).map(unwelded),
         MeshFormat::Off => off::read_off(reader).map(unwelded),

@@ -108,13 +108,28 @@ pub struct ReadOptions {
     /// How STL corners are welded (the default: [`Weld::Relative`] with
     /// [`Weld::DEFAULT_RELATIVE`]).
     pub weld: Weld,
+    /// Read a PLY file that holds more than its header declares (values beyond an
+    /// element's properties on an ascii line, lines or bytes after the last element)
+    /// for what the header declares, ignore the rest and count it in the
+    /// [`ReadReport`], instead of failing (the default `false`). Some exporters write
+    /// such files; the declared data are read as declared, nothing is guessed.
+    pub lenient: bool,
 }
 
 impl ReadOptions {
     /// These options with `weld`.
     #[must_use]
     pub fn with_weld(self, weld: Weld) -> Self {
-        Self { weld }
+        Self { weld, ..self }
+    }
+
+    /// These options with [`lenient`](Self::lenient) set to `yes`.
+    #[must_use]
+    pub fn with_lenient(self, yes: bool) -> Self {
+        Self {
+            lenient: yes,
+            ..self
+        }
     }
 }
 
@@ -142,4 +157,23 @@ pub struct ReadReport {
     /// out of the mesh. A triangle with repeated corners in the file itself is kept,
     /// for the half-edge builder to report.
     pub dropped_faces: Vec<usize>,
+    /// With [`ReadOptions::lenient`]: the ascii PLY lines whose values beyond the
+    /// element's properties were ignored, as 1-based line numbers.
+    pub lines_with_extra_values: Vec<usize>,
+    /// With [`ReadOptions::lenient`]: the non-blank ascii lines after the last element
+    /// that were ignored.
+    pub ignored_trailing_lines: usize,
+    /// With [`ReadOptions::lenient`]: the bytes after the last element of a binary PLY
+    /// that were ignored.
+    pub ignored_trailing_bytes: u64,
+}
+
+impl ReadReport {
+    /// Whether anything in the file was ignored by a lenient read.
+    #[must_use]
+    pub fn ignored_anything(&self) -> bool {
+        !self.lines_with_extra_values.is_empty()
+            || self.ignored_trailing_lines > 0
+            || self.ignored_trailing_bytes > 0
+    }
 }

@@ -575,14 +575,17 @@ mod tests {
     /// `ply-rs-bw` path.
     fn check_same(bytes: &[u8]) {
         GENERIC_ONLY.with(|g| g.set(true));
-        let generic = format!("{:?}", read_ply(Cursor::new(bytes)));
+        let generic = format!("{:?}", read_ply(Cursor::new(bytes), false));
         GENERIC_ONLY.with(|g| g.set(false));
-        let whole = format!("{:?}", read_ply(Cursor::new(bytes)));
+        let whole = format!("{:?}", read_ply(Cursor::new(bytes), false));
         assert_eq!(whole, generic, "{bytes:?}");
         for capacity in [4, 5, 8, 13, 64, 1000] {
             let buffered = format!(
                 "{:?}",
-                read_ply(BufReader::with_capacity(capacity, Cursor::new(bytes)))
+                read_ply(
+                    BufReader::with_capacity(capacity, Cursor::new(bytes)),
+                    false
+                )
             );
             assert_eq!(buffered, generic, "capacity {capacity}: {bytes:?}");
         }
@@ -699,13 +702,17 @@ mod tests {
         values.extend([V::U8(2), V::I32(0), V::I32(1)]);
         for big in [false, true] {
             let mut bytes = file(elements, &values, big);
-            assert!(read_ply(Cursor::new(&bytes[..])).is_ok());
+            assert!(read_ply(Cursor::new(&bytes[..]), false).is_ok());
             bytes.extend([0, 1, 2]);
             check_same(&bytes);
             assert!(matches!(
-                read_ply(Cursor::new(&bytes[..])),
+                read_ply(Cursor::new(&bytes[..]), false),
                 Err(IoError::TrailingData { bytes: Some(3), .. })
             ));
+            // Read leniently, the declared data and the 3 bytes ignored.
+            let (mesh, report) = read_ply(Cursor::new(&bytes[..]), true).unwrap();
+            assert_eq!(mesh.faces.len(), 1);
+            assert_eq!(report.ignored_trailing_bytes, 3);
         }
     }
 

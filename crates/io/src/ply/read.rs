@@ -15,6 +15,7 @@ use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 use super::fast::{self, FaceLayout, VertexLayout};
 use super::records::{FaceRecord, Skip, VertexRecord, is_index_list_name};
 use crate::error::IoError;
+use crate::read_options::ReadReport;
 use crate::text::{
     BOM, LineReader, Lines, count_lines_in, is_blank_stream, stream_len, token_text, tokens,
 };
@@ -27,7 +28,11 @@ use beltrami_halfedge::MeshData;
 /// file must hold exactly what the header declares: more elements (ascii) or bytes
 /// (binary) after the last one are an error; whitespace after the last ascii line is
 /// not. A UTF-8 byte order mark before `ply` is skipped.
-pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoError> {
+pub(crate) fn read_ply<R: BufRead + Seek>(
+    mut reader: R,
+    lenient: bool,
+) -> Result<(MeshData, ReadReport), IoError> {
+    let mut report = ReadReport::default();
     let length = stream_len(&mut reader)?;
     if length == 0 {
         return Err(IoError::Empty);
@@ -67,7 +72,7 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
         if rest.iter().any(|b| !b.is_ascii_whitespace()) {
             return Err(IoError::MissingElement { element: "vertex" });
         }
-        return Ok(MeshData::default());
+        return Ok((MeshData::default(), report));
     }
     let mut mesh = MeshData::default();
     let face_line = match header.encoding {
@@ -76,14 +81,24 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
             let header_lines = count_lines_in(&mut (&mut reader).take(header_length))?;
             check_counts(&header, count_lines_in(&mut reader)?, |_| 1)?;
             seek_to(&mut reader, header_length)?;
-            read_ascii(&header, reader, payload, header_lines, &mut mesh)?
+            read_ascii(
+                &header,
+                reader,
+                payload,
+                header_lines,
+                &mut mesh,
+                lenient.then_some(&mut report),
+            )?
         }
         Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
             check_counts(&header, payload, min_record_size)?;
             let big_endian = header.encoding == Encoding::BinaryBigEndian;
             let left = read_binary(&header, reader, payload, big_endian, &mut mesh)?;
             if left > 0 {
-                return Err(trailing_data(&header, None, Some(left as u64)));
+                if !lenient {
+                    return Err(trailing_data(&header, None, Some(left as u64)));
+                }
+                report.ignored_trailing_bytes = left as u64;
             }
             None
         }
@@ -91,7 +106,7 @@ pub(crate) fn read_ply<R: BufRead + Seek>(mut reader: R) -> Result<MeshData, IoE
     // Faces from triangle strips are not one per line.
     let face_line = face_line.filter(|_| !header.elements.contains_key(TRISTRIPS));
     check_faces(&mesh, face_line)?;
-    Ok(mesh)
+    Ok((mesh, report))
 }
 
 /// The element of triangle strips: index lists in which `-1` ends a strip.
@@ -415,6 +430,7 @@ fn read_ascii(
     payload: usize,
     header_lines: usize,
     mesh: &mut MeshData,
+    mut lenient: Option<&mut ReadReport>,
 ) -> Result<Option<usize>, IoError> {
     let vertex_parser = Parser::<VertexRecord>::new();
     let face_parser = Parser::<FaceRecord>::new();
@@ -455,15 +471,20 @@ fn read_ascii(
                 index,
                 reason: "the line is not valid text".to_owned(),
             })?;
-            let extra_values = |()| {
-                extra_values(text, element).map_or(Ok(()), |reason| {
-                    Err(IoError::PlyData {
-                        line: line_number,
-                        element: element.name.clone(),
-                        index,
-                        reason,
-                    })
-                })
+            let mut extra_values = |()| match (extra_values(text, element), &mut lenient) {
+                (None, _) => Ok(()),
+                (Some(_), Some(report)) => {
+                    report
+                        .lines_with_extra_values
+                        .push(line_number.unwrap_or_default());
+                    Ok(())
+                }
+                (Some(reason), None) => Err(IoError::PlyData {
+                    line: line_number,
+                    element: element.name.clone(),
+                    index,
+                    reason,
+                }),
             };
             if name == "vertex" {
                 let record = vertex_parser
@@ -487,7 +508,10 @@ fn read_ascii(
     // Nothing but whitespace may follow the last element.
     while let Some(number) = lines.next_line()? {
         if !lines.line().iter().all(u8::is_ascii_whitespace) {
-            return Err(trailing_data(header, Some(header_lines + number), None));
+            match &mut lenient {
+                Some(report) => report.ignored_trailing_lines += 1,
+                None => return Err(trailing_data(header, Some(header_lines + number), None)),
+            }
         }
     }
     Ok(face_line)

@@ -40,6 +40,7 @@ pub(crate) fn read_stl<R: BufRead + Seek>(
         weld_distance: Some(distance),
         welded_vertices: welded.merged,
         dropped_faces: welded.dropped,
+        ..ReadReport::default()
     };
     let mesh = MeshData {
         positions: welded.positions,
