@@ -474,9 +474,7 @@ fn read_ascii(
             let mut extra_values = |()| match (extra_values(text, element), &mut lenient) {
                 (None, _) => Ok(()),
                 (Some(_), Some(report)) => {
-                    report
-                        .lines_with_extra_values
-                        .push(line_number.unwrap_or_default());
+                    report.lines_with_extra_values.push(header_lines + number);
                     Ok(())
                 }
                 (Some(reason), None) => Err(IoError::PlyData {
