@@ -7,7 +7,9 @@ use std::path::PathBuf;
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::check_same_topology;
-use beltrami_metrics::residual::{Datum, areal_parameters, normal_residual};
+use beltrami_metrics::residual::{
+    ArealOptions, Datum, Quadrature, areal_parameters, normal_residual,
+};
 use serde::Serialize;
 
 use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
@@ -99,14 +101,19 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     } else {
         Datum::ReferenceSurface
     };
-    let s =
-        areal_parameters(&smoothed_geometry, residual.as_slice(), datum).map_err(|e| match e {
+    let options = ArealOptions {
+        datum,
+        quadrature: Quadrature::ExactInterpolant,
+    };
+    let s = areal_parameters(&smoothed_geometry, residual.as_slice(), &options).map_err(
+        |e| match e {
             // The parameters are computed on the smoothed surface.
             MetricsError::Topology(_) | MetricsError::Empty { .. } => {
                 metrics_error(&args.smoothed)(e)
             }
             e => on_pair(e),
-        })?;
+        },
+    )?;
     let mut staged = Staged::new();
     let written = match &args.scalars {
         Some(path) => {

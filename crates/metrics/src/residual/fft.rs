@@ -1,0 +1,135 @@
+//! A small radix-2 complex FFT, in one and two dimensions.
+//!
+//! Written here rather than taken from a crate: the spatial parameters need the power
+//! spectrum and the autocorrelation of one height grid, zero-padded to powers of two, a
+//! few dozen lines of the textbook iterative Cooley–Tukey algorithm; the workspace has no
+//! FFT dependency, and this keeps it so.
+
+use std::f64::consts::TAU;
+
+/// A complex number `(re, im)`.
+pub(super) type Complex = (f64, f64);
+
+/// The discrete Fourier transform of `data` in place, `X_k = Σ_n x_n e^{∓2πi kn/N}`
+/// (`−` forward, `+` inverse; the inverse is not divided by `N`). `data.len()` must be a
+/// power of two.
+///
+/// # Panics
+/// When the length is not a power of two (a caller's bug).
+///
+/// # References
+/// J. W. Cooley, J. W. Tukey: *An algorithm for the machine calculation of complex
+/// Fourier series*. Mathematics of Computation 19(90), 1965.
+pub(super) fn fft(data: &mut [Complex], inverse: bool) {
+    let n = data.len();
+    assert!(n.is_power_of_two(), "FFT length {n} is not a power of two");
+    if n < 2 {
+        return;
+    }
+    // Bit-reversal permutation.
+    let bits = n.trailing_zeros();
+    for i in 0..n {
+        let j = i.reverse_bits() >> (usize::BITS - bits);
+        if i < j {
+            data.swap(i, j);
+        }
+    }
+    let sign = if inverse { 1.0 } else { -1.0 };
+    let mut len = 2;
+    while len <= n {
+        let half = len / 2;
+        // Twiddles from the exact angles (not by repeated multiplication), for accuracy.
+        let twiddles: Vec<Complex> = (0..half)
+            .map(|k| {
+                let (s, c) = (sign * TAU * k as f64 / len as f64).sin_cos();
+                (c, s)
+            })
+            .collect();
+        for start in (0..n).step_by(len) {
+            for (k, &(wr, wi)) in twiddles.iter().enumerate() {
+                let (ar, ai) = data[start + k];
+                let (br, bi) = data[start + k + half];
+                let (tr, ti) = (br * wr - bi * wi, br * wi + bi * wr);
+                data[start + k] = (ar + tr, ai + ti);
+                data[start + k + half] = (ar - tr, ai - ti);
+            }
+        }
+        len *= 2;
+    }
+}
+
+/// The two-dimensional transform of a row-major `rows × columns` array in place: every
+/// row, then every column. Both sizes must be powers of two.
+pub(super) fn fft2(data: &mut [Complex], rows: usize, columns: usize, inverse: bool) {
+    debug_assert_eq!(data.len(), rows * columns);
+    for row in data.chunks_exact_mut(columns) {
+        fft(row, inverse);
+    }
+    let mut column = vec![(0.0, 0.0); rows];
+    for c in 0..columns {
+        for (r, slot) in column.iter_mut().enumerate() {
+            *slot = data[r * columns + c];
+        }
+        fft(&mut column, inverse);
+        for (r, &value) in column.iter().enumerate() {
+            data[r * columns + c] = value;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The direct O(N²) transform.
+    fn dft(x: &[Complex]) -> Vec<Complex> {
+        let n = x.len();
+        (0..n)
+            .map(|k| {
+                x.iter()
+                    .enumerate()
+                    .fold((0.0, 0.0), |(sr, si), (j, &(xr, xi))| {
+                        let (s, c) = (-TAU * (k * j) as f64 / n as f64).sin_cos();
+                        (sr + xr * c - xi * s, si + xr * s + xi * c)
+                    })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn matches_the_direct_transform_and_inverts() {
+        let x: Vec<Complex> = (0..16)
+            .map(|i| ((i as f64 * 0.7).sin(), (i as f64 * 1.3).cos() - 0.2))
+            .collect();
+        let mut y = x.clone();
+        fft(&mut y, false);
+        for (a, b) in y.iter().zip(dft(&x)) {
+            assert!((a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12);
+        }
+        fft(&mut y, true);
+        for (a, b) in y.iter().zip(&x) {
+            assert!((a.0 / 16.0 - b.0).abs() < 1e-14 && (a.1 / 16.0 - b.1).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn two_dimensional_transform_of_a_plane_wave() {
+        // e^{2πi (2r/4 + 3c/8)} has all its energy at (2, 3).
+        let (rows, columns) = (4, 8);
+        let mut data: Vec<Complex> = (0..rows * columns)
+            .map(|k| {
+                let (r, c) = ((k / columns) as f64, (k % columns) as f64);
+                let phase = TAU * (2.0 * r / 4.0 + 3.0 * c / 8.0);
+                (phase.cos(), phase.sin())
+            })
+            .collect();
+        fft2(&mut data, rows, columns, false);
+        for (k, &(re, im)) in data.iter().enumerate() {
+            let want = if k == 2 * columns + 3 { 32.0 } else { 0.0 };
+            assert!(
+                (re - want).abs() < 1e-12 && im.abs() < 1e-12,
+                "{k}: {re} {im}"
+            );
+        }
+    }
+}
