@@ -30,8 +30,9 @@ const CORE_WINDOW: f64 = 0.4;
 ///   grid data with equal weights, the empirical distribution of the samples). Sorted
 ///   from the highest, vertex `k` stands for the material ratios between `C_{k−1}` and
 ///   `C_k`, the cumulative weights before and after it; the curve passes through
-///   `((C_{k−1} + C_k) / 2, z_k)` (the mid-point, or Hazen, plotting position) and is
-///   flat from `mr = 0` to the first point and from the last point to `mr = 1`.
+///   `((C_{k−1} + C_k) / 2, z_k)` (the mid-point, or Hazen, plotting position; vertices
+///   of equal height make one point, at the middle of their joint share) and is flat
+///   from `mr = 0` to the first point and from the last point to `mr = 1`.
 /// - **Exact interpolant** ([`Quadrature::ExactInterpolant`]): the material ratio of
 ///   the piecewise-linear interpolant, computed exactly at 4097 equally spaced heights
 ///   from the highest to the lowest vertex value (a triangle with corner values
@@ -310,11 +311,12 @@ impl MaterialRatioCurve {
         let mut points = Vec::with_capacity(samples.len() + 2);
         points.push((0.0, samples[0].0));
         let mut before = Sum::default();
-        for &(z, w) in samples.iter() {
+        // Samples of equal height form one point, at the middle of their joint share.
+        for group in samples.chunk_by(|a, b| a.0 == b.0) {
             let start = before.value();
-            before.add(w);
+            group.iter().for_each(|&(_, w)| before.add(w));
             let mid = 0.5 * (start + before.value()) / total;
-            points.push((mid.clamp(0.0, 1.0), z));
+            points.push((mid.clamp(0.0, 1.0), group[0].0));
         }
         points.push((1.0, samples[samples.len() - 1].0));
         for k in 1..points.len() {
@@ -344,8 +346,8 @@ impl MaterialRatioCurve {
 
     /// The areal material ratio `Smr(c)` in percent: the share of the area at or above
     /// height `c` (0 above the highest point, 100 at or below the lowest). Linear between
-    /// the curve's points; at a height the curve holds over a range of ratios (a
-    /// plateau), the largest ratio.
+    /// the curve's points; where the curve stays at the height `c` over a range of ratios
+    /// (a flat stretch), the largest of them.
     ///
     /// # References
     /// ISO 25178-2:2012, clause 4.4 (areal material ratio Smr(c)).
