@@ -23,6 +23,25 @@ pub(super) type Complex = (f64, f64);
 pub(super) fn fft(data: &mut [Complex], inverse: bool) {
     let n = data.len();
     assert!(n.is_power_of_two(), "FFT length {n} is not a power of two");
+    transform(data, &twiddles(n, inverse));
+}
+
+/// `e^{∓2πi k/n}` for `k < n/2`, from the exact angles (not by repeated multiplication),
+/// for accuracy.
+fn twiddles(n: usize, inverse: bool) -> Vec<Complex> {
+    let sign = if inverse { 1.0 } else { -1.0 };
+    (0..n / 2)
+        .map(|k| {
+            let (s, c) = (sign * TAU * k as f64 / n as f64).sin_cos();
+            (c, s)
+        })
+        .collect()
+}
+
+/// The iterative radix-2 transform of `data` (a power-of-two length `n`) with the
+/// twiddles of length `n`: stage of length `len` uses every `n/len`-th of them.
+fn transform(data: &mut [Complex], twiddles: &[Complex]) {
+    let n = data.len();
     if n < 2 {
         return;
     }
@@ -34,19 +53,13 @@ pub(super) fn fft(data: &mut [Complex], inverse: bool) {
             data.swap(i, j);
         }
     }
-    let sign = if inverse { 1.0 } else { -1.0 };
     let mut len = 2;
     while len <= n {
         let half = len / 2;
-        // Twiddles from the exact angles (not by repeated multiplication), for accuracy.
-        let twiddles: Vec<Complex> = (0..half)
-            .map(|k| {
-                let (s, c) = (sign * TAU * k as f64 / len as f64).sin_cos();
-                (c, s)
-            })
-            .collect();
+        let stride = n / len;
         for start in (0..n).step_by(len) {
-            for (k, &(wr, wi)) in twiddles.iter().enumerate() {
+            for k in 0..half {
+                let (wr, wi) = twiddles[k * stride];
                 let (ar, ai) = data[start + k];
                 let (br, bi) = data[start + k + half];
                 let (tr, ti) = (br * wr - bi * wi, br * wi + bi * wr);
@@ -62,17 +75,29 @@ pub(super) fn fft(data: &mut [Complex], inverse: bool) {
 /// row, then every column. Both sizes must be powers of two.
 pub(super) fn fft2(data: &mut [Complex], rows: usize, columns: usize, inverse: bool) {
     debug_assert_eq!(data.len(), rows * columns);
+    assert!(rows.is_power_of_two() && columns.is_power_of_two());
+    let row_twiddles = twiddles(columns, inverse);
     for row in data.chunks_exact_mut(columns) {
-        fft(row, inverse);
+        transform(row, &row_twiddles);
     }
-    let mut column = vec![(0.0, 0.0); rows];
-    for c in 0..columns {
-        for (r, slot) in column.iter_mut().enumerate() {
-            *slot = data[r * columns + c];
+    // Columns in blocks of 16, copied out row by row (whole cache lines) and back.
+    const BLOCK: usize = 16;
+    let column_twiddles = twiddles(rows, inverse);
+    let mut block = vec![(0.0, 0.0); rows * BLOCK];
+    for first in (0..columns).step_by(BLOCK) {
+        let width = BLOCK.min(columns - first);
+        for r in 0..rows {
+            for k in 0..width {
+                block[k * rows + r] = data[r * columns + first + k];
+            }
         }
-        fft(&mut column, inverse);
-        for (r, &value) in column.iter().enumerate() {
-            data[r * columns + c] = value;
+        for column in block.chunks_exact_mut(rows).take(width) {
+            transform(column, &column_twiddles);
+        }
+        for r in 0..rows {
+            for k in 0..width {
+                data[r * columns + first + k] = block[k * rows + r];
+            }
         }
     }
 }

@@ -58,8 +58,8 @@ pub struct SpatialParameters {
 /// mean product of the pairs of valid points at the lag `t`, relative to the mean
 /// square (the unbiased estimator, normalised by the overlap, which does not shrink at
 /// long lags the way the estimator over the whole area does). Lags are supported where
-/// at least a quarter of the valid points have a valid partner. The sums are
-/// computed through zero-padded FFTs of `z` and `m`.
+/// at least a quarter of the valid points have a valid partner. The sums are computed
+/// through one zero-padded FFT of `z + i m`.
 ///
 /// **Sal and Str.** Along 720 directions over half a turn (the function is even), the
 /// first lag at which `f_ACF` falls to `s` is found by stepping a quarter of the grid
@@ -175,24 +175,34 @@ impl Autocorrelation {
         let (nx, ny) = (grid.nx(), grid.ny());
         let columns = (2 * nx - 1).next_power_of_two();
         let rows = (2 * ny - 1).next_power_of_two();
-        let correlate = |value: &dyn Fn(usize) -> f64| {
-            let mut data: Vec<Complex> = vec![(0.0, 0.0); rows * columns];
-            for j in 0..ny {
-                for i in 0..nx {
-                    data[j * columns + i] = (value(j * nx + i), 0.0);
-                }
-            }
-            fft2(&mut data, rows, columns, false);
-            for c in &mut data {
-                *c = (c.0 * c.0 + c.1 * c.1, 0.0);
-            }
-            fft2(&mut data, rows, columns, true);
-            let n = (rows * columns) as f64;
-            data.into_iter().map(|c| c.0 / n).collect::<Vec<f64>>()
-        };
-        let products = correlate(&|k| z[k]);
+        // Both correlations from one complex transform of f = z + i m: with F its
+        // transform, Z(k) = (F(k) + F̄(−k)) / 2 and M(k) = (F(k) − F̄(−k)) / 2i, and the
+        // inverse transform of |Z|² + i |M|² is Σ z z' + i Σ m m'.
         let heights = grid.heights();
-        let pairs = correlate(&|k| if heights[k].is_some() { 1.0 } else { 0.0 });
+        let mut data: Vec<Complex> = vec![(0.0, 0.0); rows * columns];
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                let m = if heights[k].is_some() { 1.0 } else { 0.0 };
+                data[j * columns + i] = (z[k], m);
+            }
+        }
+        fft2(&mut data, rows, columns, false);
+        let mut power = vec![(0.0, 0.0); rows * columns];
+        for r in 0..rows {
+            for c in 0..columns {
+                let (fr, fi) = data[r * columns + c];
+                let (gr, gi) = data[((rows - r) % rows) * columns + (columns - c) % columns];
+                // F̄(−k) = (gr, −gi).
+                let (zr, zi) = (0.5 * (fr + gr), 0.5 * (fi - gi));
+                let (mr, mi) = (0.5 * (fi + gi), -0.5 * (fr - gr));
+                power[r * columns + c] = (zr * zr + zi * zi, mr * mr + mi * mi);
+            }
+        }
+        fft2(&mut power, rows, columns, true);
+        let n = (rows * columns) as f64;
+        let products: Vec<f64> = power.iter().map(|c| c.0 / n).collect();
+        let pairs: Vec<f64> = power.iter().map(|c| c.1 / n).collect();
         let valid = pairs[0].round();
         let mean_square = products[0] / valid;
         let values = products
