@@ -11,16 +11,13 @@ use std::f64::consts::TAU;
 pub(super) type Complex = (f64, f64);
 
 /// The discrete Fourier transform of `data` in place, `X_k = Σ_n x_n e^{∓2πi kn/N}`
-/// (`−` forward, `+` inverse; the inverse is not divided by `N`). `data.len()` must be a
-/// power of two.
+/// (`−` forward, `+` inverse; the inverse is not divided by `N`), for the tests: [`fft2`]
+/// runs the same stages on rows and columns.
 ///
 /// # Panics
 /// When the length is not a power of two (a caller's bug).
-///
-/// # References
-/// J. W. Cooley, J. W. Tukey: *An algorithm for the machine calculation of complex
-/// Fourier series*. Mathematics of Computation 19(90), 1965.
-pub(super) fn fft(data: &mut [Complex], inverse: bool) {
+#[cfg(test)]
+fn fft(data: &mut [Complex], inverse: bool) {
     let n = data.len();
     assert!(n.is_power_of_two(), "FFT length {n} is not a power of two");
     transform(data, &twiddles(n, inverse));
@@ -71,8 +68,18 @@ fn transform(data: &mut [Complex], twiddles: &[Complex]) {
     }
 }
 
-/// The two-dimensional transform of a row-major `rows × columns` array in place: every
-/// row, then every column. Both sizes must be powers of two.
+/// The two-dimensional discrete Fourier transform of a row-major `rows × columns` array
+/// in place, `X_{kl} = Σ x_{rc} e^{∓2πi (kr/rows + lc/columns)}` (`−` forward, `+`
+/// inverse, not divided by the size): every row, then every column (copied out in blocks
+/// of 16, so that each row is read a cache line at a time), by the iterative radix-2
+/// Cooley–Tukey algorithm.
+///
+/// # Panics
+/// When a size is not a power of two (a caller's bug).
+///
+/// # References
+/// J. W. Cooley, J. W. Tukey: *An algorithm for the machine calculation of complex
+/// Fourier series*. Mathematics of Computation 19(90), 1965.
 pub(super) fn fft2(data: &mut [Complex], rows: usize, columns: usize, inverse: bool) {
     debug_assert_eq!(data.len(), rows * columns);
     assert!(rows.is_power_of_two() && columns.is_power_of_two());
