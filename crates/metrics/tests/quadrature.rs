@@ -117,7 +117,7 @@ fn table(resolutions: &[u32], reference: [f64; 4]) -> Vec<([f64; 3], [f64; 3])> 
         let (l, _) = sampled(n, Quadrature::Lumped);
         let (e, _) = sampled(n, Quadrature::ExactInterpolant);
         let cell =
-            |got: f64, want: f64| format!("{got:.5} ({:+.3} %)", 100.0 * relative(got, want));
+            |got: f64, want: f64| format!("{got:.6} ({:+.4} %)", 100.0 * relative(got, want));
         println!(
             "| {n}² | {} | {} | {} | {} | {} | {} |",
             cell(l.sq, sq),
@@ -140,7 +140,7 @@ fn table(resolutions: &[u32], reference: [f64; 4]) -> Vec<([f64; 3], [f64; 3])> 
             ],
         ));
     }
-    println!("| continuous | {sq:.5} | | {sa:.5} | | {sku:.5} | |");
+    println!("| continuous | {sq:.6} | | {sa:.6} | | {sku:.6} | |");
     errors
 }
 

@@ -32,18 +32,28 @@ pub enum Datum {
 ///   regular grid this is the trapezoid rule, and like it, it converges quickly to the
 ///   integral of the smooth surface the vertices sample: its error is second order in
 ///   the edge length with a small constant, and for a texture that is periodic over the
-///   grid it is spectrally accurate. It is the quadrature of instrument software, which
-///   averages the heights of its grid points.
+///   grid it is spectrally accurate. Instrument software averages the heights of its grid
+///   points with equal weights; the trapezoid rule differs from that only in halving the
+///   weights of the boundary points.
 /// - [`ExactInterpolant`](Self::ExactInterpolant) integrates `g` of the piecewise-linear
 ///   interpolant of the vertex values exactly. That interpolant cuts across every crest
-///   and trough, so for `g(z) = z²` it always lies below the smooth surface's value
-///   (a sine sampled at phase steps `h` loses the factor `sqrt((2 + cos h) / 3)` of its
-///   Sq); it converges at second order from below, with a larger constant. Use it to
-///   characterise the triangulated surface itself.
+///   and trough, so for `g(z) = z²` it lies below the smooth surface's value (a sine
+///   sampled at phase steps `h` keeps only the factor `sqrt((2 + cos h) / 3)` of its Sq);
+///   it converges at second order from below, with a constant several hundred times
+///   larger on the texture of docs/metrics.md. Use it to characterise the triangulated
+///   surface itself.
 ///
 /// The mean height `(1/A) ∫ z dA` is the same under both rules (the lumped rule is exact
 /// for functions linear on each triangle); Sp and Sv are vertex extremes and Sdq, Sdr
-/// per-triangle gradients under both.
+/// per-triangle gradients under both. For the material ratio curve see
+/// [`MaterialRatioCurve`](super::MaterialRatioCurve).
+///
+/// # References
+/// - ISO 25178-2:2012, clause 4 (the field parameters as integrals over the definition
+///   area, which a discrete surface approximates).
+/// - R. Leach (ed.): *Characterisation of Areal Surface Texture*. Springer, 2013, the
+///   chapter *The areal field parameters* (F. Blateyron: the parameters as means over the
+///   grid points).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Quadrature {
     /// Area-weighted vertex values, `Σ_i A_i g(z_i) / Σ_i A_i` (the default).

@@ -290,17 +290,35 @@ pub fn resample_to_grid(
             high = [high[0].max(u), high[1].max(w)];
         }
     }
+    if !(high[0] - low[0]).is_finite() || !(high[1] - low[1]).is_finite() {
+        // The projected extent overflows: name the largest coordinate.
+        let (index, value) = positions
+            .iter()
+            .enumerate()
+            .flat_map(|(i, p)| [(i, p.x), (i, p.y), (i, p.z)])
+            .fold((0, 0.0f64), |best, (i, c)| {
+                if c.abs() > best.1.abs() { (i, c) } else { best }
+            });
+        return Err(MetricsError::CoordinateTooLarge {
+            what: "vertex",
+            index,
+            value,
+            limit: f64::MAX / 2.0,
+        });
+    }
     let mut step = match options.step {
         Some(step) => step,
         None => median_edge_length(geometry).ok_or(MetricsError::Empty { what: "mesh area" })?,
     };
-    let count = |step: f64, k: usize| ((high[k] - low[k]) / step + 1e-9).floor() as usize + 1;
-    let too_many = |step: f64| count(step, 0).saturating_mul(count(step, 1)) > options.max_points;
-    while too_many(step) {
-        let excess = (count(step, 0) as f64 * count(step, 1) as f64) / options.max_points as f64;
+    // Point counts as floats (they may be astronomical before the coarsening).
+    let count = |step: f64, k: usize| ((high[k] - low[k]) / step + 1e-9).floor() + 1.0;
+    let limit = options.max_points as f64;
+    while count(step, 0) * count(step, 1) > limit {
+        let excess = count(step, 0) * count(step, 1) / limit;
         step *= excess.sqrt().max(1.0) * 1.0001;
     }
-    let (nx, ny) = (count(step, 0), count(step, 1));
+    // Both counts are now at most max_points.
+    let (nx, ny) = (count(step, 0) as usize, count(step, 1) as usize);
     if nx < 4 || ny < 4 {
         return Err(MetricsError::Empty {
             what: "height grid",

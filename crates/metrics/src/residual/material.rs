@@ -39,6 +39,12 @@ const CORE_WINDOW: f64 = 0.4;
 ///   `a ≤ b ≤ c` has the fraction `1 − (t − a)² / ((b − a)(c − a))` of its area above
 ///   `t ∈ [a, b]` and `(c − t)² / ((c − a)(c − b))` above `t ∈ [b, c]`), linear between.
 ///
+/// The lumped curve is the distribution of the vertex heights: it resolves material
+/// ratios to the weight of one distinct height. On areal data, where every vertex has
+/// its own height, it converges faster than the exact interpolant's curve (see
+/// docs/metrics.md); a profile repeated on every row of a grid has only as many heights
+/// as the profile has samples, and there the exact curve is the better one.
+///
 /// # References
 /// - ISO 25178-2:2012, clause 4.4 (functions and related parameters: the areal
 ///   material ratio function, Smr(c), Smc(mr), Sxp and the volume parameters).
