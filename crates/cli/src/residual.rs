@@ -1,39 +1,91 @@
 //! `beltrami residual`: the ISO 25178-2 areal parameters of a measured surface's
-//! residual from its smoothed form.
+//! residual from its form: its smoothed version, or a least-squares plane, polynomial,
+//! sphere or cylinder.
 
 use std::io::Write;
 use std::path::PathBuf;
 
+use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::check_same_topology;
-use beltrami_metrics::residual::{Datum, areal_parameters, normal_residual};
+use beltrami_metrics::fits::MAX_POLYNOMIAL_DEGREE;
+use beltrami_metrics::residual::{
+    ArealOptions, ArealParameters, Datum, FittedForm, Form, MaterialRatioCurve, Quadrature,
+    ResampleOptions, SpatialOptions, StratifiedParameters, VolumeParameters, areal_parameters,
+    form_residual, normal_residual, resample_to_grid, spatial_parameters,
+};
 use serde::Serialize;
 
 use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
 use crate::error::CliError;
 use crate::load::ReadArgs;
 use crate::output::{Outputs, Staged};
-use crate::text::number;
+use crate::text::{number, vector};
+
+/// The material ratios of Sxp (ISO 25178-3 defaults), in percent.
+const SXP_RATIOS: (f64, f64) = (2.5, 50.0);
+/// The material ratios of the volume parameters (ISO 25178-3 defaults), in percent.
+const VOLUME_RATIOS: (f64, f64) = (10.0, 80.0);
 
 /// Arguments of `beltrami residual`.
 #[derive(Debug, clap::Args)]
+#[command(
+    group(clap::ArgGroup::new("reference").required(true).args(["smoothed", "form"])),
+    override_usage = "beltrami residual [OPTIONS] <MEASURED> <SMOOTHED>\n       beltrami residual [OPTIONS] <MEASURED> --form <FORM>",
+    after_long_help = "The residual is what is left of MEASURED once its form is removed \
+(the F-operator of ISO 25178-2), by one of two routes:
+
+  residual MEASURED SMOOTHED   the signed normal deviation from SMOOTHED, the same mesh \
+smoothed (e.g. by `beltrami smooth`), along SMOOTHED's vertex normals;
+  residual MEASURED --form F   the signed orthogonal distance from the least-squares \
+form F fitted to MEASURED (area-weighted): plane, poly:N (a polynomial of degree N = 1 to \
+6 over the best-fit plane), sphere or cylinder.
+
+Positive residuals lie on the side MEASURED's faces point to (outside, or up). The \
+parameters are integrals over the reference surface: SMOOTHED, or MEASURED laid onto the \
+form. Height integrals use the lumped rule by default (each vertex weighted by its \
+barycentric area: the trapezoid rule on a grid); --quadrature exact integrates the \
+piecewise-linear interpolant instead, which cuts the crests of a sampled texture. The \
+spatial parameters Sal, Str and Std are computed on the residual resampled onto a square \
+grid in the reference surface's best-fit plane at its median edge length; they are null \
+when the surface folds over that plane (a closed surface). docs/metrics.md has every \
+formula."
+)]
 pub(crate) struct ResidualArgs {
     /// The measured mesh (.ply, .stl, .obj or .off).
     measured: PathBuf,
     /// Its smoothed version, the reference form: the same vertices and faces, new
-    /// positions (e.g. the output of `beltrami smooth`).
-    smoothed: PathBuf,
+    /// positions (e.g. the output of `beltrami smooth`). Give this or --form.
+    smoothed: Option<PathBuf>,
+    /// Remove a least-squares form fitted to MEASURED instead of a smoothed mesh: plane,
+    /// poly:N (N = 1 to 6), sphere or cylinder.
+    #[arg(long, value_name = "FORM", value_parser = parse_form)]
+    form: Option<Form>,
+    /// How height integrals are evaluated: lumped (area-weighted vertex values, which
+    /// converge to the sampled surface) or exact (exact integrals of the piecewise-linear
+    /// interpolant).
+    #[arg(long, value_enum, default_value_t = QuadratureArg::Lumped)]
+    quadrature: QuadratureArg,
+    /// Also report the areal material ratio Smr(c) at this height (length units, on the
+    /// datum in use); repeatable.
+    #[arg(long, value_name = "HEIGHT", allow_negative_numbers = true)]
+    smr: Vec<f64>,
+    /// Also report the inverse areal material ratio Smc(mr) at this material ratio (in
+    /// percent, 0 to 100); repeatable.
+    #[arg(long, value_name = "PERCENT")]
+    smc: Vec<f64>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
-    /// Write the smoothed mesh to this PLY file with the residual of every vertex as the
-    /// property `residual` and a colour map (blue pits, white 0, red peaks), as
-    /// `compare --scalars` writes signed distances. `--out` is an older name.
+    /// Write the reference surface (SMOOTHED, or MEASURED laid onto the form) to this
+    /// PLY file with the residual of every vertex as the property `residual` and a colour
+    /// map (blue pits, white 0, red peaks), as `compare --scalars` writes signed
+    /// distances. `--out` is an older name.
     #[arg(long, value_name = "RESIDUAL.ply", alias = "out")]
     scalars: Option<PathBuf>,
     /// Measure heights from the residual's area-weighted mean instead of from the
-    /// smoothed surface.
+    /// reference surface.
     #[arg(long)]
     remove_mean: bool,
     /// Replace the --scalars file even when it is MEASURED or SMOOTHED or
@@ -44,15 +96,67 @@ pub(crate) struct ResidualArgs {
     read: ReadArgs,
 }
 
+/// `--quadrature`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum QuadratureArg {
+    /// Area-weighted vertex values.
+    Lumped,
+    /// Exact integrals of the piecewise-linear interpolant.
+    Exact,
+}
+
+impl QuadratureArg {
+    fn quadrature(self) -> Quadrature {
+        match self {
+            Self::Lumped => Quadrature::Lumped,
+            Self::Exact => Quadrature::ExactInterpolant,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Lumped => "lumped",
+            Self::Exact => "exact",
+        }
+    }
+}
+
+/// `plane`, `poly:N`, `sphere` or `cylinder`.
+fn parse_form(text: &str) -> Result<Form, String> {
+    match text {
+        "plane" => Ok(Form::Plane),
+        "sphere" => Ok(Form::Sphere),
+        "cylinder" => Ok(Form::Cylinder),
+        _ => {
+            let degree = text
+                .strip_prefix("poly:")
+                .ok_or_else(|| "expected plane, poly:N, sphere or cylinder".to_string())?;
+            match degree.parse::<u32>() {
+                Ok(degree) if (1..=MAX_POLYNOMIAL_DEGREE).contains(&degree) => {
+                    Ok(Form::Polynomial { degree })
+                }
+                _ => Err(format!(
+                    "the degree of poly:N is a whole number from 1 to {MAX_POLYNOMIAL_DEGREE}, got '{degree}'"
+                )),
+            }
+        }
+    }
+}
+
 /// What `residual` reports; also the JSON schema of `residual --json`.
 #[derive(Debug, Serialize)]
 struct Summary {
     measured: String,
-    smoothed: String,
+    /// Null with --form.
+    smoothed: Option<String>,
+    /// The fitted form with --form, else null.
+    form: Option<FormSummary>,
     vertices: usize,
     faces: usize,
-    /// `"reference"` (heights from the smoothed surface) or `"mean"`.
+    /// `"reference"` (heights from the reference surface) or `"mean"`.
     datum: &'static str,
+    /// `"lumped"` or `"exact"`.
+    quadrature: &'static str,
     sa: f64,
     sq: f64,
     sp: f64,
@@ -64,12 +168,90 @@ struct Summary {
     sku: Option<f64>,
     sdq: f64,
     sdr: f64,
+    /// Smc(2.5 %) − Smc(50 %).
+    sxp: f64,
+    sk: f64,
+    spk: f64,
+    svk: f64,
+    /// Percent.
+    smr1: f64,
+    /// Percent.
+    smr2: f64,
+    /// Percent × length.
+    sak1: f64,
+    /// Percent × length.
+    sak2: f64,
+    /// Volumes per unit area (length; mL/m² for µm).
+    vmp: f64,
+    vmc: f64,
+    vvc: f64,
+    vvv: f64,
+    /// Null when the spatial parameters are unavailable or undefined.
+    sal: Option<f64>,
+    str: Option<f64>,
+    /// Degrees, counter-clockwise from the x axis, in [0, 180).
+    std: Option<f64>,
+    /// `--smr` values: `[{height, ratio}]`, the ratio in percent.
+    smr: Vec<SmrValue>,
+    /// `--smc` values: `[{ratio, height}]`.
+    smc: Vec<SmrValue>,
+    /// How the spatial parameters were sampled.
+    spatial: SpatialSummary,
     /// The area-weighted mean residual before any datum shift.
     mean: f64,
-    /// The smoothed surface's area.
+    /// The reference surface's area.
     area: f64,
     /// The `--scalars` file, or null.
     scalars: Option<String>,
+}
+
+/// A point of the material ratio curve.
+#[derive(Debug, Serialize)]
+struct SmrValue {
+    /// Length units, on the datum.
+    height: f64,
+    /// Percent.
+    ratio: f64,
+}
+
+/// The fitted form of `--form`.
+#[derive(Debug, Serialize)]
+struct FormSummary {
+    /// `"plane"`, `"polynomial"`, `"sphere"` or `"cylinder"`.
+    kind: &'static str,
+    /// The polynomial's degree, else null.
+    degree: Option<u32>,
+    /// Plane: its point (the centroid); polynomial: the origin of its frame; sphere: the
+    /// centre; cylinder: the axis point nearest the centroid.
+    point: [f64; 3],
+    /// Plane, polynomial: the plane's unit normal; cylinder: the unit axis; sphere: null.
+    direction: Option<[f64; 3]>,
+    /// Sphere and cylinder, else null.
+    radius: Option<f64>,
+    /// Area-weighted RMS of the orthogonal residuals.
+    rms_residual: f64,
+    /// Whether the residual's sign is the opposite of the fit's own (the faces point
+    /// into the sphere or cylinder, or against the plane's normal).
+    flipped: bool,
+}
+
+/// The grid the spatial parameters were computed on.
+#[derive(Debug, Serialize)]
+struct SpatialSummary {
+    /// The grid step (length), null when unavailable.
+    step: Option<f64>,
+    /// Grid points along the plane's u and v axes.
+    nx: Option<usize>,
+    ny: Option<usize>,
+    /// Grid points inside the projection of the surface.
+    valid_points: Option<usize>,
+    /// The autocorrelation threshold s of Sal and Str.
+    threshold: f64,
+    /// Whether the autocorrelation fell to s in every direction (else Str is an upper
+    /// bound).
+    decays_in_every_direction: bool,
+    /// Why Sal, Str and Std are null, or null.
+    unavailable: Option<String>,
 }
 
 /// Runs `beltrami residual`.
@@ -77,69 +259,188 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     if let Some(path) = &args.scalars {
         check_ply_path("--scalars", path)?;
     }
+    for &mr in &args.smc {
+        if !(0.0..=100.0).contains(&mr) {
+            return Err(CliError::Usage(format!(
+                "--smc takes a material ratio in percent from 0 to 100, got {mr}"
+            )));
+        }
+    }
+    if let Some(c) = args.smr.iter().find(|c| !c.is_finite()) {
+        return Err(CliError::Usage(format!(
+            "--smr takes a finite height, got {c}"
+        )));
+    }
     let mut outputs = Outputs::new();
     outputs.add_opt(args.scalars.as_ref(), "--scalars");
-    outputs.check(&[&args.measured, &args.smoothed], args.force)?;
+    let mut inputs = vec![&args.measured];
+    inputs.extend(args.smoothed.as_ref());
+    outputs.check(&inputs, args.force)?;
     let measured = load_input(&args.measured, &args.read, Some("residual"))?;
-    let smoothed = load_input(&args.smoothed, &args.read, Some("residual"))?;
-    let pair = pair_subject(&args.measured, &args.smoothed);
-    let on_pair = |source| CliError::Metrics {
-        subject: pair.clone(),
-        source,
+    let on_measured = metrics_error(&args.measured);
+
+    // The residual and the reference surface it lives on.
+    let (residual, reference, form, subject) = match (&args.smoothed, args.form) {
+        (Some(smoothed_path), _) => {
+            let smoothed = load_input(smoothed_path, &args.read, Some("residual"))?;
+            let pair = pair_subject(&args.measured, smoothed_path);
+            // Checked here so that the message names the meshes in the order given.
+            check_same_topology(&measured.mesh, &smoothed.mesh).map_err(|source| {
+                CliError::Metrics {
+                    subject: pair.clone(),
+                    source,
+                }
+            })?;
+            let measured_geometry = Geometry::new(&measured.mesh, &measured.positions)
+                .map_err(|e| on_measured(e.into()))?;
+            let smoothed_geometry = Geometry::new(&smoothed.mesh, &smoothed.positions)
+                .map_err(|e| metrics_error(smoothed_path)(e.into()))?;
+            let residual =
+                normal_residual(&measured_geometry, &smoothed_geometry).map_err(|source| {
+                    CliError::Metrics {
+                        subject: pair.clone(),
+                        source,
+                    }
+                })?;
+            (residual.into_vec(), smoothed, None, Subject::Pair(pair))
+        }
+        (None, Some(form)) => {
+            let geometry = Geometry::new(&measured.mesh, &measured.positions)
+                .map_err(|e| on_measured(e.into()))?;
+            let fit = form_residual(&geometry, form).map_err(&on_measured)?;
+            let summary = form_summary(&fit.form, fit.flipped);
+            let residual = fit.residual.into_vec();
+            let mut laid = measured;
+            laid.positions = fit.foot_points;
+            (residual, laid, Some(summary), Subject::Measured)
+        }
+        (None, None) => {
+            return Err(CliError::Usage(
+                "residual needs SMOOTHED or --form".to_string(),
+            ));
+        }
     };
-    // Checked here so that the message names the meshes in the order given.
-    check_same_topology(&measured.mesh, &smoothed.mesh).map_err(&on_pair)?;
-    let measured_geometry = Geometry::new(&measured.mesh, &measured.positions)
-        .map_err(|e| metrics_error(&args.measured)(e.into()))?;
-    let smoothed_geometry = Geometry::new(&smoothed.mesh, &smoothed.positions)
-        .map_err(|e| metrics_error(&args.smoothed)(e.into()))?;
-    let residual = normal_residual(&measured_geometry, &smoothed_geometry).map_err(&on_pair)?;
-    let datum = if args.remove_mean {
-        Datum::Mean
-    } else {
-        Datum::ReferenceSurface
+    let on_reference = |source: MetricsError| match (&subject, &source) {
+        // The parameters are computed on the smoothed surface.
+        (Subject::Pair(_), MetricsError::Topology(_) | MetricsError::Empty { .. }) => {
+            metrics_error(args.smoothed.as_deref().unwrap_or(&args.measured))(source)
+        }
+        (Subject::Pair(pair), _) => CliError::Metrics {
+            subject: pair.clone(),
+            source,
+        },
+        (Subject::Measured, _) => metrics_error(&args.measured)(source),
     };
-    let s =
-        areal_parameters(&smoothed_geometry, residual.as_slice(), datum).map_err(|e| match e {
-            // The parameters are computed on the smoothed surface.
-            MetricsError::Topology(_) | MetricsError::Empty { .. } => {
-                metrics_error(&args.smoothed)(e)
-            }
-            e => on_pair(e),
-        })?;
+    let geometry =
+        Geometry::new(&reference.mesh, &reference.positions).map_err(|e| on_reference(e.into()))?;
+    let options = ArealOptions {
+        datum: if args.remove_mean {
+            Datum::Mean
+        } else {
+            Datum::ReferenceSurface
+        },
+        quadrature: args.quadrature.quadrature(),
+    };
+    let s = areal_parameters(&geometry, &residual, &options).map_err(&on_reference)?;
+    let curve =
+        MaterialRatioCurve::from_mesh(&geometry, &residual, &options).map_err(&on_reference)?;
+    let stratified = curve.stratified();
+    let volume = curve
+        .volume(VOLUME_RATIOS.0, VOLUME_RATIOS.1)
+        .map_err(&on_reference)?;
+    let sxp = curve
+        .sxp(SXP_RATIOS.0, SXP_RATIOS.1)
+        .map_err(&on_reference)?;
+    let smr = args
+        .smr
+        .iter()
+        .map(|&c| SmrValue {
+            height: c,
+            ratio: curve.smr(c),
+        })
+        .collect();
+    let smc = args
+        .smc
+        .iter()
+        .map(|&mr| {
+            Ok(SmrValue {
+                height: curve.smc(mr).map_err(&on_reference)?,
+                ratio: mr,
+            })
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    // The spatial parameters on the residual resampled in the mean plane (heights from
+    // the datum; the autocorrelation removes the grid's mean anyway).
+    let shift = if args.remove_mean { s.mean } else { 0.0 };
+    let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
+    let spatial_options = SpatialOptions::default();
+    let (spatial, sal, str, std) = match resample_to_grid(
+        &geometry,
+        &heights,
+        &ResampleOptions::default(),
+    ) {
+        Ok(grid) => {
+            let p = spatial_parameters(&grid.grid, &spatial_options).map_err(&on_reference)?;
+            (
+                    SpatialSummary {
+                        step: Some(grid.step),
+                        nx: Some(grid.grid.nx()),
+                        ny: Some(grid.grid.ny()),
+                        valid_points: Some(grid.grid.valid_count()),
+                        threshold: spatial_options.threshold,
+                        decays_in_every_direction: p.decays_in_every_direction,
+                        unavailable: (p.sal.is_none()).then(|| {
+                            "the autocorrelation does not fall to s within the sampled lags, or the heights are constant".to_string()
+                        }),
+                    },
+                    p.sal,
+                    p.str,
+                    p.std,
+                )
+        }
+        Err(e @ (MetricsError::NotAHeightField { .. } | MetricsError::Empty { .. })) => (
+            SpatialSummary {
+                step: None,
+                nx: None,
+                ny: None,
+                valid_points: None,
+                threshold: spatial_options.threshold,
+                decays_in_every_direction: false,
+                unavailable: Some(e.to_string()),
+            },
+            None,
+            None,
+            None,
+        ),
+        Err(e) => return Err(on_reference(e)),
+    };
+
     let mut staged = Staged::new();
     let written = match &args.scalars {
         Some(path) => {
-            let shift = if args.remove_mean { s.mean } else { 0.0 };
-            let heights: Vec<f64> = residual.as_slice().iter().map(|r| r - shift).collect();
-            Some(stage_scalar_ply(&mut staged, path, &smoothed, "residual", &heights)?.0)
+            Some(stage_scalar_ply(&mut staged, path, &reference, "residual", &heights)?.0)
         }
         None => None,
     };
     staged.commit()?;
-    let summary = Summary {
-        measured: args.measured.display().to_string(),
-        smoothed: args.smoothed.display().to_string(),
-        vertices: smoothed.mesh.n_vertices(),
-        faces: smoothed.mesh.n_faces(),
-        datum: if args.remove_mean {
-            "mean"
-        } else {
-            "reference"
+    let summary = summarise(
+        args,
+        &reference.mesh,
+        Parts {
+            form,
+            s: &s,
+            stratified: &stratified,
+            volume: &volume,
+            sxp,
+            smr,
+            smc,
+            spatial,
+            sal,
+            str,
+            std,
+            scalars: written,
         },
-        sa: s.sa,
-        sq: s.sq,
-        sp: s.sp,
-        sv: s.sv,
-        sz: s.sz,
-        ssk: s.ssk,
-        sku: s.sku,
-        sdq: s.sdq,
-        sdr: s.sdr,
-        mean: s.mean,
-        area: s.area,
-        scalars: written,
-    };
+    );
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
@@ -149,45 +450,360 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     Ok(())
 }
 
+/// Whose error a failure of the parameters is.
+enum Subject {
+    /// `MEASURED vs SMOOTHED`.
+    Pair(String),
+    /// MEASURED alone (with --form).
+    Measured,
+}
+
+/// What [`summarise`] puts together.
+struct Parts<'a> {
+    form: Option<FormSummary>,
+    s: &'a ArealParameters,
+    stratified: &'a StratifiedParameters,
+    volume: &'a VolumeParameters,
+    sxp: f64,
+    smr: Vec<SmrValue>,
+    smc: Vec<SmrValue>,
+    spatial: SpatialSummary,
+    sal: Option<f64>,
+    str: Option<f64>,
+    std: Option<f64>,
+    scalars: Option<String>,
+}
+
+fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Parts<'_>) -> Summary {
+    let Parts {
+        form,
+        s,
+        stratified: k,
+        volume: v,
+        sxp,
+        smr,
+        smc,
+        spatial,
+        sal,
+        str,
+        std,
+        scalars,
+    } = p;
+    Summary {
+        measured: args.measured.display().to_string(),
+        smoothed: args.smoothed.as_ref().map(|p| p.display().to_string()),
+        form,
+        vertices: mesh.n_vertices(),
+        faces: mesh.n_faces(),
+        datum: if args.remove_mean {
+            "mean"
+        } else {
+            "reference"
+        },
+        quadrature: args.quadrature.name(),
+        sa: s.sa,
+        sq: s.sq,
+        sp: s.sp,
+        sv: s.sv,
+        sz: s.sz,
+        ssk: s.ssk,
+        sku: s.sku,
+        sdq: s.sdq,
+        sdr: s.sdr,
+        sxp,
+        sk: k.sk,
+        spk: k.spk,
+        svk: k.svk,
+        smr1: k.smr1,
+        smr2: k.smr2,
+        sak1: k.sak1,
+        sak2: k.sak2,
+        vmp: v.vmp,
+        vmc: v.vmc,
+        vvc: v.vvc,
+        vvv: v.vvv,
+        sal,
+        str,
+        std,
+        smr,
+        smc,
+        spatial,
+        mean: s.mean,
+        area: s.area,
+        scalars,
+    }
+}
+
+fn form_summary(form: &FittedForm, flipped: bool) -> FormSummary {
+    let a = |v: DVec3| v.to_array();
+    let (kind, degree, point, direction, radius, rms) = match form {
+        FittedForm::Plane(f) => ("plane", None, f.point, Some(f.normal), None, f.rms_residual),
+        FittedForm::Polynomial(f) => (
+            "polynomial",
+            Some(f.degree),
+            f.origin,
+            Some(f.normal),
+            None,
+            f.rms_residual,
+        ),
+        FittedForm::Sphere(f) => (
+            "sphere",
+            None,
+            f.center,
+            None,
+            Some(f.radius),
+            f.rms_residual,
+        ),
+        FittedForm::Cylinder(f) => (
+            "cylinder",
+            None,
+            f.axis_point,
+            Some(f.axis),
+            Some(f.radius),
+            f.rms_residual,
+        ),
+    };
+    FormSummary {
+        kind,
+        degree,
+        point: a(point),
+        direction: direction.map(a),
+        radius,
+        rms_residual: rms,
+        flipped,
+    }
+}
+
+/// A table row: the parameter, its value, what it means.
+type Row = (&'static str, String, String);
+
 fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
+    match (&s.form, &s.smoothed) {
+        (Some(form), _) => {
+            let what = match form.degree {
+                Some(d) => format!("polynomial of degree {d}"),
+                None => form.kind.to_string(),
+            };
+            writeln!(
+                out,
+                "Residual r = orthogonal distance of {} from its least-squares {what}",
+                s.measured
+            )?;
+            let point = vector(DVec3::from_array(form.point));
+            let mut line = match form.kind {
+                "sphere" => format!("centre {point}"),
+                "cylinder" => format!("axis through {point}"),
+                _ => format!("through {point}"),
+            };
+            if let Some(d) = form.direction {
+                let name = if form.kind == "cylinder" {
+                    "direction"
+                } else {
+                    "normal"
+                };
+                line += &format!(", {name} {}", vector(DVec3::from_array(d)));
+            }
+            if let Some(r) = form.radius {
+                line += &format!(", radius {}", number(r));
+            }
+            writeln!(
+                out,
+                "form: {line}; rms residual {}{}",
+                number(form.rms_residual),
+                if form.flipped {
+                    " (faces point inwards: positive towards the inside)"
+                } else {
+                    ""
+                }
+            )?;
+        }
+        (None, Some(smoothed)) => writeln!(
+            out,
+            "Residual r = (measured - smoothed) . n (n: the smoothed surface's vertex normal) of {} against {smoothed}",
+            s.measured
+        )?,
+        (None, None) => {}
+    }
     writeln!(
         out,
-        "Residual r = (measured - smoothed) . n (n: the smoothed surface's vertex normal) of {} against {}",
-        s.measured, s.smoothed
-    )?;
-    writeln!(
-        out,
-        "over {} vertices, {} faces; heights from {}; lengths in the files' unit.",
+        "over {} vertices, {} faces; heights from {}; lengths in the files' unit; {} quadrature.",
         s.vertices,
         s.faces,
         if s.datum == "mean" {
             format!("the mean residual {}", number(s.mean))
+        } else if s.form.is_some() {
+            "the form".to_string()
         } else {
             "the smoothed surface".to_string()
+        },
+        if s.quadrature == "lumped" {
+            "lumped (area-weighted vertex values)"
+        } else {
+            "exact-interpolant"
         }
     )?;
     let dimensionless = |x: Option<f64>| x.map_or_else(|| "- (Sq = 0)".to_string(), number);
-    let rows = [
-        ("Sa", number(s.sa), "arithmetic mean height"),
-        ("Sq", number(s.sq), "root mean square height"),
-        ("Sp", number(s.sp), "maximum peak height"),
-        ("Sv", number(s.sv), "maximum pit depth"),
-        ("Sz", number(s.sz), "maximum height, Sp + Sv"),
-        ("Ssk", dimensionless(s.ssk), "skewness (dimensionless)"),
-        ("Sku", dimensionless(s.sku), "kurtosis (dimensionless)"),
+    let percent = |x: f64| format!("{} %", number(x));
+    let spatial = |x: Option<f64>| x.map_or_else(|| "-".to_string(), number);
+    let (p, q) = VOLUME_RATIOS;
+    let sections: [(&str, Vec<Row>); 5] = [
         (
-            "Sdq",
-            number(s.sdq),
-            "root mean square gradient (dimensionless)",
+            "height",
+            vec![
+                ("Sa", number(s.sa), "arithmetic mean height".into()),
+                ("Sq", number(s.sq), "root mean square height".into()),
+                ("Sp", number(s.sp), "maximum peak height".into()),
+                ("Sv", number(s.sv), "maximum pit depth".into()),
+                ("Sz", number(s.sz), "maximum height, Sp + Sv".into()),
+                (
+                    "Ssk",
+                    dimensionless(s.ssk),
+                    "skewness (dimensionless)".into(),
+                ),
+                (
+                    "Sku",
+                    dimensionless(s.sku),
+                    "kurtosis (dimensionless)".into(),
+                ),
+            ],
         ),
         (
-            "Sdr",
-            format!("{} ({} %)", number(s.sdr), number(100.0 * s.sdr)),
-            "developed interfacial area ratio",
+            "hybrid",
+            vec![
+                (
+                    "Sdq",
+                    number(s.sdq),
+                    "root mean square gradient (dimensionless)".into(),
+                ),
+                (
+                    "Sdr",
+                    format!("{} ({} %)", number(s.sdr), number(100.0 * s.sdr)),
+                    "developed interfacial area ratio".into(),
+                ),
+            ],
+        ),
+        (
+            "material ratio (ISO 13565-2 on the areal material ratio curve)",
+            vec![
+                (
+                    "Sxp",
+                    number(s.sxp),
+                    format!(
+                        "peak extreme height, Smc({} %) - Smc({} %)",
+                        SXP_RATIOS.0, SXP_RATIOS.1
+                    ),
+                ),
+                ("Sk", number(s.sk), "core height".into()),
+                ("Spk", number(s.spk), "reduced peak height".into()),
+                ("Svk", number(s.svk), "reduced dale height".into()),
+                (
+                    "Smr1",
+                    percent(s.smr1),
+                    "material ratio at the top of the core".into(),
+                ),
+                (
+                    "Smr2",
+                    percent(s.smr2),
+                    "material ratio at the bottom of the core".into(),
+                ),
+                (
+                    "Sak1",
+                    number(s.sak1),
+                    "peak area above the core (% x length)".into(),
+                ),
+                (
+                    "Sak2",
+                    number(s.sak2),
+                    "dale area below the core (% x length)".into(),
+                ),
+            ],
+        ),
+        (
+            "volume (per unit area; mL/m^2 when lengths are in um)",
+            vec![
+                (
+                    "Vmp",
+                    number(s.vmp),
+                    format!("peak material volume at {p} %"),
+                ),
+                (
+                    "Vmc",
+                    number(s.vmc),
+                    format!("core material volume, {p} % to {q} %"),
+                ),
+                (
+                    "Vvc",
+                    number(s.vvc),
+                    format!("core void volume, {p} % to {q} %"),
+                ),
+                ("Vvv", number(s.vvv), format!("dale void volume at {q} %")),
+            ],
+        ),
+        (
+            "spatial",
+            vec![
+                (
+                    "Sal",
+                    spatial(s.sal),
+                    format!(
+                        "autocorrelation length (fastest decay to s = {})",
+                        s.spatial.threshold
+                    ),
+                ),
+                (
+                    "Str",
+                    spatial(s.str),
+                    format!(
+                        "texture aspect ratio: near 0 directional, 1 isotropic{}",
+                        if s.str.is_some() && !s.spatial.decays_in_every_direction {
+                            " (an upper bound)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ),
+                (
+                    "Std",
+                    s.std
+                        .map_or_else(|| "-".to_string(), |d| format!("{} deg", number(d))),
+                    "texture direction: the lay, counter-clockwise from x".into(),
+                ),
+            ],
         ),
     ];
-    for (key, value, what) in rows {
-        writeln!(out, "{key:<4} {value:<24} {what}")?;
+    for (title, rows) in sections {
+        writeln!(out, "{title}")?;
+        for (key, value, what) in rows {
+            writeln!(out, "{key:<5} {value:<24} {what}")?;
+        }
+    }
+    match (&s.spatial.unavailable, s.spatial.step) {
+        (Some(why), _) => writeln!(out, "spatial parameters unavailable: {why}")?,
+        (None, Some(step)) => writeln!(
+            out,
+            "spatial parameters on a grid of {} x {} points ({} inside the surface) at step {} in the mean plane",
+            s.spatial.nx.unwrap_or(0),
+            s.spatial.ny.unwrap_or(0),
+            s.spatial.valid_points.unwrap_or(0),
+            number(step)
+        )?,
+        (None, None) => {}
+    }
+    for v in &s.smr {
+        writeln!(
+            out,
+            "Smr({}) = {} %  areal material ratio at this height",
+            number(v.height),
+            number(v.ratio)
+        )?;
+    }
+    for v in &s.smc {
+        writeln!(
+            out,
+            "Smc({} %) = {}  height at this material ratio",
+            number(v.ratio),
+            number(v.height)
+        )?;
     }
     if let Some(file) = &s.scalars {
         writeln!(out, "residual -> {file}")?;

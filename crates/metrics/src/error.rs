@@ -85,6 +85,16 @@ pub enum MetricsError {
         /// Why.
         reason: &'static str,
     },
+    /// A surface that folds back over its best-fit plane, where a height field over the
+    /// plane is needed (a closed surface, or a strongly curved one).
+    #[error(
+        "the surface is not a height field over its mean plane: {folded_percent:.1} % of its projected area faces away from the plane"
+    )]
+    NotAHeightField {
+        /// The share of the projected area that faces away from the plane's normal, in
+        /// percent.
+        folded_percent: f64,
+    },
     /// A topological requirement failed (open mesh for a volume, positions count …).
     #[error(transparent)]
     Topology(#[from] TopologyError),

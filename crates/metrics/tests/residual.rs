@@ -8,7 +8,9 @@ use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, TopologyError};
 use beltrami_metrics::MetricsError;
-use beltrami_metrics::residual::{ArealParameters, Datum, areal_parameters, normal_residual};
+use beltrami_metrics::residual::{
+    ArealOptions, ArealParameters, Datum, Quadrature, areal_parameters, normal_residual,
+};
 use glam::DQuat;
 use proptest::prelude::*;
 
@@ -18,11 +20,20 @@ fn build(p: &Primitive) -> HalfedgeMesh {
     mesh
 }
 
+/// The exact-interpolant quadrature on `datum`: the closed forms below are integrals of
+/// the piecewise-linear interpolant.
+fn exact(datum: Datum) -> ArealOptions {
+    ArealOptions {
+        datum,
+        quadrature: Quadrature::ExactInterpolant,
+    }
+}
+
 fn areal(mesh: &HalfedgeMesh, positions: &[DVec3], field: &[f64], datum: Datum) -> ArealParameters {
     areal_parameters(
         &Geometry::new(mesh, positions).expect("positions"),
         field,
-        datum,
+        &exact(datum),
     )
     .expect("valid input")
 }
@@ -344,7 +355,7 @@ fn sdq_is_the_cotangent_dirichlet_energy() {
         .iter()
         .map(|p| (3.0 * p.x).sin() + p.y * p.z)
         .collect();
-    let s = areal_parameters(&geometry, &r, Datum::Mean).expect("valid");
+    let s = areal_parameters(&geometry, &r, &exact(Datum::Mean)).expect("valid");
     let energy: f64 = mesh
         .edges()
         .map(|e| {
@@ -389,10 +400,10 @@ fn sp_sv_and_the_mean_on_a_random_field() {
             (hi.max(x), lo.min(x))
         });
 
-    let s = areal_parameters(&geometry, &r, Datum::ReferenceSurface).expect("valid");
+    let s = areal_parameters(&geometry, &r, &exact(Datum::ReferenceSurface)).expect("valid");
     assert!(close(s.area, area, 1e-13) && close(s.mean, mean, 1e-14));
     assert_eq!((s.sp, s.sv, s.sz), (max, min.abs(), max + min.abs()));
-    let m = areal_parameters(&geometry, &r, Datum::Mean).expect("valid");
+    let m = areal_parameters(&geometry, &r, &exact(Datum::Mean)).expect("valid");
     assert!(close(m.sp, max - mean, 1e-14) && close(m.sv, mean - min, 1e-14));
     assert!(close(m.sz, max - min, 1e-14));
     assert!(close(m.mean, s.mean, 0.0));
@@ -442,7 +453,7 @@ fn areal_errors_are_typed() {
     let mesh = build(&grid);
     let geometry = Geometry::new(&mesh, &grid.positions).expect("positions");
     assert_eq!(
-        areal_parameters(&geometry, &[0.0; 8], Datum::Mean),
+        areal_parameters(&geometry, &[0.0; 8], &exact(Datum::Mean)),
         Err(MetricsError::FieldLength {
             what: "residual",
             got: 8,
@@ -452,7 +463,7 @@ fn areal_errors_are_typed() {
     let mut r = vec![0.0; 9];
     r[3] = f64::NAN;
     assert_eq!(
-        areal_parameters(&geometry, &r, Datum::Mean),
+        areal_parameters(&geometry, &r, &exact(Datum::Mean)),
         Err(MetricsError::NonFinite {
             what: "residual value",
             index: 3
@@ -460,7 +471,7 @@ fn areal_errors_are_typed() {
     );
     r[3] = f64::NEG_INFINITY;
     assert!(matches!(
-        areal_parameters(&geometry, &r, Datum::Mean),
+        areal_parameters(&geometry, &r, &exact(Datum::Mean)),
         Err(MetricsError::NonFinite { index: 3, .. })
     ));
 
@@ -470,7 +481,7 @@ fn areal_errors_are_typed() {
         areal_parameters(
             &Geometry::new(&empty, &points).expect("positions"),
             &[0.0; 3],
-            Datum::Mean
+            &ArealOptions::default()
         ),
         Err(MetricsError::Empty { what: "mesh" })
     );
@@ -479,7 +490,7 @@ fn areal_errors_are_typed() {
         areal_parameters(
             &Geometry::new(&mesh, &collapsed).expect("positions"),
             &[0.0; 9],
-            Datum::Mean
+            &ArealOptions::default()
         ),
         Err(MetricsError::Empty { what: "mesh area" })
     );
@@ -489,7 +500,7 @@ fn areal_errors_are_typed() {
         areal_parameters(
             &Geometry::new(&quad_mesh, &quads.positions).expect("positions"),
             &[0.0; 8],
-            Datum::Mean
+            &ArealOptions::default()
         ),
         Err(MetricsError::Topology(TopologyError::NotTriangle {
             face: 0,
@@ -502,7 +513,7 @@ fn areal_errors_are_typed() {
         areal_parameters(
             &Geometry::new(&mesh, &bad).expect("positions"),
             &[0.0; 9],
-            Datum::Mean
+            &ArealOptions::default()
         ),
         Err(MetricsError::NonFinite {
             what: "position",

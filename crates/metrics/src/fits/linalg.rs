@@ -122,6 +122,53 @@ pub(crate) fn cholesky_solve<const N: usize>(a: [[f64; N]; N], b: [f64; N]) -> O
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
+/// Solves `A x = b` for a symmetric positive definite `n × n` matrix `A` (row-major in
+/// `a`, only the lower triangle read) by Cholesky factorisation, or `None` when a pivot
+/// is not positive beyond rounding; the dynamically sized twin of [`cholesky_solve`], for
+/// the normal equations of a polynomial fit.
+pub(crate) fn cholesky_solve_dyn(a: &[f64], b: &[f64]) -> Option<Vec<f64>> {
+    let n = b.len();
+    debug_assert_eq!(a.len(), n * n);
+    let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0, f64::max);
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut l = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let mut sum = a[i * n + j];
+            for k in 0..j {
+                sum -= l[i * n + k] * l[j * n + k];
+            }
+            if i == j {
+                if sum <= 1e-13 * scale {
+                    return None;
+                }
+                l[i * n + i] = sum.sqrt();
+            } else {
+                l[i * n + j] = sum / l[j * n + j];
+            }
+        }
+    }
+    let mut y = vec![0.0; n];
+    for i in 0..n {
+        let mut sum = b[i];
+        for k in 0..i {
+            sum -= l[i * n + k] * y[k];
+        }
+        y[i] = sum / l[i * n + i];
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        let mut sum = y[i];
+        for k in i + 1..n {
+            sum -= l[k * n + i] * x[k];
+        }
+        x[i] = sum / l[i * n + i];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
 /// A unit vector orthogonal to the unit vector `n`, chosen deterministically (from the
 /// coordinate axis least aligned with `n`).
 pub(crate) fn orthogonal(n: DVec3) -> DVec3 {
@@ -181,6 +228,10 @@ mod tests {
         assert!((0..3).all(|i| (y[i] - x[i]).abs() < 1e-15));
         assert!(cholesky_solve([[1.0, 1.0], [1.0, 1.0]], [1.0, 1.0]).is_none());
         assert!(cholesky_solve([[0.0; 2]; 2], [1.0, 1.0]).is_none());
+        let flat: Vec<f64> = a.iter().flatten().copied().collect();
+        let z = cholesky_solve_dyn(&flat, &b).unwrap();
+        assert!((0..3).all(|i| (z[i] - x[i]).abs() < 1e-15));
+        assert!(cholesky_solve_dyn(&[1.0, 1.0, 1.0, 1.0], &[1.0, 1.0]).is_none());
     }
 
     #[test]

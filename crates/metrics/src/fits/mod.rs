@@ -1,11 +1,13 @@
-//! Least-squares sphere, circle and cylinder fits (orthogonal distance regression), on
-//! points or area-weighted over a mesh.
+//! Least-squares plane, sphere, circle and cylinder fits (orthogonal distance
+//! regression) and polynomial forms over a plane, on points or area-weighted over a mesh.
 //!
-//! Each fit starts from an algebraic solution (Kåsa's linear fit, after a principal-axis
-//! analysis where an orientation is needed) and refines it by Levenberg–Marquardt on the
-//! orthogonal distances, the method of the NIST Algorithm Testing System (Shakarji 1998).
-//! Iterations run on data centred on their weighted centroid and scaled to unit RMS
-//! radius, so points far from the origin (a part in machine coordinates) lose no digits.
+//! The plane is closed-form (principal-component analysis); a polynomial form is linear
+//! least squares in the plane's frame. Each other fit starts from an algebraic solution
+//! (Kåsa's linear fit, after a principal-axis analysis where an orientation is needed) and
+//! refines it by Levenberg–Marquardt on the orthogonal distances, the method of the NIST
+//! Algorithm Testing System (Shakarji 1998). Iterations run on data centred on their
+//! weighted centroid and scaled to unit RMS radius, so points far from the origin (a part
+//! in machine coordinates) lose no digits.
 //!
 //! # Quick start
 //!
@@ -46,6 +48,8 @@ mod circle;
 mod cylinder;
 mod linalg;
 mod lm;
+mod plane;
+mod polynomial;
 mod sphere;
 
 use std::borrow::Cow;
@@ -54,6 +58,9 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 pub use circle::{CircleFit, fit_circle};
 pub use cylinder::{CylinderFit, fit_cylinder};
+pub(crate) use plane::in_plane_axes;
+pub use plane::{PlaneFit, fit_plane};
+pub use polynomial::{MAX_POLYNOMIAL_DEGREE, PolynomialFit, fit_polynomial};
 pub use sphere::{SphereFit, fit_sphere};
 
 use crate::MetricsError;

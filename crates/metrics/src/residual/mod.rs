@@ -1,10 +1,26 @@
-//! The residual surface of a measured mesh against its smoothed version (its reference
-//! form), and the ISO 25178-2 areal parameters of a residual.
+//! The residual surface of a measured mesh against its reference form (a smoothed
+//! version of it, or a fitted plane, polynomial, sphere or cylinder), and the ISO 25178-2
+//! areal parameters of a residual.
 //!
-//! A metrologist smooths a measured surface to obtain the reference form and
-//! characterises what smoothing removed, the residual, as surface texture:
-//! [`normal_residual`] gives the residual per vertex, [`areal_parameters`] its Sa, Sq,
-//! Sp, Sv, Sz, Ssk, Sku, Sdq and Sdr.
+//! A metrologist removes the form of a measured surface (an F-operator: smoothing, or a
+//! least-squares form) and characterises what is left, the residual, as surface texture:
+//!
+//! - [`normal_residual`] gives the residual per vertex against a smoothed mesh,
+//!   [`form_residual`] against a fitted [`Form`];
+//! - [`areal_parameters`]: the height parameters Sa, Sq, Sp, Sv, Sz, Ssk, Sku and the
+//!   hybrid parameters Sdq, Sdr;
+//! - [`MaterialRatioCurve`]: the material ratio curve Smr(c), its inverse Smc(mr), Sxp,
+//!   the stratified-surface parameters Sk, Spk, Svk, Smr1, Smr2, Sak1, Sak2
+//!   ([`MaterialRatioCurve::stratified`]) and the volume parameters Vmp, Vmc, Vvc, Vvv
+//!   ([`MaterialRatioCurve::volume`]);
+//! - [`spatial_parameters`] on a [`HeightGrid`], which [`resample_to_grid`] makes from a
+//!   residual on a mesh: the autocorrelation length Sal, the texture aspect ratio Str,
+//!   the texture direction Std.
+//!
+//! The height integrals (Sa, Sq, Ssk, Sku and the material ratio curve) use the lumped
+//! rule by default, each vertex weighted by its barycentric area (the trapezoid rule on a
+//! grid), which converges to the smooth surface's values; the exact integrals of the
+//! piecewise-linear interpolant are the alternative ([`Quadrature`]).
 //!
 //! # The residual
 //!
@@ -18,7 +34,7 @@
 //! triangulated nominal surface) use the closest-point signed distance of
 //! [`crate::distance`] instead.
 //!
-//! # Exact integrals of a linear field
+//! # Exact integrals of a linear field ([`Quadrature::ExactInterpolant`])
 //!
 //! `r` is interpolated linearly on each triangle `T` (area `A_T`, vertex values `a, b,
 //! c`). With barycentric coordinates `λ`, `∫_T λ₁^p λ₂^q λ₃^s dA = 2 A_T p! q! s! / (p + q
@@ -56,7 +72,7 @@
 //! ```
 //! use beltrami_halfedge::geometry::Geometry;
 //! use beltrami_halfedge::{primitives, DVec3};
-//! use beltrami_metrics::residual::{areal_parameters, normal_residual, Datum};
+//! use beltrami_metrics::residual::{areal_parameters, normal_residual, ArealOptions};
 //!
 //! // A flat reference form and a "measured" surface 0.1 above it on the left half and
 //! // 0.1 below on the right.
@@ -67,7 +83,7 @@
 //!     .collect();
 //! let r = normal_residual(&Geometry::new(&mesh, &measured)?, &Geometry::new(&mesh, &grid.positions)?)?;
 //! assert!((r.as_slice()[0] - 0.1).abs() < 1e-15 && (r.as_slice()[8] + 0.1).abs() < 1e-15);
-//! let s = areal_parameters(&Geometry::new(&mesh, &grid.positions)?, r.as_slice(), Datum::ReferenceSurface)?;
+//! let s = areal_parameters(&Geometry::new(&mesh, &grid.positions)?, r.as_slice(), &ArealOptions::default())?;
 //! assert!((s.sp - 0.1).abs() < 1e-15 && (s.sv - 0.1).abs() < 1e-15);
 //! assert!(s.sdq > 0.0); // the step between x = 3 and x = 4 slopes at 0.2
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -85,7 +101,12 @@
 //!   10.1016/j.measurement.2017.05.028.
 
 mod areal;
+mod fft;
+mod form;
+mod grid;
 mod integrals;
+mod material;
+mod spatial;
 
 use beltrami_halfedge::VertexMap;
 use beltrami_halfedge::geometry::{Geometry, NormalWeighting};
@@ -93,7 +114,11 @@ use beltrami_halfedge::geometry::{Geometry, NormalWeighting};
 use crate::MetricsError;
 use crate::distortion::{check_finite_positions, check_same_topology};
 
-pub use areal::{ArealParameters, Datum, areal_parameters};
+pub use areal::{ArealOptions, ArealParameters, Datum, Quadrature, areal_parameters};
+pub use form::{FittedForm, Form, FormResidual, form_residual};
+pub use grid::{HeightGrid, PlaneFrame, ResampleOptions, ResampledGrid, resample_to_grid};
+pub use material::{MaterialRatioCurve, StratifiedParameters, VolumeParameters};
+pub use spatial::{SpatialOptions, SpatialParameters, spatial_parameters};
 
 /// The residual of a measured mesh against its smoothed version of the same topology:
 /// the signed normal deviation `r_i = (x_i − y_i) · n_i` per vertex, in length units,
