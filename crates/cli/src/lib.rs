@@ -71,8 +71,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Fit a least-squares sphere, circle or cylinder to a mesh's vertices.
     Fit(fit::FitArgs),
-    /// Compute the ISO 25178-2 areal parameters of a measured mesh's residual from its
-    /// smoothed version.
+    /// Compute the ISO 25178-2 areal parameters (height, material ratio, volume,
+    /// spatial) of a measured mesh's residual from its smoothed version or a fitted form.
     Residual(residual::ResidualArgs),
     /// Write one of the paper's test surfaces, optionally with seeded normal noise.
     Generate(generate::GenerateArgs),
