@@ -209,6 +209,9 @@ impl VertexPermutation {
 ///
 /// # Complexity
 /// O(V + E) time and O(V) memory.
+///
+/// # Panics
+/// Never: the order lists every vertex once by construction (the `expect` states it).
 #[must_use]
 pub fn rcm_order(mesh: &HalfedgeMesh) -> VertexPermutation {
     let n = mesh.n_vertices();
@@ -271,6 +274,9 @@ const HILBERT_BITS: u32 = 21;
 ///
 /// # Complexity
 /// O(V log V) time and O(V) memory.
+///
+/// # Panics
+/// Never: the sorted keys carry every index once (the `expect` states it).
 #[must_use]
 pub fn hilbert_order(positions: &[DVec3]) -> VertexPermutation {
     let finite = positions.iter().filter(|p| p.is_finite());

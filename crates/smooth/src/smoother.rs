@@ -272,6 +272,9 @@ impl<'a> Smoother<'a> {
     /// [`SmoothError::PinnedOutOfRange`]; [`SmoothError::NonFiniteInput`];
     /// [`SmoothError::Weights`] when the positions do not match the mesh or the scheme
     /// gives a non-finite weight.
+    ///
+    /// # Panics
+    /// Never: curve-boundary rows are made for boundary vertices only, which have an outgoing halfedge.
     pub fn new(
         mesh: &'a HalfedgeMesh,
         positions: &[DVec3],

@@ -58,6 +58,9 @@ fn mean_radius(x: &[DVec3]) -> f64 {
 ///
 /// # Errors
 /// A [`SmoothError`] of any run.
+///
+/// # Panics
+/// Never: the icospheres it builds are valid meshes.
 pub fn units_comparison(
     scheme: &dyn WeightScheme,
     lambda: f64,

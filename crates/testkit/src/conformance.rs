@@ -157,6 +157,9 @@ fn close(a: f64, b: f64, tolerance: f64) -> bool {
 /// let report = check_scheme(&Cotangent, SchemeClaims::new().symmetric(true));
 /// assert!(report.passed(), "{report}");
 /// ```
+///
+/// # Panics
+/// Never: the fixtures it builds are valid meshes (tested).
 #[must_use]
 pub fn check_scheme(scheme: &dyn WeightScheme, claims: SchemeClaims) -> ConformanceReport {
     let mut checks = Vec::new();

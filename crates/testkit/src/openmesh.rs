@@ -227,6 +227,9 @@ fn read_json<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T, ReferenceEr
 /// # Errors
 /// [`ReferenceError::Read`], or [`ReferenceError::Format`] when the size is not a
 /// multiple of 8.
+///
+/// # Panics
+/// Never: the length is checked to be a multiple of 8 before the chunks are converted.
 pub fn read_f64s(path: &Path) -> Result<Vec<f64>, ReferenceError> {
     let bytes = read(path)?;
     if bytes.len() % 8 != 0 {

@@ -23,6 +23,9 @@ pub const DEVIATION_DIGITS: u32 = 2;
 /// assert_eq!(round_significant(-2.5e-17, 1), -2e-17);
 /// assert_eq!(round_significant(-0.0, 6), 0.0);
 /// ```
+///
+/// # Panics
+/// Never: a finite `f64` formats as a number that parses back.
 #[must_use]
 pub fn round_significant(x: f64, digits: u32) -> f64 {
     if x == 0.0 {
@@ -48,6 +51,9 @@ pub fn round_significant(x: f64, digits: u32) -> f64 {
 /// assert_eq!(format_significant(1.234e-17, 2), "1.2e-17");
 /// assert_eq!(format_significant(0.0, 2), "0");
 /// ```
+///
+/// # Panics
+/// Never: scientific formatting always writes an `e`.
 #[must_use]
 pub fn format_significant(x: f64, digits: u32) -> String {
     let r = round_significant(x, digits);

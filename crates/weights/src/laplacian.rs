@@ -348,6 +348,9 @@ impl Laplacian {
     ///
     /// # Complexity
     /// O(H) time and memory, in parallel.
+    ///
+    /// # Panics
+    /// Never: row offsets are sums of halfedge counts, which fit in `u32` as the ids do.
     pub fn new(
         mesh: &HalfedgeMesh,
         positions: &[DVec3],
