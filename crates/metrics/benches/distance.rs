@@ -1,8 +1,8 @@
 //! Closest-point RMS of a noisy icosphere's vertices against a clean icosphere: level 8
 //! (655 362 query points, 1 310 720 reference triangles) and level 6. Three cases per level:
 //! the index build alone (`index_build`), the queries against a built index (`queries`:
-//! unsigned distances of every noisy vertex), and both with the RMS (`rms`, the figure of
-//! issue 8's target).
+//! unsigned distances of every noisy vertex), and both with the RMS (`rms`, the closest-point
+//! figure of `docs/performance.md`).
 //!
 //! Run with `cargo bench -p beltrami-metrics --bench distance`.
 
