@@ -14,6 +14,7 @@
 //! # Ok::<(), beltrami_study::StudyError>(())
 //! ```
 
+mod case;
 mod config;
 mod countermeasures;
 mod error;
@@ -25,6 +26,7 @@ mod results;
 mod run;
 mod units;
 
+pub use case::SurfaceCase;
 pub use config::{StudyConfig, paper_iterations};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::StudyError;
@@ -34,7 +36,6 @@ pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{
-    Progress, SchemeRun, Snapshot, StudyResults, SurfaceCase, SurfaceResult, UNITS_CUTOFF,
-    run_study,
+    Progress, SchemeRun, Snapshot, StudyResults, SurfaceResult, UNITS_CUTOFF, run_study,
 };
 pub use units::{UnitsComparison, UnitsRow, units_comparison};

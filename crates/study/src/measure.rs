@@ -11,8 +11,8 @@ use beltrami_metrics::fits::{FitOptions, FitPoints, fit_sphere};
 use beltrami_metrics::normals::normal_deviation;
 use beltrami_surfaces::SurfaceKind;
 
+use crate::case::SurfaceCase;
 use crate::results::Row;
-use crate::run::SurfaceCase;
 
 /// Edges of the clean block whose faces meet at this angle or more are its features.
 pub const FEATURE_THRESHOLD_DEG: f64 = 60.0;

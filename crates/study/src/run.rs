@@ -4,37 +4,23 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_halfedge::DVec3;
 use beltrami_schemes::{EdgePreservation, EdgePreservationOptions};
 use beltrami_smooth::{SmoothConfig, Smoother};
-use beltrami_surfaces::{Size, Surface, SurfaceKind, add_normal_noise};
+use beltrami_surfaces::{Size, SurfaceKind, add_normal_noise};
 use beltrami_weights::{LaplacianOptions, Normalization};
 use rayon::prelude::*;
 
+use crate::case::SurfaceCase;
 use crate::config::StudyConfig;
 use crate::countermeasures::countermeasure_surface;
+use crate::error::StudyError;
+use crate::measure::{Measured, Reference};
+use crate::results::Row;
 use crate::units::{UnitsComparison, units_comparison};
 
 /// The cut-off wavelength of the density comparison on unit spheres, in radii.
 pub const UNITS_CUTOFF: f64 = 0.5;
-use crate::error::StudyError;
-use crate::measure::{Measured, Reference};
-use crate::results::Row;
-
-/// A surface as the study uses it: clean reference, noisy input, connectivity.
-#[derive(Debug)]
-pub struct SurfaceCase {
-    /// Which surface.
-    pub kind: SurfaceKind,
-    /// The clean surface (the reference).
-    pub clean: Surface,
-    /// The noisy input every scheme smooths.
-    pub noisy: Vec<DVec3>,
-    /// The noise's standard deviation, in the surface's unit.
-    pub sigma: f64,
-    /// The connectivity (shared by clean, noisy and smoothed positions).
-    pub mesh: HalfedgeMesh,
-}
 
 /// The positions of one run at one observed iteration.
 #[derive(Clone, Debug)]
