@@ -9,9 +9,9 @@ use beltrami_io::MeshFormat;
 use serde::Serialize;
 
 use crate::error::CliError;
-use crate::load::{LoadedMesh, ReadArgs, load};
+use crate::load::{LoadedMesh, ReadArgs, coincident_vertices, load};
 use crate::repair::RepairJson;
-use crate::text::{number, vector};
+use crate::text::{counted, number, vector};
 
 /// Arguments of `beltrami info`.
 #[derive(Debug, clap::Args)]
@@ -137,7 +137,21 @@ fn surface_area(geometry: &Geometry<'_>, mesh: &HalfedgeMesh, positions: &[DVec3
 
 /// Runs `beltrami info`.
 pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError> {
-    let loaded = load(&args.mesh, &args.read)?;
+    let mut loaded = load(&args.mesh, &args.read)?;
+    // Pieces with boundaries may be one surface written apart at seams: say so.
+    if !args.json
+        && loaded.repair.is_none()
+        && !loaded.mesh.is_closed()
+        && loaded.mesh.connected_components().count() > 1
+        && let Some((n, d)) = coincident_vertices(&loaded.positions, &loaded.faces)
+    {
+        loaded.repair_lines.push(format!(
+            "note: {} within {} of another, so the surface is in pieces along them (texture seams, an exporter's duplicates?); --repair --merge-distance {} joins them",
+            counted(n, "vertex lies", "vertices lie"),
+            number(d),
+            number(d)
+        ));
+    }
     let summary = summarise(args, &loaded);
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;

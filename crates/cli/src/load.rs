@@ -71,6 +71,30 @@ impl ReadArgs {
 /// merging within it joins vertices and leaves no edge to cut and no vertex to split.
 /// Returns the number of vertices it would merge and the distance.
 fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f64)> {
+    let (report, distance) = merge_trial(positions, faces)?;
+    // Suggested only when merging is the cure: nothing left to cut or split after it.
+    let cured = report.cut_edges.is_empty()
+        && report.split_vertices.is_empty()
+        && report.opened_edges.is_empty();
+    let merged = report.merged_vertices.len();
+    (merged > 0 && cured).then_some((merged, distance))
+}
+
+/// Vertices within a millionth of the bounding-box diagonal of another (rounded up to
+/// one significant digit): the number a merge would join and the distance, or `None`
+/// when there are none. A mesh split at texture seams or written by a CAD exporter
+/// has them; the surface then falls apart into pieces along them.
+pub(crate) fn coincident_vertices(
+    positions: &[DVec3],
+    faces: &PolygonList,
+) -> Option<(usize, f64)> {
+    let (report, distance) = merge_trial(positions, faces)?;
+    let merged = report.merged_vertices.len();
+    (merged > 0).then_some((merged, distance))
+}
+
+/// The repair report of merging within the suggested distance, and the distance.
+fn merge_trial(positions: &[DVec3], faces: &PolygonList) -> Option<(RepairReport, f64)> {
     let (lo, hi) = positions.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
@@ -89,12 +113,7 @@ fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f
     )
     .ok()?
     .report;
-    // Suggested only when merging is the cure: nothing left to cut or split after it.
-    let cured = report.cut_edges.is_empty()
-        && report.split_vertices.is_empty()
-        && report.opened_edges.is_empty();
-    let merged = report.merged_vertices.len();
-    (merged > 0 && cured).then_some((merged, distance))
+    Some((report, distance))
 }
 
 /// A mesh read from a file: connectivity, positions and what repairs changed.

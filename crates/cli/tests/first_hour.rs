@@ -694,3 +694,44 @@ fn a_ply_that_holds_more_than_its_header_reads_with_lenient() {
     );
     assert_eq!(info(&path, &["--lenient"])["faces"], 1);
 }
+
+#[test]
+fn a_mesh_split_at_seams_is_pointed_to_its_merge() {
+    // A cube as six separate quads, each with its own four corners (as exporters write
+    // texture seams): it reads as six pieces, and `info` says how to join them.
+    let dir = tempfile::tempdir().unwrap();
+    let cube = beltrami_halfedge::primitives::cube_quads();
+    let mut text = String::new();
+    for face in cube.faces.iter() {
+        for &v in face {
+            let p = cube.positions[v as usize];
+            text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+        }
+    }
+    for f in 0..cube.faces.len() {
+        let k = 4 * f + 1;
+        text.push_str(&format!("f {} {} {} {}\n", k, k + 1, k + 2, k + 3));
+    }
+    let path = dir.path().join("seams.obj");
+    std::fs::write(&path, text).unwrap();
+    let j = info(&path, &[]);
+    assert_eq!(j["components"], 6);
+    let table = stdout(&["info", s(&path)]);
+    assert!(
+        table.contains(
+            "note: 16 vertices lie within 2e-6 of another, so the surface is in pieces along them"
+        ),
+        "{table}"
+    );
+    let joined = dir.path().join("joined.ply");
+    stdout(&["repair", s(&path), s(&joined), "--merge-distance", "2e-6"]);
+    let j = info(&joined, &[]);
+    assert_eq!(
+        (
+            j["vertices"].as_u64(),
+            j["components"].as_u64(),
+            j["closed"].as_bool()
+        ),
+        (Some(8), Some(1), Some(true))
+    );
+}
