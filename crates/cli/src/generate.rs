@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use beltrami_io::{MeshData, WriteOptions, stage_mesh};
+use beltrami_io::MeshData;
 use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise};
 use clap::ValueEnum;
 
@@ -106,15 +106,7 @@ fn stage(
         positions,
         faces: surface.faces.clone(),
     };
-    let options = WriteOptions {
-        encoding: if ascii {
-            beltrami_io::Encoding::Ascii
-        } else {
-            beltrami_io::Encoding::BinaryLittleEndian
-        },
-        ..WriteOptions::default()
-    };
-    staged.push(path, |path| stage_mesh(path, &data, &options))
+    staged.push_mesh(path, &data, ascii)
 }
 
 /// Runs `beltrami generate`.

@@ -14,7 +14,10 @@
 
 use std::path::{Path, PathBuf};
 
-use beltrami_io::{IoError, StagedFile, check_writable, resolve_target};
+use beltrami_io::{
+    Encoding, IoError, MeshData, StagedFile, WriteOptions, check_writable, resolve_target,
+    stage_mesh,
+};
 
 use crate::error::CliError;
 
@@ -175,6 +178,25 @@ impl Staged {
         })?;
         self.files.push((path.to_path_buf(), file));
         Ok(())
+    }
+
+    /// Stages the mesh file `path` (format by extension): binary PLY and STL, or ascii
+    /// text with `ascii`.
+    pub(crate) fn push_mesh(
+        &mut self,
+        path: &Path,
+        data: &MeshData,
+        ascii: bool,
+    ) -> Result<(), CliError> {
+        let options = WriteOptions {
+            encoding: if ascii {
+                Encoding::Ascii
+            } else {
+                Encoding::BinaryLittleEndian
+            },
+            ..WriteOptions::default()
+        };
+        self.push(path, |path| stage_mesh(path, data, &options))
     }
 
     /// Replaces every target, in the order staged.

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_halfedge::RepairReport;
-use beltrami_io::{Encoding, MeshData, WriteOptions, stage_mesh};
+use beltrami_io::MeshData;
 use serde::Serialize;
 
 use crate::error::CliError;
@@ -216,22 +216,8 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         positions: loaded.positions,
         faces: loaded.faces,
     };
-    let encoding = if args.ascii {
-        Encoding::Ascii
-    } else {
-        Encoding::BinaryLittleEndian
-    };
     let mut staged = Staged::new();
-    staged.push(&args.output, |path| {
-        stage_mesh(
-            path,
-            &data,
-            &WriteOptions {
-                encoding,
-                ..WriteOptions::default()
-            },
-        )
-    })?;
+    staged.push_mesh(&args.output, &data, args.ascii)?;
     staged.commit()?;
     if args.json {
         let summary = Summary {

@@ -8,7 +8,7 @@ use std::time::Instant;
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_io::{Encoding, MeshData, WriteOptions, declared_counts, stage_bytes, stage_mesh};
+use beltrami_io::{MeshData, declared_counts, stage_bytes};
 use beltrami_smooth::{
     Boundary, DiffusionTime, ImplicitConfig, ImplicitSmoother, ImplicitSolver, Method,
     SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, Statistics, StopReason,
@@ -478,27 +478,13 @@ pub(crate) fn run(
     };
 
     let t1 = Instant::now();
-    let encoding = if args.ascii {
-        Encoding::Ascii
-    } else {
-        Encoding::BinaryLittleEndian
-    };
     let change = Change::between(&loaded.mesh, &loaded.positions, &smoothed.positions);
     let data = MeshData {
         positions: smoothed.positions,
         faces: loaded.faces,
     };
     let mut staged = Staged::new();
-    staged.push(&args.output, |path| {
-        stage_mesh(
-            path,
-            &data,
-            &WriteOptions {
-                encoding,
-                ..WriteOptions::default()
-            },
-        )
-    })?;
+    staged.push_mesh(&args.output, &data, args.ascii)?;
     let write_seconds = t1.elapsed().as_secs_f64();
 
     let r = &smoothed.report;

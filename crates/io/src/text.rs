@@ -276,6 +276,47 @@ pub(crate) fn parse_number<T: std::str::FromStr>(token: &[u8]) -> Option<T> {
     std::str::from_utf8(token).ok()?.parse().ok()
 }
 
+/// Writes a text mesh format through a buffer: checks that a reader would accept the
+/// mesh (finite positions, in `f32` range for single precision; face indices in
+/// range), runs `body`, then flushes. Shared by the OBJ and OFF writers.
+pub(crate) fn write_text_mesh<W: std::io::Write>(
+    writer: W,
+    mesh: &beltrami_halfedge::MeshData,
+    precision: crate::format::Precision,
+    body: impl FnOnce(&mut std::io::BufWriter<W>) -> std::io::Result<()>,
+) -> Result<(), IoError> {
+    use std::io::Write as _;
+    crate::validate::check_positions(
+        &mesh.positions,
+        precision == crate::format::Precision::Single,
+    )?;
+    crate::validate::check_faces(mesh, None)?;
+    let mut out = std::io::BufWriter::new(writer);
+    body(&mut out)
+        .and_then(|()| out.flush())
+        .map_err(IoError::io("write the file"))
+}
+
+/// Writes `prefix x y z` and a newline, with the shortest decimal that reads back to
+/// the same `f64` (or `f32` with single precision).
+#[allow(
+    clippy::cast_possible_truncation,
+    reason = "single precision output is asked for; the range was checked"
+)]
+pub(crate) fn write_xyz(
+    out: &mut impl std::io::Write,
+    prefix: &str,
+    p: glam::DVec3,
+    precision: crate::format::Precision,
+) -> std::io::Result<()> {
+    match precision {
+        crate::format::Precision::Double => writeln!(out, "{prefix}{} {} {}", p.x, p.y, p.z),
+        crate::format::Precision::Single => {
+            writeln!(out, "{prefix}{} {} {}", p.x as f32, p.y as f32, p.z as f32)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
