@@ -9,25 +9,12 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use beltrami_halfedge::primitives;
-use beltrami_io::{MeshData, WriteOptions, write_mesh};
 use common::{beltrami, error_line, s};
 
 /// Icosphere level 4 (2562 vertices, 5120 triangles), squashed so that every vertex
 /// moves, as `name` (PLY declares its counts, OBJ does not).
 fn sphere(dir: &Path, name: &str) -> PathBuf {
-    let path = dir.join(name);
-    let p = primitives::icosphere(4);
-    let data = MeshData {
-        positions: p
-            .positions
-            .iter()
-            .map(|x| *x * glam::DVec3::new(1.0, 0.7, 1.3))
-            .collect(),
-        faces: p.faces,
-    };
-    write_mesh(&path, &data, &WriteOptions::default()).unwrap();
-    path
+    common::squashed_sphere(dir, name, 4)
 }
 
 const COUNTS: &str = "(2562 vertices, 5120 faces)";

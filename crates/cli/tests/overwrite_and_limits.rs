@@ -6,25 +6,12 @@ mod common;
 use std::fs;
 use std::path::Path;
 
-use beltrami_halfedge::primitives;
-use beltrami_io::{MeshData, WriteOptions, read_mesh, write_mesh};
+use beltrami_io::{WriteOptions, read_mesh, write_mesh};
 use common::{beltrami, error_line, s};
 use insta::assert_snapshot;
 
 fn sphere(dir: &Path, name: &str) -> std::path::PathBuf {
-    let path = dir.join(name);
-    let p = primitives::icosphere(3);
-    let data = MeshData {
-        // Squash it so that smoothing moves every vertex.
-        positions: p
-            .positions
-            .iter()
-            .map(|x| *x * glam::DVec3::new(1.0, 0.7, 1.3))
-            .collect(),
-        faces: p.faces,
-    };
-    write_mesh(&path, &data, &WriteOptions::default()).unwrap();
-    path
+    common::squashed_sphere(dir, name, 3)
 }
 
 fn names(dir: &Path) -> Vec<String> {

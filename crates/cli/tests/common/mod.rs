@@ -66,3 +66,15 @@ pub(crate) fn error_line(out: &Output, dir: &Path) -> String {
         .trim_end()
         .replace(&format!("{}/", dir.display()), "")
 }
+
+/// An icosphere of `level` squashed so that smoothing moves every vertex, written to
+/// `dir/name` (the format by extension).
+pub(crate) fn squashed_sphere(dir: &Path, name: &str, level: u32) -> PathBuf {
+    let p = beltrami_halfedge::primitives::icosphere(level);
+    let positions = p
+        .positions
+        .iter()
+        .map(|x| *x * DVec3::new(1.0, 0.7, 1.3))
+        .collect();
+    write(dir, name, positions, p.faces)
+}
