@@ -21,8 +21,8 @@ pub(crate) struct ReadArgs {
     pub(crate) repair: bool,
     /// Weld an STL's triangle corners closer than this fraction of the bounding-box
     /// diagonal into one vertex (CAD exporters write 2.7e-16 where 0 was meant), or 0
-    /// to weld identical coordinates only. Indexed formats (PLY, OBJ, OFF) are read as
-    /// they are.
+    /// to weld identical coordinates only (at most 0.01). Indexed formats (PLY, OBJ,
+    /// OFF) are read as they are.
     #[arg(long, value_name = "FRACTION", default_value_t = Weld::DEFAULT_RELATIVE, allow_negative_numbers = true)]
     pub(crate) weld_tolerance: f64,
     /// With --repair (and in `repair`): first merge vertices closer than this distance,
@@ -48,6 +48,12 @@ impl ReadArgs {
         };
         weld.check()
             .map_err(|e| CliError::Usage(format!("--weld-tolerance: {e}")))?;
+        if self.weld_tolerance > MAX_WELD_TOLERANCE {
+            return Err(CliError::Usage(format!(
+                "--weld-tolerance {} is a fraction of the bounding-box diagonal and at most {MAX_WELD_TOLERANCE}; larger values weld the part's own features together",
+                self.weld_tolerance
+            )));
+        }
         Ok(ReadOptions::default()
             .with_weld(weld)
             .with_lenient(self.lenient))
@@ -65,6 +71,10 @@ impl ReadArgs {
         Ok(RepairOptions::new().merge_distance(self.merge_distance))
     }
 }
+
+/// The largest `--weld-tolerance`: a hundredth of the bounding-box diagonal already
+/// joins features of a coarse mesh; anything larger is a unit slip.
+const MAX_WELD_TOLERANCE: f64 = 0.01;
 
 /// The merge distance suggested for a mesh that does not build: a millionth of the
 /// bounding-box diagonal (as the STL weld), rounded up to one significant digit, when

@@ -225,6 +225,16 @@ fn files_from_the_wild_read_right_or_fail_with_the_line_or_element() {
     assert_eq!(o.status.code(), Some(1));
     let text = stdout(&["info", s(&wild("cad_roundoff.stl"))]);
     assert!(text.contains("note: welded 11 vertices"), "{text}");
+    // A tolerance that would weld the part's own corners is a usage error.
+    for bad in ["-1", "1e300", "0.5"] {
+        let o = beltrami(&[
+            "info",
+            s(&wild("cad_roundoff.stl")),
+            "--weld-tolerance",
+            bad,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+    }
 }
 
 #[test]
