@@ -82,7 +82,7 @@ fn is_usage(e: &SmoothError) -> bool {
             | SmoothError::VolumeWithPinned
             | SmoothError::InvalidDuration { .. }
             | SmoothError::InvalidUntilChange { .. }
-            | SmoothError::InvalidTimeStep { .. }
+            | SmoothError::VolumeNotImplicit
             | SmoothError::InvalidSolverSettings { .. }
             | SmoothError::CurveNotImplicit
             | SmoothError::UnstableStep { .. }

@@ -3,16 +3,15 @@
 use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
 use beltrami_smooth::{
-    Boundary, DiffusionTime, ImplicitConfig, ImplicitSmoother, ImplicitSolver, Method,
-    SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, Statistics, StopReason,
-    WeightUpdate,
+    Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, SmoothError, SmoothReport,
+    Smoothed, Smoother, Statistics, WeightUpdate,
 };
 use beltrami_weights::WeightScheme;
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization, WeightRegistry};
@@ -222,17 +221,9 @@ impl SmoothArgs {
         })
     }
 
-    /// The normalisation as given, or the default: area for an implicit run for a
-    /// time, weight sum otherwise.
+    /// The normalisation as given, or the default: weight sum.
     fn normalize(&self) -> NormalizeArg {
-        self.normalize.unwrap_or(
-            if self.method == MethodArg::Implicit && (self.time.is_some() || self.cutoff.is_some())
-            {
-                NormalizeArg::Area
-            } else {
-                NormalizeArg::Sum
-            },
-        )
+        self.normalize.unwrap_or(NormalizeArg::Sum)
     }
 
     fn solver(&self) -> SolverArg {
@@ -259,19 +250,10 @@ impl SmoothArgs {
         if self.solver.is_some() && self.method != MethodArg::Implicit {
             return refuse("--solver", "implicit");
         }
-        if self.method == MethodArg::Implicit {
-            if self.preserve_volume {
-                return Err(CliError::Usage(
-                    "--preserve-volume does not apply to --method implicit".into(),
-                ));
-            }
-            if (self.time.is_some() || self.cutoff.is_some())
-                && self.normalize == Some(NormalizeArg::Sum)
-            {
-                return Err(CliError::Usage(
-                    "--method implicit with --time or --cutoff needs --normalize area (a time in length²); leave --normalize out to get it".into(),
-                ));
-            }
+        if self.method == MethodArg::Implicit && self.preserve_volume {
+            return Err(CliError::Usage(
+                "--preserve-volume does not apply to --method implicit".into(),
+            ));
         }
         if matches!(self.method, MethodArg::Taubin | MethodArg::Hc)
             && (self.time.is_some() || self.cutoff.is_some())
@@ -332,7 +314,11 @@ impl SmoothArgs {
 
     fn method(&self) -> Method {
         match self.method {
-            MethodArg::Explicit | MethodArg::Implicit => Method::Laplacian,
+            MethodArg::Explicit => Method::Laplacian,
+            MethodArg::Implicit => Method::implicit(match self.solver() {
+                SolverArg::Cholesky => ImplicitSolver::Cholesky,
+                SolverArg::Cg => ImplicitSolver::conjugate_gradient(),
+            }),
             MethodArg::Taubin => match self.mu {
                 Some(mu) => Method::Taubin { mu },
                 None => Method::taubin_pass_band(self.lambda(), TAUBIN_PASS_BAND),
@@ -466,16 +452,7 @@ pub(crate) fn run(
     })?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
-    let (smoothed, implicit) = if args.method == MethodArg::Implicit {
-        let (smoothed, implicit) =
-            run_implicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
-        (smoothed, Some(implicit))
-    } else {
-        (
-            run_explicit(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?,
-            None,
-        )
-    };
+    let smoothed = run_smoother(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
 
     let t1 = Instant::now();
     let change = Change::between(&loaded.mesh, &loaded.positions, &smoothed.positions);
@@ -494,8 +471,7 @@ pub(crate) fn run(
             parse: loaded.parse_seconds,
             build: loaded.build_seconds,
         };
-        let mut report = build_report(args, &data, r, read, write_seconds);
-        report.implicit = implicit;
+        let report = build_report(args, &data, r, read, write_seconds);
         let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
         json.push(b'\n');
         staged.push(path, |path| stage_bytes(path, &json))?;
@@ -661,8 +637,7 @@ fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme) -> memory::Run {
             (false, true) => 0,
             (_, false) => args.iterations,
         },
-        // An implicit run's report lists its steps even with --no-step-stats.
-        report_steps: args.report.is_some() && (implicit || !args.no_step_stats),
+        report_steps: args.report.is_some() && !args.no_step_stats,
     }
 }
 
@@ -719,7 +694,12 @@ fn build_report<'a>(
             read: read.total,
             parse: read.parse,
             build: read.build,
-            weights: r.weight_time.as_secs_f64(),
+            // An implicit run's weights include the matrix's analysis and factorisations.
+            weights: (r.weight_time
+                + r.solver
+                    .as_ref()
+                    .map_or(Duration::ZERO, |s| s.analysis_time + s.factorization_time))
+            .as_secs_f64(),
             updates: r.update_time.as_secs_f64(),
             write,
         },
@@ -734,7 +714,17 @@ fn build_report<'a>(
                 stuck_vertices: s.stuck_vertices,
             })
             .collect(),
-        implicit: None,
+        implicit: r.solver.as_ref().map(|s| ImplicitFigures {
+            solver: args.solver(),
+            time_step: r.config.lambda,
+            numeric_factorizations: s.numeric_factorizations,
+            factor_nonzeros: s.factor_nonzeros,
+            cg_iterations: s.cg_iterations,
+            seconds_assembly: r.weight_time.as_secs_f64(),
+            seconds_analysis: s.analysis_time.as_secs_f64(),
+            seconds_factorization: s.factorization_time.as_secs_f64(),
+            seconds_solve: r.update_time.as_secs_f64(),
+        }),
     }
 }
 
@@ -744,7 +734,7 @@ fn method_label(args: &SmoothArgs) -> String {
     let mut label = match args.method() {
         Method::Taubin { mu } => format!("taubin (mu {mu:.6})"),
         Method::Hc { alpha, beta } => format!("hc (alpha {alpha}, beta {beta})"),
-        _ if args.method == MethodArg::Implicit => "implicit".to_string(),
+        Method::Implicit { .. } => "implicit".to_string(),
         _ => "explicit".to_string(),
     };
     if args.preserve_volume {
@@ -765,8 +755,8 @@ fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
     })
 }
 
-/// The explicit methods (plain, Taubin, HC) through [`Smoother`].
-fn run_explicit(
+/// Every method (plain, Taubin, HC, implicit) through [`Smoother`].
+fn run_smoother(
     args: &SmoothArgs,
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
@@ -826,91 +816,4 @@ fn check_plan(args: &SmoothArgs, iterations: usize, step: f64) -> Result<(), Cli
         );
     }
     Ok(())
-}
-
-/// `--method implicit` through [`ImplicitSmoother`], reported like an explicit run
-/// (weights time = assembly, analysis and factorisation; updates time = solves).
-fn run_implicit(
-    args: &SmoothArgs,
-    mesh: &HalfedgeMesh,
-    positions: &[DVec3],
-    scheme: &dyn WeightScheme,
-) -> Result<(Smoothed, ImplicitFigures), CliError> {
-    let explicit = args.config();
-    let (time_step, steps) = match explicit.duration {
-        Some(d) => (d.time(), 1),
-        None => (args.lambda(), args.iterations),
-    };
-    check_plan(args, steps, time_step)?;
-    let config = ImplicitConfig::new(time_step, steps)
-        .boundary(explicit.boundary)
-        .update(explicit.update)
-        .laplacian(explicit.laplacian)
-        .pinned(explicit.pinned.clone())
-        .solver(match args.solver() {
-            SolverArg::Cholesky => ImplicitSolver::Cholesky,
-            SolverArg::Cg => ImplicitSolver::conjugate_gradient(),
-        });
-    let smooth_error = |source| CliError::Smooth {
-        path: args.input.clone(),
-        source,
-    };
-    let smoother = ImplicitSmoother::new(mesh, positions, scheme, config).map_err(smooth_error)?;
-    let progress = progress_bar(steps);
-    let mut converged = false;
-    let out = smoother
-        .run(|it| {
-            if let Some(bar) = &progress {
-                bar.set_position(it.index as u64);
-            }
-            if args
-                .until_change
-                .is_some_and(|eps| it.stats.max_displacement <= eps)
-            {
-                converged = true;
-                return ControlFlow::Break(());
-            }
-            ControlFlow::Continue(())
-        })
-        .map_err(smooth_error)?;
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-    let r = out.report;
-    let figures = ImplicitFigures {
-        solver: args.solver(),
-        time_step,
-        numeric_factorizations: r.numeric_factorizations,
-        factor_nonzeros: r.factor_nonzeros,
-        cg_iterations: r.cg_iterations,
-        seconds_assembly: r.assembly_time.as_secs_f64(),
-        seconds_analysis: r.analysis_time.as_secs_f64(),
-        seconds_factorization: r.factorization_time.as_secs_f64(),
-        seconds_solve: r.solve_time.as_secs_f64(),
-    };
-    let report = SmoothReport {
-        scheme: r.scheme,
-        config: SmoothConfig {
-            lambda: time_step,
-            iterations: steps,
-            ..explicit
-        },
-        iterations: r.iterations,
-        stop: if converged {
-            StopReason::Converged
-        } else {
-            r.stop
-        },
-        steps: r.steps.iter().map(|s| s.displacement).collect(),
-        max_stuck_vertices: r.max_stuck_vertices,
-        weight_time: r.assembly_time + r.analysis_time + r.factorization_time,
-        update_time: r.solve_time,
-    };
-    Ok((
-        Smoothed {
-            positions: out.positions,
-            report,
-        },
-        figures,
-    ))
 }

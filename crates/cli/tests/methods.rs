@@ -244,7 +244,10 @@ fn a_time_of_area_normalised_steps_finds_its_own_stable_step() {
 #[test]
 fn implicit_steps_match_the_library_and_take_a_physical_time() {
     use beltrami_halfedge::geometry::VertexAreaKind;
-    use beltrami_smooth::{ImplicitConfig, ImplicitSolver, WeightUpdate, smooth_implicit};
+    use beltrami_smooth::{ImplicitSolver, WeightUpdate};
+    let implicit = |t: f64, steps| {
+        SmoothConfig::new(t, steps).method(Method::implicit(ImplicitSolver::Cholesky))
+    };
     use beltrami_weights::{LaplacianOptions, Normalization};
 
     let dir = tempfile::tempdir().unwrap();
@@ -277,13 +280,13 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         ];
         args.extend_from_slice(flags);
         ok(&args);
-        let expected = smooth_implicit(
+        let expected = smooth(
             &mesh,
             &x,
             &Cotangent,
-            ImplicitConfig::new(5.0, 3)
+            implicit(5.0, 3)
                 .update(WeightUpdate::Once)
-                .solver(solver),
+                .method(Method::implicit(solver)),
         )
         .unwrap();
         assert_eq!(smoothed(&out).0, expected.positions, "{flags:?}");
@@ -304,18 +307,21 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
                 assert_eq!(figures["factor_nonzeros"], 0);
                 let iterations = figures["cg_iterations"].as_u64().unwrap();
                 assert!(iterations > 0, "{flags:?}");
-                assert_eq!(iterations as usize, expected.report.cg_iterations);
+                assert_eq!(
+                    iterations as usize,
+                    expected.report.solver.as_ref().unwrap().cg_iterations
+                );
                 // Every step met the tolerance, and the result agrees with the exact
                 // solve.
                 for step in &expected.report.steps {
-                    assert!(step.cg_iterations > 0);
-                    assert!(step.residual.unwrap() <= 1e-10, "{step:?}");
+                    assert!(step.solve.unwrap().cg_iterations > 0);
+                    assert!(step.solve.unwrap().residual.unwrap() <= 1e-10, "{step:?}");
                 }
-                let exact = smooth_implicit(
+                let exact = smooth(
                     &mesh,
                     &x,
                     &Cotangent,
-                    ImplicitConfig::new(5.0, 3).update(WeightUpdate::Once),
+                    implicit(5.0, 3).update(WeightUpdate::Once),
                 )
                 .unwrap()
                 .positions;
@@ -346,11 +352,11 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         ..LaplacianOptions::default()
     };
     let t = DiffusionTime::Cutoff(0.5).time();
-    let expected = smooth_implicit(
+    let expected = smooth(
         &mesh,
         &x,
         &Cotangent,
-        ImplicitConfig::new(t, 1).laplacian(area).solver(cg),
+        implicit(t, 1).laplacian(area).method(Method::implicit(cg)),
     )
     .unwrap()
     .positions;
@@ -359,24 +365,10 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
     let r = y.iter().map(|p| p.length()).sum::<f64>() / y.len() as f64;
     assert!((r - (1.0 - 4.0 * t).sqrt()).abs() < 2e-3, "{r}");
 
-    // A time implies the length² operator: the same result without --normalize.
-    let o = beltrami(&[
-        "smooth",
-        s(&input),
-        s(&out),
-        "--method",
-        "implicit",
-        "--time",
-        &t.to_string(),
-        "--vertex-area",
-        "barycentric",
-        "--force",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (y, _) = smoothed(&out);
-    assert_eq!(y, expected);
-    // ... and refuses the weight sum asked for explicitly.
-    let o = beltrami(&[
+    // Without --normalize a time takes the weight-sum operator, as an explicit run
+    // does: steps of at most λ (0.8 by default) that add up to the time.
+    let report = dir.path().join("time.json");
+    ok(&[
         "smooth",
         s(&input),
         s(&out),
@@ -384,11 +376,62 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         "implicit",
         "--time",
         "0.01",
-        "--normalize",
-        "sum",
+        "--report",
+        s(&report),
+        "--force",
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert_snapshot!(error_line(&o, dir.path()), @"error: --method implicit with --time or --cutoff needs --normalize area (a time in length²); leave --normalize out to get it (see 'beltrami --help')");
+    let expected = smooth(
+        &mesh,
+        &x,
+        &Cotangent,
+        SmoothConfig::new(0.8, 1)
+            .duration(DiffusionTime::Time(0.01))
+            .method(Method::implicit(cg)),
+    )
+    .unwrap();
+    let (y, _) = smoothed(&out);
+    assert_eq!(y, expected.positions);
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let planned = expected.report.config.iterations;
+    assert!(planned > 1, "{planned}");
+    assert_eq!(r["iterations"], planned);
+    assert_eq!(r["parameters"]["normalize"], "sum");
+    assert!(r["parameters"]["lambda_used"].as_f64().unwrap() <= 0.8);
+    // The explicit run for the same time lands on nearly the same radius: both follow
+    // the same diffusion.
+    let explicit_out = dir.path().join("explicit.ply");
+    ok(&["smooth", s(&input), s(&explicit_out), "--time", "0.01"]);
+    let radius = |p: &[DVec3]| p.iter().map(|p| p.length()).sum::<f64>() / p.len() as f64;
+    let (z, _) = smoothed(&explicit_out);
+    let (ri, re) = (radius(&y), radius(&z));
+    assert!(
+        ri < 1.0 && (ri - re).abs() < 0.05 * (1.0 - re),
+        "{ri} vs {re}"
+    );
+
+    // --until-change stops an implicit run as it stops an explicit one.
+    ok(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--lambda",
+        "50",
+        "--iterations",
+        "1000",
+        "--until-change",
+        "1e-3",
+        "--report",
+        s(&report),
+        "--force",
+    ]);
+    let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["stop"], "converged");
+    let done = r["iterations"].as_u64().unwrap();
+    assert!(done > 1 && done < 1000, "{done}");
+    let last = &r["steps"][done as usize - 1];
+    assert!(last["max_displacement"].as_f64().unwrap() <= 1e-3);
 }
 
 #[test]

@@ -17,9 +17,7 @@
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_smooth::{
-    ImplicitConfig, ImplicitSmoother, ImplicitSolver, WeightUpdate, smooth_implicit,
-};
+use beltrami_smooth::{ImplicitSolver, Method, SmoothConfig, Smoother, WeightUpdate, smooth};
 use beltrami_weights::{Cotangent, LaplacianOptions, Normalization};
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -38,23 +36,19 @@ fn jitter(positions: &mut [DVec3], amplitude: f64) {
     }
 }
 
-fn config(edge: f64, update: WeightUpdate, solver: ImplicitSolver) -> ImplicitConfig {
+fn config(edge: f64, update: WeightUpdate, solver: ImplicitSolver) -> SmoothConfig {
     // A step of ten edge lengths squared: far beyond the explicit limit (about ℓ²/4).
-    ImplicitConfig::new(10.0 * edge * edge, 1_000_000)
+    SmoothConfig::new(10.0 * edge * edge, 1_000_000)
         .update(update)
         .laplacian(LaplacianOptions {
             normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
             ..Default::default()
         })
-        .solver(solver)
+        .method(Method::implicit(solver))
 }
 
-fn smoother<'a>(
-    mesh: &'a HalfedgeMesh,
-    positions: &[DVec3],
-    config: ImplicitConfig,
-) -> ImplicitSmoother<'a> {
-    let mut s = ImplicitSmoother::new(mesh, positions, &Cotangent, config).expect("valid");
+fn smoother<'a>(mesh: &'a HalfedgeMesh, positions: &[DVec3], config: SmoothConfig) -> Smoother<'a> {
+    let mut s = Smoother::new(mesh, positions, &Cotangent, config).expect("valid");
     s.step().expect("first step");
     s
 }
@@ -99,9 +93,9 @@ fn bench_implicit(c: &mut Criterion) {
         group.bench_function("cg_frozen", |b| {
             b.iter(|| black_box(cg_frozen.step().expect("step")));
         });
-        let sum = ImplicitConfig::new(0.8, 1_000_000)
+        let sum = SmoothConfig::new(0.8, 1_000_000)
             .update(WeightUpdate::Once)
-            .solver(ImplicitSolver::conjugate_gradient());
+            .method(Method::implicit(ImplicitSolver::conjugate_gradient()));
         group.bench_function("cg_sum_first", |b| {
             b.iter(|| black_box(smoother(&mesh, x, sum.clone()).positions()[0]));
         });
@@ -113,21 +107,24 @@ fn bench_implicit(c: &mut Criterion) {
 
         // The breakdown of a two-step run (one factorisation) and the factor size.
         let mut two = config(edge, WeightUpdate::Once, ImplicitSolver::Cholesky);
-        two.steps = 2;
-        let report = smooth_implicit(&mesh, x, &Cotangent, two)
-            .expect("valid")
-            .report;
-        let cg_step = cg_frozen.step().expect("step");
+        two.iterations = 2;
+        let report = smooth(&mesh, x, &Cotangent, two).expect("valid").report;
+        let solver = report.solver.as_ref().expect("an implicit run");
+        let cg_step = cg_frozen
+            .step()
+            .expect("step")
+            .solve
+            .expect("an implicit step");
         eprintln!(
             "level {level}: {} vertices; two Cholesky steps: assembly {:?}, analysis {:?}, \
              factorisation {:?}, solves {:?}; factor non-zeros {}; \
              CG iterations per frozen step {} (residual {:.1e})",
             x.len(),
-            report.assembly_time,
-            report.analysis_time,
-            report.factorization_time,
-            report.solve_time,
-            report.factor_nonzeros,
+            report.weight_time,
+            solver.analysis_time,
+            solver.factorization_time,
+            report.update_time,
+            solver.factor_nonzeros,
             cg_step.cg_iterations,
             cg_step.residual.unwrap_or(0.0),
         );

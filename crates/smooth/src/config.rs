@@ -147,6 +147,44 @@ pub enum Method {
         /// The weight of a vertex's own correction against its neighbours', in [0, 1].
         beta: f64,
     },
+    /// Implicit (backward Euler) diffusion: each iteration solves
+    /// `(M − λ L) x' = M x` for the three coordinates, so λ (the time step) can be many
+    /// times the explicit stability limit.
+    ///
+    /// - **Matrix.** `A = M + λ K` with `K_ij = −w̄_ij`, `K_ii = Σ_j w̄_ij` and `w̄_ij =
+    ///   ½ (w_ij + w_ji)` after the negative-weight policy. Symmetric schemes (uniform,
+    ///   inverse distance, cotangent) keep their weights bit for bit; a scheme of your
+    ///   own with `w_ij ≠ w_ji` is symmetrised this way, which the explicit step does
+    ///   not do. Mass: vertex areas (area normalisation, `L = M⁻¹ S`, so one step with a
+    ///   small λ agrees with one explicit step to first order) or `Σ_j w̄_ij` (weight
+    ///   sum).
+    /// - **Dirichlet rows.** Fixed boundary, pinned and isolated vertices, and vertices
+    ///   the operator cannot move (*stuck*: weights summing to ≤ 0, zero area) get an
+    ///   identity row; their columns move to the right-hand side, so `A` stays
+    ///   symmetric positive definite. Their positions stay bit-identical.
+    /// - **Definiteness.** Cotangent weights make `K` the finite-element stiffness
+    ///   matrix, positive semi-definite even with negative weights, so `A` is positive
+    ///   definite; so is any scheme with non-negative weights. A scheme whose kept
+    ///   negative weights make `A` indefinite is reported as
+    ///   [`SmoothError::NotPositiveDefinite`](crate::SmoothError::NotPositiveDefinite)
+    ///   rather than factorised with pivoting: such a step would amplify a mode.
+    /// - **Determinism.** The factorisation is sequential; assembly, right-hand sides
+    ///   and conjugate gradient use fixed chunks, so results do not depend on the
+    ///   thread count.
+    /// - **Settings.** [`Boundary::Curve`] and
+    ///   [`preserve_volume`](SmoothConfig::preserve_volume) are refused;
+    ///   [`reorder`](SmoothConfig::reorder) is ignored (the Cholesky factorisation
+    ///   orders the unknowns itself). With [`WeightUpdate::Once`] the matrix is
+    ///   factorised once and every later step is a pair of triangular solves.
+    ///
+    /// References: M. Desbrun, M. Meyer, P. Schröder, A. Barr, "Implicit fairing of
+    /// irregular meshes using diffusion and curvature flow", SIGGRAPH 1999; M. Botsch,
+    /// L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, "Polygon Mesh Processing", A K Peters
+    /// 2010, chapter 4. `docs/implicit.md` has the formulas and measured times.
+    Implicit {
+        /// How each step's linear system is solved.
+        solver: ImplicitSolver,
+    },
 }
 
 impl Method {
@@ -175,13 +213,55 @@ impl Method {
         }
     }
 
-    /// A short name: `laplacian`, `taubin` or `hc`.
+    /// Implicit diffusion with the given solver.
+    #[must_use]
+    pub fn implicit(solver: ImplicitSolver) -> Self {
+        Self::Implicit { solver }
+    }
+
+    /// A short name: `laplacian`, `taubin`, `hc` or `implicit`.
     #[must_use]
     pub fn name(&self) -> &'static str {
         match self {
             Self::Laplacian => "laplacian",
             Self::Taubin { .. } => "taubin",
             Self::Hc { .. } => "hc",
+            Self::Implicit { .. } => "implicit",
+        }
+    }
+}
+
+/// How the linear system of a step is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub enum ImplicitSolver {
+    /// Sparse Cholesky factorisation `A = L Lᵀ` (faer, approximate minimum degree
+    /// ordering): the sparsity analysis once per run, the numeric factorisation once
+    /// while the operator is frozen and again whenever the weights are recomputed; each
+    /// step is then two triangular solves. Exact to rounding. The library's default
+    /// (the command line's `--solver` defaults to conjugate gradient instead, the faster
+    /// first step on large meshes; see `docs/implicit.md`, "Which solver").
+    #[default]
+    Cholesky,
+    /// Conjugate gradient with a Jacobi (diagonal) preconditioner, started from the
+    /// current positions, per coordinate: no factorisation, memory linear in the mesh,
+    /// for meshes too large to factorise. Stops when `‖b − A x‖₂ ≤ tolerance ‖b‖₂`.
+    ConjugateGradient {
+        /// The relative residual to reach, in (0, 1).
+        tolerance: f64,
+        /// The iteration limit per coordinate and step (at least 1); reaching it
+        /// without the tolerance is an error ([`SmoothError::NotConverged`]).
+        max_iterations: usize,
+    },
+}
+
+impl ImplicitSolver {
+    /// Conjugate gradient with a relative tolerance of 1e-10 and at most 1000 iterations.
+    #[must_use]
+    pub fn conjugate_gradient() -> Self {
+        Self::ConjugateGradient {
+            tolerance: 1e-10,
+            max_iterations: 1000,
         }
     }
 }
@@ -208,6 +288,10 @@ impl Method {
 ///   `n = ⌈4t / (λ_config ⟨ℓ²⟩)⌉` iterations of `λ = 4t / (n ⟨ℓ²⟩)`. Exact on regular
 ///   meshes; on irregular ones the local time varies with `⟨ℓ²⟩_i` (use area
 ///   normalisation there).
+///
+/// An implicit run ([`Method::Implicit`]) converts the time the same way, with λ the
+/// largest step and no stability cap (backward Euler is stable at any step): more,
+/// smaller steps follow the Gaussian more closely, fewer are cheaper.
 ///
 /// Either way the result no longer depends on the mesh density or the scale of the
 /// coordinates, only on `t` (length²) or λc (length).
@@ -245,21 +329,32 @@ impl DiffusionTime {
     }
 }
 
-/// The parameters of a smoothing run.
+/// The parameters of a smoothing run, explicit or implicit: the step and count, and
+/// what every method shares (boundary, weight updates, normalisation, pinned
+/// vertices, duration, convergence, statistics); the [`method`](Self::method) says
+/// how each iteration moves the vertices.
 ///
 /// # Examples
 /// ```
-/// use beltrami_smooth::{Boundary, SmoothConfig, WeightUpdate};
+/// use beltrami_smooth::{Boundary, ImplicitSolver, Method, SmoothConfig, WeightUpdate};
 /// let config = SmoothConfig::new(0.8, 100).boundary(Boundary::Free).update(WeightUpdate::Once);
 /// assert_eq!(config.lambda, 0.8);
+/// // The same settings, as backward-Euler steps of time 5 solved by conjugate gradient.
+/// let implicit = config
+///     .lambda(5.0)
+///     .method(Method::implicit(ImplicitSolver::conjugate_gradient()));
+/// assert_eq!(implicit.method.name(), "implicit");
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SmoothConfig {
     /// The step λ. With weight-sum normalisation, a fraction in (0, 1]: each iteration
     /// moves a vertex that fraction of the way to its weighted neighbour average. With
-    /// area normalisation, a diffusion time per iteration in length² (> 0, small).
+    /// area normalisation, a diffusion time per iteration in length² (> 0, small). With
+    /// [`Method::Implicit`], the time step of each backward-Euler step, positive and
+    /// finite, of any size (dimensionless with weight-sum normalisation, length² with
+    /// area normalisation).
     pub lambda: f64,
-    /// The number of iterations.
+    /// The number of iterations (implicit steps).
     pub iterations: usize,
     /// How boundary vertices move.
     pub boundary: Boundary,
@@ -273,12 +368,13 @@ pub struct SmoothConfig {
     pub method: Method,
     /// After every iteration, rescale the mesh about its surface centroid by
     /// `β = (V₀/V)^(1/3)` so that the enclosed volume stays the input's (Desbrun et al.
-    /// 1999). Needs a closed mesh and no pinned vertices.
+    /// 1999). Needs a closed mesh and no pinned vertices; not with
+    /// [`Method::Implicit`].
     pub preserve_volume: bool,
     /// Diffuse for this physical time instead of [`iterations`](Self::iterations)
     /// steps of [`lambda`](Self::lambda); then `lambda` is the largest step allowed and
     /// the smoother chooses the iteration count (see [`DiffusionTime`]). Only with
-    /// [`Method::Laplacian`].
+    /// [`Method::Laplacian`] and [`Method::Implicit`].
     pub duration: Option<DiffusionTime>,
     /// Stop early, with [`StopReason::Converged`](crate::StopReason::Converged), once an
     /// iteration moves no vertex farther than this distance (in the positions' unit);
@@ -320,7 +416,21 @@ impl SmoothConfig {
         }
     }
 
-    /// Sets the method (plain diffusion, Taubin, HC).
+    /// Sets the step λ (see [`lambda`](Self::lambda)).
+    #[must_use]
+    pub fn lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Sets the number of iterations.
+    #[must_use]
+    pub fn iterations(mut self, iterations: usize) -> Self {
+        self.iterations = iterations;
+        self
+    }
+
+    /// Sets the method (plain diffusion, Taubin, HC, implicit).
     #[must_use]
     pub fn method(mut self, method: Method) -> Self {
         self.method = method;

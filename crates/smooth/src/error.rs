@@ -110,12 +110,6 @@ pub enum SmoothError {
         /// The value given.
         value: f64,
     },
-    /// The implicit time step is not positive and finite.
-    #[error("the implicit time step must be positive and finite, got {time_step}")]
-    InvalidTimeStep {
-        /// The value given.
-        time_step: f64,
-    },
     /// The conjugate-gradient settings are not usable.
     #[error(
         "conjugate gradient needs a positive finite tolerance below 1 and at least one iteration, got tolerance {tolerance} and {max_iterations} iterations"
@@ -126,6 +120,9 @@ pub enum SmoothError {
         /// The iteration limit given.
         max_iterations: usize,
     },
+    /// Volume preservation asked of an implicit run.
+    #[error("volume preservation is not available for implicit smoothing")]
+    VolumeNotImplicit,
     /// The implicit smoother has no curve boundary mode.
     #[error(
         "boundary mode 'curve' is not available for implicit smoothing (use 'fixed' or 'free')"

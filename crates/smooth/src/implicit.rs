@@ -12,17 +12,17 @@ mod cg;
 mod direct;
 mod system;
 
-use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
-use beltrami_weights::{Laplacian, LaplacianOptions, Normalization, WeightError, WeightScheme};
+use beltrami_weights::{Laplacian, Normalization, WeightError, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, WeightUpdate};
+use crate::config::{Boundary, ImplicitSolver, Method, SmoothConfig, WeightUpdate};
+use crate::duration::{Plan, resolve_duration};
 use crate::error::SmoothError;
-use crate::smoother::{Iteration, StepStats, StopReason};
+use crate::report::{SolveStats, SolverReport, StepStats};
 
 use cg::Cg;
 use direct::{Direct, FactorError};
@@ -31,208 +31,6 @@ use system::System;
 /// Vertices per parallel work unit. Fixed, so that sums (and hence results) do not
 /// depend on the number of threads.
 const CHUNK: usize = 4096;
-
-/// How the linear system of a step is solved.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[non_exhaustive]
-pub enum ImplicitSolver {
-    /// Sparse Cholesky factorisation `A = L Lᵀ` (faer, approximate minimum degree
-    /// ordering): the sparsity analysis once per run, the numeric factorisation once
-    /// while the operator is frozen and again whenever the weights are recomputed; each
-    /// step is then two triangular solves. Exact to rounding. The library's default
-    /// (the command line's `--solver` defaults to conjugate gradient instead, the faster
-    /// first step on large meshes; see `docs/implicit.md`, "Which solver").
-    #[default]
-    Cholesky,
-    /// Conjugate gradient with a Jacobi (diagonal) preconditioner, started from the
-    /// current positions, per coordinate: no factorisation, memory linear in the mesh,
-    /// for meshes too large to factorise. Stops when `‖b − A x‖₂ ≤ tolerance ‖b‖₂`.
-    ConjugateGradient {
-        /// The relative residual to reach, in (0, 1).
-        tolerance: f64,
-        /// The iteration limit per coordinate and step (at least 1); reaching it
-        /// without the tolerance is an error ([`SmoothError::NotConverged`]).
-        max_iterations: usize,
-    },
-}
-
-impl ImplicitSolver {
-    /// Conjugate gradient with a relative tolerance of 1e-10 and at most 1000 iterations.
-    #[must_use]
-    pub fn conjugate_gradient() -> Self {
-        Self::ConjugateGradient {
-            tolerance: 1e-10,
-            max_iterations: 1000,
-        }
-    }
-}
-
-/// The parameters of an implicit smoothing run.
-///
-/// The mass matrix follows the normalisation in [`laplacian`](Self::laplacian):
-/// [`Normalization::Area`]`(kind)` gives the lumped mass `M = diag(A_i)` with the same
-/// vertex areas as the explicit smoother (barycentric or mixed Voronoi), and
-/// [`Normalization::WeightSum`] gives `M = D = diag(Σ_j w_ij)`.
-///
-/// # Examples
-/// ```
-/// use beltrami_halfedge::geometry::VertexAreaKind;
-/// use beltrami_smooth::{Boundary, ImplicitConfig, ImplicitSolver, WeightUpdate};
-/// use beltrami_weights::{LaplacianOptions, Normalization};
-///
-/// let config = ImplicitConfig::new(1e-3, 5)
-///     .boundary(Boundary::Free)
-///     .update(WeightUpdate::Once)
-///     .laplacian(LaplacianOptions {
-///         normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
-///         ..Default::default()
-///     })
-///     .solver(ImplicitSolver::conjugate_gradient());
-/// assert_eq!(config.steps, 5);
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct ImplicitConfig {
-    /// The time step `t` of each backward-Euler step, positive and finite, of any size.
-    /// With area normalisation a diffusion time in length² (the positions' unit
-    /// squared), comparable with the explicit λ; with weight-sum normalisation
-    /// dimensionless (λ of the explicit step, but not limited to (0, 1]).
-    pub time_step: f64,
-    /// The number of steps.
-    pub steps: usize,
-    /// How boundary vertices move: [`Boundary::Fixed`] (Dirichlet rows, bit-identical)
-    /// or [`Boundary::Free`]; [`Boundary::Curve`] is rejected.
-    pub boundary: Boundary,
-    /// When the weights (and the vertex areas) are computed. With
-    /// [`WeightUpdate::Once`] the matrix is factorised once and every later step is a
-    /// pair of triangular solves.
-    pub update: WeightUpdate,
-    /// Normalisation (which also chooses the mass matrix) and negative-weight policy.
-    pub laplacian: LaplacianOptions,
-    /// Vertices that never move (Dirichlet rows), whatever the boundary mode.
-    pub pinned: Vec<VertexId>,
-    /// How each step's system is solved.
-    pub solver: ImplicitSolver,
-}
-
-impl Default for ImplicitConfig {
-    /// `t = 1`, one step, fixed boundary, weights every step, weight-sum
-    /// normalisation, negative weights kept, Cholesky.
-    fn default() -> Self {
-        Self::new(1.0, 1)
-    }
-}
-
-impl ImplicitConfig {
-    /// The time step and the number of steps, every other setting at its default (see
-    /// [`Default`]).
-    #[must_use]
-    pub fn new(time_step: f64, steps: usize) -> Self {
-        Self {
-            time_step,
-            steps,
-            boundary: Boundary::default(),
-            update: WeightUpdate::default(),
-            laplacian: LaplacianOptions::default(),
-            pinned: Vec::new(),
-            solver: ImplicitSolver::default(),
-        }
-    }
-
-    /// Sets the boundary mode.
-    #[must_use]
-    pub fn boundary(mut self, boundary: Boundary) -> Self {
-        self.boundary = boundary;
-        self
-    }
-
-    /// Sets the weight-update policy.
-    #[must_use]
-    pub fn update(mut self, update: WeightUpdate) -> Self {
-        self.update = update;
-        self
-    }
-
-    /// Sets the Laplacian options (normalisation, hence mass, and negative weights).
-    #[must_use]
-    pub fn laplacian(mut self, laplacian: LaplacianOptions) -> Self {
-        self.laplacian = laplacian;
-        self
-    }
-
-    /// Sets the pinned vertices.
-    #[must_use]
-    pub fn pinned(mut self, pinned: Vec<VertexId>) -> Self {
-        self.pinned = pinned;
-        self
-    }
-
-    /// Sets the solver.
-    #[must_use]
-    pub fn solver(mut self, solver: ImplicitSolver) -> Self {
-        self.solver = solver;
-        self
-    }
-}
-
-/// Statistics of one implicit step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ImplicitStepStats {
-    /// How far vertices moved; `stuck_vertices` counts vertices held as Dirichlet rows
-    /// because the operator could not move them (weights summing to ≤ 0, zero area).
-    pub displacement: StepStats,
-    /// Whether this step factorised the matrix numerically (Cholesky only).
-    pub factorized: bool,
-    /// Conjugate-gradient iterations of this step, summed over the three coordinates
-    /// (0 for Cholesky).
-    pub cg_iterations: usize,
-    /// The relative residual `‖b − A x‖₂ / ‖b‖₂` reached, worst coordinate
-    /// (conjugate gradient; `None` for Cholesky, exact to rounding).
-    pub residual: Option<f64>,
-}
-
-/// What an implicit run did.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ImplicitReport {
-    /// The scheme's name.
-    pub scheme: String,
-    /// The configuration used.
-    pub config: ImplicitConfig,
-    /// Steps done.
-    pub iterations: usize,
-    /// Why the run stopped.
-    pub stop: StopReason,
-    /// Per-step statistics.
-    pub steps: Vec<ImplicitStepStats>,
-    /// The largest number of stuck vertices in any step.
-    pub max_stuck_vertices: usize,
-    /// Symbolic analyses done (Cholesky: 1, reused by every numeric factorisation).
-    pub symbolic_factorizations: usize,
-    /// Numeric factorisations done (Cholesky: 1 while the operator is frozen, one per
-    /// step when the weights are recomputed).
-    pub numeric_factorizations: usize,
-    /// The number of non-zeros of the Cholesky factor (0 for conjugate gradient).
-    pub factor_nonzeros: usize,
-    /// Conjugate-gradient iterations over the run, all coordinates.
-    pub cg_iterations: usize,
-    /// Wall time computing weights, vertex areas and matrix entries.
-    pub assembly_time: Duration,
-    /// Wall time of the symbolic analysis (ordering and factor structure).
-    pub analysis_time: Duration,
-    /// Wall time of the numeric factorisations.
-    pub factorization_time: Duration,
-    /// Wall time of the right-hand sides and solves (triangular solves or conjugate
-    /// gradient) and the position updates.
-    pub solve_time: Duration,
-}
-
-/// Positions after an implicit run and its report.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ImplicitSmoothed {
-    /// The positions after the run, one per vertex, in the input order.
-    pub positions: Vec<DVec3>,
-    /// What the run did.
-    pub report: ImplicitReport,
-}
 
 /// The solver state.
 #[derive(Debug)]
@@ -245,58 +43,13 @@ enum SolverState {
     },
 }
 
-/// An implicit (backward Euler) diffusion smoother that the caller can drive step by
-/// step.
-///
-/// Each [`step`](Self::step) solves `(M − t L) x' = M x` for the three coordinates,
-/// where `L` is the operator of the explicit [`Smoother`](crate::Smoother) made
-/// symmetric (see below): unconditionally stable, so `t` can be many times the
-/// explicit stability limit.
-///
-/// - **Matrix.** `A = M + t K` with `K_ij = −w̄_ij`, `K_ii = Σ_j w̄_ij` and `w̄_ij =
-///   ½ (w_ij + w_ji)` after the negative-weight policy. Symmetric schemes (uniform,
-///   inverse distance, cotangent) keep their weights bit for bit; a scheme of your own
-///   with `w_ij ≠ w_ji` is symmetrised this way, which the explicit step does not do.
-///   Mass: vertex areas (area normalisation) or `Σ_j w̄_ij` (weight sum).
-/// - **Dirichlet rows.** Fixed boundary, pinned and isolated vertices, and vertices
-///   the operator cannot move (*stuck*: weights summing to ≤ 0, zero area) get an
-///   identity row; their columns move to the right-hand side, so `A` stays symmetric
-///   positive definite. Their positions stay bit-identical.
-/// - **Definiteness.** Cotangent weights make `K` the finite-element stiffness matrix,
-///   positive semi-definite even with negative weights, so `A` is positive definite;
-///   so is any scheme with non-negative weights. A scheme whose kept negative weights
-///   make `A` indefinite is reported as [`SmoothError::NotPositiveDefinite`] rather
-///   than factorised with pivoting: such a step would amplify a mode, not smooth it.
-/// - **Determinism.** The factorisation is sequential; assembly, right-hand sides
-///   and conjugate gradient use fixed chunks, so results do not depend on the thread
-///   count.
-///
-/// # Examples
-/// ```
-/// use beltrami_halfedge::primitives;
-/// use beltrami_smooth::{ImplicitConfig, ImplicitSmoother, WeightUpdate};
-/// use beltrami_weights::Cotangent;
-///
-/// let sphere = primitives::icosphere(2);
-/// let mesh = sphere.mesh().unwrap();
-/// let config = ImplicitConfig::new(10.0, 3).update(WeightUpdate::Once);
-/// let mut smoother = ImplicitSmoother::new(&mesh, &sphere.positions, &Cotangent, config)?;
-/// let stats = smoother.step()?;
-/// assert!(stats.factorized && stats.displacement.max_displacement > 0.0);
-/// // The operator is frozen: the next step reuses the factorisation.
-/// assert!(!smoother.step()?.factorized);
-/// # Ok::<(), beltrami_smooth::SmoothError>(())
-/// ```
-///
-/// # References
-/// - M. Desbrun, M. Meyer, P. Schröder, A. Barr, "Implicit fairing of irregular meshes
-///   using diffusion and curvature flow", SIGGRAPH 1999.
-/// - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, "Polygon Mesh Processing",
-///   A K Peters 2010, chapter 4.
-pub struct ImplicitSmoother<'a> {
+/// The implicit engine of a [`Smoother`](crate::Smoother) ([`Method::Implicit`]):
+/// each step solves `(M − t L) x' = M x` for the three coordinates (see
+/// [`Method::Implicit`] for the matrix, the Dirichlet rows and determinism).
+pub(crate) struct Implicit<'a> {
     mesh: &'a HalfedgeMesh,
     scheme: &'a dyn WeightScheme,
-    config: ImplicitConfig,
+    config: SmoothConfig,
     laplacian: Laplacian,
     system: System,
     solver: SolverState,
@@ -318,9 +71,9 @@ pub struct ImplicitSmoother<'a> {
     solve_time: Duration,
 }
 
-impl std::fmt::Debug for ImplicitSmoother<'_> {
+impl std::fmt::Debug for Implicit<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("ImplicitSmoother")
+        f.debug_struct("Implicit")
             .field("scheme", &self.scheme.name())
             .field("config", &self.config)
             .field("iteration", &self.iteration)
@@ -328,55 +81,27 @@ impl std::fmt::Debug for ImplicitSmoother<'_> {
     }
 }
 
-impl<'a> ImplicitSmoother<'a> {
+impl<'a> Implicit<'a> {
     /// Prepares a run on `positions` (copied): computes the first weights, assembles
     /// the matrix and, for Cholesky, its symbolic analysis (the numeric factorisation
-    /// happens in the first [`step`](Self::step)).
+    /// happens in the first [`step`](Self::step)); `config` has been validated (see
+    /// [`Smoother::new`](crate::Smoother::new)).
     ///
     /// # Errors
-    /// [`SmoothError::InvalidTimeStep`]; [`SmoothError::InvalidSolverSettings`];
-    /// [`SmoothError::CurveNotImplicit`]; [`SmoothError::PinnedOutOfRange`];
-    /// [`SmoothError::NonFiniteInput`]; [`SmoothError::Weights`] when the positions do
-    /// not match the mesh or the scheme gives a non-finite weight;
-    /// [`SmoothError::Factorization`] when the analysis cannot be done (out of memory).
-    pub fn new(
+    /// [`SmoothError::Weights`] when the positions do not match the mesh or the scheme
+    /// gives a non-finite weight; [`SmoothError::InvalidDuration`] when a time cannot
+    /// be turned into steps; [`SmoothError::Factorization`] when the analysis cannot be
+    /// done (out of memory).
+    pub(crate) fn new(
         mesh: &'a HalfedgeMesh,
         positions: &[DVec3],
         scheme: &'a dyn WeightScheme,
-        config: ImplicitConfig,
+        config: SmoothConfig,
     ) -> Result<Self, SmoothError> {
-        let t = config.time_step;
-        if !(t > 0.0 && t.is_finite()) {
-            return Err(SmoothError::InvalidTimeStep { time_step: t });
-        }
-        if let ImplicitSolver::ConjugateGradient {
-            tolerance,
-            max_iterations,
-        } = config.solver
-        {
-            if !(tolerance > 0.0 && tolerance < 1.0) || max_iterations == 0 {
-                return Err(SmoothError::InvalidSolverSettings {
-                    tolerance,
-                    max_iterations,
-                });
-            }
-        }
-        if config.boundary == Boundary::Curve {
-            return Err(SmoothError::CurveNotImplicit);
-        }
-        if let Some(v) = config
-            .pinned
-            .iter()
-            .find(|v| v.index() >= mesh.n_vertices())
-        {
-            return Err(SmoothError::PinnedOutOfRange {
-                vertex: v.raw(),
-                n_vertices: mesh.n_vertices(),
-            });
-        }
-        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(SmoothError::NonFiniteInput { vertex: i as u32 });
-        }
+        let Method::Implicit { solver } = config.method else {
+            unreachable!("the implicit engine runs Method::Implicit only")
+        };
+        let mut config = config;
         let start = Instant::now();
         let laplacian = Laplacian::new(mesh, positions, scheme, config.laplacian)?;
         let mut fixed: Vec<bool> = mesh
@@ -389,13 +114,27 @@ impl<'a> ImplicitSmoother<'a> {
         for v in &config.pinned {
             fixed[v.index()] = true;
         }
-        let system = System::new(mesh, &laplacian, fixed, t);
+        if let Some(duration) = config.duration {
+            let moves: Vec<bool> = fixed.iter().map(|f| !f).collect();
+            let plan = Plan {
+                perm: None,
+                positions,
+                laplacian: &laplacian,
+                moves: &moves,
+                max_lambda: config.lambda,
+                explicit: false,
+            };
+            let (lambda, iterations) = resolve_duration(&plan, duration.time())?;
+            config.lambda = lambda;
+            config.iterations = iterations;
+        }
+        let system = System::new(mesh, &laplacian, fixed, config.lambda);
         let mut smoother = Self {
             mesh,
             scheme,
             laplacian,
             system,
-            solver: match config.solver {
+            solver: match solver {
                 ImplicitSolver::ConjugateGradient {
                     tolerance,
                     max_iterations,
@@ -429,7 +168,7 @@ impl<'a> ImplicitSmoother<'a> {
         };
         smoother.assemble()?;
         smoother.assembly_time += start.elapsed();
-        if smoother.config.solver == ImplicitSolver::Cholesky {
+        if solver == ImplicitSolver::Cholesky {
             let start = Instant::now();
             let direct = Direct::analyse(&smoother.system).map_err(|e| match e {
                 FactorError::NotPositiveDefinite => {
@@ -506,7 +245,7 @@ impl<'a> ImplicitSmoother<'a> {
     /// cannot be computed; [`SmoothError::NonFinite`] when a matrix entry or a position
     /// would become NaN or infinite. The positions are then left as they were before
     /// the step.
-    pub fn step(&mut self) -> Result<ImplicitStepStats, SmoothError> {
+    pub(crate) fn step(&mut self) -> Result<StepStats, SmoothError> {
         if self.weights_stale() {
             let start = Instant::now();
             self.laplacian
@@ -519,7 +258,7 @@ impl<'a> ImplicitSmoother<'a> {
         if let Some(vertex) = self.assembly_error {
             return Err(SmoothError::NonFinite { vertex, iteration });
         }
-        let mut stats = ImplicitStepStats::default();
+        let mut stats = SolveStats::default();
         if let SolverState::Cholesky(direct) = &mut self.solver {
             if !direct.is_factored() {
                 let start = Instant::now();
@@ -612,70 +351,54 @@ impl<'a> ImplicitSmoother<'a> {
             return Err(SmoothError::NonFinite { vertex, iteration });
         }
         let n = self.positions.len();
-        stats.displacement = StepStats {
+        self.iteration = iteration;
+        std::mem::swap(&mut self.positions, &mut self.next);
+        Ok(StepStats {
             max_displacement: max,
             mean_displacement: if n == 0 { 0.0 } else { sum / n as f64 },
             stuck_vertices: self.system.stuck,
-        };
-        self.iteration = iteration;
-        std::mem::swap(&mut self.positions, &mut self.next);
-        Ok(stats)
+            solve: Some(stats),
+        })
     }
 
-    /// Runs the configured number of steps, calling `observer` after each one with the
-    /// step's displacement statistics; the observer stops the run early by returning
-    /// `ControlFlow::Break(())`.
-    ///
-    /// # Errors
-    /// As [`step`](Self::step).
-    pub fn run<F>(mut self, mut observer: F) -> Result<ImplicitSmoothed, SmoothError>
-    where
-        F: FnMut(&Iteration<'_>) -> ControlFlow<()>,
-    {
-        let mut steps = Vec::with_capacity(self.config.steps);
-        let mut stop = StopReason::Completed;
-        while self.iteration < self.config.steps {
-            let stats = self.step()?;
-            steps.push(stats);
-            let it = Iteration {
-                index: self.iteration,
-                positions: &self.positions,
-                stats: stats.displacement,
-            };
-            if observer(&it).is_break() {
-                stop = StopReason::Observer;
-                break;
-            }
-        }
-        let report = ImplicitReport {
-            scheme: self.scheme.name().to_string(),
-            iterations: self.iteration,
-            stop,
-            max_stuck_vertices: steps
-                .iter()
-                .map(|s| s.displacement.stuck_vertices)
-                .max()
-                .unwrap_or(0),
-            steps,
+    /// The scheme's name, for the report.
+    pub(crate) fn scheme_name(&self) -> String {
+        self.scheme.name().to_string()
+    }
+
+    /// The positions before the last step (after a step, `next` holds them).
+    pub(crate) fn before(&self) -> &[DVec3] {
+        &self.next
+    }
+
+    /// Ends the run: the positions, the configuration, the wall times and what the
+    /// solver did.
+    pub(crate) fn finish(self) -> crate::smoother::Finished {
+        let solver = SolverReport {
             symbolic_factorizations: self.symbolic_factorizations,
             numeric_factorizations: self.numeric_factorizations,
             factor_nonzeros: self.factor_nonzeros(),
             cg_iterations: self.cg_iterations,
-            assembly_time: self.assembly_time,
             analysis_time: self.analysis_time,
             factorization_time: self.factorization_time,
-            solve_time: self.solve_time,
-            config: self.config,
         };
-        Ok(ImplicitSmoothed {
+        crate::smoother::Finished {
             positions: self.positions,
-            report,
-        })
+            config: self.config,
+            weight_time: self.assembly_time,
+            update_time: self.solve_time,
+            solver: Some(solver),
+        }
+    }
+
+    /// The configuration; with a duration, `lambda` and `iterations` are the step and
+    /// count chosen.
+    pub(crate) fn config(&self) -> &SmoothConfig {
+        &self.config
     }
 
     /// The number of non-zeros of the Cholesky factor (0 for conjugate gradient).
-    #[must_use]
-    pub fn factor_nonzeros(&self) -> usize {
+    pub(crate) fn factor_nonzeros(&self) -> usize {
         match &self.solver {
             SolverState::Cholesky(direct) => direct.factor_nnz(),
             SolverState::ConjugateGradient { .. } => 0,
@@ -683,53 +406,17 @@ impl<'a> ImplicitSmoother<'a> {
     }
 
     /// The current positions.
-    #[must_use]
-    pub fn positions(&self) -> &[DVec3] {
+    pub(crate) fn positions(&self) -> &[DVec3] {
         &self.positions
     }
 
     /// The number of steps done.
-    #[must_use]
-    pub fn iteration(&self) -> usize {
+    pub(crate) fn iteration(&self) -> usize {
         self.iteration
     }
 
     /// The operator as last assembled (before symmetrisation).
-    #[must_use]
-    pub fn laplacian(&self) -> &Laplacian {
+    pub(crate) fn laplacian(&self) -> &Laplacian {
         &self.laplacian
     }
-
-    /// Numeric factorisations done so far.
-    #[must_use]
-    pub fn numeric_factorizations(&self) -> usize {
-        self.numeric_factorizations
-    }
-}
-
-/// Smooths `positions` with implicit steps of `scheme` as `config` says, in one call.
-///
-/// # Errors
-/// As [`ImplicitSmoother::new`] and [`ImplicitSmoother::step`].
-///
-/// # Examples
-/// ```
-/// use beltrami_halfedge::primitives;
-/// use beltrami_smooth::{smooth_implicit, ImplicitConfig};
-/// use beltrami_weights::Uniform;
-///
-/// let sphere = primitives::icosphere(2);
-/// let mesh = sphere.mesh().unwrap();
-/// // A step 100 times beyond what the explicit weight-sum step allows.
-/// let out = smooth_implicit(&mesh, &sphere.positions, &Uniform, ImplicitConfig::new(100.0, 2))?;
-/// assert!(out.positions.iter().all(|p| p.is_finite() && p.length() < 1.0));
-/// # Ok::<(), beltrami_smooth::SmoothError>(())
-/// ```
-pub fn smooth_implicit(
-    mesh: &HalfedgeMesh,
-    positions: &[DVec3],
-    scheme: &dyn WeightScheme,
-    config: ImplicitConfig,
-) -> Result<ImplicitSmoothed, SmoothError> {
-    ImplicitSmoother::new(mesh, positions, scheme, config)?.run(|_| ControlFlow::Continue(()))
 }

@@ -7,8 +7,10 @@
 //!
 //! Beyond plain diffusion ([`Method::Laplacian`]), which shrinks: Taubin's λ|μ filter
 //! ([`Method::Taubin`]), the HC push-back towards the input, which works on open patches
-//! ([`Method::Hc`]), and a volume-preserving rescale for closed meshes
-//! ([`SmoothConfig::preserve_volume`]). A run can be given in physical units — a
+//! ([`Method::Hc`]), a volume-preserving rescale for closed meshes
+//! ([`SmoothConfig::preserve_volume`]), and implicit backward-Euler steps of any size
+//! ([`Method::Implicit`]). One [`SmoothConfig`], one [`Smoother`], one observer view
+//! ([`IterationView`]) and one [`SmoothReport`] serve every method. A run can be given in physical units — a
 //! diffusion time in length² or a Gaussian cut-off wavelength ([`DiffusionTime`]) — and
 //! can stop once it has converged ([`SmoothConfig::until_change`]).
 //!
@@ -42,18 +44,20 @@
 //! ```
 
 mod config;
+mod duration;
 mod error;
+mod explicit;
 mod implicit;
+mod numbering;
+mod report;
 mod smoother;
 
 pub use config::{
-    Boundary, DiffusionTime, Method, Reorder, SmoothConfig, Statistics, WeightUpdate,
+    Boundary, DiffusionTime, ImplicitSolver, Method, Reorder, SmoothConfig, Statistics,
+    WeightUpdate,
 };
 pub use error::SmoothError;
-pub use implicit::{
-    ImplicitConfig, ImplicitReport, ImplicitSmoothed, ImplicitSmoother, ImplicitSolver,
-    ImplicitStepStats, smooth_implicit,
+pub use report::{
+    IterationView, SmoothReport, Smoothed, SolveStats, SolverReport, StepStats, StopReason,
 };
-pub use smoother::{
-    Iteration, IterationView, SmoothReport, Smoothed, Smoother, StepStats, StopReason, smooth,
-};
+pub use smoother::{Smoother, smooth};

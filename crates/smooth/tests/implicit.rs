@@ -11,13 +11,17 @@ use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_smooth::{
-    Boundary, ImplicitConfig, ImplicitSmoother, ImplicitSolver, SmoothConfig, SmoothError,
-    WeightUpdate, smooth_implicit,
+    Boundary, ImplicitSolver, Method, SmoothConfig, SmoothError, Smoother, WeightUpdate, smooth,
 };
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightScheme,
 };
+
+/// `steps` backward-Euler steps of time `t`, solved by Cholesky.
+fn implicit(t: f64, steps: usize) -> SmoothConfig {
+    SmoothConfig::new(t, steps).method(Method::implicit(ImplicitSolver::Cholesky))
+}
 
 /// A deterministic jitter of every vertex by up to `amplitude` per coordinate.
 fn jitter(positions: &mut [DVec3], amplitude: f64, seed: u64) {
@@ -249,10 +253,10 @@ fn one_step_matches_a_dense_solve() {
                 } else {
                     *t_area
                 };
-                let config = ImplicitConfig::new(t, 1)
+                let config = implicit(t, 1)
                     .boundary(*boundary)
                     .laplacian(options(normalization));
-                let got = smooth_implicit(mesh, x, scheme_of(kind), config).unwrap();
+                let got = smooth(mesh, x, scheme_of(kind), config).unwrap();
                 let want = dense_step(mesh, x, kind, normalization, *boundary, t);
                 let err = max_diff(&got.positions, &want) / max_abs(&want);
                 assert!(
@@ -262,14 +266,14 @@ fn one_step_matches_a_dense_solve() {
                 // The step did something.
                 assert!(max_diff(&got.positions, x) > 1e-3 * max_abs(x), "{name}");
                 // The conjugate-gradient solver agrees to its tolerance.
-                let config = ImplicitConfig::new(t, 1)
+                let config = implicit(t, 1)
                     .boundary(*boundary)
                     .laplacian(options(normalization))
-                    .solver(ImplicitSolver::ConjugateGradient {
+                    .method(Method::implicit(ImplicitSolver::ConjugateGradient {
                         tolerance: 1e-13,
                         max_iterations: 500,
-                    });
-                let cg = smooth_implicit(mesh, x, scheme_of(kind), config).unwrap();
+                    }));
+                let cg = smooth(mesh, x, scheme_of(kind), config).unwrap();
                 let err = max_diff(&cg.positions, &want) / max_abs(&want);
                 assert!(err <= 1e-9, "{name} {kind:?} {normalization:?} CG: {err:e}");
             }
@@ -296,11 +300,11 @@ fn a_small_step_agrees_with_the_explicit_step_to_first_order() {
                 SmoothConfig::new(t, 1).laplacian(options(normalization)),
             )
             .unwrap();
-            let implicit = smooth_implicit(
+            let implicit = smooth(
                 mesh,
                 x,
                 &Cotangent,
-                ImplicitConfig::new(t, 1).laplacian(options(normalization)),
+                implicit(t, 1).laplacian(options(normalization)),
             )
             .unwrap();
             let moved = max_diff(&explicit.positions, x);
@@ -369,11 +373,11 @@ fn a_huge_step_stays_finite_and_inside_the_input_hull() {
                 } else {
                     20
                 };
-                let config = ImplicitConfig::new(t, steps)
+                let config = implicit(t, steps)
                     .boundary(boundary)
                     .laplacian(options)
                     .update(update);
-                let out = smooth_implicit(&grid, &x, scheme, config).unwrap_or_else(|e| {
+                let out = smooth(&grid, &x, scheme, config).unwrap_or_else(|e| {
                     panic!("{} {boundary:?} {t} {update:?}: {e}", scheme.name())
                 });
                 for p in &out.positions {
@@ -401,11 +405,11 @@ fn fixed_boundary_pinned_and_isolated_vertices_keep_their_bits() {
         ImplicitSolver::conjugate_gradient(),
     ] {
         for normalization in NORMALIZATIONS {
-            let config = ImplicitConfig::new(0.5, 3)
+            let config = implicit(0.5, 3)
                 .laplacian(options(normalization))
                 .pinned(vec![pinned])
-                .solver(solver);
-            let out = smooth_implicit(&mesh, &prim.positions, &Cotangent, config).unwrap();
+                .method(Method::implicit(solver));
+            let out = smooth(&mesh, &prim.positions, &Cotangent, config).unwrap();
             for v in mesh.vertices() {
                 let still = mesh.is_boundary_vertex(v) || v == pinned;
                 let (a, b) = (out.positions[v.index()], prim.positions[v.index()]);
@@ -427,49 +431,47 @@ fn a_frozen_operator_is_factorised_once() {
     let (sphere, x) = noisy(primitives::icosphere(3), 0.01);
     let area = options(Normalization::Area(VertexAreaKind::MixedVoronoi));
     let run = |scheme: &dyn WeightScheme, update, laplacian| {
-        let config = ImplicitConfig::new(1e-3, 5)
-            .update(update)
-            .laplacian(laplacian);
-        smooth_implicit(&sphere, &x, scheme, config).unwrap().report
+        let config = implicit(1e-3, 5).update(update).laplacian(laplacian);
+        smooth(&sphere, &x, scheme, config).unwrap().report
     };
     let once = run(&Cotangent, WeightUpdate::Once, area);
-    assert_eq!(once.symbolic_factorizations, 1);
-    assert_eq!(once.numeric_factorizations, 1);
-    let factorised: Vec<bool> = once.steps.iter().map(|s| s.factorized).collect();
+    assert_eq!(once.solver.as_ref().unwrap().symbolic_factorizations, 1);
+    assert_eq!(once.solver.as_ref().unwrap().numeric_factorizations, 1);
+    let factorised: Vec<bool> = once
+        .steps
+        .iter()
+        .map(|s| s.solve.unwrap().factorized)
+        .collect();
     assert_eq!(factorised, [true, false, false, false, false]);
-    assert!(once.factor_nonzeros > 0);
+    assert!(once.solver.as_ref().unwrap().factor_nonzeros > 0);
 
     let every = run(&Cotangent, WeightUpdate::Every, area);
-    assert_eq!(every.symbolic_factorizations, 1);
-    assert_eq!(every.numeric_factorizations, 5);
-    assert!(every.steps.iter().all(|s| s.factorized));
+    assert_eq!(every.solver.as_ref().unwrap().symbolic_factorizations, 1);
+    assert_eq!(every.solver.as_ref().unwrap().numeric_factorizations, 5);
+    assert!(every.steps.iter().all(|s| s.solve.unwrap().factorized));
 
     // Uniform weights with weight-sum normalisation never change.
     let uniform = run(&Uniform, WeightUpdate::Every, LaplacianOptions::default());
-    assert_eq!(uniform.numeric_factorizations, 1);
+    assert_eq!(uniform.solver.as_ref().unwrap().numeric_factorizations, 1);
 
     // Frozen steps are a linear filter: the same as one step applied five times with
     // the matrix of the input.
-    let mut smoother = ImplicitSmoother::new(
+    let mut smoother = Smoother::new(
         &sphere,
         &x,
         &Cotangent,
-        ImplicitConfig::new(1e-3, 5)
-            .update(WeightUpdate::Once)
-            .laplacian(area),
+        implicit(1e-3, 5).update(WeightUpdate::Once).laplacian(area),
     )
     .unwrap();
-    for _ in 0..5 {
-        smoother.step().unwrap();
-    }
-    assert_eq!(smoother.numeric_factorizations(), 1);
-    let batch = smooth_implicit(
+    let factorised = (0..5)
+        .filter(|_| smoother.step().unwrap().solve.unwrap().factorized)
+        .count();
+    assert_eq!(factorised, 1);
+    let batch = smooth(
         &sphere,
         &x,
         &Cotangent,
-        ImplicitConfig::new(1e-3, 5)
-            .update(WeightUpdate::Once)
-            .laplacian(area),
+        implicit(1e-3, 5).update(WeightUpdate::Once).laplacian(area),
     )
     .unwrap();
     assert_eq!(smoother.positions(), batch.positions.as_slice());
@@ -482,28 +484,34 @@ fn conjugate_gradient_agrees_with_cholesky() {
         (Normalization::Area(VertexAreaKind::MixedVoronoi), 1e-2),
         (Normalization::WeightSum, 20.0),
     ] {
-        let config = ImplicitConfig::new(t, 3).laplacian(options(normalization));
-        let direct = smooth_implicit(&sphere, &x, &Cotangent, config.clone()).unwrap();
+        let config = implicit(t, 3).laplacian(options(normalization));
+        let direct = smooth(&sphere, &x, &Cotangent, config.clone()).unwrap();
         let tolerance = 1e-10;
-        let cg = smooth_implicit(
+        let cg = smooth(
             &sphere,
             &x,
             &Cotangent,
-            config.solver(ImplicitSolver::ConjugateGradient {
+            config.method(Method::implicit(ImplicitSolver::ConjugateGradient {
                 tolerance,
                 max_iterations: 2000,
-            }),
+            })),
         )
         .unwrap();
-        assert_eq!(cg.report.numeric_factorizations, 0);
-        assert_eq!(cg.report.factor_nonzeros, 0);
-        assert!(cg.report.cg_iterations > 0);
+        assert_eq!(cg.report.solver.as_ref().unwrap().numeric_factorizations, 0);
+        assert_eq!(cg.report.solver.as_ref().unwrap().factor_nonzeros, 0);
+        assert!(cg.report.solver.as_ref().unwrap().cg_iterations > 0);
         for s in &cg.report.steps {
-            let r = s.residual.unwrap();
+            let r = s.solve.unwrap().residual.unwrap();
             assert!(r <= tolerance, "residual {r:e}");
-            assert!(s.cg_iterations > 0);
+            assert!(s.solve.unwrap().cg_iterations > 0);
         }
-        assert!(direct.report.steps.iter().all(|s| s.residual.is_none()));
+        assert!(
+            direct
+                .report
+                .steps
+                .iter()
+                .all(|s| s.solve.unwrap().residual.is_none())
+        );
         let err = max_diff(&cg.positions, &direct.positions);
         assert!(err <= 1e-7, "{normalization:?}: {err:e}");
     }
@@ -523,10 +531,10 @@ fn results_do_not_depend_on_the_thread_count() {
                 .build()
                 .unwrap();
             pool.install(|| {
-                let config = ImplicitConfig::new(1e-3, 2)
+                let config = implicit(1e-3, 2)
                     .laplacian(options(Normalization::Area(VertexAreaKind::MixedVoronoi)))
-                    .solver(solver);
-                smooth_implicit(&sphere, &x, &Cotangent, config).unwrap()
+                    .method(Method::implicit(solver));
+                smooth(&sphere, &x, &Cotangent, config).unwrap()
             })
         };
         let (one, two) = (run(1), run(2));
@@ -563,29 +571,18 @@ fn an_indefinite_system_is_a_typed_error() {
     let tet = primitives::tetrahedron();
     let mesh = tet.mesh().unwrap();
     // With a small step the mass dominates: positive definite, solved.
-    let small = smooth_implicit(
-        &mesh,
-        &tet.positions,
-        &NegativeEdge,
-        ImplicitConfig::new(0.01, 1),
-    );
+    let small = smooth(&mesh, &tet.positions, &NegativeEdge, implicit(0.01, 1));
     assert!(small.is_ok(), "{small:?}");
     // With a large one the negative edge wins.
-    let err = smooth_implicit(
-        &mesh,
-        &tet.positions,
-        &NegativeEdge,
-        ImplicitConfig::new(100.0, 1),
-    )
-    .unwrap_err();
+    let err = smooth(&mesh, &tet.positions, &NegativeEdge, implicit(100.0, 1)).unwrap_err();
     assert_eq!(err, SmoothError::NotPositiveDefinite { iteration: 1 });
     assert!(err.to_string().contains("clamp"));
     // Clamping the negative weight makes it smooth again.
-    let clamped = smooth_implicit(
+    let clamped = smooth(
         &mesh,
         &tet.positions,
         &NegativeEdge,
-        ImplicitConfig::new(100.0, 1).laplacian(LaplacianOptions {
+        implicit(100.0, 1).laplacian(LaplacianOptions {
             negative: NegativeWeights::Clamp,
             ..Default::default()
         }),
@@ -614,11 +611,11 @@ fn negative_cotangent_weights_still_give_a_positive_definite_system() {
         .count();
     assert!(negative > 0, "the test mesh needs negative weights");
     for normalization in NORMALIZATIONS {
-        let out = smooth_implicit(
+        let out = smooth(
             &mesh,
             &prim.positions,
             &Cotangent,
-            ImplicitConfig::new(1e6, 3).laplacian(options(normalization)),
+            implicit(1e6, 3).laplacian(options(normalization)),
         )
         .unwrap();
         assert!(out.positions.iter().all(|p| p.is_finite()));
@@ -631,27 +628,27 @@ fn invalid_settings_are_typed_errors() {
     let mesh = grid.mesh().unwrap();
     let x = &grid.positions;
     let err = |config| {
-        ImplicitSmoother::new(&mesh, x, &Uniform, config)
+        Smoother::new(&mesh, x, &Uniform, config)
             .map(|_| ())
             .unwrap_err()
     };
     for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert!(matches!(
-            err(ImplicitConfig::new(t, 1)),
-            SmoothError::InvalidTimeStep { .. }
+            err(implicit(t, 1)),
+            SmoothError::InvalidLambda { .. }
         ));
     }
     assert_eq!(
-        err(ImplicitConfig::new(1.0, 1).boundary(Boundary::Curve)),
+        err(implicit(1.0, 1).boundary(Boundary::Curve)),
         SmoothError::CurveNotImplicit
     );
     for (tolerance, max_iterations) in [(0.0, 10), (1.0, 10), (f64::NAN, 10), (1e-8, 0)] {
         assert_eq!(
             err(
-                ImplicitConfig::new(1.0, 1).solver(ImplicitSolver::ConjugateGradient {
+                implicit(1.0, 1).method(Method::implicit(ImplicitSolver::ConjugateGradient {
                     tolerance,
                     max_iterations
-                })
+                }))
             )
             .to_string(),
             SmoothError::InvalidSolverSettings {
@@ -662,13 +659,13 @@ fn invalid_settings_are_typed_errors() {
         );
     }
     assert!(matches!(
-        err(ImplicitConfig::new(1.0, 1).pinned(vec![VertexId::new(99)])),
+        err(implicit(1.0, 1).pinned(vec![VertexId::new(99)])),
         SmoothError::PinnedOutOfRange { vertex: 99, .. }
     ));
     let mut bad = x.clone();
     bad[2].y = f64::NAN;
     assert_eq!(
-        ImplicitSmoother::new(&mesh, &bad, &Uniform, ImplicitConfig::new(1.0, 1))
+        Smoother::new(&mesh, &bad, &Uniform, implicit(1.0, 1))
             .map(|_| ())
             .unwrap_err(),
         SmoothError::NonFiniteInput { vertex: 2 }
@@ -678,11 +675,11 @@ fn invalid_settings_are_typed_errors() {
 #[test]
 fn conjugate_gradient_that_runs_out_of_iterations_is_an_error() {
     let (sphere, x) = noisy(primitives::icosphere(3), 0.01);
-    let config = ImplicitConfig::new(50.0, 1).solver(ImplicitSolver::ConjugateGradient {
+    let config = implicit(50.0, 1).method(Method::implicit(ImplicitSolver::ConjugateGradient {
         tolerance: 1e-14,
         max_iterations: 2,
-    });
-    let mut smoother = ImplicitSmoother::new(&sphere, &x, &Cotangent, config).unwrap();
+    }));
+    let mut smoother = Smoother::new(&sphere, &x, &Cotangent, config).unwrap();
     match smoother.step() {
         Err(SmoothError::NotConverged {
             iteration: 1,
@@ -700,10 +697,10 @@ fn conjugate_gradient_that_runs_out_of_iterations_is_an_error() {
 fn the_observer_sees_every_step_and_can_stop_the_run() {
     let (sphere, x) = noisy(primitives::icosphere(2), 0.02);
     let mut seen = Vec::new();
-    let out = ImplicitSmoother::new(&sphere, &x, &Cotangent, ImplicitConfig::new(1.0, 10))
+    let out = Smoother::new(&sphere, &x, &Cotangent, implicit(1.0, 10))
         .unwrap()
         .run(|it| {
-            seen.push((it.index, it.stats.max_displacement));
+            seen.push((it.index, it.stats().max_displacement));
             if it.index == 4 {
                 ControlFlow::Break(())
             } else {
@@ -719,4 +716,98 @@ fn the_observer_sees_every_step_and_can_stop_the_run() {
     let r0 = x.iter().map(|p| p.length()).sum::<f64>();
     let r1 = out.positions.iter().map(|p| p.length()).sum::<f64>();
     assert!(r1 < r0);
+}
+
+#[test]
+fn implicit_runs_share_the_explicit_settings_and_report() {
+    use beltrami_smooth::{DiffusionTime, Statistics, StopReason};
+    let (sphere, x) = noisy(primitives::icosphere(3), 0.02);
+
+    // The observer's view: the positions after the step and the step's statistics, as
+    // the report keeps them.
+    let mut views = Vec::new();
+    let out = Smoother::new(&sphere, &x, &Cotangent, implicit(2.0, 3))
+        .unwrap()
+        .run(|it| {
+            views.push((it.positions().to_vec(), it.stats()));
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(views.len(), 3);
+    assert_eq!(views[2].0, out.positions);
+    let seen: Vec<_> = views.iter().map(|(_, s)| *s).collect();
+    assert_eq!(seen, out.report.steps);
+    assert!(seen.iter().all(|s| s.solve.is_some_and(|s| s.factorized)));
+    let solver = out.report.solver.as_ref().unwrap();
+    assert_eq!(solver.numeric_factorizations, 3);
+
+    // On-demand statistics keep no steps in the report, and the same positions.
+    let lean = smooth(
+        &sphere,
+        &x,
+        &Cotangent,
+        implicit(2.0, 3).statistics(Statistics::OnDemand),
+    )
+    .unwrap();
+    assert!(lean.report.steps.is_empty());
+    assert_eq!(lean.positions, out.positions);
+
+    // A convergence threshold stops the run once a step moves no vertex farther.
+    let eps = 1e-3;
+    let converged = smooth(
+        &sphere,
+        &x,
+        &Cotangent,
+        implicit(5.0, 500).until_change(eps),
+    )
+    .unwrap();
+    assert_eq!(converged.report.stop, StopReason::Converged);
+    let last = converged.report.steps.last().unwrap();
+    assert!(last.max_displacement <= eps);
+    assert!(converged.report.iterations < 500);
+    let before_last = &converged.report.steps[converged.report.steps.len() - 2];
+    assert!(before_last.max_displacement > eps);
+
+    // A diffusion time with weight-sum normalisation: steps of at most λ whose times
+    // add up to t, following the explicit run for the same time closely.
+    let t = 0.02;
+    let config = |method| {
+        SmoothConfig::new(0.8, 1)
+            .duration(DiffusionTime::Time(t))
+            .update(WeightUpdate::Once)
+            .method(method)
+    };
+    let explicit = smooth(&sphere, &x, &Uniform, config(Method::Laplacian)).unwrap();
+    let backward = smooth(
+        &sphere,
+        &x,
+        &Uniform,
+        config(Method::implicit(ImplicitSolver::Cholesky)),
+    )
+    .unwrap();
+    let (e, b) = (&explicit.report.config, &backward.report.config);
+    assert_eq!(b.iterations, e.iterations, "the same plan: {b:?} vs {e:?}");
+    assert_eq!(b.lambda.to_bits(), e.lambda.to_bits());
+    let radius = |p: &[DVec3]| p.iter().map(|p| p.length()).sum::<f64>() / p.len() as f64;
+    let (r0, re, rb) = (
+        radius(&x),
+        radius(&explicit.positions),
+        radius(&backward.positions),
+    );
+    assert!(re < r0 && rb < r0);
+    assert!((re - rb).abs() < 0.05 * (r0 - re), "{r0} {re} {rb}");
+
+    // An implicit step has no explicit stability limit and no internal numbering.
+    let smoother = Smoother::new(&sphere, &x, &Cotangent, implicit(2.0, 3)).unwrap();
+    assert_eq!(smoother.stable_step_limit(), None);
+    assert!(smoother.permutation().is_none());
+
+    // What an implicit run cannot do is refused before any work.
+    let closed = implicit(1.0, 1).preserve_volume(true);
+    assert_eq!(
+        Smoother::new(&sphere, &x, &Uniform, closed)
+            .map(|_| ())
+            .unwrap_err(),
+        SmoothError::VolumeNotImplicit
+    );
 }

@@ -1,0 +1,108 @@
+//! Turning a diffusion time into a step and an iteration count.
+
+use beltrami_halfedge::reorder::VertexPermutation;
+use beltrami_halfedge::{DVec3, VertexId};
+use beltrami_weights::{Laplacian, Normalization};
+
+use crate::error::SmoothError;
+
+/// The largest rate `max_i W_i / A_i` of the moving rows of an area-normalised
+/// Laplacian (weight sum over vertex area, in 1/length²), 0 when no row moves.
+pub(crate) fn area_rate(laplacian: &Laplacian, moves: &[bool]) -> f64 {
+    let mut rate: f64 = 0.0;
+    for (i, &row) in moves.iter().enumerate() {
+        let v = VertexId::new(i as u32);
+        if row && let Some(scale) = laplacian.scale(v) {
+            rate = rate.max(laplacian.weight_sum(v) * scale);
+        }
+    }
+    rate
+}
+
+/// How a run diffuses for a given time.
+pub(crate) struct Plan<'a> {
+    /// The internal numbering, when the run reorders.
+    pub(crate) perm: Option<&'a VertexPermutation>,
+    /// The positions, internal numbering.
+    pub(crate) positions: &'a [DVec3],
+    /// The operator on them.
+    pub(crate) laplacian: &'a Laplacian,
+    /// Which vertices move with their Laplacian row (internal numbering).
+    pub(crate) moves: &'a [bool],
+    /// The largest step allowed (the configured λ).
+    pub(crate) max_lambda: f64,
+    /// Whether an area-normalised step must also stay below half the explicit
+    /// stability limit (explicit runs; an implicit step is stable at any size).
+    pub(crate) explicit: bool,
+}
+
+/// The step and iteration count that diffuse for the time `t` (length²); see
+/// [`DiffusionTime`](crate::DiffusionTime).
+pub(crate) fn resolve_duration(plan: &Plan<'_>, t: f64) -> Result<(f64, usize), SmoothError> {
+    let Plan {
+        perm,
+        positions,
+        laplacian,
+        moves,
+        max_lambda,
+        explicit,
+    } = *plan;
+    if t == 0.0 {
+        return Ok((max_lambda, 0));
+    }
+    let (time_per_unit, max_step) = match laplacian.options().normalization {
+        Normalization::WeightSum => {
+            // A normalised row acting on f = ½|x − x_i|² gives ½⟨ℓ²⟩_w, the
+            // weighted mean squared edge length; Δf = 2 on a surface, so the row is
+            // ≈ (⟨ℓ²⟩_w / 4) Δ: one step λ advances vertex i's time by λ⟨ℓ²⟩_w / 4.
+            // The mean over the moving rows is the mesh's time per unit step.
+            let mut sum = 0.0;
+            let mut count = 0usize;
+            // Summed in the caller's vertex order, so that reordering changes no bit.
+            for old in 0..positions.len() {
+                let v = VertexId::new(perm.map_or(old as u32, |p| p.old_to_new()[old]));
+                if !moves[v.index()] {
+                    continue;
+                }
+                let xi = positions[v.index()];
+                let w = laplacian.weight_sum(v);
+                let mut s = 0.0;
+                for (j, wij) in laplacian.row(v) {
+                    s += wij * positions[j.index()].distance_squared(xi);
+                }
+                let mean = s / w;
+                if w > 0.0 && mean.is_finite() && mean > 0.0 {
+                    sum += mean;
+                    count += 1;
+                }
+            }
+            let mean = if count == 0 { 0.0 } else { sum / count as f64 };
+            if !(mean > 0.0 && mean.is_finite()) {
+                return Err(SmoothError::InvalidDuration {
+                    reason: "the mesh has no moving vertex with edges of positive length to measure time by".into(),
+                });
+            }
+            // One step λ advances the time by λ ⟨ℓ²⟩ / 4.
+            (mean / 4.0, max_lambda)
+        }
+        // Area normalisation: λ is a time per iteration.
+        _ => {
+            let rate = if explicit {
+                area_rate(laplacian, moves)
+            } else {
+                0.0
+            };
+            let cap = if rate > 0.0 { 0.5 / rate } else { max_lambda };
+            (1.0, max_lambda.min(cap))
+        }
+    };
+    let units = t / time_per_unit;
+    let iterations = (units / max_step).ceil();
+    if !(iterations.is_finite() && iterations <= 1e9) {
+        return Err(SmoothError::InvalidDuration {
+            reason: format!("the time {t} would need {iterations} iterations"),
+        });
+    }
+    let iterations = (iterations as usize).max(1);
+    Ok((units / iterations as f64, iterations))
+}

@@ -1,0 +1,554 @@
+//! The explicit engine: Jacobi sweeps, the compound methods built from them, and the
+//! internal renumbering of large meshes.
+
+mod compound;
+mod sweep;
+
+use std::borrow::Cow;
+use std::time::{Duration, Instant};
+
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::reorder::{VertexPermutation, rcm_order};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
+use rayon::prelude::*;
+
+use crate::config::{Boundary, Method, SmoothConfig, Statistics, WeightUpdate};
+use crate::duration::{Plan, area_rate, resolve_duration};
+use crate::error::SmoothError;
+use crate::numbering::{CHUNK, error_to_caller, permute_par, restore_par};
+use crate::report::StepStats;
+
+pub(crate) use sweep::Want;
+use sweep::{FULL, MAX, NOTHING, Partial, SweepInput};
+
+/// How one vertex moves (one byte per vertex, so the sweep streams little).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    /// Never moves (fixed boundary, pinned, isolated).
+    Still,
+    /// Moves with its Laplacian row.
+    Row,
+    /// Moves along the boundary polyline towards its two boundary neighbours (see
+    /// [`CurveRow`]).
+    Curve,
+}
+
+/// A vertex that moves along the boundary polyline towards its two boundary
+/// neighbours `a` and `b`; the weights are refreshed with the Laplacian.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CurveRow {
+    v: u32,
+    a: u32,
+    b: u32,
+    wa: f64,
+    wb: f64,
+}
+
+/// The explicit engine of a [`Smoother`](crate::Smoother): Jacobi sweeps
+/// `x_i ← x_i + λ L x_i`, compound methods (Taubin, HC, volume rescale) built from
+/// them, and the internal renumbering of large meshes.
+pub(crate) struct Explicit<'a> {
+    /// The mesh, renumbered when `perm` is set.
+    mesh: Cow<'a, HalfedgeMesh>,
+    /// The internal numbering (new = internal, old = the caller's), when reordering.
+    perm: Option<VertexPermutation>,
+    /// Per-vertex displacements of the last sweep, internal numbering (reordering with
+    /// full statistics only, allocated when first needed; summed in the caller's order
+    /// for the mean).
+    disp: Vec<f64>,
+    /// Per-chunk results of a sweep, reused (no allocation per iteration).
+    partials: Vec<Partial>,
+    /// Per-chunk displacement sums in the caller's order, reused (reordering only).
+    mean_partials: Vec<f64>,
+    scheme: &'a dyn WeightScheme,
+    config: SmoothConfig,
+    laplacian: Laplacian,
+    roles: Vec<Role>,
+    /// The vertices whose role is not [`Role::Row`], in increasing order: a sweep moves
+    /// every row alike, then puts these right.
+    exceptions: Vec<u32>,
+    curve: Vec<CurveRow>,
+    positions: Vec<DVec3>,
+    next: Vec<DVec3>,
+    /// The positions at the start of a compound step (Taubin, HC, volume rescale);
+    /// empty for plain diffusion.
+    start: Vec<DVec3>,
+    /// The input positions (HC only; empty otherwise).
+    original: Vec<DVec3>,
+    /// HC's per-vertex push-back `b`, reused every iteration (HC only; empty otherwise).
+    push_back: Vec<DVec3>,
+    /// The input volume (volume preservation only).
+    volume: f64,
+    iteration: usize,
+    weights_fresh: bool,
+    weight_time: Duration,
+    update_time: Duration,
+}
+
+impl std::fmt::Debug for Explicit<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Explicit")
+            .field("scheme", &self.scheme.name())
+            .field("config", &self.config)
+            .field("iteration", &self.iteration)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> Explicit<'a> {
+    /// Prepares a run on `positions` (copied) and computes the first weights; `config`
+    /// has been validated (see [`Smoother::new`](crate::Smoother::new)).
+    ///
+    /// # Errors
+    /// [`SmoothError::Weights`] when the positions do not match the mesh or the scheme
+    /// gives a non-finite weight; [`SmoothError::DegenerateVolume`];
+    /// [`SmoothError::InvalidDuration`] when a time cannot be turned into steps.
+    pub(crate) fn new(
+        mesh: &'a HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &'a dyn WeightScheme,
+        config: SmoothConfig,
+    ) -> Result<Self, SmoothError> {
+        let start = Instant::now();
+        // With a mismatched position count the operator reports the error unreordered.
+        let perm = (config.reorder.applies(mesh.n_vertices())
+            && positions.len() == mesh.n_vertices())
+        .then(|| rcm_order(mesh));
+        let (caller_mesh, caller_positions) = (mesh, positions);
+        let (mesh, positions): (Cow<'a, HalfedgeMesh>, Cow<'_, [DVec3]>) = match &perm {
+            Some(p) => (
+                Cow::Owned(p.apply_to_mesh(mesh)),
+                Cow::Owned(permute_par(p, positions)),
+            ),
+            None => (Cow::Borrowed(mesh), Cow::Borrowed(positions)),
+        };
+        let to_caller = |e: SmoothError| match &perm {
+            Some(p) => error_to_caller(e, p),
+            None => e,
+        };
+        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)
+            .map_err(|e| to_caller(e.into()))?;
+        let mut roles: Vec<Role> = mesh
+            .vertices()
+            .map(|v| {
+                if mesh.is_isolated(v) {
+                    return Role::Still;
+                }
+                match (mesh.is_boundary_vertex(v), config.boundary) {
+                    (false, _) | (true, Boundary::Free) => Role::Row,
+                    (true, Boundary::Fixed) => Role::Still,
+                    (true, Boundary::Curve) => Role::Curve,
+                }
+            })
+            .collect();
+        for &v in &config.pinned {
+            let v = perm.as_ref().map_or(v, |p| p.to_new(v));
+            roles[v.index()] = Role::Still;
+        }
+        // In increasing vertex order, so that a sweep finds them with a cursor.
+        let curve: Vec<CurveRow> = mesh
+            .vertices()
+            .filter(|v| roles[v.index()] == Role::Curve)
+            .map(|v| {
+                // Outgoing boundary halfedge v -> b; the boundary halfedge before it
+                // comes from a.
+                let out = mesh.outgoing_halfedge(v).expect("not isolated");
+                CurveRow {
+                    v: v.raw(),
+                    a: mesh.from_vertex(mesh.prev(out)).raw(),
+                    b: mesh.to_vertex(out).raw(),
+                    wa: 0.0,
+                    wb: 0.0,
+                }
+            })
+            .collect();
+        let compound = config.method != Method::Laplacian || config.preserve_volume;
+        // The input volume in the caller's numbering (the same bits either way).
+        let volume = if config.preserve_volume {
+            let volume = Geometry::new(caller_mesh, caller_positions)
+                .and_then(|g| g.volume())
+                .map_err(beltrami_weights::WeightError::from)?;
+            if !(volume > 0.0 && volume.is_finite()) {
+                return Err(SmoothError::DegenerateVolume {
+                    volume,
+                    iteration: 0,
+                });
+            }
+            volume
+        } else {
+            0.0
+        };
+        let mut config = config;
+        if let Some(duration) = config.duration {
+            let moves: Vec<bool> = roles.iter().map(|r| *r == Role::Row).collect();
+            let plan = Plan {
+                perm: perm.as_ref(),
+                positions: &positions,
+                laplacian: &laplacian,
+                moves: &moves,
+                max_lambda: config.lambda,
+                explicit: true,
+            };
+            let (lambda, iterations) = resolve_duration(&plan, duration.time())?;
+            config.lambda = lambda;
+            config.iterations = iterations;
+        }
+        let n = positions.len();
+        let eager_stats = config.statistics == Statistics::EveryIteration;
+        let disp = if perm.is_some() && eager_stats {
+            vec![0.0; n]
+        } else {
+            Vec::new()
+        };
+        let next = positions.to_vec();
+        let compound_start = if compound {
+            positions.to_vec()
+        } else {
+            Vec::new()
+        };
+        let original = if matches!(config.method, Method::Hc { .. }) {
+            positions.to_vec()
+        } else {
+            Vec::new()
+        };
+        // A reordered copy is the smoother's own already: moved, not copied again.
+        let positions = positions.into_owned();
+        let mut smoother = Self {
+            mesh,
+            disp,
+            perm,
+            partials: Vec::with_capacity(n.div_ceil(CHUNK)),
+            mean_partials: Vec::with_capacity(n.div_ceil(CHUNK)),
+            scheme,
+            laplacian,
+            exceptions: (0..n as u32)
+                .filter(|&v| roles[v as usize] != Role::Row)
+                .collect(),
+            roles,
+            curve,
+            positions,
+            next,
+            start: compound_start,
+            original,
+            push_back: if matches!(config.method, Method::Hc { .. }) {
+                vec![DVec3::ZERO; n]
+            } else {
+                Vec::new()
+            },
+            volume,
+            config,
+            iteration: 0,
+            weights_fresh: true,
+            weight_time: Duration::ZERO,
+            update_time: Duration::ZERO,
+        };
+        smoother
+            .refresh_curve_weights()
+            .map_err(|e| smoother.to_caller(e))?;
+        smoother.weight_time += start.elapsed();
+        Ok(smoother)
+    }
+
+    /// Recomputes the 1-D weights of curve-boundary vertices from the current positions.
+    fn refresh_curve_weights(&mut self) -> Result<(), SmoothError> {
+        if self.config.boundary != Boundary::Curve {
+            return Ok(());
+        }
+        let mesh: &HalfedgeMesh = &self.mesh;
+        let geometry =
+            Geometry::new(mesh, &self.positions).map_err(beltrami_weights::WeightError::from)?;
+        let ctx = WeightContext::new(geometry);
+        let perm = self.perm.as_ref();
+        let caller = |v: u32| perm.map_or(v, |p| p.new_to_old()[v as usize]);
+        // The first bad row in the caller's numbering: (its vertex there, the error).
+        let mut first_bad: Option<(u32, beltrami_weights::WeightError)> = None;
+        for row in &mut self.curve {
+            let v = VertexId::new(row.v);
+            let ha = mesh
+                .find_halfedge(v, VertexId::new(row.a))
+                .expect("boundary neighbour");
+            let hb = mesh
+                .find_halfedge(v, VertexId::new(row.b))
+                .expect("boundary neighbour");
+            row.wa = self.scheme.curve_weight(&ctx, ha);
+            row.wb = self.scheme.curve_weight(&ctx, hb);
+            let key = caller(row.v);
+            if first_bad.as_ref().is_some_and(|(k, _)| *k < key) {
+                continue;
+            }
+            if let Some((w, h)) = [(row.wa, ha), (row.wb, hb)]
+                .into_iter()
+                .find(|(w, _)| !w.is_finite())
+            {
+                // Internal numbering; `to_caller` maps it back.
+                let error = beltrami_weights::WeightError::NonFiniteWeight {
+                    scheme: self.scheme.name().to_string(),
+                    from: row.v,
+                    to: mesh.to_vertex(h).raw(),
+                    value: w,
+                };
+                first_bad = Some((key, error));
+            }
+        }
+        match first_bad {
+            Some((_, error)) => Err(error.into()),
+            None => Ok(()),
+        }
+    }
+
+    /// `e` with its vertex indices in the caller's numbering.
+    fn to_caller(&self, e: SmoothError) -> SmoothError {
+        match &self.perm {
+            Some(p) => error_to_caller(e, p),
+            None => e,
+        }
+    }
+
+    /// Whether the weights must be recomputed before the next iteration.
+    fn weights_stale(&self) -> bool {
+        match self.config.update {
+            WeightUpdate::Once => false,
+            WeightUpdate::Every => {
+                !self.weights_fresh
+                    && (self.scheme.depends_on_positions()
+                        || self.config.laplacian.normalization != Normalization::WeightSum
+                        || self.config.boundary == Boundary::Curve)
+            }
+        }
+    }
+
+    /// One iteration, with the statistics `want` asks for (the others are 0; the stuck
+    /// count is always there).
+    pub(crate) fn iterate(&mut self, want: Want) -> Result<StepStats, SmoothError> {
+        self.iteration += 1;
+        let method = self.config.method;
+        if method == Method::Laplacian && !self.config.preserve_volume {
+            return self.sweep(self.config.lambda, want);
+        }
+        self.start.copy_from_slice(&self.positions);
+        let result = self.compound_step(method);
+        if result.is_err() {
+            self.positions.copy_from_slice(&self.start);
+        }
+        result
+    }
+
+    /// One Jacobi sweep `x ← x + step · L x` over the moving vertices, refreshing the
+    /// weights first when they are stale, with the statistics `want` asks for. On error
+    /// the positions are unchanged.
+    fn sweep(&mut self, lambda: f64, want: Want) -> Result<StepStats, SmoothError> {
+        if self.weights_stale() {
+            let start = Instant::now();
+            let refreshed = match self
+                .laplacian
+                .update(&self.mesh, &self.positions, self.scheme)
+            {
+                Ok(()) => self.refresh_curve_weights(),
+                Err(e) => Err(e.into()),
+            };
+            if let Err(e) = refreshed {
+                return Err(self.to_caller(e));
+            }
+            self.weight_time += start.elapsed();
+        }
+        self.weights_fresh = false;
+
+        if want == Want::Full && self.perm.is_some() {
+            // Once per run at most: with on-demand statistics only a `step()` needs it.
+            self.disp.resize(self.positions.len(), 0.0);
+        }
+        let start = Instant::now();
+        let sweep = SweepInput {
+            laplacian: &self.laplacian,
+            roles: &self.roles,
+            exceptions: &self.exceptions,
+            curve: &self.curve,
+            old: &self.positions,
+            lambda,
+        };
+        let chunks = self.next.par_chunks_mut(CHUNK).enumerate();
+        match (want, self.perm.is_some()) {
+            (Want::Nothing, _) => chunks
+                .map(|(c, out)| sweep.chunk::<NOTHING, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Max, _) => chunks
+                .map(|(c, out)| sweep.chunk::<MAX, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Full, false) => chunks
+                .map(|(c, out)| sweep.chunk::<FULL, false>(c * CHUNK, out, &mut []))
+                .collect_into_vec(&mut self.partials),
+            (Want::Full, true) => chunks
+                .zip(self.disp.par_chunks_mut(CHUNK))
+                .map(|((c, out), disp)| sweep.chunk::<FULL, true>(c * CHUNK, out, disp))
+                .collect_into_vec(&mut self.partials),
+        }
+        self.update_time += start.elapsed();
+
+        let mut stats = StepStats::default();
+        let mut sum = 0.0;
+        let mut squared: f64 = 0.0;
+        for p in &self.partials {
+            if let Some(vertex) = p.bad {
+                // The smallest vertex in the caller's numbering, as without reordering.
+                let vertex = match &self.perm {
+                    Some(perm) => self
+                        .next
+                        .par_iter()
+                        .zip(perm.new_to_old().par_iter())
+                        .filter(|(x, _)| !x.is_finite())
+                        .map(|(_, &old)| old)
+                        .min()
+                        .unwrap_or(vertex),
+                    None => vertex,
+                };
+                self.next.copy_from_slice(&self.positions);
+                return Err(SmoothError::NonFinite {
+                    vertex,
+                    iteration: self.iteration,
+                });
+            }
+            sum += p.sum;
+            stats.max_displacement = stats.max_displacement.max(p.max);
+            squared = squared.max(p.max_squared);
+            stats.stuck_vertices += p.stuck;
+        }
+        // Every plain displacement is the square root of its squared length, and the
+        // square root is monotonic: the largest of them is the root of the largest square.
+        stats.max_displacement = stats.max_displacement.max(squared.sqrt());
+        if want == Want::Full
+            && let Some(perm) = &self.perm
+        {
+            // The same chunks and order as without reordering: the same bits.
+            let start = Instant::now();
+            let disp = &self.disp;
+            perm.old_to_new()
+                .par_chunks(CHUNK)
+                .map(|ids| {
+                    let mut sum = 0.0;
+                    for &i in ids {
+                        sum += disp[i as usize];
+                    }
+                    sum
+                })
+                .collect_into_vec(&mut self.mean_partials);
+            sum = 0.0;
+            for s in &self.mean_partials {
+                sum += s;
+            }
+            self.update_time += start.elapsed();
+        }
+        let n = self.positions.len();
+        stats.mean_displacement = if n == 0 { 0.0 } else { sum / n as f64 };
+        std::mem::swap(&mut self.positions, &mut self.next);
+        Ok(stats)
+    }
+
+    /// The positions before the last iteration (internal numbering): `next` after a
+    /// plain sweep, `start` after a compound step.
+    pub(crate) fn before(&self) -> &[DVec3] {
+        if self.config.method == Method::Laplacian && !self.config.preserve_volume {
+            &self.next
+        } else {
+            &self.start
+        }
+    }
+
+    /// The largest stable explicit step of an area-normalised operator on the current
+    /// positions, in length² (a time per iteration): `1 / max_i (W_i / A_i)` over the
+    /// moving vertices, with `W_i` the weight sum and `A_i` the vertex area. The step
+    /// `x + λ M⁻¹ L x` has the eigenvalues of `λ M⁻¹ L` in `[−2 λ r, 0]` by
+    /// Gershgorin's theorem (non-negative weights), so `λ ≤ 1 / r` keeps every
+    /// frequency from growing. `None` with weight-sum normalisation (whose stable range
+    /// is λ ≤ 1) or when no vertex moves. Weights recomputed every iteration move the
+    /// limit a little as the mesh changes.
+    ///
+    /// A step from [`DiffusionTime`](crate::DiffusionTime) is chosen below half this
+    /// limit; a step given directly is the caller's to check, e.g. to fail with
+    /// [`SmoothError::UnstableStep`].
+    #[must_use]
+    pub(crate) fn stable_step_limit(&self) -> Option<f64> {
+        if self.config.laplacian.normalization == Normalization::WeightSum {
+            return None;
+        }
+        let moves: Vec<bool> = self.roles.iter().map(|r| *r == Role::Row).collect();
+        let rate = area_rate(&self.laplacian, &moves);
+        (rate > 0.0).then(|| 1.0 / rate)
+    }
+
+    /// The configuration of the run; with a [`duration`](SmoothConfig::duration),
+    /// `lambda` and `iterations` are the step and count the smoother chose.
+    #[must_use]
+    pub(crate) fn config(&self) -> &SmoothConfig {
+        &self.config
+    }
+
+    /// The current positions, in the caller's numbering: borrowed when the smoother
+    /// works in that numbering, a restored copy (O(V) time and memory) when it reorders
+    /// (see [`Reorder`](crate::Reorder) and [`permutation`](Self::permutation)).
+    #[must_use]
+    pub(crate) fn positions(&self) -> Cow<'_, [DVec3]> {
+        match &self.perm {
+            Some(perm) => {
+                let mut out = vec![DVec3::ZERO; self.positions.len()];
+                restore_par(perm, &self.positions, &mut out);
+                Cow::Owned(out)
+            }
+            None => Cow::Borrowed(&self.positions),
+        }
+    }
+
+    /// The scheme's name, for the report.
+    pub(crate) fn scheme_name(&self) -> String {
+        self.scheme.name().to_string()
+    }
+
+    /// The positions after the last iteration, internal numbering.
+    pub(crate) fn internal_positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Ends the run: the positions in the caller's numbering, the configuration and
+    /// the wall times.
+    pub(crate) fn finish(mut self) -> crate::smoother::Finished {
+        let positions = match &self.perm {
+            Some(perm) => {
+                // `next` is not needed any more: it takes the caller's order.
+                let mut out = std::mem::take(&mut self.next);
+                out.resize(self.positions.len(), DVec3::ZERO);
+                restore_par(perm, &self.positions, &mut out);
+                out
+            }
+            None => self.positions,
+        };
+        crate::smoother::Finished {
+            positions,
+            config: self.config,
+            weight_time: self.weight_time,
+            update_time: self.update_time,
+            solver: None,
+        }
+    }
+
+    /// The internal vertex numbering, when the smoother reorders: internal vertex `i`
+    /// is the caller's vertex `new_to_old()[i]`. `None` when it works in the caller's
+    /// numbering.
+    #[must_use]
+    pub(crate) fn permutation(&self) -> Option<&VertexPermutation> {
+        self.perm.as_ref()
+    }
+
+    /// The number of iterations done.
+    #[must_use]
+    pub(crate) fn iteration(&self) -> usize {
+        self.iteration
+    }
+
+    /// The operator as last assembled, in the internal numbering: its row `i` and its
+    /// neighbour ids are internal vertex ids (the caller's when
+    /// [`permutation`](Self::permutation) is `None`; map them with it otherwise).
+    #[must_use]
+    pub(crate) fn laplacian(&self) -> &Laplacian {
+        &self.laplacian
+    }
+}

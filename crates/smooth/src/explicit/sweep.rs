@@ -1,0 +1,152 @@
+//! One chunk of a Jacobi sweep, with the statistics a run asks for.
+
+use beltrami_halfedge::{DVec3, VertexId};
+use beltrami_weights::{Laplacian, RowSweep};
+
+use super::{CurveRow, Role};
+
+/// Which displacement statistics a sweep computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Want {
+    /// None (the stuck count only).
+    Nothing,
+    /// The largest displacement (no square root per vertex, no gather).
+    Max,
+    /// Everything in [`StepStats`].
+    Full,
+}
+
+/// [`SweepInput::chunk`] modes (a `const` parameter, so each is its own loop).
+pub(super) const NOTHING: u8 = 0;
+pub(super) const MAX: u8 = 1;
+pub(super) const FULL: u8 = 2;
+
+/// What one chunk of a sweep found.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Partial {
+    /// The sum of the displacements in vertex order (`FULL`).
+    pub(super) sum: f64,
+    /// The largest displacement (`FULL`), or the largest one outside the plain range
+    /// (`MAX`).
+    pub(super) max: f64,
+    /// The largest squared length of a displacement in the plain range (`MAX`).
+    pub(super) max_squared: f64,
+    pub(super) stuck: usize,
+    /// The first vertex whose new position is not finite.
+    pub(super) bad: Option<u32>,
+}
+
+/// What a sweep reads.
+pub(super) struct SweepInput<'s> {
+    pub(super) laplacian: &'s Laplacian,
+    pub(super) roles: &'s [Role],
+    pub(super) exceptions: &'s [u32],
+    pub(super) curve: &'s [CurveRow],
+    pub(super) old: &'s [DVec3],
+    pub(super) lambda: f64,
+}
+
+impl SweepInput<'_> {
+    /// Sweeps the rows `first..first + out.len()` into `out`, with the statistics of
+    /// `MODE` (`NOTHING`, `MAX`, `FULL`); with `RECORD` (and `FULL`), also stores each
+    /// vertex's displacement in `disp`.
+    #[inline]
+    pub(super) fn chunk<const MODE: u8, const RECORD: bool>(
+        &self,
+        first: usize,
+        out: &mut [DVec3],
+        disp: &mut [f64],
+    ) -> Partial {
+        let Self {
+            laplacian,
+            roles,
+            exceptions,
+            curve,
+            old,
+            lambda,
+        } = *self;
+        let rows = first..first + out.len();
+        // Every row moves by its Laplacian row...
+        let RowSweep {
+            mut stuck,
+            sum: mut probe,
+        } = laplacian.sweep_rows(first, old, lambda, out);
+        // ...then the vertices that do not move that way are put right. `probe` keeps
+        // the value a row gave them: a spurious non-finite sum only costs a scan.
+        let lo = exceptions.partition_point(|&v| (v as usize) < rows.start);
+        let hi = exceptions.partition_point(|&v| (v as usize) < rows.end);
+        let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
+        for &v in &exceptions[lo..hi] {
+            let i = v as usize;
+            if laplacian.scale(VertexId::new(v)).is_none() {
+                // Counted by the row sweep, but this vertex is not a row.
+                stuck -= 1;
+            }
+            let xi = old[i];
+            let new = match roles[i] {
+                Role::Still | Role::Row => xi,
+                Role::Curve => {
+                    let CurveRow { a, b, wa, wb, .. } = curve[cursor];
+                    cursor += 1;
+                    let s = old[a as usize] * wa + old[b as usize] * wb;
+                    let inv = 1.0 / (wa + wb);
+                    if inv.is_finite() && inv > 0.0 {
+                        xi + (s * inv - xi) * lambda
+                    } else {
+                        stuck += 1;
+                        xi
+                    }
+                }
+            };
+            probe += new;
+            out[i - first] = new;
+        }
+        let mut sum = 0.0;
+        let mut max: f64 = 0.0;
+        let mut max_squared: f64 = 0.0;
+        if MODE != NOTHING {
+            for (k, (&xi, &new)) in old[rows].iter().zip(out.iter()).enumerate() {
+                if MODE == FULL {
+                    // `geometry::distance` is the plain length whenever that is at
+                    // least sqrt(f64::MIN_POSITIVE) and finite (the same bits); the
+                    // call handles the rest (zero, tiny, huge, non-finite).
+                    let plain = (new - xi).length();
+                    let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
+                        plain
+                    } else {
+                        beltrami_halfedge::geometry::distance(xi, new)
+                    };
+                    sum += d;
+                    max = max.max(d);
+                    if RECORD {
+                        disp[k] = d;
+                    }
+                } else {
+                    // The plain length is `q.sqrt()`, in [sqrt(MIN_POSITIVE), ∞)
+                    // exactly when `q` is in [MIN_POSITIVE, ∞) (both ends are exact
+                    // squares).
+                    let q = (new - xi).length_squared();
+                    if (f64::MIN_POSITIVE..f64::INFINITY).contains(&q) {
+                        max_squared = max_squared.max(q);
+                    } else {
+                        max = max.max(beltrami_halfedge::geometry::distance(xi, new));
+                    }
+                }
+            }
+        }
+        let bad = if probe.is_finite() {
+            None
+        } else {
+            out.iter()
+                .position(|x| !x.is_finite())
+                .map(|k| (first + k) as u32)
+        };
+        Partial {
+            sum,
+            max,
+            max_squared,
+            stuck,
+            bad,
+        }
+    }
+}
