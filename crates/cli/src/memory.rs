@@ -22,7 +22,7 @@
 use std::fmt;
 
 use beltrami_smooth::Reorder;
-use beltrami_weights::{WeightKernel, WeightScheme};
+use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 
 /// Resident memory of the process before any mesh data (code, runtime, thread
 /// stacks, allocator arenas, I/O buffers), in bytes. A run on a tiny mesh peaks at
@@ -166,10 +166,14 @@ pub(crate) enum Weights {
 impl Weights {
     /// The path `scheme` takes.
     pub(crate) fn of(scheme: &dyn WeightScheme) -> Self {
-        match scheme.kernel() {
-            Some(WeightKernel::Cotangent) => Self::Cotangent,
-            Some(_) => Self::Rows,
-            None => Self::Halfedges,
+        // The operator recognises its built-in schemes by type, and so does this.
+        let any: &dyn std::any::Any = scheme;
+        if any.is::<Cotangent>() {
+            Self::Cotangent
+        } else if any.is::<Uniform>() || any.is::<InverseDistance>() {
+            Self::Rows
+        } else {
+            Self::Halfedges
         }
     }
 }

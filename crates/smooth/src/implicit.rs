@@ -14,8 +14,8 @@ mod system;
 
 use std::time::{Duration, Instant};
 
-use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
-use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_weights::{Laplacian, Normalization, WeightError, WeightScheme};
 use rayon::prelude::*;
 
@@ -191,20 +191,10 @@ impl<'a> Implicit<'a> {
             Normalization::Area(kind) => {
                 let geometry =
                     Geometry::new(self.mesh, &self.positions).map_err(WeightError::from)?;
-                if kind == VertexAreaKind::MixedVoronoi && !self.mesh.is_triangle_mesh() {
-                    // The error (the operator's update reports it first).
-                    geometry.vertex_areas(kind).map_err(WeightError::from)?;
-                }
-                // Vertex by vertex as `Geometry::vertex_areas`, in parallel.
                 self.areas.resize(self.positions.len(), 0.0);
-                self.areas
-                    .par_chunks_mut(CHUNK)
-                    .enumerate()
-                    .for_each(|(c, areas)| {
-                        for (k, a) in areas.iter_mut().enumerate() {
-                            *a = geometry.vertex_area(VertexId::new((c * CHUNK + k) as u32), kind);
-                        }
-                    });
+                geometry
+                    .vertex_areas_into(kind, &mut self.areas)
+                    .map_err(WeightError::from)?;
                 Some(self.areas.as_slice())
             }
             // Weight sum: the mass is the weight sum.

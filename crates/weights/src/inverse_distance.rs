@@ -3,7 +3,7 @@
 use beltrami_halfedge::HalfedgeId;
 use rayon::prelude::*;
 
-use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
+use crate::scheme::{WeightContext, WeightScheme};
 
 /// Added to every edge length before inverting it, so that coincident vertices give a
 /// large but finite weight instead of an infinity. In the positions' unit; 1e-12 is far
@@ -29,10 +29,6 @@ impl WeightScheme for InverseDistance {
 
     fn weight(&self, ctx: &WeightContext<'_>, h: HalfedgeId) -> f64 {
         1.0 / (ctx.edge_length(h) + DISTANCE_EPSILON)
-    }
-
-    fn kernel(&self) -> Option<WeightKernel> {
-        Some(WeightKernel::InverseDistance)
     }
 
     fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {

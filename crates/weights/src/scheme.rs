@@ -1,5 +1,7 @@
 //! The [`WeightScheme`] trait — the plug-in point — and the [`WeightContext`] it reads.
 
+use std::any::Any;
+
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, FaceId, HalfedgeId, HalfedgeMesh, VertexId};
 
@@ -18,6 +20,10 @@ use beltrami_halfedge::{DVec3, FaceId, HalfedgeId, HalfedgeMesh, VertexId};
 /// A weight must be finite for finite positions: a scheme that can divide by a length
 /// must guard it (see [`DISTANCE_EPSILON`](crate::DISTANCE_EPSILON)).
 ///
+/// A scheme is a `'static` type (it holds its parameters, not borrowed data), so that
+/// the [`Laplacian`](crate::Laplacian) can recognise this crate's built-in schemes by
+/// type and evaluate them with specialised kernels that give the same bits.
+///
 /// # Examples
 /// A Gaussian fall-off with edge length, `w = exp(−|x_j − x_i|² / σ²)`:
 /// ```
@@ -34,7 +40,7 @@ use beltrami_halfedge::{DVec3, FaceId, HalfedgeId, HalfedgeMesh, VertexId};
 ///     }
 /// }
 /// ```
-pub trait WeightScheme: Send + Sync {
+pub trait WeightScheme: Any + Send + Sync {
     /// The name users choose the scheme by (`--weights NAME`): lowercase, no spaces.
     fn name(&self) -> &str;
 
@@ -63,16 +69,6 @@ pub trait WeightScheme: Send + Sync {
         true
     }
 
-    /// The built-in rule this scheme's weights are, if any, so that a
-    /// [`Laplacian`](crate::Laplacian) can compute them with a specialised kernel: row by
-    /// row in one-ring order, without a per-halfedge buffer (see [`WeightKernel`]). The
-    /// default, `None`, uses [`fill_weights`](Self::fill_weights); that is what every
-    /// scheme outside this crate should return, unless its [`weight`](Self::weight) is
-    /// the named built-in's bit for bit (a wrapper around a built-in, say).
-    fn kernel(&self) -> Option<WeightKernel> {
-        None
-    }
-
     /// The weight of boundary halfedge neighbour `h` when a boundary vertex is smoothed
     /// along its boundary curve only (1-D smoothing, `--boundary curve`). The default is
     /// the inverse edge length `1 / (|x_j − x_i| + ε)`; uniform weights use 1.
@@ -82,17 +78,34 @@ pub trait WeightScheme: Send + Sync {
 }
 
 /// A built-in weight rule that the [`Laplacian`](crate::Laplacian) evaluates with a
-/// specialised kernel (see [`WeightScheme::kernel`]). Each kernel gives the same bits as
-/// the scheme's [`weight`](WeightScheme::weight) for every halfedge.
+/// specialised kernel, row by row in one-ring order, without a per-halfedge buffer. Each
+/// kernel gives the same bits as the scheme's [`weight`](WeightScheme::weight) for
+/// every halfedge. Recognised by type, so a scheme of your own always goes through its
+/// [`fill_weights`](WeightScheme::fill_weights).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum WeightKernel {
+pub(crate) enum BuiltIn {
     /// `w = 1` ([`Uniform`](crate::Uniform)).
     Uniform,
     /// `w = 1 / (|x_j − x_i| + ε)` ([`InverseDistance`](crate::InverseDistance)).
     InverseDistance,
     /// `w = ½ (cot α + cot β)` ([`Cotangent`](crate::Cotangent)).
     Cotangent,
+}
+
+impl BuiltIn {
+    /// The built-in rule `scheme` is, if it is one of this crate's schemes.
+    pub(crate) fn of(scheme: &dyn WeightScheme) -> Option<Self> {
+        let any: &dyn Any = scheme;
+        if any.is::<crate::Uniform>() {
+            Some(Self::Uniform)
+        } else if any.is::<crate::InverseDistance>() {
+            Some(Self::InverseDistance)
+        } else if any.is::<crate::Cotangent>() {
+            Some(Self::Cotangent)
+        } else {
+            None
+        }
+    }
 }
 
 /// The geometry a [`WeightScheme`] reads: the mesh, the current positions and derived

@@ -2,7 +2,7 @@
 
 use beltrami_halfedge::HalfedgeId;
 
-use crate::scheme::{WeightContext, WeightKernel, WeightScheme};
+use crate::scheme::{WeightContext, WeightScheme};
 
 /// Uniform weights, `w_ij = 1`: with weight-sum normalisation the Laplacian moves a
 /// vertex towards the plain average of its neighbours (the paper's Eq. 3, the "umbrella"
@@ -22,10 +22,6 @@ impl WeightScheme for Uniform {
 
     fn weight(&self, _ctx: &WeightContext<'_>, _h: HalfedgeId) -> f64 {
         1.0
-    }
-
-    fn kernel(&self) -> Option<WeightKernel> {
-        Some(WeightKernel::Uniform)
     }
 
     fn fill_weights(&self, _ctx: &WeightContext<'_>, out: &mut [f64]) {

@@ -1,4 +1,4 @@
-//! The built-in schemes' kernels (`WeightScheme::kernel`) give the same bits as the
+//! The built-in schemes' kernels (recognised by type) give the same bits as the
 //! generic path (`fill_weights`, gathered into rows) on meshes that exercise every branch:
 //! irregular planes with negative cotangents, noisy spheres, degenerate and coincident
 //! triangles, coordinates far outside the plain range, boundaries, quads, every option.
@@ -11,10 +11,11 @@ use beltrami_weights::{
     Uniform, WeightContext, WeightScheme,
 };
 
-/// The same weights without a kernel: the generic path.
-struct Generic<'a>(&'a dyn WeightScheme);
+/// The same weights without a kernel: the generic path (a type of its own, so the
+/// operator does not recognise it as a built-in).
+struct Generic(&'static dyn WeightScheme);
 
-impl WeightScheme for Generic<'_> {
+impl WeightScheme for Generic {
     fn name(&self) -> &str {
         self.0.name()
     }
@@ -39,7 +40,11 @@ impl Rng {
 }
 
 fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, label: &str) {
-    for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
+    for scheme in [
+        &Uniform as &'static dyn WeightScheme,
+        &InverseDistance,
+        &Cotangent,
+    ] {
         let fast = Laplacian::new(mesh, x, scheme, options);
         let slow = Laplacian::new(mesh, x, &Generic(scheme), options);
         let (fast, slow) = match (fast, slow) {
@@ -77,56 +82,6 @@ fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, labe
                 .map(|l| l.to_array().map(f64::to_bits));
             assert_eq!(la, lb, "{label} {v}");
         }
-        // The sweep gives laplacian_at's bits.
-        let mut seen = 0;
-        fast.for_each_row(0..mesh.n_vertices(), x, |i, xi, l| {
-            assert_eq!(
-                xi.to_array().map(f64::to_bits),
-                x[i].to_array().map(f64::to_bits)
-            );
-            let want = slow.laplacian_at(VertexId::new(i as u32), x);
-            assert_eq!(
-                l.map(|l| l.to_array().map(f64::to_bits)),
-                want.map(|l| l.to_array().map(f64::to_bits)),
-                "{label} sweep {i}"
-            );
-            seen += 1;
-        });
-        assert_eq!(seen, mesh.n_vertices());
-        // One explicit step over ranges that split the rows anywhere: x_i + λ L x_i
-        // with laplacian_at's L, rounded as the DVec3 expression, or x_i when stuck.
-        let lambda = 0.8;
-        for lap in [&fast, &slow] {
-            let n = mesh.n_vertices();
-            let mut out = vec![DVec3::splat(f64::NAN); n];
-            let mut stuck = 0;
-            let mut sum = DVec3::ZERO;
-            for range in [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n] {
-                let r = lap.sweep_rows(range.start, x, lambda, &mut out[range.clone()]);
-                stuck += r.stuck;
-                sum += r.sum;
-            }
-            assert_eq!(stuck, lap.stuck_rows(), "{label} {}", scheme.name());
-            // A non-finite new position always shows in the sum.
-            if out.iter().any(|p| !p.is_finite()) {
-                assert!(!sum.is_finite(), "{label}");
-            }
-            for v in mesh.vertices() {
-                let i = v.index();
-                let want = slow.laplacian_at(v, x).map_or(x[i], |l| x[i] + l * lambda);
-                assert_eq!(
-                    out[i].to_array().map(f64::to_bits),
-                    want.to_array().map(f64::to_bits),
-                    "{label} {} step {i}",
-                    scheme.name()
-                );
-            }
-        }
-        // A partial range too.
-        let n = mesh.n_vertices();
-        let mut rows = Vec::new();
-        fast.for_each_row(n / 3..n / 2, x, |i, _, _| rows.push(i));
-        assert_eq!(rows, (n / 3..n / 2).collect::<Vec<_>>());
     }
 }
 
@@ -241,7 +196,11 @@ fn updates_reuse_the_operator() {
     let sphere = primitives::icosphere(3);
     let mesh = sphere.mesh().unwrap();
     let mut rng = Rng(5);
-    for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
+    for scheme in [
+        &Uniform as &'static dyn WeightScheme,
+        &InverseDistance,
+        &Cotangent,
+    ] {
         let mut lap = Laplacian::new(
             &mesh,
             &sphere.positions,

@@ -96,19 +96,11 @@ impl Geometry<'_> {
     /// not a triangle (the first such face is named).
     ///
     /// # Complexity
-    /// O(V + H).
+    /// O(V + H), in parallel with fixed chunks (see
+    /// [`vertex_areas_into`](Self::vertex_areas_into)).
     pub fn vertex_areas(&self, kind: VertexAreaKind) -> Result<VertexMap<f64>, TopologyError> {
-        let m = self.mesh;
-        if kind == VertexAreaKind::MixedVoronoi && !m.is_triangle_mesh() {
-            if let Some(f) = m.faces().find(|&f| self.triangle(f).is_none()) {
-                return Err(TopologyError::NotTriangle {
-                    face: f.raw(),
-                    len: m.face_valence(f),
-                });
-            }
-        }
-        Ok(VertexMap::from_vec(
-            m.vertices().map(|v| self.vertex_area(v, kind)).collect(),
-        ))
+        let mut areas = vec![0.0; self.mesh.n_vertices()];
+        self.vertex_areas_into(kind, &mut areas)?;
+        Ok(VertexMap::from_vec(areas))
     }
 }

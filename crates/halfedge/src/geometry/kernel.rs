@@ -11,13 +11,13 @@ use super::DEGENERACY_RATIO;
 
 /// Below this largest difference component, products of up to four components may
 /// underflow; the differences are rescaled by a power of two.
-const SAFE_LO: f64 = 6.223_015_277_861_142e-61; // 2^-200
+pub(super) const SAFE_LO: f64 = 6.223_015_277_861_142e-61; // 2^-200
 /// Above this largest difference component, products of up to four components may
 /// overflow; the differences are rescaled by a power of two.
-const SAFE_HI: f64 = 1.606_938_044_258_990_3e60; // 2^200
+pub(super) const SAFE_HI: f64 = 1.606_938_044_258_990_3e60; // 2^200
 /// The smallest vector length whose square is a normal `f64` (`sqrt(f64::MIN_POSITIVE)`,
 /// 2^-511): above it, `v.length()` is accurate to rounding.
-const SQRT_MIN: f64 = 1.491_668_146_240_041_3e-154;
+pub(super) const SQRT_MIN: f64 = 1.491_668_146_240_041_3e-154;
 
 /// The largest absolute component of `v`, NaN when a component is NaN.
 #[inline]

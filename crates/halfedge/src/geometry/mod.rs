@@ -36,6 +36,12 @@
 //! - **Sums.** Whole-mesh sums (surface area, volume, centroid, mean edge length) are
 //!   compensated (Neumaier), so they are accurate to about one rounding on meshes of any
 //!   size. Per-vertex sums are plain, in circulation order.
+//! - **Bulk queries.** [`Geometry::vertex_areas_into`], [`Geometry::face_cotangents_into`],
+//!   [`Geometry::triangle_cotangents_into`] and [`distances_into`] answer for many
+//!   elements at once — in parallel with fixed chunks, or two at a time in SIMD lanes —
+//!   with the bits of the per-element queries, whatever the thread count. The weight
+//!   kernels and the smoothers use them, so "the same bits as the geometry" holds by
+//!   construction.
 //!
 //! # Examples
 //!
@@ -75,9 +81,11 @@
 
 mod angles;
 mod areas;
+mod batch;
 mod edges;
 mod faces;
 mod kernel;
+mod lanes;
 mod measures;
 mod normals;
 
@@ -100,6 +108,7 @@ pub use kernel::CompensatedSum;
 pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
     kernel::distance(p, q)
 }
+pub use batch::distances_into;
 pub use normals::NormalWeighting;
 
 use crate::error::TopologyError;

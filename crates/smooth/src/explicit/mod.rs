@@ -2,6 +2,7 @@
 //! internal renumbering of large meshes.
 
 mod compound;
+mod rows;
 mod sweep;
 
 use std::borrow::Cow;

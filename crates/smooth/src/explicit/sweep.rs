@@ -1,7 +1,9 @@
 //! One chunk of a Jacobi sweep, with the statistics a run asks for.
 
 use beltrami_halfedge::{DVec3, VertexId};
-use beltrami_weights::{Laplacian, RowSweep};
+use beltrami_weights::Laplacian;
+
+use super::rows::{RowSweep, sweep_rows};
 
 use super::{CurveRow, Role};
 
@@ -70,7 +72,7 @@ impl SweepInput<'_> {
         let RowSweep {
             mut stuck,
             sum: mut probe,
-        } = laplacian.sweep_rows(first, old, lambda, out);
+        } = sweep_rows(&laplacian.rows(), first, old, lambda, out);
         // ...then the vertices that do not move that way are put right. `probe` keeps
         // the value a row gave them: a spurious non-finite sum only costs a scan.
         let lo = exceptions.partition_point(|&v| (v as usize) < rows.start);
@@ -107,15 +109,7 @@ impl SweepInput<'_> {
         if MODE != NOTHING {
             for (k, (&xi, &new)) in old[rows].iter().zip(out.iter()).enumerate() {
                 if MODE == FULL {
-                    // `geometry::distance` is the plain length whenever that is at
-                    // least sqrt(f64::MIN_POSITIVE) and finite (the same bits); the
-                    // call handles the rest (zero, tiny, huge, non-finite).
-                    let plain = (new - xi).length();
-                    let d = if (1.491_668_146_240_041_3e-154..f64::INFINITY).contains(&plain) {
-                        plain
-                    } else {
-                        beltrami_halfedge::geometry::distance(xi, new)
-                    };
+                    let d = beltrami_halfedge::geometry::distance(xi, new);
                     sum += d;
                     max = max.max(d);
                     if RECORD {

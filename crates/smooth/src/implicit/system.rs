@@ -92,9 +92,8 @@ impl System {
                 for i in first..last {
                     let v = VertexId::new(i as u32);
                     let slots = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                    for ((&h, (j, _)), (nb, tw)) in laplacian
+                    for ((h, (j, _)), (nb, tw)) in laplacian
                         .row_halfedges(v)
-                        .iter()
                         .zip(laplacian.row(v))
                         .zip(nb[slots.clone()].iter_mut().zip(&mut tw[slots]))
                     {
@@ -102,8 +101,7 @@ impl System {
                         // The twin `j → i` leaves `j`, so it lies in row `j`.
                         let k = laplacian
                             .row_halfedges(j)
-                            .iter()
-                            .position(|&g| g == h ^ 1)
+                            .position(|g| g == h.twin())
                             .expect("every halfedge lies in the row of the vertex it leaves");
                         *tw = offsets[j.index()] + k as u32;
                     }

@@ -1,4 +1,4 @@
-//! Vectors of lanes for the batched weight kernels: `N` three-dimensional vectors in
+//! Vectors of lanes for the batched geometry queries: `N` three-dimensional vectors in
 //! structure-of-arrays form, each coordinate a [`wide`] lane type (packed SSE2 on the
 //! x86-64 baseline, plain arrays elsewhere). Lane by lane the operations are glam's,
 //! operation by operation: IEEE add, subtract, multiply, divide and square root are

@@ -1,0 +1,502 @@
+//! Whole-mesh and batched queries: vertex areas and face cotangents in parallel with
+//! fixed chunks, triangle cotangents and distances two at a time in SIMD lanes.
+//!
+//! Every value here has the bits of the per-element query it batches
+//! ([`Geometry::vertex_area`], [`Geometry::face_opposite_cotangents`],
+//! [`distance`](super::distance)): the lanes do the per-element arithmetic operation by
+//! operation (IEEE add, multiply, divide and square root are exact per lane, see
+//! `lanes.rs`), only where the edge vectors lie in the plain range that needs no
+//! rescaling; everything else goes through the per-element kernel. Chunks are fixed, so
+//! results do not depend on the thread count.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
+
+use super::kernel::{self, SQRT_MIN, Triangle};
+use super::lanes::V3;
+use super::{DEGENERACY_RATIO, Geometry, VertexAreaKind};
+use crate::error::TopologyError;
+use crate::ids::{ElementId, FaceId, VertexId};
+
+/// Elements per parallel work unit. Fixed, so that results do not depend on the number
+/// of threads.
+const CHUNK: usize = 4096;
+
+/// The lane type of the batched kernels.
+type Lanes = wide::f64x2;
+/// Elements per batch (the lanes of [`Lanes`]).
+const LANES: usize = 2;
+
+/// 2^-398: a squared edge length at least this has a component of at least 2^-200.
+const SQUARED_LO: f64 = f64::from_bits((1023 - 398) << 52);
+/// 2^400: a squared edge length below this has every component below 2^200.
+const SQUARED_HI: f64 = f64::from_bits((1023 + 400) << 52);
+
+impl Geometry<'_> {
+    /// The area of every vertex under `kind` into `out` (one entry per vertex), in
+    /// parallel with fixed chunks; each entry is bit-identical to
+    /// [`vertex_area`](Self::vertex_area). For a caller that refreshes areas every
+    /// iteration without allocating.
+    ///
+    /// # Errors
+    /// [`TopologyError::NotTriangle`] for [`VertexAreaKind::MixedVoronoi`] when a face is
+    /// not a triangle (the first such face is named); `out` is then unchanged.
+    ///
+    /// # Panics
+    /// If `out` does not have one entry per vertex.
+    pub fn vertex_areas_into(
+        &self,
+        kind: VertexAreaKind,
+        out: &mut [f64],
+    ) -> Result<(), TopologyError> {
+        let m = self.mesh;
+        assert_eq!(out.len(), m.n_vertices(), "one area per vertex");
+        if kind == VertexAreaKind::MixedVoronoi && !m.is_triangle_mesh() {
+            if let Some(f) = m.faces().find(|&f| self.triangle(f).is_none()) {
+                return Err(TopologyError::NotTriangle {
+                    face: f.raw(),
+                    len: m.face_valence(f),
+                });
+            }
+        }
+        out.par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, areas)| {
+                for (k, a) in areas.iter_mut().enumerate() {
+                    *a = self.vertex_area(VertexId::from_index(c * CHUNK + k), kind);
+                }
+            });
+        Ok(())
+    }
+
+    /// The cotangents of every face, in parallel with fixed chunks: `out[f]` holds the
+    /// cotangents opposite the three halfedges of triangle `f` in face order (the
+    /// halfedges ending at its first, second and third vertex), the values of
+    /// [`face_opposite_cotangents`](Self::face_opposite_cotangents) bit for bit (0 for a
+    /// degenerate triangle).
+    ///
+    /// # Errors
+    /// [`TopologyError::NotTriangle`] when a face is not a triangle (the first such face
+    /// is named); `out` is then unspecified.
+    ///
+    /// # Panics
+    /// If `out` does not have one entry per face.
+    pub fn face_cotangents_into(&self, out: &mut [[f64; 3]]) -> Result<(), TopologyError> {
+        let m = self.mesh;
+        assert_eq!(out.len(), m.n_faces(), "three cotangents per face");
+        let bad = out
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .map(|(c, out)| {
+                let first = c * CHUNK;
+                let mut triangles = Vec::with_capacity(out.len());
+                for k in 0..out.len() {
+                    let f = FaceId::from_index(first + k);
+                    let h0 = m.face_halfedge(f);
+                    let h1 = m.next(h0);
+                    let h2 = m.next(h1);
+                    if m.next(h2) != h0 {
+                        return Some(f);
+                    }
+                    triangles.push([m.to_vertex(h0), m.to_vertex(h1), m.to_vertex(h2)]);
+                }
+                self.triangle_cotangents_into(&triangles, out.as_flattened_mut());
+                None
+            })
+            .collect::<Vec<_>>();
+        match bad.into_iter().flatten().next() {
+            Some(f) => Err(TopologyError::NotTriangle {
+                face: f.raw(),
+                len: m.face_valence(f),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The cotangents of the triangles `triangles` (vertex triples in face order, for a
+    /// layout of the caller's choosing): `out[3k..3k + 3]` gets the cotangents opposite
+    /// the halfedges ending at the first, second and third vertex of triangle `k`, the
+    /// bits of [`face_opposite_cotangents`](Self::face_opposite_cotangents) for a face
+    /// with those vertices (0 for a degenerate triangle). Two triangles at a time;
+    /// sequential, so that a caller can run it on chunks in parallel.
+    ///
+    /// # Panics
+    /// If `out.len() != 3 * triangles.len()` or a vertex is out of bounds.
+    pub fn triangle_cotangents_into(&self, triangles: &[[VertexId; 3]], out: &mut [f64]) {
+        assert_eq!(
+            out.len(),
+            3 * triangles.len(),
+            "three cotangents per triangle"
+        );
+        let positions = self.positions;
+        let scalar = |t: &[VertexId; 3], out: &mut [f64]| {
+            let [a, b, c] = t.map(|v| positions[v.index()]);
+            out.copy_from_slice(&triangle_cotangents(a, b, c));
+        };
+        let batches = triangles.chunks_exact(LANES);
+        let tail = batches.remainder();
+        let mut outs = out.chunks_exact_mut(3 * LANES);
+        for (tris, out) in batches.zip(&mut outs) {
+            let mut p = [[[0.0; LANES]; 3]; 3];
+            for (l, t) in tris.iter().enumerate() {
+                for (p, v) in p.iter_mut().zip(t) {
+                    let q = positions[v.index()];
+                    p[0][l] = q.x;
+                    p[1][l] = q.y;
+                    p[2][l] = q.z;
+                }
+            }
+            let v = |[x, y, z]: [[f64; LANES]; 3]| V3 {
+                x: Lanes::from(x),
+                y: Lanes::from(y),
+                z: Lanes::from(z),
+            };
+            let ([c1, c2, c0], plain) = triangle_cotangents_lanes(v(p[0]), v(p[1]), v(p[2]));
+            if plain.all() {
+                let (c1, c2, c0) = (c1.to_array(), c2.to_array(), c0.to_array());
+                for (l, o) in out.chunks_exact_mut(3).enumerate() {
+                    o.copy_from_slice(&[c1[l], c2[l], c0[l]]);
+                }
+            } else {
+                for (t, o) in tris.iter().zip(out.chunks_exact_mut(3)) {
+                    scalar(t, o);
+                }
+            }
+        }
+        for (t, o) in tail.iter().zip(outs.into_remainder().chunks_exact_mut(3)) {
+            scalar(t, o);
+        }
+    }
+}
+
+/// The distances from `origin` to the points `positions[j]` for `j` in `targets` (vertex
+/// indices), into `out`: the bits of [`distance`](super::distance), two at a time. For a
+/// row of a sparse operator, whose columns are vertex indices.
+///
+/// # Panics
+/// If `out` is shorter than `targets` or a target is out of bounds.
+#[inline]
+pub fn distances_into(origin: DVec3, positions: &[DVec3], targets: &[u32], out: &mut [f64]) {
+    let out = &mut out[..targets.len()];
+    let pairs = targets.chunks_exact(LANES);
+    let tail = pairs.remainder();
+    let mut outs = out.chunks_exact_mut(LANES);
+    let o = V3 {
+        x: Lanes::splat(origin.x),
+        y: Lanes::splat(origin.y),
+        z: Lanes::splat(origin.z),
+    };
+    for (js, d) in pairs.zip(&mut outs) {
+        let xj: [DVec3; LANES] = std::array::from_fn(|l| positions[js[l] as usize]);
+        let v = V3 {
+            x: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].x)),
+            y: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].y)),
+            z: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].z)),
+        } - o;
+        let len = v.dot(v).sqrt();
+        // The plain length is the distance when it is at least sqrt(MIN_POSITIVE) and
+        // finite (NaN fails both comparisons).
+        let plain = len.cmp_ge(Lanes::splat(SQRT_MIN)) & len.cmp_lt(Lanes::splat(f64::INFINITY));
+        if plain.all() {
+            d.copy_from_slice(&len.to_array());
+        } else {
+            for (d, xj) in d.iter_mut().zip(xj) {
+                *d = kernel::distance(origin, xj);
+            }
+        }
+    }
+    for (d, &j) in outs.into_remainder().iter_mut().zip(tail) {
+        *d = kernel::distance(origin, positions[j as usize]);
+    }
+}
+
+/// The cotangents opposite the three halfedges of triangle `(p0, p1, p2)` (in face
+/// order, the halfedges ending at p0, p1, p2), 0 for a degenerate triangle: the
+/// kernel's, as [`Geometry::face_opposite_cotangents`] computes them.
+#[inline]
+fn triangle_cotangents(p0: DVec3, p1: DVec3, p2: DVec3) -> [f64; 3] {
+    let t = Triangle([p0, p1, p2]);
+    if t.is_degenerate() {
+        return [0.0; 3];
+    }
+    // h0 ends at p0, so its opposite corner is p1; h1 ↔ p2; h2 ↔ p0.
+    [t.corner(1).cot(), t.corner(2).cot(), t.corner(0).cot()]
+}
+
+/// [`triangle_cotangents`] for [`LANES`] triangles at once, in the plain frames: where
+/// the three edge vectors of a triangle are in the plain range (largest component in
+/// `[2^-200, 2^200]`), the kernel's frames are the plain differences and its operations
+/// are these, lane by lane. Returns the cotangents opposite the halfedges ending at `p0`, `p1`, `p2`
+/// and a mask of the lanes whose three edge vectors are all plain (finite, largest
+/// component in `[2^-200, 2^200]`); other lanes' values are meaningless.
+#[inline(always)]
+fn triangle_cotangents_lanes(p0: V3<Lanes>, p1: V3<Lanes>, p2: V3<Lanes>) -> ([Lanes; 3], Lanes) {
+    let s1 = p1 - p0;
+    let s2 = p2 - p0;
+    let e = p2 - p1;
+    let (q1, q2, qe) = (s1.dot(s1), s2.dot(s2), e.dot(e));
+    // Plain edges, from the squared lengths: `|s|² ≥ 2^-398` implies a component of at
+    // least 2^-200 (three squares below 2^-400 round to at most 3 · 2^-400), and
+    // `|s|² < 2^400` implies every component below 2^200 (a larger square rounds to at
+    // least 2^400). NaN and infinite components fail the second test.
+    let in_range =
+        |q: Lanes| q.cmp_ge(Lanes::splat(SQUARED_LO)) & q.cmp_lt(Lanes::splat(SQUARED_HI));
+    let plain = in_range(q1) & in_range(q2) & in_range(qe);
+    // Degeneracy, in the frame at p0 (the kernel's `is_degenerate`). The squared
+    // lengths are finite and not NaN in plain lanes, where `fast_max` is `f64::max`.
+    let s3 = s2 - s1;
+    let longest2 = q1.fast_max(q2).fast_max(s3.dot(s3));
+    let x0 = s1.cross(s2);
+    let two_area = x0.dot(x0).sqrt();
+    let degenerate = two_area.cmp_le(Lanes::splat(DEGENERACY_RATIO) * longest2) | two_area.is_nan();
+    // Corner 1 at p1: u = p2 − p1 = e, v = p0 − p1 = −s1. Negation is exact, so
+    // u · v = −(e · s1) and u × v = −(e × s1) bit for bit; the length ignores the sign.
+    let x1 = e.cross(s1);
+    let cross1 = x1.dot(x1).sqrt();
+    // Corner 2 at p2: u = p0 − p2 = −s2, v = p1 − p2 = −e: exactly the products of s2
+    // and e (each product of two negated factors is the product of the factors).
+    let x2 = s2.cross(e);
+    let cross2 = x2.dot(x2).sqrt();
+    let keep = !degenerate;
+    let c0 = cot_lanes(s1.dot(s2), two_area, keep);
+    let c1 = cot_lanes(-e.dot(s1), cross1, keep);
+    let c2 = cot_lanes(s2.dot(e), cross2, keep);
+    ([c1, c2, c0], plain)
+}
+
+/// [`cot`] lane by lane, and +0 where the mask `keep` is clear.
+#[inline(always)]
+fn cot_lanes(dot: Lanes, cross: Lanes, keep: Lanes) -> Lanes {
+    let c = dot / cross;
+    let finite = c.abs().cmp_lt(Lanes::splat(f64::INFINITY));
+    c & (cross.cmp_gt(Lanes::splat(0.0)) & finite & keep)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::HalfedgeMesh;
+    use crate::geometry::distance;
+    use crate::geometry::kernel::{SAFE_HI, SAFE_LO};
+
+    /// A deterministic generator of numbers in [-1, 1) (SplitMix64).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^= z >> 31;
+            (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+        fn point(&mut self) -> DVec3 {
+            DVec3::new(self.next(), self.next(), self.next())
+        }
+    }
+
+    /// Triangles that exercise every branch: ordinary, obtuse (negative cotangents),
+    /// degenerate and nearly degenerate on both sides of the threshold, coincident
+    /// points, scales near and far outside the plain range, NaN and infinite points.
+    fn triangles() -> Vec<[DVec3; 3]> {
+        let mut rng = Rng(3);
+        let mut out = Vec::new();
+        for _ in 0..64 {
+            out.push([rng.point(), rng.point(), rng.point()]);
+        }
+        let (a, b) = (DVec3::new(0.3, -0.2, 0.1), DVec3::new(1.1, 0.4, -0.3));
+        let n = DVec3::new(0.2, -0.1, 0.9).cross(b - a).normalize();
+        for h in [
+            0.0, 1e-14, 1e-13, 0.99e-12, 1e-12, 1.01e-12, 1e-11, 1e-6, 0.5, 3.0,
+        ] {
+            for t in [-0.7, 0.1, 0.5, 1.6] {
+                let c = a + (b - a) * t + n * (h * (b - a).length());
+                out.push([a, b, c]);
+                out.push([c, a, b]);
+            }
+        }
+        out.push([a, a, b]);
+        out.push([a, b, b]);
+        out.push([a; 3]);
+        out.push([DVec3::ZERO; 3]);
+        // Largest edge components around 2^±200 and far outside.
+        let base: Vec<[DVec3; 3]> = out.iter().take(16).copied().collect();
+        for s in [
+            2f64.powi(-201),
+            2f64.powi(-200),
+            2f64.powi(-199),
+            1e-59,
+            1e58,
+            2f64.powi(199),
+            2f64.powi(200),
+            1e-170,
+            1e170,
+            1e-300,
+            1e300,
+            1e308,
+        ] {
+            for t in &base {
+                out.push(t.map(|p| p * s));
+            }
+        }
+        // Far from the origin (cancellation in the differences).
+        for t in base.iter().take(4) {
+            out.push(t.map(|p| p * 1e-9 + DVec3::splat(1e7)));
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let [p, q, r] = base[0];
+            out.push([DVec3::new(bad, p.y, p.z), q, r]);
+            out.push([p, DVec3::new(q.x, bad, q.z), r]);
+            out.push([p, q, DVec3::new(r.x, r.y, bad)]);
+            out.push([DVec3::splat(bad), q, r]);
+        }
+        out.push([
+            DVec3::splat(-1.5e308),
+            DVec3::splat(1.5e308),
+            DVec3::new(1e308, -1e308, 0.0),
+        ]);
+        out
+    }
+
+    /// The triangles as a soup mesh, its positions, and each face's vertices in face
+    /// order (the ends of the face's halfedges from `face_halfedge`).
+    fn soup(tris: &[[DVec3; 3]]) -> (HalfedgeMesh, Vec<DVec3>, Vec<[VertexId; 3]>) {
+        let faces: Vec<[u32; 3]> = (0..tris.len() as u32)
+            .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+            .collect();
+        let mesh = HalfedgeMesh::from_polygons(3 * tris.len(), &faces).unwrap();
+        let positions: Vec<DVec3> = tris.iter().flatten().copied().collect();
+        let order = mesh
+            .faces()
+            .map(|f| {
+                let h0 = mesh.face_halfedge(f);
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                [h0, h1, h2].map(|h| mesh.to_vertex(h))
+            })
+            .collect();
+        (mesh, positions, order)
+    }
+
+    fn bits(x: &[f64]) -> Vec<u64> {
+        x.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// Every slice (each start and length, so every tail length and every mix of
+    /// plain, degenerate and rescaled lanes in a batch) gives the per-face query's bits,
+    /// and so does the whole-mesh query.
+    #[test]
+    fn batched_cotangents_have_the_bits_of_the_per_face_query() {
+        let tris = triangles();
+        let (mesh, positions, order) = soup(&tris);
+        let geometry = Geometry::new(&mesh, &positions).unwrap();
+        let want: Vec<f64> = mesh
+            .faces()
+            .flat_map(|f| {
+                let t = geometry.face_opposite_cotangents(f).unwrap();
+                [t[0].1, t[1].1, t[2].1]
+            })
+            .collect();
+        for start in 0..order.len() {
+            for len in (0..=9).chain([order.len() - start]) {
+                let Some(slice) = order.get(start..start + len) else {
+                    continue;
+                };
+                let mut out = vec![f64::NAN; 3 * len];
+                geometry.triangle_cotangents_into(slice, &mut out);
+                assert_eq!(
+                    bits(&out),
+                    bits(&want[3 * start..3 * (start + len)]),
+                    "{start}+{len}"
+                );
+            }
+        }
+        let mut all = vec![[f64::NAN; 3]; mesh.n_faces()];
+        geometry.face_cotangents_into(&mut all).unwrap();
+        assert_eq!(bits(all.as_flattened()), bits(&want));
+    }
+
+    /// The plain-range test on squared lengths accepts only edges whose largest
+    /// component is in [2^-200, 2^200] (so the lanes never take a triangle the kernel
+    /// would rescale), and accepts the ordinary ones.
+    #[test]
+    fn squared_range_is_inside_the_plain_range() {
+        let plain = |e: DVec3| {
+            let m = e.abs().max_element();
+            e.is_finite() && (SAFE_LO..=SAFE_HI).contains(&m)
+        };
+        let mut rng = Rng(11);
+        for e in -215..=215 {
+            for _ in 0..40 {
+                let s = DVec3::new(rng.next(), rng.next(), rng.next()) * 2f64.powi(e);
+                let q = s.dot(s);
+                let accepted = (SQUARED_LO..SQUARED_HI).contains(&q);
+                if accepted {
+                    assert!(plain(s), "{s:?}");
+                }
+                if (-190..=190).contains(&e) && s.abs().max_element() > 0.01 * 2f64.powi(e) {
+                    assert!(accepted, "{s:?}");
+                }
+            }
+        }
+    }
+
+    /// Every row length (tails), plain and rescaled slots mixed in one pair.
+    #[test]
+    fn batched_distances_have_the_bits_of_distance() {
+        let mut rng = Rng(23);
+        let mut positions: Vec<DVec3> = (0..40).map(|_| rng.point()).collect();
+        let xi = positions[0];
+        positions.extend([
+            xi,
+            xi + DVec3::new(1e-160, 0.0, 0.0),
+            xi + DVec3::new(3e-154, 0.0, 0.0),
+            DVec3::splat(1e300),
+            DVec3::splat(-1e308),
+            DVec3::new(f64::NAN, 0.0, 0.0),
+            DVec3::new(0.0, f64::INFINITY, 0.0),
+        ]);
+        let n = positions.len() as u32;
+        let targets: Vec<u32> = (0..3 * n).map(|k| (k * 7 + 3) % n).collect();
+        for start in 0..targets.len() {
+            for len in 0..=9 {
+                let Some(nb) = targets.get(start..start + len) else {
+                    continue;
+                };
+                let mut out = vec![0.0; len + 2];
+                distances_into(xi, &positions, nb, &mut out);
+                let want: Vec<f64> = nb
+                    .iter()
+                    .map(|&j| distance(xi, positions[j as usize]))
+                    .chain([0.0, 0.0])
+                    .collect();
+                assert_eq!(bits(&out), bits(&want), "{start}+{len}");
+            }
+        }
+    }
+
+    /// The parallel vertex areas are the per-vertex query's, for both kinds.
+    #[test]
+    fn vertex_areas_into_has_the_bits_of_the_per_vertex_query() {
+        let sphere = crate::primitives::icosphere(3);
+        let mesh = sphere.mesh().unwrap();
+        let mut rng = Rng(5);
+        let x: Vec<DVec3> = sphere
+            .positions
+            .iter()
+            .map(|&p| p * (1.0 + 0.2 * rng.next()))
+            .collect();
+        let geometry = Geometry::new(&mesh, &x).unwrap();
+        for kind in [VertexAreaKind::Barycentric, VertexAreaKind::MixedVoronoi] {
+            let mut out = vec![f64::NAN; mesh.n_vertices()];
+            geometry.vertex_areas_into(kind, &mut out).unwrap();
+            for v in mesh.vertices() {
+                assert_eq!(
+                    out[v.index()].to_bits(),
+                    geometry.vertex_area(v, kind).to_bits()
+                );
+            }
+        }
+    }
+}
