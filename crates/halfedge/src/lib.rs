@@ -38,6 +38,7 @@ mod boundary;
 mod build;
 mod circulators;
 mod components;
+pub mod edit;
 mod error;
 pub mod geometry;
 mod ids;
@@ -57,6 +58,7 @@ pub use circulators::{
     VerticesAroundFace, VerticesAroundVertex,
 };
 pub use components::{ComponentSummary, Components};
+pub use edit::{EditError, EditMesh, GarbageMaps};
 pub use error::TopologyError;
 pub use glam::DVec3;
 pub use ids::{EdgeId, ElementId, FaceId, HalfedgeId, IdRange, VertexId};
