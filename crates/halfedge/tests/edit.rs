@@ -177,17 +177,11 @@ fn collapse_merges_and_removes_two_triangles() {
 
 #[test]
 fn collapse_refusals_follow_openmesh() {
-    // Tetrahedron: every pair of vertices shares two neighbours besides the opposite
-    // ones? No: each edge's end points share exactly the two opposite vertices, but
-    // collapsing would leave two triangles on the same three vertices: vl == vr fails
-    // nowhere, the link condition holds, yet OpenMesh refuses because the remaining
-    // ring... checked here against its actual rule set.
+    // Tetrahedron: the end points of every edge share exactly the two opposite
+    // vertices, so the link condition holds and OpenMesh accepts; the result is two
+    // triangles on the same three vertices, a valid closed mesh.
     let t = edit(&primitives::tetrahedron());
     for h in t.halfedges() {
-        // The one-rings of the end points are the other two vertices, both opposite
-        // the edge: the link condition holds and OpenMesh accepts. The result is a
-        // double-covered triangle (two faces on the same vertices, opposite
-        // orientations), which is a valid closed half-edge mesh.
         assert!(t.is_collapse_ok(h), "{h:?}");
     }
 
