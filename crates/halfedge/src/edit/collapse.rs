@@ -21,14 +21,19 @@ impl EditMesh {
     /// 3. the vertices opposite the edge on its two sides must differ;
     /// 4. the link condition: every common neighbour of `v0` and `v1` is opposite the
     ///    edge;
-    /// 5. an interior edge must not join two boundary vertices.
+    /// 5. an interior edge must not join two boundary vertices;
+    /// 6. `v0` and `v1` must be joined by this edge only. OpenMesh does not check this;
+    ///    it matters only on meshes that are not simplicial complexes (a split edge
+    ///    whose two triangles had the same opposite vertex leaves two edges between
+    ///    the new vertex and that one), where the collapse would create a loop edge.
     ///
     /// Geometry (fold-overs, long edges) is the caller's concern.
     ///
     /// # Errors
     /// [`EditError::NoSuchHalfedge`], [`EditError::NotTriangle`],
     /// [`EditError::CollapseDanglingTriangle`], [`EditError::CollapseSameOpposite`],
-    /// [`EditError::CollapseLinkCondition`], [`EditError::CollapseBoundaryPinch`].
+    /// [`EditError::CollapseLinkCondition`], [`EditError::CollapseBoundaryPinch`],
+    /// [`EditError::CollapseDuplicateEdge`].
     ///
     /// # Complexity
     /// O(valence(v0) · valence(v1)).
@@ -64,6 +69,14 @@ impl EditMesh {
                     vertex,
                 });
             }
+        }
+        if self
+            .halfedges_around_vertex(v0)
+            .filter(|&g| self.to_vertex(g) == v1)
+            .count()
+            > 1
+        {
+            return Err(EditError::CollapseDuplicateEdge { halfedge: h });
         }
         for n in self.vertices_around_vertex(v0) {
             if Some(n) != vl && Some(n) != vr && self.vertices_around_vertex(v1).any(|m| m == n) {

@@ -98,6 +98,16 @@ pub enum EditError {
         /// The common neighbour.
         vertex: VertexId,
     },
+    /// The end points are joined by more than one edge (possible after splits on a
+    /// mesh that is not a simplicial complex, e.g. two triangles on the same three
+    /// vertices); the collapse would turn the other edge into a loop.
+    #[error(
+        "the end points of {halfedge} are joined by more than one edge; the collapse would make a loop"
+    )]
+    CollapseDuplicateEdge {
+        /// The halfedge asked to collapse.
+        halfedge: HalfedgeId,
+    },
     /// An interior edge joins two boundary vertices; collapsing it would pinch the
     /// surface into a non-manifold vertex.
     #[error(
