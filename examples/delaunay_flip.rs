@@ -23,7 +23,9 @@ use beltrami::prelude::*;
 /// `cot` of the angle opposite `h` in its triangle; 0 on the boundary or for a
 /// degenerate triangle.
 fn opposite_cot(mesh: &EditMesh, h: HalfedgeId) -> f64 {
-    let Some(o) = mesh.opposite_vertex(h) else { return 0.0 };
+    let Some(o) = mesh.opposite_vertex(h) else {
+        return 0.0;
+    };
     let u = mesh.position(mesh.from_vertex(h)) - mesh.position(o);
     let v = mesh.position(mesh.to_vertex(h)) - mesh.position(o);
     let sin = u.cross(v).length();
@@ -76,7 +78,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scalars: vec![("height".to_owned(), mesh.values(height).to_vec())],
         colors: None,
     };
-    write_ply(&output, &mesh.to_mesh_data(), &attributes, &WriteOptions::default())?;
+    write_ply(
+        &output,
+        &mesh.to_mesh_data(),
+        &attributes,
+        &WriteOptions::default(),
+    )?;
     println!(
         "{flips} flips: {before} -> {after} edges with a negative cotangent weight; height -> {}",
         output.display()

@@ -24,7 +24,13 @@
 
 #include "editing.h"
 
+// GCC (-O2 -Wall) warns "may be used uninitialized" where it inlines OpenMesh's
+// PropertyT<Vec3d>::push_back (a default-constructed point, left uninitialised by
+// design) into add_vertex here; the value is overwritten at once.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <array>
