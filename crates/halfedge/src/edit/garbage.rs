@@ -184,6 +184,7 @@ fn retain_mapped(values: &[u32], keep: &[bool], map: &[u32]) -> Vec<u32> {
     values
         .iter()
         .zip(keep)
-        .filter_map(|(&v, &k)| k.then(|| remap(v, map)))
+        .filter(|&(_, &k)| k)
+        .map(|(&v, _)| remap(v, map))
         .collect()
 }
