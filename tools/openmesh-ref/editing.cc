@@ -9,6 +9,8 @@
 //                  collapse A B OK        is_collapse_ok of halfedge A->B, collapsed if 1
 //                  split_edge A B N       split(edge A-B) at its midpoint, new vertex N
 //                  split_face A B C N     split(face A B C) at its centroid, new vertex N
+//                  delete_face A B C      delete_face(face A B C), isolated vertices too
+//                  add_face A B C OK      add_face(A, B, C) accepted (1) or refused (0)
 //   faces.txt    after the sequence and garbage_collection(): the faces of the input
 //                that are gone ("removed A B C") and the faces that are new ("added A B
 //                C"), each as labels rotated to start at the smallest, sorted
@@ -16,10 +18,14 @@
 //                (from label, to label), and is_flip_ok for every edge, in the order of
 //                (smaller label, larger label), as strings of 0/1, 100 per line
 //
-// The sequence walks: a focus vertex moves to the vertex an edit keeps or makes, and
-// jumps to a random live vertex every 40 steps, so edits pile up locally and create the
-// low-valence, boundary-touching configurations the preconditions are about. Choices
-// come from SplitMix64 with a fixed seed and from OpenMesh's circulation order, so the
+// The sequence has two parts. First 600 flips, splits and collapses that walk: a focus
+// vertex moves to the vertex an edit keeps or makes, and jumps to a random live vertex
+// every 40 steps, so edits pile up locally and create the low-valence,
+// boundary-touching configurations the preconditions are about. Then 150 face
+// deletions and additions: deleted faces re-added in random order, boundary ears
+// filled, random triangles at a boundary edge tried (add_face's complex vertex,
+// complex edge and re-linking cases). Choices come from SplitMix64 with a fixed seed
+// and from OpenMesh's circulation order, so the
 // output is a deterministic function of the input.
 
 #include "editing.h"
@@ -53,6 +59,7 @@ typedef OpenMesh::TriMesh_ArrayKernelT<EditTraits> EMesh;
 
 const int kSteps = 600;
 const int kJumpEvery = 40;
+const int kFaceSteps = 150;
 const uint64_t kSeed = 0x0edd17ULL;
 
 [[noreturn]] void edit_fail(const std::string& m) { throw std::runtime_error(m); }
@@ -210,6 +217,54 @@ void write_editing_references(const std::string& input_ply, const std::string& o
       mesh.split(f, vh);
       focus = vh;
     }
+  }
+
+  // Deleting and adding faces: delete faces, re-add deleted ones in random order, and
+  // fill boundary ears (a boundary halfedge, its successor, and either the vertex that
+  // closes the ear or a random neighbour), with OpenMesh's accept/refuse answer.
+  omerr().disable();
+  std::vector<std::array<EMesh::VertexHandle, 3>> pool;
+  for (int step = 0; step < kFaceSteps; ++step) {
+    uint64_t kind = rng.below(10);
+    if (kind < 4) {
+      EMesh::FaceHandle f;
+      do f = mesh.face_handle(static_cast<int>(rng.below(mesh.n_faces())));
+      while (mesh.status(f).deleted());
+      std::array<EMesh::VertexHandle, 3> t;
+      int i = 0;
+      for (auto v : mesh.fv_range(f)) t[i++] = v;
+      pool.push_back(t);
+      ops << "delete_face " << lab(t[0]) << ' ' << lab(t[1]) << ' ' << lab(t[2]) << '\n';
+      mesh.delete_face(f, true);
+      continue;
+    }
+    std::array<EMesh::VertexHandle, 3> t;
+    if (kind < 7) {
+      if (pool.empty()) continue;
+      size_t k = rng.below(pool.size());
+      t = pool[k];
+      pool.erase(pool.begin() + static_cast<long>(k));
+    } else {
+      EMesh::HalfedgeHandle h;
+      size_t tries = 0;
+      do h = mesh.halfedge_handle(static_cast<int>(rng.below(mesh.n_halfedges())));
+      while ((mesh.status(mesh.edge_handle(h)).deleted() || !mesh.is_boundary(h)) &&
+             ++tries < 100000);
+      if (tries == 100000) continue;
+      EMesh::VertexHandle a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
+      EMesh::VertexHandle c = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
+      if (kind == 9) {
+        std::vector<EMesh::VertexHandle> ring;
+        for (auto v : mesh.vv_range(b)) ring.push_back(v);
+        c = ring[rng.below(ring.size())];
+      }
+      t = {a, b, c};
+    }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    if (mesh.status(t[0]).deleted() || mesh.status(t[1]).deleted() || mesh.status(t[2]).deleted())
+      continue;
+    bool ok = mesh.add_face(t[0], t[1], t[2]).is_valid();
+    ops << "add_face " << lab(t[0]) << ' ' << lab(t[1]) << ' ' << lab(t[2]) << ' ' << ok << '\n';
   }
   mesh.garbage_collection();
 

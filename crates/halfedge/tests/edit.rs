@@ -447,3 +447,48 @@ fn a_frozen_mesh_survives_edit_and_back() {
         HalfedgeMesh::from_polygons(frozen.n_vertices(), frozen.to_polygons().iter()).unwrap();
     assert_eq!(rebuilt.n_edges(), frozen.n_edges());
 }
+
+#[test]
+#[should_panic(expected = "the property was removed from this mesh (or belongs to another mesh)")]
+fn a_handle_of_another_mesh_is_caught() {
+    let mut a = edit(&square());
+    let mut b = edit(&square());
+    let pa = a.add_vertex_property("s", 0.0_f64).unwrap();
+    let _pb = b.add_vertex_property("s", 0.0_f64).unwrap();
+    let _ = b.get(pa, v(0));
+}
+
+#[test]
+fn a_clone_shares_property_handles() {
+    let mut a = edit(&square());
+    let p = a.add_face_property("region", 7u32).unwrap();
+    let mut b = a.clone();
+    b.set(p, FaceId::new(1), 9);
+    assert_eq!(
+        (*a.get(p, FaceId::new(1)), *b.get(p, FaceId::new(1))),
+        (7, 9)
+    );
+}
+
+#[test]
+fn error_messages_name_the_element() {
+    let sq = edit(&square());
+    let d = he(&sq, 0, 2);
+    assert_eq!(
+        sq.check_collapse(d).unwrap_err().to_string(),
+        "collapsing halfedge 2 would leave a dangling edge: the triangle with vertex 3 has both other edges on the boundary"
+            .replace("halfedge 2", &d.to_string())
+    );
+    let b = he(&sq, 0, 1).edge();
+    assert_eq!(
+        sq.check_flip(b).unwrap_err().to_string(),
+        format!("{b} is a boundary edge; only an interior edge can be flipped")
+    );
+    let mut m = edit(&primitives::icosphere(0));
+    let interior = v(0);
+    let err = m.add_face(&[interior, v(1), v(7)]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "complex vertex: vertex 0 is interior (its fan is closed), a new face cannot touch it"
+    );
+}

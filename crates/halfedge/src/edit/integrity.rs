@@ -51,13 +51,14 @@ impl EditMesh {
         let live_h = |raw: u32| (raw as usize) < nh && self.is_live_halfedge(HalfedgeId::new(raw));
         for h in self.halfedges() {
             let i = h.index();
-            if !(self.h_to[i] as usize).lt(&nv)
+            let face_ok = self.h_face[i] == INVALID
+                || ((self.h_face[i] as usize) < nf
+                    && self.is_live_face(FaceId::new(self.h_face[i])));
+            if (self.h_to[i] as usize) >= nv
                 || !self.is_live_vertex(self.to_vertex(h))
                 || !live_h(self.h_next[i])
                 || !live_h(self.h_prev[i])
-                || (self.h_face[i] != INVALID
-                    && !((self.h_face[i] as usize) < nf
-                        && self.is_live_face(FaceId::new(self.h_face[i]))))
+                || !face_ok
             {
                 return fail(h, "links are in range and lead to live elements");
             }

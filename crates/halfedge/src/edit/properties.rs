@@ -3,6 +3,7 @@
 
 use std::any::Any;
 use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::{DVec2, DVec3};
 
@@ -76,7 +77,8 @@ impl<T: PropertyValue> PropertyValue for Option<T> {}
 /// [`EditMesh::get_mut`](crate::EditMesh::get_mut) and
 /// [`EditMesh::values`](crate::EditMesh::values). A handle stays valid across every
 /// operator and across garbage collection (the values are remapped with the elements),
-/// until the property is removed.
+/// until the property is removed. A handle works on the mesh that made it and on clones
+/// of that mesh; on any other mesh the accessors panic.
 pub struct Property<I, T> {
     pub(crate) slot: usize,
     pub(crate) key: u64,
@@ -376,7 +378,6 @@ impl PropertyElement for FaceId {
 #[derive(Clone, Debug)]
 pub(crate) struct Properties {
     stores: [PropertyStore; 4],
-    next_key: u64,
 }
 
 impl Properties {
@@ -388,7 +389,6 @@ impl Properties {
                 PropertyStore::new(ne),
                 PropertyStore::new(nf),
             ],
-            next_key: 0,
         }
     }
 
@@ -416,10 +416,12 @@ impl Properties {
         &mut self.stores[FaceId::SLOT]
     }
 
-    /// A key no property of this mesh has had before.
-    pub(crate) fn fresh_key(&mut self) -> u64 {
-        self.next_key += 1;
-        self.next_key
+    /// A key no property has had before, in any mesh, so that a handle used on a mesh
+    /// that did not make it (or a clone of it) is caught instead of reading a column
+    /// that happens to sit in the same slot.
+    pub(crate) fn fresh_key() -> u64 {
+        static NEXT: AtomicU64 = AtomicU64::new(1);
+        NEXT.fetch_add(1, Ordering::Relaxed)
     }
 }
 
@@ -429,7 +431,7 @@ impl EditMesh {
         name: &str,
         default: T,
     ) -> Result<Property<I, T>, EditError> {
-        let key = self.props.fresh_key();
+        let key = Properties::fresh_key();
         self.props
             .of_mut::<I>()
             .add(name, default, key)
