@@ -17,7 +17,7 @@
 use std::collections::VecDeque;
 use std::path::PathBuf;
 
-use beltrami::halfedge::{EdgeId, EditMesh, HalfedgeId};
+use beltrami::halfedge::EditMesh;
 use beltrami::prelude::*;
 
 /// `cot` of the angle opposite `h` in its triangle; 0 on the boundary or for a

@@ -492,3 +492,56 @@ fn error_messages_name_the_element() {
         "complex vertex: vertex 0 is interior (its fan is closed), a new face cannot touch it"
     );
 }
+
+fn opposite_cot(mesh: &EditMesh, h: HalfedgeId) -> f64 {
+    let Some(o) = mesh.opposite_vertex(h) else {
+        return 0.0;
+    };
+    let u = mesh.position(mesh.from_vertex(h)) - mesh.position(o);
+    let w = mesh.position(mesh.to_vertex(h)) - mesh.position(o);
+    u.dot(w) / u.cross(w).length()
+}
+
+fn negative_edges(mesh: &EditMesh) -> usize {
+    mesh.edges()
+        .filter(|&e| {
+            let [h, t] = e.halfedges();
+            !mesh.is_boundary_edge(e) && opposite_cot(mesh, h) + opposite_cot(mesh, t) < -1e-12
+        })
+        .count()
+}
+
+#[test]
+fn lawson_flips_make_a_planar_mesh_delaunay() {
+    // A jittered planar grid: many edges have a negative cotangent weight.
+    let mut p = primitives::grid(12, 9);
+    let mut rng = beltrami_testkit::SplitMix64::new(11);
+    for q in &mut p.positions {
+        q.x += 0.45 * rng.next_symmetric() / 12.0;
+        q.y += 0.45 * rng.next_symmetric() / 9.0;
+    }
+    let mut m = edit(&p);
+    assert!(negative_edges(&m) > 10, "{}", negative_edges(&m));
+    let mut flipped = true;
+    let mut rounds = 0;
+    while flipped {
+        flipped = false;
+        rounds += 1;
+        assert!(rounds < 1000, "Lawson's algorithm terminates in the plane");
+        for e in m.edges().collect::<Vec<_>>() {
+            let [h, t] = e.halfedges();
+            if !m.is_boundary_edge(e)
+                && opposite_cot(&m, h) + opposite_cot(&m, t) < -1e-12
+                && m.is_flip_ok(e)
+            {
+                m.flip_edge(e).unwrap();
+                flipped = true;
+            }
+        }
+    }
+    m.check_integrity().unwrap();
+    assert_eq!(negative_edges(&m), 0);
+    assert_eq!(m.n_vertices(), p.positions.len());
+    let (frozen, _) = m.to_mesh().unwrap();
+    assert_eq!(frozen.euler_characteristic(), 1);
+}
