@@ -46,6 +46,8 @@
 //   Boundary fixed (boundary vertices never move) or free (smoothed over their
 //   one-sided ring). Isolated vertices never move.
 
+#include "editing.h"
+
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Smoother/JacobiLaplaceSmootherT.hh>
 
@@ -656,6 +658,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    write_editing_references(argv[1], argv[2]);
     return run(argv[1], argv[2], argv[3], max_iterations);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "openmesh-ref: %s\n", e.what());

@@ -27,6 +27,36 @@
 //! # Ok::<(), beltrami_halfedge::TopologyError>(())
 //! ```
 //!
+//! ## Where to start
+//!
+//! - Reading a mesh: [`HalfedgeMesh`] (built by [`HalfedgeMesh::from_polygons`] or
+//!   [`MeshData::mesh`]), its circulators and [`geometry::Geometry`].
+//! - Changing connectivity: [`EditMesh`] (module [`edit`]): flips, edge and face
+//!   splits, halfedge collapses, incremental [`add_face`](EditMesh::add_face), deletion
+//!   and [`garbage_collection`](EditMesh::garbage_collection), with typed per-vertex,
+//!   per-edge, per-halfedge and per-face properties that every operator updates.
+//!   Convert with [`EditMesh::from_mesh`] and [`EditMesh::to_mesh`], both O(n); the
+//!   frozen [`HalfedgeMesh`] stays what smoothing and the weights read.
+//!   `docs/editing.md` describes the model, each operator's preconditions and the
+//!   property rules.
+//!
+//! ```
+//! use beltrami_halfedge::{EditMesh, primitives};
+//!
+//! let grid = primitives::grid(4, 4);
+//! let mut mesh = EditMesh::from_mesh_data(&grid)?;
+//! let height = mesh.add_vertex_property("height", 0.0_f64)?;
+//! let e = mesh.edges().find(|&e| mesh.is_flip_ok(e)).unwrap();
+//! mesh.flip_edge(e)?;
+//! let h = mesh.halfedges().find(|&h| mesh.is_collapse_ok(h)).unwrap();
+//! mesh.collapse_edge(h)?;
+//! mesh.garbage_collection();
+//! let (frozen, positions) = mesh.to_mesh()?;
+//! assert_eq!(mesh.values(height).len(), positions.len());
+//! assert_eq!(frozen.n_vertices(), 24);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! A polygon soup that does not build (pinched vertices, edges of more than two faces,
 //! duplicate or degenerate faces, inconsistent orientation) can be cleaned with
 //! [`repair`], which returns a face list that builds and a report of every change.
@@ -38,6 +68,7 @@ mod boundary;
 mod build;
 mod circulators;
 mod components;
+pub mod edit;
 mod error;
 pub mod geometry;
 mod ids;
@@ -57,6 +88,7 @@ pub use circulators::{
     VerticesAroundFace, VerticesAroundVertex,
 };
 pub use components::{ComponentSummary, Components};
+pub use edit::{EditError, EditMesh, GarbageMaps};
 pub use error::TopologyError;
 pub use glam::DVec3;
 pub use ids::{EdgeId, ElementId, FaceId, HalfedgeId, IdRange, VertexId};

@@ -1,0 +1,204 @@
+//! Halfedge collapse: the start vertex of a halfedge is merged into its end vertex.
+//!
+//! ```text
+//!        vl                  vl
+//!       /  \                 |
+//!     v0 -> v1      →        v1
+//!       \  /                 |
+//!        vr                  vr
+//! ```
+
+use super::error::EditError;
+use super::storage::EditMesh;
+use crate::ids::{HalfedgeId, VertexId};
+
+impl EditMesh {
+    /// Checks the preconditions of [`collapse_edge`](Self::collapse_edge), the rules of
+    /// OpenMesh's `TriConnectivity::is_collapse_ok` for the halfedge `v0 → v1`:
+    ///
+    /// 1. the halfedge is live and the faces at it are triangles;
+    /// 2. a triangle at the edge must not have both its other edges on the boundary;
+    /// 3. the vertices opposite the edge on its two sides must differ;
+    /// 4. the link condition: every common neighbour of `v0` and `v1` is opposite the
+    ///    edge;
+    /// 5. an interior edge must not join two boundary vertices;
+    /// 6. `v0` and `v1` must be joined by this edge only. OpenMesh does not check this;
+    ///    it matters only on meshes that are not simplicial complexes (a split edge
+    ///    whose two triangles had the same opposite vertex leaves two edges between
+    ///    the new vertex and that one), where the collapse would create a loop edge.
+    ///
+    /// Geometry (fold-overs, long edges) is the caller's concern.
+    ///
+    /// # Errors
+    /// [`EditError::NoSuchHalfedge`], [`EditError::NotTriangle`],
+    /// [`EditError::CollapseDanglingTriangle`], [`EditError::CollapseSameOpposite`],
+    /// [`EditError::CollapseLinkCondition`], [`EditError::CollapseBoundaryPinch`],
+    /// [`EditError::CollapseDuplicateEdge`].
+    ///
+    /// # Complexity
+    /// O(valence(v0) · valence(v1)).
+    pub fn check_collapse(&self, h: HalfedgeId) -> Result<(), EditError> {
+        self.live_halfedge(h)?;
+        let o = h.twin();
+        self.triangle_or_boundary(h)?;
+        self.triangle_or_boundary(o)?;
+        let v0 = self.from_vertex(h);
+        let v1 = self.to_vertex(h);
+        let mut vl = None;
+        let mut vr = None;
+        for (side, slot) in [(h, &mut vl), (o, &mut vr)] {
+            if !self.is_boundary_halfedge(side) {
+                let h1 = self.next(side);
+                let h2 = self.next(h1);
+                let opposite = self.to_vertex(h1);
+                *slot = Some(opposite);
+                if self.is_boundary_halfedge(h1.twin()) && self.is_boundary_halfedge(h2.twin()) {
+                    return Err(EditError::CollapseDanglingTriangle {
+                        halfedge: h,
+                        vertex: opposite,
+                    });
+                }
+            }
+        }
+        if vl == vr {
+            // Both are set: an edge always has a face on one side, so two `None`s
+            // cannot happen in a valid mesh.
+            if let Some(vertex) = vl {
+                return Err(EditError::CollapseSameOpposite {
+                    halfedge: h,
+                    vertex,
+                });
+            }
+        }
+        if self
+            .halfedges_around_vertex(v0)
+            .filter(|&g| self.to_vertex(g) == v1)
+            .count()
+            > 1
+        {
+            return Err(EditError::CollapseDuplicateEdge { halfedge: h });
+        }
+        for n in self.vertices_around_vertex(v0) {
+            if Some(n) != vl && Some(n) != vr && self.vertices_around_vertex(v1).any(|m| m == n) {
+                return Err(EditError::CollapseLinkCondition {
+                    halfedge: h,
+                    vertex: n,
+                });
+            }
+        }
+        if self.is_boundary_vertex(v0)
+            && self.is_boundary_vertex(v1)
+            && !self.is_boundary_halfedge(h)
+            && !self.is_boundary_halfedge(o)
+        {
+            return Err(EditError::CollapseBoundaryPinch { halfedge: h });
+        }
+        Ok(())
+    }
+
+    /// Whether [`collapse_edge`](Self::collapse_edge) would accept `h`.
+    #[must_use]
+    pub fn is_collapse_ok(&self, h: HalfedgeId) -> bool {
+        self.check_collapse(h).is_ok()
+    }
+
+    /// Collapses halfedge `h = v0 → v1`: `v0` is removed and its edges are moved to
+    /// `v1`, which keeps its position and property values (move it afterwards for a
+    /// midpoint collapse). Each triangle at the edge degenerates and is removed with one
+    /// of its two other edges; the edge at `v1` survives and keeps its value, and its
+    /// halfedge that takes the removed one's place in the neighbouring face takes that
+    /// halfedge's value. Returns `v1`. With k faces at the edge, V, E and F shrink by 1,
+    /// 1 + k and k; the removed elements are marked deleted.
+    ///
+    /// # Errors
+    /// Those of [`check_collapse`](Self::check_collapse); the mesh is then unchanged.
+    ///
+    /// # Complexity
+    /// O(valence(v0) · valence(v1)) for the check, O(valence(v0)) for the collapse.
+    pub fn collapse_edge(&mut self, h: HalfedgeId) -> Result<VertexId, EditError> {
+        self.check_collapse(h)?;
+        let h1 = self.next(h);
+        let o = h.twin();
+        let o1 = self.next(o);
+        let kept = self.to_vertex(h);
+        self.collapse_halfedge(h);
+        if self.next(self.next(h1)) == h1 {
+            let loop_start = self.next(h1);
+            self.collapse_loop(loop_start);
+        }
+        if self.next(self.next(o1)) == o1 {
+            self.collapse_loop(o1);
+        }
+        Ok(kept)
+    }
+
+    /// Removes the edge of `h` and its start vertex, leaving two-halfedge loops where
+    /// the triangles were.
+    fn collapse_halfedge(&mut self, h: HalfedgeId) {
+        let hn = self.next(h);
+        let hp = self.prev(h);
+        let o = h.twin();
+        let on = self.next(o);
+        let op = self.prev(o);
+        let fh = self.face(h);
+        let fo = self.face(o);
+        let vh = self.to_vertex(h);
+        let vo = self.to_vertex(o);
+
+        let incoming: Vec<HalfedgeId> = self
+            .halfedges_around_vertex(vo)
+            .map(HalfedgeId::twin)
+            .collect();
+        for i in incoming {
+            self.set_to(i, vh);
+        }
+        self.link(hp, hn);
+        self.link(op, on);
+        if let Some(fh) = fh {
+            self.set_face_halfedge(fh, hn);
+        }
+        if let Some(fo) = fo {
+            self.set_face_halfedge(fo, on);
+        }
+        if self.outgoing_halfedge(vh) == Some(o) {
+            self.set_outgoing(vh, Some(hn));
+        }
+        self.adjust_outgoing(vh);
+        self.mark_edge_deleted(h.edge());
+        self.mark_vertex_deleted(vo);
+    }
+
+    /// Removes a two-halfedge face loop `h0, h1 = next(h0)`: the edge of `h0` goes, and
+    /// `h1` takes the place of `twin(h0)` in the face beyond.
+    fn collapse_loop(&mut self, h0: HalfedgeId) {
+        let h1 = self.next(h0);
+        let o0 = h0.twin();
+        let o1 = h1.twin();
+        let v0 = self.to_vertex(h0);
+        let v1 = self.to_vertex(h1);
+        let fh = self.face(h0);
+        let fo = self.face(o0);
+
+        let on = self.next(o0);
+        let op = self.prev(o0);
+        self.link(h1, on);
+        self.link(op, h1);
+        self.set_face(h1, fo);
+        self.props.halfedge().copy(o0.index(), h1.index());
+
+        self.set_outgoing(v0, Some(h1));
+        self.adjust_outgoing(v0);
+        self.set_outgoing(v1, Some(o1));
+        self.adjust_outgoing(v1);
+
+        if let Some(fo) = fo {
+            if self.face_halfedge(fo) == o0 {
+                self.set_face_halfedge(fo, h1);
+            }
+        }
+        if let Some(fh) = fh {
+            self.mark_face_deleted(fh);
+        }
+        self.mark_edge_deleted(h0.edge());
+    }
+}
