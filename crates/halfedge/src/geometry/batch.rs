@@ -178,6 +178,20 @@ impl Geometry<'_> {
 /// If `out` is shorter than `targets` or a target is out of bounds.
 #[inline]
 pub fn distances_into(origin: DVec3, positions: &[DVec3], targets: &[u32], out: &mut [f64]) {
+    distances_with(origin, positions, targets, out, |d| d);
+}
+
+/// [`distances_into`] with `f` applied to each distance before it is stored: `out[k] =
+/// f(distance(origin, positions[targets[k]]))`. One pass for a caller that stores a
+/// function of the distance (an inverse-distance weight, say).
+///
+/// # Panics
+/// If `out` is shorter than `targets` or a target is out of bounds.
+#[inline]
+pub fn distances_with<F>(origin: DVec3, positions: &[DVec3], targets: &[u32], out: &mut [f64], f: F)
+where
+    F: Fn(f64) -> f64,
+{
     let out = &mut out[..targets.len()];
     let pairs = targets.chunks_exact(LANES);
     let tail = pairs.remainder();
@@ -199,15 +213,18 @@ pub fn distances_into(origin: DVec3, positions: &[DVec3], targets: &[u32], out: 
         // finite (NaN fails both comparisons).
         let plain = len.cmp_ge(Lanes::splat(SQRT_MIN)) & len.cmp_lt(Lanes::splat(f64::INFINITY));
         if plain.all() {
-            d.copy_from_slice(&len.to_array());
+            let len = len.to_array();
+            for (d, len) in d.iter_mut().zip(len) {
+                *d = f(len);
+            }
         } else {
             for (d, xj) in d.iter_mut().zip(xj) {
-                *d = kernel::distance(origin, xj);
+                *d = f(kernel::distance(origin, xj));
             }
         }
     }
     for (d, &j) in outs.into_remainder().iter_mut().zip(tail) {
-        *d = kernel::distance(origin, positions[j as usize]);
+        *d = f(kernel::distance(origin, positions[j as usize]));
     }
 }
 

@@ -1,7 +1,7 @@
 //! Filling the rows: the built-in kernels row by row, other schemes through their
 //! per-halfedge weights; the row sums and scales in the same pass.
 
-use beltrami_halfedge::geometry::{Geometry, distances_into};
+use beltrami_halfedge::geometry::{Geometry, distances_with};
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError};
 use rayon::prelude::*;
 
@@ -177,13 +177,10 @@ impl Laplacian {
                 let eps = crate::DISTANCE_EPSILON;
                 Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
                     let nb = &neighbours[s..s + w.len()];
-                    distances_into(positions[i], positions, nb, w);
-                    let mut sum = -0.0;
-                    for w in w.iter_mut() {
-                        *w = negative.apply(1.0 / (*w + eps));
-                        sum += *w;
-                    }
-                    sum
+                    distances_with(positions[i], positions, nb, w, |d| {
+                        negative.apply(1.0 / (d + eps))
+                    });
+                    row_sum_of(w)
                 }))
             }
             Some(BuiltIn::Cotangent) => {
