@@ -104,7 +104,10 @@ impl Scheme {
             c = match self {
                 Scheme::Loop => MeshCounts {
                     vertices: c.vertices.saturating_add(c.edges),
-                    edges: c.edges.saturating_mul(2).saturating_add(c.faces.saturating_mul(3)),
+                    edges: c
+                        .edges
+                        .saturating_mul(2)
+                        .saturating_add(c.faces.saturating_mul(3)),
                     faces: c.faces.saturating_mul(4),
                     boundary_edges: c.boundary_edges.saturating_mul(2),
                 },
@@ -261,7 +264,10 @@ pub(crate) fn ring_sum(mesh: &HalfedgeMesh, p: &[DVec3], v: VertexId) -> (DVec3,
 
 /// The two boundary neighbours of the boundary vertex `v`: the target of its outgoing
 /// boundary halfedge and the source of the boundary halfedge before it.
-pub(crate) fn boundary_neighbours(mesh: &HalfedgeMesh, v: VertexId) -> Option<(VertexId, VertexId)> {
+pub(crate) fn boundary_neighbours(
+    mesh: &HalfedgeMesh,
+    v: VertexId,
+) -> Option<(VertexId, VertexId)> {
     let out = mesh.outgoing_halfedge(v)?;
     let next = mesh.to_vertex(out);
     let prev = mesh.from_vertex(mesh.prev(out));

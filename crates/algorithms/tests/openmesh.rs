@@ -92,7 +92,10 @@ fn sorted_triangles(faces: impl IntoIterator<Item = [u32; 3]>) -> Vec<[u32; 3]> 
 }
 
 fn our_triangles(mesh: &HalfedgeMesh) -> Vec<[u32; 3]> {
-    sorted_triangles(mesh.faces().map(|f| mesh.triangle_vertices(f).map(|v| v.raw())))
+    sorted_triangles(
+        mesh.faces()
+            .map(|f| mesh.triangle_vertices(f).map(|v| v.raw())),
+    )
 }
 
 #[test]
@@ -115,7 +118,11 @@ fn subdivision_matches_openmesh() {
 
             let (ours, positions) = scheme.subdivide(&mesh, &input.positions, steps).unwrap();
             ours.check_integrity().unwrap();
-            assert_eq!(ours.n_vertices().to_string(), n_vertices, "{case}: vertices");
+            assert_eq!(
+                ours.n_vertices().to_string(),
+                n_vertices,
+                "{case}: vertices"
+            );
             assert_eq!(ours.n_faces().to_string(), n_faces, "{case}: faces");
 
             let theirs: Vec<DVec3> = read_f64s(&dir.join(format!("{stem}.f64")))
@@ -145,9 +152,14 @@ fn subdivision_matches_openmesh() {
                 "{case}: positions differ by {max_dev:e} (diagonal {diag})"
             );
             let mapped = sorted_triangles(
-                their_faces.iter().map(|t| t.map(|v| map[v as usize] as u32)),
+                their_faces
+                    .iter()
+                    .map(|t| t.map(|v| map[v as usize] as u32)),
             );
-            assert!(mapped == our_triangles(&ours), "{case}: the triangles differ");
+            assert!(
+                mapped == our_triangles(&ours),
+                "{case}: the triangles differ"
+            );
             println!(
                 "{case}: {} vertices, {} faces, max deviation {:.1e} of the diagonal, {identical} positions bit-identical",
                 positions.len(),
@@ -159,8 +171,20 @@ fn subdivision_matches_openmesh() {
     }
     // The references cover both schemes over two steps, the √3 boundary rule (an odd
     // step on an open mesh) and a closed mesh.
-    assert!(compared.iter().any(|c| c.1 == Scheme::Loop && c.2 == 2 && !c.3));
-    assert!(compared.iter().any(|c| c.1 == Scheme::Sqrt3 && c.2 == 2 && !c.3));
-    assert!(compared.iter().any(|c| c.1 == Scheme::Sqrt3 && c.2 == 2 && c.3));
+    assert!(
+        compared
+            .iter()
+            .any(|c| c.1 == Scheme::Loop && c.2 == 2 && !c.3)
+    );
+    assert!(
+        compared
+            .iter()
+            .any(|c| c.1 == Scheme::Sqrt3 && c.2 == 2 && !c.3)
+    );
+    assert!(
+        compared
+            .iter()
+            .any(|c| c.1 == Scheme::Sqrt3 && c.2 == 2 && c.3)
+    );
     assert!(compared.iter().any(|c| c.0 == "holes_30x20" && c.2 == 2));
 }

@@ -38,11 +38,9 @@ fn every_fixture_subdivides_into_the_library_result() {
     for input in fixture_files() {
         let data = read_mesh(&input).unwrap();
         let name = input.file_name().unwrap().to_str().unwrap();
-        let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(
-            data.positions.len(),
-            data.faces.iter(),
-        )
-        .unwrap();
+        let mesh =
+            beltrami_halfedge::HalfedgeMesh::from_polygons(data.positions.len(), data.faces.iter())
+                .unwrap();
         for (scheme, steps) in [(Scheme::Loop, 1), (Scheme::Sqrt3, 2)] {
             let output = dir.path().join(format!("{scheme}_{name}.ply"));
             let args = [
@@ -59,16 +57,27 @@ fn every_fixture_subdivides_into_the_library_result() {
             if !mesh.is_triangle_mesh() {
                 assert_eq!(out.status.code(), Some(1), "{name}");
                 let line = error_line(&out, &fixtures());
-                assert!(line.contains("has 4 vertices; subdivide needs a triangle mesh"), "{line}");
+                assert!(
+                    line.contains("has 4 vertices; subdivide needs a triangle mesh"),
+                    "{line}"
+                );
                 assert!(!output.exists(), "{name}: no output after an error");
                 continue;
             }
-            assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+            assert!(
+                out.status.success(),
+                "{name}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
             let summary: Value = serde_json::from_slice(&out.stdout).unwrap();
             let (expected, positions) = scheme.subdivide(&mesh, &data.positions, steps).unwrap();
             let written = read_mesh(&output).unwrap();
             assert_eq!(written.positions, positions, "{name} {scheme}: positions");
-            assert_eq!(written.faces, expected.to_polygons(), "{name} {scheme}: faces");
+            assert_eq!(
+                written.faces,
+                expected.to_polygons(),
+                "{name} {scheme}: faces"
+            );
             assert_eq!(summary["faces"], expected.n_faces(), "{name}");
             assert_eq!(summary["vertices"], expected.n_vertices(), "{name}");
             assert_eq!(summary["faces_in"], mesh.n_faces(), "{name}");
@@ -86,7 +95,11 @@ fn the_default_is_one_loop_step_and_the_sentence_names_it() {
     let output = dir.path().join("out.obj");
     let input = fixtures().join("tetrahedron_le.ply");
     let out = beltrami(&["subdivide", s(&input), s(&output)]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
         text.contains("(4 vertices, 4 faces) by 1 step of loop -> ")
@@ -102,7 +115,11 @@ fn isolated_vertices_are_kept_in_place() {
     let input = fixtures().join("bad/isolated_vertices.obj");
     let output = dir.path().join("out.ply");
     let out = beltrami(&["subdivide", s(&input), s(&output), "--scheme", "sqrt3"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let before = read_mesh(&input).unwrap();
     let after = read_mesh(&output).unwrap();
     let used: std::collections::HashSet<u32> = before.faces.iter().flatten().copied().collect();
@@ -119,7 +136,10 @@ fn isolated_vertices_are_kept_in_place() {
 fn broken_files_give_one_line_and_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let bad = fixtures().join("bad");
-    let mut files: Vec<PathBuf> = fs::read_dir(&bad).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<PathBuf> = fs::read_dir(&bad)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     for input in files {
         let name = input.file_name().unwrap().to_str().unwrap().to_string();
@@ -128,10 +148,18 @@ fn broken_files_give_one_line_and_no_output() {
         }
         let output = dir.path().join(format!("{name}.ply"));
         let out = beltrami(&["subdivide", s(&input), s(&output)]);
-        assert_eq!(out.status.code(), Some(1), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            out.status.code(),
+            Some(1),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let line = error_line(&out, &bad);
         assert_eq!(line.lines().count(), 1, "{name}: {line}");
-        assert!(line.starts_with(&format!("error: {name}: ")), "{name}: {line}");
+        assert!(
+            line.starts_with(&format!("error: {name}: ")),
+            "{name}: {line}"
+        );
         assert!(!output.exists(), "{name}: no output after an error");
     }
 }
@@ -140,7 +168,11 @@ fn broken_files_give_one_line_and_no_output() {
 fn a_quad_mesh_is_refused_naming_the_face() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("out.ply");
-    let out = beltrami(&["subdivide", s(&fixtures().join("cube_quads.obj")), s(&output)]);
+    let out = beltrami(&[
+        "subdivide",
+        s(&fixtures().join("cube_quads.obj")),
+        s(&output),
+    ]);
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         error_line(&out, &fixtures()),
@@ -165,7 +197,12 @@ fn usage_errors_exit_2_and_write_nothing() {
         let mut all = vec!["subdivide", s(&input), s(&output)];
         all.extend(&args);
         let out = beltrami(&all);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         error_line(&out, dir.path());
         assert!(!output.exists(), "{args:?}");
     }
@@ -190,6 +227,10 @@ fn the_input_is_not_overwritten_without_force() {
     assert!(error_line(&out, dir.path()).contains("refusing to overwrite the input file"));
     assert_eq!(fs::read(&input).unwrap(), before);
     let out = beltrami(&["subdivide", s(&input), s(&input), "--force"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(read_mesh(&input).unwrap().faces.len(), 4 * 320);
 }

@@ -86,7 +86,11 @@ fn loop_step(
             .into_par_iter()
             .map(|v| vertex_point(mesh, p, vertex(v))),
     );
-    out.par_extend((0..ne).into_par_iter().map(|e| edge_point(mesh, p, edge(e))));
+    out.par_extend(
+        (0..ne)
+            .into_par_iter()
+            .map(|e| edge_point(mesh, p, edge(e))),
+    );
 
     let point_of = |h: beltrami_halfedge::HalfedgeId| (nv + h.edge().index()) as u32;
     let mut triangles = Vec::with_capacity(4 * nf);

@@ -154,7 +154,10 @@ fn odd_step(
     let mut boundary_of = vec![None; nf];
     for &h in &inner {
         let f = mesh.face(h).expect("an inner halfedge has a face");
-        debug_assert!(boundary_of[f.index()].is_none(), "two boundary edges in face {f}");
+        debug_assert!(
+            boundary_of[f.index()].is_none(),
+            "two boundary edges in face {f}"
+        );
         boundary_of[f.index()] = Some(h);
     }
     let centred: Vec<usize> = (0..nf).filter(|&f| boundary_of[f].is_none()).collect();
@@ -192,7 +195,10 @@ fn odd_step(
     // The vertex opposite halfedge h after its face is split: the face's centre, or,
     // in a face split along its boundary edge b, the point of b next to h.
     let x = |h: HalfedgeId| {
-        let f = mesh.face(h).expect("x is asked of inner halfedges only").index();
+        let f = mesh
+            .face(h)
+            .expect("x is asked of inner halfedges only")
+            .index();
         match boundary_of[f] {
             None => centre_id[f],
             Some(b) if mesh.next(b) == h => first_point[b.edge().index()] + 1,
