@@ -1,4 +1,9 @@
 //! Loop and √3 subdivision of the level-4 icosphere (2562 vertices, 5120 faces).
+//!
+//! `cargo bench -p beltrami-algorithms --bench subdivision`
+
+// criterion_group! generates undocumented items.
+#![allow(missing_docs)]
 
 use beltrami_algorithms::{loop_subdivide, sqrt3_subdivide};
 use beltrami_halfedge::primitives;

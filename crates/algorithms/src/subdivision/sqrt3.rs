@@ -140,14 +140,14 @@ fn odd_step(
     // vertices nv + 2k and nv + 2k + 1.
     let mut first_point = vec![u32::MAX; ne];
     let mut inner = Vec::new();
-    for e in 0..ne {
+    for (e, first) in first_point.iter_mut().enumerate() {
         let [h0, h1] = edge(e).halfedges();
         let h = match (mesh.is_boundary_halfedge(h0), mesh.is_boundary_halfedge(h1)) {
             (false, true) => h0,
             (true, false) => h1,
             _ => continue,
         };
-        first_point[e] = (nv + 2 * inner.len()) as u32;
+        *first = (nv + 2 * inner.len()) as u32;
         inner.push(h);
     }
     // Per face, its boundary halfedge (if any), else the id of its centre.
