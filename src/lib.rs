@@ -15,6 +15,7 @@
 //! | [`schemes`] | `beltrami-schemes` | edge-preserving plug-in schemes (`bilateral`) |
 //! | [`metrics`] | `beltrami-metrics` | distances to a surface, normal deviation, fits, distortion, profiles, ISO 25178-2 parameters |
 //! | [`surfaces`] | `beltrami-surfaces` | the paper's test surfaces and seeded normal noise |
+//! | [`algorithms`] | `beltrami-algorithms` | Loop and √3 subdivision |
 //!
 //! [`prelude`] brings the names of a typical program into scope.
 //!
@@ -39,6 +40,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub use beltrami_algorithms as algorithms;
 pub use beltrami_halfedge as halfedge;
 pub use beltrami_io as io;
 pub use beltrami_metrics as metrics;

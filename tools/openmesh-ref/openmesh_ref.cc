@@ -51,6 +51,8 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Smoother/JacobiLaplaceSmootherT.hh>
 
+#include "subdivision.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -659,6 +661,7 @@ int main(int argc, char** argv) {
   }
   try {
     write_editing_references(argv[1], argv[2]);
+    write_subdivision(argv[1], argv[2]);
     return run(argv[1], argv[2], argv[3], max_iterations);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "openmesh-ref: %s\n", e.what());

@@ -40,6 +40,8 @@ pub(crate) enum CliError {
         needed_by: &'static str,
         vertices: usize,
     },
+    /// An input that the command cannot work on, for a reason given in `message`.
+    Input { path: PathBuf, message: String },
     /// The study failed.
     Study(beltrami_study::StudyError),
     /// Writing to stdout failed.
@@ -161,6 +163,7 @@ impl fmt::Display for CliError {
                 path.display(),
                 crate::text::plural(*vertices, "vertex", "vertices")
             ),
+            Self::Input { path, message } => write!(f, "{}: {message}", path.display()),
             Self::Study(e) => write!(f, "study: {e}"),
             Self::Stdout(e) => write!(f, "cannot write to stdout: {e}"),
             Self::OverwritesInput { output, input } => write!(

@@ -36,6 +36,7 @@ mod repair;
 mod residual;
 mod smooth;
 mod study;
+mod subdivide;
 mod text;
 
 use error::CliError;
@@ -76,6 +77,8 @@ enum Command {
     Residual(residual::ResidualArgs),
     /// Write one of the paper's test surfaces, optionally with seeded normal noise.
     Generate(generate::GenerateArgs),
+    /// Subdivide a triangle mesh by Loop's or Kobbelt's sqrt(3) scheme.
+    Subdivide(subdivide::SubdivideArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -182,6 +185,7 @@ where
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
         Command::Generate(args) => generate::run(args, &mut stdout),
         Command::Study(args) => study::run(args, registry, &mut stdout),
+        Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),

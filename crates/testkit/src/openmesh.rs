@@ -10,6 +10,7 @@
 //! | `face_normals.f64`, `vertex_normals.f64`, `face_areas.f64` | raw little-endian doubles, 3 per face / 3 per vertex / 1 per face |
 //! | `openmesh_smoother/<case>.{ply,json}` | OpenMesh's `JacobiLaplaceSmootherT` output positions and a summary ([`CaseSummary`]) |
 //! | `paper/<case>.{ply,json}` | the paper's explicit smoothing written on OpenMesh's data structure |
+//! | `subdivision/` | OpenMesh's `LoopT` and `Sqrt3T` results (`cases.txt`, `<scheme>_<steps>.f64` positions, `<scheme>_<steps>.faces.u32` triangles), read by `crates/algorithms/tests/openmesh.rs` |
 //!
 //! The `.ply` files hold vertex positions only (binary little-endian doubles, exact);
 //! the faces are those of the input mesh.

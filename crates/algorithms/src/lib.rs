@@ -1,0 +1,38 @@
+//! # beltrami-algorithms
+//!
+//! Algorithms that make a new mesh from a [`HalfedgeMesh`](beltrami_halfedge::HalfedgeMesh)
+//! and its positions, as free functions, one file per algorithm, each citing its
+//! reference:
+//!
+//! - [`loop_subdivide`]: Loop subdivision (Loop 1987), with the boundary curve rules;
+//! - [`sqrt3_subdivide`]: √3 subdivision (Kobbelt 2000), with its boundary rule on odd
+//!   steps.
+//!
+//! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
+//! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
+//! repository has the rules, the numbering of the new vertices and the comparison.
+//! [`Scheme`] names a scheme at run time and predicts the size of the result before
+//! anything is computed.
+//!
+//! ## Quick start
+//!
+//! ```
+//! use beltrami_algorithms::{loop_subdivide, sqrt3_subdivide};
+//! use beltrami_halfedge::primitives;
+//!
+//! let ico = primitives::icosphere(1);
+//! let mesh = ico.mesh()?;
+//! let (fine, positions) = loop_subdivide(&mesh, &ico.positions, 2)?;
+//! assert_eq!(fine.n_faces(), 16 * mesh.n_faces());
+//! assert_eq!(positions.len(), fine.n_vertices());
+//!
+//! let (fine, _) = sqrt3_subdivide(&mesh, &ico.positions, 2)?;
+//! assert_eq!(fine.n_faces(), 9 * mesh.n_faces());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod error;
+pub mod subdivision;
+
+pub use error::SubdivisionError;
+pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -1,0 +1,9 @@
+// OpenMesh's uniform subdivision (LoopT, Sqrt3T) on a fixture, written as references.
+#pragma once
+
+#include <string>
+
+// Reads INPUT_PLY (the layout openmesh_ref.cc reads) and, when every face is a
+// triangle, writes OUTPUT_DIR/subdivision/ (see subdivision.cc). Throws
+// std::runtime_error on failure.
+void write_subdivision(const std::string& input_ply, const std::string& out_dir);
