@@ -73,6 +73,7 @@
 mod atomic;
 mod error;
 mod format;
+mod height_map;
 mod obj;
 mod off;
 mod ply;
@@ -91,8 +92,12 @@ pub use beltrami_halfedge::MeshData;
 pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
+pub use height_map::{GridStats, HeightMap, LengthUnit};
 pub use read::{
-    DeclaredCounts, declared_counts, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
+    DeclaredCounts, declared_counts, read_height_map, read_height_map_from, read_mesh,
+    read_mesh_from, read_mesh_from_with, read_mesh_with,
 };
-pub use read_options::{ReadOptions, ReadReport, Weld};
-pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};
+pub use read_options::{HeightMapReport, ReadOptions, ReadReport, Weld};
+pub use write::{
+    write_height_map, write_height_map_to, write_mesh, write_mesh_to, write_ply, write_ply_to,
+};
