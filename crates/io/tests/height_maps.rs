@@ -7,9 +7,9 @@ use std::path::PathBuf;
 
 use beltrami_halfedge::primitives;
 use beltrami_io::{
-    HeightMap, IoError, LengthUnit, MeshData, MeshFormat, ReadOptions, WriteOptions,
-    read_height_map, read_height_map_from, read_mesh, read_mesh_from, read_mesh_from_with,
-    read_mesh_with, write_height_map, write_height_map_to, write_mesh, write_mesh_to,
+    HeightMap, IoError, LengthUnit, MeshFormat, ReadOptions, WriteOptions, read_height_map,
+    read_height_map_from, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
+    write_height_map, write_height_map_to, write_mesh, write_mesh_to,
 };
 
 fn data(name: &str) -> PathBuf {
@@ -192,7 +192,7 @@ fn a_mesh_read_from_a_height_map_writes_back_as_the_same_heights() {
 
 #[test]
 fn a_mesh_off_a_grid_is_refused_by_the_height_map_writers() {
-    let cube = MeshData::from(primitives::cube());
+    let cube = primitives::cube();
     for format in [MeshFormat::X3p, MeshFormat::Sdf] {
         let e = write_mesh_to(Vec::new(), &cube, format, &WriteOptions::default()).unwrap_err();
         assert!(matches!(e, IoError::NotAGrid { .. }), "{e}");
@@ -214,7 +214,7 @@ fn a_failed_height_map_write_leaves_the_target_untouched() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scan.x3p");
     std::fs::write(&path, b"old").unwrap();
-    let cube = MeshData::from(primitives::cube());
+    let cube = primitives::cube();
     assert!(write_mesh(&path, &cube, &WriteOptions::default()).is_err());
     assert_eq!(std::fs::read(&path).unwrap(), b"old");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
@@ -636,12 +636,7 @@ fn binary_sdf_errors() {
 fn mesh_formats_are_no_height_maps() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cube.ply");
-    write_mesh(
-        &path,
-        &MeshData::from(primitives::cube()),
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    write_mesh(&path, &primitives::cube(), &WriteOptions::default()).unwrap();
     assert!(matches!(
         read_height_map(&path),
         Err(IoError::NotHeightMapFormat {
