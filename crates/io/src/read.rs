@@ -214,8 +214,9 @@ fn read_height_map_stream<R: BufRead + Seek>(
 /// SDF: the ascii (`aISO-1.0`, `aBCR-1.0`) and binary (`bISO-1.0`, `bBCR-1.0`)
 /// variants; `NumPoints` values per profile along x, `NumProfiles` profiles, the
 /// spacings `Xscale` and `Yscale` and the height unit `Zscale` in metres. Invalid
-/// points are `BAD` in ascii, NaN floats and the most negative value of signed
-/// integer types in binary. The header fields that do not change the data
+/// points are `BAD` in ascii; in binary NaN and `±MAX` floats (some writers mark
+/// invalid points with `-f64::MAX`) and the most negative value of signed integer
+/// types. The header fields that do not change the data
 /// (`ManufacID`, the dates, `Zresolution`, `CheckType`) are not checked, and the
 /// trailer after the data is not read.
 ///

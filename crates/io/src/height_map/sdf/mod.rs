@@ -48,8 +48,9 @@ impl DataType {
     }
 
     /// The little-endian value at the start of `b`; `None` for the invalid-point
-    /// marker of binary files: NaN for floats, the most negative value of signed
-    /// integers (unsigned integers have none).
+    /// markers of binary files: NaN and the largest finite magnitudes (`±f32::MAX`,
+    /// `±f64::MAX`, which some writers put there) for floats, the most negative value
+    /// of signed integers (unsigned integers have none).
     fn decode(self, b: &[u8]) -> Option<f64> {
         let value = match self {
             Self::U8 => f64::from(b[0]),
@@ -67,8 +68,14 @@ impl DataType {
                 let v = i32::from_le_bytes([b[0], b[1], b[2], b[3]]);
                 (v != i32::MIN).then_some(f64::from(v))?
             }
-            Self::F32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            Self::F64 => f64::from_le_bytes(std::array::from_fn(|k| b[k])),
+            Self::F32 => {
+                let v = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                (v.abs() != f32::MAX).then_some(f64::from(v))?
+            }
+            Self::F64 => {
+                let v = f64::from_le_bytes(std::array::from_fn(|k| b[k]));
+                (v.abs() != f64::MAX).then_some(v)?
+            }
         };
         (!value.is_nan()).then_some(value)
     }
