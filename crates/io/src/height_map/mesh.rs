@@ -214,7 +214,7 @@ impl Axis {
         // (a mesh moved off it, or round-off), and the check below would say so.
         if !(steps.is_finite() && steps <= vertices as f64) {
             return Err(format!(
-                "the {name} coordinates are not evenly spaced (their median gap, {gap}, divides their range {} times)",
+                "the {name} coordinates are not on a regular grid: their median gap, {gap:e}, divides their range, {:e}, into more steps than there are vertices (a mesh whose vertices moved in x or y?)",
                 hi - lo
             ));
         }
