@@ -262,7 +262,11 @@ fn load_inner(
         if let Some(first) = read_report.checksum_mismatches.first() {
             parts.push(format!(
                 "{} that {} not match ({first})",
-                counted(read_report.checksum_mismatches.len(), "checksum", "checksums"),
+                counted(
+                    read_report.checksum_mismatches.len(),
+                    "checksum",
+                    "checksums"
+                ),
                 if read_report.checksum_mismatches.len() == 1 {
                     "does"
                 } else {
@@ -345,7 +349,11 @@ fn load_inner(
 pub(crate) fn height_map_note(path: &Path, grid: &HeightMapReport) -> String {
     let mut left_out = Vec::new();
     if grid.stats.invalid_points > 0 {
-        left_out.push(counted(grid.stats.invalid_points, "invalid point", "invalid points"));
+        left_out.push(counted(
+            grid.stats.invalid_points,
+            "invalid point",
+            "invalid points",
+        ));
     }
     if grid.stats.unused_points > 0 {
         left_out.push(format!(

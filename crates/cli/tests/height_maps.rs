@@ -22,7 +22,8 @@ const AMPLITUDE: f64 = 0.2e-6;
 const WAVELENGTH: f64 = 20e-6;
 
 /// A sine texture on a plane tilted by 1 and 2 mrad, with four invalid points (one
-/// inside, one on an edge, two in a corner).
+/// inside, one on an edge, and the two beside a corner, which leave the corner point
+/// in no whole cell).
 fn scan() -> HeightMap {
     let mut z = Vec::with_capacity(NX * NY);
     for j in 0..NY {
@@ -31,7 +32,7 @@ fn scan() -> HeightMap {
             z.push(1e-3 * x + 2e-3 * y + AMPLITUDE * (TAU * x / WAVELENGTH).sin());
         }
     }
-    for (i, j) in [(80, 20), (0, 10), (NX - 1, NY - 1), (NX - 2, NY - 1)] {
+    for (i, j) in [(80, 20), (0, 10), (NX - 1, NY - 2), (NX - 2, NY - 1)] {
         z[i + NX * j] = f64::NAN;
     }
     HeightMap::new(NX, NY, STEP, STEP, z, LengthUnit::Metre).unwrap()
@@ -82,7 +83,10 @@ fn sdf_and_x3p_of_the_same_heights_give_the_same_residual() {
 fn the_table_says_what_the_grid_became() {
     let dir = tempfile::tempdir().unwrap();
     let x3p = write_scan(dir.path(), "scan.x3p");
-    for command in [&["residual", s(&x3p), "--form", "plane"][..], &["info", s(&x3p)]] {
+    for command in [
+        &["residual", s(&x3p), "--form", "plane"][..],
+        &["info", s(&x3p)],
+    ] {
         let out = beltrami(command);
         assert!(out.status.success(), "{command:?}");
         let stdout = String::from_utf8(out.stdout).unwrap();
@@ -108,7 +112,10 @@ fn a_repaired_height_map_is_written_back_as_one() {
         // The point in no whole cell was left out of the mesh: it is invalid now.
         assert_eq!(back.invalid_points(), original.invalid_points() + 1);
         for (k, (a, b)) in back.z.iter().zip(&original.z).enumerate() {
-            assert!(a.is_nan() || a.to_bits() == b.to_bits(), "{name}: point {k}");
+            assert!(
+                a.is_nan() || a.to_bits() == b.to_bits(),
+                "{name}: point {k}"
+            );
         }
     }
 }
@@ -136,7 +143,10 @@ fn height_map_outputs_that_cannot_be_written_are_refused_in_one_line() {
     let out = beltrami(&["repair", s(&sphere), s(&dir.path().join("sphere.x3p"))]);
     assert_eq!(out.status.code(), Some(1));
     let line = error_line(&out, dir.path());
-    assert!(line.starts_with("error: sphere.x3p: not a height map: "), "{line}");
+    assert!(
+        line.starts_with("error: sphere.x3p: not a height map: "),
+        "{line}"
+    );
     assert!(!dir.path().join("sphere.x3p").exists());
 }
 
@@ -150,7 +160,10 @@ fn broken_height_maps_fail_with_exit_code_1_and_one_line() {
     let out = beltrami(&["residual", s(&cut), "--form", "plane"]);
     assert_eq!(out.status.code(), Some(1));
     let line = error_line(&out, dir.path());
-    assert!(line.starts_with("error: cut.x3p: invalid x3p archive: "), "{line}");
+    assert!(
+        line.starts_with("error: cut.x3p: invalid x3p archive: "),
+        "{line}"
+    );
 
     let sdf = dir.path().join("short.sdf");
     std::fs::write(

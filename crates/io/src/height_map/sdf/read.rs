@@ -19,16 +19,16 @@ pub(crate) fn read_sdf<R: BufRead + Seek>(mut reader: R) -> Result<HeightMap, Io
     if length == 0 {
         return Err(IoError::Empty);
     }
-    let mut magic = [0u8; 8];
-    let head = reader
+    let mut magic = Vec::with_capacity(8);
+    reader
         .by_ref()
         .take(8)
-        .read(&mut magic)
+        .read_to_end(&mut magic)
         .map_err(IoError::io("read the file"))?;
     reader
         .seek(SeekFrom::Start(0))
         .map_err(IoError::io("read the file"))?;
-    if head == 8 && is_version(&magic[1..]) && magic[0] == b'b' {
+    if magic.len() == 8 && magic[0] == b'b' && is_version(&magic[1..]) {
         read_binary(reader, length)
     } else {
         read_ascii(reader, length)
@@ -61,9 +61,7 @@ fn read_ascii<R: BufRead>(reader: R, length: u64) -> Result<HeightMap, IoError> 
     let first = loop {
         match lines.next_line()? {
             None => return Err(IoError::Empty),
-            Some(line) if lines.line().iter().all(u8::is_ascii_whitespace) => {
-                let _ = line;
-            }
+            Some(_) if lines.line().iter().all(u8::is_ascii_whitespace) => {}
             Some(line) => break line,
         }
     };
