@@ -345,7 +345,7 @@ fn load_inner(
 }
 
 /// `note: read scan.x3p as a height map of 640 × 480 points 1.5e-6 × 1.5e-6 m apart,
-/// in metres; 12 invalid points left out`: what a grid became.
+/// coordinates in m; left out (holes) 12 invalid points`: what a grid became.
 pub(crate) fn height_map_note(path: &Path, grid: &HeightMapReport) -> String {
     let mut left_out = Vec::new();
     if grid.stats.invalid_points > 0 {

@@ -646,3 +646,35 @@ fn mesh_formats_are_no_height_maps() {
     let (_, report) = read_mesh_with(&path, &ReadOptions::default()).unwrap();
     assert_eq!(report.height_map, None);
 }
+
+#[test]
+fn the_lumped_rule_on_the_grid_mesh_is_the_trapezoid_rule_but_at_the_corners() {
+    use beltrami_halfedge::VertexId;
+    use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
+    let (nx, ny, dx, dy) = (6, 4, 0.5e-6, 0.25e-6);
+    let map = HeightMap::new(nx, ny, dx, dy, vec![0.0; nx * ny], LengthUnit::Metre).unwrap();
+    let (data, _) = map.to_mesh();
+    let mesh = data.mesh().unwrap();
+    let geometry = Geometry::new(&mesh, &data.positions).unwrap();
+    let cell = dx * dy;
+    for j in 0..ny {
+        for i in 0..nx {
+            let v = VertexId::new(u32::try_from(i + nx * j).unwrap());
+            let area = geometry.vertex_area(v, VertexAreaKind::Barycentric);
+            let edge = |k: usize, n: usize| if k == 0 || k == n - 1 { 0.5 } else { 1.0 };
+            let corner = (i == 0 || i == nx - 1) && (j == 0 || j == ny - 1);
+            let expected = if !corner {
+                cell * edge(i, nx) * edge(j, ny)
+            } else if i == j || (i == nx - 1 && j == ny - 1) {
+                // The corners the diagonals meet.
+                cell / 3.0
+            } else {
+                cell / 6.0
+            };
+            assert!(
+                (area / expected - 1.0).abs() < 1e-12,
+                "({i}, {j}): {area:e}, expected {expected:e}"
+            );
+        }
+    }
+}
