@@ -5,7 +5,7 @@ use std::path::Path;
 use beltrami_halfedge::{
     DVec3, HalfedgeMesh, PolygonList, RepairOptions, RepairReport, TopologyError, repair,
 };
-use beltrami_io::{MeshData, MeshFormat, ReadOptions, Weld, read_mesh_with};
+use beltrami_io::{HeightMapReport, MeshData, MeshFormat, ReadOptions, Weld, read_mesh_with};
 
 use crate::error::CliError;
 use crate::text::{counted, number};
@@ -32,8 +32,9 @@ pub(crate) struct ReadArgs {
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub(crate) merge_distance: Option<f64>,
     /// Read a PLY file that holds more than its header declares (extra values on a
-    /// line, data after the last element) for what the header declares, and say what
-    /// was ignored, instead of failing.
+    /// line, data after the last element) for what the header declares, or an X3P
+    /// file whose checksums do not match, and say what was ignored, instead of
+    /// failing.
     #[arg(long)]
     pub(crate) lenient: bool,
 }
@@ -140,6 +141,8 @@ pub(crate) struct LoadedMesh {
     pub(crate) repair: Option<RepairReport>,
     /// One line per kind of repair made, for the command's output.
     pub(crate) repair_lines: Vec<String>,
+    /// For a height map (X3P, SDF): its grid and the points left out.
+    pub(crate) height_map: Option<HeightMapReport>,
     /// Wall time of reading and decoding the file, in seconds.
     pub(crate) parse_seconds: f64,
     /// Wall time of building and validating the half-edge connectivity, in seconds.
@@ -251,8 +254,26 @@ fn load_inner(
         .map_err(|e| topology(e, &positions, &faces))?;
     let build_seconds = t1.elapsed().as_secs_f64();
     let mut repair_lines = Vec::new();
+    if let Some(grid) = &read_report.height_map {
+        repair_lines.push(height_map_note(path, grid));
+    }
     if read_report.ignored_anything() {
         let mut parts = Vec::new();
+        if let Some(first) = read_report.checksum_mismatches.first() {
+            parts.push(format!(
+                "{} that {} not match ({first})",
+                counted(
+                    read_report.checksum_mismatches.len(),
+                    "checksum",
+                    "checksums"
+                ),
+                if read_report.checksum_mismatches.len() == 1 {
+                    "does"
+                } else {
+                    "do"
+                }
+            ));
+        }
         if let Some(first) = read_report.lines_with_extra_values.first() {
             parts.push(format!(
                 "values beyond the header's properties on {} (the first: line {first})",
@@ -317,9 +338,43 @@ fn load_inner(
         input_counts,
         repair: report,
         repair_lines,
+        height_map: read_report.height_map,
         parse_seconds,
         build_seconds,
     })
+}
+
+/// `note: read scan.x3p as a height map of 640 × 480 points 1.5e-6 × 1.5e-6 m apart,
+/// coordinates in m; left out (holes) 12 invalid points`: what a grid became.
+pub(crate) fn height_map_note(path: &Path, grid: &HeightMapReport) -> String {
+    let mut left_out = Vec::new();
+    if grid.stats.invalid_points > 0 {
+        left_out.push(counted(
+            grid.stats.invalid_points,
+            "invalid point",
+            "invalid points",
+        ));
+    }
+    if grid.stats.unused_points > 0 {
+        left_out.push(format!(
+            "{} in no cell of four valid points",
+            counted(grid.stats.unused_points, "point", "points")
+        ));
+    }
+    format!(
+        "note: read {} as a height map of {} × {} points {} × {} {unit} apart, coordinates in {unit}{}",
+        path.display(),
+        grid.nx,
+        grid.ny,
+        number(grid.dx),
+        number(grid.dy),
+        if left_out.is_empty() {
+            String::new()
+        } else {
+            format!("; left out (holes) {}", left_out.join(" and "))
+        },
+        unit = grid.unit,
+    )
 }
 
 /// Whether `beltrami repair` (and `--repair`) fixes `e`: every topological problem of

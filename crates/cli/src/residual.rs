@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
 use crate::error::CliError;
-use crate::load::ReadArgs;
+use crate::load::{ReadArgs, height_map_note};
 use crate::output::{Outputs, Staged};
 use crate::text::{number, vector};
 
@@ -53,7 +53,8 @@ when the surface folds over that plane (a closed surface). docs/metrics.md has e
 formula."
 )]
 pub(crate) struct ResidualArgs {
-    /// The measured mesh (.ply, .stl, .obj or .off).
+    /// The measured mesh (.ply, .stl, .obj or .off) or height map (.x3p or .sdf, read in
+    /// metres as a triangulated grid).
     measured: PathBuf,
     /// Its smoothed version, the reference form: the same vertices and faces, new
     /// positions (e.g. the output of `beltrami smooth`). Give this or --form.
@@ -277,6 +278,7 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     inputs.extend(args.smoothed.as_ref());
     outputs.check(&inputs, args.force)?;
     let measured = load_input(&args.measured, &args.read, Some("residual"))?;
+    let grid = measured.height_map;
     let on_measured = metrics_error(&args.measured);
 
     // The residual and the reference surface it lives on.
@@ -446,6 +448,10 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         writeln!(out)?;
     } else {
         write_table(&summary, out)?;
+        // What the reader made of a height map (its grid, its holes).
+        if let Some(grid) = &grid {
+            writeln!(out, "{}", height_map_note(&args.measured, grid))?;
+        }
     }
     Ok(())
 }

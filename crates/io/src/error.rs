@@ -26,14 +26,16 @@ pub enum IoError {
     },
 
     /// The path has an extension that names no supported format.
-    #[error("unsupported file extension {extension:?} (expected .ply, .stl, .obj or .off)")]
+    #[error(
+        "unsupported file extension {extension:?} (expected .ply, .stl, .obj, .off, .x3p or .sdf)"
+    )]
     UnsupportedExtension {
         /// The extension as written in the path, without the dot.
         extension: String,
     },
 
     /// The path has no extension, so the format is unknown.
-    #[error("no file extension (expected .ply, .stl, .obj or .off)")]
+    #[error("no file extension (expected .ply, .stl, .obj, .off, .x3p or .sdf)")]
     MissingExtension,
 
     /// The file has no bytes at all.
@@ -339,6 +341,95 @@ pub enum IoError {
         encoding: Encoding,
     },
 
+    /// An X3P file that is no readable zip archive (truncated, not a zip), or lacks
+    /// `main.xml`.
+    #[error("invalid x3p archive: {reason}")]
+    X3pArchive {
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// The `main.xml` of an X3P archive is malformed, lacks a field the grid needs, or
+    /// holds a value that cannot be used.
+    #[error("{}main.xml: {field}: {reason}", at(.line))]
+    X3pXml {
+        /// The line of `main.xml`, when known.
+        line: Option<usize>,
+        /// The field, as a path of elements (`"Record1/Axes/CX/Increment"`).
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// An entry of an X3P archive (the point data, the mask of valid points) does not
+    /// match what `main.xml` declares.
+    #[error("{entry}: {reason}")]
+    X3pData {
+        /// The entry, e.g. `"bindata/data.bin"`.
+        entry: String,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// An MD5 checksum stored in an X3P archive does not match its entry: the file was
+    /// damaged or edited. With [`ReadOptions::lenient`](crate::ReadOptions::lenient)
+    /// it is reported in [`ReadReport::checksum_mismatches`](crate::ReadReport::checksum_mismatches)
+    /// instead.
+    #[error("the md5 checksum of {entry} is {found}, but the archive records {expected}")]
+    Checksum {
+        /// The entry checked.
+        entry: String,
+        /// The checksum the archive records.
+        expected: String,
+        /// The checksum of the entry's bytes.
+        found: String,
+    },
+
+    /// The header of an SDF file is malformed, lacks a field the grid needs, or holds
+    /// a value that cannot be used.
+    #[error("{}invalid sdf header: {reason}", at(.line))]
+    SdfHeader {
+        /// The line of an ascii file.
+        line: Option<usize>,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A value of an SDF file cannot be read, or there are more or fewer than the
+    /// header declares.
+    #[error("{}sdf value {index}: {reason}", at(.line))]
+    SdfData {
+        /// The line of an ascii file.
+        line: Option<usize>,
+        /// The value, 0-based in file order (row by row).
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A height map that breaks its invariants (see
+    /// [`HeightMap::new`](crate::HeightMap::new)).
+    #[error("invalid height map: {reason}")]
+    InvalidHeightMap {
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A mesh to write as a height map (X3P, SDF) whose vertices do not lie on a
+    /// regular grid (see [`HeightMap::from_mesh`](crate::HeightMap::from_mesh)).
+    #[error("not a height map: {reason}")]
+    NotAGrid {
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A height-map function was given a mesh format.
+    #[error("{format} files hold meshes, not height maps (expected .x3p or .sdf)")]
+    NotHeightMapFormat {
+        /// The format.
+        format: MeshFormat,
+    },
+
     /// More triangles than a binary STL file can count.
     #[error("{count} triangles are more than the {max} a binary stl can hold")]
     TooManyTriangles {
@@ -357,6 +448,9 @@ impl IoError {
         match self {
             Self::PlyHeader { line, .. }
             | Self::OffHeader { line, .. }
+            | Self::X3pXml { line, .. }
+            | Self::SdfHeader { line, .. }
+            | Self::SdfData { line, .. }
             | Self::TrailingData { line, .. }
             | Self::PlyData { line, .. }
             | Self::NonFiniteCoordinate { line, .. }

@@ -18,11 +18,16 @@ pub enum MeshFormat {
     /// Geomview OFF (text): positions and polygon faces; colours, normals and texture
     /// coordinates ignored.
     Off,
+    /// X3P (ISO 25178-72): a height map in a zip archive, read as a triangulated grid
+    /// ([`HeightMap::to_mesh`](crate::HeightMap::to_mesh)).
+    X3p,
+    /// SDF (ISO 25178-71, ascii or binary): a height map, read as a triangulated grid.
+    Sdf,
 }
 
 impl MeshFormat {
-    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, `.off`, in
-    /// any letter case).
+    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, `.off`,
+    /// `.x3p`, `.sdf`, in any letter case).
     ///
     /// # Examples
     /// ```
@@ -44,10 +49,20 @@ impl MeshFormat {
             "stl" => Ok(Self::Stl),
             "obj" => Ok(Self::Obj),
             "off" => Ok(Self::Off),
+            "x3p" => Ok(Self::X3p),
+            "sdf" => Ok(Self::Sdf),
             _ => Err(IoError::UnsupportedExtension {
                 extension: extension.into_owned(),
             }),
         }
+    }
+}
+
+impl MeshFormat {
+    /// Whether the format stores a height map (X3P, SDF) rather than a mesh.
+    #[must_use]
+    pub fn is_height_map(self) -> bool {
+        matches!(self, Self::X3p | Self::Sdf)
     }
 }
 
@@ -58,6 +73,8 @@ impl fmt::Display for MeshFormat {
             Self::Stl => "stl",
             Self::Obj => "obj",
             Self::Off => "off",
+            Self::X3p => "x3p",
+            Self::Sdf => "sdf",
         })
     }
 }
@@ -66,7 +83,8 @@ impl fmt::Display for MeshFormat {
 ///
 /// PLY supports all three. STL supports [`Ascii`](Self::Ascii) and
 /// [`BinaryLittleEndian`](Self::BinaryLittleEndian) (binary STL is little-endian by
-/// definition). OBJ and OFF are always text and ignore the encoding.
+/// definition). OBJ, OFF and SDF are always text, X3P always binary; they ignore the
+/// encoding.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Encoding {
     /// Human-readable text; numbers in their shortest exact decimal form.

@@ -2,7 +2,8 @@
 //!
 //! Readers and writers for the mesh files of surface metrology: Stanford PLY (ascii,
 //! binary little- and big-endian), STL (binary and ascii), Wavefront OBJ and Geomview
-//! OFF.
+//! OFF; and for the height maps of areal instruments, X3P (ISO 25178-72) and SDF (ISO
+//! 25178-71), as a [`HeightMap`] or as its triangulated grid.
 //!
 //! A file is read into a [`MeshData`]: `f64` positions and a [`PolygonList`] of faces,
 //! ready for [`HalfedgeMesh::from_polygons`]. Coordinates are whatever the file
@@ -36,6 +37,8 @@
 //! | STL | binary or ascii, told apart by content; the triangle soup is welded, by default within `1e-6` of the bounding-box diagonal ([`Weld`]; [`read_mesh_with`] chooses and reports) | binary (or ascii); `f32` coordinates, polygons fan-triangulated |
 //! | OBJ | `v` and `f` (all corner forms, negative indices), `\` line continuations; the other statements of the specification (`vt`, `vn`, `l`, `p`, `g`, …) ignored; a file without `v` lines that holds a word that is no OBJ statement is refused (another format under the wrong name) | `v` and `f` lines |
 //! | OFF | ascii, keyword `OFF`, `COFF`, `NOFF`, `CNOFF`, `STOFF`, … or none; counts on the keyword line or the next; values after `x y z` and after a face's indices (normals, colours, texture coordinates) ignored; `#` comments; exactly the declared vertices and faces; binary OFF refused | `OFF`, the counts, `x y z` lines and 0-based `n i0 … i(n-1)` face lines |
+//! | X3P | a zip archive: `main.xml` (a `SUR` feature on incremental x and y axes, one layer), the point data in `bindata/data.bin` (or the entry linked; `D`, `F`, `I`, `L`) or inline, the mask of valid points, MD5 checksums verified; as a mesh by [`HeightMap::to_mesh`], in metres, invalid points left out as holes ([`read_height_map`] for the grid) | from a mesh whose vertices lie on a regular grid ([`HeightMap::from_mesh`]), or from a [`HeightMap`] by [`write_height_map`]: doubles, the mask when a point is invalid, every checksum |
+//! | SDF | ascii (`aISO-1.0`, `aBCR-1.0`) and binary (`bISO-1.0`, `bBCR-1.0`), `BAD` and NaN invalid points; as X3P | ascii, doubles in metres |
 //!
 //! Text may end its lines with `\n`, `\r\n` or a lone `\r` (a PLY header needs one of
 //! the first two), and may start with a UTF-8 byte order mark. A file of nothing but
@@ -56,11 +59,12 @@
 //!   anything is allocated, so a header claiming billions of vertices in a small file
 //!   fails at once.
 //! - **Streaming.** [`read_mesh`] reads a file through a fixed buffer and holds only
-//!   the mesh (and one text line), never the whole file; [`declared_counts`] reads a
+//!   the mesh (and one text line), never the whole file (X3P holds its decompressed
+//!   `main.xml` and point data, whose sizes are checked against the grid first); [`declared_counts`] reads a
 //!   file's declared counts without reading its elements.
-//! - **Atomic writes.** [`write_mesh`], [`write_ply`] and [`write_bytes_atomic`] write
-//!   a temporary file beside the target, flush it to disk, rename it over the target
-//!   and flush the directory; on any error the target is untouched and the temporary
+//! - **Atomic writes.** [`write_mesh`], [`write_ply`], [`write_height_map`] and
+//!   [`write_bytes_atomic`] write a temporary file beside the target, flush it to
+//!   disk, rename it over the target and flush the directory; on any error the target is untouched and the temporary
 //!   file removed, and a killed process leaves the old file or the new one, whole.
 //!   [`stage_mesh`], [`stage_ply`] and [`stage_bytes`] stop before the rename, so that
 //!   a command with several outputs replaces all of them or none
@@ -73,6 +77,7 @@
 mod atomic;
 mod error;
 mod format;
+mod height_map;
 mod obj;
 mod off;
 mod ply;
@@ -91,8 +96,12 @@ pub use beltrami_halfedge::MeshData;
 pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
+pub use height_map::{GridStats, HeightMap, LengthUnit};
 pub use read::{
-    DeclaredCounts, declared_counts, read_mesh, read_mesh_from, read_mesh_from_with, read_mesh_with,
+    DeclaredCounts, declared_counts, read_height_map, read_height_map_from, read_mesh,
+    read_mesh_from, read_mesh_from_with, read_mesh_with,
 };
-pub use read_options::{ReadOptions, ReadReport, Weld};
-pub use write::{write_mesh, write_mesh_to, write_ply, write_ply_to};
+pub use read_options::{HeightMapReport, ReadOptions, ReadReport, Weld};
+pub use write::{
+    write_height_map, write_height_map_to, write_mesh, write_mesh_to, write_ply, write_ply_to,
+};

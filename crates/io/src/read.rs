@@ -5,13 +5,17 @@ use std::path::Path;
 
 use crate::error::IoError;
 use crate::format::MeshFormat;
+use crate::height_map::{HeightMap, sdf, x3p};
+use crate::read_options::HeightMapReport;
 use crate::read_options::{ReadOptions, ReadReport};
 use crate::text::is_blank_stream;
 use crate::{obj, off, ply, stl};
 use beltrami_halfedge::MeshData;
 
 /// Reads a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
-/// `.off`).
+/// `.off`, and the height maps `.x3p` and `.sdf`, triangulated by
+/// [`HeightMap::to_mesh`] in metres; [`read_mesh_with`] reports the grid and its
+/// invalid points).
 ///
 /// The file is streamed: it is read through a buffer of 256 KiB, element by element,
 /// and only the mesh itself (24 bytes per vertex, about 20 per triangle) is held, so
@@ -160,7 +164,130 @@ fn read_stream<R: BufRead + Seek>(
         MeshFormat::Stl => stl::read_stl(reader, &options.weld),
         MeshFormat::Obj => obj::read_obj(reader).map(unwelded),
         MeshFormat::Off => off::read_off(reader).map(unwelded),
+        MeshFormat::X3p | MeshFormat::Sdf => {
+            let (map, checksum_mismatches) = read_height_map_stream(reader, format, options)?;
+            let (mesh, stats) = map.to_mesh();
+            let report = ReadReport {
+                checksum_mismatches,
+                height_map: Some(HeightMapReport {
+                    nx: map.nx,
+                    ny: map.ny,
+                    dx: map.dx,
+                    dy: map.dy,
+                    unit: map.unit,
+                    stats,
+                }),
+                ..ReadReport::default()
+            };
+            Ok((mesh, report))
+        }
     }
+}
+
+fn read_height_map_stream<R: BufRead + Seek>(
+    reader: R,
+    format: MeshFormat,
+    options: &ReadOptions,
+) -> Result<(HeightMap, Vec<String>), IoError> {
+    match format {
+        MeshFormat::X3p => x3p::read_x3p(reader, options.lenient),
+        MeshFormat::Sdf => sdf::read_sdf(reader).map(|map| (map, Vec::new())),
+        _ => Err(IoError::NotHeightMapFormat { format }),
+    }
+}
+
+/// Reads a height map file (`.x3p` or `.sdf`, by the extension) as its grid, in
+/// metres as the files store it; NaN marks the invalid points.
+///
+/// X3P: `main.xml` must describe a surface (`FeatureType` `SUR`) of one layer
+/// (`SizeZ` 1) on incremental x and y axes (`AxisType` `I`, the spacing in
+/// `Increment`; their `Offset` is not applied: point `(0, 0)` is at the origin); the
+/// heights are the point data (`bindata/data.bin` or the entry `PointDataLink` names,
+/// little-endian `D` double, `F` float, `I` 16-bit or `L` 32-bit signed integers,
+/// or an inline `DataList`) scaled by the z axis' `Increment` and shifted by its
+/// `Offset` when given. Invalid points are NaN values, empty inline values, and the
+/// points whose bit in the valid-point mask (`ValidPointsLink`, or
+/// `bindata/valid.bin`; least significant bit first) is 0. The MD5 checksums of
+/// `main.xml` (`md5checksum.hex`), of the point data and of the mask are verified
+/// where the archive holds them.
+///
+/// SDF: the ascii (`aISO-1.0`, `aBCR-1.0`) and binary (`bISO-1.0`, `bBCR-1.0`)
+/// variants; `NumPoints` values per profile along x, `NumProfiles` profiles, the
+/// spacings `Xscale` and `Yscale` and the height unit `Zscale` in metres. Invalid
+/// points are `BAD` in ascii; in binary NaN and `±MAX` floats (some writers mark
+/// invalid points with `-f64::MAX`) and the most negative value of signed integer
+/// types. The header fields that do not change the data
+/// (`ManufacID`, the dates, `Zresolution`, `CheckType`) are not checked, and the
+/// trailer after the data is not read.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_height_map, write_height_map, HeightMap, LengthUnit};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("scan.x3p");
+/// let map = HeightMap::new(2, 2, 1e-6, 1e-6, vec![0.0, 1e-9, f64::NAN, 3e-9], LengthUnit::Metre)?;
+/// write_height_map(&path, &map)?;
+/// let back = read_height_map(&path)?;
+/// assert_eq!((back.nx, back.ny, back.dx, back.invalid_points()), (2, 2, 1e-6, 1));
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// [`IoError::NotHeightMapFormat`] for a mesh format, an unsupported extension;
+/// [`IoError::Io`] when the file cannot be read; for X3P [`IoError::X3pArchive`]
+/// (not a zip archive, truncated, no `main.xml`), [`IoError::X3pXml`] naming the
+/// field and line of `main.xml` (missing or malformed fields, unknown `DataType`,
+/// non-finite or non-positive increments, other feature types, absolute x or y axes,
+/// several layers), [`IoError::X3pData`] (point data or mask of the wrong size,
+/// missing entries, infinite heights) and [`IoError::Checksum`] (unless
+/// [`ReadOptions::lenient`]); for SDF [`IoError::SdfHeader`] (no version line,
+/// missing or malformed fields, counts the file cannot hold, compression),
+/// [`IoError::SdfData`] (values that do not parse, more or fewer than
+/// `NumPoints·NumProfiles`) and [`IoError::Truncated`] (binary). Counts are checked
+/// against the size of the file (or of the archive's entries) before anything is
+/// allocated for them.
+pub fn read_height_map(path: impl AsRef<Path>) -> Result<HeightMap, IoError> {
+    let path = path.as_ref();
+    let format = MeshFormat::from_path(path)?;
+    if !format.is_height_map() {
+        return Err(IoError::NotHeightMapFormat { format });
+    }
+    let file = std::fs::File::open(path).map_err(IoError::io("read the file"))?;
+    let reader = BufReader::with_capacity(READ_BUFFER, file);
+    read_height_map_stream(reader, format, &ReadOptions::default()).map(|(map, _)| map)
+}
+
+/// Reads a height map in `format` (X3P or SDF) from any reader, as
+/// [`read_height_map`] reads a file.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_height_map_from, MeshFormat};
+/// let sdf = "aISO-1.0\nNumPoints = 2\nNumProfiles = 1\nXscale = 1e-6\nYscale = 1e-6\n\
+///     Zscale = 1e-9\nDataType = 7\n*\n2 BAD\n*\n";
+/// let map = read_height_map_from(sdf.as_bytes(), MeshFormat::Sdf)?;
+/// assert_eq!(map.height(0, 0), Some(2e-9));
+/// assert_eq!(map.height(1, 0), None);
+/// # Ok::<(), beltrami_io::IoError>(())
+/// ```
+///
+/// # Errors
+/// Those of [`read_height_map`].
+pub fn read_height_map_from<R: BufRead>(
+    mut reader: R,
+    format: MeshFormat,
+) -> Result<HeightMap, IoError> {
+    if !format.is_height_map() {
+        return Err(IoError::NotHeightMapFormat { format });
+    }
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(IoError::io("read the input"))?;
+    read_height_map_stream(Cursor::new(&bytes[..]), format, &ReadOptions::default())
+        .map(|(map, _)| map)
 }
 
 /// Element counts a file declares before its elements (see [`declared_counts`]).
@@ -178,7 +305,7 @@ pub struct DeclaredCounts {
 
 /// The element counts a mesh file declares up front, read without decoding any
 /// element: the header of a PLY or OFF file, the triangle count of a binary STL. `None` for
-/// formats that declare nothing (OBJ, ascii STL), whose counts are known only after
+/// formats that declare nothing (OBJ, ascii STL, X3P and SDF), whose counts are known only after
 /// a full pass. Meant for checks before a large read (memory limits); the counts
 /// are what the file claims, which [`read_mesh`] verifies.
 ///
@@ -227,6 +354,6 @@ pub fn declared_counts(path: impl AsRef<Path>) -> Result<Option<DeclaredCounts>,
             })
         }),
         MeshFormat::Off => off::declared_counts(&mut reader).map(Some),
-        MeshFormat::Obj => Ok(None),
+        MeshFormat::Obj | MeshFormat::X3p | MeshFormat::Sdf => Ok(None),
     }
 }

@@ -1,6 +1,7 @@
 //! Options for the readers, and what a read did beyond decoding.
 
 use crate::error::IoError;
+use crate::height_map::{GridStats, LengthUnit};
 
 /// How the corners of an STL triangle soup become shared vertices.
 ///
@@ -112,7 +113,9 @@ pub struct ReadOptions {
     /// element's properties on an ascii line, lines or bytes after the last element)
     /// for what the header declares, ignore the rest and count it in the
     /// [`ReadReport`], instead of failing (the default `false`). Some exporters write
-    /// such files; the declared data are read as declared, nothing is guessed.
+    /// such files; the declared data are read as declared, nothing is guessed. Also
+    /// reads an X3P archive whose MD5 checksums do not match, and lists the
+    /// mismatches in the report.
     pub lenient: bool,
 }
 
@@ -166,6 +169,32 @@ pub struct ReadReport {
     /// With [`ReadOptions::lenient`]: the bytes after the last element of a binary PLY
     /// that were ignored.
     pub ignored_trailing_bytes: u64,
+    /// With [`ReadOptions::lenient`]: the MD5 checksums of an X3P archive that did not
+    /// match their entries (one message each), which otherwise fail the read with
+    /// [`IoError::Checksum`].
+    pub checksum_mismatches: Vec<String>,
+    /// For a height map (X3P, SDF): its grid and what became of its points; `None`
+    /// for mesh formats.
+    pub height_map: Option<HeightMapReport>,
+}
+
+/// The grid of a height map read as a mesh, and what became of its points.
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeightMapReport {
+    /// Points along x.
+    pub nx: usize,
+    /// Points along y.
+    pub ny: usize,
+    /// The spacing along x, in [`unit`](Self::unit).
+    pub dx: f64,
+    /// The spacing along y, in [`unit`](Self::unit).
+    pub dy: f64,
+    /// The unit of the mesh's coordinates (metres for X3P and SDF).
+    pub unit: LengthUnit,
+    /// What the triangulation left out: invalid points, and valid points in no
+    /// whole cell.
+    pub stats: GridStats,
 }
 
 impl ReadReport {
@@ -175,5 +204,6 @@ impl ReadReport {
         !self.lines_with_extra_values.is_empty()
             || self.ignored_trailing_lines > 0
             || self.ignored_trailing_bytes > 0
+            || !self.checksum_mismatches.is_empty()
     }
 }

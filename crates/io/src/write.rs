@@ -6,11 +6,12 @@ use std::path::Path;
 use crate::atomic::write_atomic;
 use crate::error::IoError;
 use crate::format::{Encoding, MeshFormat, VertexAttributes, WriteOptions};
+use crate::height_map::{HeightMap, LengthUnit, sdf, x3p};
 use crate::{obj, off, ply, stl};
 use beltrami_halfedge::MeshData;
 
 /// Writes a mesh file, choosing the format by the extension (`.ply`, `.stl`, `.obj`,
-/// `.off`).
+/// `.off`, and the height maps `.x3p` and `.sdf` for a mesh on a regular grid).
 ///
 /// The file is replaced atomically: the data goes to a temporary file in the same
 /// directory, which is flushed to disk and then renamed over `path`. On any error
@@ -29,6 +30,10 @@ use beltrami_halfedge::MeshData;
 /// - OFF: always text; `OFF`, the counts `vertices faces 0`, `x y z` lines with the
 ///   shortest decimal as for OBJ, 0-based `n i0 … i(n-1)` face lines. The encoding
 ///   option is ignored.
+/// - X3P and SDF: the height map whose grid the vertices lie on, in metres
+///   ([`HeightMap::from_mesh`]: a mesh read from such a file, or one whose vertices
+///   moved along z only), written as [`write_height_map`] does; grid points without
+///   a vertex are invalid. The options are ignored.
 ///
 /// # Examples
 /// ```
@@ -50,7 +55,8 @@ use beltrami_halfedge::MeshData;
 /// [`IoError::NonFiniteCoordinate`] and [`IoError::FaceIndexOutOfRange`] for a mesh
 /// no reader would accept; [`IoError::CoordinateOutOfRange`] when a coordinate
 /// exceeds `f32` (STL, single precision); [`IoError::TooManyTriangles`] for a binary
-/// STL; [`IoError::Io`] when the file cannot be created, written or renamed.
+/// STL; [`IoError::NotAGrid`] for X3P and SDF when the vertices are not on a regular
+/// grid; [`IoError::Io`] when the file cannot be created, written or renamed.
 pub fn write_mesh(
     path: impl AsRef<Path>,
     mesh: &MeshData,
@@ -90,6 +96,72 @@ pub fn write_mesh_to<W: Write>(
         MeshFormat::Stl => stl::write_stl_to(writer, mesh, options.encoding),
         MeshFormat::Obj => obj::write_obj_to(writer, mesh, options.precision),
         MeshFormat::Off => off::write_off_to(writer, mesh, options.precision),
+        MeshFormat::X3p | MeshFormat::Sdf => {
+            let map = HeightMap::from_mesh(mesh, LengthUnit::Metre)?;
+            write_height_map_to(writer, &map, format)
+        }
+    }
+}
+
+/// Writes a height map file, choosing the format by the extension (`.x3p` or `.sdf`),
+/// replacing the file atomically as [`write_mesh`] does. Spacings and heights are
+/// written in metres (converted from [`HeightMap::unit`]).
+///
+/// - X3P: `main.xml` (a surface on incremental x and y axes, heights as doubles),
+///   `bindata/data.bin` (little-endian `f64`, NaN at invalid points), the mask
+///   `bindata/valid.bin` when a point is invalid, MD5 checksums of all three in
+///   `main.xml` and `md5checksum.hex`; deflated, without time stamps, so the same
+///   map gives the same bytes.
+/// - SDF: ascii (`aISO-1.0`), `DataType = 7`, `Zscale = 1`, the heights as the
+///   shortest decimals that read back to the same `f64`, `BAD` at invalid points;
+///   the header's dates are the current time.
+///
+/// Both read back bit for bit (heights and spacings) when the map is in metres.
+///
+/// # Examples
+/// ```
+/// use beltrami_io::{read_height_map, write_height_map, HeightMap, LengthUnit};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let dir = tempfile::tempdir()?;
+/// let map = HeightMap::new(3, 1, 2.5e-6, 2.5e-6, vec![1e-9, f64::NAN, -0.1e-9], LengthUnit::Metre)?;
+/// for name in ["scan.x3p", "scan.sdf"] {
+///     write_height_map(dir.path().join(name), &map)?;
+///     let back = read_height_map(dir.path().join(name))?;
+///     assert_eq!(back.height(2, 0), Some(-0.1e-9));
+///     assert_eq!(back.height(1, 0), None);
+/// }
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// An unsupported extension; [`IoError::NotHeightMapFormat`] for a mesh format;
+/// [`IoError::InvalidHeightMap`] for a map that breaks the invariants of
+/// [`HeightMap::new`]; [`IoError::Io`] when the file cannot be created, written or
+/// renamed.
+pub fn write_height_map(path: impl AsRef<Path>, map: &HeightMap) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let format = MeshFormat::from_path(path)?;
+    if !format.is_height_map() {
+        return Err(IoError::NotHeightMapFormat { format });
+    }
+    write_atomic(path, |file| write_height_map_to(file, map, format))
+}
+
+/// Writes a height map in `format` (X3P or SDF) to any writer, as
+/// [`write_height_map`] writes a file.
+///
+/// # Errors
+/// As [`write_height_map`], except that nothing is atomic here.
+pub fn write_height_map_to<W: Write>(
+    writer: W,
+    map: &HeightMap,
+    format: MeshFormat,
+) -> Result<(), IoError> {
+    match format {
+        MeshFormat::X3p => x3p::write_x3p_to(writer, map),
+        MeshFormat::Sdf => sdf::write_sdf_to(writer, map),
+        _ => Err(IoError::NotHeightMapFormat { format }),
     }
 }
 

@@ -1,6 +1,6 @@
 //! The fuzzers' inputs as ordinary tests: every file of the committed, minimised fuzz
-//! corpora (`fuzz/corpus/read_{ply,stl,obj,off}/`) and every reproducer of a crash found by
-//! fuzzing (`fixtures/fuzz/{ply,stl,obj,off}/`) reads or fails with an error — never a
+//! corpora (`fuzz/corpus/read_{ply,stl,obj,off,x3p,sdf}/`) and every reproducer of a crash
+//! found by fuzzing (`fixtures/fuzz/{ply,stl,obj,off,x3p,sdf}/`) reads or fails with an error — never a
 //! panic — and an accepted mesh keeps the readers' guarantees: finite coordinates, face
 //! indices in range, and a mesh that the half-edge builder takes without panicking.
 //!
@@ -95,4 +95,14 @@ fn obj_corpus_and_reproducers_read_or_fail_cleanly() {
 #[test]
 fn off_corpus_and_reproducers_read_or_fail_cleanly() {
     replay(MeshFormat::Off, "read_off", "off");
+}
+
+#[test]
+fn x3p_corpus_and_reproducers_read_or_fail_cleanly() {
+    replay(MeshFormat::X3p, "read_x3p", "x3p");
+}
+
+#[test]
+fn sdf_corpus_and_reproducers_read_or_fail_cleanly() {
+    replay(MeshFormat::Sdf, "read_sdf", "sdf");
 }
