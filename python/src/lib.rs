@@ -7,6 +7,7 @@
 //! exceptions with the library's one-line messages.
 
 mod errors;
+mod generate;
 mod info;
 mod io;
 mod mesh;
@@ -29,5 +30,6 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(info::info, m)?)?;
     m.add_function(wrap_pyfunction!(smooth::smooth, m)?)?;
     m.add_function(wrap_pyfunction!(weights::weight_schemes, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::generate, m)?)?;
     Ok(())
 }
