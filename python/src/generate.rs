@@ -89,11 +89,11 @@ pub(crate) fn generate(
                 }
             };
             Ok(match shuffle {
-                None => (positions, surface.faces),
+                None => (positions, surface.faces.clone()),
                 Some(seed) => {
                     let order = beltrami_surfaces::shuffle_order(positions.len(), seed);
                     let noisy = order.iter().map(|&old| positions[old as usize]).collect();
-                    (noisy, surface.shuffled(seed).faces)
+                    (noisy, surface.shuffled(seed).faces.clone())
                 }
             })
         })

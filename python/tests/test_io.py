@@ -31,9 +31,14 @@ def test_other_formats_round_trip(sphere, tmp_path, suffix):
     bt.write(str(path), sphere)
     back = bt.read(str(path))
     assert (back.n_vertices, back.n_faces) == (sphere.n_vertices, sphere.n_faces)
-    # STL stores float32 coordinates.
-    tolerance = 1e-6 if suffix == ".stl" else 0.0
-    np.testing.assert_allclose(back.vertices, sphere.vertices, rtol=0, atol=tolerance)
+    if suffix == ".stl":
+        # STL stores float32 triangle corners; reading welds them in a new order.
+        assert bt.info(back)["area"] == pytest.approx(bt.info(sphere)["area"], rel=1e-6)
+        np.testing.assert_allclose(
+            np.sort(back.vertices, axis=0), np.sort(sphere.vertices, axis=0), atol=1e-6
+        )
+    else:
+        np.testing.assert_array_equal(back.vertices, sphere.vertices)
 
 
 def test_scalars_are_written_as_ply_properties(sphere, tmp_path):

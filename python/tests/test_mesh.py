@@ -57,7 +57,7 @@ def test_quads_come_back_as_quads():
         (
             np.where(np.arange(12).reshape(4, 3) == 7, np.nan, TETRA_V),
             TETRA_F,
-            r"vertex 2 has a non-finite coordinate \(nan\)",
+            r"vertex 2 has a non-finite coordinate \(NaN\)",
         ),
         (TETRA_V, TETRA_F.astype(float), "faces must be an integer array"),
         (TETRA_V, TETRA_F[:, :2], r"faces must be an \(M, 3\) array"),
