@@ -25,6 +25,7 @@ const MAX_SPHERE_LEVEL: u32 = 10;
 /// The same arguments give the same bits as the command line's file.
 #[pyfunction]
 #[pyo3(signature = (surface, *, noise = None, absolute_noise = false, seed = 1, level = None, shuffle = None, size = "paper"))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
     surface: &str,

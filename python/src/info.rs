@@ -35,9 +35,7 @@ pub(crate) fn info<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyD
     let d = PyDict::new(py);
     d.set_item(
         "file",
-        mesh.source
-            .as_ref()
-            .map(|(p, _)| p.display().to_string()),
+        mesh.source.as_ref().map(|(p, _)| p.display().to_string()),
     )?;
     d.set_item("format", mesh.source.as_ref().map(|(_, f)| format_name(*f)))?;
     d.set_item("vertices", m.n_vertices())?;
@@ -90,7 +88,10 @@ fn repairs<'py>(py: Python<'py>, r: &RepairReport) -> PyResult<Bound<'py, PyDict
     let pairs = |v: &[(u32, u32)]| v.iter().map(|&(a, b)| [a, b]).collect::<Vec<_>>();
     let d = PyDict::new(py);
     d.set_item("merged_vertices", pairs(&r.merged_vertices))?;
-    d.set_item("dropped_degenerate_faces", r.dropped_degenerate_faces.clone())?;
+    d.set_item(
+        "dropped_degenerate_faces",
+        r.dropped_degenerate_faces.clone(),
+    )?;
     d.set_item(
         "dropped_duplicate_faces",
         r.dropped_duplicate_faces

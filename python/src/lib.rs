@@ -7,6 +7,7 @@
 //! exceptions with the library's one-line messages.
 
 mod errors;
+mod fit;
 mod generate;
 mod info;
 mod io;
@@ -31,5 +32,8 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(smooth::smooth, m)?)?;
     m.add_function(wrap_pyfunction!(weights::weight_schemes, m)?)?;
     m.add_function(wrap_pyfunction!(generate::generate, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_circle, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_cylinder, m)?)?;
     Ok(())
 }

@@ -77,7 +77,7 @@ fn contiguous<'py>(x: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, Py
 }
 
 /// The vertices of an (N, 3) array of any real dtype.
-fn vertices_from(x: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
+pub(crate) fn vertices_from(x: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
     let kind: String = contiguous_kind(x)?;
     if !matches!(kind.as_str(), "f" | "i" | "u") {
         return Err(MeshError::new_err(format!(
@@ -103,7 +103,11 @@ fn vertices_from(x: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
         .map(|c| DVec3::new(c[0], c[1], c[2]))
         .collect();
     if let Some((i, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-        let value = p.to_array().into_iter().find(|c| !c.is_finite()).unwrap_or(f64::NAN);
+        let value = p
+            .to_array()
+            .into_iter()
+            .find(|c| !c.is_finite())
+            .unwrap_or(f64::NAN);
         return Err(MeshError::new_err(format!(
             "vertex {i} has a non-finite coordinate ({value})"
         )));

@@ -32,13 +32,17 @@ const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 
 /// One of `choices`, or a `ValueError` listing them.
 fn choice<'a>(option: &str, value: &str, choices: &[&'a str]) -> PyResult<&'a str> {
-    choices.iter().find(|c| **c == value).copied().ok_or_else(|| {
-        let list: Vec<String> = choices.iter().map(|c| format!("'{c}'")).collect();
-        PyValueError::new_err(format!(
-            "{option} must be one of {}, got '{value}'",
-            list.join(", ")
-        ))
-    })
+    choices
+        .iter()
+        .find(|c| **c == value)
+        .copied()
+        .ok_or_else(|| {
+            let list: Vec<String> = choices.iter().map(|c| format!("'{c}'")).collect();
+            PyValueError::new_err(format!(
+                "{option} must be one of {}, got '{value}'",
+                list.join(", ")
+            ))
+        })
 }
 
 /// The options of one `smooth` call, checked.
@@ -147,26 +151,24 @@ impl Options {
             "abs" => NegativeWeights::Abs,
             _ => NegativeWeights::Keep,
         };
-        let mut config = SmoothConfig::new(
-            self.lambda(),
-            self.iterations.unwrap_or(DEFAULT_ITERATIONS),
-        )
-        .boundary(match self.boundary {
-            "free" => Boundary::Free,
-            "curve" => Boundary::Curve,
-            _ => Boundary::Fixed,
-        })
-        .update(match self.update {
-            "once" => WeightUpdate::Once,
-            _ => WeightUpdate::Every,
-        })
-        .laplacian(LaplacianOptions {
-            normalization,
-            negative,
-        })
-        .pinned(self.pin.iter().copied().map(VertexId::new).collect())
-        .method(self.method())
-        .preserve_volume(self.preserve_volume);
+        let mut config =
+            SmoothConfig::new(self.lambda(), self.iterations.unwrap_or(DEFAULT_ITERATIONS))
+                .boundary(match self.boundary {
+                    "free" => Boundary::Free,
+                    "curve" => Boundary::Curve,
+                    _ => Boundary::Fixed,
+                })
+                .update(match self.update {
+                    "once" => WeightUpdate::Once,
+                    _ => WeightUpdate::Every,
+                })
+                .laplacian(LaplacianOptions {
+                    normalization,
+                    negative,
+                })
+                .pinned(self.pin.iter().copied().map(VertexId::new).collect())
+                .method(self.method())
+                .preserve_volume(self.preserve_volume);
         if let Some(t) = self.time {
             config = config.duration(DiffusionTime::Time(t));
         }
@@ -254,7 +256,9 @@ fn progress_bar(py: Python<'_>, total: usize) -> PyResult<Option<Py<PyAny>>> {
     kwargs.set_item("total", total)?;
     kwargs.set_item("unit", "it")?;
     kwargs.set_item("desc", "smooth")?;
-    Ok(Some(tqdm.getattr("tqdm")?.call((), Some(&kwargs))?.unbind()))
+    Ok(Some(
+        tqdm.getattr("tqdm")?.call((), Some(&kwargs))?.unbind(),
+    ))
 }
 
 /// One iteration's statistics, with the keys of a step of the `--report` JSON.
@@ -347,9 +351,8 @@ pub(crate) fn smooth<'py>(
         .unwrap_or_default()
         .into_iter()
         .map(|v| {
-            u32::try_from(v).map_err(|_| {
-                PyValueError::new_err(format!("pin: {v} is not a vertex index"))
-            })
+            u32::try_from(v)
+                .map_err(|_| PyValueError::new_err(format!("pin: {v} is not a vertex index")))
         })
         .collect::<PyResult<Vec<u32>>>()?;
     let options = Options {

@@ -109,6 +109,15 @@ def generate(
 ) -> Mesh:
     """One of the paper's test surfaces, as `beltrami generate` writes it."""
 
+def fit_sphere(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares sphere, with the keys of `beltrami fit sphere --json`."""
+
+def fit_circle(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares circle, with the keys of `beltrami fit circle --json`."""
+
+def fit_cylinder(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares cylinder, with the keys of `beltrami fit cylinder --json`."""
+
 def weight_schemes() -> list[str]:
     """The names of the registered weight schemes."""
 
