@@ -6,6 +6,7 @@
 //! `beltrami smooth`. Heavy calls run without the GIL; errors become Python
 //! exceptions with the library's one-line messages.
 
+mod compare;
 mod errors;
 mod fit;
 mod generate;
@@ -32,6 +33,8 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(smooth::smooth, m)?)?;
     m.add_function(wrap_pyfunction!(weights::weight_schemes, m)?)?;
     m.add_function(wrap_pyfunction!(generate::generate, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::distances, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_circle, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_cylinder, m)?)?;

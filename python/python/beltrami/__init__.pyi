@@ -109,6 +109,14 @@ def generate(
 ) -> Mesh:
     """One of the paper's test surfaces, as `beltrami generate` writes it."""
 
+def compare(mesh: Mesh, reference: Mesh, *, samples: Optional[int] = None) -> dict[str, Any]:
+    """A mesh against a reference surface, with the keys of `beltrami compare --json`."""
+
+def distances(
+    points: Union[Mesh, npt.ArrayLike], reference: Mesh, *, signed: bool = False
+) -> npt.NDArray[np.float64]:
+    """Per-point distance to the reference surface (signed: positive outside)."""
+
 def fit_sphere(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
     """The least-squares sphere, with the keys of `beltrami fit sphere --json`."""
 
