@@ -13,6 +13,8 @@ mod generate;
 mod info;
 mod io;
 mod mesh;
+mod operator;
+mod scheme;
 mod smooth;
 mod weights;
 
@@ -33,6 +35,9 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(smooth::smooth, m)?)?;
     m.add_function(wrap_pyfunction!(weights::weight_schemes, m)?)?;
     m.add_function(wrap_pyfunction!(generate::generate, m)?)?;
+    m.add_function(wrap_pyfunction!(operator::laplacian, m)?)?;
+    m.add_function(wrap_pyfunction!(operator::mass_matrix, m)?)?;
+    m.add_function(wrap_pyfunction!(scheme::register_weight, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(compare::distances, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;

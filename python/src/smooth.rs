@@ -433,6 +433,9 @@ pub(crate) fn smooth<'py>(
     if let Some(e) = observer.failure {
         return Err(e);
     }
+    if let Some(e) = crate::scheme::take_failure(&options.weights) {
+        return Err(e);
+    }
     let smoothed = smoothed?;
     let report = report(py, mesh, &options, &smoothed.report)?;
     Ok((mesh.with_positions(smoothed.positions), report))

@@ -40,3 +40,12 @@ pub(crate) fn weight_schemes() -> PyResult<Vec<String>> {
         .map(str::to_string)
         .collect())
 }
+
+/// Adds `scheme` to the registry; `ValueError` when the name is taken or invalid.
+pub(crate) fn register(scheme: impl WeightScheme + 'static) -> PyResult<()> {
+    registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .register(scheme)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}

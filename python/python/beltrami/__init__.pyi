@@ -126,6 +126,28 @@ def fit_circle(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) ->
 def fit_cylinder(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
     """The least-squares cylinder, with the keys of `beltrami fit cylinder --json`."""
 
+def laplacian(
+    mesh: Mesh,
+    weights: str = "cotangent",
+    normalize: Literal["sum", "area"] = "sum",
+    *,
+    vertex_area: Literal["mixed", "barycentric"] = "mixed",
+    cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
+) -> Any:
+    """The smoother's Laplacian as a scipy.sparse CSR matrix (L @ vertices = L x)."""
+
+def mass_matrix(mesh: Mesh, *, vertex_area: Literal["mixed", "barycentric"] = "mixed") -> Any:
+    """The diagonal matrix of vertex areas as a scipy.sparse CSR matrix."""
+
+def register_weight(
+    name: str,
+    function: Callable[[dict[str, npt.NDArray[Any]]], npt.ArrayLike],
+    *,
+    description: str = "",
+    depends_on_positions: bool = True,
+) -> None:
+    """Registers a weight scheme computed by a vectorised Python function over halfedges."""
+
 def weight_schemes() -> list[str]:
     """The names of the registered weight schemes."""
 
