@@ -33,9 +33,24 @@ def test_area_laplacian_is_the_mean_curvature_normal_on_the_sphere():
     assert np.abs(L @ x + 2 * x).max() < 0.02 * 2
 
 
-def test_fixed_boundary_rows_in_smoothing_are_the_library_s(patch):
-    L = bt.laplacian(patch)
-    assert L.nnz > 0
+def test_cotangent_laplacian_of_a_linear_function_vanishes_inside_a_plane():
+    rng = np.random.default_rng(5)
+    n = 7
+    ij = np.array([(i, j) for j in range(n) for i in range(n)], dtype=float)
+    inside = (ij > 0).all(axis=1) & (ij < n - 1).all(axis=1)
+    xy = ij + np.where(inside[:, None], rng.uniform(-0.2, 0.2, ij.shape), 0.0)
+    vertices = np.c_[xy, np.zeros(len(xy))]
+    faces = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a, b, c, d = j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i
+            faces += [[a, b, c], [a, c, d]]
+    grid = bt.Mesh(vertices, faces)
+    f = 2.0 * xy[:, 0] - 3.0 * xy[:, 1] + 1.0
+    for normalize in ("sum", "area"):
+        L = bt.laplacian(grid, normalize=normalize)
+        np.testing.assert_allclose((L @ f)[inside], 0.0, atol=1e-12)
+        assert np.abs(L @ f)[~inside].max() > 1e-3
 
 
 def test_mass_matrix_sums_to_the_area(sphere):
