@@ -1,0 +1,167 @@
+"""Type stubs of the beltrami package."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, Literal, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, os.PathLike[str]]
+
+class MeshError(ValueError):
+    """A mesh that is not a valid oriented 2-manifold, or arrays that do not describe one."""
+
+class FormatError(ValueError):
+    """A mesh file that cannot be decoded."""
+
+class SmoothError(ValueError):
+    """Smoothing could not run on this mesh or had to stop."""
+
+class MetricsError(ValueError):
+    """A measurement could not be computed."""
+
+class Mesh:
+    """Vertex positions, faces and their half-edge connectivity, validated when built."""
+
+    def __init__(self, vertices: npt.ArrayLike, faces: npt.ArrayLike) -> None: ...
+    @property
+    def vertices(self) -> npt.NDArray[np.float64]:
+        """The (N, 3) coordinates (a read-only copy)."""
+    @property
+    def faces(self) -> Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]:
+        """(M, 3) for triangles, (M, k) for k-gons, a list of arrays for mixed polygons."""
+    @property
+    def n_vertices(self) -> int: ...
+    @property
+    def n_faces(self) -> int: ...
+    @property
+    def n_edges(self) -> int: ...
+    @property
+    def is_triangle_mesh(self) -> bool: ...
+    @property
+    def is_closed(self) -> bool: ...
+    @property
+    def path(self) -> Optional[os.PathLike[str]]:
+        """The file the mesh was read from, or None."""
+    def __len__(self) -> int: ...
+
+def read(
+    path: _Path,
+    *,
+    weld_tolerance: float = 1e-6,
+    lenient: bool = False,
+    repair: bool = False,
+) -> Mesh:
+    """Reads a .ply, .stl, .obj or .off file and builds its connectivity."""
+
+def write(
+    path: _Path,
+    mesh: Mesh,
+    scalars: Optional[Mapping[str, npt.ArrayLike]] = None,
+    *,
+    ascii: bool = False,
+) -> None:
+    """Writes a mesh file; the format follows the extension."""
+
+def info(mesh: Mesh) -> dict[str, Any]:
+    """Counts, topology and geometry, with the keys of `beltrami info --json`."""
+
+def smooth(
+    mesh: Mesh,
+    weights: str = "cotangent",
+    lam: Optional[float] = None,
+    iterations: Optional[int] = None,
+    boundary: Literal["fixed", "free", "curve"] = "fixed",
+    method: Literal["explicit", "taubin", "hc", "implicit"] = "explicit",
+    update: Literal["every", "once"] = "every",
+    normalize: Optional[Literal["sum", "area"]] = None,
+    *,
+    vertex_area: Literal["mixed", "barycentric"] = "mixed",
+    cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
+    time: Optional[float] = None,
+    cutoff: Optional[float] = None,
+    until_change: Optional[float] = None,
+    mu: Optional[float] = None,
+    hc_alpha: Optional[float] = None,
+    hc_beta: Optional[float] = None,
+    solver: Optional[Literal["cg", "cholesky"]] = None,
+    pin: Optional[Sequence[int]] = None,
+    preserve_volume: bool = False,
+    on_iteration: Optional[Callable[[int, dict[str, Any]], Optional[bool]]] = None,
+    progress: bool = False,
+    max_iterations: int = 1_000_000,
+    step_stats: bool = True,
+) -> tuple[Mesh, dict[str, Any]]:
+    """Laplacian diffusion smoothing with the options of `beltrami smooth`."""
+
+def generate(
+    surface: Literal["flens", "sphere", "block", "golfball"],
+    *,
+    noise: Optional[float] = None,
+    absolute_noise: bool = False,
+    seed: int = 1,
+    level: Optional[int] = None,
+    shuffle: Optional[int] = None,
+    size: Literal["paper", "small"] = "paper",
+) -> Mesh:
+    """One of the paper's test surfaces, as `beltrami generate` writes it."""
+
+def compare(mesh: Mesh, reference: Mesh, *, samples: Optional[int] = None) -> dict[str, Any]:
+    """A mesh against a reference surface, with the keys of `beltrami compare --json`."""
+
+def distances(
+    points: Union[Mesh, npt.ArrayLike], reference: Mesh, *, signed: bool = False
+) -> npt.NDArray[np.float64]:
+    """Per-point distance to the reference surface (signed: positive outside)."""
+
+def fit_sphere(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares sphere, with the keys of `beltrami fit sphere --json`."""
+
+def fit_circle(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares circle, with the keys of `beltrami fit circle --json`."""
+
+def fit_cylinder(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
+    """The least-squares cylinder, with the keys of `beltrami fit cylinder --json`."""
+
+def laplacian(
+    mesh: Mesh,
+    weights: str = "cotangent",
+    normalize: Literal["sum", "area"] = "sum",
+    *,
+    vertex_area: Literal["mixed", "barycentric"] = "mixed",
+    cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
+) -> Any:
+    """The smoother's Laplacian as a scipy.sparse CSR matrix (L @ vertices = L x)."""
+
+def mass_matrix(mesh: Mesh, *, vertex_area: Literal["mixed", "barycentric"] = "mixed") -> Any:
+    """The diagonal matrix of vertex areas as a scipy.sparse CSR matrix."""
+
+def register_weight(
+    name: str,
+    function: Callable[[dict[str, npt.NDArray[Any]]], npt.ArrayLike],
+    *,
+    description: str = "",
+    depends_on_positions: bool = True,
+) -> None:
+    """Registers a weight scheme computed by a vectorised Python function over halfedges."""
+
+def weight_schemes() -> list[str]:
+    """The names of the registered weight schemes."""
+
+def from_trimesh(mesh: Any) -> Mesh:
+    """A Mesh from a trimesh.Trimesh (anything with vertices and faces)."""
+
+def to_trimesh(mesh: Mesh) -> Any:
+    """A trimesh.Trimesh with the mesh's vertices and faces, unprocessed."""
+
+def from_open3d(mesh: Any) -> Mesh:
+    """A Mesh from an open3d.geometry.TriangleMesh."""
+
+def to_open3d(mesh: Mesh) -> Any:
+    """An open3d.geometry.TriangleMesh with the mesh's vertices and triangles."""
+
+def to_pyvista(mesh: Mesh) -> Any:
+    """A pyvista.PolyData with the mesh's vertices and faces."""

@@ -1,0 +1,95 @@
+//! The Python exceptions and the mapping of the library's errors onto them.
+//!
+//! Messages are the library error's one line, prefixed with the file's path where a
+//! file is involved, as the command line prints them.
+
+use std::io::ErrorKind;
+use std::path::Path;
+
+use beltrami_halfedge::TopologyError;
+use beltrami_io::IoError;
+
+use pyo3::exceptions::{
+    PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError,
+    PyRuntimeError, PyValueError,
+};
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    _beltrami,
+    MeshError,
+    PyValueError,
+    "A mesh that is not a valid oriented 2-manifold, or arrays that do not describe one."
+);
+pyo3::create_exception!(
+    _beltrami,
+    FormatError,
+    PyValueError,
+    "A mesh file that cannot be decoded (bad header, truncated data, unsupported extension)."
+);
+pyo3::create_exception!(
+    _beltrami,
+    SmoothError,
+    PyValueError,
+    "Smoothing could not run (a bad option for this mesh) or had to stop (a non-finite position)."
+);
+pyo3::create_exception!(
+    _beltrami,
+    MetricsError,
+    PyValueError,
+    "A measurement (fit, distance, residual) could not be computed."
+);
+
+/// An error of reading or writing `path`: `OSError` (or its subclass for the error's
+/// kind) when the operating system refused, `FormatError` otherwise.
+pub(crate) fn io_error(path: &Path, e: &IoError) -> PyErr {
+    let message = format!("{}: {e}", path.display());
+    match e {
+        IoError::Io { source, .. } => os_error(source.kind(), message),
+        _ => FormatError::new_err(message),
+    }
+}
+
+/// The `OSError` subclass Python raises for an error of this kind.
+fn os_error(kind: ErrorKind, message: String) -> PyErr {
+    match kind {
+        ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+        ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
+        ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+        _ => PyOSError::new_err(message),
+    }
+}
+
+/// A topology error, with the file's path in front when the mesh came from a file.
+pub(crate) fn topology_error(path: Option<&Path>, e: &TopologyError) -> PyErr {
+    MeshError::new_err(match path {
+        Some(path) => format!("{}: {e}", path.display()),
+        None => e.to_string(),
+    })
+}
+
+/// A smoothing error: `SmoothError`, whose message is the library's.
+pub(crate) fn smooth_error(e: &beltrami_smooth::SmoothError) -> PyErr {
+    SmoothError::new_err(e.to_string())
+}
+
+/// A metrics error: `MetricsError`, whose message is the library's.
+pub(crate) fn metrics_error(e: &beltrami_metrics::MetricsError) -> PyErr {
+    MetricsError::new_err(e.to_string())
+}
+
+/// Runs `f`, turning a panic (a bug of the library, never bad input) into a
+/// `RuntimeError` instead of letting it unwind into Python.
+pub(crate) fn no_panic<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown cause".to_string());
+        Err(PyRuntimeError::new_err(format!(
+            "internal error in beltrami (please report it): {what}"
+        )))
+    })
+}

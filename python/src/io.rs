@@ -1,0 +1,141 @@
+//! `beltrami.read` and `beltrami.write`.
+
+use std::path::PathBuf;
+
+use beltrami_halfedge::{RepairOptions, repair};
+use beltrami_io::{
+    Encoding, MeshFormat, ReadOptions, VertexAttributes, Weld, WriteOptions, read_mesh_with,
+    write_mesh, write_ply,
+};
+use numpy::PyReadonlyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{io_error, no_panic, topology_error};
+use crate::mesh::Mesh;
+
+/// The largest weld tolerance, as on the command line: a hundredth of the diagonal
+/// already joins features of a coarse mesh.
+const MAX_WELD_TOLERANCE: f64 = 0.01;
+
+/// Reads a mesh file (.ply, .stl, .obj or .off) and builds its connectivity.
+///
+/// `weld_tolerance` welds an STL's triangle corners closer than this fraction of the
+/// bounding-box diagonal (0 welds identical coordinates only; at most 0.01); indexed
+/// formats are read as they are. `lenient` reads a PLY file holding more than its
+/// header declares for what the header declares. `repair` repairs the faces (drops
+/// degenerate and duplicate faces, cuts non-manifold edges, re-orients, splits
+/// pinched vertices, removes unreferenced vertices) instead of failing; `info(mesh)`
+/// then lists what changed.
+///
+/// Raises `FileNotFoundError` (or another `OSError`) when the file cannot be read,
+/// `FormatError` when it cannot be decoded and `MeshError` when its faces are not an
+/// oriented 2-manifold. The file is read without holding the GIL.
+#[pyfunction]
+#[pyo3(signature = (path, *, weld_tolerance = Weld::DEFAULT_RELATIVE, lenient = false, repair = false))]
+pub(crate) fn read(
+    py: Python<'_>,
+    path: PathBuf,
+    weld_tolerance: f64,
+    lenient: bool,
+    repair: bool,
+) -> PyResult<Mesh> {
+    let weld = if weld_tolerance == 0.0 {
+        Weld::Exact
+    } else {
+        Weld::Relative(weld_tolerance)
+    };
+    weld.check()
+        .map_err(|e| PyValueError::new_err(format!("weld_tolerance: {e}")))?;
+    if weld_tolerance > MAX_WELD_TOLERANCE {
+        return Err(PyValueError::new_err(format!(
+            "weld_tolerance {weld_tolerance} is a fraction of the bounding-box diagonal and at most {MAX_WELD_TOLERANCE}; larger values weld the part's own features together"
+        )));
+    }
+    let options = ReadOptions::default().with_weld(weld).with_lenient(lenient);
+    py.detach(|| no_panic(|| read_inner(&path, &options, repair)))
+}
+
+fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyResult<Mesh> {
+    let format = MeshFormat::from_path(path).map_err(|e| io_error(path, &e))?;
+    let (data, _report) = read_mesh_with(path, options).map_err(|e| io_error(path, &e))?;
+    let (positions, faces, report) = if fix {
+        let repaired = repair(&data.positions, &data.faces, &RepairOptions::new())
+            .map_err(|e| topology_error(Some(path), &e))?;
+        (repaired.positions, repaired.faces, Some(repaired.report))
+    } else {
+        (data.positions, data.faces, None)
+    };
+    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+        .map_err(|e| topology_error(Some(path), &e))?;
+    Ok(Mesh {
+        positions,
+        faces,
+        mesh,
+        source: Some((path.to_path_buf(), format)),
+        repair: report,
+    })
+}
+
+/// Writes a mesh file; the format follows the extension (.ply, .stl, .obj or .off).
+///
+/// PLY and STL are written binary unless `ascii`; PLY stores float64 coordinates, so
+/// a PLY round trip is exact. `scalars` (a mapping from names to one value per
+/// vertex) adds per-vertex `double` properties and needs a .ply path. The file is
+/// replaced atomically, without holding the GIL.
+///
+/// Raises `FormatError` for an unsupported extension or bad scalars, `OSError` when
+/// the file cannot be written.
+#[pyfunction]
+#[pyo3(signature = (path, mesh, scalars = None, *, ascii = false))]
+pub(crate) fn write(
+    py: Python<'_>,
+    path: PathBuf,
+    mesh: &Mesh,
+    scalars: Option<&Bound<'_, PyDict>>,
+    ascii: bool,
+) -> PyResult<()> {
+    let options = WriteOptions {
+        encoding: if ascii {
+            Encoding::Ascii
+        } else {
+            Encoding::BinaryLittleEndian
+        },
+        ..WriteOptions::default()
+    };
+    let data = mesh.data();
+    let attributes = match scalars {
+        None => None,
+        Some(scalars) => {
+            let numpy = py.import("numpy")?;
+            let mut fields = Vec::with_capacity(scalars.len());
+            for (name, values) in scalars.iter() {
+                let name: String = name.extract()?;
+                let values = numpy.call_method1("ascontiguousarray", (values, "float64"))?;
+                let values = numpy.call_method1("ravel", (values,))?;
+                let values: PyReadonlyArray1<'_, f64> = values.extract()?;
+                fields.push((name, values.as_slice()?.to_vec()));
+            }
+            Some(VertexAttributes {
+                scalars: fields,
+                colors: None,
+            })
+        }
+    };
+    if attributes.is_some() && MeshFormat::from_path(&path).ok() != Some(MeshFormat::Ply) {
+        return Err(PyValueError::new_err(format!(
+            "{}: scalars are written to .ply files only",
+            path.display()
+        )));
+    }
+    py.detach(|| {
+        no_panic(|| {
+            match &attributes {
+                None => write_mesh(&path, &data, &options),
+                Some(attributes) => write_ply(&path, &data, attributes, &options),
+            }
+            .map_err(|e| io_error(&path, &e))
+        })
+    })
+}

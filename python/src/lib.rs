@@ -1,0 +1,47 @@
+//! # beltrami-python
+//!
+//! The Python extension module `beltrami._beltrami`, re-exported by the pure-Python
+//! package `beltrami`: meshes from and to numpy arrays, reading and writing mesh
+//! files, `info`, and `smooth` with the options, defaults and report of
+//! `beltrami smooth`. Heavy calls run without the GIL; errors become Python
+//! exceptions with the library's one-line messages.
+
+mod compare;
+mod errors;
+mod fit;
+mod generate;
+mod info;
+mod io;
+mod mesh;
+mod operator;
+mod scheme;
+mod smooth;
+mod weights;
+
+use pyo3::prelude::*;
+
+/// The extension module.
+#[pymodule]
+fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<mesh::Mesh>()?;
+    m.add("MeshError", py.get_type::<errors::MeshError>())?;
+    m.add("FormatError", py.get_type::<errors::FormatError>())?;
+    m.add("SmoothError", py.get_type::<errors::SmoothError>())?;
+    m.add("MetricsError", py.get_type::<errors::MetricsError>())?;
+    m.add_function(wrap_pyfunction!(io::read, m)?)?;
+    m.add_function(wrap_pyfunction!(io::write, m)?)?;
+    m.add_function(wrap_pyfunction!(info::info, m)?)?;
+    m.add_function(wrap_pyfunction!(smooth::smooth, m)?)?;
+    m.add_function(wrap_pyfunction!(weights::weight_schemes, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::generate, m)?)?;
+    m.add_function(wrap_pyfunction!(operator::laplacian, m)?)?;
+    m.add_function(wrap_pyfunction!(operator::mass_matrix, m)?)?;
+    m.add_function(wrap_pyfunction!(scheme::register_weight, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::distances, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_circle, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit_cylinder, m)?)?;
+    Ok(())
+}

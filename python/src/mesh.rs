@@ -1,0 +1,293 @@
+//! `beltrami.Mesh`: positions and faces with their half-edge connectivity.
+
+use std::path::PathBuf;
+
+use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, RepairReport};
+use beltrami_io::{MeshData, MeshFormat};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyList;
+
+use crate::errors::{MeshError, no_panic, topology_error};
+
+/// A triangle (or polygon) mesh: vertex positions, faces and their half-edge
+/// connectivity, validated when built.
+///
+/// `Mesh(vertices, faces)` takes an (N, 3) array of coordinates (any real dtype,
+/// stored as float64) and an (M, k) array of vertex indices (any integer dtype,
+/// k ≥ 3; k = 3 for triangles). Raises `MeshError` naming the offending vertex or
+/// face when a coordinate is not finite, an index is out of range, or the faces do
+/// not form an oriented 2-manifold.
+#[pyclass(module = "beltrami", name = "Mesh", frozen)]
+pub(crate) struct Mesh {
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) faces: PolygonList,
+    pub(crate) mesh: HalfedgeMesh,
+    /// The file the mesh was read from, and its format.
+    pub(crate) source: Option<(PathBuf, MeshFormat)>,
+    /// What a repair on reading changed.
+    pub(crate) repair: Option<RepairReport>,
+}
+
+impl Mesh {
+    /// Builds the connectivity of `positions` and `faces` (without the GIL).
+    pub(crate) fn build(
+        py: Python<'_>,
+        positions: Vec<DVec3>,
+        faces: PolygonList,
+        source: Option<(PathBuf, MeshFormat)>,
+    ) -> PyResult<Self> {
+        let path = source.as_ref().map(|(p, _)| p.clone());
+        let mesh = py.detach(|| {
+            no_panic(|| {
+                HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+                    .map_err(|e| topology_error(path.as_deref(), &e))
+            })
+        })?;
+        Ok(Self {
+            positions,
+            faces,
+            mesh,
+            source,
+            repair: None,
+        })
+    }
+
+    /// The positions and faces as the io crate holds them (copied).
+    pub(crate) fn data(&self) -> MeshData {
+        MeshData::new(self.positions.clone(), self.faces.clone())
+    }
+
+    /// The same connectivity with new positions.
+    pub(crate) fn with_positions(&self, positions: Vec<DVec3>) -> Self {
+        Self {
+            positions,
+            faces: self.faces.clone(),
+            mesh: self.mesh.clone(),
+            source: None,
+            repair: None,
+        }
+    }
+}
+
+/// `numpy.ascontiguousarray(x, dtype)`.
+fn contiguous<'py>(x: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
+    let numpy = x.py().import("numpy")?;
+    numpy.call_method1("ascontiguousarray", (x, dtype))
+}
+
+/// The vertices of an (N, 3) array of any real dtype.
+pub(crate) fn vertices_from(x: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
+    let kind: String = contiguous_kind(x)?;
+    if !matches!(kind.as_str(), "f" | "i" | "u") {
+        return Err(MeshError::new_err(format!(
+            "vertices must be real numbers, got dtype kind {kind:?}"
+        )));
+    }
+    let array = contiguous(x, "float64")?;
+    let array: PyReadonlyArray2<'_, f64> = array.extract().map_err(|_| {
+        MeshError::new_err(format!(
+            "vertices must be an (N, 3) array, got shape {}",
+            shape_of(x)
+        ))
+    })?;
+    if array.shape()[1] != 3 {
+        return Err(MeshError::new_err(format!(
+            "vertices must be an (N, 3) array, got shape {}",
+            shape_of(x)
+        )));
+    }
+    let slice = array.as_slice()?;
+    let positions: Vec<DVec3> = slice
+        .chunks_exact(3)
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect();
+    if let Some((i, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        let value = p
+            .to_array()
+            .into_iter()
+            .find(|c| !c.is_finite())
+            .unwrap_or(f64::NAN);
+        return Err(MeshError::new_err(format!(
+            "vertex {i} has a non-finite coordinate ({value})"
+        )));
+    }
+    Ok(positions)
+}
+
+/// The dtype kind of `x` as numpy sees it (`f`, `i`, `u`, `b`, `O`, …).
+fn contiguous_kind(x: &Bound<'_, PyAny>) -> PyResult<String> {
+    let numpy = x.py().import("numpy")?;
+    numpy
+        .call_method1("asarray", (x,))?
+        .getattr("dtype")?
+        .getattr("kind")?
+        .extract()
+}
+
+/// The shape of `x` as numpy sees it, for messages.
+fn shape_of(x: &Bound<'_, PyAny>) -> String {
+    x.py()
+        .import("numpy")
+        .and_then(|np| np.call_method1("shape", (x,)))
+        .and_then(|s| s.str().map(|s| s.to_string()))
+        .unwrap_or_else(|_| "?".to_string())
+}
+
+/// The faces of an (M, k) integer array, k ≥ 3, indices in `0..n_vertices`.
+fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> {
+    let kind = contiguous_kind(x)?;
+    if !matches!(kind.as_str(), "i" | "u") {
+        return Err(MeshError::new_err(format!(
+            "faces must be an integer array, got dtype kind {kind:?}"
+        )));
+    }
+    let bad_shape = || {
+        MeshError::new_err(format!(
+            "faces must be an (M, 3) array (or (M, k), k >= 3, for polygons), got shape {}",
+            shape_of(x)
+        ))
+    };
+    // Unsigned values beyond i64 wrap to negatives here and are refused below.
+    let array = contiguous(x, "int64")?;
+    let array: PyReadonlyArray2<'_, i64> = array.extract().map_err(|_| bad_shape())?;
+    let (m, k) = (array.shape()[0], array.shape()[1]);
+    if k < 3 && m > 0 {
+        return Err(bad_shape());
+    }
+    let slice = array.as_slice()?;
+    let mut faces = PolygonList::with_capacity(m, m * k);
+    let mut face = Vec::with_capacity(k);
+    for (f, row) in slice.chunks_exact(k.max(1)).enumerate().take(m) {
+        face.clear();
+        for &v in row {
+            match u32::try_from(v) {
+                Ok(i) if (i as usize) < n_vertices => face.push(i),
+                _ => {
+                    return Err(MeshError::new_err(format!(
+                        "face {f} refers to vertex {v}, but there are only {n_vertices} vertices"
+                    )));
+                }
+            }
+        }
+        faces.push(&face);
+    }
+    Ok(faces)
+}
+
+/// An (N, 3) float64 array of `positions`, read-only.
+pub(crate) fn positions_array<'py>(
+    py: Python<'py>,
+    positions: &[DVec3],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = positions.iter().flat_map(|p| p.to_array()).collect();
+    let array = PyArray1::from_vec(py, flat).reshape([positions.len(), 3])?;
+    read_only(&array)?;
+    Ok(array)
+}
+
+/// Marks a fresh array read-only: it is a copy, and writing into it would not change
+/// the mesh.
+fn read_only(array: &Bound<'_, PyAny>) -> PyResult<()> {
+    array.call_method(
+        "setflags",
+        (),
+        Some(&[("write", false)].into_py_dict(array.py())?),
+    )?;
+    Ok(())
+}
+
+use pyo3::types::IntoPyDict;
+
+#[pymethods]
+impl Mesh {
+    #[new]
+    fn new(
+        py: Python<'_>,
+        vertices: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+    ) -> PyResult<Self> {
+        let positions = vertices_from(vertices)?;
+        let faces = faces_from(faces, positions.len())?;
+        Self::build(py, positions, faces, None)
+    }
+
+    /// The vertex coordinates, an (N, 3) float64 array (a read-only copy).
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        positions_array(py, &self.positions)
+    }
+
+    /// The faces: an (M, 3) int64 array for a triangle mesh, (M, k) when every face
+    /// has k vertices, otherwise a list of 1-D int64 arrays (a read-only copy).
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let mut sizes = self.faces.iter().map(<[u32]>::len);
+        let k = sizes.next().unwrap_or(3);
+        if sizes.all(|s| s == k) {
+            let flat: Vec<i64> = self.faces.indices().iter().map(|&i| i64::from(i)).collect();
+            let array = PyArray1::from_vec(py, flat).reshape([self.faces.len(), k])?;
+            read_only(&array)?;
+            Ok(array.into_any())
+        } else {
+            let list = PyList::empty(py);
+            for face in self.faces.iter() {
+                let face: Vec<i64> = face.iter().map(|&i| i64::from(i)).collect();
+                list.append(PyArray1::from_vec(py, face))?;
+            }
+            Ok(list.into_any())
+        }
+    }
+
+    /// The number of vertices.
+    #[getter]
+    fn n_vertices(&self) -> usize {
+        self.mesh.n_vertices()
+    }
+
+    /// The number of faces.
+    #[getter]
+    fn n_faces(&self) -> usize {
+        self.mesh.n_faces()
+    }
+
+    /// The number of edges.
+    #[getter]
+    fn n_edges(&self) -> usize {
+        self.mesh.n_edges()
+    }
+
+    /// Whether every face is a triangle.
+    #[getter]
+    fn is_triangle_mesh(&self) -> bool {
+        self.mesh.is_triangle_mesh()
+    }
+
+    /// Whether the mesh has no boundary (and at least one face).
+    #[getter]
+    fn is_closed(&self) -> bool {
+        self.mesh.n_faces() > 0 && self.mesh.is_closed()
+    }
+
+    /// The file the mesh was read from, or None.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.source.as_ref().map(|(p, _)| p.clone())
+    }
+
+    fn __len__(&self) -> usize {
+        self.mesh.n_vertices()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Mesh({} vertices, {} faces{})",
+            self.mesh.n_vertices(),
+            self.mesh.n_faces(),
+            self.source
+                .as_ref()
+                .map(|(p, _)| format!(", from {}", p.display()))
+                .unwrap_or_default()
+        )
+    }
+}

@@ -1,0 +1,529 @@
+//! `beltrami.smooth`: the options of `beltrami smooth`, with its words and defaults.
+
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+
+use beltrami_halfedge::VertexId;
+use beltrami_halfedge::geometry::VertexAreaKind;
+use beltrami_smooth::{
+    Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, SmoothError as Error,
+    SmoothReport, Smoother, Statistics, StepStats, WeightUpdate,
+};
+use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict};
+
+use crate::errors::{no_panic, smooth_error};
+use crate::mesh::Mesh;
+use crate::weights::scheme;
+
+/// The default λ, and Taubin's classic pair (λ, μ) = (0.6307, −0.6732), whose pass
+/// band `1/λ + 1/μ` is 0.1 (Taubin 1995): the command line's defaults.
+const DEFAULT_LAMBDA: f64 = 0.8;
+const TAUBIN_LAMBDA: f64 = 0.6307;
+const TAUBIN_PASS_BAND: f64 = 0.1;
+const HC_ALPHA: f64 = 0.1;
+const HC_BETA: f64 = 0.6;
+const DEFAULT_ITERATIONS: usize = 10;
+
+/// How often a run without observer looks for Ctrl-C.
+const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
+
+/// One of `choices`, or a `ValueError` listing them.
+fn choice<'a>(option: &str, value: &str, choices: &[&'a str]) -> PyResult<&'a str> {
+    choices
+        .iter()
+        .find(|c| **c == value)
+        .copied()
+        .ok_or_else(|| {
+            let list: Vec<String> = choices.iter().map(|c| format!("'{c}'")).collect();
+            PyValueError::new_err(format!(
+                "{option} must be one of {}, got '{value}'",
+                list.join(", ")
+            ))
+        })
+}
+
+/// The options of one `smooth` call, checked.
+struct Options {
+    weights: String,
+    lambda: Option<f64>,
+    iterations: Option<usize>,
+    boundary: &'static str,
+    method: &'static str,
+    update: &'static str,
+    normalize: &'static str,
+    vertex_area: &'static str,
+    cotangent_negative: &'static str,
+    time: Option<f64>,
+    cutoff: Option<f64>,
+    until_change: Option<f64>,
+    mu: Option<f64>,
+    hc_alpha: Option<f64>,
+    hc_beta: Option<f64>,
+    solver: &'static str,
+    pin: Vec<u32>,
+    preserve_volume: bool,
+    max_iterations: usize,
+    step_stats: bool,
+}
+
+impl Options {
+    fn lambda(&self) -> f64 {
+        self.lambda.unwrap_or(if self.method == "taubin" {
+            TAUBIN_LAMBDA
+        } else {
+            DEFAULT_LAMBDA
+        })
+    }
+
+    /// Refuses options that the chosen method would ignore, before any work.
+    fn check_combination(&self, solver_given: bool) -> PyResult<()> {
+        let method = self.method;
+        let refuse = |option: &str, wanted: &str| {
+            Err(PyValueError::new_err(format!(
+                "{option} applies to method='{wanted}' only, not to method='{method}'"
+            )))
+        };
+        if self.mu.is_some() && method != "taubin" {
+            return refuse("mu", "taubin");
+        }
+        if self.hc_alpha.is_some() && method != "hc" {
+            return refuse("hc_alpha", "hc");
+        }
+        if self.hc_beta.is_some() && method != "hc" {
+            return refuse("hc_beta", "hc");
+        }
+        if solver_given && method != "implicit" {
+            return refuse("solver", "implicit");
+        }
+        if method == "implicit" && self.preserve_volume {
+            return Err(PyValueError::new_err(
+                "preserve_volume does not apply to method='implicit'",
+            ));
+        }
+        if matches!(method, "taubin" | "hc") && (self.time.is_some() || self.cutoff.is_some()) {
+            return Err(PyValueError::new_err(format!(
+                "time and cutoff apply to plain diffusion (method='explicit' or 'implicit'), not to method='{method}'"
+            )));
+        }
+        if self.time.is_some() && self.cutoff.is_some() {
+            return Err(PyValueError::new_err(
+                "time and cutoff exclude each other: give one",
+            ));
+        }
+        if (self.time.is_some() || self.cutoff.is_some()) && self.iterations.is_some() {
+            return Err(PyValueError::new_err(
+                "iterations and time (or cutoff) exclude each other: a time chooses the iteration count",
+            ));
+        }
+        Ok(())
+    }
+
+    fn method(&self) -> Method {
+        match self.method {
+            "implicit" => Method::implicit(match self.solver {
+                "cholesky" => ImplicitSolver::Cholesky,
+                _ => ImplicitSolver::conjugate_gradient(),
+            }),
+            "taubin" => match self.mu {
+                Some(mu) => Method::Taubin { mu },
+                None => Method::taubin_pass_band(self.lambda(), TAUBIN_PASS_BAND),
+            },
+            "hc" => Method::Hc {
+                alpha: self.hc_alpha.unwrap_or(HC_ALPHA),
+                beta: self.hc_beta.unwrap_or(HC_BETA),
+            },
+            _ => Method::Laplacian,
+        }
+    }
+
+    /// The configuration `beltrami smooth` builds from the same options.
+    fn config(&self) -> SmoothConfig {
+        let normalization = match (self.normalize, self.vertex_area) {
+            ("sum", _) => Normalization::WeightSum,
+            (_, "barycentric") => Normalization::Area(VertexAreaKind::Barycentric),
+            _ => Normalization::Area(VertexAreaKind::MixedVoronoi),
+        };
+        let negative = match self.cotangent_negative {
+            "clamp" => NegativeWeights::Clamp,
+            "abs" => NegativeWeights::Abs,
+            _ => NegativeWeights::Keep,
+        };
+        let mut config =
+            SmoothConfig::new(self.lambda(), self.iterations.unwrap_or(DEFAULT_ITERATIONS))
+                .boundary(match self.boundary {
+                    "free" => Boundary::Free,
+                    "curve" => Boundary::Curve,
+                    _ => Boundary::Fixed,
+                })
+                .update(match self.update {
+                    "once" => WeightUpdate::Once,
+                    _ => WeightUpdate::Every,
+                })
+                .laplacian(LaplacianOptions {
+                    normalization,
+                    negative,
+                })
+                .pinned(self.pin.iter().copied().map(VertexId::new).collect())
+                .method(self.method())
+                .preserve_volume(self.preserve_volume);
+        if let Some(t) = self.time {
+            config = config.duration(DiffusionTime::Time(t));
+        }
+        if let Some(lc) = self.cutoff {
+            config = config.duration(DiffusionTime::Cutoff(lc));
+        }
+        if let Some(eps) = self.until_change {
+            config = config.until_change(eps);
+        }
+        if !self.step_stats {
+            config = config.statistics(Statistics::OnDemand);
+        }
+        config
+    }
+}
+
+/// What the observer of a run calls back into Python: the callback and the progress
+/// bar, and the first exception raised in them.
+struct Observer {
+    callback: Option<Py<PyAny>>,
+    bar: Option<Py<PyAny>>,
+    failure: Option<PyErr>,
+    last_signal_check: Instant,
+}
+
+impl Observer {
+    /// Called after every iteration, without the GIL; takes it only when there is
+    /// something to call, or every [`SIGNAL_INTERVAL`] to look for Ctrl-C.
+    fn iteration(&mut self, index: usize, stats: Option<StepStats>) -> ControlFlow<()> {
+        let due = self.last_signal_check.elapsed() >= SIGNAL_INTERVAL;
+        if self.callback.is_none() && self.bar.is_none() && !due {
+            return ControlFlow::Continue(());
+        }
+        Python::attach(|py| {
+            let outcome = self.call(py, index, stats, due);
+            outcome.unwrap_or_else(|e| {
+                self.failure = Some(e);
+                ControlFlow::Break(())
+            })
+        })
+    }
+
+    fn call(
+        &mut self,
+        py: Python<'_>,
+        index: usize,
+        stats: Option<StepStats>,
+        due: bool,
+    ) -> PyResult<ControlFlow<()>> {
+        if due {
+            self.last_signal_check = Instant::now();
+            py.check_signals()?;
+        }
+        if let Some(bar) = &self.bar {
+            bar.call_method1(py, "update", (1,))?;
+        }
+        if let (Some(callback), Some(stats)) = (&self.callback, stats) {
+            let answer = callback.call1(py, (index, step_dict(py, index, &stats)?))?;
+            let answer = answer.bind(py);
+            if answer.downcast::<PyBool>().is_ok_and(|b| !b.is_true()) {
+                return Ok(ControlFlow::Break(()));
+            }
+        }
+        Ok(ControlFlow::Continue(()))
+    }
+
+    /// Closes the progress bar.
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            Python::attach(|py| {
+                if let Err(e) = bar.call_method0(py, "close") {
+                    self.failure.get_or_insert(e);
+                }
+            });
+        }
+    }
+}
+
+/// A tqdm progress bar over `total` iterations, or None when tqdm is not installed.
+fn progress_bar(py: Python<'_>, total: usize) -> PyResult<Option<Py<PyAny>>> {
+    let Ok(tqdm) = py.import("tqdm.auto").or_else(|_| py.import("tqdm")) else {
+        return Ok(None);
+    };
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("total", total)?;
+    kwargs.set_item("unit", "it")?;
+    kwargs.set_item("desc", "smooth")?;
+    Ok(Some(
+        tqdm.getattr("tqdm")?.call((), Some(&kwargs))?.unbind(),
+    ))
+}
+
+/// One iteration's statistics, with the keys of a step of the `--report` JSON.
+fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("iteration", index)?;
+    d.set_item("max_displacement", s.max_displacement)?;
+    d.set_item("mean_displacement", s.mean_displacement)?;
+    d.set_item("stuck_vertices", s.stuck_vertices)?;
+    Ok(d)
+}
+
+/// Smooths a mesh by Laplacian diffusion, with the options of `beltrami smooth`.
+///
+/// Returns `(smoothed, report)`: a new `Mesh` with the same faces and the smoothed
+/// positions, and a dict with the keys of the command line's `--report` JSON
+/// (`input`, `output`, `vertices`, `faces`, `parameters`, `iterations`, `stop`,
+/// `max_stuck_vertices`, `seconds`, `steps`, and `implicit` for the implicit
+/// method); `seconds` holds `weights` and `updates` (no file is read or written).
+///
+/// The options and their defaults are those of `beltrami smooth`:
+///
+/// - `weights`: `"cotangent"`, `"uniform"`, `"distance"` or another registered name
+///   (see `weight_schemes()`).
+/// - `lam`: the step λ; None means 0.8, or 0.6307 with `method="taubin"`.
+/// - `iterations`: the iteration count (None: 10); the upper limit with
+///   `until_change`; excludes `time` and `cutoff`.
+/// - `boundary`: `"fixed"` (never moves), `"free"`, `"curve"` (along the boundary).
+/// - `method`: `"explicit"`, `"taubin"`, `"hc"`, `"implicit"`.
+/// - `update`: `"every"` (weights recomputed each iteration) or `"once"`.
+/// - `normalize`: `"sum"` (None) or `"area"`; `vertex_area`: `"mixed"` or
+///   `"barycentric"`; `cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`.
+/// - `time` (length²) or `cutoff` (Gaussian cut-off wavelength): diffuse for a
+///   physical time instead of a count; `until_change`: stop once no vertex moves
+///   farther than this.
+/// - `mu` (taubin; default: pass band 0.1), `hc_alpha`, `hc_beta` (hc; 0.1, 0.6),
+///   `solver` (implicit: `"cg"`, the default, or `"cholesky"`).
+/// - `pin`: vertex indices that never move; `preserve_volume`: rescale to the
+///   input's volume after every iteration (closed meshes).
+/// - `on_iteration(i, stats)`: called after iteration `i` (1-based) with a dict of
+///   `iteration`, `max_displacement`, `mean_displacement`, `stuck_vertices`;
+///   returning `False` stops the run (`report["stop"] == "observer"`); an
+///   exception raised in it stops the run and propagates.
+/// - `progress`: show a tqdm progress bar when tqdm is installed.
+/// - `max_iterations`: refuse a run planning more iterations (a `time` in the wrong
+///   unit can mean millions); `step_stats`: keep every iteration's statistics in
+///   the report (the positions are the same either way).
+///
+/// The run holds no GIL except while calling `on_iteration` or the progress bar.
+/// Raises `ValueError` for bad or conflicting options, `SmoothError` when the run
+/// cannot be done on this mesh (an unstable step, a Taubin pair that amplifies, a
+/// non-finite position).
+#[pyfunction]
+#[pyo3(signature = (
+    mesh, weights = "cotangent", lam = None, iterations = None, boundary = "fixed",
+    method = "explicit", update = "every", normalize = None, *, vertex_area = "mixed",
+    cotangent_negative = "keep", time = None, cutoff = None, until_change = None,
+    mu = None, hc_alpha = None, hc_beta = None, solver = None, pin = None,
+    preserve_volume = false, on_iteration = None, progress = false,
+    max_iterations = 1_000_000, step_stats = true
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn smooth<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    weights: &str,
+    lam: Option<f64>,
+    iterations: Option<usize>,
+    boundary: &str,
+    method: &str,
+    update: &str,
+    normalize: Option<&str>,
+    vertex_area: &str,
+    cotangent_negative: &str,
+    time: Option<f64>,
+    cutoff: Option<f64>,
+    until_change: Option<f64>,
+    mu: Option<f64>,
+    hc_alpha: Option<f64>,
+    hc_beta: Option<f64>,
+    solver: Option<&str>,
+    pin: Option<Vec<i64>>,
+    preserve_volume: bool,
+    on_iteration: Option<Py<PyAny>>,
+    progress: bool,
+    max_iterations: usize,
+    step_stats: bool,
+) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let pin = pin
+        .unwrap_or_default()
+        .into_iter()
+        .map(|v| {
+            u32::try_from(v)
+                .map_err(|_| PyValueError::new_err(format!("pin: {v} is not a vertex index")))
+        })
+        .collect::<PyResult<Vec<u32>>>()?;
+    let options = Options {
+        weights: weights.to_string(),
+        lambda: lam,
+        iterations,
+        boundary: choice("boundary", boundary, &["fixed", "free", "curve"])?,
+        method: choice("method", method, &["explicit", "taubin", "hc", "implicit"])?,
+        update: choice("update", update, &["every", "once"])?,
+        normalize: choice("normalize", normalize.unwrap_or("sum"), &["sum", "area"])?,
+        vertex_area: choice("vertex_area", vertex_area, &["mixed", "barycentric"])?,
+        cotangent_negative: choice(
+            "cotangent_negative",
+            cotangent_negative,
+            &["keep", "clamp", "abs"],
+        )?,
+        time,
+        cutoff,
+        until_change,
+        mu,
+        hc_alpha,
+        hc_beta,
+        solver: choice("solver", solver.unwrap_or("cg"), &["cg", "cholesky"])?,
+        pin,
+        preserve_volume,
+        max_iterations,
+        step_stats,
+    };
+    let scheme = scheme(&options.weights)?;
+    options.check_combination(solver.is_some())?;
+    if mesh.mesh.n_faces() == 0 {
+        return Err(crate::errors::MeshError::new_err(format!(
+            "the mesh has {} vertices but no faces; smooth needs a surface of triangles",
+            mesh.mesh.n_vertices()
+        )));
+    }
+    let config = options.config();
+    let mut observer = Observer {
+        callback: on_iteration,
+        bar: None,
+        failure: None,
+        last_signal_check: Instant::now(),
+    };
+    let wants_stats = observer.callback.is_some();
+    let smoothed = py.detach(|| {
+        no_panic(|| {
+            let smoother = Smoother::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), config)
+                .map_err(|e| smooth_error(&e))?;
+            // A step given directly must be stable; a time chooses its own stable step.
+            if let Some(limit) = smoother.stable_step_limit()
+                && smoother.config().duration.is_none()
+                && smoother.config().lambda > limit
+            {
+                return Err(smooth_error(&Error::UnstableStep {
+                    lambda: smoother.config().lambda,
+                    max_stable: limit,
+                }));
+            }
+            let planned = smoother.config().iterations;
+            if planned > options.max_iterations {
+                return Err(PyValueError::new_err(format!(
+                    "the run would take {planned} iterations of step {}, more than max_iterations={} (is time or cutoff in the mesh's length unit? raise max_iterations to run it anyway)",
+                    smoother.config().lambda,
+                    options.max_iterations
+                )));
+            }
+            if progress {
+                observer.bar = Python::attach(|py| progress_bar(py, planned))?;
+            }
+            let result = smoother.run(|it| {
+                let stats = wants_stats.then(|| it.stats());
+                observer.iteration(it.index, stats)
+            });
+            observer.finish();
+            result.map_err(|e| smooth_error(&e))
+        })
+    });
+    if let Some(e) = observer.failure {
+        return Err(e);
+    }
+    if let Some(e) = crate::scheme::take_failure(&options.weights) {
+        return Err(e);
+    }
+    let smoothed = smoothed?;
+    let report = report(py, mesh, &options, &smoothed.report)?;
+    Ok((mesh.with_positions(smoothed.positions), report))
+}
+
+/// The report of a run, with the keys of `beltrami smooth --report`.
+fn report<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    options: &Options,
+    r: &SmoothReport,
+) -> PyResult<Bound<'py, PyDict>> {
+    let parameters = PyDict::new(py);
+    parameters.set_item("weights", &options.weights)?;
+    parameters.set_item("lambda", options.lambda())?;
+    parameters.set_item(
+        "iterations",
+        options.iterations.unwrap_or(DEFAULT_ITERATIONS),
+    )?;
+    parameters.set_item("boundary", options.boundary)?;
+    parameters.set_item("update", options.update)?;
+    parameters.set_item("cotangent_negative", options.cotangent_negative)?;
+    parameters.set_item("normalize", options.normalize)?;
+    parameters.set_item("vertex_area", options.vertex_area)?;
+    parameters.set_item("pinned", options.pin.len())?;
+    parameters.set_item("method", options.method)?;
+    parameters.set_item(
+        "mu",
+        match r.config.method {
+            Method::Taubin { mu } => Some(mu),
+            _ => None,
+        },
+    )?;
+    parameters.set_item(
+        "hc",
+        match r.config.method {
+            Method::Hc { alpha, beta } => Some([alpha, beta]),
+            _ => None,
+        },
+    )?;
+    parameters.set_item("preserve_volume", options.preserve_volume)?;
+    parameters.set_item("time", r.config.duration.map(DiffusionTime::time))?;
+    parameters.set_item("cutoff", options.cutoff)?;
+    parameters.set_item("until_change", options.until_change)?;
+    parameters.set_item("lambda_used", r.config.lambda)?;
+    parameters.set_item("iterations_planned", r.config.iterations)?;
+
+    let seconds = PyDict::new(py);
+    let solver_setup = r
+        .solver
+        .as_ref()
+        .map_or(Duration::ZERO, |s| s.analysis_time + s.factorization_time);
+    seconds.set_item("weights", (r.weight_time + solver_setup).as_secs_f64())?;
+    seconds.set_item("updates", r.update_time.as_secs_f64())?;
+
+    let steps = r
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(i, s)| step_dict(py, i + 1, s))
+        .collect::<PyResult<Vec<_>>>()?;
+
+    let d = PyDict::new(py);
+    d.set_item(
+        "input",
+        mesh.source.as_ref().map(|(p, _)| p.display().to_string()),
+    )?;
+    d.set_item("output", py.None())?;
+    d.set_item("vertices", mesh.positions.len())?;
+    d.set_item("faces", mesh.faces.len())?;
+    d.set_item("parameters", parameters)?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("stop", r.stop.name())?;
+    d.set_item("max_stuck_vertices", r.max_stuck_vertices)?;
+    d.set_item("seconds", seconds)?;
+    d.set_item("steps", steps)?;
+    if let Some(s) = &r.solver {
+        let implicit = PyDict::new(py);
+        implicit.set_item("solver", options.solver)?;
+        implicit.set_item("time_step", r.config.lambda)?;
+        implicit.set_item("numeric_factorizations", s.numeric_factorizations)?;
+        implicit.set_item("factor_nonzeros", s.factor_nonzeros)?;
+        implicit.set_item("cg_iterations", s.cg_iterations)?;
+        implicit.set_item("seconds_assembly", r.weight_time.as_secs_f64())?;
+        implicit.set_item("seconds_analysis", s.analysis_time.as_secs_f64())?;
+        implicit.set_item("seconds_factorization", s.factorization_time.as_secs_f64())?;
+        implicit.set_item("seconds_solve", r.update_time.as_secs_f64())?;
+        d.set_item("implicit", implicit)?;
+    }
+    Ok(d)
+}

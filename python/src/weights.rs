@@ -1,0 +1,51 @@
+//! The weight schemes known to the package: the library's built-ins and the
+//! edge-preserving schemes, as the command line knows them.
+
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+
+use beltrami_weights::{WeightRegistry, WeightScheme};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+
+/// The registry shared by every call.
+fn registry() -> PyResult<&'static Mutex<WeightRegistry>> {
+    static REGISTRY: OnceLock<Result<Mutex<WeightRegistry>, String>> = OnceLock::new();
+    REGISTRY
+        .get_or_init(|| {
+            let mut registry = WeightRegistry::with_builtins();
+            beltrami_schemes::register_all(&mut registry).map_err(|e| e.to_string())?;
+            Ok(Mutex::new(registry))
+        })
+        .as_ref()
+        .map_err(|e| PyRuntimeError::new_err(e.clone()))
+}
+
+/// The scheme registered under `name`; `ValueError` naming the known ones otherwise.
+pub(crate) fn scheme(name: &str) -> PyResult<Arc<dyn WeightScheme>> {
+    registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .get(name)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// The names of the registered weight schemes, sorted.
+#[pyfunction]
+pub(crate) fn weight_schemes() -> PyResult<Vec<String>> {
+    Ok(registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .names()
+        .into_iter()
+        .map(str::to_string)
+        .collect())
+}
+
+/// Adds `scheme` to the registry; `ValueError` when the name is taken or invalid.
+pub(crate) fn register(scheme: impl WeightScheme + 'static) -> PyResult<()> {
+    registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .register(scheme)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}

@@ -1,0 +1,127 @@
+"""Meshes from and to numpy arrays, and the errors of bad arrays."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import beltrami as bt
+
+TETRA_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+TETRA_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+
+
+def test_numpy_round_trip_is_exact():
+    rng = np.random.default_rng(1)
+    v = TETRA_V + rng.normal(scale=1e-3, size=TETRA_V.shape)
+    mesh = bt.Mesh(v, TETRA_F)
+    assert mesh.vertices.dtype == np.float64
+    assert mesh.faces.dtype == np.int64
+    np.testing.assert_array_equal(mesh.vertices, v)
+    np.testing.assert_array_equal(mesh.faces, TETRA_F)
+    assert (mesh.n_vertices, mesh.n_faces, mesh.n_edges) == (4, 4, 6)
+    assert mesh.is_closed and mesh.is_triangle_mesh
+    assert len(mesh) == 4
+
+
+def test_any_real_and_integer_dtype_and_layout():
+    v32 = np.asfortranarray(TETRA_V.astype(np.float32))
+    f32 = TETRA_F.astype(np.uint32)
+    mesh = bt.Mesh(v32, f32)
+    np.testing.assert_array_equal(mesh.vertices, TETRA_V)
+    mesh = bt.Mesh(TETRA_V.tolist(), TETRA_F.tolist())
+    np.testing.assert_array_equal(mesh.faces, TETRA_F)
+
+
+def test_arrays_are_read_only_copies():
+    mesh = bt.Mesh(TETRA_V, TETRA_F)
+    with pytest.raises(ValueError):
+        mesh.vertices[0, 0] = 5.0
+    copy = mesh.vertices.copy()
+    copy[0, 0] = 5.0
+    assert mesh.vertices[0, 0] == 0.0
+
+
+def test_quads_come_back_as_quads():
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    mesh = bt.Mesh(v, [[0, 1, 2, 3]])
+    assert mesh.faces.shape == (1, 4)
+    assert not mesh.is_triangle_mesh
+
+
+@pytest.mark.parametrize(
+    ("vertices", "faces", "message"),
+    [
+        (TETRA_V[:, :2], TETRA_F, r"vertices must be an \(N, 3\) array, got shape \(4, 2\)"),
+        (np.zeros(12), TETRA_F, r"vertices must be an \(N, 3\) array"),
+        (
+            np.where(np.arange(12).reshape(4, 3) == 7, np.nan, TETRA_V),
+            TETRA_F,
+            r"vertex 2 has a non-finite coordinate \(NaN\)",
+        ),
+        (TETRA_V, TETRA_F.astype(float), "faces must be an integer array"),
+        (TETRA_V, TETRA_F[:, :2], r"faces must be an \(M, 3\) array"),
+        (
+            TETRA_V,
+            np.array([[0, 2, 1], [0, 1, 7]]),
+            "face 1 refers to vertex 7, but there are only 4 vertices",
+        ),
+        (
+            TETRA_V,
+            np.array([[0, 2, 1], [0, -1, 3]]),
+            "face 1 refers to vertex -1, but there are only 4 vertices",
+        ),
+        (TETRA_V, np.array([[0, 1, 1]]), "face 0 lists vertex 1 more than once"),
+    ],
+)
+def test_bad_arrays_raise_mesh_error_naming_the_element(vertices, faces, message):
+    with pytest.raises(bt.MeshError, match=message):
+        bt.Mesh(vertices, faces)
+
+
+def test_mesh_error_is_a_value_error():
+    assert issubclass(bt.MeshError, ValueError)
+    assert issubclass(bt.FormatError, ValueError)
+    assert issubclass(bt.SmoothError, ValueError)
+
+
+def test_non_manifold_edge_is_refused():
+    v = np.vstack([TETRA_V, [[0.5, 0.5, -1.0]]])
+    # Three faces on the edge 0-1.
+    f = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    with pytest.raises(bt.MeshError, match="non-manifold|orientation"):
+        bt.Mesh(v, f)
+
+
+def test_repr_names_the_counts():
+    assert repr(bt.Mesh(TETRA_V, TETRA_F)) == "Mesh(4 vertices, 4 faces)"
+
+
+def test_trimesh_round_trip():
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.icosphere(subdivisions=2)
+    mesh = bt.from_trimesh(box)
+    np.testing.assert_array_equal(mesh.vertices, box.vertices)
+    np.testing.assert_array_equal(mesh.faces, box.faces)
+    back = bt.to_trimesh(mesh)
+    assert isinstance(back, trimesh.Trimesh)
+    np.testing.assert_array_equal(back.vertices, box.vertices)
+    np.testing.assert_array_equal(back.faces, box.faces)
+    assert bt.info(mesh)["volume"] == pytest.approx(back.volume, rel=1e-12)
+
+
+def test_open3d_round_trip():
+    o3d = pytest.importorskip("open3d")
+    sphere = o3d.geometry.TriangleMesh.create_sphere(resolution=8)
+    mesh = bt.from_open3d(sphere)
+    np.testing.assert_array_equal(mesh.vertices, np.asarray(sphere.vertices))
+    back = bt.to_open3d(mesh)
+    np.testing.assert_array_equal(np.asarray(back.triangles), np.asarray(sphere.triangles))
+
+
+def test_duck_typed_from_trimesh():
+    class Shape:
+        vertices = TETRA_V
+        faces = TETRA_F
+
+    assert bt.from_trimesh(Shape()).n_faces == 4

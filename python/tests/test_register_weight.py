@@ -1,0 +1,74 @@
+"""Weight schemes written in Python."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import beltrami as bt
+
+
+def python_cotangent(h):
+    return 0.5 * (h["opposite_cotangent"] + h["opposite_cotangent"][h["twin"]])
+
+
+bt.register_weight("py-cotangent", python_cotangent, description="cotangent, in numpy")
+bt.register_weight("py-uniform", lambda h: np.ones(len(h["from_vertex"])), depends_on_positions=False)
+
+
+def test_the_cotangent_scheme_in_numpy_equals_the_builtin(sphere, patch):
+    for mesh in (sphere, patch):
+        rust, _ = bt.smooth(mesh, weights="cotangent", iterations=5)
+        python, report = bt.smooth(mesh, weights="py-cotangent", iterations=5)
+        np.testing.assert_allclose(python.vertices, rust.vertices, rtol=0, atol=1e-12)
+        assert report["parameters"]["weights"] == "py-cotangent"
+
+
+def test_uniform_in_numpy_equals_the_builtin(sphere):
+    rust, _ = bt.smooth(sphere, weights="uniform", method="taubin")
+    python, _ = bt.smooth(sphere, weights="py-uniform", method="taubin")
+    np.testing.assert_array_equal(python.vertices, rust.vertices)
+
+
+def test_the_arrays_describe_the_halfedges(sphere):
+    seen = {}
+
+    def spy(h):
+        seen.update(h)
+        return np.ones(len(h["from_vertex"]))
+
+    bt.register_weight("spy", spy)
+    bt.smooth(sphere, weights="spy", iterations=1)
+    n = 2 * sphere.n_edges
+    assert seen["from_vertex"].shape == (n,) and seen["edge_vector"].shape == (n, 3)
+    v = seen["positions"]
+    np.testing.assert_allclose(
+        seen["edge_vector"], v[seen["to_vertex"]] - v[seen["from_vertex"]], atol=1e-15
+    )
+    np.testing.assert_allclose(seen["edge_length"], np.linalg.norm(seen["edge_vector"], axis=1))
+    np.testing.assert_array_equal(seen["from_vertex"][seen["twin"]], seen["to_vertex"])
+    assert (seen["face"] >= 0).all()  # closed: no boundary halfedges
+    np.testing.assert_allclose(np.linalg.norm(seen["face_normal"], axis=1), 1.0)
+    assert "spy" in bt.weight_schemes()
+
+
+def test_a_failing_scheme_raises_its_exception(sphere):
+    def broken(h):
+        raise ZeroDivisionError("no weights today")
+
+    bt.register_weight("broken", broken)
+    with pytest.raises(ZeroDivisionError, match="no weights today"):
+        bt.smooth(sphere, weights="broken")
+
+
+def test_a_wrong_length_is_a_value_error(sphere):
+    bt.register_weight("short", lambda h: np.ones(3))
+    with pytest.raises(ValueError, match="returned 3 weights for 3840 halfedges"):
+        bt.smooth(sphere, weights="short")
+
+
+def test_names_are_checked():
+    with pytest.raises(ValueError, match="already registered"):
+        bt.register_weight("cotangent", python_cotangent)
+    with pytest.raises(ValueError, match="invalid weight scheme name"):
+        bt.register_weight("Bad Name", python_cotangent)
