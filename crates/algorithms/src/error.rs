@@ -45,3 +45,49 @@ pub enum SubdivisionError {
     #[error("the subdivided mesh did not build: {0}")]
     Topology(#[from] TopologyError),
 }
+
+/// Why [`delaunay_flip`](crate::delaunay_flip) could not run. Every variant names the
+/// offending element or value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DelaunayError {
+    /// A face is not a triangle; flips need a triangle mesh.
+    #[error("face {face} has {len} vertices; Delaunay flipping needs a triangle mesh")]
+    NotTriangle {
+        /// The face index (0-based, in mesh order).
+        face: usize,
+        /// The number of vertices it has.
+        len: usize,
+    },
+    /// The positions slice does not have one position per vertex.
+    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
+    PositionCount {
+        /// The length of the positions slice.
+        positions: usize,
+        /// The number of vertices of the mesh.
+        vertices: usize,
+    },
+    /// A position is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite position")]
+    NonFinite {
+        /// The vertex index.
+        vertex: usize,
+    },
+    /// An option is out of its range.
+    #[error("invalid option: {reason}")]
+    Options {
+        /// The problem in words.
+        reason: String,
+    },
+    /// A flip the checks allowed was refused, or the result did not convert back to a
+    /// mesh: a defect of this crate, reported rather than panicking.
+    #[error("the flipped mesh is not valid: {0}")]
+    Edit(#[from] beltrami_halfedge::EditError),
+    /// The input or the result did not convert between the frozen and the editable
+    /// mesh.
+    #[error("{0}")]
+    Topology(#[from] TopologyError),
+    /// Measuring the change of the surface failed (a defect: the positions are finite).
+    #[error("measuring the deviation: {0}")]
+    Metrics(#[from] beltrami_metrics::MetricsError),
+}

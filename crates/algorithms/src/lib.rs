@@ -6,7 +6,11 @@
 //!
 //! - [`loop_subdivide`]: Loop subdivision (Loop 1987), with the boundary curve rules;
 //! - [`sqrt3_subdivide`]: √3 subdivision (Kobbelt 2000), with its boundary rule on odd
-//!   steps.
+//!   steps;
+//! - [`delaunay_flip`]: Lawson's edge flips towards a Delaunay mesh on the same vertices
+//!   (every cotangent weight non-negative), written on the editable
+//!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
+//!   surfaces and the change of the surface measured.
 //!
 //! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
 //! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
@@ -31,8 +35,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod delaunay;
 mod error;
 pub mod subdivision;
 
-pub use error::SubdivisionError;
+pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
+pub use error::{DelaunayError, SubdivisionError};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -24,6 +24,7 @@ use beltrami_weights::WeightRegistry;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod compare;
+mod delaunay;
 mod error;
 mod fit;
 mod generate;
@@ -79,6 +80,9 @@ enum Command {
     Generate(generate::GenerateArgs),
     /// Subdivide a triangle mesh by Loop's or Kobbelt's sqrt(3) scheme.
     Subdivide(subdivide::SubdivideArgs),
+    /// Flip edges until no cotangent weight is negative (a Delaunay mesh on the same
+    /// vertices), optionally keeping sharp and curved edges.
+    Delaunay(delaunay::DelaunayArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -186,6 +190,7 @@ where
         Command::Generate(args) => generate::run(args, &mut stdout),
         Command::Study(args) => study::run(args, registry, &mut stdout),
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
+        Command::Delaunay(args) => delaunay::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),

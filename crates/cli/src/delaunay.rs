@@ -1,0 +1,159 @@
+//! `beltrami delaunay`: edge flips towards a Delaunay mesh on the same vertices, so that
+//! no cotangent weight is negative.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use beltrami_algorithms::{DelaunayError, DelaunayOptions, delaunay_flip};
+use beltrami_io::MeshData;
+use serde::Serialize;
+
+use crate::error::CliError;
+use crate::load::{ReadArgs, load};
+use crate::output::{Outputs, Staged};
+use crate::text::{counted, number};
+
+/// Arguments of `beltrami delaunay`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct DelaunayArgs {
+    /// The triangle mesh (.ply, .stl, .obj or .off).
+    input: PathBuf,
+    /// The flipped mesh, the same vertices in the same order (.ply, .stl, .obj or .off by
+    /// extension).
+    output: PathBuf,
+    /// Leave an edge alone when its two triangles meet at more than this angle, in
+    /// degrees (0 to 180): keeps feature edges and bounds how much a flip can change a
+    /// curved surface. Default: no bound (on a curved scan, try 1 to 5).
+    #[arg(long, value_name = "DEG")]
+    max_dihedral: Option<f64>,
+    /// Stop after this many flips (default: ten per edge; a planar mesh never needs as
+    /// many, a curved one could otherwise cycle).
+    #[arg(long, value_name = "N")]
+    max_flips: Option<usize>,
+    /// Print a JSON summary instead of the sentence.
+    #[arg(long)]
+    json: bool,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Replace OUTPUT even when it is the input or write-protected.
+    #[arg(long)]
+    force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+}
+
+/// The JSON of `delaunay --json`.
+#[derive(Debug, Serialize)]
+struct Summary {
+    input: String,
+    output: String,
+    vertices: usize,
+    faces: usize,
+    flips: usize,
+    negative_before: usize,
+    negative_after: usize,
+    kept_by_dihedral: usize,
+    kept_by_topology: usize,
+    hit_flip_limit: bool,
+    /// The distance between the input and output surfaces, in the mesh's unit.
+    max_deviation: f64,
+    max_dihedral_degrees: Option<f64>,
+    seconds: f64,
+}
+
+/// Runs `beltrami delaunay`.
+pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliError> {
+    if let Some(d) = args.max_dihedral
+        && !(0.0..=180.0).contains(&d)
+    {
+        return Err(CliError::Usage(format!(
+            "--max-dihedral must be between 0 and 180 degrees, got {}",
+            number(d)
+        )));
+    }
+    let mut outputs = Outputs::new();
+    outputs.add(&args.output, "OUTPUT");
+    outputs.check(&[&args.input], args.force)?;
+    let loaded = load(&args.input, &args.read)?;
+    loaded.require_faces(&args.input, "delaunay")?;
+    let mut options = DelaunayOptions::default();
+    if let Some(d) = args.max_dihedral {
+        options = options.max_dihedral(d.to_radians());
+    }
+    if let Some(n) = args.max_flips {
+        options = options.max_flips(n);
+    }
+    let start = std::time::Instant::now();
+    let (mesh, positions, report) = delaunay_flip(&loaded.mesh, &loaded.positions, options)
+        .map_err(|e| CliError::Input {
+            path: args.input.clone(),
+            message: match e {
+                DelaunayError::NotTriangle { face, len } => format!(
+                    "face {face} has {len} vertices; delaunay needs a triangle mesh (triangulate it first)"
+                ),
+                e => e.to_string(),
+            },
+        })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let data = MeshData {
+        positions,
+        faces: mesh.to_polygons(),
+    };
+    let mut staged = Staged::new();
+    staged.push_mesh(&args.output, &data, args.ascii)?;
+    staged.commit()?;
+
+    if args.json {
+        let summary = Summary {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            vertices: mesh.n_vertices(),
+            faces: mesh.n_faces(),
+            flips: report.flips,
+            negative_before: report.negative_before,
+            negative_after: report.negative_after,
+            kept_by_dihedral: report.kept_by_dihedral,
+            kept_by_topology: report.kept_by_topology,
+            hit_flip_limit: report.hit_flip_limit,
+            max_deviation: report.max_deviation,
+            max_dihedral_degrees: args.max_dihedral,
+            seconds,
+        };
+        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+        return Ok(());
+    }
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    let mut kept = Vec::new();
+    if report.kept_by_dihedral > 0 {
+        kept.push(format!("{} by --max-dihedral", report.kept_by_dihedral));
+    }
+    if report.kept_by_topology > 0 {
+        kept.push(format!(
+            "{} not flippable (the flipped edge exists)",
+            report.kept_by_topology
+        ));
+    }
+    if report.hit_flip_limit {
+        kept.push("the flip limit was reached".to_string());
+    }
+    let kept = if kept.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", kept.join(", "))
+    };
+    writeln!(
+        out,
+        "flipped {} of {} -> {}: negative cotangent weights {} -> {}{kept}; surface moved by at most {}",
+        counted(report.flips, "edge", "edges"),
+        args.input.display(),
+        args.output.display(),
+        report.negative_before,
+        report.negative_after,
+        number(report.max_deviation),
+    )?;
+    Ok(())
+}
