@@ -185,7 +185,7 @@ pub fn delaunay_flip(
         return Err(DelaunayError::NonFinite { vertex: v });
     }
     if let Some(d) = options.max_dihedral
-        && !(d >= 0.0)
+        && (d.is_nan() || d < 0.0)
     {
         return Err(DelaunayError::Options {
             reason: format!("the largest dihedral angle must be >= 0, got {d}"),
