@@ -13,7 +13,7 @@ use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, PolygonList};
 use beltrami_surfaces::{FLensParams, NoiseLevel, add_normal_noise, flens};
 
-use crate::rng::SplitMix64;
+use crate::rng::{Lcg64, SplitMix64};
 
 /// The fixtures the OpenMesh references are generated for, by name: the file is
 /// `fixtures/<name>.ply` and the references are in `fixtures/openmesh/<name>/`.
@@ -118,6 +118,48 @@ pub fn noisy_icosphere() -> Primitive {
     let mut rng = SplitMix64::new(0x1c05_f4e4);
     for p in &mut sphere.positions {
         *p *= 1.0 + 0.02 * rng.next_symmetric();
+    }
+    sphere
+}
+
+/// The unit icosphere of `level` (`primitives::icosphere(level)`) and, beside it, its
+/// positions with Gaussian noise: every coordinate of every vertex moves by `sigma` times
+/// a [`SplitMix64::next_normal`] number (x, y, z in turn, vertex after vertex) of the
+/// generator seeded with `seed`.
+///
+/// The noise goes through `ln` and `cos` (Box–Muller), so unlike the other fixtures its
+/// last bits may differ between platforms' math libraries. It is the test case of the
+/// closest-point benchmark and its phase-timing example.
+#[must_use]
+pub fn gaussian_noisy_icosphere(level: u32, sigma: f64, seed: u64) -> (Primitive, Vec<DVec3>) {
+    let sphere = primitives::icosphere(level);
+    let mut rng = SplitMix64::new(seed);
+    let noisy = sphere
+        .positions
+        .iter()
+        .map(|p| {
+            let x = rng.next_normal();
+            let y = rng.next_normal();
+            let z = rng.next_normal();
+            *p + DVec3::new(x, y, z) * sigma
+        })
+        .collect();
+    (sphere, noisy)
+}
+
+/// The unit icosphere of `level` with every coordinate moved by up to a fifth of its
+/// mean edge length (about `1.1 / 2^level`), uniformly: `p + 0.2 · 1.1 / 2^level · u`,
+/// `u` from [`Lcg64::next_symmetric_vector`] of the generator started at
+/// `0x9E37_79B9_7F4A_7C15`, vertex after vertex. The mesh of the explicit and implicit
+/// smoothing benchmarks.
+#[must_use]
+pub fn jittered_icosphere(level: u32) -> Primitive {
+    let mut sphere = primitives::icosphere(level);
+    let edge = 1.1 / f64::from(1u32 << level);
+    let amplitude = 0.2 * edge;
+    let mut rng = Lcg64::new(0x9E37_79B9_7F4A_7C15);
+    for p in &mut sphere.positions {
+        *p += rng.next_symmetric_vector() * amplitude;
     }
     sphere
 }
