@@ -474,7 +474,7 @@ fn edge_section(s: &mut String, results: &StudyResults) {
         s,
         "| run | iterations | flat-side RMS | dihedral error (°) | volume loss | reached the target |\n|---|---|---|---|---|---|"
     );
-    let line = |s: &mut String, name: &str, m: &beltrami_schemes::Measures, reached: &str| {
+    let line = |s: &mut String, name: &str, m: &crate::Measures, reached: &str| {
         let _ = writeln!(
             s,
             "| {name} | {} | {} | {} | {} | {reached} |",

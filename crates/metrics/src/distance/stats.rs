@@ -5,7 +5,7 @@ use beltrami_halfedge::{DVec3, ElementId, FaceId, HalfedgeMesh};
 use rayon::prelude::*;
 
 use super::index::SurfaceIndex;
-use super::sum::Sum;
+use crate::sum::Sum;
 use crate::MetricsError;
 
 /// Statistics of unsigned distances (or displacements) over the vertices of a mesh, in the
