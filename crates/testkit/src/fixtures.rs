@@ -1,17 +1,19 @@
 //! Deterministic test meshes: small enough for CI, irregular enough to catch real bugs.
 //!
 //! Every function returns the same positions to the last bit on every platform: the
-//! noise comes from [`SplitMix64`] (integer arithmetic) and only `+ − ×` and exact
-//! operations are applied to it — except [`noisy_flens`], which takes the paper's
-//! F-lens and its seeded Gaussian noise from `beltrami-surfaces` (ChaCha8 bits, `libm`'s
-//! pure-Rust logarithm and correctly rounded `sqrt`, also identical everywhere). The
+//! noise comes from [`SplitMix64`] or [`Lcg64`] (integer arithmetic) and only `+ − ×`
+//! and exact operations are applied to it — except [`noisy_flens`] and
+//! [`with_bench_noise`], which take their seeded Gaussian noise from `beltrami-surfaces`
+//! (ChaCha8 bits, `libm`'s pure-Rust logarithm and correctly rounded `sqrt`, also
+//! identical everywhere), and [`gaussian_noisy_icosphere`], whose Box–Muller noise goes
+//! through the platform's `ln` and `cos`. The
 //! meshes of [`openmesh_inputs`] are committed in
 //! `fixtures/` (written by `cargo run -p beltrami-testkit --example make_openmesh_inputs`)
 //! and are the inputs of the OpenMesh references in `fixtures/openmesh/`.
 
 use beltrami_halfedge::primitives::{self, Primitive};
-use beltrami_halfedge::{DVec3, PolygonList};
-use beltrami_surfaces::{FLensParams, NoiseLevel, add_normal_noise, flens};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList};
+use beltrami_surfaces::{FLensParams, NoiseLevel, Surface, add_normal_noise, flens};
 
 use crate::rng::{Lcg64, SplitMix64};
 
@@ -162,6 +164,26 @@ pub fn jittered_icosphere(level: u32) -> Primitive {
         *p += rng.next_symmetric_vector() * amplitude;
     }
     sphere
+}
+
+/// `surface` with Gaussian noise along its area-weighted vertex normals of standard
+/// deviation 0.2 × the mean edge length, seed 42
+/// (`beltrami_surfaces::add_normal_noise`, boundary vertices included), beside its mesh:
+/// the meshes of the sweep and refresh benchmarks of `beltrami-weights`.
+///
+/// # Panics
+/// When `surface` is not a valid mesh (never for the surfaces of `beltrami-surfaces`).
+#[must_use]
+pub fn with_bench_noise(surface: &Surface) -> (HalfedgeMesh, Vec<DVec3>) {
+    let mesh = surface.mesh().expect("a valid surface");
+    let (positions, _sigma) = add_normal_noise(
+        &mesh,
+        &surface.positions,
+        NoiseLevel::RelativeToMeanEdge(0.2),
+        42,
+    )
+    .expect("a valid noise level");
+    (mesh, positions)
 }
 
 /// A torus (genus 1) with tube-centre radius 2 and tube radius 0.6 on a 36 × 12 grid
