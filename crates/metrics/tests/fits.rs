@@ -53,7 +53,11 @@ fn cylinder_points(rng: &mut SplitMix64, n: usize, radius: f64, arc: f64, h: f64
     (0..n)
         .map(|_| {
             let phi = rng.next_range(0.0, arc);
-            DVec3::new(radius * phi.cos(), radius * phi.sin(), rng.next_range(-h, h))
+            DVec3::new(
+                radius * phi.cos(),
+                radius * phi.sin(),
+                rng.next_range(-h, h),
+            )
         })
         .collect()
 }

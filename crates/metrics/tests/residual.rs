@@ -11,8 +11,8 @@ use beltrami_metrics::MetricsError;
 use beltrami_metrics::residual::{
     ArealOptions, ArealParameters, Datum, Quadrature, areal_parameters, normal_residual,
 };
-use glam::DQuat;
 use beltrami_testkit::SplitMix64;
+use glam::DQuat;
 use proptest::prelude::*;
 
 fn build(p: &Primitive) -> HalfedgeMesh {
@@ -230,8 +230,16 @@ fn triangle_integrals_agree_with_subdivision() {
     let n = 256u32;
     let mut sign_changes = 0;
     for _ in 0..20 {
-        let corners = [random.next_symmetric_vector(), random.next_symmetric_vector(), random.next_symmetric_vector()];
-        let values = [random.next_symmetric(), random.next_symmetric(), random.next_symmetric()];
+        let corners = [
+            random.next_symmetric_vector(),
+            random.next_symmetric_vector(),
+            random.next_symmetric_vector(),
+        ];
+        let values = [
+            random.next_symmetric(),
+            random.next_symmetric(),
+            random.next_symmetric(),
+        ];
         let mesh = HalfedgeMesh::from_polygons(3, [[0u32, 1, 2]]).expect("valid");
         let s = areal(&mesh, &corners, &values, Datum::ReferenceSurface);
         let area = s.area;
@@ -361,7 +369,10 @@ fn sp_sv_and_the_mean_on_a_random_field() {
         .iter()
         .map(|&p| p + 0.2 * random.next_symmetric_vector())
         .collect();
-    let r: Vec<f64> = positions.iter().map(|_| 0.3 + random.next_symmetric()).collect();
+    let r: Vec<f64> = positions
+        .iter()
+        .map(|_| 0.3 + random.next_symmetric())
+        .collect();
     let geometry = Geometry::new(&mesh, &positions).expect("positions");
     let area: f64 = mesh.faces().map(|f| geometry.face_area(f)).sum();
     let mean = mesh
@@ -521,7 +532,13 @@ fn normal_residual_is_the_signed_normal_deviation() {
         .positions
         .iter()
         .zip(&heights)
-        .map(|(&p, &h)| p + DVec3::new(0.05 * random.next_symmetric(), 0.05 * random.next_symmetric(), h))
+        .map(|(&p, &h)| {
+            p + DVec3::new(
+                0.05 * random.next_symmetric(),
+                0.05 * random.next_symmetric(),
+                h,
+            )
+        })
         .collect();
     let r = normal_residual(
         &Geometry::new(&mesh, &measured).expect("positions"),

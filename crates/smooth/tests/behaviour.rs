@@ -8,8 +8,8 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_smooth::{
     Boundary, SmoothConfig, SmoothError, Smoother, StopReason, WeightUpdate, smooth,
 };
-use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 use beltrami_testkit::SplitMix64;
+use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 
 fn schemes() -> [&'static dyn WeightScheme; 3] {
     [&Uniform, &InverseDistance, &Cotangent]

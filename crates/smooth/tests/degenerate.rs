@@ -13,13 +13,13 @@ use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId
 use beltrami_smooth::{
     Boundary, SmoothConfig, SmoothError, Smoothed, Smoother, WeightUpdate, smooth,
 };
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, NegativeWeights, Normalization, Uniform,
     WeightContext, WeightError, WeightScheme,
 };
 use glam::{DMat3, DQuat};
 use proptest::prelude::*;
-use beltrami_testkit::SplitMix64;
 
 // ---------------------------------------------------------------------------------------
 // Helpers.

@@ -9,10 +9,10 @@ use beltrami_smooth::{
     Boundary, DiffusionTime, Method, SmoothConfig, SmoothError, Smoother, StopReason, WeightUpdate,
     smooth,
 };
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightScheme,
 };
-use beltrami_testkit::SplitMix64;
 
 fn schemes() -> [&'static dyn WeightScheme; 3] {
     [&Uniform, &InverseDistance, &Cotangent]

@@ -34,11 +34,11 @@ use std::collections::BTreeMap;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId, primitives};
 use beltrami_smooth::{Boundary, SmoothConfig, SmoothError, WeightUpdate, smooth};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, NegativeWeights, Normalization, Uniform,
     WeightScheme,
 };
-use beltrami_testkit::SplitMix64;
 
 // ---------------------------------------------------------------------------------------
 // The reference.

@@ -294,7 +294,6 @@ fn setup_section(s: &mut String, results: &StudyResults) {
         );
     }
     let _ = writeln!(s);
-
 }
 
 /// The paper's findings with their verdicts, then the notes of those that have one.
@@ -315,7 +314,6 @@ fn findings_section(s: &mut String, findings: &[Finding]) {
         let _ = writeln!(s, "- *{}* ({}): {}", f.id, f.verdict.label(), f.note);
     }
     let _ = writeln!(s);
-
 }
 
 /// Per surface: the metrics of every scheme after `shown` iterations (and of the input),

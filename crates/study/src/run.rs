@@ -246,13 +246,14 @@ fn run_reported(
         label,
         config.max_iterations(),
     ));
-    let run = run_one(case, scheme, label, &config.iterations, smooth, progress).map_err(
-        |source| StudyError::Smooth {
-            surface: case.clean.name.to_string(),
-            scheme: label.to_string(),
-            source,
-        },
-    )?;
+    let run =
+        run_one(case, scheme, label, &config.iterations, smooth, progress).map_err(|source| {
+            StudyError::Smooth {
+                surface: case.clean.name.to_string(),
+                scheme: label.to_string(),
+                source,
+            }
+        })?;
     progress(Progress::RunFinished);
     Ok(run)
 }

@@ -3,11 +3,11 @@
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightError, WeightRegistry, WeightScheme,
 };
-use beltrami_testkit::SplitMix64;
 
 /// A grid whose interior vertices are moved in-plane by up to `amount` of a cell.
 fn jittered_grid(n: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {

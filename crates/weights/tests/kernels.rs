@@ -6,11 +6,11 @@
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightScheme,
 };
-use beltrami_testkit::SplitMix64;
 
 /// The same weights without a kernel: the generic path.
 struct Generic<'a>(&'a dyn WeightScheme);
@@ -150,7 +150,13 @@ fn kernels_match_the_generic_path() {
     let x: Vec<DVec3> = g
         .positions
         .iter()
-        .map(|&p| p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.1 * rng.next_symmetric()) * 0.45)
+        .map(|&p| {
+            p + DVec3::new(
+                rng.next_symmetric(),
+                rng.next_symmetric(),
+                0.1 * rng.next_symmetric(),
+            ) * 0.45
+        })
         .collect();
     cases.push(("grid".into(), mesh.clone(), x.clone()));
     // Degenerate and coincident triangles: collapse some vertices onto neighbours.
@@ -295,7 +301,13 @@ fn kernels_match_on_mixed_lanes_and_tails() {
     let x: Vec<DVec3> = g
         .positions
         .iter()
-        .map(|&p| p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.2 * rng.next_symmetric()) * 0.4)
+        .map(|&p| {
+            p + DVec3::new(
+                rng.next_symmetric(),
+                rng.next_symmetric(),
+                0.2 * rng.next_symmetric(),
+            ) * 0.4
+        })
         .collect();
     // Every other vertex collapsed onto its right-hand neighbour: degenerate and
     // ordinary triangles side by side.

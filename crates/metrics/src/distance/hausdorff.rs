@@ -167,10 +167,7 @@ pub fn one_sided_hausdorff_from_vertex_distances(
         HausdorffSampling::Vertices => on_vertices,
         HausdorffSampling::VerticesAndSurface { samples, seed } => {
             let points = from.sample_surface(samples, seed);
-            let far = to
-                .distances(&points)?
-                .into_iter()
-                .fold(0.0f64, f64::max);
+            let far = to.distances(&points)?.into_iter().fold(0.0f64, f64::max);
             on_vertices.max(far)
         }
     })

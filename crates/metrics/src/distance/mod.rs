@@ -51,13 +51,13 @@ mod sampling;
 mod stats;
 mod triangle;
 
+pub use crate::measures::{surface_area, volume};
 pub use displacement::{check_same_topology, displacement_stats, displacements};
 pub use hausdorff::{
     HausdorffDistance, HausdorffSampling, hausdorff, one_sided_hausdorff,
     one_sided_hausdorff_from_vertex_distances,
 };
 pub use index::{ClosestPoint, Feature, MAX_COORDINATE, SurfaceIndex};
-pub use crate::measures::{surface_area, volume};
 pub(crate) use stats::vertex_areas;
 pub use stats::{DistanceStats, SignedDistanceStats, distance_stats, signed_distance_stats};
 pub use triangle::{TriangleFeature, TrianglePoint, closest_point_on_triangle};
