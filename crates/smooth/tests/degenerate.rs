@@ -1267,7 +1267,7 @@ fn cotangent_free_boundary_flow_amplifies_rounding() {
     let nudged: Vec<DVec3> = case
         .positions
         .iter()
-        .map(|&p| p + rng.vector(1e-15))
+        .map(|&p| p + rng.next_symmetric_vector() * 1e-15)
         .collect();
     let diag = diagonal(&case.positions);
     let mut worst = 0.0f64;
