@@ -8,6 +8,8 @@
 
 use std::path::Path;
 
+use beltrami_testkit::SplitMix64;
+
 /// Every file of the corpus: name and bytes.
 pub(crate) fn files() -> Vec<(&'static str, Vec<u8>)> {
     let mut out: Vec<(&'static str, Vec<u8>)> = Vec::new();
@@ -223,18 +225,11 @@ fn stl_binary(declared: u32, present: u32) -> Vec<u8> {
     bytes
 }
 
-/// Deterministic noise (SplitMix64) that starts with no recognisable magic.
+/// Deterministic noise that starts with no recognisable magic: the low byte of each
+/// [`SplitMix64`] number.
 fn garbage(len: usize) -> Vec<u8> {
-    let mut state: u64 = 0x5eed_ba5e_0bad_f11e;
-    (0..len)
-        .map(|_| {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            (z ^ (z >> 31)) as u8
-        })
-        .collect()
+    let mut rng = SplitMix64::new(0x5eed_ba5e_0bad_f11e);
+    (0..len).map(|_| rng.next_u64() as u8).collect()
 }
 
 fn main() {

@@ -15,7 +15,8 @@ use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_by
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
-    check_same_topology, displacement_stats, one_sided_hausdorff, surface_area, volume,
+    check_same_topology, displacement_stats, one_sided_hausdorff,
+    one_sided_hausdorff_from_vertex_distances, surface_area, volume,
 };
 use beltrami_metrics::normals::normal_deviation;
 use beltrami_viz::render::ColorMap;
@@ -217,28 +218,13 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
     };
     let clock = Instant::now();
     // One closest-point query per vertex gives the signed and the unsigned distance, and
-    // the vertex part of the mesh → reference Hausdorff distance (the vertices on a face).
+    // the vertex part of the mesh → reference Hausdorff distance.
     let signed = reference_index
         .signed_distances(&mesh.positions)
         .map_err(&on_mesh)?;
-    let on_surface = mesh
-        .mesh
-        .vertices()
-        .zip(&signed)
-        .filter(|&(v, _)| !mesh.mesh.is_isolated(v))
-        .fold(0.0f64, |m, (_, s)| m.max(s.abs()));
-    let forward = match sampling {
-        HausdorffSampling::Vertices => on_surface,
-        HausdorffSampling::VerticesAndSurface { samples, seed } => {
-            let points = mesh_index.sample_surface(samples, seed);
-            let far = reference_index
-                .distances(&points)
-                .map_err(&on_mesh)?
-                .into_iter()
-                .fold(0.0f64, f64::max);
-            on_surface.max(far)
-        }
-    };
+    let forward =
+        one_sided_hausdorff_from_vertex_distances(&mesh_index, &signed, &reference_index, sampling)
+            .map_err(&on_mesh)?;
     let backward =
         one_sided_hausdorff(&reference_index, &mesh_index, sampling).map_err(&on_mesh)?;
     let h = HausdorffDistance::from_one_sided(forward, backward);

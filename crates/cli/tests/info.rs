@@ -1,8 +1,10 @@
 //! `beltrami info` as a user runs it: real files in, numbers or one error line out.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use std::path::{Path, PathBuf};
+
+use common::{beltrami, error_line};
 use insta::assert_snapshot;
 use serde_json::Value;
 
@@ -10,13 +12,6 @@ fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../fixtures")
         .join(name)
-}
-
-fn beltrami(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beltrami"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
 }
 
 fn info_json(path: &Path) -> Value {
@@ -28,26 +23,6 @@ fn info_json(path: &Path) -> Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-/// The error of a failed run, with the temporary directory replaced: one line, or the
-/// argument parser's whole usage message (exit code 2).
-fn error_line(out: &Output, dir: &Path) -> String {
-    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
-    if stderr.lines().count() > 1 {
-        assert!(
-            stderr
-                .trim_end()
-                .ends_with("For more information, try '--help'."),
-            "{stderr:?}"
-        );
-        assert_eq!(out.status.code(), Some(2), "{stderr:?}");
-    }
-    assert!(stderr.starts_with("error: "), "{stderr:?}");
-    assert!(out.stdout.is_empty(), "nothing on stdout");
-    stderr
-        .trim_end()
-        .replace(&format!("{}/", dir.display()), "")
 }
 
 fn close(value: &Value, expected: f64, tol: f64) -> bool {

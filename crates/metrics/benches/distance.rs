@@ -9,40 +9,15 @@
 // `criterion_group!` generates an undocumented public function.
 #![allow(missing_docs)]
 
-use beltrami_halfedge::DVec3;
-use beltrami_halfedge::primitives;
 use beltrami_metrics::distance::{SurfaceIndex, distance_stats};
+use beltrami_testkit::fixtures::gaussian_noisy_icosphere;
 use criterion::{Criterion, criterion_group, criterion_main};
 
-/// SplitMix64 with Box–Muller normals, for reproducible noise.
-struct Rng(u64);
-
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn normal(&mut self) -> f64 {
-        let u = 1.0 - self.next_f64();
-        let v = self.next_f64();
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-}
-
 fn bench_level(c: &mut Criterion, level: u32, samples: usize) {
-    let sphere = primitives::icosphere(level);
-    let mesh = sphere.mesh().expect("icosphere");
     // Noise of a fifth of the edge length, in every direction.
     let sigma = 0.2 * 1.1 / f64::from(1u32 << level);
-    let mut rng = Rng(0x5EED);
-    let noisy: Vec<DVec3> = sphere
-        .positions
-        .iter()
-        .map(|p| *p + DVec3::new(rng.normal(), rng.normal(), rng.normal()) * sigma)
-        .collect();
+    let (sphere, noisy) = gaussian_noisy_icosphere(level, sigma, 0x5EED);
+    let mesh = sphere.mesh().expect("icosphere");
     let name = format!(
         "icosphere_level{level}_{}pts_{}tris",
         noisy.len(),

@@ -22,31 +22,13 @@
 use std::io::Write;
 use std::time::Instant;
 
-use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_metrics::distance::{Feature, SurfaceIndex};
-
-/// SplitMix64 with Box–Muller normals, as in the bench.
-struct Rng(u64);
-
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn normal(&mut self) -> f64 {
-        let u = 1.0 - self.next_f64();
-        let v = self.next_f64();
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-}
+use beltrami_testkit::fixtures::gaussian_noisy_icosphere;
 
 /// Reads the binary PLY that `beltrami generate` writes (`double x, y, z` per vertex, a
-/// `uchar`-counted `int` list per face, triangles only). The metrics crate does not depend
-/// on the IO crate, not even for its examples, so this reads exactly that layout and
-/// rejects any other.
+/// `uchar`-counted `int` list per face, triangles only): exactly that layout, any other is
+/// rejected.
 fn read_ply(path: &str) -> Result<(Vec<DVec3>, HalfedgeMesh), Box<dyn std::error::Error>> {
     let bytes = std::fs::read(path)?;
     let end = b"end_header\n";
@@ -109,15 +91,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (noisy, reference, mesh, &args[2..])
     } else {
         let level: u32 = args.first().map_or(Ok(8), |a| a.parse())?;
-        let sphere = primitives::icosphere(level);
-        let mesh = sphere.mesh()?;
         let sigma = 0.2 * 1.1 / f64::from(1u32 << level);
-        let mut rng = Rng(0x5EED);
-        let noisy: Vec<DVec3> = sphere
-            .positions
-            .iter()
-            .map(|p| *p + DVec3::new(rng.normal(), rng.normal(), rng.normal()) * sigma)
-            .collect();
+        let (sphere, noisy) = gaussian_noisy_icosphere(level, sigma, 0x5EED);
+        let mesh = sphere.mesh()?;
         (noisy, sphere.positions, mesh, args.get(1..).unwrap_or(&[]))
     };
     let reps: usize = rest.first().map_or(Ok(3), |a| a.parse())?;

@@ -14,8 +14,10 @@ pub mod distance;
 pub mod distortion;
 mod error;
 pub mod fits;
+pub mod measures;
 pub mod normals;
 pub mod profile;
 pub mod residual;
+mod sum;
 
 pub use error::MetricsError;

@@ -33,7 +33,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use crate::MetricsError;
 use crate::distance::check_same_topology;
-use crate::distance::sum::Sum;
+use crate::sum::Sum;
 
 /// Angles between corresponding face normals and the area-weighted normal error.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,29 +7,26 @@ use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     Feature, HausdorffSampling, SurfaceIndex, TriangleFeature, check_same_topology,
     closest_point_on_triangle, displacement_stats, displacements, distance_stats, hausdorff,
-    signed_distance_stats, surface_area, volume,
+    one_sided_hausdorff, one_sided_hausdorff_from_vertex_distances, signed_distance_stats,
 };
+use beltrami_metrics::measures::{surface_area, volume};
+use beltrami_testkit::SplitMix64;
 use proptest::prelude::*;
 
-/// SplitMix64, written out here so that test data do not depend on the crate under test.
-struct Rng(u64);
+/// Draws built on testkit's generator (not on the crate under test's own sampling).
+trait Draws {
+    /// A uniform point of the cube `[-half, half)³`, x then y then z.
+    fn point(&mut self, half: f64) -> DVec3;
+    /// A uniform unit direction (rejection sampling in the unit ball).
+    fn direction(&mut self) -> DVec3;
+}
 
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
-    }
+impl Draws for SplitMix64 {
     fn point(&mut self, half: f64) -> DVec3 {
         DVec3::new(
-            self.uniform(-half, half),
-            self.uniform(-half, half),
-            self.uniform(-half, half),
+            self.next_range(-half, half),
+            self.next_range(-half, half),
+            self.next_range(-half, half),
         )
     }
     fn direction(&mut self) -> DVec3 {
@@ -220,22 +217,22 @@ fn degenerate_triangles_fall_back_to_their_edges() {
 fn distances_to_a_plane_patch_are_analytic() {
     let grid = primitives::grid(10, 10); // [0, 10]² at z = 0
     let (_, index) = build(&grid);
-    let mut rng = Rng(7);
+    let mut rng = SplitMix64::new(7);
     for _ in 0..500 {
         // Above the patch: the distance is |z|.
         let p = DVec3::new(
-            rng.uniform(0.0, 10.0),
-            rng.uniform(0.0, 10.0),
-            rng.uniform(-3.0, 3.0),
+            rng.next_range(0.0, 10.0),
+            rng.next_range(0.0, 10.0),
+            rng.next_range(-3.0, 3.0),
         );
         let c = index.closest_point(p).unwrap();
         assert!((c.distance() - p.z.abs()).abs() <= 1e-14, "{p}");
         assert!((c.point - DVec3::new(p.x, p.y, 0.0)).length() <= 1e-14);
         // Off the boundary: the distance to the clamped point of the square.
         let p = DVec3::new(
-            rng.uniform(-5.0, 15.0),
-            rng.uniform(-5.0, 15.0),
-            rng.uniform(-3.0, 3.0),
+            rng.next_range(-5.0, 15.0),
+            rng.next_range(-5.0, 15.0),
+            rng.next_range(-3.0, 3.0),
         );
         let q = DVec3::new(p.x.clamp(0.0, 10.0), p.y.clamp(0.0, 10.0), 0.0);
         let c = index.closest_point(p).unwrap();
@@ -281,9 +278,9 @@ fn distances_to_a_sphere_mesh_are_within_the_sag_bound() {
     let sag = sphere_sag(&sphere);
     // The sag of an equilateral face of edge ℓ is about ℓ²/6; level 4 has ℓ ≈ 0.076.
     assert!(sag > 5e-4 && sag < 1.2e-3, "sag {sag}");
-    let mut rng = Rng(11);
+    let mut rng = SplitMix64::new(11);
     for _ in 0..2000 {
-        let r = rng.uniform(0.2, 3.0);
+        let r = rng.next_range(0.2, 3.0);
         let p = rng.direction() * r;
         let exact = (r - 1.0).abs();
         let d = index.closest_point(p).unwrap().distance();
@@ -308,9 +305,9 @@ fn signs_flip_when_the_reference_is_reversed() {
     let sphere = primitives::icosphere(3);
     let (_, index) = build(&sphere);
     let (_, flipped) = build(&reversed(&sphere));
-    let mut rng = Rng(3);
+    let mut rng = SplitMix64::new(3);
     let points: Vec<DVec3> = (0..1000)
-        .map(|_| rng.direction() * rng.uniform(0.5, 1.5))
+        .map(|_| rng.direction() * rng.next_range(0.5, 1.5))
         .collect();
     let s = index.signed_distances(&points).unwrap();
     let t = flipped.signed_distances(&points).unwrap();
@@ -404,7 +401,7 @@ fn pseudo_normals_are_right_where_the_face_normal_rule_fails() {
 
 /// A triangle soup (each triangle its own vertices; some degenerate) in [-1, 1]³.
 fn soup(seed: u64, n: usize) -> Primitive {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut positions = Vec::new();
     let mut faces = Vec::new();
     for i in 0..n {
@@ -428,12 +425,12 @@ fn soup(seed: u64, n: usize) -> Primitive {
 /// A heightfield over an `n × n` grid with random heights (a connected open surface).
 fn bumpy_grid(seed: u64, n: u32) -> Primitive {
     let mut grid = primitives::grid(n, n);
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     for p in &mut grid.positions {
         *p = DVec3::new(
             p.x / f64::from(n),
             p.y / f64::from(n),
-            rng.uniform(-0.2, 0.2),
+            rng.next_range(-0.2, 0.2),
         );
     }
     grid
@@ -446,7 +443,7 @@ fn cross_check(primitive: &Primitive, seed: u64, queries: usize) {
         .iter()
         .map(|f| [f[0], f[1], f[2]].map(|v| primitive.positions[v as usize]))
         .collect();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let points: Vec<DVec3> = (0..queries).map(|_| rng.point(1.5)).collect();
     let batch = index.closest_points(&points).unwrap();
     for (p, c) in points.iter().zip(&batch) {
@@ -496,12 +493,12 @@ fn a_reference_split_into_parallel_build_tasks_matches_brute_force() {
         .iter()
         .map(|f| [f[0], f[1], f[2]].map(|v| sphere.positions[v as usize]))
         .collect();
-    let mut rng = Rng(77);
+    let mut rng = SplitMix64::new(77);
     // Near the surface (the case of a noisy scan) and anywhere in a box around it.
     let points: Vec<DVec3> = (0..400)
         .map(|i| {
             if i % 2 == 0 {
-                rng.point(1.0).normalize_or(DVec3::X) * rng.uniform(0.98, 1.02)
+                rng.point(1.0).normalize_or(DVec3::X) * rng.next_range(0.98, 1.02)
             } else {
                 rng.point(1.5)
             }
@@ -534,7 +531,7 @@ fn a_reference_split_into_parallel_build_tasks_matches_brute_force() {
 fn batch_results_do_not_depend_on_the_thread_count() {
     let sphere = primitives::icosphere(4);
     let (_, index) = build(&sphere);
-    let mut rng = Rng(5);
+    let mut rng = SplitMix64::new(5);
     let points: Vec<DVec3> = (0..20_000).map(|_| rng.point(1.3)).collect();
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -664,6 +661,47 @@ fn hausdorff_is_symmetric_where_one_sided_distances_are_not() {
     .unwrap();
     assert!((sampled.forward - h.forward).abs() < 1e-15);
     assert!((sampled.backward - h.backward).abs() < 1e-15);
+}
+
+#[test]
+fn known_vertex_distances_give_the_one_sided_hausdorff_distance() {
+    // A bumpy open grid with an isolated vertex far off the surface, against a sphere.
+    let mut grid = bumpy_grid(4, 6);
+    grid.positions.push(DVec3::new(0.0, 0.0, 50.0));
+    let sphere = primitives::icosphere(2);
+    let (_, from) = build(&grid);
+    let (_, to) = build(&sphere);
+    let signed = to.signed_distances(&grid.positions).unwrap();
+    let unsigned = to.distances(&grid.positions).unwrap();
+    for sampling in [
+        HausdorffSampling::Vertices,
+        HausdorffSampling::VerticesAndSurface {
+            samples: 500,
+            seed: 3,
+        },
+    ] {
+        let want = one_sided_hausdorff(&from, &to, sampling).unwrap();
+        for known in [&signed, &unsigned] {
+            let got = one_sided_hausdorff_from_vertex_distances(&from, known, &to, sampling);
+            assert_eq!(got.unwrap().to_bits(), want.to_bits(), "{sampling:?}");
+        }
+    }
+    // The isolated vertex is skipped: it is 49 away from the sphere.
+    assert!(one_sided_hausdorff(&from, &to, HausdorffSampling::Vertices).unwrap() < 2.0);
+    assert_eq!(
+        one_sided_hausdorff_from_vertex_distances(
+            &from,
+            &signed[1..],
+            &to,
+            HausdorffSampling::Vertices
+        )
+        .unwrap_err(),
+        MetricsError::FieldLength {
+            what: "vertex distances",
+            got: signed.len() - 1,
+            expected: signed.len(),
+        }
+    );
 }
 
 #[test]

@@ -10,42 +10,38 @@ use beltrami_halfedge::DVec3;
 use beltrami_halfedge::primitives;
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::fits::{FitOptions, FitPoints, fit_circle, fit_cylinder, fit_sphere};
+use beltrami_testkit::SplitMix64;
 use glam::DQuat;
 
-/// SplitMix64 with Box–Muller normals.
-struct Rng(u64);
+/// Draws built on testkit's generator.
+trait Draws {
+    /// Three standard normal numbers, x then y then z.
+    fn gaussian3(&mut self) -> DVec3;
+    /// A random rotation: a normalised quaternion of four standard normal numbers.
+    fn rotation(&mut self) -> DQuat;
+}
 
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-    fn normal(&mut self) -> f64 {
-        let u = 1.0 - self.next_f64();
-        let v = self.next_f64();
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
+impl Draws for SplitMix64 {
     fn gaussian3(&mut self) -> DVec3 {
-        DVec3::new(self.normal(), self.normal(), self.normal())
+        DVec3::new(self.next_normal(), self.next_normal(), self.next_normal())
     }
     fn rotation(&mut self) -> DQuat {
-        let q = DQuat::from_xyzw(self.normal(), self.normal(), self.normal(), self.normal());
+        let q = DQuat::from_xyzw(
+            self.next_normal(),
+            self.next_normal(),
+            self.next_normal(),
+            self.next_normal(),
+        );
         q.normalize()
     }
 }
 
 /// Points on a sphere cap of polar half-angle `cap` (radians) about +z, area-uniform.
-fn cap_points(rng: &mut Rng, n: usize, radius: f64, cap: f64) -> Vec<DVec3> {
+fn cap_points(rng: &mut SplitMix64, n: usize, radius: f64, cap: f64) -> Vec<DVec3> {
     (0..n)
         .map(|_| {
-            let z = rng.uniform(cap.cos(), 1.0);
-            let phi = rng.uniform(0.0, std::f64::consts::TAU);
+            let z = rng.next_range(cap.cos(), 1.0);
+            let phi = rng.next_range(0.0, std::f64::consts::TAU);
             let s = (1.0 - z * z).sqrt();
             DVec3::new(s * phi.cos(), s * phi.sin(), z) * radius
         })
@@ -53,11 +49,15 @@ fn cap_points(rng: &mut Rng, n: usize, radius: f64, cap: f64) -> Vec<DVec3> {
 }
 
 /// Points on a cylinder of the z-axis over the angle range `[0, arc]` and `z ∈ [−h, h]`.
-fn cylinder_points(rng: &mut Rng, n: usize, radius: f64, arc: f64, h: f64) -> Vec<DVec3> {
+fn cylinder_points(rng: &mut SplitMix64, n: usize, radius: f64, arc: f64, h: f64) -> Vec<DVec3> {
     (0..n)
         .map(|_| {
-            let phi = rng.uniform(0.0, arc);
-            DVec3::new(radius * phi.cos(), radius * phi.sin(), rng.uniform(-h, h))
+            let phi = rng.next_range(0.0, arc);
+            DVec3::new(
+                radius * phi.cos(),
+                radius * phi.sin(),
+                rng.next_range(-h, h),
+            )
         })
         .collect()
 }
@@ -112,11 +112,11 @@ fn options() -> FitOptions {
 
 #[test]
 fn exact_spheres_are_recovered_under_random_motions_far_from_the_origin() {
-    let mut rng = Rng(1);
+    let mut rng = SplitMix64::new(1);
     for (cap_deg, n) in [(180.0, 500), (60.0, 300), (30.0, 300)] {
         for _ in 0..5 {
-            let radius = rng.uniform(0.5, 50.0);
-            let center = DVec3::new(rng.uniform(-1e3, 1e3), rng.uniform(-1e3, 1e3), 1e3);
+            let radius = rng.next_range(0.5, 50.0);
+            let center = DVec3::new(rng.next_range(-1e3, 1e3), rng.next_range(-1e3, 1e3), 1e3);
             let rotation = rng.rotation();
             let local = cap_points(&mut rng, n, radius, f64::to_radians(cap_deg));
             let points: Vec<DVec3> = local.iter().map(|&p| rotation * p + center).collect();
@@ -138,13 +138,13 @@ fn exact_spheres_are_recovered_under_random_motions_far_from_the_origin() {
 
 #[test]
 fn noisy_full_sphere_radius_is_within_a_few_sigma_over_root_n() {
-    let mut rng = Rng(2);
+    let mut rng = SplitMix64::new(2);
     let (radius, sigma, n) = (10.0, 0.05, 4000);
     let center = DVec3::new(250.0, -120.0, 40.0);
     let local = cap_points(&mut rng, n, radius, std::f64::consts::PI);
     let points: Vec<DVec3> = local
         .iter()
-        .map(|&p| p + center + p.normalize() * (sigma * rng.normal()))
+        .map(|&p| p + center + p.normalize() * (sigma * rng.next_normal()))
         .collect();
     let fit = fit_sphere(&FitPoints::new(&points), &options()).unwrap();
     let bound = 4.0 * sigma / (n as f64).sqrt();
@@ -162,7 +162,7 @@ fn noisy_full_sphere_radius_is_within_a_few_sigma_over_root_n() {
 fn noisy_cap_radius_is_within_its_predicted_spread() {
     // On a 60° cap the radius is correlated with the centre, so its spread is larger than
     // σ/√n; predict it from the Jacobian and allow four of those.
-    let mut rng = Rng(3);
+    let mut rng = SplitMix64::new(3);
     let (radius, sigma, n) = (20.0, 0.02, 3000);
     let local = cap_points(&mut rng, n, radius, f64::to_radians(60.0));
     let normals: Vec<DVec3> = local.iter().map(|p| p.normalize()).collect();
@@ -173,7 +173,7 @@ fn noisy_cap_radius_is_within_its_predicted_spread() {
     let points: Vec<DVec3> = local
         .iter()
         .zip(&normals)
-        .map(|(&p, &u)| rotation * (p + u * (sigma * rng.normal())) + offset)
+        .map(|(&p, &u)| rotation * (p + u * (sigma * rng.next_normal())) + offset)
         .collect();
     let fit = fit_sphere(&FitPoints::new(&points), &options()).unwrap();
     assert!(
@@ -223,7 +223,7 @@ fn a_smoothed_icosphere_fits_its_mean_radius() {
 
 #[test]
 fn weights_act_as_multiplicities() {
-    let mut rng = Rng(4);
+    let mut rng = SplitMix64::new(4);
     let local = cap_points(&mut rng, 200, 3.0, 1.2);
     let points: Vec<DVec3> = local.iter().map(|&p| p + rng.gaussian3() * 0.01).collect();
     let mut doubled = points.clone();
@@ -249,19 +249,19 @@ fn weights_act_as_multiplicities() {
 
 #[test]
 fn exact_circles_and_arcs_are_recovered_in_any_plane() {
-    let mut rng = Rng(5);
+    let mut rng = SplitMix64::new(5);
     for arc_deg in [360.0, 90.0, 20.0] {
         for _ in 0..5 {
-            let radius = rng.uniform(1.0, 40.0);
+            let radius = rng.next_range(1.0, 40.0);
             let center = DVec3::new(
-                rng.uniform(-500.0, 500.0),
+                rng.next_range(-500.0, 500.0),
                 700.0,
-                rng.uniform(-500.0, 500.0),
+                rng.next_range(-500.0, 500.0),
             );
             let rotation = rng.rotation();
             let points: Vec<DVec3> = (0..100)
                 .map(|_| {
-                    let phi = rng.uniform(0.0, f64::to_radians(arc_deg));
+                    let phi = rng.next_range(0.0, f64::to_radians(arc_deg));
                     rotation * DVec3::new(radius * phi.cos(), radius * phi.sin(), 0.0) + center
                 })
                 .collect();
@@ -284,15 +284,15 @@ fn exact_circles_and_arcs_are_recovered_in_any_plane() {
 
 #[test]
 fn noisy_circle_radius_is_within_a_few_sigma_over_root_n() {
-    let mut rng = Rng(6);
+    let mut rng = SplitMix64::new(6);
     let (radius, sigma, n) = (12.0, 0.03, 3000);
     let rotation = rng.rotation();
     let center = DVec3::new(40.0, -30.0, 900.0);
     let points: Vec<DVec3> = (0..n)
         .map(|_| {
-            let phi = rng.uniform(0.0, std::f64::consts::TAU);
-            let r = radius + sigma * rng.normal();
-            let h = sigma * rng.normal();
+            let phi = rng.next_range(0.0, std::f64::consts::TAU);
+            let r = radius + sigma * rng.next_normal();
+            let h = sigma * rng.next_normal();
             rotation * DVec3::new(r * phi.cos(), r * phi.sin(), h) + center
         })
         .collect();
@@ -315,16 +315,16 @@ fn noisy_circle_radius_is_within_a_few_sigma_over_root_n() {
 
 #[test]
 fn exact_cylinders_and_partial_cylinders_are_recovered() {
-    let mut rng = Rng(7);
+    let mut rng = SplitMix64::new(7);
     // (arc, half length / radius): long full, short full, long quarter, short quarter.
     for (arc_deg, aspect) in [(360.0, 3.0), (360.0, 0.3), (90.0, 3.0), (90.0, 0.5)] {
         for _ in 0..4 {
-            let radius = rng.uniform(1.0, 30.0);
+            let radius = rng.next_range(1.0, 30.0);
             let rotation = rng.rotation();
             let offset = DVec3::new(
-                rng.uniform(-800.0, 800.0),
+                rng.next_range(-800.0, 800.0),
                 -600.0,
-                rng.uniform(-800.0, 800.0),
+                rng.next_range(-800.0, 800.0),
             );
             let local = cylinder_points(
                 &mut rng,
@@ -358,7 +358,7 @@ fn exact_cylinders_and_partial_cylinders_are_recovered() {
 
 #[test]
 fn a_supplied_axis_guess_is_used() {
-    let mut rng = Rng(8);
+    let mut rng = SplitMix64::new(8);
     let local = cylinder_points(&mut rng, 300, 5.0, 2.0, 4.0);
     let tilt = DQuat::from_axis_angle(DVec3::X, 0.3);
     let points: Vec<DVec3> = local.iter().map(|&p| tilt * p).collect();
@@ -377,14 +377,14 @@ fn a_supplied_axis_guess_is_used() {
 
 #[test]
 fn noisy_cylinder_radius_is_within_a_few_sigma_over_root_n() {
-    let mut rng = Rng(9);
+    let mut rng = SplitMix64::new(9);
     let (radius, sigma, n) = (8.0, 0.02, 4000);
     let rotation = rng.rotation();
     let points: Vec<DVec3> = cylinder_points(&mut rng, n, radius, std::f64::consts::TAU, 20.0)
         .into_iter()
         .map(|p| {
             let radial = DVec3::new(p.x, p.y, 0.0).normalize();
-            rotation * (p + radial * (sigma * rng.normal())) + DVec3::new(100.0, 200.0, 300.0)
+            rotation * (p + radial * (sigma * rng.next_normal())) + DVec3::new(100.0, 200.0, 300.0)
         })
         .collect();
     let fit = fit_cylinder(&FitPoints::new(&points), None, &options()).unwrap();
@@ -542,7 +542,7 @@ fn bad_input_gives_typed_errors() {
 
 #[test]
 fn an_iteration_limit_reports_an_unconverged_fit() {
-    let mut rng = Rng(10);
+    let mut rng = SplitMix64::new(10);
     let local = cap_points(&mut rng, 300, 5.0, 0.5);
     let points: Vec<DVec3> = local.iter().map(|&p| p + rng.gaussian3() * 0.05).collect();
     let one = FitOptions {

@@ -11,6 +11,7 @@ use beltrami_metrics::MetricsError;
 use beltrami_metrics::residual::{
     ArealOptions, ArealParameters, Datum, Quadrature, areal_parameters, normal_residual,
 };
+use beltrami_testkit::SplitMix64;
 use glam::DQuat;
 use proptest::prelude::*;
 
@@ -36,24 +37,6 @@ fn areal(mesh: &HalfedgeMesh, positions: &[DVec3], field: &[f64], datum: Datum) 
         &exact(datum),
     )
     .expect("valid input")
-}
-
-/// A deterministic generator of numbers in [−1, 1) (SplitMix64).
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-
-    fn vector(&mut self) -> DVec3 {
-        DVec3::new(self.next(), self.next(), self.next())
-    }
 }
 
 fn close(got: f64, want: f64, tolerance: f64) -> bool {
@@ -243,12 +226,20 @@ fn subdivide(area: f64, [ra, rb, rc]: [f64; 3], n: u32) -> [f64; 5] {
 
 #[test]
 fn triangle_integrals_agree_with_subdivision() {
-    let mut random = Random(7);
+    let mut random = SplitMix64::new(7);
     let n = 256u32;
     let mut sign_changes = 0;
     for _ in 0..20 {
-        let corners = [random.vector(), random.vector(), random.vector()];
-        let values = [random.next(), random.next(), random.next()];
+        let corners = [
+            random.next_symmetric_vector(),
+            random.next_symmetric_vector(),
+            random.next_symmetric_vector(),
+        ];
+        let values = [
+            random.next_symmetric(),
+            random.next_symmetric(),
+            random.next_symmetric(),
+        ];
         let mesh = HalfedgeMesh::from_polygons(3, [[0u32, 1, 2]]).expect("valid");
         let s = areal(&mesh, &corners, &values, Datum::ReferenceSurface);
         let area = s.area;
@@ -372,13 +363,16 @@ fn sdq_is_the_cotangent_dirichlet_energy() {
 fn sp_sv_and_the_mean_on_a_random_field() {
     let grid = primitives::grid(7, 5);
     let mesh = build(&grid);
-    let mut random = Random(11);
+    let mut random = SplitMix64::new(11);
     let positions: Vec<DVec3> = grid
         .positions
         .iter()
-        .map(|&p| p + 0.2 * random.vector())
+        .map(|&p| p + 0.2 * random.next_symmetric_vector())
         .collect();
-    let r: Vec<f64> = positions.iter().map(|_| 0.3 + random.next()).collect();
+    let r: Vec<f64> = positions
+        .iter()
+        .map(|_| 0.3 + random.next_symmetric())
+        .collect();
     let geometry = Geometry::new(&mesh, &positions).expect("positions");
     let area: f64 = mesh.faces().map(|f| geometry.face_area(f)).sum();
     let mean = mesh
@@ -528,17 +522,23 @@ fn normal_residual_is_the_signed_normal_deviation() {
     // residual h; the tangential part is ignored.
     let grid = primitives::grid(5, 4);
     let mesh = build(&grid);
-    let mut random = Random(3);
+    let mut random = SplitMix64::new(3);
     let heights: Vec<f64> = grid
         .positions
         .iter()
-        .map(|_| 0.01 * random.next())
+        .map(|_| 0.01 * random.next_symmetric())
         .collect();
     let measured: Vec<DVec3> = grid
         .positions
         .iter()
         .zip(&heights)
-        .map(|(&p, &h)| p + DVec3::new(0.05 * random.next(), 0.05 * random.next(), h))
+        .map(|(&p, &h)| {
+            p + DVec3::new(
+                0.05 * random.next_symmetric(),
+                0.05 * random.next_symmetric(),
+                h,
+            )
+        })
         .collect();
     let r = normal_residual(
         &Geometry::new(&mesh, &measured).expect("positions"),

@@ -1,17 +1,17 @@
 //! # beltrami-schemes
 //!
 //! Edge-preserving Laplacian weight schemes for beltrami, written only through the
-//! public plug-in API of `beltrami-weights` ([`WeightScheme`]), and the measurement that
-//! shows what they buy on a part with sharp edges.
+//! public plug-in API of `beltrami-weights` ([`WeightScheme`]).
 //!
 //! The paper beltrami starts from ends by asking for "a weight function that does not
 //! blur edges". [`BilateralNormal`] (`bilateral`) is one: the cotangent weight
 //! attenuated by how much the two vertex normals of an edge differ, so that diffusion
 //! smooths flat regions as usual but does not pull vertices across sharp edges.
-//! [`edge_preservation`] compares it (or any scheme) with a reference scheme at equal
-//! smoothness of the flat regions: the dihedral-angle error at the feature edges and the
-//! volume loss. `docs/schemes.md` gives the formulas, defaults, references, the measured
-//! numbers on the block and the limitations.
+//! `beltrami-study`'s `edge_preservation` measures what it buys: it compares the scheme
+//! (or any scheme) with a reference scheme at equal smoothness of the flat regions, by the
+//! dihedral-angle error at the feature edges and the volume loss. `docs/schemes.md` gives
+//! the formulas, defaults, references, the measured numbers on the block and the
+//! limitations.
 //!
 //! ## Quick start
 //!
@@ -36,7 +36,6 @@
 
 mod bilateral;
 mod error;
-mod preservation;
 
 use beltrami_weights::WeightRegistry;
 #[cfg(doc)]
@@ -44,10 +43,6 @@ use beltrami_weights::WeightScheme;
 
 pub use bilateral::{BaseWeight, BilateralNormal, DEFAULT_SIGMA};
 pub use error::SchemesError;
-pub use preservation::{
-    EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,
-    edge_preservation,
-};
 
 /// Registers every scheme of this crate with its default parameters, in this order:
 /// `bilateral` ([`BilateralNormal::default`]).

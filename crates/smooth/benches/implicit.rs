@@ -9,32 +9,18 @@
 //! (relative tolerance 1e-8, the three coordinates at once). `cg_sum_first` and
 //! `cg_sum_frozen` are the command line's default step (`--method implicit`:
 //! weight-sum normalisation, `t = 0.8`, conjugate gradient to 1e-10), the case of the
-//! issue-8 targets. `cargo bench -p beltrami-smooth --bench implicit` (`-- cg_` for the
+//! implicit-step targets in `benches/targets.py`. `cargo bench -p beltrami-smooth --bench implicit` (`-- cg_` for the
 //! conjugate-gradient cases only; the Cholesky set-up still runs once).
 
 #![allow(missing_docs)]
 
 use beltrami_halfedge::geometry::VertexAreaKind;
-use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_smooth::{ImplicitSolver, Method, SmoothConfig, Smoother, WeightUpdate, smooth};
+use beltrami_testkit::fixtures::jittered_icosphere;
 use beltrami_weights::{Cotangent, LaplacianOptions, Normalization};
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-
-/// A deterministic jitter of every vertex by up to `amplitude` per coordinate.
-fn jitter(positions: &mut [DVec3], amplitude: f64) {
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
-    for p in positions {
-        *p += DVec3::new(next(), next(), next()) * amplitude;
-    }
-}
 
 fn config(edge: f64, update: WeightUpdate, solver: ImplicitSolver) -> SmoothConfig {
     // A step of ten edge lengths squared: far beyond the explicit limit (about ℓ²/4).
@@ -59,9 +45,8 @@ fn bench_implicit(c: &mut Criterion) {
         max_iterations: 10_000,
     };
     for level in [6u32, 8] {
-        let mut sphere = primitives::icosphere(level);
+        let sphere = jittered_icosphere(level);
         let edge = 1.1 / f64::from(1u32 << level);
-        jitter(&mut sphere.positions, 0.2 * edge);
         let mesh = sphere.mesh().expect("icosphere is a valid mesh");
         let x = &sphere.positions;
         let mut group = c.benchmark_group(format!("implicit_icosphere{level}"));

@@ -12,38 +12,20 @@
 
 #![allow(missing_docs)]
 
-use beltrami_halfedge::DVec3;
-use beltrami_halfedge::primitives;
 use beltrami_halfedge::reorder::VertexPermutation;
 use beltrami_smooth::{Reorder, SmoothConfig, Smoother, WeightUpdate, smooth};
+use beltrami_testkit::fixtures::jittered_icosphere;
 use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
 const ITERATIONS: usize = 10;
 
-/// A deterministic jitter of every vertex by up to `amplitude` per coordinate
-/// (a 64-bit linear congruential generator, so the bench needs no extra crate).
-fn jitter(positions: &mut [DVec3], amplitude: f64) {
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
-    for p in positions {
-        *p += DVec3::new(next(), next(), next()) * amplitude;
-    }
-}
-
 fn bench_smooth(c: &mut Criterion) {
     let schemes: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
     for level in [6u32, 8] {
-        let mut sphere = primitives::icosphere(level);
         // Noise of about a fifth of the mean edge length (edges halve per level).
-        let edge = 1.1 / f64::from(1u32 << level);
-        jitter(&mut sphere.positions, 0.2 * edge);
+        let sphere = jittered_icosphere(level);
         let mesh = sphere.mesh().expect("icosphere is a valid mesh");
         let n = sphere.positions.len();
         let mut group = c.benchmark_group(format!("smooth_icosphere{level}"));
@@ -108,9 +90,7 @@ fn shuffled_order(n: usize, seed: u64) -> VertexPermutation {
 
 fn bench_reorder(c: &mut Criterion) {
     let level = 8u32;
-    let mut sphere = primitives::icosphere(level);
-    let edge = 1.1 / f64::from(1u32 << level);
-    jitter(&mut sphere.positions, 0.2 * edge);
+    let sphere = jittered_icosphere(level);
     let mesh = sphere.mesh().expect("icosphere is a valid mesh");
     let n = sphere.positions.len();
     let shuffle = shuffled_order(n, 42);

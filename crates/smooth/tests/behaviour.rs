@@ -8,19 +8,8 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_smooth::{
     Boundary, SmoothConfig, SmoothError, Smoother, StopReason, WeightUpdate, smooth,
 };
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
-
-struct Rng(u64);
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
 
 fn schemes() -> [&'static dyn WeightScheme; 3] {
     [&Uniform, &InverseDistance, &Cotangent]
@@ -30,18 +19,18 @@ fn schemes() -> [&'static dyn WeightScheme; 3] {
 fn bumpy_grid(n: u32, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
     let g = primitives::grid(n, n);
     let mesh = g.mesh().unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let x = g
         .positions
         .iter()
         .map(|&p| {
-            let j = DVec3::new(rng.next_f64(), rng.next_f64(), 0.0) * 0.2;
+            let j = DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * 0.2;
             let p = if p.x > 0.0 && p.y > 0.0 && p.x < f64::from(n) && p.y < f64::from(n) {
                 p + j
             } else {
                 p
             };
-            DVec3::new(p.x, p.y, 0.3 * rng.next_f64())
+            DVec3::new(p.x, p.y, 0.3 * rng.next_symmetric())
         })
         .collect();
     (mesh, x)
@@ -94,7 +83,7 @@ fn a_sphere_shrinks_by_the_predicted_factor() {
 fn cotangent_keeps_an_irregular_plane_but_uniform_drifts() {
     let g = primitives::grid(10, 10);
     let mesh = g.mesh().unwrap();
-    let mut rng = Rng(99);
+    let mut rng = SplitMix64::new(99);
     let x: Vec<DVec3> = g
         .positions
         .iter()
@@ -103,7 +92,7 @@ fn cotangent_keeps_an_irregular_plane_but_uniform_drifts() {
             if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
                 p
             } else {
-                p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.0) * 0.3
+                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * 0.3
             }
         })
         .collect();
@@ -166,7 +155,7 @@ fn curve_boundary_stays_on_the_boundary_polyline() {
     // (corners are pulled inwards along the diagonal chord, then stay on the segment).
     let g = primitives::grid(6, 6);
     let mesh = g.mesh().unwrap();
-    let mut rng = Rng(8);
+    let mut rng = SplitMix64::new(8);
     // Spread the boundary vertices unevenly along the sides.
     let x: Vec<DVec3> = g
         .positions
@@ -175,10 +164,10 @@ fn curve_boundary_stays_on_the_boundary_polyline() {
             let mut q = p;
             if p.y == 0.0 || p.y == 6.0 {
                 if p.x > 0.0 && p.x < 6.0 {
-                    q.x += 0.3 * rng.next_f64();
+                    q.x += 0.3 * rng.next_symmetric();
                 }
             } else if (p.x == 0.0 || p.x == 6.0) && p.y > 0.0 && p.y < 6.0 {
-                q.y += 0.3 * rng.next_f64();
+                q.y += 0.3 * rng.next_symmetric();
             }
             q
         })

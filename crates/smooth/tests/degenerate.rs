@@ -13,6 +13,7 @@ use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId
 use beltrami_smooth::{
     Boundary, SmoothConfig, SmoothError, Smoothed, Smoother, WeightUpdate, smooth,
 };
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, NegativeWeights, Normalization, Uniform,
     WeightContext, WeightError, WeightScheme,
@@ -23,28 +24,6 @@ use proptest::prelude::*;
 // ---------------------------------------------------------------------------------------
 // Helpers.
 // ---------------------------------------------------------------------------------------
-
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1).
-    fn symmetric(&mut self) -> f64 {
-        let u = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        2.0 * u - 1.0
-    }
-
-    fn vector(&mut self, amplitude: f64) -> DVec3 {
-        DVec3::new(self.symmetric(), self.symmetric(), self.symmetric()) * amplitude
-    }
-}
 
 const SCHEMES: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
 /// Indices into [`SCHEMES`].
@@ -91,9 +70,9 @@ impl Case {
     }
 
     fn jitter(mut self, seed: u64, amplitude: f64) -> Self {
-        let mut rng = SplitMix64(seed);
+        let mut rng = SplitMix64::new(seed);
         for p in &mut self.positions {
-            *p += rng.vector(amplitude);
+            *p += rng.next_symmetric_vector() * amplitude;
         }
         self
     }
@@ -1284,11 +1263,11 @@ fn cotangent_free_boundary_flow_amplifies_rounding() {
     // 1e-15 (no rotation at all) moves the result by far more than 1e-15.
     let case = perturbed(false, 41, 0.2, &[]);
     let mesh = case.mesh();
-    let mut rng = SplitMix64(42);
+    let mut rng = SplitMix64::new(42);
     let nudged: Vec<DVec3> = case
         .positions
         .iter()
-        .map(|&p| p + rng.vector(1e-15))
+        .map(|&p| p + rng.next_symmetric_vector() * 1e-15)
         .collect();
     let diag = diagonal(&case.positions);
     let mut worst = 0.0f64;

@@ -13,6 +13,7 @@ use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_smooth::{
     Boundary, ImplicitSolver, Method, SmoothConfig, SmoothError, Smoother, WeightUpdate, smooth,
 };
+use beltrami_testkit::Lcg64;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightScheme,
@@ -23,17 +24,12 @@ fn implicit(t: f64, steps: usize) -> SmoothConfig {
     SmoothConfig::new(t, steps).method(Method::implicit(ImplicitSolver::Cholesky))
 }
 
-/// A deterministic jitter of every vertex by up to `amplitude` per coordinate.
+/// A deterministic jitter of every vertex by up to `amplitude` per coordinate: the
+/// generator starts at the odd state `seed · 0x9E37_79B9_7F4A_7C15 | 1`.
 fn jitter(positions: &mut [DVec3], amplitude: f64, seed: u64) {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
+    let mut rng = Lcg64::new(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     for p in positions {
-        *p += DVec3::new(next(), next(), next()) * amplitude;
+        *p += rng.next_symmetric_vector() * amplitude;
     }
 }
 

@@ -9,21 +9,10 @@ use beltrami_smooth::{
     Boundary, DiffusionTime, Method, SmoothConfig, SmoothError, Smoother, StopReason, WeightUpdate,
     smooth,
 };
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightScheme,
 };
-
-struct Rng(u64);
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
 
 fn schemes() -> [&'static dyn WeightScheme; 3] {
     [&Uniform, &InverseDistance, &Cotangent]
@@ -37,10 +26,10 @@ fn sphere(level: u32) -> (HalfedgeMesh, Vec<DVec3>) {
 /// Radial noise of relative amplitude `amp` on the unit icosphere.
 fn noisy_sphere(level: u32, amp: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
     let (mesh, x) = sphere(level);
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let x = x
         .iter()
-        .map(|p| *p * (1.0 + amp * rng.next_f64()))
+        .map(|p| *p * (1.0 + amp * rng.next_symmetric()))
         .collect();
     (mesh, x)
 }
@@ -61,7 +50,7 @@ fn volume(mesh: &HalfedgeMesh, x: &[DVec3]) -> f64 {
 fn cap(n: u32, noise: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
     let g = primitives::grid(n, n);
     let mesh = g.mesh().unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let half = f64::from(n) / 2.0;
     let x = g
         .positions
@@ -70,7 +59,7 @@ fn cap(n: u32, noise: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
             let u = (p.x - half) / f64::from(n) * 1.2;
             let v = (p.y - half) / f64::from(n) * 1.2;
             let d = DVec3::new(u, v, 1.0).normalize();
-            d * (1.0 + noise * rng.next_f64())
+            d * (1.0 + noise * rng.next_symmetric())
         })
         .collect();
     (mesh, x)

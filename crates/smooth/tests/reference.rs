@@ -34,41 +34,11 @@ use std::collections::BTreeMap;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId, primitives};
 use beltrami_smooth::{Boundary, SmoothConfig, SmoothError, WeightUpdate, smooth};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, NegativeWeights, Normalization, Uniform,
     WeightScheme,
 };
-
-// ---------------------------------------------------------------------------------------
-// Deterministic jitter (splitmix64).
-// ---------------------------------------------------------------------------------------
-
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1).
-    fn symmetric(&mut self) -> f64 {
-        // 53 random bits -> [0, 1).
-        let u = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        2.0 * u - 1.0
-    }
-
-    fn vector(&mut self, amplitude: DVec3) -> DVec3 {
-        DVec3::new(
-            self.symmetric() * amplitude.x,
-            self.symmetric() * amplitude.y,
-            self.symmetric() * amplitude.z,
-        )
-    }
-}
 
 // ---------------------------------------------------------------------------------------
 // The reference.
@@ -473,11 +443,11 @@ impl TestMesh {
         seed: u64,
         amplitude: DVec3,
     ) -> Self {
-        let mut rng = SplitMix64(seed);
+        let mut rng = SplitMix64::new(seed);
         let positions = p
             .positions
             .iter()
-            .map(|&x| x + rng.vector(amplitude))
+            .map(|&x| x + rng.next_symmetric_vector() * amplitude)
             .collect();
         let faces = p
             .faces
@@ -989,19 +959,19 @@ fn curve_boundary_moves_along_the_boundary_only() {
         .iter()
         .map(|&v| VertexId::new(v as u32))
         .collect();
-    let mut rng = SplitMix64(7);
+    let mut rng = SplitMix64::new(7);
     let mut positions = g.positions.clone();
     for j in 1..n {
         for i in 1..n {
-            positions[id(i, j)].z += 0.2 * rng.symmetric();
+            positions[id(i, j)].z += 0.2 * rng.next_symmetric();
         }
     }
     for k in 1..n {
         // Slide side vertices along their sides (a quarter of a cell at most).
-        positions[id(k, 0)].x += 0.25 * rng.symmetric();
-        positions[id(k, n)].x += 0.25 * rng.symmetric();
-        positions[id(0, k)].y += 0.25 * rng.symmetric();
-        positions[id(n, k)].y += 0.25 * rng.symmetric();
+        positions[id(k, 0)].x += 0.25 * rng.next_symmetric();
+        positions[id(k, n)].x += 0.25 * rng.next_symmetric();
+        positions[id(0, k)].y += 0.25 * rng.next_symmetric();
+        positions[id(n, k)].y += 0.25 * rng.next_symmetric();
         for v in [id(k, 0), id(k, n), id(0, k), id(n, k)] {
             positions[v].z = 0.0;
         }

@@ -12,22 +12,18 @@ use beltrami_smooth::{
     Boundary, DiffusionTime, Method, Reorder, SmoothConfig, SmoothError, Smoother, Statistics,
     StepStats, WeightUpdate,
 };
+use beltrami_testkit::Lcg64;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightContext,
     WeightScheme,
 };
 
-/// A deterministic jitter in [-1, 1]³ per vertex (64-bit LCG).
+/// A deterministic jitter in [-1, 1)³ per vertex, times `amplitude`: the generator starts
+/// at the state `seed ^ 0x9E37_79B9_7F4A_7C15`.
 fn jitter(positions: &mut [DVec3], amplitude: f64, seed: u64) {
-    let mut state = seed ^ 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
+    let mut rng = Lcg64::new(seed ^ 0x9E37_79B9_7F4A_7C15);
     for p in positions {
-        *p += DVec3::new(next(), next(), next()) * amplitude;
+        *p += rng.next_symmetric_vector() * amplitude;
     }
 }
 

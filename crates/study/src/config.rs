@@ -43,7 +43,7 @@ pub struct StudyConfig {
     pub countermeasure_scheme: Option<Arc<dyn WeightScheme>>,
     /// An edge-preserving scheme and the reference it is compared with on the block at
     /// equal smoothness of the flat sides (see
-    /// [`beltrami_schemes::edge_preservation`]); `None`, or no block among the
+    /// [`edge_preservation`](crate::edge_preservation)); `None`, or no block among the
     /// surfaces: skipped.
     pub edge_comparison: Option<(Arc<dyn WeightScheme>, Arc<dyn WeightScheme>)>,
 }

@@ -40,7 +40,7 @@ pub enum StudyError {
     },
     /// The edge-preservation comparison on the block failed.
     #[error("block / edge preservation: {0}")]
-    EdgePreservation(#[from] beltrami_schemes::SchemesError),
+    EdgePreservation(#[from] PreservationError),
     /// An invalid study configuration.
     #[error("{0}")]
     Config(String),
@@ -64,4 +64,37 @@ pub enum StudyError {
         /// What went wrong.
         source: beltrami_metrics::MetricsError,
     },
+}
+
+/// Why an edge-preservation measurement ([`edge_preservation`](crate::edge_preservation))
+/// could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PreservationError {
+    /// An option outside its valid range.
+    #[error("invalid {name}: {reason}")]
+    InvalidParameter {
+        /// The option, e.g. `"target"`.
+        name: &'static str,
+        /// Why it is invalid, with the value given.
+        reason: String,
+    },
+    /// The mesh has no vertex the flat-region measure can use (no vertex whose faces,
+    /// and its neighbours' faces, are coplanar on the clean surface).
+    #[error("the clean surface has no flat-region vertex to measure smoothness on")]
+    NoFlatRegion,
+    /// The mesh and a positions slice do not fit together.
+    #[error(transparent)]
+    Topology(#[from] beltrami_halfedge::TopologyError),
+    /// Smoothing with the named scheme failed.
+    #[error("smoothing with {scheme:?} failed: {source}")]
+    Smooth {
+        /// The scheme's name.
+        scheme: String,
+        /// What went wrong.
+        source: beltrami_smooth::SmoothError,
+    },
+    /// A metric could not be computed.
+    #[error(transparent)]
+    Metrics(#[from] beltrami_metrics::MetricsError),
 }

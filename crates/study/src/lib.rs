@@ -21,6 +21,7 @@ mod error;
 mod figures;
 mod findings;
 mod measure;
+mod preservation;
 mod report;
 mod results;
 mod run;
@@ -29,10 +30,14 @@ mod units;
 pub use case::SurfaceCase;
 pub use config::{StudyConfig, paper_iterations};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
-pub use error::StudyError;
+pub use error::{PreservationError, StudyError};
 pub use figures::{Figure, write_figures};
 pub use findings::{Finding, Verdict, findings};
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
+pub use preservation::{
+    EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,
+    edge_preservation,
+};
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{

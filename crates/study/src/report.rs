@@ -216,8 +216,6 @@ fn markdown(
     findings: &[Finding],
     figures: &[Figure],
 ) -> String {
-    let c = config_json(results);
-    let m = machine();
     let shown = shown_iteration(results);
     let mut s = String::new();
     let _ = writeln!(s, "# Laplace–Beltrami weight schemes compared\n");
@@ -226,6 +224,20 @@ fn markdown(
         "This report reproduces the comparison of *Comparison of discrete Laplacian-Beltrami operators and their applications in surface metrology* with beltrami {}: each surface gets Gaussian noise along its vertex normals, is smoothed by explicit diffusion x ← x + λ L x with each weight scheme, and is compared with the clean surface after each requested number of iterations. Every number below is computed by `beltrami study`; the verdicts are derived from the data.\n",
         env!("CARGO_PKG_VERSION")
     );
+    setup_section(&mut s, results);
+    findings_section(&mut s, findings);
+    surface_sections(&mut s, results, rows, figures, shown);
+    countermeasure_section(&mut s, results, shown);
+    edge_section(&mut s, results);
+    units_section(&mut s, results);
+    differences_section(&mut s);
+    s
+}
+
+/// The set-up: the configuration, the machine and wall time, and one row per surface.
+fn setup_section(s: &mut String, results: &StudyResults) {
+    let c = config_json(results);
+    let m = machine();
     let _ = writeln!(s, "## Set-up\n");
     let _ = writeln!(s, "| parameter | value |\n|---|---|");
     let _ = writeln!(
@@ -282,7 +294,10 @@ fn markdown(
         );
     }
     let _ = writeln!(s);
+}
 
+/// The paper's findings with their verdicts, then the notes of those that have one.
+fn findings_section(s: &mut String, findings: &[Finding]) {
     let _ = writeln!(s, "## The paper's findings, checked\n");
     let _ = writeln!(s, "| finding | verdict | our numbers |\n|---|---|---|");
     for f in findings {
@@ -299,7 +314,17 @@ fn markdown(
         let _ = writeln!(s, "- *{}* ({}): {}", f.id, f.verdict.label(), f.note);
     }
     let _ = writeln!(s);
+}
 
+/// Per surface: the metrics of every scheme after `shown` iterations (and of the input),
+/// then the surface's figures.
+fn surface_sections(
+    s: &mut String,
+    results: &StudyResults,
+    rows: &[Row],
+    figures: &[Figure],
+    shown: usize,
+) {
     for r in &results.surfaces {
         let name = r.case.clean.name;
         let _ = writeln!(s, "## {name}\n");
@@ -343,9 +368,10 @@ fn markdown(
             let _ = writeln!(s, "![{}]({file})\n\n*{}*\n", f.caption, f.caption);
         }
     }
-    countermeasure_section(&mut s, results, shown);
-    edge_section(&mut s, results);
-    units_section(&mut s, results);
+}
+
+/// Where the study's set-up departs from the paper's, and where the data are.
+fn differences_section(s: &mut String) {
     let _ = writeln!(s, "## Where this study differs from the paper\n");
     let _ = writeln!(
         s,
@@ -363,7 +389,6 @@ fn markdown(
         s,
         "\nThe full data are in `results.csv` and `results.json` next to this report."
     );
-    s
 }
 
 /// The iterations shown in the counter-measure tables: 10, 50, 100 and 200 where
@@ -474,7 +499,7 @@ fn edge_section(s: &mut String, results: &StudyResults) {
         s,
         "| run | iterations | flat-side RMS | dihedral error (°) | volume loss | reached the target |\n|---|---|---|---|---|---|"
     );
-    let line = |s: &mut String, name: &str, m: &beltrami_schemes::Measures, reached: &str| {
+    let line = |s: &mut String, name: &str, m: &crate::Measures, reached: &str| {
         let _ = writeln!(
             s,
             "| {name} | {} | {} | {} | {} | {reached} |",

@@ -5,7 +5,6 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use beltrami_halfedge::DVec3;
-use beltrami_schemes::{EdgePreservation, EdgePreservationOptions};
 use beltrami_smooth::{SmoothConfig, Smoother};
 use beltrami_surfaces::{Size, SurfaceKind, add_normal_noise};
 use beltrami_weights::{LaplacianOptions, Normalization};
@@ -16,6 +15,7 @@ use crate::config::StudyConfig;
 use crate::countermeasures::countermeasure_surface;
 use crate::error::StudyError;
 use crate::measure::{Measured, Reference};
+use crate::preservation::{self, EdgePreservation, EdgePreservationOptions};
 use crate::results::Row;
 use crate::units::{UnitsComparison, units_comparison};
 
@@ -129,6 +129,10 @@ fn smooth_config(config: &StudyConfig) -> SmoothConfig {
 /// Runs the study. Smoothing runs one after the other (so their timings are not
 /// disturbed); metrics are computed afterwards, in parallel.
 ///
+/// Per surface, in the configured order: the scheme runs, the counter-measure runs,
+/// the metrics of every snapshot, then the density comparison (on the sphere) and the
+/// edge-preservation comparison (on the block).
+///
 /// # Errors
 /// [`StudyError::Config`] for an invalid configuration, [`StudyError::Smooth`] and
 /// [`StudyError::Metrics`] naming the surface and scheme that failed.
@@ -143,148 +147,14 @@ pub fn run_study(
     let mut units = None;
     for &kind in &config.surfaces {
         let case = prepare(kind, config)?;
-        let mut runs = Vec::with_capacity(config.schemes.len());
-        for scheme in &config.schemes {
-            progress(Progress::RunStarted(
-                case.clean.name,
-                scheme.name(),
-                config.max_iterations(),
-            ));
-            let run = run_one(
-                &case,
-                scheme.as_ref(),
-                scheme.name(),
-                &config.iterations,
-                smooth_config(config),
-                progress,
-            )
-            .map_err(|source| StudyError::Smooth {
-                surface: case.clean.name.to_string(),
-                scheme: scheme.name().to_string(),
-                source,
-            })?;
-            progress(Progress::RunFinished);
-            runs.push(run);
+        let runs = run_schemes(&case, config, progress)?;
+        let cm_runs = run_countermeasures(&case, config, progress)?;
+        let (measured, countermeasures) = measure_runs(&case, &runs, &cm_runs)?;
+        if let Some(comparison) = sphere_units(kind, config)? {
+            units = Some(comparison);
         }
-        let mut cm_runs = Vec::new();
-        if let Some(scheme) = &config.countermeasure_scheme
-            && countermeasure_surface(kind)
-        {
-            for cm in &config.countermeasures {
-                if !cm.applies(case.mesh.is_closed()) {
-                    continue;
-                }
-                let label = format!("{}/{}", scheme.name(), cm.label);
-                progress(Progress::RunStarted(
-                    case.clean.name,
-                    &label,
-                    config.max_iterations(),
-                ));
-                let smooth = SmoothConfig {
-                    lambda: cm.lambda,
-                    method: cm.method,
-                    preserve_volume: cm.preserve_volume,
-                    ..smooth_config(config)
-                };
-                let run = run_one(
-                    &case,
-                    scheme.as_ref(),
-                    &label,
-                    &config.iterations,
-                    smooth,
-                    progress,
-                )
-                .map_err(|source| StudyError::Smooth {
-                    surface: case.clean.name.to_string(),
-                    scheme: label.clone(),
-                    source,
-                })?;
-                progress(Progress::RunFinished);
-                cm_runs.push(run);
-            }
-        }
-        let reference = Reference::new(&case).map_err(|source| StudyError::Metrics {
-            surface: case.clean.name.to_string(),
-            scheme: "input".to_string(),
-            source,
-        })?;
-        let mut jobs: Vec<(&str, usize, f64, usize, &[DVec3])> =
-            vec![("input", 0, 0.0, 0, &case.noisy)];
-        for run in &runs {
-            for s in &run.snapshots {
-                jobs.push((
-                    &run.scheme,
-                    s.iteration,
-                    s.time_s,
-                    s.stuck_vertices,
-                    &s.positions,
-                ));
-            }
-        }
-        let measured = jobs
-            .par_iter()
-            .map(|&(scheme, iteration, time_s, stuck, positions)| {
-                reference
-                    .measure(scheme, iteration, time_s, stuck, positions)
-                    .map_err(|source| StudyError::Metrics {
-                        surface: case.clean.name.to_string(),
-                        scheme: scheme.to_string(),
-                        source,
-                    })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let countermeasures = cm_runs
-            .par_iter()
-            .flat_map_iter(|run| run.snapshots.iter().map(move |s| (run, s)))
-            .map(|(run, s)| {
-                reference
-                    .measure(
-                        &run.scheme,
-                        s.iteration,
-                        s.time_s,
-                        s.stuck_vertices,
-                        &s.positions,
-                    )
-                    .map_err(|source| StudyError::Metrics {
-                        surface: case.clean.name.to_string(),
-                        scheme: run.scheme.clone(),
-                        source,
-                    })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        drop(reference);
-        if kind == SurfaceKind::Sphere
-            && let Some(scheme) = &config.countermeasure_scheme
-        {
-            let levels: &[u32] = match config.size {
-                Size::Paper => &[3, 4, 5, 6],
-                _ => &[2, 3, 4],
-            };
-            units = Some(
-                units_comparison(scheme.as_ref(), config.lambda, UNITS_CUTOFF, levels).map_err(
-                    |source| StudyError::Smooth {
-                        surface: "sphere (cut-off)".to_string(),
-                        scheme: scheme.name().to_string(),
-                        source,
-                    },
-                )?,
-            );
-        }
-        if kind == SurfaceKind::Block
-            && let Some((scheme, reference)) = &config.edge_comparison
-        {
-            let options = EdgePreservationOptions {
-                lambda: config.lambda,
-                ..EdgePreservationOptions::default()
-            };
-            edge_preservation = Some(beltrami_schemes::edge_preservation(
-                &case.mesh,
-                &case.clean.positions,
-                &case.noisy,
-                scheme.as_ref(),
-                reference.as_ref(),
-                &options,
-            )?);
+        if let Some(comparison) = block_edges(kind, &case, config)? {
+            edge_preservation = Some(comparison);
         }
         surfaces.push(SurfaceResult {
             case,
@@ -300,6 +170,197 @@ pub fn run_study(
         units,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// One run per configured scheme on `case`, in the configured order.
+fn run_schemes(
+    case: &SurfaceCase,
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<SchemeRun>, StudyError> {
+    let mut runs = Vec::with_capacity(config.schemes.len());
+    for scheme in &config.schemes {
+        let run = run_reported(
+            case,
+            scheme.as_ref(),
+            scheme.name(),
+            config,
+            smooth_config(config),
+            progress,
+        )?;
+        runs.push(run);
+    }
+    Ok(runs)
+}
+
+/// The counter-measure runs on `case` (named `scheme/label`): none without a
+/// counter-measure scheme or on a surface that does not get them, and only the
+/// counter-measures that apply to the mesh (open or closed).
+fn run_countermeasures(
+    case: &SurfaceCase,
+    config: &StudyConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<SchemeRun>, StudyError> {
+    let mut runs = Vec::new();
+    let Some(scheme) = &config.countermeasure_scheme else {
+        return Ok(runs);
+    };
+    if !countermeasure_surface(case.kind) {
+        return Ok(runs);
+    }
+    for cm in &config.countermeasures {
+        if !cm.applies(case.mesh.is_closed()) {
+            continue;
+        }
+        let label = format!("{}/{}", scheme.name(), cm.label);
+        let smooth = SmoothConfig {
+            lambda: cm.lambda,
+            method: cm.method,
+            preserve_volume: cm.preserve_volume,
+            ..smooth_config(config)
+        };
+        runs.push(run_reported(
+            case,
+            scheme.as_ref(),
+            &label,
+            config,
+            smooth,
+            progress,
+        )?);
+    }
+    Ok(runs)
+}
+
+/// [`run_one`] between the progress reports of its start and end, with a failure named
+/// by surface and `label`.
+fn run_reported(
+    case: &SurfaceCase,
+    scheme: &dyn beltrami_weights::WeightScheme,
+    label: &str,
+    config: &StudyConfig,
+    smooth: SmoothConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<SchemeRun, StudyError> {
+    progress(Progress::RunStarted(
+        case.clean.name,
+        label,
+        config.max_iterations(),
+    ));
+    let run =
+        run_one(case, scheme, label, &config.iterations, smooth, progress).map_err(|source| {
+            StudyError::Smooth {
+                surface: case.clean.name.to_string(),
+                scheme: label.to_string(),
+                source,
+            }
+        })?;
+    progress(Progress::RunFinished);
+    Ok(run)
+}
+
+/// The metrics, in parallel, of the noisy input (as scheme `"input"`, iteration 0) and
+/// every snapshot of `runs`, and of every snapshot of the counter-measure runs.
+fn measure_runs(
+    case: &SurfaceCase,
+    runs: &[SchemeRun],
+    cm_runs: &[SchemeRun],
+) -> Result<(Vec<Measured>, Vec<Measured>), StudyError> {
+    let failed = |scheme: &str, source| StudyError::Metrics {
+        surface: case.clean.name.to_string(),
+        scheme: scheme.to_string(),
+        source,
+    };
+    let reference = Reference::new(case).map_err(|source| failed("input", source))?;
+    let mut jobs: Vec<(&str, usize, f64, usize, &[DVec3])> =
+        vec![("input", 0, 0.0, 0, &case.noisy)];
+    for run in runs {
+        for s in &run.snapshots {
+            jobs.push((
+                &run.scheme,
+                s.iteration,
+                s.time_s,
+                s.stuck_vertices,
+                &s.positions,
+            ));
+        }
+    }
+    let measured = jobs
+        .par_iter()
+        .map(|&(scheme, iteration, time_s, stuck, positions)| {
+            reference
+                .measure(scheme, iteration, time_s, stuck, positions)
+                .map_err(|source| failed(scheme, source))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let countermeasures = cm_runs
+        .par_iter()
+        .flat_map_iter(|run| run.snapshots.iter().map(move |s| (run, s)))
+        .map(|(run, s)| {
+            reference
+                .measure(
+                    &run.scheme,
+                    s.iteration,
+                    s.time_s,
+                    s.stuck_vertices,
+                    &s.positions,
+                )
+                .map_err(|source| failed(&run.scheme, source))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((measured, countermeasures))
+}
+
+/// On the sphere, with a counter-measure scheme: unit spheres of several densities
+/// filtered with one cut-off wavelength ([`UNITS_CUTOFF`]) against one λ × iterations.
+fn sphere_units(
+    kind: SurfaceKind,
+    config: &StudyConfig,
+) -> Result<Option<UnitsComparison>, StudyError> {
+    let Some(scheme) = &config.countermeasure_scheme else {
+        return Ok(None);
+    };
+    if kind != SurfaceKind::Sphere {
+        return Ok(None);
+    }
+    let levels: &[u32] = match config.size {
+        Size::Paper => &[3, 4, 5, 6],
+        _ => &[2, 3, 4],
+    };
+    let comparison = units_comparison(scheme.as_ref(), config.lambda, UNITS_CUTOFF, levels)
+        .map_err(|source| StudyError::Smooth {
+            surface: "sphere (cut-off)".to_string(),
+            scheme: scheme.name().to_string(),
+            source,
+        })?;
+    Ok(Some(comparison))
+}
+
+/// On the block, with an edge comparison configured: the edge-preserving scheme against
+/// its reference at equal smoothness of the flat sides, with the study's λ.
+fn block_edges(
+    kind: SurfaceKind,
+    case: &SurfaceCase,
+    config: &StudyConfig,
+) -> Result<Option<EdgePreservation>, StudyError> {
+    let Some((scheme, reference)) = &config.edge_comparison else {
+        return Ok(None);
+    };
+    if kind != SurfaceKind::Block {
+        return Ok(None);
+    }
+    let options = EdgePreservationOptions {
+        lambda: config.lambda,
+        ..EdgePreservationOptions::default()
+    };
+    let comparison = preservation::edge_preservation(
+        &case.mesh,
+        &case.clean.positions,
+        &case.noisy,
+        scheme.as_ref(),
+        reference.as_ref(),
+        &options,
+    )?;
+    Ok(Some(comparison))
 }
 
 fn run_one(

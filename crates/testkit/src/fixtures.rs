@@ -1,19 +1,21 @@
 //! Deterministic test meshes: small enough for CI, irregular enough to catch real bugs.
 //!
 //! Every function returns the same positions to the last bit on every platform: the
-//! noise comes from [`SplitMix64`] (integer arithmetic) and only `+ − ×` and exact
-//! operations are applied to it — except [`noisy_flens`], which takes the paper's
-//! F-lens and its seeded Gaussian noise from `beltrami-surfaces` (ChaCha8 bits, `libm`'s
-//! pure-Rust logarithm and correctly rounded `sqrt`, also identical everywhere). The
+//! noise comes from [`SplitMix64`] or [`Lcg64`] (integer arithmetic) and only `+ − ×`
+//! and exact operations are applied to it — except [`noisy_flens`] and
+//! [`with_bench_noise`], which take their seeded Gaussian noise from `beltrami-surfaces`
+//! (ChaCha8 bits, `libm`'s pure-Rust logarithm and correctly rounded `sqrt`, also
+//! identical everywhere), and [`gaussian_noisy_icosphere`], whose Box–Muller noise goes
+//! through the platform's `ln` and `cos`. The
 //! meshes of [`openmesh_inputs`] are committed in
 //! `fixtures/` (written by `cargo run -p beltrami-testkit --example make_openmesh_inputs`)
 //! and are the inputs of the OpenMesh references in `fixtures/openmesh/`.
 
 use beltrami_halfedge::primitives::{self, Primitive};
-use beltrami_halfedge::{DVec3, PolygonList};
-use beltrami_surfaces::{FLensParams, NoiseLevel, add_normal_noise, flens};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList};
+use beltrami_surfaces::{FLensParams, NoiseLevel, Surface, add_normal_noise, flens};
 
-use crate::rng::SplitMix64;
+use crate::rng::{Lcg64, SplitMix64};
 
 /// The fixtures the OpenMesh references are generated for, by name: the file is
 /// `fixtures/<name>.ply` and the references are in `fixtures/openmesh/<name>/`.
@@ -120,6 +122,68 @@ pub fn noisy_icosphere() -> Primitive {
         *p *= 1.0 + 0.02 * rng.next_symmetric();
     }
     sphere
+}
+
+/// The unit icosphere of `level` (`primitives::icosphere(level)`) and, beside it, its
+/// positions with Gaussian noise: every coordinate of every vertex moves by `sigma` times
+/// a [`SplitMix64::next_normal`] number (x, y, z in turn, vertex after vertex) of the
+/// generator seeded with `seed`.
+///
+/// The noise goes through `ln` and `cos` (Box–Muller), so unlike the other fixtures its
+/// last bits may differ between platforms' math libraries. It is the test case of the
+/// closest-point benchmark and its phase-timing example.
+#[must_use]
+pub fn gaussian_noisy_icosphere(level: u32, sigma: f64, seed: u64) -> (Primitive, Vec<DVec3>) {
+    let sphere = primitives::icosphere(level);
+    let mut rng = SplitMix64::new(seed);
+    let noisy = sphere
+        .positions
+        .iter()
+        .map(|p| {
+            let x = rng.next_normal();
+            let y = rng.next_normal();
+            let z = rng.next_normal();
+            *p + DVec3::new(x, y, z) * sigma
+        })
+        .collect();
+    (sphere, noisy)
+}
+
+/// The unit icosphere of `level` with every coordinate moved by up to a fifth of its
+/// mean edge length (about `1.1 / 2^level`), uniformly: `p + 0.2 · 1.1 / 2^level · u`,
+/// `u` from [`Lcg64::next_symmetric_vector`] of the generator started at
+/// `0x9E37_79B9_7F4A_7C15`, vertex after vertex. The mesh of the explicit and implicit
+/// smoothing benchmarks.
+#[must_use]
+pub fn jittered_icosphere(level: u32) -> Primitive {
+    let mut sphere = primitives::icosphere(level);
+    let edge = 1.1 / f64::from(1u32 << level);
+    let amplitude = 0.2 * edge;
+    let mut rng = Lcg64::new(0x9E37_79B9_7F4A_7C15);
+    for p in &mut sphere.positions {
+        *p += rng.next_symmetric_vector() * amplitude;
+    }
+    sphere
+}
+
+/// `surface` with Gaussian noise along its area-weighted vertex normals of standard
+/// deviation 0.2 × the mean edge length, seed 42
+/// (`beltrami_surfaces::add_normal_noise`, boundary vertices included), beside its mesh:
+/// the meshes of the sweep and refresh benchmarks of `beltrami-weights`.
+///
+/// # Panics
+/// When `surface` is not a valid mesh (never for the surfaces of `beltrami-surfaces`).
+#[must_use]
+pub fn with_bench_noise(surface: &Surface) -> (HalfedgeMesh, Vec<DVec3>) {
+    let mesh = surface.mesh().expect("a valid surface");
+    let (positions, _sigma) = add_normal_noise(
+        &mesh,
+        &surface.positions,
+        NoiseLevel::RelativeToMeanEdge(0.2),
+        42,
+    )
+    .expect("a valid noise level");
+    (mesh, positions)
 }
 
 /// A torus (genus 1) with tube-centre radius 2 and tube radius 0.6 on a 36 × 12 grid

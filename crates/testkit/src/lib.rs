@@ -70,7 +70,7 @@ pub use conformance::{
     assert_scheme_conforms, check_scheme,
 };
 pub use metrics::{MetricRow, MetricsTable};
-pub use rng::SplitMix64;
+pub use rng::{Lcg64, SplitMix64};
 pub use round::{DEVIATION_DIGITS, SUMMARY_DIGITS, format_significant, round_significant};
 pub use smoothing::SmoothingSummary;
 pub use summary::MeshSummary;

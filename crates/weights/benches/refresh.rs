@@ -13,7 +13,7 @@
 #![allow(missing_docs)]
 
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_surfaces::{NoiseLevel, add_normal_noise};
+use beltrami_testkit::fixtures::with_bench_noise;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, Uniform, WeightScheme,
 };
@@ -23,16 +23,7 @@ use std::time::Duration;
 const SCHEMES: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
 
 fn noisy(level: u32) -> (HalfedgeMesh, Vec<DVec3>) {
-    let surface = beltrami_surfaces::sphere(level);
-    let mesh = surface.mesh().expect("valid surface");
-    let (positions, _) = add_normal_noise(
-        &mesh,
-        &surface.positions,
-        NoiseLevel::RelativeToMeanEdge(0.2),
-        42,
-    )
-    .expect("noise");
-    (mesh, positions)
+    with_bench_noise(&beltrami_surfaces::sphere(level))
 }
 
 fn refresh(c: &mut Criterion) {

@@ -23,7 +23,8 @@
 use beltrami_halfedge::reorder::{VertexPermutation, hilbert_order, rcm_order};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_smooth::{SmoothConfig, Smoother, WeightUpdate};
-use beltrami_surfaces::{NoiseLevel, SurfaceKind, add_normal_noise};
+use beltrami_surfaces::SurfaceKind;
+use beltrami_testkit::fixtures::with_bench_noise;
 use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use rand_chacha::ChaCha8Rng;
@@ -51,15 +52,7 @@ fn noisy(kind: Option<SurfaceKind>) -> (HalfedgeMesh, Vec<DVec3>) {
         Some(kind) => kind.generate(),
         None => beltrami_surfaces::sphere(8),
     };
-    let mesh = surface.mesh().expect("valid surface");
-    let (positions, _) = add_normal_noise(
-        &mesh,
-        &surface.positions,
-        NoiseLevel::RelativeToMeanEdge(0.2),
-        42,
-    )
-    .expect("noise");
-    (mesh, positions)
+    with_bench_noise(&surface)
 }
 
 fn bench_case(

@@ -3,29 +3,17 @@
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightError, WeightRegistry, WeightScheme,
 };
 
-/// splitmix64: a tiny deterministic generator, identical on every platform.
-struct Rng(u64);
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
-
 /// A grid whose interior vertices are moved in-plane by up to `amount` of a cell.
 fn jittered_grid(n: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
     let g = primitives::grid(n, n);
     let mesh = g.mesh().unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let positions = g
         .positions
         .iter()
@@ -34,7 +22,7 @@ fn jittered_grid(n: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
             if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
                 p
             } else {
-                p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.0) * amount
+                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * amount
             }
         })
         .collect();
@@ -86,11 +74,11 @@ fn cotangent_and_distance_weights_are_symmetric() {
 fn bulk_weights_equal_the_simple_form_bit_for_bit() {
     let p = primitives::icosphere(2);
     let mesh = p.mesh().unwrap();
-    let mut rng = Rng(3);
+    let mut rng = SplitMix64::new(3);
     let x: Vec<DVec3> = p
         .positions
         .iter()
-        .map(|&q| q * (1.0 + 0.05 * rng.next_f64()))
+        .map(|&q| q * (1.0 + 0.05 * rng.next_symmetric()))
         .collect();
     let ctx = WeightContext::new(Geometry::new(&mesh, &x).unwrap());
     for scheme in schemes() {

@@ -6,6 +6,7 @@
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightScheme,
@@ -24,18 +25,6 @@ impl WeightScheme for Generic {
     }
     fn fill_weights(&self, ctx: &WeightContext<'_>, out: &mut [f64]) {
         self.0.fill_weights(ctx, out);
-    }
-}
-
-struct Rng(u64);
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     }
 }
 
@@ -108,7 +97,7 @@ fn all_options() -> Vec<LaplacianOptions> {
 
 #[test]
 fn kernels_match_the_generic_path() {
-    let mut rng = Rng(17);
+    let mut rng = SplitMix64::new(17);
     let mut cases: Vec<(String, HalfedgeMesh, Vec<DVec3>)> = Vec::new();
     // An irregular plane (negative cotangents, boundary).
     let g = primitives::grid(12, 9);
@@ -116,7 +105,13 @@ fn kernels_match_the_generic_path() {
     let x: Vec<DVec3> = g
         .positions
         .iter()
-        .map(|&p| p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.1 * rng.next_f64()) * 0.45)
+        .map(|&p| {
+            p + DVec3::new(
+                rng.next_symmetric(),
+                rng.next_symmetric(),
+                0.1 * rng.next_symmetric(),
+            ) * 0.45
+        })
         .collect();
     cases.push(("grid".into(), mesh.clone(), x.clone()));
     // Degenerate and coincident triangles: collapse some vertices onto neighbours.
@@ -136,7 +131,7 @@ fn kernels_match_the_generic_path() {
     let z: Vec<DVec3> = sphere
         .positions
         .iter()
-        .map(|&p| p * (1.0 + 0.1 * rng.next_f64()))
+        .map(|&p| p * (1.0 + 0.1 * rng.next_symmetric()))
         .collect();
     cases.push(("sphere".into(), mesh, z));
     // A torus and a cube (valence 3 vertices).
@@ -195,7 +190,7 @@ fn non_finite_positions_give_the_generic_error() {
 fn updates_reuse_the_operator() {
     let sphere = primitives::icosphere(3);
     let mesh = sphere.mesh().unwrap();
-    let mut rng = Rng(5);
+    let mut rng = SplitMix64::new(5);
     for scheme in [
         &Uniform as &'static dyn WeightScheme,
         &InverseDistance,
@@ -212,7 +207,7 @@ fn updates_reuse_the_operator() {
             let x: Vec<DVec3> = sphere
                 .positions
                 .iter()
-                .map(|&p| p * (1.0 + 0.2 * rng.next_f64()))
+                .map(|&p| p * (1.0 + 0.2 * rng.next_symmetric()))
                 .collect();
             lap.update(&mesh, &x, scheme).unwrap();
             let fresh =
@@ -232,7 +227,7 @@ fn updates_reuse_the_operator() {
 /// degenerate, obtuse and out-of-range (geometry fallback) triangles.
 #[test]
 fn kernels_match_on_mixed_lanes_and_tails() {
-    let mut rng = Rng(29);
+    let mut rng = SplitMix64::new(29);
     let mut cases: Vec<(String, HalfedgeMesh, Vec<DVec3>)> = Vec::new();
     // Fans of 1 to 7 triangles around vertex 0 (odd and even triangle counts, rows of
     // every length), open and closed.
@@ -252,9 +247,9 @@ fn kernels_match_on_mixed_lanes_and_tails() {
                     let r = if k == 0 {
                         0.0
                     } else {
-                        1.0 + 0.3 * rng.next_f64()
+                        1.0 + 0.3 * rng.next_symmetric()
                     };
-                    DVec3::new(r * a.cos(), r * a.sin(), 0.2 * rng.next_f64())
+                    DVec3::new(r * a.cos(), r * a.sin(), 0.2 * rng.next_symmetric())
                 })
                 .collect();
             cases.push((format!("fan {n} {closed}"), mesh, x));
@@ -265,7 +260,13 @@ fn kernels_match_on_mixed_lanes_and_tails() {
     let x: Vec<DVec3> = g
         .positions
         .iter()
-        .map(|&p| p + DVec3::new(rng.next_f64(), rng.next_f64(), 0.2 * rng.next_f64()) * 0.4)
+        .map(|&p| {
+            p + DVec3::new(
+                rng.next_symmetric(),
+                rng.next_symmetric(),
+                0.2 * rng.next_symmetric(),
+            ) * 0.4
+        })
         .collect();
     // Every other vertex collapsed onto its right-hand neighbour: degenerate and
     // ordinary triangles side by side.

@@ -110,3 +110,65 @@ pub fn one_sided_hausdorff(
     let distances = to.distances(&points)?;
     Ok(distances.iter().fold(0.0f64, |m, &d| m.max(d)))
 }
+
+/// [`one_sided_hausdorff`] for a caller that already has the distances of `from`'s
+/// vertices to `to`, for example from [`SurfaceIndex::signed_distances`] of the mesh it
+/// also reports signed statistics for: only the surface samples are queried, and the
+/// vertex pass is not repeated.
+///
+/// `vertex_distances[v]` is the distance of vertex `v` of `from` to the surface of `to`,
+/// signed or unsigned (its absolute value counts). Vertices that belong to no face are
+/// skipped, as in [`one_sided_hausdorff`], so for the distances `to` gives this returns
+/// the same value as [`one_sided_hausdorff`]`(from, to, sampling)`.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::primitives;
+/// use beltrami_metrics::distance::{
+///     HausdorffSampling, SurfaceIndex, one_sided_hausdorff,
+///     one_sided_hausdorff_from_vertex_distances,
+/// };
+///
+/// let small = primitives::grid(1, 1);
+/// let large = primitives::grid(2, 2);
+/// let a = SurfaceIndex::new(&small.mesh()?, &small.positions)?;
+/// let b = SurfaceIndex::new(&large.mesh()?, &large.positions)?;
+/// let signed = a.signed_distances(&large.positions)?; // large's vertices to small
+/// let sampling = HausdorffSampling::Vertices;
+/// let h = one_sided_hausdorff_from_vertex_distances(&b, &signed, &a, sampling)?;
+/// assert_eq!(h, one_sided_hausdorff(&b, &a, sampling)?);
+/// assert_eq!(h, 2f64.sqrt()); // the far corner (2, 2) to (1, 1)
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// [`MetricsError::FieldLength`] when `vertex_distances` does not have one value per
+/// vertex of `from`; otherwise as for [`one_sided_hausdorff`].
+pub fn one_sided_hausdorff_from_vertex_distances(
+    from: &SurfaceIndex,
+    vertex_distances: &[f64],
+    to: &SurfaceIndex,
+    sampling: HausdorffSampling,
+) -> Result<f64, MetricsError> {
+    let n = from.positions().len();
+    if vertex_distances.len() != n {
+        return Err(MetricsError::FieldLength {
+            what: "vertex distances",
+            got: vertex_distances.len(),
+            expected: n,
+        });
+    }
+    let on_vertices = vertex_distances
+        .iter()
+        .zip(from.on_surface())
+        .filter(|&(_, on)| on)
+        .fold(0.0f64, |m, (d, _)| m.max(d.abs()));
+    Ok(match sampling {
+        HausdorffSampling::Vertices => on_vertices,
+        HausdorffSampling::VerticesAndSurface { samples, seed } => {
+            let points = from.sample_surface(samples, seed);
+            let far = to.distances(&points)?.into_iter().fold(0.0f64, f64::max);
+            on_vertices.max(far)
+        }
+    })
+}

@@ -355,17 +355,23 @@ impl SurfaceIndex {
             .collect()
     }
 
-    /// The positions of the vertices that belong to a face, in vertex order.
-    pub(crate) fn surface_vertices(&self) -> Vec<DVec3> {
+    /// For every vertex, in vertex order, whether it belongs to a face (isolated vertices
+    /// are not on the surface).
+    pub(crate) fn on_surface(&self) -> Vec<bool> {
         let mut used = vec![false; self.positions.len()];
         for vs in &self.face_vertices {
             for &v in vs {
                 used[v as usize] = true;
             }
         }
+        used
+    }
+
+    /// The positions of the vertices that belong to a face, in vertex order.
+    pub(crate) fn surface_vertices(&self) -> Vec<DVec3> {
         self.positions
             .iter()
-            .zip(used)
+            .zip(self.on_surface())
             .filter_map(|(&p, u)| u.then_some(p))
             .collect()
     }

@@ -1,6 +1,7 @@
 //! Distances from a mesh to a reference surface: closest points on the closest triangle,
-//! signed distances, RMS / mean / max statistics, the symmetric Hausdorff distance, plain
-//! per-vertex displacement, and the enclosed volume and area of a mesh.
+//! signed distances, RMS / mean / max statistics, the symmetric Hausdorff distance and plain
+//! per-vertex displacement. The enclosed volume and area of a mesh live in
+//! [`measures`](crate::measures) and are re-exported here.
 //!
 //! The paper judges smoothing by the RMS over the vertices of the smoothed mesh of their
 //! distance to the clean reference surface,
@@ -46,16 +47,17 @@ mod bvh;
 mod displacement;
 mod hausdorff;
 mod index;
-mod measures;
 mod sampling;
 mod stats;
-pub(crate) mod sum;
 mod triangle;
 
+pub use crate::measures::{surface_area, volume};
 pub use displacement::{check_same_topology, displacement_stats, displacements};
-pub use hausdorff::{HausdorffDistance, HausdorffSampling, hausdorff, one_sided_hausdorff};
+pub use hausdorff::{
+    HausdorffDistance, HausdorffSampling, hausdorff, one_sided_hausdorff,
+    one_sided_hausdorff_from_vertex_distances,
+};
 pub use index::{ClosestPoint, Feature, MAX_COORDINATE, SurfaceIndex};
-pub use measures::{surface_area, volume};
 pub(crate) use stats::vertex_areas;
 pub use stats::{DistanceStats, SignedDistanceStats, distance_stats, signed_distance_stats};
 pub use triangle::{TriangleFeature, TrianglePoint, closest_point_on_triangle};

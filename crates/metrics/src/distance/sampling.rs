@@ -1,4 +1,12 @@
 //! A small reproducible random stream for surface sampling.
+//!
+//! This is the one generator of the metrics library ([`SurfaceIndex::sample_surface`]
+//! draws from it). It is the same algorithm as `beltrami_testkit::SplitMix64`, which the
+//! tests, benches and examples use, with the same outputs (both check the published
+//! stream); the library keeps its own few lines because test support is not a dependency
+//! of the library.
+//!
+//! [`SurfaceIndex::sample_surface`]: super::SurfaceIndex::sample_surface
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a 64-bit state advanced by a Weyl increment and
 /// scrambled by two multiply–xorshift rounds. Fast, reproducible on every platform, and

@@ -5,8 +5,8 @@ use beltrami_halfedge::{DVec3, ElementId, FaceId, HalfedgeMesh};
 use rayon::prelude::*;
 
 use super::index::SurfaceIndex;
-use super::sum::Sum;
 use crate::MetricsError;
+use crate::sum::Sum;
 
 /// Statistics of unsigned distances (or displacements) over the vertices of a mesh, in the
 /// positions' unit.

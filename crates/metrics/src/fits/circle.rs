@@ -6,7 +6,7 @@ use super::linalg::{canonical_sign, symmetric_eigen3};
 use super::lm::{Model, Normalised, levenberg_marquardt};
 use super::{FitOptions, FitPoints, covariance, kasa_circle, residual_summary};
 use crate::MetricsError;
-use crate::distance::sum::Sum;
+use crate::sum::Sum;
 
 /// A fitted circle in space.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use super::FitOptions;
 use super::linalg::cholesky_solve;
-use crate::distance::sum::Sum;
+use crate::sum::Sum;
 
 /// Points centred on their weighted centroid and divided by their weighted RMS distance
 /// from it, with weights that sum to 1: the fits iterate in these coordinates, where every

@@ -64,7 +64,7 @@ pub use polynomial::{MAX_POLYNOMIAL_DEGREE, PolynomialFit, fit_polynomial};
 pub use sphere::{SphereFit, fit_sphere};
 
 use crate::MetricsError;
-use crate::distance::sum::Sum;
+use crate::sum::Sum;
 use lm::Normalised;
 
 /// Points to fit, each with an optional non-negative weight.

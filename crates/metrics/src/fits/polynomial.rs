@@ -6,7 +6,7 @@ use super::linalg::cholesky_solve_dyn;
 use super::plane::fit_plane;
 use super::{FitPoints, residual_summary};
 use crate::MetricsError;
-use crate::distance::sum::Sum;
+use crate::sum::Sum;
 
 /// The highest degree [`fit_polynomial`] accepts.
 pub const MAX_POLYNOMIAL_DEGREE: u32 = 6;

@@ -194,46 +194,9 @@ pub fn areal_parameters(
     options: &ArealOptions,
 ) -> Result<ArealParameters, MetricsError> {
     let surface = Surface::new(geometry, field)?;
-    let mesh = geometry.mesh();
     let shift = surface.shift(options.datum);
-    let mut moments = [Sum::default(); 4];
-    let mut absolute = Sum::default();
-    match options.quadrature {
-        Quadrature::Lumped => {
-            for (&z, &w) in surface.scaled.iter().zip(&surface.vertex_weights) {
-                if w > 0.0 {
-                    let z = z - shift;
-                    let (z2, wz) = (z * z, w * z);
-                    absolute.add(w * z.abs());
-                    moments[0].add(wz);
-                    moments[1].add(wz * z);
-                    moments[2].add(wz * z2);
-                    moments[3].add(w * z2 * z2);
-                }
-            }
-        }
-        Quadrature::ExactInterpolant => {
-            for (f, &w) in mesh.faces().zip(&surface.face_weights) {
-                let r = surface.face_values(f).map(|r| r - shift);
-                for (m, p) in moments.iter_mut().zip(mean_powers(r)) {
-                    m.add(w * p);
-                }
-                absolute.add(w * mean_abs(r));
-            }
-        }
-    }
-    // (weight, |∇r|) of every non-degenerate face, for Sdq and Sdr.
-    let mut slopes = Vec::with_capacity(mesh.n_faces());
-    for (f, &w) in mesh.faces().zip(&surface.face_weights) {
-        if geometry.is_degenerate_face(f) {
-            continue;
-        }
-        let corners = mesh.triangle_vertices(f).map(|v| geometry.position(v));
-        if let Some((g, edge_scale)) = gradient(corners, surface.face_values(f)) {
-            // ∇r = g · edge_scale / scale: the field was scaled by `scale`.
-            slopes.push((w, g.length() * (edge_scale / surface.scale)));
-        }
-    }
+    let (absolute, moments) = height_integrals(&surface, shift, options.quadrature);
+    let slopes = face_slopes(geometry, &surface);
     let (sdq, sdr) = slope_parameters(&slopes, surface.weight_total);
     let mean_of = |s: &Sum| s.value() / surface.weight_total;
     let m2 = mean_of(&moments[1]).max(0.0);
@@ -257,6 +220,57 @@ pub fn areal_parameters(
         datum: options.datum,
         quadrature: options.quadrature,
     })
+}
+
+/// The weighted integrals of `|z|` and of `z, z², z³, z⁴` over the surface, with
+/// `z = scaled field − shift`, by `quadrature` (unnormalised: divide by the weight total
+/// for means).
+fn height_integrals(surface: &Surface<'_>, shift: f64, quadrature: Quadrature) -> (Sum, [Sum; 4]) {
+    let mut moments = [Sum::default(); 4];
+    let mut absolute = Sum::default();
+    match quadrature {
+        Quadrature::Lumped => {
+            for (&z, &w) in surface.scaled.iter().zip(&surface.vertex_weights) {
+                if w > 0.0 {
+                    let z = z - shift;
+                    let (z2, wz) = (z * z, w * z);
+                    absolute.add(w * z.abs());
+                    moments[0].add(wz);
+                    moments[1].add(wz * z);
+                    moments[2].add(wz * z2);
+                    moments[3].add(w * z2 * z2);
+                }
+            }
+        }
+        Quadrature::ExactInterpolant => {
+            for (f, &w) in surface.mesh.faces().zip(&surface.face_weights) {
+                let r = surface.face_values(f).map(|r| r - shift);
+                for (m, p) in moments.iter_mut().zip(mean_powers(r)) {
+                    m.add(w * p);
+                }
+                absolute.add(w * mean_abs(r));
+            }
+        }
+    }
+    (absolute, moments)
+}
+
+/// `(weight, |∇r|)` of every non-degenerate face with a gradient, in face order, for Sdq
+/// and Sdr.
+fn face_slopes(geometry: &Geometry<'_>, surface: &Surface<'_>) -> Vec<(f64, f64)> {
+    let mesh = geometry.mesh();
+    let mut slopes = Vec::with_capacity(mesh.n_faces());
+    for (f, &w) in mesh.faces().zip(&surface.face_weights) {
+        if geometry.is_degenerate_face(f) {
+            continue;
+        }
+        let corners = mesh.triangle_vertices(f).map(|v| geometry.position(v));
+        if let Some((g, edge_scale)) = gradient(corners, surface.face_values(f)) {
+            // ∇r = g · edge_scale / scale: the field was scaled by `scale`.
+            slopes.push((w, g.length() * (edge_scale / surface.scale)));
+        }
+    }
+    slopes
 }
 
 /// A validated field on a triangle mesh, prepared for integration: face and vertex

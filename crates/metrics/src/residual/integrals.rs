@@ -123,7 +123,7 @@ pub(super) fn pow2_inverse(m: f64) -> f64 {
     }
 }
 
-pub(super) use beltrami_halfedge::geometry::CompensatedSum as Sum;
+pub(super) use crate::sum::Sum;
 
 #[cfg(test)]
 mod tests {

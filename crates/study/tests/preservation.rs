@@ -2,9 +2,9 @@
 //! bilateral weights keep the sharp edges and the volume far better than cotangent
 //! weights.
 
-use beltrami_schemes::{
-    BilateralNormal, EdgePreservation, EdgePreservationOptions, FlatRegion, Measures,
-    edge_preservation,
+use beltrami_schemes::BilateralNormal;
+use beltrami_study::{
+    EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, edge_preservation,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind, add_normal_noise};
 use beltrami_weights::{Cotangent, Uniform};
@@ -166,7 +166,7 @@ fn a_curved_surface_has_no_flat_region() {
     let mesh = sphere.mesh().unwrap();
     assert_eq!(
         FlatRegion::new(&mesh, &sphere.positions),
-        Err(beltrami_schemes::SchemesError::NoFlatRegion)
+        Err(beltrami_study::PreservationError::NoFlatRegion)
     );
 }
 

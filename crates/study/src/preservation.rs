@@ -1,5 +1,7 @@
 //! Edge preservation measured at equal smoothness: a scheme against a reference scheme
-//! on a noisy surface with flat regions and sharp edges (the block).
+//! on a noisy surface with flat regions and sharp edges (the block). The study runs it
+//! on the block with an edge-preserving scheme (`beltrami-schemes`' bilateral weights)
+//! against cotangent weights.
 
 use std::ops::ControlFlow;
 
@@ -9,7 +11,7 @@ use beltrami_metrics::distortion::feature_edge_distortion;
 use beltrami_smooth::{SmoothConfig, Smoother};
 use beltrami_weights::WeightScheme;
 
-use crate::error::SchemesError;
+use crate::error::PreservationError;
 
 /// Two clean face normals are the same plane's when their dot product is at least this.
 const COPLANAR_DOT: f64 = 1.0 - 1e-9;
@@ -18,7 +20,7 @@ const COPLANAR_DOT: f64 = 1.0 - 1e-9;
 ///
 /// # Examples
 /// ```
-/// use beltrami_schemes::EdgePreservationOptions;
+/// use beltrami_study::EdgePreservationOptions;
 /// let options = EdgePreservationOptions { target: 0.5, ..EdgePreservationOptions::default() };
 /// assert_eq!(options.lambda, 0.8);
 /// ```
@@ -67,7 +69,7 @@ impl Default for EdgePreservationOptions {
 /// # Examples
 /// ```
 /// use beltrami_halfedge::{primitives, DVec3};
-/// use beltrami_schemes::FlatRegion;
+/// use beltrami_study::FlatRegion;
 ///
 /// let grid = primitives::grid(6, 6); // a flat open grid in z = 0
 /// let mesh = grid.mesh()?;
@@ -89,9 +91,9 @@ impl FlatRegion {
     /// Finds the flat-region vertices of `clean` (positions of `mesh`).
     ///
     /// # Errors
-    /// [`SchemesError::Topology`] when the positions do not match the mesh;
-    /// [`SchemesError::NoFlatRegion`] when no vertex qualifies (a curved surface).
-    pub fn new(mesh: &HalfedgeMesh, clean: &[DVec3]) -> Result<Self, SchemesError> {
+    /// [`PreservationError::Topology`] when the positions do not match the mesh;
+    /// [`PreservationError::NoFlatRegion`] when no vertex qualifies (a curved surface).
+    pub fn new(mesh: &HalfedgeMesh, clean: &[DVec3]) -> Result<Self, PreservationError> {
         let geometry = Geometry::new(mesh, clean)?;
         let normals = geometry.face_normals();
         // The common normal of a vertex's faces, when they are coplanar.
@@ -116,7 +118,7 @@ impl FlatRegion {
             })
             .collect();
         if planes.is_empty() {
-            return Err(SchemesError::NoFlatRegion);
+            return Err(PreservationError::NoFlatRegion);
         }
         Ok(Self { planes })
     }
@@ -262,18 +264,19 @@ impl EdgePreservation {
 /// see [`feature_edge_distortion`]) and the enclosed volume relative to the clean one.
 ///
 /// # Errors
-/// - [`SchemesError::InvalidParameter`] for `target` outside (0, 1) or a threshold
+/// - [`PreservationError::InvalidParameter`] for `target` outside (0, 1) or a threshold
 ///   outside (0°, 180°);
-/// - [`SchemesError::Topology`] when `clean` or `noisy` does not match `mesh`;
-/// - [`SchemesError::NoFlatRegion`] when `clean` has no flat region;
-/// - [`SchemesError::Smooth`] when a run fails (λ refused by the smoother, a non-finite
+/// - [`PreservationError::Topology`] when `clean` or `noisy` does not match `mesh`;
+/// - [`PreservationError::NoFlatRegion`] when `clean` has no flat region;
+/// - [`PreservationError::Smooth`] when a run fails (λ refused by the smoother, a non-finite
 ///   weight or position);
-/// - [`SchemesError::Metrics`] when a metric cannot be computed.
+/// - [`PreservationError::Metrics`] when a metric cannot be computed.
 ///
 /// # Examples
 /// ```
 /// use beltrami_surfaces::{add_normal_noise, block, BlockParams, NoiseLevel};
-/// use beltrami_schemes::{edge_preservation, BilateralNormal, EdgePreservationOptions};
+/// use beltrami_schemes::BilateralNormal;
+/// use beltrami_study::{edge_preservation, EdgePreservationOptions};
 /// use beltrami_weights::Cotangent;
 ///
 /// // A coarse genus-3 block (5 × 5 × 9 cells, 90-degree edges) with the study's noise.
@@ -293,9 +296,9 @@ pub fn edge_preservation(
     scheme: &dyn WeightScheme,
     reference: &dyn WeightScheme,
     options: &EdgePreservationOptions,
-) -> Result<EdgePreservation, SchemesError> {
+) -> Result<EdgePreservation, PreservationError> {
     if !(options.target > 0.0 && options.target < 1.0) {
-        return Err(SchemesError::InvalidParameter {
+        return Err(PreservationError::InvalidParameter {
             name: "target",
             reason: format!(
                 "must be a fraction strictly between 0 and 1, got {}",
@@ -304,7 +307,7 @@ pub fn edge_preservation(
         });
     }
     if !(options.feature_threshold_deg > 0.0 && options.feature_threshold_deg < 180.0) {
-        return Err(SchemesError::InvalidParameter {
+        return Err(PreservationError::InvalidParameter {
             name: "feature threshold",
             reason: format!(
                 "must be an angle in degrees strictly between 0 and 180, got {}",
@@ -320,7 +323,7 @@ pub fn edge_preservation(
     } else {
         None
     };
-    let measure = |positions: &[DVec3], iterations: usize| -> Result<Measures, SchemesError> {
+    let measure = |positions: &[DVec3], iterations: usize| -> Result<Measures, PreservationError> {
         let geometry = Geometry::new(mesh, positions)?;
         let edges =
             feature_edge_distortion(&clean_geometry, &geometry, options.feature_threshold_deg)?;
@@ -348,8 +351,8 @@ pub fn edge_preservation(
     };
     let input = measure(noisy, 0)?;
     let target_flat_rms = options.target * input.flat_rms;
-    let run = |s: &dyn WeightScheme| -> Result<SchemeOutcome, SchemesError> {
-        let failed = |source| SchemesError::Smooth {
+    let run = |s: &dyn WeightScheme| -> Result<SchemeOutcome, PreservationError> {
+        let failed = |source| PreservationError::Smooth {
             scheme: s.name().to_string(),
             source,
         };

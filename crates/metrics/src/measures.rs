@@ -1,4 +1,8 @@
-//! Enclosed volume and surface area, for comparing a mesh with its reference.
+//! Enclosed volume and surface area of a mesh, for comparing a mesh with its reference.
+//!
+//! Both are checked wrappers of the [`Geometry`] queries: they reject a mesh without
+//! faces, positions that do not match the mesh and non-finite positions with a
+//! [`MetricsError`]. They are also re-exported from [`distance`](crate::distance).
 
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
@@ -16,7 +20,7 @@ use crate::MetricsError;
 /// # Examples
 /// ```
 /// use beltrami_halfedge::primitives;
-/// use beltrami_metrics::distance::volume;
+/// use beltrami_metrics::measures::volume;
 /// let cube = primitives::cube();
 /// assert!((volume(&cube.mesh()?, &cube.positions)? - 1.0).abs() < 1e-15);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
