@@ -250,7 +250,7 @@ pub enum ImplicitSolver {
         /// The relative residual to reach, in (0, 1).
         tolerance: f64,
         /// The iteration limit per coordinate and step (at least 1); reaching it
-        /// without the tolerance is an error ([`SmoothError::NotConverged`]).
+        /// without the tolerance is an error ([`SmoothError::NotConverged`](crate::SmoothError::NotConverged)).
         max_iterations: usize,
     },
 }

@@ -22,7 +22,7 @@ pub struct StepStats {
     /// [`Laplacian::stuck_rows`](beltrami_weights::Laplacian::stuck_rows)). An implicit
     /// step holds them as Dirichlet rows.
     pub stuck_vertices: usize,
-    /// What the linear solver did in this step ([`Method::Implicit`] only).
+    /// What the linear solver did in this step ([`Method::Implicit`](crate::Method::Implicit) only).
     pub solve: Option<SolveStats>,
 }
 
@@ -113,7 +113,7 @@ impl<'a> IterationView<'a> {
     }
 
     /// This iteration's statistics: computed during the sweep with
-    /// [`Statistics::EveryIteration`], otherwise on the first call (O(V), in parallel,
+    /// [`Statistics::EveryIteration`](crate::Statistics::EveryIteration), otherwise on the first call (O(V), in parallel,
     /// from the positions before and after the iteration; the same bits either way).
     #[must_use]
     pub fn stats(&self) -> StepStats {
@@ -167,8 +167,8 @@ pub struct SmoothReport {
     pub iterations: usize,
     /// Why the run stopped.
     pub stop: StopReason,
-    /// Per-iteration statistics, with [`Statistics::EveryIteration`] (the default); empty
-    /// with [`Statistics::OnDemand`].
+    /// Per-iteration statistics, with [`Statistics::EveryIteration`](crate::Statistics::EveryIteration) (the default); empty
+    /// with [`Statistics::OnDemand`](crate::Statistics::OnDemand).
     pub steps: Vec<StepStats>,
     /// The largest number of stuck vertices in any iteration.
     pub max_stuck_vertices: usize,
@@ -178,7 +178,7 @@ pub struct SmoothReport {
     /// Wall time spent updating positions; for an implicit run the right-hand sides and
     /// solves (triangular solves or conjugate gradient).
     pub update_time: Duration,
-    /// What the linear solver did over the run ([`Method::Implicit`] only).
+    /// What the linear solver did over the run ([`Method::Implicit`](crate::Method::Implicit) only).
     pub solver: Option<SolverReport>,
 }
 

@@ -48,7 +48,7 @@ impl NegativeWeights {
     }
 }
 
-/// Options of a [`Laplacian`].
+/// Options of a [`Laplacian`](crate::Laplacian).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LaplacianOptions {
     /// Row normalisation.
