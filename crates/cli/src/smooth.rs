@@ -66,8 +66,8 @@ pub(crate) struct SmoothArgs {
     #[arg(long, value_enum, default_value_t = NegativeArg::Keep)]
     cotangent_negative: NegativeArg,
     /// Row normalisation: sum (divide by the weight sum, paper Eq. 2) or area (divide
-    /// by the vertex area, paper Eq. 6). Default: sum; area for --method implicit
-    /// with --time or --cutoff, whose time in length² needs it.
+    /// by the vertex area, paper Eq. 6). Default: sum, for every method (a --time or
+    /// --cutoff is converted to steps either way).
     #[arg(long, value_enum)]
     normalize: Option<NormalizeArg>,
     /// The vertex area for --normalize area.
@@ -76,8 +76,8 @@ pub(crate) struct SmoothArgs {
     /// The method: explicit (plain diffusion, shrinks), taubin (λ|μ: a λ sweep then a
     /// μ sweep per iteration, keeps the form), hc (pushes each vertex back towards the
     /// input; for open patches), implicit (backward Euler, (M − λL) x' = M x per step,
-    /// stable for any λ; with --time/--cutoff one step of that time, which needs
-    /// --normalize area). See docs/methods.md and docs/implicit.md.
+    /// stable for any λ; with --time/--cutoff steps of at most λ that add up to the
+    /// time). See docs/methods.md and docs/implicit.md.
     #[arg(long, value_enum, default_value_t = MethodArg::Explicit)]
     method: MethodArg,
     /// The linear solver of --method implicit (only): cg (Jacobi-preconditioned

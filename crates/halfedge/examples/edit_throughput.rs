@@ -90,7 +90,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         refused[1],
         refused[2]
     );
-    println!("garbage collection: {gc_seconds:.3} s");
+    let max_valence = mesh.vertices().map(|v| mesh.valence(v)).max().unwrap_or(0);
+    println!("garbage collection: {gc_seconds:.3} s; largest valence afterwards {max_valence}");
     println!(
         "bytes per element: vertex {per_vertex} (outgoing halfedge, position, deletion mark), \
          edge {per_edge} (two halfedges of target, next, prev, face; deletion mark), face {per_face}"
