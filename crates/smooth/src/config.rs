@@ -397,6 +397,17 @@ impl Default for SmoothConfig {
 }
 
 impl SmoothConfig {
+    /// Whether the operator changes from one iteration to the next, so that a run must
+    /// recompute it: weights recomputed every iteration, and positions that matter to
+    /// them (a scheme that reads positions, area normalisation, or a curve boundary).
+    /// The one rule both engines follow.
+    pub(crate) fn operator_changes(&self, scheme: &dyn beltrami_weights::WeightScheme) -> bool {
+        self.update == WeightUpdate::Every
+            && (scheme.depends_on_positions()
+                || self.laplacian.normalization != beltrami_weights::Normalization::WeightSum
+                || self.boundary == Boundary::Curve)
+    }
+
     /// λ and the iteration count, every other setting at its default.
     #[must_use]
     pub fn new(lambda: f64, iterations: usize) -> Self {

@@ -19,7 +19,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_weights::{Laplacian, Normalization, WeightError, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, ImplicitSolver, Method, SmoothConfig, WeightUpdate};
+use crate::config::{Boundary, ImplicitSolver, Method, SmoothConfig};
 use crate::duration::{Plan, resolve_duration};
 use crate::error::SmoothError;
 use crate::report::{SolveStats, SolverReport, StepStats};
@@ -214,14 +214,7 @@ impl<'a> Implicit<'a> {
 
     /// Whether the weights must be recomputed before the next step.
     fn weights_stale(&self) -> bool {
-        match self.config.update {
-            WeightUpdate::Once => false,
-            WeightUpdate::Every => {
-                !self.weights_fresh
-                    && (self.scheme.depends_on_positions()
-                        || self.config.laplacian.normalization != Normalization::WeightSum)
-            }
-        }
+        !self.weights_fresh && self.config.operator_changes(self.scheme)
     }
 
     /// Does one backward-Euler step and returns its statistics.

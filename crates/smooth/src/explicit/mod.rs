@@ -14,7 +14,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, Method, SmoothConfig, Statistics, WeightUpdate};
+use crate::config::{Boundary, Method, SmoothConfig, Statistics};
 use crate::duration::{Plan, area_rate, resolve_duration};
 use crate::error::SmoothError;
 use crate::numbering::{CHUNK, error_to_caller, permute_par, restore_par};
@@ -308,15 +308,7 @@ impl<'a> Explicit<'a> {
 
     /// Whether the weights must be recomputed before the next iteration.
     fn weights_stale(&self) -> bool {
-        match self.config.update {
-            WeightUpdate::Once => false,
-            WeightUpdate::Every => {
-                !self.weights_fresh
-                    && (self.scheme.depends_on_positions()
-                        || self.config.laplacian.normalization != Normalization::WeightSum
-                        || self.config.boundary == Boundary::Curve)
-            }
-        }
+        !self.weights_fresh && self.config.operator_changes(self.scheme)
     }
 
     /// One iteration, with the statistics `want` asks for (the others are 0; the stuck
