@@ -469,6 +469,14 @@ proptest! {
     }
 }
 
+/// Found by the property test: a tetrahedron edited into a mesh with two edges between
+/// two vertices, where collapsing an edge of a triangular hole would have closed the
+/// hole (now refused, `CollapseClosesHole`).
+#[test]
+fn collapse_never_closes_a_triangular_hole() {
+    run(4, 6938926234947434557, 26);
+}
+
 #[test]
 fn long_sequences_on_every_fixture() {
     for i in 0..6 {

@@ -33,7 +33,7 @@ impl EditMesh {
     /// [`EditError::NoSuchHalfedge`], [`EditError::NotTriangle`],
     /// [`EditError::CollapseDanglingTriangle`], [`EditError::CollapseSameOpposite`],
     /// [`EditError::CollapseLinkCondition`], [`EditError::CollapseBoundaryPinch`],
-    /// [`EditError::CollapseDuplicateEdge`].
+    /// [`EditError::CollapseDuplicateEdge`], [`EditError::CollapseClosesHole`].
     ///
     /// # Complexity
     /// O(valence(v0) · valence(v1)).
@@ -84,6 +84,11 @@ impl EditMesh {
                     halfedge: h,
                     vertex: n,
                 });
+            }
+        }
+        for side in [h, o] {
+            if self.is_boundary_halfedge(side) && self.next(self.next(self.next(side))) == side {
+                return Err(EditError::CollapseClosesHole { halfedge: h });
             }
         }
         if self.is_boundary_vertex(v0)

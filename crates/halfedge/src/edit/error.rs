@@ -108,6 +108,17 @@ pub enum EditError {
         /// The halfedge asked to collapse.
         halfedge: HalfedgeId,
     },
+    /// The edge lies on a boundary loop of three edges whose third vertex is also the
+    /// vertex opposite the edge inside: the collapse would close the hole by merging
+    /// two edges (possible only on meshes that join two vertices by more than one
+    /// edge).
+    #[error(
+        "{halfedge} lies on a triangular hole; the collapse would close the hole by merging two edges"
+    )]
+    CollapseClosesHole {
+        /// The halfedge asked to collapse.
+        halfedge: HalfedgeId,
+    },
     /// An interior edge joins two boundary vertices; collapsing it would pinch the
     /// surface into a non-manifold vertex.
     #[error(
