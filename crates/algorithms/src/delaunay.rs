@@ -24,6 +24,7 @@ use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh};
 use beltrami_metrics::distance::SurfaceIndex;
 
 use crate::error::DelaunayError;
+use crate::quality::{NEGATIVE_COT_TOLERANCE, corner_cot};
 
 /// The settings of [`delaunay_flip`].
 ///
@@ -88,17 +89,16 @@ pub struct DelaunayReport {
     pub max_deviation: f64,
 }
 
-/// The cotangent of the angle opposite `h` in its triangle, `(u·v)/|u×v|`; 0 on the
-/// boundary or for a degenerate corner.
+/// The cotangent of the angle opposite `h` in its triangle; 0 on the boundary or for a
+/// degenerate corner.
 fn opposite_cot(mesh: &EditMesh, h: HalfedgeId) -> f64 {
-    let Some(o) = mesh.opposite_vertex(h) else {
-        return 0.0;
-    };
-    let u = mesh.position(mesh.from_vertex(h)) - mesh.position(o);
-    let v = mesh.position(mesh.to_vertex(h)) - mesh.position(o);
-    let sin = u.cross(v).length();
-    let c = u.dot(v) / sin;
-    if sin > 0.0 && c.is_finite() { c } else { 0.0 }
+    mesh.opposite_vertex(h).map_or(0.0, |o| {
+        corner_cot(
+            mesh.position(o),
+            mesh.position(mesh.from_vertex(h)),
+            mesh.position(mesh.to_vertex(h)),
+        )
+    })
 }
 
 /// `cot α + cot β` of an interior edge (twice its cotangent weight).
@@ -107,10 +107,11 @@ fn cot_sum(mesh: &EditMesh, e: EdgeId) -> f64 {
     opposite_cot(mesh, h) + opposite_cot(mesh, t)
 }
 
-/// Whether `e` is interior and not locally Delaunay. A relative tolerance keeps
-/// cocircular quadrilaterals (a regular grid) from flipping back and forth.
+/// Whether `e` is interior and not locally Delaunay, by the rule of
+/// [`mesh_quality`](crate::mesh_quality). The tolerance keeps cocircular
+/// quadrilaterals (a regular grid) from flipping back and forth.
 fn is_negative(mesh: &EditMesh, e: EdgeId) -> bool {
-    !mesh.is_boundary_edge(e) && cot_sum(mesh, e) < -1e-12
+    !mesh.is_boundary_edge(e) && cot_sum(mesh, e) < NEGATIVE_COT_TOLERANCE
 }
 
 /// The angle between the normals of the two triangles of interior edge `e`, radians.

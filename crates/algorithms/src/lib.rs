@@ -10,9 +10,12 @@
 //! - [`delaunay_flip`]: Lawson's edge flips towards a Delaunay mesh on the same vertices
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
-//!   surfaces and the change of the surface measured.
+//!   surfaces and the change of the surface measured;
+//! - [`mesh_quality`] and [`flipped_faces`] (module [`quality`]): angles, aspect
+//!   ratios, edge lengths, valences and negative cotangent weights, the figures every
+//!   algorithm here is judged by.
 //!
-//! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
+//! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
 //! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
 //! repository has the rules, the numbering of the new vertices and the comparison.
 //! [`Scheme`] names a scheme at run time and predicts the size of the result before
@@ -37,8 +40,10 @@
 
 mod delaunay;
 mod error;
+pub mod quality;
 pub mod subdivision;
 
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
+pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -3,6 +3,8 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
+use beltrami_algorithms::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::MeshFormat;
@@ -21,6 +23,15 @@ pub(crate) struct InfoArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
+    /// Also measure triangle quality: angles, aspect ratios, edge-length spread,
+    /// valences and negative cotangent weights (a triangle mesh only).
+    #[arg(long)]
+    quality: bool,
+    /// With --quality: count the faces whose orientation turned against this mesh,
+    /// which must have the same vertices and faces (e.g. the input of a smoothing
+    /// run).
+    #[arg(long, value_name = "MESH", requires = "quality")]
+    reference: Option<PathBuf>,
     #[command(flatten)]
     read: ReadArgs,
 }
@@ -55,6 +66,172 @@ struct Summary {
     volume: Option<f64>,
     /// What --repair changed (empty lists without it).
     repairs: RepairJson,
+    /// With --quality.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    quality: Option<QualityJson>,
+}
+
+/// The JSON of `info --quality`: [`MeshQuality`] with the angles in degrees.
+#[derive(Debug, Serialize)]
+pub(crate) struct QualityJson {
+    degenerate_faces: usize,
+    min_angle_degrees: Option<f64>,
+    max_angle_degrees: Option<f64>,
+    mean_min_angle_degrees: Option<f64>,
+    mean_aspect_ratio: Option<f64>,
+    max_aspect_ratio: Option<f64>,
+    /// Upper ends of the aspect-ratio bins; the last bin is open.
+    aspect_ratio_bins: Vec<f64>,
+    aspect_ratio_histogram: Vec<usize>,
+    edge_length_min: Option<f64>,
+    edge_length_mean: Option<f64>,
+    edge_length_max: Option<f64>,
+    edge_length_cv: Option<f64>,
+    /// Index k: interior vertices with k edges.
+    valence_histogram: Vec<usize>,
+    /// Index k: boundary vertices with k edges.
+    boundary_valence_histogram: Vec<usize>,
+    /// Share of vertices with valence 6 (4 on the boundary), 0 to 1.
+    regular_share: f64,
+    interior_edges: usize,
+    negative_cotangent_edges: usize,
+    negative_cotangent_share: f64,
+    /// Faces turned against --reference; null without it.
+    flipped_faces: Option<usize>,
+}
+
+impl QualityJson {
+    pub(crate) fn new(q: &MeshQuality, flipped_faces: Option<usize>) -> Self {
+        let shape = q.shape.as_ref();
+        let edges = q.edge_length.as_ref();
+        Self {
+            degenerate_faces: q.degenerate_faces,
+            min_angle_degrees: shape.map(|s| s.min_angle),
+            max_angle_degrees: shape.map(|s| s.max_angle),
+            mean_min_angle_degrees: shape.map(|s| s.mean_min_angle),
+            mean_aspect_ratio: shape.map(|s| s.mean_aspect_ratio),
+            max_aspect_ratio: shape.map(|s| s.max_aspect_ratio),
+            aspect_ratio_bins: ASPECT_RATIO_BINS.to_vec(),
+            aspect_ratio_histogram: shape.map_or_else(
+                || vec![0; ASPECT_RATIO_BINS.len() + 1],
+                |s| s.aspect_ratio_histogram.clone(),
+            ),
+            edge_length_min: edges.map(|e| e.min),
+            edge_length_mean: edges.map(|e| e.mean),
+            edge_length_max: edges.map(|e| e.max),
+            edge_length_cv: edges.map(|e| e.cv),
+            valence_histogram: q.valence_histogram.clone(),
+            boundary_valence_histogram: q.boundary_valence_histogram.clone(),
+            regular_share: q.regular_share,
+            interior_edges: q.interior_edges,
+            negative_cotangent_edges: q.negative_cotangent_edges,
+            negative_cotangent_share: q.negative_cotangent_share(),
+            flipped_faces,
+        }
+    }
+
+    /// The rows `info --quality` prints under the table.
+    pub(crate) fn rows(&self) -> Vec<(&'static str, String)> {
+        let deg = |a: Option<f64>| a.map_or_else(|| "-".to_string(), |a| format!("{}°", number(a)));
+        let mut rows = vec![
+            (
+                "angles",
+                format!(
+                    "min {}, max {}, mean of the smallest {}",
+                    deg(self.min_angle_degrees),
+                    deg(self.max_angle_degrees),
+                    deg(self.mean_min_angle_degrees)
+                ),
+            ),
+            (
+                "aspect ratio",
+                match (self.mean_aspect_ratio, self.max_aspect_ratio) {
+                    (Some(mean), Some(max)) => {
+                        let mut bins = Vec::new();
+                        let mut lo = 1.0;
+                        for (i, n) in self.aspect_ratio_histogram.iter().enumerate() {
+                            let label = match self.aspect_ratio_bins.get(i) {
+                                Some(hi) => format!("{}-{}", number(lo), number(*hi)),
+                                None => format!(">={}", number(lo)),
+                            };
+                            if let Some(hi) = self.aspect_ratio_bins.get(i) {
+                                lo = *hi;
+                            }
+                            bins.push(format!("{label}: {n}"));
+                        }
+                        format!(
+                            "mean {}, max {} ({})",
+                            number(mean),
+                            number(max),
+                            bins.join(", ")
+                        )
+                    }
+                    _ => "-".to_string(),
+                },
+            ),
+            (
+                "edge length",
+                match (
+                    self.edge_length_min,
+                    self.edge_length_max,
+                    self.edge_length_cv,
+                ) {
+                    (Some(lo), Some(hi), Some(cv)) => format!(
+                        "min {}, max {}, coefficient of variation {}",
+                        number(lo),
+                        number(hi),
+                        number(cv)
+                    ),
+                    _ => "-".to_string(),
+                },
+            ),
+            (
+                "valences",
+                format!(
+                    "{} regular (6 inside, 4 on the boundary); inside {}{}",
+                    percent(self.regular_share),
+                    histogram(&self.valence_histogram),
+                    if self.boundary_valence_histogram.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; boundary {}", histogram(&self.boundary_valence_histogram))
+                    }
+                ),
+            ),
+            (
+                "negative cotangent",
+                format!(
+                    "{} of {} interior edges ({})",
+                    self.negative_cotangent_edges,
+                    self.interior_edges,
+                    percent(self.negative_cotangent_share)
+                ),
+            ),
+        ];
+        if let Some(n) = self.flipped_faces {
+            rows.push(("flipped faces", format!("{n} against the reference")));
+        }
+        rows
+    }
+}
+
+fn percent(share: f64) -> String {
+    format!("{}%", number(100.0 * share))
+}
+
+/// `k:n` pairs of the non-empty valences.
+fn histogram(counts: &[usize]) -> String {
+    let pairs: Vec<String> = counts
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .map(|(k, n)| format!("{k}:{n}"))
+        .collect();
+    if pairs.is_empty() {
+        "-".to_string()
+    } else {
+        pairs.join(" ")
+    }
 }
 
 fn format_name(format: MeshFormat) -> &'static str {
@@ -67,7 +244,7 @@ fn format_name(format: MeshFormat) -> &'static str {
     }
 }
 
-fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
+fn summarise(args: &InfoArgs, loaded: &LoadedMesh, quality: Option<QualityJson>) -> Summary {
     let mesh = &loaded.mesh;
     let geometry =
         Geometry::new(mesh, &loaded.positions).expect("the loader gives one position per vertex");
@@ -107,7 +284,46 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh) -> Summary {
         area: surface_area(&geometry, mesh, &loaded.positions),
         volume: geometry.volume().ok(),
         repairs: RepairJson::from(&loaded.repair.clone().unwrap_or_default()),
+        quality,
     }
+}
+
+/// The quality figures of `info --quality`, with the flipped faces against
+/// `--reference`.
+fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, CliError> {
+    let input_error = |path: &PathBuf, e: QualityError| CliError::Input {
+        path: path.clone(),
+        message: match e {
+            QualityError::NotTriangle { face, len } => format!(
+                "face {face} has {len} vertices; --quality needs a triangle mesh (triangulate it first)"
+            ),
+            e => e.to_string(),
+        },
+    };
+    let quality =
+        mesh_quality(&loaded.mesh, &loaded.positions).map_err(|e| input_error(&args.mesh, e))?;
+    let flipped = match &args.reference {
+        None => None,
+        Some(path) => {
+            let reference = load(path, &args.read)?;
+            if reference.faces != loaded.faces {
+                return Err(CliError::Input {
+                    path: path.clone(),
+                    message: format!(
+                        "--reference must have the same faces as {} ({} faces against {}); the flipped-face count compares two placements of one mesh",
+                        args.mesh.display(),
+                        reference.faces.len(),
+                        loaded.faces.len()
+                    ),
+                });
+            }
+            Some(
+                flipped_faces(&loaded.mesh, &loaded.positions, &reference.positions)
+                    .map_err(|e| input_error(path, e))?,
+            )
+        }
+    };
+    Ok(QualityJson::new(&quality, flipped))
 }
 
 /// The surface area, computed again at a power-of-two scale when the face areas
@@ -152,7 +368,12 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
             number(d)
         ));
     }
-    let summary = summarise(args, &loaded);
+    let quality = if args.quality {
+        Some(measure_quality(args, &loaded)?)
+    } else {
+        None
+    };
+    let summary = summarise(args, &loaded, quality);
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
@@ -171,7 +392,7 @@ fn vec3(v: [f64; 3]) -> String {
 }
 
 fn write_table(s: &Summary, repair_lines: &[String], out: &mut impl Write) -> std::io::Result<()> {
-    let rows: Vec<(&str, String)> = vec![
+    let mut rows: Vec<(&str, String)> = vec![
         ("file", format!("{} ({})", s.file, s.format)),
         ("vertices", s.vertices.to_string()),
         (
@@ -226,6 +447,9 @@ fn write_table(s: &Summary, repair_lines: &[String], out: &mut impl Write) -> st
         ("area", number(s.area)),
         ("volume", opt(s.volume.map(number), "- (open mesh)")),
     ];
+    if let Some(q) = &s.quality {
+        rows.extend(q.rows());
+    }
     for (key, value) in rows {
         writeln!(out, "{key:<21} {value}")?;
     }

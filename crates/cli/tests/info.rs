@@ -190,3 +190,116 @@ fn help_goes_to_stdout_with_exit_0() {
     assert!(out.status.success());
     assert!(String::from_utf8(out.stdout).unwrap().contains("--json"));
 }
+
+#[test]
+fn quality_figures_match_the_library() {
+    for name in [
+        "obtuse_grid_24x16.ply",
+        "noisy_icosphere_4.ply",
+        "holes_30x20.ply",
+    ] {
+        let path = fixture(name);
+        let out = beltrami(&["info", path.to_str().unwrap(), "--json", "--quality"]);
+        assert!(out.status.success(), "{name}");
+        let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let q = &j["quality"];
+        let data = beltrami_io::read_mesh(&path).unwrap();
+        let want =
+            beltrami_algorithms::mesh_quality(&data.mesh().unwrap(), &data.positions).unwrap();
+        let shape = want.shape.unwrap();
+        assert_eq!(q["min_angle_degrees"], shape.min_angle, "{name}");
+        assert_eq!(q["max_aspect_ratio"], shape.max_aspect_ratio, "{name}");
+        assert_eq!(q["negative_cotangent_edges"], want.negative_cotangent_edges);
+        assert_eq!(q["edge_length_cv"], want.edge_length.unwrap().cv);
+        assert_eq!(
+            q["valence_histogram"].as_array().unwrap().len(),
+            want.valence_histogram.len()
+        );
+        assert!(q["flipped_faces"].is_null());
+        let histogram: usize = q["aspect_ratio_histogram"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_u64().unwrap() as usize)
+            .sum();
+        assert_eq!(histogram + want.degenerate_faces, want.faces, "{name}");
+    }
+    // The obtuse grid is the fixture made to have negative cotangent weights.
+    let j = info_json_quality(&fixture("obtuse_grid_24x16.ply"));
+    assert!(j["quality"]["negative_cotangent_edges"].as_u64().unwrap() > 0);
+    // Without --quality the key is absent.
+    assert!(info_json(&fixture("cube.obj")).get("quality").is_none());
+}
+
+fn info_json_quality(path: &Path) -> Value {
+    let out = beltrami(&["info", path.to_str().unwrap(), "--json", "--quality"]);
+    assert!(out.status.success());
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn quality_table_and_flipped_faces_against_a_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = fixture("grid_4x3.ply");
+    // The same grid with one interior vertex dragged across its neighbours.
+    let mut data = beltrami_io::read_mesh(&grid).unwrap();
+    data.positions[6].x += 3.0;
+    let moved = dir.path().join("moved.ply");
+    beltrami_io::write_mesh(&moved, &data, &beltrami_io::WriteOptions::default()).unwrap();
+    let out = beltrami(&[
+        "info",
+        moved.to_str().unwrap(),
+        "--quality",
+        "--reference",
+        grid.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    for key in [
+        "angles",
+        "aspect ratio",
+        "edge length",
+        "valences",
+        "negative cotangent",
+    ] {
+        assert!(text.lines().any(|l| l.starts_with(key)), "{key}: {text}");
+    }
+    let flipped = text
+        .lines()
+        .find(|l| l.starts_with("flipped faces"))
+        .expect("a flipped-faces row");
+    let n: usize = flipped.split_whitespace().nth(2).unwrap().parse().unwrap();
+    assert!(n > 0, "{flipped}");
+
+    // A reference with other faces is refused with one line, exit 1.
+    let cube = fixture("cube.obj");
+    let out = beltrami(&[
+        "info",
+        moved.to_str().unwrap(),
+        "--quality",
+        "--reference",
+        cube.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(error_line(&out, dir.path()).contains("same faces"));
+    // --reference without --quality is a usage error.
+    let out = beltrami(&[
+        "info",
+        moved.to_str().unwrap(),
+        "--reference",
+        cube.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    // A polygon mesh has no triangle quality.
+    let out = beltrami(&[
+        "info",
+        fixture("cube_quads.obj").to_str().unwrap(),
+        "--quality",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(error_line(&out, dir.path()).contains("needs a triangle mesh"));
+}

@@ -1,9 +1,6 @@
-//! File formats and write options.
+//! File formats and write options ([`MeshFormat::from_path`] is in `extension.rs`).
 
 use std::fmt;
-use std::path::Path;
-
-use crate::error::IoError;
 
 /// A mesh file format.
 #[non_exhaustive]
@@ -23,39 +20,6 @@ pub enum MeshFormat {
     X3p,
     /// SDF (ISO 25178-71, ascii or binary): a height map, read as a triangulated grid.
     Sdf,
-}
-
-impl MeshFormat {
-    /// The format named by the extension of `path` (`.ply`, `.stl`, `.obj`, `.off`,
-    /// `.x3p`, `.sdf`, in any letter case).
-    ///
-    /// # Examples
-    /// ```
-    /// use std::path::Path;
-    /// use beltrami_io::MeshFormat;
-    /// assert_eq!(MeshFormat::from_path(Path::new("scan.PLY"))?, MeshFormat::Ply);
-    /// assert!(MeshFormat::from_path(Path::new("scan.xyz")).is_err());
-    /// # Ok::<(), beltrami_io::IoError>(())
-    /// ```
-    ///
-    /// # Errors
-    /// [`IoError::MissingExtension`] without an extension,
-    /// [`IoError::UnsupportedExtension`] for any other extension.
-    pub fn from_path(path: &Path) -> Result<Self, IoError> {
-        let extension = path.extension().ok_or(IoError::MissingExtension)?;
-        let extension = extension.to_string_lossy();
-        match extension.to_ascii_lowercase().as_str() {
-            "ply" => Ok(Self::Ply),
-            "stl" => Ok(Self::Stl),
-            "obj" => Ok(Self::Obj),
-            "off" => Ok(Self::Off),
-            "x3p" => Ok(Self::X3p),
-            "sdf" => Ok(Self::Sdf),
-            _ => Err(IoError::UnsupportedExtension {
-                extension: extension.into_owned(),
-            }),
-        }
-    }
 }
 
 impl MeshFormat {

@@ -76,6 +76,7 @@
 
 mod atomic;
 mod error;
+mod extension;
 mod format;
 mod height_map;
 mod obj;

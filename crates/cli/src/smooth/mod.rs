@@ -1,0 +1,329 @@
+//! `beltrami smooth`: Laplacian diffusion smoothing of a mesh file.
+
+use std::io::{IsTerminal, Write};
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_io::{MeshData, declared_counts, stage_bytes};
+use beltrami_smooth::{SmoothError, Smoothed, Smoother};
+use beltrami_weights::WeightRegistry;
+use beltrami_weights::WeightScheme;
+
+use crate::error::CliError;
+use crate::load::load_checked;
+use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
+use crate::output::{Outputs, Staged};
+use crate::text::{number, plural};
+
+mod args;
+mod report;
+
+pub(crate) use args::SmoothArgs;
+use args::{
+    LARGE_RUN_ITERATIONS, MethodArg, NormalizeArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
+};
+use report::{ReadSeconds, build_report, method_label};
+
+/// Runs `beltrami smooth`.
+pub(crate) fn run(
+    args: &SmoothArgs,
+    registry: &WeightRegistry,
+    out: &mut impl Write,
+) -> Result<(), CliError> {
+    let scheme = registry.get(&args.weights)?;
+    args.check_combination()?;
+    let mut outputs = Outputs::new();
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.report.as_ref(), "--report");
+    outputs.check(&[&args.input], args.force)?;
+    let t0 = Instant::now();
+    // A first check on the counts the file declares (PLY header, binary STL count),
+    // before anything is read; then on the exact counts, before the mesh is built.
+    let memory = memory_run(args, scheme.as_ref());
+    if let Ok(Some(declared)) = declared_counts(&args.input) {
+        let faces = declared.faces;
+        let estimate = match declared.vertices {
+            Some(vertices) => {
+                MemoryEstimate::new(&memory, vertices, faces, faces.saturating_mul(3))
+            }
+            None => MemoryEstimate::for_triangle_soup(&memory, faces),
+        };
+        check_memory(args, &estimate, false)?;
+    }
+    let loaded = load_checked(&args.input, &args.read, |data| {
+        let estimate = MemoryEstimate::new(
+            &memory,
+            data.positions.len(),
+            data.faces.len(),
+            data.faces.n_corners(),
+        );
+        check_memory(args, &estimate, true)
+    })?;
+    loaded.require_faces(&args.input, "smooth")?;
+    let read_seconds = t0.elapsed().as_secs_f64();
+    let smoothed = run_smoother(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
+
+    let t1 = Instant::now();
+    let change = Change::between(&loaded.mesh, &loaded.positions, &smoothed.positions);
+    let data = MeshData {
+        positions: smoothed.positions,
+        faces: loaded.faces,
+    };
+    let mut staged = Staged::new();
+    staged.push_mesh(&args.output, &data, args.ascii)?;
+    let write_seconds = t1.elapsed().as_secs_f64();
+
+    let r = &smoothed.report;
+    if let Some(path) = &args.report {
+        let read = ReadSeconds {
+            total: read_seconds,
+            parse: loaded.parse_seconds,
+            build: loaded.build_seconds,
+        };
+        let report = build_report(args, &data, r, read, write_seconds);
+        let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
+        json.push(b'\n');
+        staged.push(path, |path| stage_bytes(path, &json))?;
+    }
+    staged.commit()?;
+
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    let boundary = if loaded.mesh.is_closed() {
+        "no boundary".to_string()
+    } else {
+        format!("{} boundary", format!("{:?}", args.boundary).to_lowercase())
+    };
+    writeln!(
+        out,
+        "smoothed {} ({} vertices) with {} weights, {}: {} {}, lambda {}, {boundary}, {}; mean displacement {}{} -> {}",
+        args.input.display(),
+        data.positions.len(),
+        r.scheme,
+        method_label(args),
+        r.iterations,
+        plural(r.iterations, "iteration", "iterations"),
+        number(r.config.lambda),
+        r.stop.name(),
+        number(change.mean_displacement),
+        change
+            .volume
+            .map(|(before, after)| format!(
+                ", volume {} -> {} ({:+.3} %)",
+                number(before),
+                number(after),
+                100.0 * (after - before) / before
+            ))
+            .unwrap_or_default(),
+        args.output.display()
+    )?;
+    if let Some(d) = r.config.duration {
+        writeln!(
+            out,
+            "diffusion time {} (length²), Gaussian sigma {}",
+            number(d.time()),
+            number(d.sigma())
+        )?;
+    }
+    if r.max_stuck_vertices > 0 {
+        let why = if loaded.mesh.is_triangle_mesh() {
+            "weights summing to <= 0 or zero area".to_string()
+        } else {
+            format!(
+                "the mesh has polygon faces, on which {} weights are 0; use --weights uniform or distance, or triangulate the mesh",
+                r.scheme
+            )
+        };
+        writeln!(
+            out,
+            "note: up to {} {} per iteration could not move ({why})",
+            r.max_stuck_vertices,
+            plural(r.max_stuck_vertices, "vertex", "vertices"),
+        )?;
+    }
+    Ok(())
+}
+
+/// How far a run moved the mesh: the mean vertex displacement, and for a closed mesh
+/// the enclosed volume before and after.
+struct Change {
+    mean_displacement: f64,
+    volume: Option<(f64, f64)>,
+}
+
+impl Change {
+    fn between(mesh: &HalfedgeMesh, before: &[DVec3], after: &[DVec3]) -> Self {
+        let n = before.len().max(1);
+        let mean_displacement = before
+            .iter()
+            .zip(after)
+            .map(|(a, b)| a.distance(*b))
+            .sum::<f64>()
+            / n as f64;
+        let volume = |positions| {
+            Geometry::new(mesh, positions)
+                .ok()
+                .and_then(|g| g.volume().ok())
+        };
+        let volume = if mesh.is_closed() {
+            volume(before).zip(volume(after)).filter(|(b, _)| *b != 0.0)
+        } else {
+            None
+        };
+        Self {
+            mean_displacement,
+            volume,
+        }
+    }
+}
+
+/// An invalid Taubin pair, with a pair that works: Taubin's classic (0.6307, −0.6732),
+/// or with the μ given, the largest λ that keeps both conditions.
+fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
+    let CliError::Smooth {
+        source: source @ SmoothError::InvalidTaubin { .. },
+        ..
+    } = &e
+    else {
+        return e;
+    };
+    let hint = match args.mu {
+        Some(mu) if mu.is_finite() && mu < 0.0 => {
+            // λ < −μ (positive pass band) and (1 − 2λ)(1 − 2μ) > −1 (no growth).
+            let limit = (-mu).min(0.5 * (1.0 + 1.0 / (1.0 - 2.0 * mu)));
+            format!("with --mu {mu}, take --lambda below {}", number(limit))
+        }
+        _ => format!(
+            "leave --lambda out for Taubin's classic pair (lambda {TAUBIN_LAMBDA}, mu -0.6732, pass band {TAUBIN_PASS_BAND})"
+        ),
+    };
+    CliError::Usage(format!("{source}; {hint}"))
+}
+
+/// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`; with
+/// `report` (the exact counts), prints the estimate on stderr for a large run or
+/// with `--verbose`.
+fn check_memory(
+    args: &SmoothArgs,
+    estimate: &MemoryEstimate,
+    report: bool,
+) -> Result<(), CliError> {
+    if let Some(limit) = args.max_memory {
+        if estimate.bytes > limit {
+            return Err(CliError::MemoryLimit {
+                path: args.input.clone(),
+                estimate: *estimate,
+                limit,
+            });
+        }
+    }
+    if report && (args.verbose || estimate.vertices > LARGE_RUN_VERTICES) {
+        eprintln!("note: this run needs {estimate} of memory");
+    }
+    Ok(())
+}
+
+/// What the run does, as far as its memory goes: the method and solver, the weights'
+/// path, the options that add buffers, and the iterations whose statistics it keeps
+/// (unknown before the operator is built for an explicit run for a time).
+fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme) -> memory::Run {
+    let implicit = args.method == MethodArg::Implicit;
+    let for_time = args.time.is_some() || args.cutoff.is_some();
+    memory::Run {
+        method: match (args.method, args.solver()) {
+            (MethodArg::Explicit, _) => memory::Method::Explicit,
+            (MethodArg::Taubin, _) => memory::Method::Taubin,
+            (MethodArg::Hc, _) => memory::Method::Hc,
+            (MethodArg::Implicit, SolverArg::Cg) => memory::Method::ImplicitCg,
+            (MethodArg::Implicit, SolverArg::Cholesky) => memory::Method::ImplicitCholesky,
+        },
+        weights: memory::Weights::of(scheme),
+        preserve_volume: args.preserve_volume,
+        area: args.normalize() == NormalizeArg::Area,
+        iterations: match (implicit, for_time) {
+            (true, true) => 1,
+            (false, true) => 0,
+            (_, false) => args.iterations,
+        },
+        report_steps: args.report.is_some() && !args.no_step_stats,
+    }
+}
+
+/// A progress bar on a terminal for runs of 20 iterations or more.
+fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
+    (std::io::stderr().is_terminal() && planned >= 20).then(|| {
+        let bar = indicatif::ProgressBar::new(planned as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} iterations {elapsed}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    })
+}
+
+/// Every method (plain, Taubin, HC, implicit) through [`Smoother`].
+fn run_smoother(
+    args: &SmoothArgs,
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    scheme: &dyn WeightScheme,
+) -> Result<Smoothed, CliError> {
+    let smooth_error = |source| {
+        taubin_hint(
+            args,
+            CliError::Smooth {
+                path: args.input.clone(),
+                source,
+            },
+        )
+    };
+    let smoother = Smoother::new(mesh, positions, scheme, args.config()).map_err(smooth_error)?;
+    // A step given directly must be stable; a time chooses its own stable step.
+    if let Some(limit) = smoother.stable_step_limit()
+        && smoother.config().duration.is_none()
+        && smoother.config().lambda > limit
+    {
+        return Err(smooth_error(SmoothError::UnstableStep {
+            lambda: smoother.config().lambda,
+            max_stable: limit,
+        }));
+    }
+    check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
+    let progress = progress_bar(smoother.config().iterations);
+    let smoothed = smoother
+        .run(|it| {
+            if let Some(bar) = &progress {
+                bar.set_position(it.index as u64);
+            }
+            ControlFlow::Continue(())
+        })
+        .map_err(smooth_error)?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    Ok(smoothed)
+}
+
+/// Refuses a run planning more than `--max-iterations` iterations, and prints the
+/// plan on stderr with `--verbose` or for a long run.
+fn check_plan(args: &SmoothArgs, iterations: usize, step: f64) -> Result<(), CliError> {
+    if iterations > args.max_iterations {
+        return Err(CliError::Usage(format!(
+            "the run would take {iterations} iterations of step {}, more than --max-iterations {} (is --time or --cutoff in the mesh's length unit? raise --max-iterations to run it anyway)",
+            number(step),
+            args.max_iterations
+        )));
+    }
+    if args.verbose || iterations > LARGE_RUN_ITERATIONS {
+        eprintln!(
+            "note: planned {iterations} {} of step {}",
+            plural(iterations, "iteration", "iterations"),
+            number(step)
+        );
+    }
+    Ok(())
+}
