@@ -64,10 +64,7 @@ fn a_scalar_follows_splits_collapses_flips_and_garbage_collection_into_the_file(
         scalars: vec![("x_copy".to_owned(), mesh.values(x).to_vec())],
         colors: None,
     };
-    let options = WriteOptions {
-        encoding: Encoding::Ascii,
-        ..WriteOptions::default()
-    };
+    let options = WriteOptions::default().encoding(Encoding::Ascii);
     write_ply(&out, &mesh.to_mesh_data(), &attributes, &options)?;
 
     let back = read_mesh(&out)?;

@@ -96,14 +96,11 @@ pub(crate) fn write(
     scalars: Option<&Bound<'_, PyDict>>,
     ascii: bool,
 ) -> PyResult<()> {
-    let options = WriteOptions {
-        encoding: if ascii {
-            Encoding::Ascii
-        } else {
-            Encoding::BinaryLittleEndian
-        },
-        ..WriteOptions::default()
-    };
+    let options = WriteOptions::default().encoding(if ascii {
+        Encoding::Ascii
+    } else {
+        Encoding::BinaryLittleEndian
+    });
     let data = mesh.data();
     let attributes = match scalars {
         None => None,

@@ -2,10 +2,12 @@
 //!
 //! The Python extension module `beltrami._beltrami`, re-exported by the pure-Python
 //! package `beltrami`: meshes from and to numpy arrays, reading and writing mesh
-//! files, `info`, and `smooth` with the options, defaults and report of
-//! `beltrami smooth`. Heavy calls run without the GIL; errors become Python
+//! files, `info`, `smooth` with the options, defaults and report of
+//! `beltrami smooth`, comparisons and fits, and the mesh algorithms (`quality`,
+//! `subdivide`, `delaunay`). Heavy calls run without the GIL; errors become Python
 //! exceptions with the library's one-line messages.
 
+mod algorithms;
 mod compare;
 mod errors;
 mod fit;
@@ -43,5 +45,8 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_circle, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_cylinder, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::quality, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::subdivide, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::delaunay, m)?)?;
     Ok(())
 }

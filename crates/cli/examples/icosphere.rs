@@ -30,10 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             positions,
             faces: p.faces,
         },
-        &WriteOptions {
-            encoding,
-            ..WriteOptions::default()
-        },
+        &WriteOptions::default().encoding(encoding),
     )?;
     Ok(())
 }

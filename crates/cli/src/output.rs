@@ -188,14 +188,11 @@ impl Staged {
         data: &MeshData,
         ascii: bool,
     ) -> Result<(), CliError> {
-        let options = WriteOptions {
-            encoding: if ascii {
-                Encoding::Ascii
-            } else {
-                Encoding::BinaryLittleEndian
-            },
-            ..WriteOptions::default()
-        };
+        let options = WriteOptions::default().encoding(if ascii {
+            Encoding::Ascii
+        } else {
+            Encoding::BinaryLittleEndian
+        });
         self.push(path, |path| stage_mesh(path, data, &options))
     }
 

@@ -207,9 +207,7 @@ pub(crate) fn render_png(
         },
     };
     let samples = u64::from(width) * u64::from(height) * 4;
-    let options = RenderOptions {
-        supersample: if samples <= MAX_SAMPLES { 2 } else { 1 },
-    };
+    let options = RenderOptions::default().supersample(if samples <= MAX_SAMPLES { 2 } else { 1 });
     let camera = view.view(positions);
     let Some(scalars) = scalars else {
         let image = render_mesh_with(

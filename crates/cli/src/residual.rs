@@ -335,14 +335,13 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     };
     let geometry =
         Geometry::new(&reference.mesh, &reference.positions).map_err(|e| on_reference(e.into()))?;
-    let options = ArealOptions {
-        datum: if args.remove_mean {
+    let options = ArealOptions::default()
+        .datum(if args.remove_mean {
             Datum::Mean
         } else {
             Datum::ReferenceSurface
-        },
-        quadrature: args.quadrature.quadrature(),
-    };
+        })
+        .quadrature(args.quadrature.quadrature());
     let s = areal_parameters(&geometry, &residual, &options).map_err(&on_reference)?;
     let curve =
         MaterialRatioCurve::from_mesh(&geometry, &residual, &options).map_err(&on_reference)?;

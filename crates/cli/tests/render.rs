@@ -266,10 +266,7 @@ fn scalar_colours_by_a_vertex_property_of_a_ply_file() {
                 ],
                 colors: None,
             },
-            &WriteOptions {
-                encoding,
-                ..WriteOptions::default()
-            },
+            &WriteOptions::default().encoding(encoding),
         )
         .unwrap();
         let out = dir.path().join(format!("{name}.png"));

@@ -93,10 +93,7 @@ fn cube_quads_obj() -> String {
 /// When a file cannot be written.
 pub(crate) fn write_fixtures(dir: &Path) -> Result<(), IoError> {
     for (name, mesh, encoding) in fixtures() {
-        let options = WriteOptions {
-            encoding,
-            ..WriteOptions::default()
-        };
+        let options = WriteOptions::default().encoding(encoding);
         write_mesh(dir.join(name), &mesh, &options)?;
     }
     std::fs::write(dir.join("cube_quads.obj"), cube_quads_obj()).map_err(|source| IoError::Io {

@@ -89,11 +89,28 @@ pub enum Precision {
 /// The default writes binary little-endian with double precision, which round-trips
 /// every coordinate bit for bit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct WriteOptions {
     /// Text or binary (see [`Encoding`] for what each format supports).
     pub encoding: Encoding,
     /// Coordinate precision (PLY, OBJ and OFF).
     pub precision: Precision,
+}
+
+impl WriteOptions {
+    /// Sets [`encoding`](Self::encoding): text or binary.
+    #[must_use]
+    pub fn encoding(mut self, encoding: Encoding) -> Self {
+        self.encoding = encoding;
+        self
+    }
+
+    /// Sets [`precision`](Self::precision): the coordinate precision.
+    #[must_use]
+    pub fn precision(mut self, precision: Precision) -> Self {
+        self.precision = precision;
+        self
+    }
 }
 
 /// Per-vertex data written beside the positions by [`write_ply`](crate::write_ply).

@@ -42,7 +42,7 @@ use beltrami_halfedge::MeshData;
 /// let dir = tempfile::tempdir()?;
 /// let path = dir.path().join("cube.stl");
 /// let cube = MeshData::from(beltrami_halfedge::primitives::cube());
-/// let ascii = WriteOptions { encoding: Encoding::Ascii, ..WriteOptions::default() };
+/// let ascii = WriteOptions::default().encoding(Encoding::Ascii);
 /// write_mesh(&path, &cube, &ascii)?;
 /// // The cube's coordinates are exact in f32, and welding restores the 8 corners.
 /// assert_eq!(read_mesh(&path)?.positions.len(), 8);
@@ -212,7 +212,7 @@ pub fn write_ply(
 /// ```
 /// use beltrami_io::{write_ply_to, Encoding, MeshData, VertexAttributes, WriteOptions};
 /// let mesh = MeshData::from(beltrami_halfedge::primitives::triangle());
-/// let ascii = WriteOptions { encoding: Encoding::Ascii, ..WriteOptions::default() };
+/// let ascii = WriteOptions::default().encoding(Encoding::Ascii);
 /// let mut ply = Vec::new();
 /// write_ply_to(&mut ply, &mesh, &VertexAttributes::default(), &ascii)?;
 /// assert!(String::from_utf8_lossy(&ply).ends_with("end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));

@@ -610,10 +610,7 @@ fn write_attribute_errors() {
         scalars: vec![("d".to_owned(), vec![0.0, f64::NAN, 0.0])],
         colors: None,
     };
-    let ascii = WriteOptions {
-        encoding: Encoding::Ascii,
-        ..options
-    };
+    let ascii = options.encoding(Encoding::Ascii);
     assert_snapshot!(
         "write_nan_attribute_ascii",
         ply_write_error(&mesh, &nan, &ascii)
@@ -653,17 +650,11 @@ fn write_mesh_errors() {
     let e = write_mesh_to(&mut sink, &huge, MeshFormat::Stl, &WriteOptions::default())
         .expect_err("range");
     assert_snapshot!("write_beyond_f32", e.to_string());
-    let single = WriteOptions {
-        precision: Precision::Single,
-        ..WriteOptions::default()
-    };
+    let single = WriteOptions::default().precision(Precision::Single);
     assert!(write_mesh_to(&mut sink, &huge, MeshFormat::Ply, &single).is_err());
     assert!(write_mesh_to(&mut sink, &huge, MeshFormat::Ply, &WriteOptions::default()).is_ok());
 
-    let big_endian = WriteOptions {
-        encoding: Encoding::BinaryBigEndian,
-        ..WriteOptions::default()
-    };
+    let big_endian = WriteOptions::default().encoding(Encoding::BinaryBigEndian);
     let e =
         write_mesh_to(&mut sink, &triangle(), MeshFormat::Stl, &big_endian).expect_err("encoding");
     assert_snapshot!("write_stl_big_endian", e.to_string());

@@ -33,10 +33,7 @@ fn message(text: &str) -> String {
 
 fn write(mesh: &MeshData, precision: Precision) -> String {
     let mut bytes = Vec::new();
-    let options = WriteOptions {
-        precision,
-        ..WriteOptions::default()
-    };
+    let options = WriteOptions::default().precision(precision);
     write_mesh_to(&mut bytes, mesh, MeshFormat::Off, &options).expect("write");
     String::from_utf8(bytes).expect("text")
 }
@@ -99,10 +96,7 @@ fn off_files_round_trip_through_paths_whatever_the_encoding() -> Result<(), IoEr
         ("b.OFF", Encoding::Ascii),
     ] {
         let path = dir.path().join(name);
-        let options = WriteOptions {
-            encoding,
-            ..WriteOptions::default()
-        };
+        let options = WriteOptions::default().encoding(encoding);
         write_mesh(&path, &mesh, &options)?;
         assert_bit_identical(&read_mesh(&path)?, &mesh);
         let counts = declared_counts(&path)?.expect("an off header declares its counts");

@@ -17,10 +17,9 @@ const ENCODINGS: [Encoding; 3] = [
 ];
 
 fn options(encoding: Encoding, precision: Precision) -> WriteOptions {
-    WriteOptions {
-        encoding,
-        precision,
-    }
+    WriteOptions::default()
+        .encoding(encoding)
+        .precision(precision)
 }
 
 fn through(mesh: &MeshData, format: MeshFormat, options: &WriteOptions) -> MeshData {

@@ -107,10 +107,7 @@ fn readers_hold_the_mesh_not_the_file() {
         &mut text,
         &small,
         MeshFormat::Ply,
-        &WriteOptions {
-            encoding: Encoding::Ascii,
-            ..WriteOptions::default()
-        },
+        &WriteOptions::default().encoding(Encoding::Ascii),
     )
     .unwrap();
     let body = &text[text.windows(11).position(|w| w == b"end_header\n").unwrap() + 11..];
@@ -146,10 +143,7 @@ fn readers_hold_the_mesh_not_the_file() {
     let large = primitives::icosphere(6);
     let path = dir.path().join("sphere.stl");
     let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-    let ascii = WriteOptions {
-        encoding: Encoding::Ascii,
-        ..WriteOptions::default()
-    };
+    let ascii = WriteOptions::default().encoding(Encoding::Ascii);
     write_mesh_to(file, &large, MeshFormat::Stl, &ascii).unwrap();
     // STL holds f32 and numbers welded vertices by first appearance: compare counts.
     check(&path, MeshFormat::Stl, &large, false);

@@ -520,10 +520,7 @@ fn bad_input_gives_typed_errors() {
         FitPoints::weighted(&planar, &w).unwrap_err(),
         MetricsError::InvalidParameter { .. }
     ));
-    let bad = FitOptions {
-        tolerance: 0.0,
-        ..o
-    };
+    let bad = o.tolerance(0.0);
     assert!(matches!(
         fit_circle(&FitPoints::new(&planar), &bad).unwrap_err(),
         MetricsError::InvalidParameter {
@@ -545,10 +542,7 @@ fn an_iteration_limit_reports_an_unconverged_fit() {
     let mut rng = SplitMix64::new(10);
     let local = cap_points(&mut rng, 300, 5.0, 0.5);
     let points: Vec<DVec3> = local.iter().map(|&p| p + rng.gaussian3() * 0.05).collect();
-    let one = FitOptions {
-        max_iterations: 1,
-        tolerance: 1e-15,
-    };
+    let one = FitOptions::default().max_iterations(1).tolerance(1e-15);
     let fit = fit_sphere(&FitPoints::new(&points), &one).unwrap();
     assert_eq!(fit.iterations, 1);
     assert!(!fit.converged);

@@ -14,10 +14,9 @@ use beltrami_metrics::residual::{
 };
 
 fn options(quadrature: Quadrature) -> ArealOptions {
-    ArealOptions {
-        datum: Datum::ReferenceSurface,
-        quadrature,
-    }
+    ArealOptions::default()
+        .datum(Datum::ReferenceSurface)
+        .quadrature(quadrature)
 }
 
 /// The curve of a field `z(x)` on a grid of `cells × 2` squares over `[0, 1] × [0, 2 /
@@ -261,10 +260,9 @@ fn smr_and_smc_are_inverse_and_the_volumes_add_up() {
     // to the plotting positions (exact for equal neighbouring weights).
     let lumped =
         MaterialRatioCurve::from_mesh(&geometry, &z, &options(Quadrature::Lumped)).unwrap();
-    let datum = ArealOptions {
-        datum: Datum::Mean,
-        quadrature: Quadrature::Lumped,
-    };
+    let datum = ArealOptions::default()
+        .datum(Datum::Mean)
+        .quadrature(Quadrature::Lumped);
     let levelled = MaterialRatioCurve::from_mesh(&geometry, &z, &datum).unwrap();
     // Heights from the mean: the curve moves down by the mean and keeps its shape.
     let shift = lumped.smc(50.0).unwrap() - levelled.smc(50.0).unwrap();

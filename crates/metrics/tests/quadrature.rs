@@ -92,10 +92,9 @@ fn sampled(n: u32, quadrature: Quadrature) -> (ArealParameters, MaterialRatioCur
     let positions: Vec<DVec3> = grid.positions.iter().map(|&p| p * step).collect();
     let z: Vec<f64> = positions.iter().map(|p| height(p.x, p.y)).collect();
     let geometry = Geometry::new(&mesh, &positions).expect("positions");
-    let options = ArealOptions {
-        datum: Datum::Mean,
-        quadrature,
-    };
+    let options = ArealOptions::default()
+        .datum(Datum::Mean)
+        .quadrature(quadrature);
     (
         areal_parameters(&geometry, &z, &options).expect("valid"),
         MaterialRatioCurve::from_mesh(&geometry, &z, &options).expect("valid"),

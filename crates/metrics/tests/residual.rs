@@ -24,10 +24,9 @@ fn build(p: &Primitive) -> HalfedgeMesh {
 /// The exact-interpolant quadrature on `datum`: the closed forms below are integrals of
 /// the piecewise-linear interpolant.
 fn exact(datum: Datum) -> ArealOptions {
-    ArealOptions {
-        datum,
-        quadrature: Quadrature::ExactInterpolant,
-    }
+    ArealOptions::default()
+        .datum(datum)
+        .quadrature(Quadrature::ExactInterpolant)
 }
 
 fn areal(mesh: &HalfedgeMesh, positions: &[DVec3], field: &[f64], datum: Datum) -> ArealParameters {

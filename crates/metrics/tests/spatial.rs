@@ -173,7 +173,7 @@ fn constant_heights_and_errors() {
     let grid = sampled((8, 8), (1.0, 1.0), ridges(0.0, 4.0), |_, _| true);
     for threshold in [0.0, 1.0, -0.2, f64::NAN] {
         assert!(matches!(
-            spatial_parameters(&grid, &SpatialOptions { threshold }),
+            spatial_parameters(&grid, &SpatialOptions::default().threshold(threshold)),
             Err(MetricsError::InvalidParameter { .. })
         ));
     }
@@ -332,10 +332,7 @@ fn a_closed_surface_is_no_height_field() {
             resample_to_grid(
                 &geometry,
                 &[0.0; 25],
-                &ResampleOptions {
-                    step: Some(step),
-                    ..ResampleOptions::default()
-                }
+                &ResampleOptions::default().step(Some(step))
             ),
             Err(MetricsError::InvalidParameter { .. })
         ));
@@ -345,10 +342,7 @@ fn a_closed_surface_is_no_height_field() {
         resample_to_grid(
             &geometry,
             &[0.0; 25],
-            &ResampleOptions {
-                step: Some(2.0),
-                ..ResampleOptions::default()
-            }
+            &ResampleOptions::default().step(Some(2.0))
         ),
         Err(MetricsError::Empty {
             what: "height grid"

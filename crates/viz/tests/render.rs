@@ -317,7 +317,7 @@ fn invalid_input_is_reported() {
     assert!(invalid(render_mesh(
         &mesh, p, None, &map, &view, inverted, 10, 10
     )));
-    let options = RenderOptions { supersample: 0 };
+    let options = RenderOptions::default().supersample(0);
     assert!(invalid(render_mesh_with(
         &mesh, p, None, &map, &view, None, 10, 10, &options
     )));
@@ -378,7 +378,7 @@ fn supersampling_smooths_edges_only() {
             unit_box(),
             100,
             100,
-            &RenderOptions { supersample },
+            &RenderOptions::default().supersample(supersample),
         )
         .unwrap()
     };

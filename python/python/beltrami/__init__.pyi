@@ -126,6 +126,17 @@ def fit_circle(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) ->
 def fit_cylinder(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
     """The least-squares cylinder, with the keys of `beltrami fit cylinder --json`."""
 
+def quality(mesh: Mesh, reference: Optional[Mesh] = None) -> dict[str, Any]:
+    """Triangle quality, with the keys of `beltrami info --quality --json`'s `quality`."""
+
+def subdivide(mesh: Mesh, scheme: Literal["loop", "sqrt3"] = "loop", steps: int = 1) -> Mesh:
+    """Loop or sqrt(3) subdivision, as `beltrami subdivide`; old vertices keep their indices."""
+
+def delaunay(
+    mesh: Mesh, max_dihedral: Optional[float] = None, max_flips: Optional[int] = None
+) -> tuple[Mesh, dict[str, Any]]:
+    """Edge flips until no cotangent weight is negative, as `beltrami delaunay --json`."""
+
 def laplacian(
     mesh: Mesh,
     weights: str = "cotangent",

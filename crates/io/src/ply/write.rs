@@ -440,10 +440,9 @@ mod tests {
             for attributes in &attribute_sets {
                 for encoding in [Encoding::BinaryLittleEndian, Encoding::BinaryBigEndian] {
                     for precision in [Precision::Double, Precision::Single] {
-                        let options = WriteOptions {
-                            encoding,
-                            precision,
-                        };
+                        let options = WriteOptions::default()
+                            .encoding(encoding)
+                            .precision(precision);
                         let mut ours = Vec::new();
                         write_ply_to(&mut ours, mesh, attributes, &options).unwrap();
                         assert!(

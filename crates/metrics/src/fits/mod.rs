@@ -230,6 +230,7 @@ const MAX_FIT_COORDINATE: f64 = 1e150;
 
 /// Iteration controls of the geometric refinement.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct FitOptions {
     /// The most Levenberg–Marquardt iterations (default 100; a few usually suffice).
     pub max_iterations: usize,
@@ -248,6 +249,20 @@ impl Default for FitOptions {
 }
 
 impl FitOptions {
+    /// Sets [`max_iterations`](Self::max_iterations): the most Levenberg–Marquardt iterations.
+    #[must_use]
+    pub fn max_iterations(mut self, max_iterations: usize) -> Self {
+        self.max_iterations = max_iterations;
+        self
+    }
+
+    /// Sets [`tolerance`](Self::tolerance): the convergence threshold on the parameter step.
+    #[must_use]
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
     fn check(&self) -> Result<(), MetricsError> {
         if self.max_iterations == 0 {
             return Err(MetricsError::InvalidParameter {

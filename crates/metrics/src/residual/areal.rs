@@ -66,11 +66,28 @@ pub enum Quadrature {
 /// The choices behind the areal parameters of a field on a mesh: the datum heights are
 /// measured from and the quadrature of the height integrals.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct ArealOptions {
     /// The datum (default: the reference surface, as ISO 25178-2 defines).
     pub datum: Datum,
     /// The quadrature of the height parameters (default: lumped).
     pub quadrature: Quadrature,
+}
+
+impl ArealOptions {
+    /// Sets [`datum`](Self::datum): the datum heights are measured from.
+    #[must_use]
+    pub fn datum(mut self, datum: Datum) -> Self {
+        self.datum = datum;
+        self
+    }
+
+    /// Sets [`quadrature`](Self::quadrature): the quadrature of the height integrals.
+    #[must_use]
+    pub fn quadrature(mut self, quadrature: Quadrature) -> Self {
+        self.quadrature = quadrature;
+        self
+    }
 }
 
 /// The ISO 25178-2 areal field parameters of a residual surface. See
@@ -163,14 +180,14 @@ pub struct ArealParameters {
 /// let mesh = grid.mesh()?;
 /// let geometry = Geometry::new(&mesh, &grid.positions)?;
 /// let r: Vec<f64> = grid.positions.iter().map(|p| p.x).collect();
-/// let options = ArealOptions { datum: Datum::Mean, ..ArealOptions::default() };
+/// let options = ArealOptions::default().datum(Datum::Mean);
 /// let s = areal_parameters(&geometry, &r, &options)?;
 /// assert!((s.sdq - 1.0).abs() < 1e-12);
 /// assert!((s.sdr - (2f64.sqrt() - 1.0)).abs() < 1e-12);
 /// // |x − 4| on the grid's columns by the trapezoid rule: (2·(1+2+3) + 4/2·2) / 8.
 /// assert!((s.sa - 2.0).abs() < 1e-12 && (s.sz - 8.0).abs() < 1e-12);
 /// // The interpolant's Sq² is the exact mean of (x − 4)² over [0, 8]: 16/3.
-/// let exact = ArealOptions { quadrature: Quadrature::ExactInterpolant, ..options };
+/// let exact = options.quadrature(Quadrature::ExactInterpolant);
 /// let s = areal_parameters(&geometry, &r, &exact)?;
 /// assert!((s.sq * s.sq - 16.0 / 3.0).abs() < 1e-12);
 /// # Ok::<(), Box<dyn std::error::Error>>(())

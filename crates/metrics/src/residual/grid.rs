@@ -119,6 +119,7 @@ impl HeightGrid {
 
 /// How [`resample_to_grid`] samples a residual.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ResampleOptions {
     /// The grid spacing, in length units; `None` (the default) for the median edge length
     /// of the mesh.
@@ -129,6 +130,29 @@ pub struct ResampleOptions {
     /// normal (default 1 %): beyond it, the surface folds over its plane and is no height
     /// field.
     pub max_folded_fraction: f64,
+}
+
+impl ResampleOptions {
+    /// Sets [`step`](Self::step): the grid spacing in length units (`None`: the median edge length).
+    #[must_use]
+    pub fn step(mut self, step: Option<f64>) -> Self {
+        self.step = step;
+        self
+    }
+
+    /// Sets [`max_points`](Self::max_points): the most grid points.
+    #[must_use]
+    pub fn max_points(mut self, max_points: usize) -> Self {
+        self.max_points = max_points;
+        self
+    }
+
+    /// Sets [`max_folded_fraction`](Self::max_folded_fraction): the largest share of folded projected area.
+    #[must_use]
+    pub fn max_folded_fraction(mut self, max_folded_fraction: f64) -> Self {
+        self.max_folded_fraction = max_folded_fraction;
+        self
+    }
 }
 
 impl Default for ResampleOptions {

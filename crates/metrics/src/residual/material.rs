@@ -140,7 +140,7 @@ impl MaterialRatioCurve {
     /// let grid = primitives::grid(10, 1);
     /// let mesh = grid.mesh()?;
     /// let z: Vec<f64> = grid.positions.iter().map(|p| p.x).collect();
-    /// let exact = ArealOptions { quadrature: Quadrature::ExactInterpolant, ..Default::default() };
+    /// let exact = ArealOptions::default().quadrature(Quadrature::ExactInterpolant);
     /// let curve = MaterialRatioCurve::from_mesh(&Geometry::new(&mesh, &grid.positions)?, &z, &exact)?;
     /// assert!((curve.smr(7.5) - 25.0).abs() < 1e-9);
     /// assert!((curve.smc(40.0)? - 6.0).abs() < 1e-9);

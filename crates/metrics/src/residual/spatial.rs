@@ -16,10 +16,20 @@ const ANGLE_BINS: usize = 360;
 
 /// Choices of [`spatial_parameters`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SpatialOptions {
     /// The value `s` the autocorrelation decays to for Sal and Str, `0 < s < 1`
     /// (default 0.2, the ISO 25178-3 default).
     pub threshold: f64,
+}
+
+impl SpatialOptions {
+    /// Sets [`threshold`](Self::threshold): the value the autocorrelation decays to, `0 < s < 1`.
+    #[must_use]
+    pub fn threshold(mut self, threshold: f64) -> Self {
+        self.threshold = threshold;
+        self
+    }
 }
 
 impl Default for SpatialOptions {

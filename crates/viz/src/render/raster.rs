@@ -35,6 +35,7 @@ pub const HEAD_LIGHT: f64 = 0.3;
 
 /// Options of [`render_mesh_with`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct RenderOptions {
     /// Samples per pixel along each axis, 1 to 4 (2 gives 2×2 supersampling).
     pub supersample: u32,
@@ -44,6 +45,16 @@ impl Default for RenderOptions {
     /// 2×2 supersampling.
     fn default() -> Self {
         Self { supersample: 2 }
+    }
+}
+
+impl RenderOptions {
+    /// Sets [`supersample`](Self::supersample): samples per pixel along each axis, 1 to
+    /// 4.
+    #[must_use]
+    pub fn supersample(mut self, supersample: u32) -> Self {
+        self.supersample = supersample;
+        self
     }
 }
 
@@ -128,7 +139,7 @@ pub fn render_mesh(
 ///     None,
 ///     64,
 ///     64,
-///     &RenderOptions { supersample: 1 },
+///     &RenderOptions::default().supersample(1),
 /// )?;
 /// let [r, _, b] = image.pixel(32, 8).unwrap(); // near the top: z > 0, red
 /// assert!(r > b);

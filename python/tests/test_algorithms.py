@@ -1,0 +1,109 @@
+"""The mesh algorithms: quality figures, subdivision and Delaunay flips, against closed
+forms and the command line."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import beltrami as bt
+
+
+def grid(nx: int, ny: int) -> bt.Mesh:
+    """Unit squares over [0, nx] x [0, ny], each cut along its (i, j)-(i+1, j+1) diagonal."""
+    xs, ys = np.meshgrid(np.arange(nx + 1.0), np.arange(ny + 1.0))
+    vertices = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], axis=1)
+    faces = []
+    for j in range(ny):
+        for i in range(nx):
+            a = j * (nx + 1) + i
+            b, c, d = a + 1, a + nx + 2, a + nx + 1
+            faces += [[a, b, c], [a, c, d]]
+    return bt.Mesh(vertices, np.array(faces))
+
+
+def test_a_grid_has_right_isosceles_triangles():
+    q = bt.quality(grid(4, 4))
+    assert q["min_angle_degrees"] == pytest.approx(45.0, abs=1e-12)
+    assert q["max_angle_degrees"] == pytest.approx(90.0, abs=1e-12)
+    assert q["max_aspect_ratio"] == pytest.approx(np.sqrt(3.0), abs=1e-12)
+    assert q["negative_cotangent_edges"] == 0
+    assert q["valence_histogram"][6] == 9
+    assert q["flipped_faces"] is None
+    assert sum(q["aspect_ratio_histogram"]) == 32
+
+
+def test_flipped_faces_against_a_reference():
+    g = grid(3, 3)
+    moved = g.vertices.copy()
+    moved[5, 0] += 3.0  # drag an interior vertex across its neighbours
+    q = bt.quality(bt.Mesh(moved, g.faces), reference=g)
+    assert q["flipped_faces"] > 0
+    with pytest.raises(bt.MeshError, match="same faces"):
+        bt.quality(g, reference=grid(2, 2))
+
+
+def test_quality_refuses_polygons():
+    quad = bt.Mesh(np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]]), np.array([[0, 1, 2, 3]]))
+    with pytest.raises(bt.MeshError, match="triangle mesh"):
+        bt.quality(quad)
+
+
+def test_loop_subdivision_counts_and_kept_vertices(sphere):
+    fine = bt.subdivide(sphere, "loop", steps=2)
+    assert len(fine.faces) == 16 * len(sphere.faces)
+    assert len(fine.vertices) == len(sphere.vertices) + len(sphere.faces) * 3 // 2 + (
+        4 * len(sphere.faces) * 3 // 2
+    )
+    sqrt3 = bt.subdivide(sphere, "sqrt3", steps=2)
+    assert len(sqrt3.faces) == 9 * len(sphere.faces)
+    with pytest.raises(ValueError, match="unknown scheme"):
+        bt.subdivide(sphere, "butterfly")
+
+
+def test_delaunay_removes_negative_weights_of_a_plane():
+    g = grid(8, 8)
+    rng = np.random.default_rng(5)
+    v = g.vertices.copy()
+    v[:, :2] += rng.uniform(-0.35, 0.35, (len(v), 2))
+    jittered = bt.Mesh(v, g.faces)
+    before = bt.quality(jittered)["negative_cotangent_edges"]
+    flipped, report = bt.delaunay(jittered)
+    assert before > 0 and report["negative_before"] == before
+    assert report["negative_after"] == 0
+    assert bt.quality(flipped)["negative_cotangent_edges"] == 0
+    np.testing.assert_array_equal(flipped.vertices, v)
+    assert report["max_deviation"] < 1e-12  # a plane stays a plane
+    with pytest.raises(ValueError, match="between 0 and 180"):
+        bt.delaunay(jittered, max_dihedral=200.0)
+
+
+def run(cli, *args):
+    done = subprocess.run([str(cli), *map(str, args)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def test_quality_and_algorithms_match_the_cli(cli, tmp_path):
+    src = tmp_path / "noisy.ply"
+    run(cli, "generate", "sphere", src, "--level", "3", "--noise", "0.3", "--seed", "4")
+    mesh = bt.read(src)
+    expected = json.loads(run(cli, "info", src, "--json", "--quality"))["quality"]
+    assert bt.quality(mesh) == expected
+
+    out = tmp_path / "fine.ply"
+    run(cli, "subdivide", src, out, "--scheme", "sqrt3", "--steps", "2")
+    fine = bt.subdivide(mesh, "sqrt3", 2)
+    from_cli = bt.read(out)
+    np.testing.assert_array_equal(fine.vertices, from_cli.vertices)
+    np.testing.assert_array_equal(fine.faces, from_cli.faces)
+
+    out = tmp_path / "flipped.ply"
+    summary = json.loads(run(cli, "delaunay", src, out, "--json", "--max-dihedral", "5"))
+    flipped, report = bt.delaunay(mesh, max_dihedral=5.0)
+    np.testing.assert_array_equal(flipped.faces, bt.read(out).faces)
+    for key in ("flips", "negative_before", "negative_after", "kept_by_dihedral"):
+        assert report[key] == summary[key]
