@@ -16,6 +16,7 @@ mod info;
 mod io;
 mod mesh;
 mod operator;
+mod residual;
 mod scheme;
 mod smooth;
 mod weights;
@@ -45,6 +46,7 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_circle, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_cylinder, m)?)?;
+    m.add_function(wrap_pyfunction!(residual::residual, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::quality, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::delaunay, m)?)?;

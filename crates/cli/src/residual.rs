@@ -9,11 +9,9 @@ use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::check_same_topology;
-use beltrami_metrics::fits::MAX_POLYNOMIAL_DEGREE;
 use beltrami_metrics::residual::{
-    ArealOptions, ArealParameters, Datum, FittedForm, Form, MaterialRatioCurve, Quadrature,
-    ResampleOptions, SpatialOptions, StratifiedParameters, VolumeParameters, areal_parameters,
-    form_residual, normal_residual, resample_to_grid, spatial_parameters,
+    ArealOptions, Datum, FittedForm, Form, Quadrature, SXP_RATIOS, SurfaceTexture, TextureOptions,
+    VOLUME_RATIOS, form_residual, normal_residual, surface_texture,
 };
 use serde::Serialize;
 
@@ -22,11 +20,6 @@ use crate::error::CliError;
 use crate::load::{ReadArgs, height_map_note};
 use crate::output::{Outputs, Staged};
 use crate::text::{number, vector};
-
-/// The material ratios of Sxp (ISO 25178-3 defaults), in percent.
-const SXP_RATIOS: (f64, f64) = (2.5, 50.0);
-/// The material ratios of the volume parameters (ISO 25178-3 defaults), in percent.
-const VOLUME_RATIOS: (f64, f64) = (10.0, 80.0);
 
 /// Arguments of `beltrami residual`.
 #[derive(Debug, clap::Args)]
@@ -124,24 +117,7 @@ impl QuadratureArg {
 
 /// `plane`, `poly:N`, `sphere` or `cylinder`.
 fn parse_form(text: &str) -> Result<Form, String> {
-    match text {
-        "plane" => Ok(Form::Plane),
-        "sphere" => Ok(Form::Sphere),
-        "cylinder" => Ok(Form::Cylinder),
-        _ => {
-            let degree = text
-                .strip_prefix("poly:")
-                .ok_or_else(|| "expected plane, poly:N, sphere or cylinder".to_string())?;
-            match degree.parse::<u32>() {
-                Ok(degree) if (1..=MAX_POLYNOMIAL_DEGREE).contains(&degree) => {
-                    Ok(Form::Polynomial { degree })
-                }
-                _ => Err(format!(
-                    "the degree of poly:N is a whole number from 1 to {MAX_POLYNOMIAL_DEGREE}, got '{degree}'"
-                )),
-            }
-        }
-    }
+    text.parse()
 }
 
 /// What `residual` reports; also the JSON schema of `residual --json`.
@@ -197,7 +173,7 @@ struct Summary {
     /// `--smc` values: `[{ratio, height}]`.
     smc: Vec<SmrValue>,
     /// How the spatial parameters were sampled.
-    spatial: SpatialSummary,
+    spatial: SpatialJson,
     /// The area-weighted mean residual before any datum shift.
     mean: f64,
     /// The reference surface's area.
@@ -238,7 +214,7 @@ struct FormSummary {
 
 /// The grid the spatial parameters were computed on.
 #[derive(Debug, Serialize)]
-struct SpatialSummary {
+struct SpatialJson {
     /// The grid step (length), null when unavailable.
     step: Option<f64>,
     /// Grid points along the plane's u and v axes.
@@ -335,86 +311,26 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     };
     let geometry =
         Geometry::new(&reference.mesh, &reference.positions).map_err(|e| on_reference(e.into()))?;
-    let options = ArealOptions::default()
-        .datum(if args.remove_mean {
-            Datum::Mean
-        } else {
-            Datum::ReferenceSurface
-        })
-        .quadrature(args.quadrature.quadrature());
-    let s = areal_parameters(&geometry, &residual, &options).map_err(&on_reference)?;
-    let curve =
-        MaterialRatioCurve::from_mesh(&geometry, &residual, &options).map_err(&on_reference)?;
-    let stratified = curve.stratified();
-    let volume = curve
-        .volume(VOLUME_RATIOS.0, VOLUME_RATIOS.1)
-        .map_err(&on_reference)?;
-    let sxp = curve
-        .sxp(SXP_RATIOS.0, SXP_RATIOS.1)
-        .map_err(&on_reference)?;
-    let smr = args
-        .smr
-        .iter()
-        .map(|&c| SmrValue {
-            height: c,
-            ratio: curve.smr(c),
-        })
-        .collect();
-    let smc = args
-        .smc
-        .iter()
-        .map(|&mr| {
-            Ok(SmrValue {
-                height: curve.smc(mr).map_err(&on_reference)?,
-                ratio: mr,
-            })
-        })
-        .collect::<Result<Vec<_>, CliError>>()?;
-    // The spatial parameters on the residual resampled in the mean plane (heights from
-    // the datum; the autocorrelation removes the grid's mean anyway).
-    let shift = if args.remove_mean { s.mean } else { 0.0 };
-    let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
-    let spatial_options = SpatialOptions::default();
-    let (spatial, sal, str, std) = match resample_to_grid(
-        &geometry,
-        &heights,
-        &ResampleOptions::default(),
-    ) {
-        Ok(grid) => {
-            let p = spatial_parameters(&grid.grid, &spatial_options).map_err(&on_reference)?;
-            (
-                    SpatialSummary {
-                        step: Some(grid.step),
-                        nx: Some(grid.grid.nx()),
-                        ny: Some(grid.grid.ny()),
-                        valid_points: Some(grid.grid.valid_count()),
-                        threshold: spatial_options.threshold,
-                        decays_in_every_direction: p.decays_in_every_direction,
-                        unavailable: (p.sal.is_none()).then(|| {
-                            "the autocorrelation does not fall to s within the sampled lags, or the heights are constant".to_string()
-                        }),
-                    },
-                    p.sal,
-                    p.str,
-                    p.std,
-                )
-        }
-        Err(e @ (MetricsError::NotAHeightField { .. } | MetricsError::Empty { .. })) => (
-            SpatialSummary {
-                step: None,
-                nx: None,
-                ny: None,
-                valid_points: None,
-                threshold: spatial_options.threshold,
-                decays_in_every_direction: false,
-                unavailable: Some(e.to_string()),
-            },
-            None,
-            None,
-            None,
-        ),
-        Err(e) => return Err(on_reference(e)),
+    let options = TextureOptions::default()
+        .areal(
+            ArealOptions::default()
+                .datum(if args.remove_mean {
+                    Datum::Mean
+                } else {
+                    Datum::ReferenceSurface
+                })
+                .quadrature(args.quadrature.quadrature()),
+        )
+        .smr_heights(args.smr.clone())
+        .smc_ratios(args.smc.clone());
+    let texture = surface_texture(&geometry, &residual, &options).map_err(&on_reference)?;
+    // The residual from the datum, as the spatial parameters saw it.
+    let shift = if args.remove_mean {
+        texture.areal.mean
+    } else {
+        0.0
     };
+    let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
 
     let mut staged = Staged::new();
     let written = match &args.scalars {
@@ -429,16 +345,7 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         &reference.mesh,
         Parts {
             form,
-            s: &s,
-            stratified: &stratified,
-            volume: &volume,
-            sxp,
-            smr,
-            smc,
-            spatial,
-            sal,
-            str,
-            std,
+            texture: &texture,
             scalars: written,
         },
     );
@@ -466,34 +373,17 @@ enum Subject {
 /// What [`summarise`] puts together.
 struct Parts<'a> {
     form: Option<FormSummary>,
-    s: &'a ArealParameters,
-    stratified: &'a StratifiedParameters,
-    volume: &'a VolumeParameters,
-    sxp: f64,
-    smr: Vec<SmrValue>,
-    smc: Vec<SmrValue>,
-    spatial: SpatialSummary,
-    sal: Option<f64>,
-    str: Option<f64>,
-    std: Option<f64>,
+    texture: &'a SurfaceTexture,
     scalars: Option<String>,
 }
 
 fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Parts<'_>) -> Summary {
     let Parts {
         form,
-        s,
-        stratified: k,
-        volume: v,
-        sxp,
-        smr,
-        smc,
-        spatial,
-        sal,
-        str,
-        std,
+        texture: t,
         scalars,
     } = p;
+    let (s, k, v, sp) = (&t.areal, &t.stratified, &t.volume, &t.spatial);
     Summary {
         measured: args.measured.display().to_string(),
         smoothed: args.smoothed.as_ref().map(|p| p.display().to_string()),
@@ -515,7 +405,7 @@ fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Par
         sku: s.sku,
         sdq: s.sdq,
         sdr: s.sdr,
-        sxp,
+        sxp: t.sxp,
         sk: k.sk,
         spk: k.spk,
         svk: k.svk,
@@ -527,12 +417,28 @@ fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Par
         vmc: v.vmc,
         vvc: v.vvc,
         vvv: v.vvv,
-        sal,
-        str,
-        std,
-        smr,
-        smc,
-        spatial,
+        sal: sp.sal,
+        str: sp.str,
+        std: sp.std,
+        smr: t
+            .smr
+            .iter()
+            .map(|&(height, ratio)| SmrValue { height, ratio })
+            .collect(),
+        smc: t
+            .smc
+            .iter()
+            .map(|&(height, ratio)| SmrValue { height, ratio })
+            .collect(),
+        spatial: SpatialJson {
+            step: sp.step,
+            nx: sp.nx,
+            ny: sp.ny,
+            valid_points: sp.valid_points,
+            threshold: sp.threshold,
+            decays_in_every_direction: sp.decays_in_every_direction,
+            unavailable: sp.unavailable.clone(),
+        },
         mean: s.mean,
         area: s.area,
         scalars,
@@ -540,41 +446,13 @@ fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Par
 }
 
 fn form_summary(form: &FittedForm, flipped: bool) -> FormSummary {
-    let a = |v: DVec3| v.to_array();
-    let (kind, degree, point, direction, radius, rms) = match form {
-        FittedForm::Plane(f) => ("plane", None, f.point, Some(f.normal), None, f.rms_residual),
-        FittedForm::Polynomial(f) => (
-            "polynomial",
-            Some(f.degree),
-            f.origin,
-            Some(f.normal),
-            None,
-            f.rms_residual,
-        ),
-        FittedForm::Sphere(f) => (
-            "sphere",
-            None,
-            f.center,
-            None,
-            Some(f.radius),
-            f.rms_residual,
-        ),
-        FittedForm::Cylinder(f) => (
-            "cylinder",
-            None,
-            f.axis_point,
-            Some(f.axis),
-            Some(f.radius),
-            f.rms_residual,
-        ),
-    };
     FormSummary {
-        kind,
-        degree,
-        point: a(point),
-        direction: direction.map(a),
-        radius,
-        rms_residual: rms,
+        kind: form.kind(),
+        degree: form.degree(),
+        point: form.point().to_array(),
+        direction: form.direction().map(|d| d.to_array()),
+        radius: form.radius(),
+        rms_residual: form.rms_residual(),
         flipped,
     }
 }

@@ -126,6 +126,19 @@ def fit_circle(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) ->
 def fit_cylinder(points: Union[Mesh, npt.ArrayLike], *, weighted: bool = False) -> dict[str, Any]:
     """The least-squares cylinder, with the keys of `beltrami fit cylinder --json`."""
 
+def residual(
+    measured: Mesh,
+    smoothed: Optional[Mesh] = None,
+    *,
+    form: Optional[str] = None,
+    quadrature: Literal["lumped", "exact"] = "lumped",
+    remove_mean: bool = False,
+    smr: Sequence[float] = (),
+    smc: Sequence[float] = (),
+) -> dict[str, Any]:
+    """ISO 25178-2 parameters of the residual, with the keys of `beltrami residual --json`
+    and `heights` (the residual per vertex)."""
+
 def quality(mesh: Mesh, reference: Optional[Mesh] = None) -> dict[str, Any]:
     """Triangle quality, with the keys of `beltrami info --quality --json`'s `quality`."""
 

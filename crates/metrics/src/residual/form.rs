@@ -40,6 +40,74 @@ pub enum FittedForm {
     Cylinder(CylinderFit),
 }
 
+impl FittedForm {
+    /// The form's name as the command line prints it: `plane`, `polynomial`, `sphere`
+    /// or `cylinder`.
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Plane(_) => "plane",
+            Self::Polynomial(_) => "polynomial",
+            Self::Sphere(_) => "sphere",
+            Self::Cylinder(_) => "cylinder",
+        }
+    }
+
+    /// The polynomial's total degree; `None` for the other forms.
+    #[must_use]
+    pub fn degree(&self) -> Option<u32> {
+        match self {
+            Self::Polynomial(f) => Some(f.degree),
+            _ => None,
+        }
+    }
+
+    /// The form's reference point: the plane's centroid, the polynomial frame's origin,
+    /// the sphere's centre, the cylinder's axis point nearest the centroid.
+    #[must_use]
+    pub fn point(&self) -> DVec3 {
+        match self {
+            Self::Plane(f) => f.point,
+            Self::Polynomial(f) => f.origin,
+            Self::Sphere(f) => f.center,
+            Self::Cylinder(f) => f.axis_point,
+        }
+    }
+
+    /// The plane's unit normal (the polynomial's plane's), the cylinder's unit axis;
+    /// `None` for the sphere.
+    #[must_use]
+    pub fn direction(&self) -> Option<DVec3> {
+        match self {
+            Self::Plane(f) => Some(f.normal),
+            Self::Polynomial(f) => Some(f.normal),
+            Self::Sphere(_) => None,
+            Self::Cylinder(f) => Some(f.axis),
+        }
+    }
+
+    /// The radius of the sphere or cylinder; `None` for the others.
+    #[must_use]
+    pub fn radius(&self) -> Option<f64> {
+        match self {
+            Self::Sphere(f) => Some(f.radius),
+            Self::Cylinder(f) => Some(f.radius),
+            _ => None,
+        }
+    }
+
+    /// The area-weighted RMS of the orthogonal residuals, in length units.
+    #[must_use]
+    pub fn rms_residual(&self) -> f64 {
+        match self {
+            Self::Plane(f) => f.rms_residual,
+            Self::Polynomial(f) => f.rms_residual,
+            Self::Sphere(f) => f.rms_residual,
+            Self::Cylinder(f) => f.rms_residual,
+        }
+    }
+}
+
 /// The residual of a measured mesh from a fitted form. See [`form_residual`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct FormResidual {

@@ -107,6 +107,7 @@ mod grid;
 mod integrals;
 mod material;
 mod spatial;
+mod texture;
 
 use beltrami_halfedge::VertexMap;
 use beltrami_halfedge::geometry::{Geometry, NormalWeighting};
@@ -119,6 +120,9 @@ pub use form::{FittedForm, Form, FormResidual, form_residual};
 pub use grid::{HeightGrid, PlaneFrame, ResampleOptions, ResampledGrid, resample_to_grid};
 pub use material::{MaterialRatioCurve, StratifiedParameters, VolumeParameters};
 pub use spatial::{SpatialOptions, SpatialParameters, spatial_parameters};
+pub use texture::{
+    SXP_RATIOS, SpatialSummary, SurfaceTexture, TextureOptions, VOLUME_RATIOS, surface_texture,
+};
 
 /// The residual of a measured mesh against its smoothed version of the same topology:
 /// the signed normal deviation `r_i = (x_i − y_i) · n_i` per vertex, in length units,
