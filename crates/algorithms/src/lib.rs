@@ -11,6 +11,9 @@
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
 //!   surfaces and the change of the surface measured.
+//! - [`remesh`]: isotropic remeshing (Botsch & Kobbelt 2004) towards a target edge
+//!   length by splits, collapses, flips and tangential relaxation, keeping the boundary
+//!   and sharp features and projecting the vertices back onto the input surface.
 //!
 //! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
 //! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
@@ -37,8 +40,13 @@
 
 mod delaunay;
 mod error;
+mod remesh;
 pub mod subdivision;
 
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
+pub use remesh::{
+    DEFAULT_CORNER_ANGLE, EdgeLength, MAX_REMESH_FACES, RemeshError, RemeshIteration,
+    RemeshOptions, RemeshReport, remesh,
+};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};
