@@ -202,6 +202,7 @@ pub struct RemeshReport {
     pub corners: usize,
     /// The largest distance from an output vertex to the input surface: the one-sided
     /// Hausdorff distance at the vertices (a lower bound of the one between surfaces).
+    /// Isolated vertices (in no face) are kept where they are and not counted.
     pub hausdorff: f64,
 }
 
@@ -244,7 +245,7 @@ pub enum RemeshError {
     /// The target length is so small for the surface's area that the result would be
     /// too large.
     #[error(
-        "a target edge length of {edge_length} would make about {predicted} triangles; at most {max} are allowed"
+        "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
     )]
     TooManyFaces {
         /// The target edge length.
@@ -452,9 +453,11 @@ pub fn remesh(
     report.faces = out.n_faces();
     report.mean_edge_length = mean;
     report.edge_length_cv = cv;
-    report.hausdorff = index
-        .distances(&out_positions)?
-        .into_iter()
-        .fold(0.0, f64::max);
+    let on_surface: Vec<DVec3> = out
+        .vertices()
+        .filter(|&v| !out.is_isolated(v))
+        .map(|v| out_positions[v.index()])
+        .collect();
+    report.hausdorff = index.distances(&on_surface)?.into_iter().fold(0.0, f64::max);
     Ok((out, out_positions, report))
 }

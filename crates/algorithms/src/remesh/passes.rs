@@ -46,9 +46,10 @@ impl Remesher<'_> {
     }
 
     /// Projects `v` onto the input: onto the feature curves when it lies on a feature,
-    /// else onto the surface (when projection is on). Corners stay.
+    /// else onto the surface (when projection is on). Corners and isolated vertices
+    /// stay.
     fn project(&mut self, v: VertexId) -> Result<(), RemeshError> {
-        if self.is_corner(v) {
+        if self.is_corner(v) || self.mesh.is_isolated(v) {
             return Ok(());
         }
         let p = self.mesh.position(v);
