@@ -28,6 +28,25 @@ pub(crate) struct RemeshArgs {
     /// the input's mean edge length).
     #[arg(long, value_name = "R")]
     edge_length_relative: Option<f64>,
+    /// Curvature-adaptive edge lengths (Dunyach et al. 2013): short edges where the
+    /// surface is curved, long where it is flat, each edge deviating by about --error
+    /// from the surface, within [--min-edge, --max-edge].
+    #[arg(
+        long,
+        requires_all = ["min_edge", "max_edge", "error"],
+        conflicts_with_all = ["edge_length", "edge_length_relative"]
+    )]
+    adaptive: bool,
+    /// With --adaptive: the smallest edge length, in the mesh's unit.
+    #[arg(long, value_name = "A", requires = "adaptive")]
+    min_edge: Option<f64>,
+    /// With --adaptive: the largest edge length, in the mesh's unit.
+    #[arg(long, value_name = "B", requires = "adaptive")]
+    max_edge: Option<f64>,
+    /// With --adaptive: the allowed distance between an edge and the surface, in the
+    /// mesh's unit.
+    #[arg(long, value_name = "E", requires = "adaptive")]
+    error: Option<f64>,
     /// The number of split-collapse-flip-relax iterations.
     #[arg(long, value_name = "N", default_value_t = 10)]
     iterations: usize,
@@ -58,8 +77,10 @@ pub(crate) struct RemeshArgs {
 struct Summary {
     input: String,
     output: String,
-    /// The target edge length used, in the mesh's unit.
+    /// The target edge length used, in the mesh's unit (with --adaptive, the mean of
+    /// the sizing field over the input's vertices).
     target_edge_length: f64,
+    adaptive: bool,
     iterations: usize,
     splits: usize,
     collapses: usize,
@@ -102,6 +123,19 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
     }
     if let Some(r) = args.edge_length_relative {
         options = options.relative_edge_length(positive("--edge-length-relative", r)?);
+    }
+    if let (true, Some(a), Some(b), Some(e)) =
+        (args.adaptive, args.min_edge, args.max_edge, args.error)
+    {
+        let (a, b) = (positive("--min-edge", a)?, positive("--max-edge", b)?);
+        if a > b {
+            return Err(CliError::Usage(format!(
+                "--min-edge ({}) must not exceed --max-edge ({})",
+                number(a),
+                number(b)
+            )));
+        }
+        options = options.adaptive(a, b, positive("--error", e)?);
     }
     if let Some(d) = args.features {
         if !(0.0..=180.0).contains(&d) {
@@ -152,6 +186,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             input: args.input.display().to_string(),
             output: args.output.display().to_string(),
             target_edge_length: report.target_edge_length,
+            adaptive: args.adaptive,
             iterations: report.iterations.len(),
             splits: report.splits,
             collapses: report.collapses,

@@ -49,6 +49,7 @@
 
 mod curves;
 mod passes;
+mod sizing;
 
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
@@ -59,7 +60,8 @@ use passes::Remesher;
 /// this (30°, in radians) is a corner and stays.
 pub const DEFAULT_CORNER_ANGLE: f64 = std::f64::consts::PI / 6.0;
 
-/// The most triangles a remesh may aim at (about `area / (√3/4 · L²)`); a smaller target
+/// The most triangles a remesh may aim at (about `area / (√3/4 · L²)`, summed over the
+/// input's faces with the smallest target length at their corners); a smaller target
 /// length is refused with [`RemeshError::TooManyFaces`] before any work.
 pub const MAX_REMESH_FACES: usize = 50_000_000;
 
@@ -71,6 +73,21 @@ pub enum EdgeLength {
     Absolute(f64),
     /// L as a multiple of the input's mean edge length.
     Relative(f64),
+    /// Curvature-adaptive sizing (Dunyach et al. 2013, pmp-library's
+    /// `adaptive_remeshing`): at each vertex, the length of a chord that deviates by
+    /// `approx_error` from a circle of the largest principal curvature radius, clamped to
+    /// `[min_edge, max_edge]`. The curvature is estimated on the input (cotangent mean
+    /// curvature and angle defect) at vertices off the features and the boundary,
+    /// smoothed twice over the neighbours, and follows the vertices: a split averages its
+    /// end points' lengths, a projection interpolates the input's field.
+    Adaptive {
+        /// The smallest target edge length.
+        min_edge: f64,
+        /// The largest target edge length.
+        max_edge: f64,
+        /// The allowed distance between an edge and the curved surface.
+        approx_error: f64,
+    },
 }
 
 /// The settings of [`remesh`].
@@ -130,6 +147,18 @@ impl RemeshOptions {
         self
     }
 
+    /// Sets curvature-adaptive sizing ([`EdgeLength::Adaptive`]), lengths in the
+    /// positions' unit.
+    #[must_use]
+    pub fn adaptive(mut self, min_edge: f64, max_edge: f64, approx_error: f64) -> Self {
+        self.edge_length = EdgeLength::Adaptive {
+            min_edge,
+            max_edge,
+            approx_error,
+        };
+        self
+    }
+
     /// Sets the number of iterations.
     #[must_use]
     pub fn iterations(mut self, iterations: usize) -> Self {
@@ -168,7 +197,8 @@ pub struct RemeshIteration {
 #[derive(Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct RemeshReport {
-    /// The target edge length L used.
+    /// The target edge length L used; for adaptive sizing, the mean of the sizing field
+    /// over the input's vertices.
     pub target_edge_length: f64,
     /// The counts of each iteration, in order.
     pub iterations: Vec<RemeshIteration>,
@@ -248,7 +278,7 @@ pub enum RemeshError {
         "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
     )]
     TooManyFaces {
-        /// The target edge length.
+        /// The (smallest) target edge length.
         edge_length: f64,
         /// The estimated number of triangles, `area / (√3/4 · L²)`.
         predicted: f64,
@@ -287,12 +317,9 @@ fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
     (mean, cv)
 }
 
-/// Checks the options against the input and returns the target edge length.
-fn target_length(
-    options: &RemeshOptions,
-    mean_edge: f64,
-    area: f64,
-) -> Result<f64, RemeshError> {
+/// Checks the options against the input and returns the target edge length (the
+/// smallest one for adaptive sizing).
+fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshError> {
     let bad = |reason: String| Err(RemeshError::Options { reason });
     let target = match options.edge_length {
         EdgeLength::Absolute(l) if !(l.is_finite() && l > 0.0) => {
@@ -303,6 +330,27 @@ fn target_length(
                 "the relative target edge length must be positive and finite, got {r}"
             ));
         }
+        EdgeLength::Adaptive {
+            min_edge,
+            max_edge,
+            approx_error,
+        } => {
+            for (name, x) in [
+                ("the smallest edge length", min_edge),
+                ("the largest edge length", max_edge),
+                ("the approximation error", approx_error),
+            ] {
+                if !(x.is_finite() && x > 0.0) {
+                    return bad(format!("{name} must be positive and finite, got {x}"));
+                }
+            }
+            if min_edge > max_edge {
+                return bad(format!(
+                    "the smallest edge length {min_edge} exceeds the largest {max_edge}"
+                ));
+            }
+            min_edge
+        }
         EdgeLength::Absolute(l) => l,
         EdgeLength::Relative(r) => r * mean_edge,
     };
@@ -312,14 +360,6 @@ fn target_length(
         return bad(format!(
             "the feature angle must be between 0 and pi radians, got {a}"
         ));
-    }
-    let predicted = area / (3f64.sqrt() / 4.0 * target * target);
-    if !(predicted <= MAX_REMESH_FACES as f64) {
-        return Err(RemeshError::TooManyFaces {
-            edge_length: target,
-            predicted,
-            max: MAX_REMESH_FACES,
-        });
     }
     Ok(target)
 }
@@ -395,27 +435,63 @@ pub fn remesh(
     }
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
-    let area: f64 = edit
-        .faces()
-        .map(|f| curves::triangle_normal(&edit, edit.face_halfedge(f)).length() / 2.0)
-        .sum();
-    if mesh.n_faces() == 0 || !(mean_before > 0.0) || !(area > 0.0) {
+    let area = |edit: &EditMesh, f| {
+        curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0
+    };
+    let total_area: f64 = edit.faces().map(|f| area(&edit, f)).sum();
+    if mesh.n_faces() == 0 || !(mean_before > 0.0) || !(total_area > 0.0) {
         return Err(RemeshError::Empty);
     }
-    let target = target_length(options, mean_before, area)?;
+    let target = target_length(options, mean_before)?;
     let feature = edit.add_edge_property("remesh:feature", false)?;
     let corner = edit.add_vertex_property("remesh:corner", false)?;
     let corner_angle = options.feature_angle.unwrap_or(DEFAULT_CORNER_ANGLE);
     let found = curves::detect(&mut edit, feature, corner, options.feature_angle, corner_angle);
     let curves = curves::CurveIndex::new(&edit, feature);
     let index = SurfaceIndex::new(mesh, positions)?;
+    let sizing = edit.add_vertex_property("remesh:sizing", target)?;
+    let mut reference = None;
+    let mut target = target;
+    if let EdgeLength::Adaptive {
+        min_edge,
+        max_edge,
+        approx_error,
+    } = options.edge_length
+    {
+        let field = sizing::sizing_field(&edit, feature, min_edge, max_edge, approx_error);
+        for v in mesh.vertices() {
+            edit.set(sizing, v, field[v.index()]);
+        }
+        target = field.iter().sum::<f64>() / field.len() as f64;
+        reference = Some((mesh, field));
+    }
+    // The size of the result, estimated before any work: each face's area over that of
+    // an equilateral triangle of its smallest corner's target length.
+    let predicted: f64 = edit
+        .faces()
+        .map(|f| {
+            let size = edit
+                .vertices_around_face(f)
+                .map(|v| *edit.get(sizing, v))
+                .fold(f64::INFINITY, f64::min);
+            area(&edit, f) / (3f64.sqrt() / 4.0 * size * size)
+        })
+        .sum();
+    if !(predicted <= MAX_REMESH_FACES as f64) {
+        return Err(RemeshError::TooManyFaces {
+            edge_length: edit.values(sizing).iter().copied().fold(f64::INFINITY, f64::min),
+            predicted,
+            max: MAX_REMESH_FACES,
+        });
+    }
 
     let mut remesher = Remesher {
         mesh: edit,
         feature,
         corner,
-        target,
+        sizing,
         surface: options.projection.then_some(&index),
+        reference: if options.projection { reference } else { None },
         curves,
     };
     let mut report = RemeshReport {
@@ -446,6 +522,7 @@ pub fn remesh(
     let mut edit = remesher.mesh;
     edit.remove_property(feature);
     edit.remove_property(corner);
+    edit.remove_property(sizing);
     edit.garbage_collection();
     let (mean, cv) = edge_length_stats(&edit);
     let (out, out_positions) = edit.into_mesh()?;

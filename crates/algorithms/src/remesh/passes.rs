@@ -2,7 +2,7 @@
 //! relax (with the projections).
 
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
-use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, VertexId};
+use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
 
 use super::RemeshError;
@@ -20,10 +20,15 @@ pub(super) struct Remesher<'a> {
     pub(super) mesh: EditMesh,
     pub(super) feature: EdgeProperty<bool>,
     pub(super) corner: VertexProperty<bool>,
-    /// The target edge length L.
-    pub(super) target: f64,
+    /// The target edge length at each vertex: L everywhere for uniform remeshing, the
+    /// curvature-adaptive field otherwise. An edge's target is the smaller of its end
+    /// points'.
+    pub(super) sizing: VertexProperty<f64>,
     /// The input surface, when vertices are projected onto it.
     pub(super) surface: Option<&'a SurfaceIndex>,
+    /// For adaptive sizing: the input mesh and its sizing field, interpolated at the
+    /// projected points.
+    pub(super) reference: Option<(&'a HalfedgeMesh, Vec<f64>)>,
     /// The input's feature curves (and boundary).
     pub(super) curves: CurveIndex,
 }
@@ -31,6 +36,11 @@ pub(super) struct Remesher<'a> {
 impl Remesher<'_> {
     fn length(&self, a: VertexId, b: VertexId) -> f64 {
         self.mesh.position(a).distance(self.mesh.position(b))
+    }
+
+    /// The target length of an edge between `a` and `b`.
+    fn size(&self, a: VertexId, b: VertexId) -> f64 {
+        self.mesh.get(self.sizing, a).min(*self.mesh.get(self.sizing, b))
     }
 
     fn is_feature(&self, e: EdgeId) -> bool {
@@ -57,8 +67,21 @@ impl Remesher<'_> {
             let q = self.curves.closest_point(p);
             self.mesh.set_position(v, q);
         } else if let Some(surface) = self.surface {
-            let q = surface.closest_point(p)?.point;
-            self.mesh.set_position(v, q);
+            let closest = surface.closest_point(p)?;
+            self.mesh.set_position(v, closest.point);
+            if let Some((input, sizing)) = &self.reference {
+                let corners = input.triangle_vertices(closest.face);
+                let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
+                let weights = barycentric(closest.point, a, b, c);
+                let size: f64 = corners
+                    .iter()
+                    .zip(weights)
+                    .map(|(w, t)| t * sizing[w.index()])
+                    .sum();
+                if size.is_finite() && size > 0.0 {
+                    self.mesh.set(self.sizing, v, size);
+                }
+            }
         }
         Ok(())
     }
@@ -66,7 +89,6 @@ impl Remesher<'_> {
     /// Splits every edge longer than 4/3 L at its midpoint, repeatedly; the halves of a
     /// feature edge stay features (the edge property's split rule). Returns the count.
     pub(super) fn split_long_edges(&mut self) -> Result<usize, RemeshError> {
-        let high = 4.0 / 3.0 * self.target;
         let mut splits = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
@@ -76,7 +98,7 @@ impl Remesher<'_> {
                     continue;
                 }
                 let [a, b] = self.mesh.edge_vertices(e);
-                if self.length(a, b) <= high {
+                if self.length(a, b) <= 4.0 / 3.0 * self.size(a, b) {
                     continue;
                 }
                 let mid = (self.mesh.position(a) + self.mesh.position(b)) * 0.5;
@@ -96,12 +118,11 @@ impl Remesher<'_> {
     /// `4/3 L` and turns no surviving triangle over (its normal keeps a positive dot
     /// product with the old one and a non-zero length).
     fn collapse_is_fine(&self, h: HalfedgeId) -> bool {
-        let high = 4.0 / 3.0 * self.target;
         let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
         let (p0, p1) = (self.mesh.position(v0), self.mesh.position(v1));
         for g in self.mesh.halfedges_around_vertex(v0) {
             let w = self.mesh.to_vertex(g);
-            if w != v1 && self.mesh.position(w).distance(p1) > high {
+            if w != v1 && self.mesh.position(w).distance(p1) > 4.0 / 3.0 * self.size(v1, w) {
                 return false;
             }
             if self.mesh.face(g).is_none() {
@@ -135,7 +156,6 @@ impl Remesher<'_> {
     /// unless that breaks the topology, a feature or boundary curve, a corner, or makes
     /// an edge longer than 4/3 L or a folded triangle. Returns the count.
     pub(super) fn collapse_short_edges(&mut self) -> Result<usize, RemeshError> {
-        let low = 4.0 / 5.0 * self.target;
         let mut collapses = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
@@ -146,7 +166,7 @@ impl Remesher<'_> {
                 }
                 let [h01, h10] = e.halfedges();
                 let (v0, v1) = (self.mesh.from_vertex(h01), self.mesh.to_vertex(h01));
-                if self.length(v0, v1) >= low {
+                if self.length(v0, v1) >= 4.0 / 5.0 * self.size(v0, v1) {
                     continue;
                 }
                 // ok01: remove v0 (collapse h01); ok10: remove v1 (collapse h10).
@@ -281,11 +301,15 @@ impl Remesher<'_> {
             return DVec3::ZERO;
         }
         let p = self.mesh.position(v);
-        let ends: Vec<DVec3> = self
+        let s = |w: VertexId| *self.mesh.get(self.sizing, w);
+        let ends: Vec<(DVec3, f64)> = self
             .mesh
             .halfedges_around_vertex(v)
             .filter(|h| self.is_feature(h.edge()))
-            .map(|h| self.mesh.position(self.mesh.to_vertex(h)))
+            .map(|h| {
+                let w = self.mesh.to_vertex(h);
+                (self.mesh.position(w), s(w))
+            })
             .collect();
         let u = match ends.as_slice() {
             [] => {
@@ -295,8 +319,10 @@ impl Remesher<'_> {
                     let Some(o) = self.mesh.opposite_vertex(h) else {
                         continue;
                     };
-                    let (b, c) = (self.mesh.position(self.mesh.to_vertex(h)), self.mesh.position(o));
-                    let area = (b - p).cross(c - p).length();
+                    let w = self.mesh.to_vertex(h);
+                    let (b, c) = (self.mesh.position(w), self.mesh.position(o));
+                    let size = (s(v) + s(w) + s(o)) / 3.0;
+                    let area = (b - p).cross(c - p).length() / (size * size);
                     centroid += area * (p + b + c) / 3.0;
                     weight += area;
                 }
@@ -307,8 +333,9 @@ impl Remesher<'_> {
                 let u = centroid / weight - p;
                 u - n * u.dot(n)
             }
-            [a, b] => {
-                let (wa, wb) = (a.distance(p), b.distance(p));
+            [(a, sa), (b, sb)] => {
+                let wa = a.distance(p) / (0.5 * (s(v) + sa));
+                let wb = b.distance(p) / (0.5 * (s(v) + sb));
                 if wa + wb <= 0.0 {
                     return DVec3::ZERO;
                 }
@@ -348,4 +375,19 @@ impl Remesher<'_> {
         }
         Ok(())
     }
+}
+
+/// The barycentric coordinates of `p` (on the triangle's plane) in triangle `a b c`;
+/// equal thirds for a degenerate triangle.
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
+    let (u, v, w) = (b - a, c - a, p - a);
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (wu, wv) = (w.dot(u), w.dot(v));
+    let det = uu * vv - uv * uv;
+    if !(det > 0.0) {
+        return [1.0 / 3.0; 3];
+    }
+    let s = (vv * wu - uv * wv) / det;
+    let t = (uu * wv - uv * wu) / det;
+    [1.0 - s - t, s, t]
 }
