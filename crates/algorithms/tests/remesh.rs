@@ -440,6 +440,86 @@ fn a_split_feature_edge_gives_two_feature_halves() {
     mesh.check_integrity().unwrap();
 }
 
+/// Adaptive sizing on the unit sphere (curvature 1 everywhere): the edges approach the
+/// chord length `sqrt(6 e r - 3 e²)` of the allowed error `e`, within the bounds.
+#[test]
+fn adaptive_sizing_on_a_sphere_gives_the_chord_length_of_the_error() {
+    let sphere = primitives::icosphere(4);
+    let mesh = sphere.mesh().unwrap();
+    let e: f64 = 0.004;
+    let chord = (6.0 * e - 3.0 * e * e).sqrt();
+    let options = RemeshOptions::default().adaptive(0.01, 1.0, e);
+    let (out, y, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "adaptive sphere");
+    let (mean, _) = mean_and_cv(&edge_lengths(&out, &y));
+    assert!((mean / chord - 1.0).abs() < 0.15, "{mean} vs {chord}");
+    assert!((report.target_edge_length / chord - 1.0).abs() < 0.1);
+    // The bounds win over the error.
+    let options = RemeshOptions::default().adaptive(0.3, 0.3, e);
+    let (_, _, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert!((report.mean_edge_length / 0.3 - 1.0).abs() < 0.15);
+}
+
+/// Adaptive sizing on a flattened ellipsoid: short edges along the strongly curved rim,
+/// long ones on the flat caps.
+#[test]
+fn adaptive_sizing_follows_the_curvature() {
+    let sphere = primitives::icosphere(4);
+    let x: Vec<DVec3> = sphere
+        .positions
+        .iter()
+        .map(|p| *p * DVec3::new(1.0, 1.0, 0.25))
+        .collect();
+    let mesh = sphere.mesh().unwrap();
+    let options = RemeshOptions::default().adaptive(0.02, 0.5, 0.002);
+    let (out, y, report) = remesh(&mesh, &x, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "ellipsoid");
+    let band = |keep: &dyn Fn(f64) -> bool| {
+        let lengths: Vec<f64> = out
+            .edges()
+            .filter_map(|e| {
+                let [a, b] = out.edge_vertices(e);
+                let (p, q) = (y[a.index()], y[b.index()]);
+                keep((p.z + q.z).abs() / 2.0).then(|| p.distance(q))
+            })
+            .collect();
+        mean_and_cv(&lengths).0
+    };
+    let rim = band(&|z| z < 0.03);
+    let caps = band(&|z| z > 0.2);
+    assert!(caps > 2.0 * rim, "caps {caps}, rim {rim}");
+    let index = SurfaceIndex::new(&mesh, &x).unwrap();
+    assert!(index.distances(&y).unwrap().into_iter().fold(0.0, f64::max) < 1e-12);
+    assert!(report.hausdorff < 1e-12);
+}
+
+#[test]
+fn bad_adaptive_options_give_the_typed_error() {
+    let sphere = primitives::icosphere(1);
+    let mesh = sphere.mesh().unwrap();
+    for (a, b, e) in [
+        (0.2, 0.1, 0.01),
+        (0.0, 0.1, 0.01),
+        (0.1, f64::INFINITY, 0.01),
+        (0.1, 0.2, -0.01),
+        (0.1, 0.2, f64::NAN),
+    ] {
+        let options = RemeshOptions::default().adaptive(a, b, e);
+        assert!(
+            matches!(
+                remesh(&mesh, &sphere.positions, &options),
+                Err(RemeshError::Options { .. })
+            ),
+            "{a} {b} {e}"
+        );
+    }
+    let options = RemeshOptions::default().adaptive(1e-6, 1.0, 1e-9);
+    assert!(matches!(
+        remesh(&mesh, &sphere.positions, &options),
+        Err(RemeshError::TooManyFaces { .. })
+    ));
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
 
@@ -476,5 +556,74 @@ proptest! {
             prop_assert!(distance_to_segments(y[v.index()], &boundary) < 1e-12);
         }
         prop_assert!(report.hausdorff.is_finite());
+    }
+}
+
+/// The smallest interior angle of the triangles, in degrees.
+fn min_angle_degrees(mesh: &HalfedgeMesh, x: &[DVec3]) -> f64 {
+    mesh.faces()
+        .flat_map(|f| {
+            let [a, b, c] = mesh.triangle_vertices(f).map(|v| x[v.index()]);
+            [(a, b, c), (b, c, a), (c, a, b)]
+        })
+        .map(|(p, q, r)| (q - p).angle_between(r - p).to_degrees())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The table of `docs/remeshing.md`: `cargo test -p beltrami-algorithms --test remesh
+/// -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints the measurements of docs/remeshing.md"]
+fn print_the_documentation_table() {
+    let sphere = primitives::icosphere(4);
+    let block = SurfaceKind::Block.generate();
+    let cases: [(&str, &beltrami_halfedge::MeshData, RemeshOptions); 5] = [
+        ("icosphere 4, R = 1", &sphere, RemeshOptions::default()),
+        (
+            "icosphere 4, R = 2",
+            &sphere,
+            RemeshOptions::default().relative_edge_length(2.0),
+        ),
+        (
+            "icosphere 4, adaptive 0.02-0.5, e = 0.002",
+            &sphere,
+            RemeshOptions::default().adaptive(0.02, 0.5, 0.002),
+        ),
+        (
+            "block, R = 1, 45°",
+            &block.data,
+            RemeshOptions::default().feature_angle(45f64.to_radians()),
+        ),
+        (
+            "block, R = 2, 45°",
+            &block.data,
+            RemeshOptions::default()
+                .relative_edge_length(2.0)
+                .feature_angle(45f64.to_radians()),
+        ),
+    ];
+    println!(
+        "| mesh, options | vertices | faces | edge-length CV | min angle | Hausdorff | features / corners | time |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, data, options) in cases {
+        let mesh = data.mesh().unwrap();
+        let start = std::time::Instant::now();
+        let (out, y, report) = remesh(&mesh, &data.positions, &options).unwrap();
+        let seconds = start.elapsed().as_secs_f64();
+        println!(
+            "| {name} | {} → {} | {} → {} | {:.3} → {:.3} | {:.1}° → {:.1}° | {:.1e} | {} / {} | {seconds:.2} s |",
+            report.vertices_before,
+            report.vertices,
+            report.faces_before,
+            report.faces,
+            report.edge_length_cv_before,
+            report.edge_length_cv,
+            min_angle_degrees(&mesh, &data.positions),
+            min_angle_degrees(&out, &y),
+            report.hausdorff,
+            report.feature_edges,
+            report.corners,
+        );
     }
 }

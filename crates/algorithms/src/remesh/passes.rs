@@ -235,7 +235,7 @@ impl Remesher<'_> {
         for v in self.mesh.vertices() {
             valence[v.index()] = self.mesh.valence(v) as i64;
         }
-        let optimal = |m: &EditMesh, v: VertexId| if m.is_boundary_vertex(v) { 4 } else { 6 };
+        let optimal = |m: &EditMesh, v: VertexId| if m.is_boundary_vertex(v) { 4i64 } else { 6 };
         let mut flips = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
