@@ -31,11 +31,7 @@ pub(crate) struct RemeshArgs {
     /// Curvature-adaptive edge lengths (Dunyach et al. 2013): short edges where the
     /// surface is curved, long where it is flat, each edge deviating by about --error
     /// from the surface, within [--min-edge, --max-edge].
-    #[arg(
-        long,
-        requires_all = ["min_edge", "max_edge", "error"],
-        conflicts_with_all = ["edge_length", "edge_length_relative"]
-    )]
+    #[arg(long, conflicts_with_all = ["edge_length", "edge_length_relative"])]
     adaptive: bool,
     /// With --adaptive: the smallest edge length, in the mesh's unit.
     #[arg(long, value_name = "A", requires = "adaptive")]
@@ -124,9 +120,12 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
     if let Some(r) = args.edge_length_relative {
         options = options.relative_edge_length(positive("--edge-length-relative", r)?);
     }
-    if let (true, Some(a), Some(b), Some(e)) =
-        (args.adaptive, args.min_edge, args.max_edge, args.error)
-    {
+    if args.adaptive {
+        let (Some(a), Some(b), Some(e)) = (args.min_edge, args.max_edge, args.error) else {
+            return Err(CliError::Usage(
+                "--adaptive needs --min-edge, --max-edge and --error".to_string(),
+            ));
+        };
         let (a, b) = (positive("--min-edge", a)?, positive("--max-edge", b)?);
         if a > b {
             return Err(CliError::Usage(format!(

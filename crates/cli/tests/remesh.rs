@@ -158,6 +158,22 @@ fn usage_errors_exit_2_with_one_line_and_write_nothing() {
         &["--features", "200"][..],
         &["--features", "-5"][..],
         &["--iterations", "many"][..],
+        &["--adaptive"][..],
+        &["--adaptive", "--min-edge", "0.1", "--max-edge", "0.5"][..],
+        &["--min-edge", "0.1"][..],
+        &["--adaptive", "--min-edge", "0.5", "--max-edge", "0.1", "--error", "0.01"][..],
+        &["--adaptive", "--min-edge", "0.1", "--max-edge", "0.5", "--error", "0"][..],
+        &[
+            "--adaptive",
+            "--min-edge",
+            "0.1",
+            "--max-edge",
+            "0.5",
+            "--error",
+            "0.01",
+            "--edge-length",
+            "0.2",
+        ][..],
     ] {
         let mut all = vec!["remesh", s(&input), s(&out)];
         all.extend_from_slice(args);
@@ -223,4 +239,36 @@ fn features_keep_the_cube_corners() {
         let corner = glam::DVec3::new(f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2));
         assert!(got.positions.contains(&corner), "corner {corner}");
     }
+}
+
+#[test]
+fn adaptive_sizing_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("adaptive.ply");
+    let summary = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--adaptive",
+        "--min-edge",
+        "0.05",
+        "--max-edge",
+        "1",
+        "--error",
+        "0.002",
+        "--json",
+    ]);
+    assert_eq!(summary["adaptive"], true);
+    let data = read_mesh(&input).unwrap();
+    let options = RemeshOptions::default().adaptive(0.05, 1.0, 0.002);
+    let (want, positions, report) =
+        remesh(&data.mesh().unwrap(), &data.positions, &options).unwrap();
+    let got = read_mesh(&out).unwrap();
+    assert_eq!(got.positions, positions);
+    assert_eq!(got.faces, want.to_polygons());
+    assert_eq!(f(&summary["target_edge_length"]), report.target_edge_length);
+    // The chord length of the error on the unit sphere, about 0.11.
+    let chord = (6.0f64 * 0.002 - 3.0 * 0.002 * 0.002).sqrt();
+    assert!((f(&summary["mean_edge_length"]) / chord - 1.0).abs() < 0.2);
 }
