@@ -388,8 +388,9 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
 /// [`RemeshError::PositionCount`], [`RemeshError::NotTriangle`],
 /// [`RemeshError::NonFinite`] for bad input; [`RemeshError::Empty`] for a mesh without
 /// faces or of zero size; [`RemeshError::Options`] for a non-positive or non-finite
-/// length or factor, or a feature angle outside `[0, π]`;
-/// [`RemeshError::TooManyFaces`] when L is too small for the surface.
+/// length, factor or error, an adaptive smallest length above the largest, or a feature
+/// angle outside `[0, π]`; [`RemeshError::TooManyFaces`] when the target length is too
+/// small for the surface.
 ///
 /// # Complexity
 /// O(iterations · (F log F_in)) for a result of F faces on an input of F_in faces: each
