@@ -105,7 +105,10 @@ fn sharp(mesh: &HalfedgeMesh, x: &[DVec3], angle: f64) -> Vec<[DVec3; 2]> {
 /// the number of boundary loops, closedness, one position per vertex.
 fn assert_same_topology(input: &HalfedgeMesh, out: &HalfedgeMesh, y: &[DVec3], what: &str) {
     out.check_integrity().unwrap();
-    EditMesh::from_mesh(out, y).unwrap().check_integrity().unwrap();
+    EditMesh::from_mesh(out, y)
+        .unwrap()
+        .check_integrity()
+        .unwrap();
     assert!(out.is_triangle_mesh(), "{what}");
     assert_eq!(y.len(), out.n_vertices(), "{what}");
     assert!(y.iter().all(|p| p.is_finite()), "{what}");
@@ -177,7 +180,10 @@ fn edges_approach_the_target_and_vary_far_less_than_the_input() {
             (mean / target - 1.0).abs() < 0.12,
             "target {target}: mean {mean}"
         );
-        assert!(cv < 0.6 * cv_before, "target {target}: cv {cv} vs {cv_before}");
+        assert!(
+            cv < 0.6 * cv_before,
+            "target {target}: cv {cv} vs {cv_before}"
+        );
         assert!((report.mean_edge_length - mean).abs() < 1e-12);
         assert!((report.edge_length_cv - cv).abs() < 1e-12);
         assert!((report.edge_length_cv_before - cv_before).abs() < 1e-12);
@@ -199,7 +205,10 @@ fn the_block_gets_regular_edges_of_the_relative_length() {
     let (mean_before, cv_before) = mean_and_cv(&edge_lengths(&mesh, &block.positions));
     let (mean, cv) = mean_and_cv(&edge_lengths(&out, &y));
     assert!((report.target_edge_length / mean_before - 1.5).abs() < 1e-12);
-    assert!((mean / report.target_edge_length - 1.0).abs() < 0.15, "{mean}");
+    assert!(
+        (mean / report.target_edge_length - 1.0).abs() < 0.15,
+        "{mean}"
+    );
     assert!(cv < cv_before, "{cv} vs {cv_before}");
 }
 
@@ -299,7 +308,10 @@ fn grid_boundary_vertices_stay_on_the_boundary_polyline() {
         assert_same_topology(&mesh, &out, &y, "grid");
         for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
             let d = distance_to_segments(y[v.index()], &boundary);
-            assert!(d < 1e-12, "target {target}: boundary vertex {v:?} is {d} off");
+            assert!(
+                d < 1e-12,
+                "target {target}: boundary vertex {v:?} is {d} off"
+            );
         }
         // The corners stay, so the boundary is the same polygon.
         for c in [[0.0, 0.0], [10.0, 0.0], [0.0, 8.0], [10.0, 8.0]] {
@@ -360,10 +372,7 @@ fn bad_input_and_options_give_the_typed_error() {
     let x = &sphere.positions;
     let bad_options = |options: RemeshOptions| {
         assert!(
-            matches!(
-                remesh(&mesh, x, &options),
-                Err(RemeshError::Options { .. })
-            ),
+            matches!(remesh(&mesh, x, &options), Err(RemeshError::Options { .. })),
             "{options:?}"
         );
     };
@@ -393,10 +402,17 @@ fn bad_input_and_options_give_the_typed_error() {
     );
     let quads = primitives::cube_quads();
     assert!(matches!(
-        remesh(&quads.mesh().unwrap(), &quads.positions, &RemeshOptions::default()),
+        remesh(
+            &quads.mesh().unwrap(),
+            &quads.positions,
+            &RemeshOptions::default()
+        ),
         Err(RemeshError::NotTriangle { len: 4, .. })
     ));
-    assert_eq!(RemeshOptions::default().edge_length, EdgeLength::Relative(1.0));
+    assert_eq!(
+        RemeshOptions::default().edge_length,
+        EdgeLength::Relative(1.0)
+    );
     assert_eq!(RemeshOptions::default().iterations, 10);
 }
 

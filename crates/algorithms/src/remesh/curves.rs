@@ -175,9 +175,8 @@ impl CurveIndex {
             for x in c[0] - r..=c[0] + r {
                 for y in c[1] - r..=c[1] + r {
                     for z in c[2] - r..=c[2] + r {
-                        let on_ring = (x - c[0]).abs() == r
-                            || (y - c[1]).abs() == r
-                            || (z - c[2]).abs() == r;
+                        let on_ring =
+                            (x - c[0]).abs() == r || (y - c[1]).abs() == r || (z - c[2]).abs() == r;
                         if !on_ring {
                             continue;
                         }

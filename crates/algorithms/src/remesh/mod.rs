@@ -298,6 +298,11 @@ pub enum RemeshError {
     Metrics(#[from] beltrami_metrics::MetricsError),
 }
 
+/// Whether `x` is a number above zero.
+fn is_positive(x: f64) -> bool {
+    x > 0.0
+}
+
 /// The mean and coefficient of variation of the edge lengths of `mesh`.
 fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
     let lengths: Vec<f64> = mesh
@@ -323,7 +328,9 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
     let bad = |reason: String| Err(RemeshError::Options { reason });
     let target = match options.edge_length {
         EdgeLength::Absolute(l) if !(l.is_finite() && l > 0.0) => {
-            return bad(format!("the target edge length must be positive and finite, got {l}"));
+            return bad(format!(
+                "the target edge length must be positive and finite, got {l}"
+            ));
         }
         EdgeLength::Relative(r) if !(r.is_finite() && r > 0.0) => {
             return bad(format!(
@@ -436,18 +443,23 @@ pub fn remesh(
     }
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
-    let area = |edit: &EditMesh, f| {
-        curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0
-    };
+    let area =
+        |edit: &EditMesh, f| curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0;
     let total_area: f64 = edit.faces().map(|f| area(&edit, f)).sum();
-    if mesh.n_faces() == 0 || !(mean_before > 0.0) || !(total_area > 0.0) {
+    if mesh.n_faces() == 0 || !is_positive(mean_before) || !is_positive(total_area) {
         return Err(RemeshError::Empty);
     }
     let target = target_length(options, mean_before)?;
     let feature = edit.add_edge_property("remesh:feature", false)?;
     let corner = edit.add_vertex_property("remesh:corner", false)?;
     let corner_angle = options.feature_angle.unwrap_or(DEFAULT_CORNER_ANGLE);
-    let found = curves::detect(&mut edit, feature, corner, options.feature_angle, corner_angle);
+    let found = curves::detect(
+        &mut edit,
+        feature,
+        corner,
+        options.feature_angle,
+        corner_angle,
+    );
     let curves = curves::CurveIndex::new(&edit, feature);
     let index = SurfaceIndex::new(mesh, positions)?;
     let sizing = edit.add_vertex_property("remesh:sizing", target)?;
@@ -478,9 +490,13 @@ pub fn remesh(
             area(&edit, f) / (3f64.sqrt() / 4.0 * size * size)
         })
         .sum();
-    if !(predicted <= MAX_REMESH_FACES as f64) {
+    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
         return Err(RemeshError::TooManyFaces {
-            edge_length: edit.values(sizing).iter().copied().fold(f64::INFINITY, f64::min),
+            edge_length: edit
+                .values(sizing)
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
             predicted,
             max: MAX_REMESH_FACES,
         });
@@ -536,6 +552,9 @@ pub fn remesh(
         .filter(|&v| !out.is_isolated(v))
         .map(|v| out_positions[v.index()])
         .collect();
-    report.hausdorff = index.distances(&on_surface)?.into_iter().fold(0.0, f64::max);
+    report.hausdorff = index
+        .distances(&on_surface)?
+        .into_iter()
+        .fold(0.0, f64::max);
     Ok((out, out_positions, report))
 }

@@ -40,7 +40,9 @@ impl Remesher<'_> {
 
     /// The target length of an edge between `a` and `b`.
     fn size(&self, a: VertexId, b: VertexId) -> f64 {
-        self.mesh.get(self.sizing, a).min(*self.mesh.get(self.sizing, b))
+        self.mesh
+            .get(self.sizing, a)
+            .min(*self.mesh.get(self.sizing, b))
     }
 
     fn is_feature(&self, e: EdgeId) -> bool {
@@ -241,9 +243,7 @@ impl Remesher<'_> {
             let mut changed = false;
             for i in 0..self.mesh.edge_capacity() {
                 let e = EdgeId::new(i as u32);
-                if !self.mesh.is_live_edge(e)
-                    || self.is_feature(e)
-                    || self.mesh.is_boundary_edge(e)
+                if !self.mesh.is_live_edge(e) || self.is_feature(e) || self.mesh.is_boundary_edge(e)
                 {
                     continue;
                 }
@@ -384,7 +384,7 @@ fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
     let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
     let (wu, wv) = (w.dot(u), w.dot(v));
     let det = uu * vv - uv * uv;
-    if !(det > 0.0) {
+    if det.is_nan() || det <= 0.0 {
         return [1.0 / 3.0; 3];
     }
     let s = (vv * wu - uv * wv) / det;

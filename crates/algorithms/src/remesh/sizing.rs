@@ -43,7 +43,7 @@ fn max_abs_curvature(mesh: &EditMesh, v: VertexId) -> Option<f64> {
             }
         }
     }
-    if !(area > 0.0) {
+    if area.is_nan() || area <= 0.0 {
         return None;
     }
     let h = laplace.length() / (4.0 * area);
