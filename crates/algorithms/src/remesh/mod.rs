@@ -40,9 +40,19 @@
 //! across a non-feature edge, so the number of boundary loops, the genus and the
 //! feature network stay.
 //!
+//! ## Adaptive sizing
+//!
+//! With [`EdgeLength::Adaptive`] the single L becomes a length per vertex (Dunyach et
+//! al. 2013, pmp-library's `adaptive_remeshing`): from the largest principal curvature
+//! κ estimated on the input, the length `sqrt(6 e r − 3 e²)` of a chord deviating by the
+//! allowed error e from a circle of radius r = 1/κ, clamped to `[min_edge, max_edge]`.
+//! An edge's target is the smaller of its end points'.
+//!
 //! # References
 //! - M. Botsch, L. Kobbelt, "A remeshing approach to multiresolution modeling",
 //!   Symposium on Geometry Processing 2004.
+//! - M. Dunyach, D. Vanderhaeghe, L. Barthe, M. Botsch, "Adaptive remeshing for
+//!   real-time mesh deformation", Eurographics 2013 short papers.
 //! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
 //!   AK Peters 2010, §6.5 (incremental remeshing).
 //! - pmp-library, `src/pmp/algorithms/remeshing.cpp` (the same steps and thresholds).
