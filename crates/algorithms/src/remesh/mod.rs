@@ -19,6 +19,9 @@
 //!    (a [`SurfaceIndex`] built once), a vertex on a feature curve onto the input's
 //!    feature curves.
 //!
+//! After the last iteration, every non-feature edge opposite an angle above 170° (a
+//! *cap*) is flipped when that is valid and folds nothing, as pmp-library does.
+//!
 //! The thresholds 4/5 and 4/3 make the split and collapse steps converge: a split leaves
 //! halves of at least 2/3 L, which no collapse touches, and a collapse never makes an edge
 //! a split would cut again.
@@ -216,8 +219,11 @@ pub struct RemeshReport {
     pub splits: usize,
     /// Edges collapsed, in all iterations.
     pub collapses: usize,
-    /// Edges flipped, in all iterations.
+    /// Edges flipped, in all iterations and in the final removal of caps.
     pub flips: usize,
+    /// Of those, edges flipped at the end because they were opposite an angle above
+    /// 170° (pmp-library's "remove caps" step).
+    pub cap_flips: usize,
     /// Vertices of the input.
     pub vertices_before: usize,
     /// Faces of the input.
@@ -545,6 +551,11 @@ pub fn remesh(
         report.splits += splits;
         report.collapses += collapses;
         report.flips += flips;
+    }
+    if !report.iterations.is_empty() {
+        let caps = remesher.remove_caps()?;
+        report.flips += caps;
+        report.cap_flips = caps;
     }
     let mut edit = remesher.mesh;
     edit.remove_property(feature);

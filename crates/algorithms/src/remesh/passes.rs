@@ -282,6 +282,34 @@ impl Remesher<'_> {
         Ok(flips)
     }
 
+    /// Flips every interior non-feature edge opposite an angle above 170° (a *cap*, a
+    /// triangle flattened onto one edge), when the flip is valid and folds nothing: the
+    /// final step of pmp-library's remeshing. Returns the count.
+    pub(super) fn remove_caps(&mut self) -> Result<usize, RemeshError> {
+        let cap = 170f64.to_radians();
+        let mut flips = 0;
+        for i in 0..self.mesh.edge_capacity() {
+            let e = EdgeId::new(i as u32);
+            if !self.mesh.is_live_edge(e) || self.is_feature(e) || self.mesh.is_boundary_edge(e) {
+                continue;
+            }
+            let [h, t] = e.halfedges();
+            let (Some(b), Some(d)) = (self.mesh.opposite_vertex(h), self.mesh.opposite_vertex(t))
+            else {
+                continue;
+            };
+            let (a, c) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+            let p = |v: VertexId| self.mesh.position(v);
+            let angle = |o: VertexId| (p(a) - p(o)).angle_between(p(c) - p(o));
+            let largest = angle(b).max(angle(d));
+            if largest > cap && self.mesh.is_flip_ok(e) && self.flip_is_fine(e) {
+                self.mesh.flip_edge(e)?;
+                flips += 1;
+            }
+        }
+        Ok(flips)
+    }
+
     /// The unit area-weighted normal at `v` (zero when its triangles are degenerate).
     fn vertex_normal(&self, v: VertexId) -> DVec3 {
         let n: DVec3 = self
