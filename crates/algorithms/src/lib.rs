@@ -11,12 +11,15 @@
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
 //!   surfaces and the change of the surface measured;
+//! - [`remesh`]: isotropic remeshing (Botsch & Kobbelt 2004) towards a target edge
+//!   length by splits, collapses, flips and tangential relaxation, keeping the boundary
+//!   and sharp features and projecting the vertices back onto the input surface;
 //! - [`mesh_quality`] and [`flipped_faces`] (module [`quality`]): angles, aspect
 //!   ratios, edge lengths, valences and negative cotangent weights, the figures every
 //!   algorithm here is judged by.
 //!
-//! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
-//! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
+//! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T`
+//! (positions within 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
 //! repository has the rules, the numbering of the new vertices and the comparison.
 //! [`Scheme`] names a scheme at run time and predicts the size of the result before
 //! anything is computed.
@@ -41,9 +44,14 @@
 mod delaunay;
 mod error;
 pub mod quality;
+mod remesh;
 pub mod subdivision;
 
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
+pub use remesh::{
+    DEFAULT_CORNER_ANGLE, EdgeLength, MAX_REMESH_FACES, RemeshError, RemeshIteration,
+    RemeshOptions, RemeshReport, remesh,
+};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -32,6 +32,7 @@ mod info;
 mod load;
 mod memory;
 mod output;
+mod remesh;
 mod render;
 mod repair;
 mod residual;
@@ -83,6 +84,9 @@ enum Command {
     /// Flip edges until no cotangent weight is negative (a Delaunay mesh on the same
     /// vertices), optionally keeping sharp and curved edges.
     Delaunay(delaunay::DelaunayArgs),
+    /// Remesh isotropically towards a target edge length (Botsch & Kobbelt 2004),
+    /// keeping the boundary and, with --features, sharp edges.
+    Remesh(remesh::RemeshArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -191,6 +195,7 @@ where
         Command::Study(args) => study::run(args, registry, &mut stdout),
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
+        Command::Remesh(args) => remesh::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),

@@ -1,0 +1,581 @@
+//! Isotropic remeshing: a new triangulation of the same surface whose edges all have
+//! about the same length L, with the sharp features and the boundary kept.
+//!
+//! The algorithm of Botsch and Kobbelt (2004), as pmp-library's `uniform_remeshing`
+//! runs it, on the editable [`EditMesh`]. Each of the `iterations`:
+//!
+//! 1. **split** every edge longer than 4/3 L at its midpoint (repeatedly);
+//! 2. **collapse** every edge shorter than 4/5 L into one of its end points, unless the
+//!    topology forbids it ([`EditMesh::is_collapse_ok`]), or it would make an edge
+//!    longer than 4/3 L, turn a triangle over, move a corner or leave a feature curve;
+//!    of two possible directions, the vertex of lower valence goes;
+//! 3. **flip** every interior, non-feature edge whose flip brings the valences of its
+//!    four vertices closer to 6 (4 on the boundary), when [`EditMesh::is_flip_ok`] and no
+//!    triangle folds;
+//! 4. **relax** tangentially: five Jacobi sweeps moving each vertex towards the
+//!    area-weighted centroid of its triangles within its tangent plane (a vertex on a
+//!    feature curve along the curve's tangent, towards the mean of its two feature
+//!    edges' midpoints), then **project** every vertex back onto the *input* surface
+//!    (a [`SurfaceIndex`] built once), a vertex on a feature curve onto the input's
+//!    feature curves.
+//!
+//! After the last iteration, every non-feature edge opposite an angle above 170° (a
+//! *cap*) is flipped when that is valid and folds nothing, as pmp-library does.
+//!
+//! The thresholds 4/5 and 4/3 make the split and collapse steps converge: a split leaves
+//! halves of at least 2/3 L, which no collapse touches, and a collapse never makes an edge
+//! a split would cut again.
+//!
+//! ## Features and boundary
+//!
+//! With [`RemeshOptions::feature_angle`] = θ, an interior edge whose two triangles'
+//! normals differ by more than θ is a *feature edge*; boundary edges are always feature
+//! edges (a boundary is a curve to keep). The flag is an edge property of the
+//! [`EditMesh`], so it follows the edits: both halves of a split feature edge are
+//! features; flips never touch a feature edge; a collapse along a feature keeps the
+//! flag of the surviving edge and is refused when it would merge a feature edge away.
+//! A vertex with one or more than two feature edges, or whose two feature edges turn by
+//! more than θ (without a feature angle: by more than [`DEFAULT_CORNER_ANGLE`]), is a
+//! *corner*: it never moves and is never collapsed away. Other feature vertices move
+//! only along their curve and are projected back onto the input's feature edges, so
+//! every output vertex on a feature lies on an input feature edge, and every boundary
+//! vertex on the input's boundary polyline. No collapse joins two feature vertices
+//! across a non-feature edge, so the number of boundary loops, the genus and the
+//! feature network stay.
+//!
+//! ## Adaptive sizing
+//!
+//! With [`EdgeLength::Adaptive`] the single L becomes a length per vertex (Dunyach et
+//! al. 2013, pmp-library's `adaptive_remeshing`): from the largest principal curvature
+//! κ estimated on the input, the length `sqrt(6 e r − 3 e²)` of a chord deviating by the
+//! allowed error e from a circle of radius r = 1/κ, clamped to `[min_edge, max_edge]`.
+//! An edge's target is the smaller of its end points'.
+//!
+//! # References
+//! - M. Botsch, L. Kobbelt, "A remeshing approach to multiresolution modeling",
+//!   Symposium on Geometry Processing 2004.
+//! - M. Dunyach, D. Vanderhaeghe, L. Barthe, M. Botsch, "Adaptive remeshing for
+//!   real-time mesh deformation", Eurographics 2013 short papers.
+//! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
+//!   AK Peters 2010, §6.5 (incremental remeshing).
+//! - pmp-library, `src/pmp/algorithms/remeshing.cpp` (the same steps and thresholds).
+
+mod curves;
+mod passes;
+mod sizing;
+
+use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, TopologyError};
+use beltrami_metrics::distance::SurfaceIndex;
+
+use passes::Remesher;
+
+/// Without a feature angle, a boundary vertex whose two boundary edges turn by more than
+/// this (30°, in radians) is a corner and stays.
+pub const DEFAULT_CORNER_ANGLE: f64 = std::f64::consts::PI / 6.0;
+
+/// The most triangles a remesh may aim at (about `area / (√3/4 · L²)`, summed over the
+/// input's faces with the smallest target length at their corners); a smaller target
+/// length is refused with [`RemeshError::TooManyFaces`] before any work.
+pub const MAX_REMESH_FACES: usize = 50_000_000;
+
+/// How the target edge length L is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum EdgeLength {
+    /// L in the positions' unit.
+    Absolute(f64),
+    /// L as a multiple of the input's mean edge length.
+    Relative(f64),
+    /// Curvature-adaptive sizing (Dunyach et al. 2013, pmp-library's
+    /// `adaptive_remeshing`): at each vertex, the length of a chord that deviates by
+    /// `approx_error` from a circle of the largest principal curvature radius, clamped to
+    /// `[min_edge, max_edge]`. The curvature is estimated on the input (cotangent mean
+    /// curvature and angle defect) at vertices off the features and the boundary,
+    /// smoothed twice over the neighbours, and follows the vertices: a split averages its
+    /// end points' lengths, a projection interpolates the input's field.
+    Adaptive {
+        /// The smallest target edge length.
+        min_edge: f64,
+        /// The largest target edge length.
+        max_edge: f64,
+        /// The allowed distance between an edge and the curved surface.
+        approx_error: f64,
+    },
+}
+
+/// The settings of [`remesh`].
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{EdgeLength, RemeshOptions};
+/// let options = RemeshOptions::default()
+///     .edge_length(0.1)
+///     .iterations(5)
+///     .feature_angle(45f64.to_radians());
+/// assert_eq!(options.edge_length, EdgeLength::Absolute(0.1));
+/// assert!(options.projection);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct RemeshOptions {
+    /// The target edge length L. Default: the input's mean edge length
+    /// (`Relative(1.0)`).
+    pub edge_length: EdgeLength,
+    /// The number of split–collapse–flip–relax iterations (default 10, as pmp-library).
+    pub iterations: usize,
+    /// Edges whose two triangles' normals differ by more than this angle (radians, in
+    /// `[0, π]`) are feature edges and are kept. `None` (the default): no interior edge
+    /// is a feature; the boundary is kept in any case.
+    pub feature_angle: Option<f64>,
+    /// Project the vertices back onto the input surface after each iteration (default
+    /// `true`). Without it the vertices only move within their tangent planes, and a
+    /// curved surface shrinks a little. Feature vertices are projected onto the input's
+    /// feature curves either way.
+    pub projection: bool,
+}
+
+impl Default for RemeshOptions {
+    fn default() -> Self {
+        Self {
+            edge_length: EdgeLength::Relative(1.0),
+            iterations: 10,
+            feature_angle: None,
+            projection: true,
+        }
+    }
+}
+
+impl RemeshOptions {
+    /// Sets the target edge length L, in the positions' unit.
+    #[must_use]
+    pub fn edge_length(mut self, length: f64) -> Self {
+        self.edge_length = EdgeLength::Absolute(length);
+        self
+    }
+
+    /// Sets the target edge length to `factor` times the input's mean edge length.
+    #[must_use]
+    pub fn relative_edge_length(mut self, factor: f64) -> Self {
+        self.edge_length = EdgeLength::Relative(factor);
+        self
+    }
+
+    /// Sets curvature-adaptive sizing ([`EdgeLength::Adaptive`]), lengths in the
+    /// positions' unit.
+    #[must_use]
+    pub fn adaptive(mut self, min_edge: f64, max_edge: f64, approx_error: f64) -> Self {
+        self.edge_length = EdgeLength::Adaptive {
+            min_edge,
+            max_edge,
+            approx_error,
+        };
+        self
+    }
+
+    /// Sets the number of iterations.
+    #[must_use]
+    pub fn iterations(mut self, iterations: usize) -> Self {
+        self.iterations = iterations;
+        self
+    }
+
+    /// Sets the feature angle, in radians.
+    #[must_use]
+    pub fn feature_angle(mut self, radians: f64) -> Self {
+        self.feature_angle = Some(radians);
+        self
+    }
+
+    /// Turns the projection onto the input surface on or off.
+    #[must_use]
+    pub fn projection(mut self, on: bool) -> Self {
+        self.projection = on;
+        self
+    }
+}
+
+/// What one iteration of [`remesh`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct RemeshIteration {
+    /// Edges split.
+    pub splits: usize,
+    /// Edges collapsed.
+    pub collapses: usize,
+    /// Edges flipped.
+    pub flips: usize,
+}
+
+/// What [`remesh`] did. Lengths are in the positions' unit.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct RemeshReport {
+    /// The target edge length L used; for adaptive sizing, the mean of the sizing field
+    /// over the input's vertices.
+    pub target_edge_length: f64,
+    /// The counts of each iteration, in order.
+    pub iterations: Vec<RemeshIteration>,
+    /// Edges split, in all iterations.
+    pub splits: usize,
+    /// Edges collapsed, in all iterations.
+    pub collapses: usize,
+    /// Edges flipped, in all iterations and in the final removal of caps.
+    pub flips: usize,
+    /// Of those, edges flipped at the end because they were opposite an angle above
+    /// 170° (pmp-library's "remove caps" step).
+    pub cap_flips: usize,
+    /// Vertices of the input.
+    pub vertices_before: usize,
+    /// Faces of the input.
+    pub faces_before: usize,
+    /// Vertices of the output.
+    pub vertices: usize,
+    /// Faces of the output.
+    pub faces: usize,
+    /// The input's mean edge length.
+    pub mean_edge_length_before: f64,
+    /// The input's edge-length coefficient of variation (standard deviation / mean).
+    pub edge_length_cv_before: f64,
+    /// The output's mean edge length.
+    pub mean_edge_length: f64,
+    /// The output's edge-length coefficient of variation.
+    pub edge_length_cv: f64,
+    /// Interior edges of the input found sharper than the feature angle.
+    pub feature_edges: usize,
+    /// Boundary edges of the input (kept as curves).
+    pub boundary_edges: usize,
+    /// Vertices of the input that are corners and stay where they are.
+    pub corners: usize,
+    /// The largest distance from an output vertex to the input surface: the one-sided
+    /// Hausdorff distance at the vertices (a lower bound of the one between surfaces).
+    /// Isolated vertices (in no face) are kept where they are and not counted.
+    pub hausdorff: f64,
+}
+
+/// Why [`remesh`] could not run. Every variant names the offending element or value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RemeshError {
+    /// A face is not a triangle; remeshing needs a triangle mesh.
+    #[error("face {face} has {len} vertices; remeshing needs a triangle mesh")]
+    NotTriangle {
+        /// The face index (0-based, in mesh order).
+        face: usize,
+        /// The number of vertices it has.
+        len: usize,
+    },
+    /// The positions slice does not have one position per vertex.
+    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
+    PositionCount {
+        /// The length of the positions slice.
+        positions: usize,
+        /// The number of vertices of the mesh.
+        vertices: usize,
+    },
+    /// A position is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite position")]
+    NonFinite {
+        /// The vertex index.
+        vertex: usize,
+    },
+    /// The mesh has no faces, or all its edges have length zero: there is no surface to
+    /// remesh and no mean edge length.
+    #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
+    Empty,
+    /// An option is out of its range.
+    #[error("invalid option: {reason}")]
+    Options {
+        /// The problem in words.
+        reason: String,
+    },
+    /// The target length is so small for the surface's area that the result would be
+    /// too large.
+    #[error(
+        "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
+    )]
+    TooManyFaces {
+        /// The (smallest) target edge length.
+        edge_length: f64,
+        /// The estimated number of triangles, `area / (√3/4 · L²)`.
+        predicted: f64,
+        /// [`MAX_REMESH_FACES`].
+        max: usize,
+    },
+    /// An edit the checks allowed was refused: a defect of this crate, reported rather
+    /// than panicking.
+    #[error("an edit failed: {0}")]
+    Edit(#[from] beltrami_halfedge::EditError),
+    /// The input or the result did not convert between the frozen and the editable
+    /// mesh.
+    #[error("{0}")]
+    Topology(#[from] TopologyError),
+    /// A closest-point query failed (a defect: the positions are finite).
+    #[error("projecting onto the input: {0}")]
+    Metrics(#[from] beltrami_metrics::MetricsError),
+}
+
+/// Whether `x` is a number above zero.
+fn is_positive(x: f64) -> bool {
+    x > 0.0
+}
+
+/// The mean and coefficient of variation of the edge lengths of `mesh`.
+fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
+    let lengths: Vec<f64> = mesh
+        .edges()
+        .map(|e| {
+            let [a, b] = mesh.edge_vertices(e);
+            mesh.position(a).distance(mesh.position(b))
+        })
+        .collect();
+    if lengths.is_empty() {
+        return (0.0, 0.0);
+    }
+    let n = lengths.len() as f64;
+    let mean = lengths.iter().sum::<f64>() / n;
+    let var = lengths.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / n;
+    let cv = if mean > 0.0 { var.sqrt() / mean } else { 0.0 };
+    (mean, cv)
+}
+
+/// Checks the options against the input and returns the target edge length (the
+/// smallest one for adaptive sizing).
+fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshError> {
+    let bad = |reason: String| Err(RemeshError::Options { reason });
+    let target = match options.edge_length {
+        EdgeLength::Absolute(l) if !(l.is_finite() && l > 0.0) => {
+            return bad(format!(
+                "the target edge length must be positive and finite, got {l}"
+            ));
+        }
+        EdgeLength::Relative(r) if !(r.is_finite() && r > 0.0) => {
+            return bad(format!(
+                "the relative target edge length must be positive and finite, got {r}"
+            ));
+        }
+        EdgeLength::Adaptive {
+            min_edge,
+            max_edge,
+            approx_error,
+        } => {
+            for (name, x) in [
+                ("the smallest edge length", min_edge),
+                ("the largest edge length", max_edge),
+                ("the approximation error", approx_error),
+            ] {
+                if !(x.is_finite() && x > 0.0) {
+                    return bad(format!("{name} must be positive and finite, got {x}"));
+                }
+            }
+            if min_edge > max_edge {
+                return bad(format!(
+                    "the smallest edge length {min_edge} exceeds the largest {max_edge}"
+                ));
+            }
+            min_edge
+        }
+        EdgeLength::Absolute(l) => l,
+        EdgeLength::Relative(r) => r * mean_edge,
+    };
+    if let Some(a) = options.feature_angle
+        && !(0.0..=std::f64::consts::PI).contains(&a)
+    {
+        return bad(format!(
+            "the feature angle must be between 0 and pi radians, got {a}"
+        ));
+    }
+    Ok(target)
+}
+
+/// Remeshes a triangle mesh isotropically: returns a new mesh of the same surface whose
+/// edges have about the target length L, its positions, and a report.
+///
+/// Botsch and Kobbelt's incremental remeshing, as pmp-library's `uniform_remeshing`:
+/// each iteration splits the edges longer than 4/3 L at their midpoints, collapses those
+/// shorter than 4/5 L (unless the topology, a feature, a corner, a new edge longer than
+/// 4/3 L or a folded triangle forbids it), flips edges towards valence 6 (4 on the
+/// boundary), relaxes the vertices tangentially (area-weighted centroids in the tangent
+/// plane; feature vertices along their curve) and projects them back onto the input
+/// surface (feature vertices onto the input's feature curves). Boundary edges, and with
+/// [`RemeshOptions::feature_angle`] the sharp edges, are feature curves: never flipped,
+/// never collapsed across; corners (where other than two feature edges meet, or the
+/// curve turns by more than the feature angle or [`DEFAULT_CORNER_ANGLE`]) never move.
+/// `docs/remeshing.md` in the repository has the details and measurements.
+///
+/// The result has the input's topology (Euler characteristic, number
+/// of boundary loops), its boundary and feature curves, and passes
+/// [`EditMesh::check_integrity`]; the same input and options give the same output, bit
+/// for bit. Vertices and faces are numbered afresh.
+///
+/// # Errors
+/// [`RemeshError::PositionCount`], [`RemeshError::NotTriangle`],
+/// [`RemeshError::NonFinite`] for bad input; [`RemeshError::Empty`] for a mesh without
+/// faces or of zero size; [`RemeshError::Options`] for a non-positive or non-finite
+/// length, factor or error, an adaptive smallest length above the largest, or a feature
+/// angle outside `[0, π]`; [`RemeshError::TooManyFaces`] when the target length is too
+/// small for the surface.
+///
+/// # Complexity
+/// O(iterations · (F log F_in)) for a result of F faces on an input of F_in faces: each
+/// step is linear in the mesh, and a projection is a search in the input's hierarchy.
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{remesh, RemeshOptions};
+/// use beltrami_halfedge::primitives;
+///
+/// let sphere = primitives::icosphere(3);
+/// let mesh = sphere.mesh()?;
+/// let options = RemeshOptions::default().relative_edge_length(2.0);
+/// let (coarse, positions, report) = remesh(&mesh, &sphere.positions, &options)?;
+/// assert!(coarse.n_faces() < mesh.n_faces() / 2);
+/// assert_eq!(positions.len(), coarse.n_vertices());
+/// assert!((report.mean_edge_length / report.target_edge_length - 1.0).abs() < 0.15);
+/// assert!(report.hausdorff < 1e-9); // the vertices lie on the input surface
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # References
+/// M. Botsch, L. Kobbelt, "A remeshing approach to multiresolution modeling", SGP 2004.
+pub fn remesh(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &RemeshOptions,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
+    if positions.len() != mesh.n_vertices() {
+        return Err(RemeshError::PositionCount {
+            positions: positions.len(),
+            vertices: mesh.n_vertices(),
+        });
+    }
+    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
+        return Err(RemeshError::NotTriangle {
+            face: f.index(),
+            len: mesh.face_valence(f),
+        });
+    }
+    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(RemeshError::NonFinite { vertex: v });
+    }
+    let mut edit = EditMesh::from_mesh(mesh, positions)?;
+    let (mean_before, cv_before) = edge_length_stats(&edit);
+    let area =
+        |edit: &EditMesh, f| curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0;
+    let total_area: f64 = edit.faces().map(|f| area(&edit, f)).sum();
+    if mesh.n_faces() == 0 || !is_positive(mean_before) || !is_positive(total_area) {
+        return Err(RemeshError::Empty);
+    }
+    let target = target_length(options, mean_before)?;
+    let feature = edit.add_edge_property("remesh:feature", false)?;
+    let corner = edit.add_vertex_property("remesh:corner", false)?;
+    let corner_angle = options.feature_angle.unwrap_or(DEFAULT_CORNER_ANGLE);
+    let found = curves::detect(
+        &mut edit,
+        feature,
+        corner,
+        options.feature_angle,
+        corner_angle,
+    );
+    let curves = curves::CurveIndex::new(&edit, feature);
+    let index = SurfaceIndex::new(mesh, positions)?;
+    let sizing = edit.add_vertex_property("remesh:sizing", target)?;
+    let mut reference = None;
+    let mut target = target;
+    if let EdgeLength::Adaptive {
+        min_edge,
+        max_edge,
+        approx_error,
+    } = options.edge_length
+    {
+        let field = sizing::sizing_field(&edit, feature, min_edge, max_edge, approx_error);
+        for v in mesh.vertices() {
+            edit.set(sizing, v, field[v.index()]);
+        }
+        target = field.iter().sum::<f64>() / field.len() as f64;
+        reference = Some((mesh, field));
+    }
+    // The size of the result, estimated before any work: each face's area over that of
+    // an equilateral triangle of its smallest corner's target length.
+    let predicted: f64 = edit
+        .faces()
+        .map(|f| {
+            let size = edit
+                .vertices_around_face(f)
+                .map(|v| *edit.get(sizing, v))
+                .fold(f64::INFINITY, f64::min);
+            area(&edit, f) / (3f64.sqrt() / 4.0 * size * size)
+        })
+        .sum();
+    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
+        return Err(RemeshError::TooManyFaces {
+            edge_length: edit
+                .values(sizing)
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
+            predicted,
+            max: MAX_REMESH_FACES,
+        });
+    }
+
+    let mut remesher = Remesher {
+        mesh: edit,
+        feature,
+        corner,
+        sizing,
+        surface: options.projection.then_some(&index),
+        reference: if options.projection { reference } else { None },
+        curves,
+    };
+    let mut report = RemeshReport {
+        target_edge_length: target,
+        vertices_before: mesh.n_vertices(),
+        faces_before: mesh.n_faces(),
+        mean_edge_length_before: mean_before,
+        edge_length_cv_before: cv_before,
+        feature_edges: found.feature_edges,
+        boundary_edges: found.boundary_edges,
+        corners: found.corners,
+        ..RemeshReport::default()
+    };
+    for _ in 0..options.iterations {
+        let splits = remesher.split_long_edges()?;
+        let collapses = remesher.collapse_short_edges()?;
+        let flips = remesher.flip_edges()?;
+        remesher.relax()?;
+        report.iterations.push(RemeshIteration {
+            splits,
+            collapses,
+            flips,
+        });
+        report.splits += splits;
+        report.collapses += collapses;
+        report.flips += flips;
+    }
+    if !report.iterations.is_empty() {
+        let caps = remesher.remove_caps()?;
+        report.flips += caps;
+        report.cap_flips = caps;
+    }
+    let mut edit = remesher.mesh;
+    edit.remove_property(feature);
+    edit.remove_property(corner);
+    edit.remove_property(sizing);
+    edit.garbage_collection();
+    let (mean, cv) = edge_length_stats(&edit);
+    let (out, out_positions) = edit.into_mesh()?;
+    report.vertices = out.n_vertices();
+    report.faces = out.n_faces();
+    report.mean_edge_length = mean;
+    report.edge_length_cv = cv;
+    let on_surface: Vec<DVec3> = out
+        .vertices()
+        .filter(|&v| !out.is_isolated(v))
+        .map(|v| out_positions[v.index()])
+        .collect();
+    report.hausdorff = index
+        .distances(&on_surface)?
+        .into_iter()
+        .fold(0.0, f64::max);
+    Ok((out, out_positions, report))
+}

@@ -1,0 +1,421 @@
+//! The four steps of one remeshing iteration on the [`EditMesh`]: split, collapse, flip,
+//! relax (with the projections).
+
+use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
+use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_metrics::distance::SurfaceIndex;
+
+use super::RemeshError;
+use super::curves::{CurveIndex, feature_count, triangle_normal};
+
+/// Passes of one step over all edges, at most (pmp-library's limit): a pass that changes
+/// nothing ends the step earlier.
+const MAX_PASSES: usize = 10;
+
+/// Relaxation sweeps per iteration (pmp-library's value).
+const RELAX_SWEEPS: usize = 5;
+
+/// The mesh being remeshed with its flags and the input surface.
+pub(super) struct Remesher<'a> {
+    pub(super) mesh: EditMesh,
+    pub(super) feature: EdgeProperty<bool>,
+    pub(super) corner: VertexProperty<bool>,
+    /// The target edge length at each vertex: L everywhere for uniform remeshing, the
+    /// curvature-adaptive field otherwise. An edge's target is the smaller of its end
+    /// points'.
+    pub(super) sizing: VertexProperty<f64>,
+    /// The input surface, when vertices are projected onto it.
+    pub(super) surface: Option<&'a SurfaceIndex>,
+    /// For adaptive sizing: the input mesh and its sizing field, interpolated at the
+    /// projected points.
+    pub(super) reference: Option<(&'a HalfedgeMesh, Vec<f64>)>,
+    /// The input's feature curves (and boundary).
+    pub(super) curves: CurveIndex,
+}
+
+impl Remesher<'_> {
+    fn length(&self, a: VertexId, b: VertexId) -> f64 {
+        self.mesh.position(a).distance(self.mesh.position(b))
+    }
+
+    /// The target length of an edge between `a` and `b`.
+    fn size(&self, a: VertexId, b: VertexId) -> f64 {
+        self.mesh
+            .get(self.sizing, a)
+            .min(*self.mesh.get(self.sizing, b))
+    }
+
+    fn is_feature(&self, e: EdgeId) -> bool {
+        *self.mesh.get(self.feature, e)
+    }
+
+    fn is_corner(&self, v: VertexId) -> bool {
+        *self.mesh.get(self.corner, v)
+    }
+
+    fn features_at(&self, v: VertexId) -> usize {
+        feature_count(&self.mesh, self.feature, v)
+    }
+
+    /// Projects `v` onto the input: onto the feature curves when it lies on a feature,
+    /// else onto the surface (when projection is on). Corners and isolated vertices
+    /// stay.
+    fn project(&mut self, v: VertexId) -> Result<(), RemeshError> {
+        if self.is_corner(v) || self.mesh.is_isolated(v) {
+            return Ok(());
+        }
+        let p = self.mesh.position(v);
+        if self.features_at(v) > 0 {
+            let q = self.curves.closest_point(p);
+            self.mesh.set_position(v, q);
+        } else if let Some(surface) = self.surface {
+            let closest = surface.closest_point(p)?;
+            self.mesh.set_position(v, closest.point);
+            if let Some((input, sizing)) = &self.reference {
+                let corners = input.triangle_vertices(closest.face);
+                let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
+                let weights = barycentric(closest.point, a, b, c);
+                let size: f64 = corners
+                    .iter()
+                    .zip(weights)
+                    .map(|(w, t)| t * sizing[w.index()])
+                    .sum();
+                if size.is_finite() && size > 0.0 {
+                    self.mesh.set(self.sizing, v, size);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Splits every edge longer than 4/3 L at its midpoint, repeatedly; the halves of a
+    /// feature edge stay features (the edge property's split rule). Returns the count.
+    pub(super) fn split_long_edges(&mut self) -> Result<usize, RemeshError> {
+        let mut splits = 0;
+        for _ in 0..MAX_PASSES {
+            let mut changed = false;
+            for i in 0..self.mesh.edge_capacity() {
+                let e = EdgeId::new(i as u32);
+                if !self.mesh.is_live_edge(e) {
+                    continue;
+                }
+                let [a, b] = self.mesh.edge_vertices(e);
+                if self.length(a, b) <= 4.0 / 3.0 * self.size(a, b) {
+                    continue;
+                }
+                let mid = (self.mesh.position(a) + self.mesh.position(b)) * 0.5;
+                let v = self.mesh.split_edge(e, mid)?;
+                self.project(v)?;
+                splits += 1;
+                changed = true;
+            }
+            if !changed {
+                break;
+            }
+        }
+        Ok(splits)
+    }
+
+    /// Whether removing `v0` by collapsing `h = v0 → v1` keeps every edge at most
+    /// `4/3 L` and turns no surviving triangle over (its normal keeps a positive dot
+    /// product with the old one and a non-zero length).
+    fn collapse_is_fine(&self, h: HalfedgeId) -> bool {
+        let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+        let (p0, p1) = (self.mesh.position(v0), self.mesh.position(v1));
+        for g in self.mesh.halfedges_around_vertex(v0) {
+            let w = self.mesh.to_vertex(g);
+            if w != v1 && self.mesh.position(w).distance(p1) > 4.0 / 3.0 * self.size(v1, w) {
+                return false;
+            }
+            if self.mesh.face(g).is_none() {
+                continue;
+            }
+            let n = self.mesh.next(g);
+            let (a, b) = (self.mesh.to_vertex(g), self.mesh.to_vertex(n));
+            if a == v1 || b == v1 {
+                continue; // removed by the collapse
+            }
+            let (pa, pb) = (self.mesh.position(a), self.mesh.position(b));
+            let before = (pa - p0).cross(pb - p0);
+            let after = (pa - p1).cross(pb - p1);
+            if before.dot(after) <= 0.0 || after.length_squared() == 0.0 {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Whether a collapse removing `from(h)` would drop a feature edge: the edges merged
+    /// away in the triangles at the edge (`prev(h)` and `next(twin h)`) must not be
+    /// features, since the merged edge at the kept vertex keeps its own flag.
+    fn collapse_drops_feature(&self, h: HalfedgeId) -> bool {
+        let t = h.twin();
+        (self.mesh.face(h).is_some() && self.is_feature(self.mesh.prev(h).edge()))
+            || (self.mesh.face(t).is_some() && self.is_feature(self.mesh.next(t).edge()))
+    }
+
+    /// Collapses every edge shorter than 4/5 L into one of its end points, repeatedly,
+    /// unless that breaks the topology, a feature or boundary curve, a corner, or makes
+    /// an edge longer than 4/3 L or a folded triangle. Returns the count.
+    pub(super) fn collapse_short_edges(&mut self) -> Result<usize, RemeshError> {
+        let mut collapses = 0;
+        for _ in 0..MAX_PASSES {
+            let mut changed = false;
+            for i in 0..self.mesh.edge_capacity() {
+                let e = EdgeId::new(i as u32);
+                if !self.mesh.is_live_edge(e) {
+                    continue;
+                }
+                let [h01, h10] = e.halfedges();
+                let (v0, v1) = (self.mesh.from_vertex(h01), self.mesh.to_vertex(h01));
+                if self.length(v0, v1) >= 4.0 / 5.0 * self.size(v0, v1) {
+                    continue;
+                }
+                // ok01: remove v0 (collapse h01); ok10: remove v1 (collapse h10).
+                let (mut ok01, mut ok10) = (true, true);
+                let (c0, c1) = (self.is_corner(v0), self.is_corner(v1));
+                ok01 &= !c0;
+                ok10 &= !c1;
+                let (f0, f1) = (self.features_at(v0) > 0, self.features_at(v1) > 0);
+                if f0 && f1 {
+                    if !self.is_feature(e) {
+                        continue; // a shortcut between two curves, or across one
+                    }
+                    ok01 &= !self.collapse_drops_feature(h01);
+                    ok10 &= !self.collapse_drops_feature(h10);
+                } else if f0 {
+                    ok01 = false;
+                } else if f1 {
+                    ok10 = false;
+                }
+                ok01 = ok01 && self.mesh.is_collapse_ok(h01);
+                ok10 = ok10 && self.mesh.is_collapse_ok(h10);
+                // Both possible: remove the vertex of lower valence first.
+                let order = if self.mesh.valence(v0) < self.mesh.valence(v1) {
+                    [(ok01, h01), (ok10, h10)]
+                } else {
+                    [(ok10, h10), (ok01, h01)]
+                };
+                for (ok, h) in order {
+                    if ok && self.collapse_is_fine(h) {
+                        self.mesh.collapse_edge(h)?;
+                        collapses += 1;
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        Ok(collapses)
+    }
+
+    /// Whether flipping interior edge `e` keeps both new triangles facing the way the two
+    /// old ones face (no fold-over, no degenerate triangle).
+    fn flip_is_fine(&self, e: EdgeId) -> bool {
+        let [h, t] = e.halfedges();
+        let old = triangle_normal(&self.mesh, h) + triangle_normal(&self.mesh, t);
+        let (Some(a), Some(b)) = (self.mesh.opposite_vertex(h), self.mesh.opposite_vertex(t))
+        else {
+            return false;
+        };
+        let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+        let p = |v: VertexId| self.mesh.position(v);
+        // After the flip: (a, b, v1) and (b, a, v0).
+        let n1 = (p(b) - p(a)).cross(p(v1) - p(a));
+        let n2 = (p(a) - p(b)).cross(p(v0) - p(b));
+        n1.dot(old) > 0.0 && n2.dot(old) > 0.0 && n1.dot(n2) > 0.0
+    }
+
+    /// Flips every interior, non-feature edge away from corners whose flip brings the
+    /// valences of its four vertices closer to 6 (4 on the boundary), repeatedly, when
+    /// the flip is valid and folds nothing. Returns the count.
+    pub(super) fn flip_edges(&mut self) -> Result<usize, RemeshError> {
+        let mut valence = vec![0i64; self.mesh.vertex_capacity()];
+        for v in self.mesh.vertices() {
+            valence[v.index()] = self.mesh.valence(v) as i64;
+        }
+        let optimal = |m: &EditMesh, v: VertexId| if m.is_boundary_vertex(v) { 4i64 } else { 6 };
+        let mut flips = 0;
+        for _ in 0..MAX_PASSES {
+            let mut changed = false;
+            for i in 0..self.mesh.edge_capacity() {
+                let e = EdgeId::new(i as u32);
+                if !self.mesh.is_live_edge(e) || self.is_feature(e) || self.mesh.is_boundary_edge(e)
+                {
+                    continue;
+                }
+                let [h, t] = e.halfedges();
+                let (Some(a), Some(b)) =
+                    (self.mesh.opposite_vertex(h), self.mesh.opposite_vertex(t))
+                else {
+                    continue;
+                };
+                let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+                let quad = [v0, v1, a, b];
+                if quad.iter().any(|&v| self.is_corner(v)) {
+                    continue;
+                }
+                let change = [-1, -1, 1, 1];
+                let mut before = 0;
+                let mut after = 0;
+                for (&v, d) in quad.iter().zip(change) {
+                    let off = valence[v.index()] - optimal(&self.mesh, v);
+                    before += off * off;
+                    after += (off + d) * (off + d);
+                }
+                if after < before && self.mesh.is_flip_ok(e) && self.flip_is_fine(e) {
+                    self.mesh.flip_edge(e)?;
+                    for (&v, d) in quad.iter().zip(change) {
+                        valence[v.index()] += d;
+                    }
+                    flips += 1;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        Ok(flips)
+    }
+
+    /// Flips every interior non-feature edge opposite an angle above 170° (a *cap*, a
+    /// triangle flattened onto one edge), when the flip is valid and folds nothing: the
+    /// final step of pmp-library's remeshing. Returns the count.
+    pub(super) fn remove_caps(&mut self) -> Result<usize, RemeshError> {
+        let cap = 170f64.to_radians();
+        let mut flips = 0;
+        for i in 0..self.mesh.edge_capacity() {
+            let e = EdgeId::new(i as u32);
+            if !self.mesh.is_live_edge(e) || self.is_feature(e) || self.mesh.is_boundary_edge(e) {
+                continue;
+            }
+            let [h, t] = e.halfedges();
+            let (Some(b), Some(d)) = (self.mesh.opposite_vertex(h), self.mesh.opposite_vertex(t))
+            else {
+                continue;
+            };
+            let (a, c) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+            let p = |v: VertexId| self.mesh.position(v);
+            let angle = |o: VertexId| (p(a) - p(o)).angle_between(p(c) - p(o));
+            let largest = angle(b).max(angle(d));
+            if largest > cap && self.mesh.is_flip_ok(e) && self.flip_is_fine(e) {
+                self.mesh.flip_edge(e)?;
+                flips += 1;
+            }
+        }
+        Ok(flips)
+    }
+
+    /// The unit area-weighted normal at `v` (zero when its triangles are degenerate).
+    fn vertex_normal(&self, v: VertexId) -> DVec3 {
+        let n: DVec3 = self
+            .mesh
+            .halfedges_around_vertex(v)
+            .map(|h| triangle_normal(&self.mesh, h))
+            .sum();
+        n.normalize_or_zero()
+    }
+
+    /// The move of `v` in one relaxation sweep: a vertex on a feature curve moves along
+    /// the curve's tangent towards the length-weighted mean of its two feature edges'
+    /// midpoints; any other vertex to the area-weighted centroid of its triangles,
+    /// projected onto its tangent plane. Zero for corners and degenerate neighbourhoods.
+    fn relaxation_move(&self, v: VertexId) -> DVec3 {
+        if self.is_corner(v) {
+            return DVec3::ZERO;
+        }
+        let p = self.mesh.position(v);
+        let s = |w: VertexId| *self.mesh.get(self.sizing, w);
+        let ends: Vec<(DVec3, f64)> = self
+            .mesh
+            .halfedges_around_vertex(v)
+            .filter(|h| self.is_feature(h.edge()))
+            .map(|h| {
+                let w = self.mesh.to_vertex(h);
+                (self.mesh.position(w), s(w))
+            })
+            .collect();
+        let u = match ends.as_slice() {
+            [] => {
+                let mut centroid = DVec3::ZERO;
+                let mut weight = 0.0;
+                for h in self.mesh.halfedges_around_vertex(v) {
+                    let Some(o) = self.mesh.opposite_vertex(h) else {
+                        continue;
+                    };
+                    let w = self.mesh.to_vertex(h);
+                    let (b, c) = (self.mesh.position(w), self.mesh.position(o));
+                    let size = (s(v) + s(w) + s(o)) / 3.0;
+                    let area = (b - p).cross(c - p).length() / (size * size);
+                    centroid += area * (p + b + c) / 3.0;
+                    weight += area;
+                }
+                if weight <= 0.0 {
+                    return DVec3::ZERO;
+                }
+                let n = self.vertex_normal(v);
+                let u = centroid / weight - p;
+                u - n * u.dot(n)
+            }
+            [(a, sa), (b, sb)] => {
+                let wa = a.distance(p) / (0.5 * (s(v) + sa));
+                let wb = b.distance(p) / (0.5 * (s(v) + sb));
+                if wa + wb <= 0.0 {
+                    return DVec3::ZERO;
+                }
+                let mean = (wa * (p + *a) * 0.5 + wb * (p + *b) * 0.5) / (wa + wb);
+                let tangent = ((*a - p).normalize_or_zero() - (*b - p).normalize_or_zero())
+                    .normalize_or_zero();
+                tangent * (mean - p).dot(tangent)
+            }
+            _ => DVec3::ZERO,
+        };
+        if u.is_finite() { u } else { DVec3::ZERO }
+    }
+
+    /// Tangential relaxation: [`RELAX_SWEEPS`] Jacobi sweeps (all moves computed, then
+    /// applied), each followed by the projection of feature vertices onto the input's
+    /// curves; then every other vertex is projected onto the input surface.
+    pub(super) fn relax(&mut self) -> Result<(), RemeshError> {
+        let vertices: Vec<VertexId> = self.mesh.vertices().collect();
+        for _ in 0..RELAX_SWEEPS {
+            let moves: Vec<DVec3> = vertices.iter().map(|&v| self.relaxation_move(v)).collect();
+            for (&v, u) in vertices.iter().zip(moves) {
+                if u != DVec3::ZERO {
+                    let p = self.mesh.position(v);
+                    self.mesh.set_position(v, p + u);
+                    if self.features_at(v) > 0 {
+                        self.project(v)?;
+                    }
+                }
+            }
+        }
+        if self.surface.is_some() {
+            for &v in &vertices {
+                if self.features_at(v) == 0 {
+                    self.project(v)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The barycentric coordinates of `p` (on the triangle's plane) in triangle `a b c`;
+/// equal thirds for a degenerate triangle.
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
+    let (u, v, w) = (b - a, c - a, p - a);
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (wu, wv) = (w.dot(u), w.dot(v));
+    let det = uu * vv - uv * uv;
+    if det.is_nan() || det <= 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let s = (vv * wu - uv * wv) / det;
+    let t = (uu * wv - uv * wu) / det;
+    [1.0 - s - t, s, t]
+}

@@ -1,0 +1,645 @@
+//! Isotropic remeshing: the result is a valid mesh of the same topology (Euler
+//! characteristic, boundary loops, closedness) whose edges have about the target length
+//! and vary far less than the input's; its vertices lie on the input surface, its
+//! boundary vertices on the input's boundary polyline and its feature vertices on the
+//! input's feature edges, with every sharp corner kept; it is deterministic; bad options
+//! are refused with the typed error.
+
+use beltrami_algorithms::{EdgeLength, RemeshError, RemeshOptions, remesh};
+use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, VertexId, primitives};
+use beltrami_metrics::distance::SurfaceIndex;
+use beltrami_surfaces::{FLensParams, Size, SurfaceKind, flens};
+use beltrami_testkit::SplitMix64;
+use proptest::prelude::*;
+
+/// A grid of `nx × ny` unit squares with its interior vertices moved about in the plane.
+fn jittered_grid(nx: u32, ny: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
+    let grid = primitives::grid(nx, ny);
+    let mesh = grid.mesh().unwrap();
+    let mut rng = SplitMix64::new(seed);
+    let x = grid
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
+                p
+            } else {
+                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * amount
+            }
+        })
+        .collect();
+    (mesh, x)
+}
+
+fn edge_lengths(mesh: &HalfedgeMesh, x: &[DVec3]) -> Vec<f64> {
+    mesh.edges()
+        .map(|e| {
+            let [a, b] = mesh.edge_vertices(e);
+            x[a.index()].distance(x[b.index()])
+        })
+        .collect()
+}
+
+fn mean_and_cv(lengths: &[f64]) -> (f64, f64) {
+    let n = lengths.len() as f64;
+    let mean = lengths.iter().sum::<f64>() / n;
+    let var = lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n;
+    (mean, var.sqrt() / mean)
+}
+
+fn diagonal(x: &[DVec3]) -> f64 {
+    let lo = x.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
+    let hi = x.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
+    lo.distance(hi)
+}
+
+fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+    p.distance(a + d * t)
+}
+
+/// The segments of the edges of `mesh` that `keep` selects.
+fn segments(
+    mesh: &HalfedgeMesh,
+    x: &[DVec3],
+    keep: impl Fn(beltrami_halfedge::EdgeId) -> bool,
+) -> Vec<[DVec3; 2]> {
+    mesh.edges()
+        .filter(|&e| keep(e))
+        .map(|e| {
+            let [a, b] = mesh.edge_vertices(e);
+            [x[a.index()], x[b.index()]]
+        })
+        .collect()
+}
+
+fn distance_to_segments(p: DVec3, segments: &[[DVec3; 2]]) -> f64 {
+    segments
+        .iter()
+        .map(|[a, b]| segment_distance(p, *a, *b))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The angle between the normals of the two triangles at interior edge `e`.
+fn dihedral(mesh: &HalfedgeMesh, x: &[DVec3], e: beltrami_halfedge::EdgeId) -> f64 {
+    let normal = |h| {
+        let a = x[mesh.from_vertex(h).index()];
+        let b = x[mesh.to_vertex(h).index()];
+        let c = x[mesh.opposite_vertex(h).unwrap().index()];
+        (b - a).cross(c - a)
+    };
+    let [h, t] = e.halfedges();
+    normal(h).angle_between(normal(t))
+}
+
+/// Sharp edges: interior edges whose dihedral angle exceeds `angle`.
+fn sharp(mesh: &HalfedgeMesh, x: &[DVec3], angle: f64) -> Vec<[DVec3; 2]> {
+    segments(mesh, x, |e| {
+        !mesh.is_boundary_edge(e) && dihedral(mesh, x, e) > angle
+    })
+}
+
+/// Checks what every remesh must keep: a valid triangle mesh, the Euler characteristic,
+/// the number of boundary loops, closedness, one position per vertex.
+fn assert_same_topology(input: &HalfedgeMesh, out: &HalfedgeMesh, y: &[DVec3], what: &str) {
+    out.check_integrity().unwrap();
+    EditMesh::from_mesh(out, y)
+        .unwrap()
+        .check_integrity()
+        .unwrap();
+    assert!(out.is_triangle_mesh(), "{what}");
+    assert_eq!(y.len(), out.n_vertices(), "{what}");
+    assert!(y.iter().all(|p| p.is_finite()), "{what}");
+    assert_eq!(
+        out.euler_characteristic(),
+        input.euler_characteristic(),
+        "{what}"
+    );
+    assert_eq!(
+        out.boundary_loops().count(),
+        input.boundary_loops().count(),
+        "{what}"
+    );
+    assert_eq!(out.is_closed(), input.is_closed(), "{what}");
+    assert_eq!(
+        out.connected_components().count(),
+        input.connected_components().count(),
+        "{what}"
+    );
+}
+
+#[test]
+fn topology_is_kept_on_closed_open_and_higher_genus_surfaces() {
+    let lens = flens(&FLensParams {
+        nx: 24,
+        ny: 12,
+        ..FLensParams::default()
+    });
+    let cases = [
+        ("icosphere", primitives::icosphere(3)),
+        ("torus", primitives::torus(1.0, 0.4, 24, 12)),
+        ("grid", primitives::grid(12, 8)),
+        ("flens", lens.data.clone()),
+    ];
+    for (name, data) in cases {
+        let mesh = data.mesh().unwrap();
+        for factor in [0.6, 1.0, 1.7] {
+            let options = RemeshOptions::default()
+                .relative_edge_length(factor)
+                .feature_angle(60f64.to_radians());
+            let (out, y, report) = remesh(&mesh, &data.positions, &options).unwrap();
+            let what = format!("{name} x{factor}");
+            assert_same_topology(&mesh, &out, &y, &what);
+            assert_eq!(report.vertices, out.n_vertices(), "{what}");
+            assert_eq!(report.faces, out.n_faces(), "{what}");
+            assert_eq!(report.iterations.len(), 10, "{what}");
+            assert_eq!(
+                report.splits,
+                report.iterations.iter().map(|i| i.splits).sum::<usize>()
+            );
+            if factor < 1.0 {
+                assert!(out.n_faces() > mesh.n_faces(), "{what}: refined");
+            } else if factor > 1.5 {
+                assert!(out.n_faces() < mesh.n_faces(), "{what}: coarsened");
+            }
+        }
+    }
+}
+
+#[test]
+fn edges_approach_the_target_and_vary_far_less_than_the_input() {
+    let (mesh, x) = jittered_grid(24, 24, 0.3, 7);
+    let (_, cv_before) = mean_and_cv(&edge_lengths(&mesh, &x));
+    for target in [0.5, 1.0, 1.8] {
+        let options = RemeshOptions::default().edge_length(target);
+        let (out, y, report) = remesh(&mesh, &x, &options).unwrap();
+        let (mean, cv) = mean_and_cv(&edge_lengths(&out, &y));
+        assert!(
+            (mean / target - 1.0).abs() < 0.12,
+            "target {target}: mean {mean}"
+        );
+        assert!(
+            cv < 0.6 * cv_before,
+            "target {target}: cv {cv} vs {cv_before}"
+        );
+        assert!((report.mean_edge_length - mean).abs() < 1e-12);
+        assert!((report.edge_length_cv - cv).abs() < 1e-12);
+        assert!((report.edge_length_cv_before - cv_before).abs() < 1e-12);
+        assert_eq!(report.target_edge_length, target);
+        // A plane stays the plane.
+        assert!(y.iter().all(|p| p.z == 0.0), "target {target}");
+    }
+}
+
+#[test]
+fn the_block_gets_regular_edges_of_the_relative_length() {
+    let block = SurfaceKind::Block.generate_sized(Size::Small);
+    let mesh = block.mesh().unwrap();
+    let options = RemeshOptions::default()
+        .relative_edge_length(1.5)
+        .feature_angle(45f64.to_radians());
+    let (out, y, report) = remesh(&mesh, &block.positions, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "block");
+    let (mean_before, cv_before) = mean_and_cv(&edge_lengths(&mesh, &block.positions));
+    let (mean, cv) = mean_and_cv(&edge_lengths(&out, &y));
+    assert!((report.target_edge_length / mean_before - 1.5).abs() < 1e-12);
+    assert!(
+        (mean / report.target_edge_length - 1.0).abs() < 0.15,
+        "{mean}"
+    );
+    assert!(cv < cv_before, "{cv} vs {cv_before}");
+}
+
+#[test]
+fn sphere_vertices_lie_on_the_input_surface() {
+    let sphere = primitives::icosphere(4);
+    let mesh = sphere.mesh().unwrap();
+    let index = SurfaceIndex::new(&mesh, &sphere.positions).unwrap();
+    for factor in [0.7, 2.0] {
+        let options = RemeshOptions::default().relative_edge_length(factor);
+        let (out, y, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+        assert_same_topology(&mesh, &out, &y, "sphere");
+        let worst = index.distances(&y).unwrap().into_iter().fold(0.0, f64::max);
+        assert!(worst < 1e-12, "factor {factor}: {worst}");
+        assert_eq!(report.hausdorff, worst);
+        // Projected onto the inscribed polyhedron, the vertices stay within its
+        // distance of the unit sphere.
+        assert!(y.iter().all(|p| (p.length() - 1.0).abs() < 2e-3));
+    }
+    // Without projection the relaxation moves vertices off the surface (the check above
+    // could fail).
+    let options = RemeshOptions::default()
+        .relative_edge_length(2.0)
+        .projection(false);
+    let (_, _, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert!(report.hausdorff > 1e-6, "{}", report.hausdorff);
+}
+
+/// Checks the feature rules on a surface with sharp edges: every output vertex on a
+/// sharp output edge lies on an input sharp edge, the sharp output edges cover the
+/// input's sharp edges exactly (same total length), and every input vertex where three
+/// or more sharp edges meet is an output vertex at the same position.
+fn assert_features_kept(data: &beltrami_halfedge::MeshData, target: f64, what: &str) {
+    let angle = 45f64.to_radians();
+    let mesh = data.mesh().unwrap();
+    let x = &data.positions;
+    let options = RemeshOptions::default()
+        .edge_length(target)
+        .feature_angle(angle);
+    let (out, y, report) = remesh(&mesh, x, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, what);
+    let tolerance = 1e-9 * diagonal(x);
+    let input_sharp = sharp(&mesh, x, angle);
+    assert_eq!(report.feature_edges, input_sharp.len(), "{what}");
+    let output_sharp = sharp(&out, &y, angle);
+    for [a, b] in &output_sharp {
+        for p in [a, b] {
+            let d = distance_to_segments(*p, &input_sharp);
+            assert!(d < tolerance, "{what}: feature vertex {p} is {d} off");
+        }
+    }
+    let total = |s: &[[DVec3; 2]]| s.iter().map(|[a, b]| a.distance(*b)).sum::<f64>();
+    assert!(
+        (total(&output_sharp) - total(&input_sharp)).abs() < 1e-9 * total(&input_sharp),
+        "{what}: sharp edges {} vs {}",
+        total(&output_sharp),
+        total(&input_sharp)
+    );
+    let mut corners = 0;
+    for v in mesh.vertices() {
+        let at = mesh
+            .halfedges_around_vertex(v)
+            .filter(|h| !mesh.is_boundary_edge(h.edge()) && dihedral(&mesh, x, h.edge()) > angle)
+            .count();
+        if at >= 3 {
+            corners += 1;
+            let p = x[v.index()];
+            assert!(y.contains(&p), "{what}: corner {p} lost");
+        }
+    }
+    assert!(corners >= 8, "{what}: {corners} corners");
+    assert!(report.corners >= corners, "{what}");
+}
+
+#[test]
+fn cube_edges_and_corners_are_kept() {
+    let cube = primitives::cube();
+    for target in [0.15, 0.3] {
+        assert_features_kept(&cube, target, &format!("cube L={target}"));
+    }
+}
+
+#[test]
+fn block_edges_and_corners_are_kept() {
+    let block = SurfaceKind::Block.generate_sized(Size::Small);
+    assert_features_kept(&block, 2.0, "block");
+}
+
+#[test]
+fn grid_boundary_vertices_stay_on_the_boundary_polyline() {
+    let (mesh, x) = jittered_grid(10, 8, 0.3, 3);
+    let boundary = segments(&mesh, &x, |e| mesh.is_boundary_edge(e));
+    let perimeter: f64 = boundary.iter().map(|[a, b]| a.distance(*b)).sum();
+    for target in [0.6, 1.7] {
+        let options = RemeshOptions::default().edge_length(target);
+        let (out, y, _) = remesh(&mesh, &x, &options).unwrap();
+        assert_same_topology(&mesh, &out, &y, "grid");
+        for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
+            let d = distance_to_segments(y[v.index()], &boundary);
+            assert!(
+                d < 1e-12,
+                "target {target}: boundary vertex {v:?} is {d} off"
+            );
+        }
+        // The corners stay, so the boundary is the same polygon.
+        for c in [[0.0, 0.0], [10.0, 0.0], [0.0, 8.0], [10.0, 8.0]] {
+            assert!(y.contains(&DVec3::new(c[0], c[1], 0.0)), "corner {c:?}");
+        }
+        let out_perimeter: f64 = segments(&out, &y, |e| out.is_boundary_edge(e))
+            .iter()
+            .map(|[a, b]| a.distance(*b))
+            .sum();
+        assert!((out_perimeter - perimeter).abs() < 1e-9, "target {target}");
+    }
+}
+
+#[test]
+fn the_flens_boundary_is_kept() {
+    let lens = flens(&FLensParams {
+        nx: 24,
+        ny: 12,
+        ..FLensParams::default()
+    });
+    let mesh = lens.mesh().unwrap();
+    let boundary = segments(&mesh, &lens.positions, |e| mesh.is_boundary_edge(e));
+    let tolerance = 1e-9 * diagonal(&lens.positions);
+    let options = RemeshOptions::default().relative_edge_length(0.8);
+    let (out, y, report) = remesh(&mesh, &lens.positions, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "flens");
+    assert_eq!(report.boundary_edges, boundary.len());
+    for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
+        let d = distance_to_segments(y[v.index()], &boundary);
+        assert!(d < tolerance, "boundary vertex {v:?} is {d} off");
+    }
+    assert!(report.hausdorff < tolerance, "{}", report.hausdorff);
+}
+
+#[test]
+fn two_runs_give_the_same_bits() {
+    let block = SurfaceKind::Block.generate_sized(Size::Small);
+    let mesh = block.mesh().unwrap();
+    let options = RemeshOptions::default()
+        .relative_edge_length(1.3)
+        .feature_angle(40f64.to_radians());
+    let (a, x, ra) = remesh(&mesh, &block.positions, &options).unwrap();
+    let (b, y, rb) = remesh(&mesh, &block.positions, &options).unwrap();
+    assert_eq!(a.to_polygons(), b.to_polygons());
+    let bits = |p: &[DVec3]| -> Vec<[u64; 3]> {
+        p.iter()
+            .map(|q| [q.x.to_bits(), q.y.to_bits(), q.z.to_bits()])
+            .collect()
+    };
+    assert_eq!(bits(&x), bits(&y));
+    assert_eq!(ra, rb);
+}
+
+#[test]
+fn bad_input_and_options_give_the_typed_error() {
+    let sphere = primitives::icosphere(1);
+    let mesh = sphere.mesh().unwrap();
+    let x = &sphere.positions;
+    let bad_options = |options: RemeshOptions| {
+        assert!(
+            matches!(remesh(&mesh, x, &options), Err(RemeshError::Options { .. })),
+            "{options:?}"
+        );
+    };
+    for l in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        bad_options(RemeshOptions::default().edge_length(l));
+        bad_options(RemeshOptions::default().relative_edge_length(l));
+    }
+    bad_options(RemeshOptions::default().feature_angle(-0.1));
+    bad_options(RemeshOptions::default().feature_angle(4.0));
+    bad_options(RemeshOptions::default().feature_angle(f64::NAN));
+    assert!(matches!(
+        remesh(&mesh, x, &RemeshOptions::default().edge_length(1e-6)),
+        Err(RemeshError::TooManyFaces { .. })
+    ));
+    assert_eq!(
+        remesh(&mesh, &x[1..], &RemeshOptions::default()).unwrap_err(),
+        RemeshError::PositionCount {
+            positions: x.len() - 1,
+            vertices: x.len()
+        }
+    );
+    let mut nan = x.clone();
+    nan[5].y = f64::NAN;
+    assert_eq!(
+        remesh(&mesh, &nan, &RemeshOptions::default()).unwrap_err(),
+        RemeshError::NonFinite { vertex: 5 }
+    );
+    let quads = primitives::cube_quads();
+    assert!(matches!(
+        remesh(
+            &quads.mesh().unwrap(),
+            &quads.positions,
+            &RemeshOptions::default()
+        ),
+        Err(RemeshError::NotTriangle { len: 4, .. })
+    ));
+    assert_eq!(
+        RemeshOptions::default().edge_length,
+        EdgeLength::Relative(1.0)
+    );
+    assert_eq!(RemeshOptions::default().iterations, 10);
+}
+
+#[test]
+fn zero_iterations_return_the_input() {
+    let torus = primitives::torus(1.0, 0.3, 12, 8);
+    let mesh = torus.mesh().unwrap();
+    let options = RemeshOptions::default().iterations(0);
+    let (out, y, report) = remesh(&mesh, &torus.positions, &options).unwrap();
+    assert_eq!(out.to_polygons(), mesh.to_polygons());
+    assert_eq!(y, torus.positions);
+    assert_eq!(report.splits + report.collapses + report.flips, 0);
+}
+
+/// The feature flag is an edge property of the `EditMesh`: both halves of a split edge
+/// keep it and the edges to the opposite corners do not get it (the rule of
+/// `docs/editing.md` the remesher relies on).
+#[test]
+fn a_split_feature_edge_gives_two_feature_halves() {
+    let grid = primitives::grid(3, 3);
+    let mut mesh = EditMesh::from_mesh(&grid.mesh().unwrap(), &grid.positions).unwrap();
+    let feature = mesh.add_edge_property("feature", false).unwrap();
+    for interior in [false, true] {
+        let e = mesh
+            .edges()
+            .find(|&e| mesh.is_boundary_edge(e) != interior && !*mesh.get(feature, e))
+            .unwrap();
+        mesh.set(feature, e, true);
+        let [a, b] = mesh.edge_vertices(e);
+        let mid = (mesh.position(a) + mesh.position(b)) * 0.5;
+        let v = mesh.split_edge(e, mid).unwrap();
+        let flags: Vec<(VertexId, bool)> = mesh
+            .halfedges_around_vertex(v)
+            .map(|h| (mesh.to_vertex(h), *mesh.get(feature, h.edge())))
+            .collect();
+        assert_eq!(flags.len(), if interior { 4 } else { 3 });
+        for (w, flag) in flags {
+            assert_eq!(flag, w == a || w == b, "interior {interior}");
+        }
+    }
+    mesh.check_integrity().unwrap();
+}
+
+/// Adaptive sizing on the unit sphere (curvature 1 everywhere): the edges approach the
+/// chord length `sqrt(6 e r - 3 e²)` of the allowed error `e`, within the bounds.
+#[test]
+fn adaptive_sizing_on_a_sphere_gives_the_chord_length_of_the_error() {
+    let sphere = primitives::icosphere(4);
+    let mesh = sphere.mesh().unwrap();
+    let e: f64 = 0.004;
+    let chord = (6.0 * e - 3.0 * e * e).sqrt();
+    let options = RemeshOptions::default().adaptive(0.01, 1.0, e);
+    let (out, y, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "adaptive sphere");
+    let (mean, _) = mean_and_cv(&edge_lengths(&out, &y));
+    assert!((mean / chord - 1.0).abs() < 0.15, "{mean} vs {chord}");
+    assert!((report.target_edge_length / chord - 1.0).abs() < 0.1);
+    // The bounds win over the error.
+    let options = RemeshOptions::default().adaptive(0.3, 0.3, e);
+    let (_, _, report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert!((report.mean_edge_length / 0.3 - 1.0).abs() < 0.15);
+}
+
+/// Adaptive sizing on a flattened ellipsoid: short edges along the strongly curved rim,
+/// long ones on the flat caps.
+#[test]
+fn adaptive_sizing_follows_the_curvature() {
+    let sphere = primitives::icosphere(4);
+    let x: Vec<DVec3> = sphere
+        .positions
+        .iter()
+        .map(|p| *p * DVec3::new(1.0, 1.0, 0.25))
+        .collect();
+    let mesh = sphere.mesh().unwrap();
+    let options = RemeshOptions::default().adaptive(0.02, 0.5, 0.002);
+    let (out, y, report) = remesh(&mesh, &x, &options).unwrap();
+    assert_same_topology(&mesh, &out, &y, "ellipsoid");
+    let band = |keep: &dyn Fn(f64) -> bool| {
+        let lengths: Vec<f64> = out
+            .edges()
+            .filter_map(|e| {
+                let [a, b] = out.edge_vertices(e);
+                let (p, q) = (y[a.index()], y[b.index()]);
+                keep((p.z + q.z).abs() / 2.0).then(|| p.distance(q))
+            })
+            .collect();
+        mean_and_cv(&lengths).0
+    };
+    let rim = band(&|z| z < 0.03);
+    let caps = band(&|z| z > 0.2);
+    assert!(caps > 2.0 * rim, "caps {caps}, rim {rim}");
+    let index = SurfaceIndex::new(&mesh, &x).unwrap();
+    assert!(index.distances(&y).unwrap().into_iter().fold(0.0, f64::max) < 1e-12);
+    assert!(report.hausdorff < 1e-12);
+}
+
+#[test]
+fn bad_adaptive_options_give_the_typed_error() {
+    let sphere = primitives::icosphere(1);
+    let mesh = sphere.mesh().unwrap();
+    for (a, b, e) in [
+        (0.2, 0.1, 0.01),
+        (0.0, 0.1, 0.01),
+        (0.1, f64::INFINITY, 0.01),
+        (0.1, 0.2, -0.01),
+        (0.1, 0.2, f64::NAN),
+    ] {
+        let options = RemeshOptions::default().adaptive(a, b, e);
+        assert!(
+            matches!(
+                remesh(&mesh, &sphere.positions, &options),
+                Err(RemeshError::Options { .. })
+            ),
+            "{a} {b} {e}"
+        );
+    }
+    let options = RemeshOptions::default().adaptive(1e-6, 1.0, 1e-9);
+    assert!(matches!(
+        remesh(&mesh, &sphere.positions, &options),
+        Err(RemeshError::TooManyFaces { .. })
+    ));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
+
+    /// Random small meshes (jittered spheres and grids) and target lengths: always a
+    /// valid mesh of the same topology, with the boundary on the input's boundary.
+    #[test]
+    fn random_small_meshes_keep_their_topology(
+        seed in 0u64..1000,
+        factor in 0.5f64..2.5,
+        closed in any::<bool>(),
+    ) {
+        let mut rng = SplitMix64::new(seed);
+        let data = if closed { primitives::icosphere(1) } else { primitives::grid(5, 4) };
+        let mesh = data.mesh().unwrap();
+        let x: Vec<DVec3> = data
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
+                    p
+                } else {
+                    p + rng.next_symmetric_vector() * 0.1
+                }
+            })
+            .collect();
+        let options = RemeshOptions::default()
+            .relative_edge_length(factor)
+            .iterations(4);
+        let (out, y, report) = remesh(&mesh, &x, &options).unwrap();
+        assert_same_topology(&mesh, &out, &y, &format!("seed {seed}"));
+        let boundary = segments(&mesh, &x, |e| mesh.is_boundary_edge(e));
+        for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
+            prop_assert!(distance_to_segments(y[v.index()], &boundary) < 1e-12);
+        }
+        prop_assert!(report.hausdorff.is_finite());
+    }
+}
+
+/// The smallest interior angle of the triangles, in degrees.
+fn min_angle_degrees(mesh: &HalfedgeMesh, x: &[DVec3]) -> f64 {
+    mesh.faces()
+        .flat_map(|f| {
+            let [a, b, c] = mesh.triangle_vertices(f).map(|v| x[v.index()]);
+            [(a, b, c), (b, c, a), (c, a, b)]
+        })
+        .map(|(p, q, r)| (q - p).angle_between(r - p).to_degrees())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The table of `docs/remeshing.md`: `cargo test -p beltrami-algorithms --test remesh
+/// -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints the measurements of docs/remeshing.md"]
+fn print_the_documentation_table() {
+    let sphere = primitives::icosphere(4);
+    let block = SurfaceKind::Block.generate();
+    let cases: [(&str, &beltrami_halfedge::MeshData, RemeshOptions); 5] = [
+        ("icosphere 4, R = 1", &sphere, RemeshOptions::default()),
+        (
+            "icosphere 4, R = 2",
+            &sphere,
+            RemeshOptions::default().relative_edge_length(2.0),
+        ),
+        (
+            "icosphere 4, adaptive 0.02-0.5, e = 0.002",
+            &sphere,
+            RemeshOptions::default().adaptive(0.02, 0.5, 0.002),
+        ),
+        (
+            "block, R = 1, 45°",
+            &block.data,
+            RemeshOptions::default().feature_angle(45f64.to_radians()),
+        ),
+        (
+            "block, R = 2, 45°",
+            &block.data,
+            RemeshOptions::default()
+                .relative_edge_length(2.0)
+                .feature_angle(45f64.to_radians()),
+        ),
+    ];
+    println!(
+        "| mesh, options | vertices | faces | edge-length CV | min angle | Hausdorff | features / corners | time |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, data, options) in cases {
+        let mesh = data.mesh().unwrap();
+        let start = std::time::Instant::now();
+        let (out, y, report) = remesh(&mesh, &data.positions, &options).unwrap();
+        let seconds = start.elapsed().as_secs_f64();
+        println!(
+            "| {name} | {} → {} | {} → {} | {:.3} → {:.3} | {:.1}° → {:.1}° | {:.1e} | {} / {} | {seconds:.2} s |",
+            report.vertices_before,
+            report.vertices,
+            report.faces_before,
+            report.faces,
+            report.edge_length_cv_before,
+            report.edge_length_cv,
+            min_angle_degrees(&mesh, &data.positions),
+            min_angle_degrees(&out, &y),
+            report.hausdorff,
+            report.feature_edges,
+            report.corners,
+        );
+    }
+}

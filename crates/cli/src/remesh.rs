@@ -1,0 +1,232 @@
+//! `beltrami remesh`: isotropic remeshing towards a target edge length, keeping the
+//! boundary and sharp features.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use beltrami_algorithms::{RemeshError, RemeshOptions, remesh};
+use beltrami_io::MeshData;
+use serde::Serialize;
+
+use crate::error::CliError;
+use crate::load::{ReadArgs, load};
+use crate::output::{Outputs, Staged};
+use crate::text::number;
+
+/// Arguments of `beltrami remesh`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct RemeshArgs {
+    /// The triangle mesh (.ply, .stl, .obj or .off).
+    input: PathBuf,
+    /// The remeshed mesh (.ply, .stl, .obj or .off by extension).
+    output: PathBuf,
+    /// The target edge length, in the mesh's unit. Default (without this and without
+    /// --edge-length-relative): the input's mean edge length.
+    #[arg(long, value_name = "L", conflicts_with = "edge_length_relative")]
+    edge_length: Option<f64>,
+    /// The target edge length as a multiple of the input's mean edge length (default 1:
+    /// the input's mean edge length).
+    #[arg(long, value_name = "R")]
+    edge_length_relative: Option<f64>,
+    /// Curvature-adaptive edge lengths (Dunyach et al. 2013): short edges where the
+    /// surface is curved, long where it is flat, each edge deviating by about --error
+    /// from the surface, within [--min-edge, --max-edge].
+    #[arg(long, conflicts_with_all = ["edge_length", "edge_length_relative"])]
+    adaptive: bool,
+    /// With --adaptive: the smallest edge length, in the mesh's unit.
+    #[arg(long, value_name = "A", requires = "adaptive")]
+    min_edge: Option<f64>,
+    /// With --adaptive: the largest edge length, in the mesh's unit.
+    #[arg(long, value_name = "B", requires = "adaptive")]
+    max_edge: Option<f64>,
+    /// With --adaptive: the allowed distance between an edge and the surface, in the
+    /// mesh's unit.
+    #[arg(long, value_name = "E", requires = "adaptive")]
+    error: Option<f64>,
+    /// The number of split-collapse-flip-relax iterations.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    iterations: usize,
+    /// Keep edges whose two triangles meet at more than this angle, in degrees (0 to
+    /// 180), as feature curves; corners of features stay. Default: no feature edges (the
+    /// boundary is kept in any case).
+    #[arg(long, value_name = "DEG")]
+    features: Option<f64>,
+    /// Do not project the vertices back onto the input surface (they then move only
+    /// within their tangent planes, and a curved surface shrinks slightly).
+    #[arg(long)]
+    no_projection: bool,
+    /// Print a JSON summary instead of the sentence.
+    #[arg(long)]
+    json: bool,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Replace OUTPUT even when it is the input or write-protected.
+    #[arg(long)]
+    force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+}
+
+/// The JSON of `remesh --json`.
+#[derive(Debug, Serialize)]
+struct Summary {
+    input: String,
+    output: String,
+    /// The target edge length used, in the mesh's unit (with --adaptive, the mean of
+    /// the sizing field over the input's vertices).
+    target_edge_length: f64,
+    adaptive: bool,
+    iterations: usize,
+    splits: usize,
+    collapses: usize,
+    flips: usize,
+    vertices_before: usize,
+    faces_before: usize,
+    vertices: usize,
+    faces: usize,
+    mean_edge_length_before: f64,
+    edge_length_cv_before: f64,
+    mean_edge_length: f64,
+    edge_length_cv: f64,
+    feature_edges: usize,
+    boundary_edges: usize,
+    corners: usize,
+    /// The largest distance from an output vertex to the input surface.
+    hausdorff: f64,
+    feature_angle_degrees: Option<f64>,
+    projection: bool,
+    seconds: f64,
+}
+
+/// Checks the options that do not need the input.
+fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
+    let positive = |name: &str, x: f64| {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(CliError::Usage(format!(
+                "{name} must be a positive number, got {}",
+                number(x)
+            )))
+        }
+    };
+    let mut options = RemeshOptions::default()
+        .iterations(args.iterations)
+        .projection(!args.no_projection);
+    if let Some(l) = args.edge_length {
+        options = options.edge_length(positive("--edge-length", l)?);
+    }
+    if let Some(r) = args.edge_length_relative {
+        options = options.relative_edge_length(positive("--edge-length-relative", r)?);
+    }
+    if args.adaptive {
+        let (Some(a), Some(b), Some(e)) = (args.min_edge, args.max_edge, args.error) else {
+            return Err(CliError::Usage(
+                "--adaptive needs --min-edge, --max-edge and --error".to_string(),
+            ));
+        };
+        let (a, b) = (positive("--min-edge", a)?, positive("--max-edge", b)?);
+        if a > b {
+            return Err(CliError::Usage(format!(
+                "--min-edge ({}) must not exceed --max-edge ({})",
+                number(a),
+                number(b)
+            )));
+        }
+        options = options.adaptive(a, b, positive("--error", e)?);
+    }
+    if let Some(d) = args.features {
+        if !(0.0..=180.0).contains(&d) {
+            return Err(CliError::Usage(format!(
+                "--features must be between 0 and 180 degrees, got {}",
+                number(d)
+            )));
+        }
+        options = options.feature_angle(d.to_radians());
+    }
+    Ok(options)
+}
+
+/// Runs `beltrami remesh`.
+pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliError> {
+    let options = options(args)?;
+    let mut outputs = Outputs::new();
+    outputs.add(&args.output, "OUTPUT");
+    outputs.check(&[&args.input], args.force)?;
+    let loaded = load(&args.input, &args.read)?;
+    loaded.require_faces(&args.input, "remesh")?;
+    let start = std::time::Instant::now();
+    let (mesh, positions, report) = remesh(&loaded.mesh, &loaded.positions, &options)
+        .map_err(|e| match e {
+            RemeshError::Options { reason } => CliError::Usage(reason),
+            RemeshError::NotTriangle { face, len } => CliError::Input {
+                path: args.input.clone(),
+                message: format!(
+                    "face {face} has {len} vertices; remesh needs a triangle mesh (triangulate it first)"
+                ),
+            },
+            e => CliError::Input {
+                path: args.input.clone(),
+                message: e.to_string(),
+            },
+        })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let data = MeshData {
+        positions,
+        faces: mesh.to_polygons(),
+    };
+    let mut staged = Staged::new();
+    staged.push_mesh(&args.output, &data, args.ascii)?;
+    staged.commit()?;
+
+    if args.json {
+        let summary = Summary {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            target_edge_length: report.target_edge_length,
+            adaptive: args.adaptive,
+            iterations: report.iterations.len(),
+            splits: report.splits,
+            collapses: report.collapses,
+            flips: report.flips,
+            vertices_before: report.vertices_before,
+            faces_before: report.faces_before,
+            vertices: report.vertices,
+            faces: report.faces,
+            mean_edge_length_before: report.mean_edge_length_before,
+            edge_length_cv_before: report.edge_length_cv_before,
+            mean_edge_length: report.mean_edge_length,
+            edge_length_cv: report.edge_length_cv,
+            feature_edges: report.feature_edges,
+            boundary_edges: report.boundary_edges,
+            corners: report.corners,
+            hausdorff: report.hausdorff,
+            feature_angle_degrees: args.features,
+            projection: !args.no_projection,
+            seconds,
+        };
+        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+        return Ok(());
+    }
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    writeln!(
+        out,
+        "remeshed {} -> {}: {} vertices, {} faces -> {} vertices, {} faces; mean edge length {} (target {}), variation {} (was {}); vertices within {} of the input surface",
+        args.input.display(),
+        args.output.display(),
+        report.vertices_before,
+        report.faces_before,
+        report.vertices,
+        report.faces,
+        number(report.mean_edge_length),
+        number(report.target_edge_length),
+        number(report.edge_length_cv),
+        number(report.edge_length_cv_before),
+        number(report.hausdorff),
+    )?;
+    Ok(())
+}

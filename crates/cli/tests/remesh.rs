@@ -1,0 +1,290 @@
+//! `beltrami remesh` as a user runs it: a generated sphere and every triangle fixture
+//! remesh into the library's result with the summary's numbers, the sentence names the
+//! counts, lengths and distance, and bad usage (exit 2) or a bad input (exit 1) gives
+//! one error line and writes nothing.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use beltrami_algorithms::{RemeshOptions, remesh};
+use beltrami_io::read_mesh;
+use common::{beltrami, error_line, f, json, s};
+use serde_json::Value;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+#[test]
+fn a_generated_sphere_remeshes_to_the_target_length() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = dir.path().join("sphere.ply");
+    let o = beltrami(&["generate", "sphere", s(&sphere), "--level", "3"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.path().join("coarse.ply");
+    let summary = json(&[
+        "remesh",
+        s(&sphere),
+        s(&out),
+        "--edge-length",
+        "0.2",
+        "--json",
+    ]);
+    for key in [
+        "input",
+        "output",
+        "target_edge_length",
+        "iterations",
+        "splits",
+        "collapses",
+        "flips",
+        "vertices_before",
+        "faces_before",
+        "vertices",
+        "faces",
+        "mean_edge_length_before",
+        "edge_length_cv_before",
+        "mean_edge_length",
+        "edge_length_cv",
+        "feature_edges",
+        "boundary_edges",
+        "corners",
+        "hausdorff",
+        "feature_angle_degrees",
+        "projection",
+        "seconds",
+    ] {
+        assert!(summary.get(key).is_some(), "missing {key}: {summary}");
+    }
+    assert_eq!(f(&summary["target_edge_length"]), 0.2);
+    assert!((f(&summary["mean_edge_length"]) / 0.2 - 1.0).abs() < 0.15);
+    assert!(f(&summary["edge_length_cv"]) < 0.25);
+    assert!(f(&summary["hausdorff"]) < 1e-12);
+    assert_eq!(summary["iterations"], 10);
+    assert_eq!(summary["projection"], true);
+    let written = read_mesh(&out).unwrap();
+    let mesh = written.mesh().unwrap();
+    assert_eq!(summary["vertices"], mesh.n_vertices());
+    assert_eq!(summary["faces"], mesh.n_faces());
+    assert!(mesh.is_closed());
+    assert_eq!(mesh.euler_characteristic(), 2);
+
+    // The sentence: counts before -> after, mean length and variation, distance.
+    let o = beltrami(&["remesh", s(&sphere), s(&out), "--force"]);
+    assert!(o.status.success());
+    let line = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(line.lines().count(), 1, "{line}");
+    assert!(line.contains("642 vertices, 1280 faces ->"), "{line}");
+    assert!(line.contains("mean edge length"), "{line}");
+    assert!(line.contains("variation"), "{line}");
+    assert!(line.contains("of the input surface"), "{line}");
+}
+
+#[test]
+fn every_triangle_fixture_remeshes_into_the_library_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files: Vec<PathBuf> = fs::read_dir(fixtures())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension()
+                .is_some_and(|e| ["ply", "stl", "obj", "off"].contains(&e.to_str().unwrap()))
+        })
+        .collect();
+    files.sort();
+    let mut remeshed = 0;
+    for input in files {
+        let data = read_mesh(&input).unwrap();
+        let Ok(mesh) = data.mesh() else {
+            continue; // a fixture that needs --repair; the bad-input test covers those
+        };
+        let out = dir.path().join("out.ply");
+        let o = beltrami(&[
+            "remesh",
+            s(&input),
+            s(&out),
+            "--json",
+            "--force",
+            "--features",
+            "45",
+            "--iterations",
+            "3",
+        ]);
+        if !mesh.is_triangle_mesh() {
+            assert_eq!(o.status.code(), Some(1), "{input:?}");
+            assert!(error_line(&o, dir.path()).contains("needs a triangle mesh"));
+            assert!(!out.exists());
+            continue;
+        }
+        assert!(
+            o.status.success(),
+            "{input:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let options = RemeshOptions::default()
+            .feature_angle(45f64.to_radians())
+            .iterations(3);
+        let (want, positions, report) = remesh(&mesh, &data.positions, &options).unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{input:?}");
+        assert_eq!(got.faces, want.to_polygons(), "{input:?}");
+        let written = got.mesh().unwrap();
+        assert_eq!(written.euler_characteristic(), mesh.euler_characteristic());
+        assert_eq!(summary["splits"], report.splits);
+        assert_eq!(summary["collapses"], report.collapses);
+        assert_eq!(summary["faces"], want.n_faces());
+        assert_eq!(f(&summary["hausdorff"]), report.hausdorff);
+        fs::remove_file(&out).unwrap();
+        remeshed += 1;
+    }
+    assert!(remeshed >= 5, "{remeshed} fixtures remeshed");
+}
+
+#[test]
+fn usage_errors_exit_2_with_one_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    for args in [
+        &["--edge-length", "0.1", "--edge-length-relative", "2"][..],
+        &["--edge-length", "0"][..],
+        &["--edge-length", "-1"][..],
+        &["--edge-length", "nan"][..],
+        &["--edge-length-relative", "0"][..],
+        &["--edge-length-relative", "inf"][..],
+        &["--features", "200"][..],
+        &["--features", "-5"][..],
+        &["--iterations", "many"][..],
+        &["--adaptive"][..],
+        &["--adaptive", "--min-edge", "0.1", "--max-edge", "0.5"][..],
+        &["--min-edge", "0.1"][..],
+        &[
+            "--adaptive",
+            "--min-edge",
+            "0.5",
+            "--max-edge",
+            "0.1",
+            "--error",
+            "0.01",
+        ][..],
+        &[
+            "--adaptive",
+            "--min-edge",
+            "0.1",
+            "--max-edge",
+            "0.5",
+            "--error",
+            "0",
+        ][..],
+        &[
+            "--adaptive",
+            "--min-edge",
+            "0.1",
+            "--max-edge",
+            "0.5",
+            "--error",
+            "0.01",
+            "--edge-length",
+            "0.2",
+        ][..],
+    ] {
+        let mut all = vec!["remesh", s(&input), s(&out)];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let line = error_line(&o, dir.path());
+        assert!(!line.is_empty(), "{args:?}");
+        assert!(!out.exists(), "{args:?}");
+    }
+    // One line for the errors found after parsing.
+    let o = beltrami(&["remesh", s(&input), s(&out), "--edge-length", "0"]);
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+    // The input is not overwritten without --force.
+    let o = beltrami(&["remesh", s(&input), s(&input)]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn bad_input_exits_1_with_one_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    for bad in fs::read_dir(fixtures().join("bad")).unwrap() {
+        let bad = bad.unwrap().path();
+        if bad.ends_with("isolated_vertices.obj") {
+            continue; // the one valid file of the corpus
+        }
+        let o = beltrami(&["remesh", s(&bad), s(&out)]);
+        assert_eq!(o.status.code(), Some(1), "{bad:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&o.stderr).lines().count(),
+            1,
+            "{bad:?}"
+        );
+        assert!(!out.exists(), "{bad:?}");
+    }
+    // A target so small for the surface that the result would be enormous.
+    let input = fixtures().join("icosphere_2.ply");
+    let o = beltrami(&["remesh", s(&input), s(&out), "--edge-length", "1e-7"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(error_line(&o, dir.path()).contains("triangles"));
+    assert!(!out.exists());
+}
+
+#[test]
+fn features_keep_the_cube_corners() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("cube_ascii.ply");
+    let out = dir.path().join("cube.ply");
+    let summary = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--edge-length",
+        "0.25",
+        "--features",
+        "45",
+        "--json",
+    ]);
+    assert_eq!(summary["feature_edges"], 12);
+    assert_eq!(summary["corners"], 8);
+    let got = read_mesh(&out).unwrap();
+    for i in 0..8u32 {
+        let corner = glam::DVec3::new(f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2));
+        assert!(got.positions.contains(&corner), "corner {corner}");
+    }
+}
+
+#[test]
+fn adaptive_sizing_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("adaptive.ply");
+    let summary = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--adaptive",
+        "--min-edge",
+        "0.05",
+        "--max-edge",
+        "1",
+        "--error",
+        "0.002",
+        "--json",
+    ]);
+    assert_eq!(summary["adaptive"], true);
+    let data = read_mesh(&input).unwrap();
+    let options = RemeshOptions::default().adaptive(0.05, 1.0, 0.002);
+    let (want, positions, report) =
+        remesh(&data.mesh().unwrap(), &data.positions, &options).unwrap();
+    let got = read_mesh(&out).unwrap();
+    assert_eq!(got.positions, positions);
+    assert_eq!(got.faces, want.to_polygons());
+    assert_eq!(f(&summary["target_edge_length"]), report.target_edge_length);
+    // The chord length of the error on the unit sphere, about 0.11.
+    let chord = (6.0f64 * 0.002 - 3.0 * 0.002 * 0.002).sqrt();
+    assert!((f(&summary["mean_edge_length"]) / chord - 1.0).abs() < 0.2);
+}
