@@ -11,6 +11,8 @@
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
 //!   surfaces and the change of the surface measured.
+//! - [`fill_holes`]: hole filling after Liepa (2003): each boundary loop but the outer one
+//!   closed by a minimum-weight triangulation, refined to the rim's density and faired.
 //!
 //! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
 //! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
@@ -37,8 +39,13 @@
 
 mod delaunay;
 mod error;
+mod fill_holes;
 pub mod subdivision;
 
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
+pub use fill_holes::{
+    FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole, fill_hole,
+    fill_holes,
+};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -26,6 +26,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 mod compare;
 mod delaunay;
 mod error;
+mod fill_holes;
 mod fit;
 mod generate;
 mod info;
@@ -83,6 +84,9 @@ enum Command {
     /// Flip edges until no cotangent weight is negative (a Delaunay mesh on the same
     /// vertices), optionally keeping sharp and curved edges.
     Delaunay(delaunay::DelaunayArgs),
+    /// Fill the holes of a mesh (Liepa's minimum-weight triangulation, refined and
+    /// faired), leaving the outer boundary of an open surface open unless --all.
+    FillHoles(fill_holes::FillHolesArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -191,6 +195,7 @@ where
         Command::Study(args) => study::run(args, registry, &mut stdout),
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
+        Command::FillHoles(args) => fill_holes::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),
