@@ -181,7 +181,8 @@ impl FillOptions {
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct FilledHole {
-    /// The loop's first boundary halfedge (its lowest id in the input mesh).
+    /// The boundary halfedge the loop was traced from: for [`fill_holes`] the loop's
+    /// lowest halfedge id in the input mesh, for [`fill_hole`] the one given.
     pub halfedge: HalfedgeId,
     /// The number of edges (and vertices) of the loop.
     pub boundary_edges: usize,

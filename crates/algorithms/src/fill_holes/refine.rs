@@ -123,7 +123,7 @@ fn collapse_short(
             let too_long = mesh
                 .vertices_around_vertex(from)
                 .any(|w| w != to && mesh.position(w).distance(target) > high);
-            if too_long || !mesh.is_collapse_ok(h) {
+            if too_long || folds(mesh, from, to) || !mesh.is_collapse_ok(h) {
                 continue;
             }
             mesh.collapse_edge(h)?;
@@ -135,6 +135,23 @@ fn collapse_short(
         any = true;
     }
     Ok(any)
+}
+
+/// Whether moving `from` onto `to` would turn a triangle of `from` that survives the
+/// collapse (one without `to`) upside down or make it degenerate.
+fn folds(mesh: &EditMesh, from: VertexId, to: VertexId) -> bool {
+    let (p, q) = (mesh.position(from), mesh.position(to));
+    mesh.halfedges_around_vertex(from).any(|g| {
+        if mesh.face(g).is_none() {
+            return false;
+        }
+        let (w, u) = (mesh.to_vertex(g), mesh.to_vertex(mesh.next(g)));
+        if w == to || u == to {
+            return false;
+        }
+        let (a, b) = (mesh.position(w), mesh.position(u));
+        (a - p).cross(b - p).dot((a - q).cross(b - q)) <= 0.0
+    })
 }
 
 fn flip_delaunay(mesh: &mut EditMesh, patch: Patch) -> Result<bool, EditError> {
