@@ -88,8 +88,9 @@ fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
 fn options_change_what_is_filled() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.ply");
+    let input = holes();
     let run = |extra: &[&str]| -> Value {
-        let mut args = vec!["fill-holes", s(&holes()), s(&out), "--json", "--force"];
+        let mut args = vec!["fill-holes", s(&input), s(&out), "--json", "--force"];
         args.extend_from_slice(extra);
         json(&args)
     };
@@ -168,13 +169,14 @@ fn bad_input_and_usage_leave_no_output() {
     assert_eq!(o.status.code(), Some(1));
     assert!(error_line(&o, dir.path()).contains("needs a triangle mesh"));
     assert!(!out.exists());
+    let input = holes();
     for args in [
         &["--max-loop-edges", "2"][..],
         &["--max-loop-edges", "-1"][..],
         &["--max-loop-edges", "many"][..],
         &["--fair-order", "2"][..],
     ] {
-        let mut all = vec!["fill-holes", s(&holes()), s(&out)];
+        let mut all = vec!["fill-holes", s(&input), s(&out)];
         all.extend_from_slice(args);
         let o = beltrami(&all);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
