@@ -45,7 +45,7 @@ pub mod subdivision;
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
 pub use fill_holes::{
-    FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole, fill_hole,
-    fill_holes,
+    FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole,
+    fill_hole, fill_holes,
 };
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -7,15 +7,16 @@
 use beltrami_algorithms::{
     FairWeights, FillError, FillOptions, FillReport, SkipReason, fill_hole, fill_holes,
 };
-use beltrami_halfedge::{
-    DVec3, EditMesh, HalfedgeMesh, MeshData, VertexId, primitives,
-};
+use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, MeshData, VertexId, primitives};
 use beltrami_surfaces::{FLensParams, flens};
 use proptest::prelude::*;
 
 /// The mesh of `data` without the faces `cut` selects, its vertices renumbered in their
 /// order with those left without a face dropped.
-fn cut(data: &MeshData, drop_face: impl Fn(&[u32], &[DVec3]) -> bool) -> (HalfedgeMesh, Vec<DVec3>) {
+fn cut(
+    data: &MeshData,
+    drop_face: impl Fn(&[u32], &[DVec3]) -> bool,
+) -> (HalfedgeMesh, Vec<DVec3>) {
     let kept: Vec<&[u32]> = data
         .faces
         .iter()
@@ -157,9 +158,8 @@ fn refinement_matches_the_rim_density() {
     for e in out.edges() {
         let h = e.halfedge(0);
         let (a, b) = (out.from_vertex(h), out.to_vertex(h));
-        let new = a.index() >= x.len()
-            || b.index() >= x.len()
-            || open.find_halfedge(a, b).is_none();
+        let new =
+            a.index() >= x.len() || b.index() >= x.len() || open.find_halfedge(a, b).is_none();
         if new {
             sum += y[a.index()].distance(y[b.index()]);
             count += 1;
@@ -203,7 +203,9 @@ fn fairing_brings_the_patch_to_the_sphere() {
     let uniform = all().fair_weights(FairWeights::Uniform);
     let (_, y, _) = fill_holes(&open, &x, &uniform).unwrap();
     let d_uniform = off_sphere(&x, &y);
-    println!("z > 0.75: flat {d_flat}, membrane {d_membrane}, uniform thin plate {d_uniform}, cotangent thin plate {d_faired}");
+    println!(
+        "z > 0.75: flat {d_flat}, membrane {d_membrane}, uniform thin plate {d_uniform}, cotangent thin plate {d_faired}"
+    );
     assert!(d_uniform < d_flat / 2.0, "{d_uniform}");
 }
 
@@ -212,7 +214,9 @@ fn fairing_brings_the_patch_to_the_sphere() {
 #[test]
 fn sphere_caps_table() {
     let ico = primitives::icosphere(4);
-    println!("| cap | rim edges | faces added | vertices added | flat: max distance | faired (k = 2): max distance |");
+    println!(
+        "| cap | rim edges | faces added | vertices added | flat: max distance | faired (k = 2): max distance |"
+    );
     println!("|---|---:|---:|---:|---:|---:|");
     for z0 in [0.9, 0.75, 0.5] {
         let (open, x) = cut(&ico, |f, p| f.iter().all(|&v| p[v as usize].z > z0));
@@ -235,7 +239,8 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
         ny: 12,
         ..FLensParams::default()
     });
-    let center = lens.positions.iter().fold(DVec3::ZERO, |s, &p| s + p) / lens.positions.len() as f64;
+    let center =
+        lens.positions.iter().fold(DVec3::ZERO, |s, &p| s + p) / lens.positions.len() as f64;
     let radius = 0.15
         * lens
             .positions
@@ -249,11 +254,7 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
         })
     });
     assert_eq!(open.boundary_loops().count(), 2);
-    let outer_edges = open
-        .boundary_loops()
-        .map(|l| l.len())
-        .max()
-        .unwrap();
+    let outer_edges = open.boundary_loops().map(|l| l.len()).max().unwrap();
     let (out, y, report) = fill_holes(&open, &x, &FillOptions::default()).unwrap();
     assert_eq!(report.filled.len(), 1);
     assert_eq!(report.skipped.len(), 1);
@@ -264,7 +265,8 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
     assert_eq!(loops, [outer_edges]);
     assert_eq!(&y[..x.len()], &x[..]);
     // With `fill_all` the outer boundary is closed too: no boundary left.
-    let (closed, _, report) = fill_holes(&open, &x, &FillOptions::default().fill_all(true)).unwrap();
+    let (closed, _, report) =
+        fill_holes(&open, &x, &FillOptions::default().fill_all(true)).unwrap();
     assert_eq!(report.filled.len(), 2);
     assert!(closed.is_closed());
 }
@@ -331,7 +333,8 @@ fn a_hole_of_three_edges_becomes_one_triangle() {
 fn filling_is_deterministic() {
     let torus = primitives::torus(3.0, 1.0, 24, 12);
     let (open, x) = cut(&torus, |f, p| {
-        f.iter().any(|&v| p[v as usize].x > 3.5 || p[v as usize].y > 3.5)
+        f.iter()
+            .any(|&v| p[v as usize].x > 3.5 || p[v as usize].y > 3.5)
     });
     let a = fill_holes(&open, &x, &all()).unwrap();
     let b = fill_holes(&open, &x, &all()).unwrap();
@@ -361,7 +364,11 @@ fn bad_input_and_options_are_refused_with_a_typed_error() {
         fill_holes(&mesh, &nan, &all()).unwrap_err(),
         FillError::NonFinite { vertex: 5 }
     );
-    for options in [all().max_loop_edges(2), all().fair_order(0), all().fair_order(3)] {
+    for options in [
+        all().max_loop_edges(2),
+        all().fair_order(0),
+        all().fair_order(3),
+    ] {
         assert!(matches!(
             fill_holes(&mesh, x, &options),
             Err(FillError::Options { .. })

@@ -34,7 +34,7 @@ pub(crate) struct FillHolesArgs {
     /// (and so nothing to fair).
     #[arg(long)]
     no_refine: bool,
-    /// Do not fair the patches: the new vertices stay on the initial triangulation,
+    /// Do not fair the patches: the new vertices stay where the refinement put them,
     /// flat between the rim vertices.
     #[arg(long)]
     no_fair: bool,

@@ -60,7 +60,7 @@ fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
         }
     }
 
-    let input = read_mesh(&holes()).unwrap();
+    let input = read_mesh(holes()).unwrap();
     let (want, positions, report) = fill_holes(
         &input.mesh().unwrap(),
         &input.positions,
@@ -70,7 +70,10 @@ fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
     let got = read_mesh(&out).unwrap();
     assert_eq!(got.positions, positions);
     assert_eq!(got.faces, want.to_polygons());
-    assert_eq!(&got.positions[..input.positions.len()], &input.positions[..]);
+    assert_eq!(
+        &got.positions[..input.positions.len()],
+        &input.positions[..]
+    );
     assert_eq!(summary["faces_added"], report.faces_added);
     assert_eq!(summary["vertices_added"], report.vertices_added);
     assert!(report.vertices_added > 0);

@@ -4,6 +4,7 @@
 //! sparse Cholesky factorisation.
 
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeId, VertexId};
 use faer::linalg::solvers::Solve;
@@ -108,10 +109,8 @@ pub(super) fn fair(
             continue;
         }
         for (k, c1) in first {
-            if !rows.contains_key(&k) {
-                let r = row(mesh, k, weights);
-                let m = mass(mesh, k, weights)?;
-                rows.insert(k, (r, m));
+            if let Entry::Vacant(slot) = rows.entry(k) {
+                slot.insert((row(mesh, k, weights), mass(mesh, k, weights)?));
             }
             let (second, m) = &rows[&k];
             for &(j, c2) in second {

@@ -93,7 +93,7 @@ pub struct FillOptions {
     /// Refine the patch to the rim's edge length (default `true`). Without refinement no
     /// vertex is added, so there is nothing to fair either.
     pub refine: bool,
-    /// Fair the new vertices (default `true`); `false` leaves the refined patch on the
+    /// Fair the new vertices (default `true`); `false` leaves the refined patch near the
     /// initial triangulation, flat between the rim vertices.
     pub fair: bool,
     /// The order k of the fairing, `Δᵏ x = 0`: 1 (membrane, continuous position) or 2
@@ -448,7 +448,9 @@ fn fill_loop(
     }
     let mut faces_added = 0;
     let mut area = 0.0;
-    for f in (patch.first_face..mesh.face_capacity()).map(|i| beltrami_halfedge::FaceId::new(i as u32)) {
+    for f in
+        (patch.first_face..mesh.face_capacity()).map(|i| beltrami_halfedge::FaceId::new(i as u32))
+    {
         if !mesh.is_live_face(f) {
             continue;
         }

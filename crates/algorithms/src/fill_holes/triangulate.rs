@@ -151,7 +151,10 @@ pub(super) fn plan(
                 if i == 0 && k == n - 1 {
                     angle = angle.max(fold(n0, outside[0]));
                 }
-                let area = 0.5 * (position[m] - position[i]).cross(position[k] - position[i]).length();
+                let area = 0.5
+                    * (position[m] - position[i])
+                        .cross(position[k] - position[i])
+                        .length();
                 let w = left.plus(right).plus(Weight { angle, area });
                 if w.less(best) {
                     best = w;
