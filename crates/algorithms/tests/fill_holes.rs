@@ -469,3 +469,38 @@ proptest! {
         random_hole_case(torus, center, k);
     }
 }
+
+/// A round hole of a few hundred edges in a plane: the O(n³) triangulation stays fast,
+/// the outer rim (the longer loop) stays open, and the thin plate of a planar rim with a
+/// planar ring outside it is the plane itself.
+#[test]
+fn a_hole_of_hundreds_of_edges_in_a_plane_stays_planar() {
+    let grid = primitives::grid(100, 100);
+    let center = DVec3::new(50.0, 50.0, 0.0);
+    let (open, x) = cut(&grid, |f, p| {
+        f.iter().any(|&v| p[v as usize].distance(center) < 30.0)
+    });
+    let start = std::time::Instant::now();
+    let (out, y, report) = fill_holes(&open, &x, &FillOptions::default()).unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    assert_eq!(report.filled.len(), 1);
+    assert_eq!(report.skipped[0].reason, SkipReason::OuterBoundary);
+    let hole = &report.filled[0];
+    assert!(hole.boundary_edges > 150, "{}", hole.boundary_edges);
+    hole.faced_check();
+    out.check_integrity().unwrap();
+    assert_eq!(out.boundary_loops().count(), 1);
+    let z = y[x.len()..].iter().map(|p| p.z.abs()).fold(0.0, f64::max);
+    assert!(z < 1e-9, "{z}");
+    // The patch covers the hole: its area is the disc's, less the rim's polygon gaps.
+    let disc = std::f64::consts::PI * 30.0 * 30.0;
+    assert!(
+        hole.area > 0.95 * disc && hole.area < 1.05 * disc,
+        "{}",
+        hole.area
+    );
+    println!(
+        "{} rim edges: {} faces, {} vertices added in {seconds:.3} s",
+        hole.boundary_edges, hole.faces_added, hole.vertices_added
+    );
+}
