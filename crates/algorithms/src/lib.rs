@@ -14,15 +14,18 @@
 //! - [`remesh`]: isotropic remeshing (Botsch & Kobbelt 2004) towards a target edge
 //!   length by splits, collapses, flips and tangential relaxation, keeping the boundary
 //!   and sharp features and projecting the vertices back onto the input surface;
+//! - [`fill_holes`]: hole filling after Liepa (2003): each boundary loop but the outer
+//!   one closed by a minimum-weight triangulation, refined to the rim's density and
+//!   faired;
 //! - [`mesh_quality`] and [`flipped_faces`] (module [`quality`]): angles, aspect
 //!   ratios, edge lengths, valences and negative cotangent weights, the figures every
 //!   algorithm here is judged by.
 //!
 //! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T`
-//! (positions within 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
-//! repository has the rules, the numbering of the new vertices and the comparison.
-//! [`Scheme`] names a scheme at run time and predicts the size of the result before
-//! anything is computed.
+//! (positions within 1e-12 of the bounding-box diagonal, the same triangles);
+//! `docs/subdivision.md` in the repository has the rules, the numbering of the new
+//! vertices and the comparison. [`Scheme`] names a scheme at run time and predicts the
+//! size of the result before anything is computed.
 //!
 //! ## Quick start
 //!
@@ -43,12 +46,17 @@
 
 mod delaunay;
 mod error;
+mod fill_holes;
 pub mod quality;
 mod remesh;
 pub mod subdivision;
 
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
+pub use fill_holes::{
+    FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole,
+    fill_hole, fill_holes,
+};
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
     DEFAULT_CORNER_ANGLE, EdgeLength, MAX_REMESH_FACES, RemeshError, RemeshIteration,

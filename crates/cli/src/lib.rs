@@ -26,6 +26,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 mod compare;
 mod delaunay;
 mod error;
+mod fill_holes;
 mod fit;
 mod generate;
 mod info;
@@ -87,6 +88,9 @@ enum Command {
     /// Remesh isotropically towards a target edge length (Botsch & Kobbelt 2004),
     /// keeping the boundary and, with --features, sharp edges.
     Remesh(remesh::RemeshArgs),
+    /// Fill the holes of a mesh (Liepa's minimum-weight triangulation, refined and
+    /// faired), leaving the outer boundary of an open surface open unless --all.
+    FillHoles(fill_holes::FillHolesArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -196,6 +200,7 @@ where
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
         Command::Remesh(args) => remesh::run(args, &mut stdout),
+        Command::FillHoles(args) => fill_holes::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),

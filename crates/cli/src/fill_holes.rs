@@ -1,0 +1,229 @@
+//! `beltrami fill-holes`: close the holes of a triangle mesh (Liepa 2003), leaving the
+//! outer boundary of an open surface open unless `--all` is given.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use beltrami_algorithms::{FillError, FillOptions, SkipReason, fill_holes};
+use beltrami_io::MeshData;
+use serde::Serialize;
+
+use crate::error::CliError;
+use crate::load::{ReadArgs, load};
+use crate::output::{Outputs, Staged};
+use crate::text::{counted, number};
+
+/// Arguments of `beltrami fill-holes`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct FillHolesArgs {
+    /// The triangle mesh (.ply, .stl, .obj or .off).
+    input: PathBuf,
+    /// The filled mesh (.ply, .stl, .obj or .off by extension): the input's vertices
+    /// in the same order and bit for bit, the new vertices after them.
+    output: PathBuf,
+    /// Leave loops of more edges open (at least 3; default 500). The triangulation
+    /// costs O(n^3) in the number of edges of a loop.
+    #[arg(long, value_name = "N")]
+    max_loop_edges: Option<usize>,
+    /// Fill every loop, the one of the largest perimeter too (a closed part). Without
+    /// it, that loop is taken for the outer boundary of an open surface (a scan of an
+    /// open part) and left open.
+    #[arg(long)]
+    all: bool,
+    /// Do not refine the patches: only the triangulation of each hole, no new vertex
+    /// (and so nothing to fair).
+    #[arg(long)]
+    no_refine: bool,
+    /// Do not fair the patches: the new vertices stay where the refinement put them,
+    /// flat between the rim vertices.
+    #[arg(long)]
+    no_fair: bool,
+    /// Print a JSON summary instead of the sentence.
+    #[arg(long)]
+    json: bool,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Replace OUTPUT even when it is the input or write-protected.
+    #[arg(long)]
+    force: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+}
+
+/// One filled hole in the JSON summary.
+#[derive(Debug, Serialize)]
+struct Hole {
+    boundary_edges: usize,
+    /// In the mesh's unit.
+    perimeter: f64,
+    faces_added: usize,
+    vertices_added: usize,
+    /// In the mesh's unit squared.
+    area: f64,
+    /// The fairing order used (2 thin plate, 1 membrane), null when not faired.
+    faired_order: Option<u8>,
+}
+
+/// One loop left open in the JSON summary.
+#[derive(Debug, Serialize)]
+struct Skipped {
+    boundary_edges: usize,
+    perimeter: f64,
+    /// `outer_boundary`, `too_large`, `non_manifold_vertex` or
+    /// `no_manifold_triangulation`.
+    reason: &'static str,
+}
+
+/// The JSON of `fill-holes --json`.
+#[derive(Debug, Serialize)]
+struct Summary {
+    input: String,
+    output: String,
+    vertices: usize,
+    faces: usize,
+    loops: usize,
+    filled: Vec<Hole>,
+    skipped: Vec<Skipped>,
+    faces_added: usize,
+    vertices_added: usize,
+    boundary_loops_left: usize,
+    max_loop_edges: usize,
+    seconds: f64,
+}
+
+fn reason_key(reason: SkipReason) -> &'static str {
+    match reason {
+        SkipReason::OuterBoundary => "outer_boundary",
+        SkipReason::TooLarge => "too_large",
+        SkipReason::NonManifoldVertex => "non_manifold_vertex",
+        _ => "no_manifold_triangulation",
+    }
+}
+
+/// Runs `beltrami fill-holes`.
+pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliError> {
+    if let Some(n) = args.max_loop_edges
+        && n < 3
+    {
+        return Err(CliError::Usage(format!(
+            "--max-loop-edges must be at least 3 (a triangle), got {n}"
+        )));
+    }
+    let mut outputs = Outputs::new();
+    outputs.add(&args.output, "OUTPUT");
+    outputs.check(&[&args.input], args.force)?;
+    let loaded = load(&args.input, &args.read)?;
+    loaded.require_faces(&args.input, "fill-holes")?;
+    let mut options = FillOptions::default()
+        .fill_all(args.all)
+        .refine(!args.no_refine)
+        .fair(!args.no_fair);
+    if let Some(n) = args.max_loop_edges {
+        options = options.max_loop_edges(n);
+    }
+    let start = std::time::Instant::now();
+    let (mesh, positions, report) = fill_holes(&loaded.mesh, &loaded.positions, &options)
+        .map_err(|e| CliError::Input {
+            path: args.input.clone(),
+            message: match e {
+                FillError::NotTriangle { face, len } => format!(
+                    "face {face} has {len} vertices; fill-holes needs a triangle mesh (triangulate it first)"
+                ),
+                e => e.to_string(),
+            },
+        })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let data = MeshData {
+        positions,
+        faces: mesh.to_polygons(),
+    };
+    let mut staged = Staged::new();
+    staged.push_mesh(&args.output, &data, args.ascii)?;
+    staged.commit()?;
+
+    if args.json {
+        let summary = Summary {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            vertices: mesh.n_vertices(),
+            faces: mesh.n_faces(),
+            loops: report.loops,
+            filled: report
+                .filled
+                .iter()
+                .map(|h| Hole {
+                    boundary_edges: h.boundary_edges,
+                    perimeter: h.perimeter,
+                    faces_added: h.faces_added,
+                    vertices_added: h.vertices_added,
+                    area: h.area,
+                    faired_order: h.faired_order,
+                })
+                .collect(),
+            skipped: report
+                .skipped
+                .iter()
+                .map(|s| Skipped {
+                    boundary_edges: s.boundary_edges,
+                    perimeter: s.perimeter,
+                    reason: reason_key(s.reason),
+                })
+                .collect(),
+            faces_added: report.faces_added,
+            vertices_added: report.vertices_added,
+            boundary_loops_left: mesh.boundary_loops().count(),
+            max_loop_edges: options.max_loop_edges,
+            seconds,
+        };
+        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+        return Ok(());
+    }
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    let count = |reason: SkipReason| report.skipped.iter().filter(|s| s.reason == reason).count();
+    let mut open = Vec::new();
+    if count(SkipReason::OuterBoundary) > 0 {
+        open.push("the outer boundary (largest perimeter; --all fills it)".to_string());
+    }
+    let large = count(SkipReason::TooLarge);
+    if large > 0 {
+        open.push(format!(
+            "{} with more than {} edges (--max-loop-edges)",
+            large, options.max_loop_edges
+        ));
+    }
+    let pinched = count(SkipReason::NonManifoldVertex);
+    if pinched > 0 {
+        open.push(format!("{pinched} through a vertex on two loops"));
+    }
+    let stuck = report.skipped.len() - count(SkipReason::OuterBoundary) - large - pinched;
+    if stuck > 0 {
+        open.push(format!(
+            "{stuck} with no triangulation that keeps the mesh manifold"
+        ));
+    }
+    let open = if open.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; left {} open: {}",
+            counted(report.skipped.len(), "loop", "loops"),
+            open.join(", ")
+        )
+    };
+    let area: f64 = report.filled.iter().map(|h| h.area).sum();
+    writeln!(
+        out,
+        "filled {} of {} -> {}: {} and {} added, patch area {}{open}",
+        counted(report.filled.len(), "hole", "holes"),
+        args.input.display(),
+        args.output.display(),
+        counted(report.faces_added, "face", "faces"),
+        counted(report.vertices_added, "vertex", "vertices"),
+        number(area),
+    )?;
+    Ok(())
+}

@@ -1,0 +1,193 @@
+//! `beltrami fill-holes` as a user runs it: the holes of the fixture patch are filled
+//! and its outer rim kept, as the library does it; `--all`, `--max-loop-edges`,
+//! `--no-refine` and `--no-fair` change what the summary reports; a broken input gives
+//! one error line and no output, and bad usage exits with code 2 before anything is
+//! written.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use beltrami_algorithms::{FillOptions, fill_holes};
+use beltrami_io::read_mesh;
+use common::{beltrami, error_line, json, s};
+use serde_json::Value;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+fn holes() -> PathBuf {
+    fixtures().join("holes_30x20.ply")
+}
+
+#[test]
+fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    let summary = json(&["fill-holes", s(&holes()), s(&out), "--json"]);
+    for key in [
+        "input",
+        "output",
+        "vertices",
+        "faces",
+        "loops",
+        "filled",
+        "skipped",
+        "faces_added",
+        "vertices_added",
+        "boundary_loops_left",
+        "max_loop_edges",
+        "seconds",
+    ] {
+        assert!(summary.get(key).is_some(), "{key} missing: {summary}");
+    }
+    assert_eq!(summary["loops"], 6);
+    assert_eq!(summary["filled"].as_array().unwrap().len(), 5);
+    assert_eq!(summary["skipped"][0]["reason"], "outer_boundary");
+    assert_eq!(summary["boundary_loops_left"], 1);
+    for hole in summary["filled"].as_array().unwrap() {
+        for key in [
+            "boundary_edges",
+            "perimeter",
+            "faces_added",
+            "vertices_added",
+            "area",
+            "faired_order",
+        ] {
+            assert!(hole.get(key).is_some(), "{key} missing: {hole}");
+        }
+    }
+
+    let input = read_mesh(holes()).unwrap();
+    let (want, positions, report) = fill_holes(
+        &input.mesh().unwrap(),
+        &input.positions,
+        &FillOptions::default(),
+    )
+    .unwrap();
+    let got = read_mesh(&out).unwrap();
+    assert_eq!(got.positions, positions);
+    assert_eq!(got.faces, want.to_polygons());
+    assert_eq!(
+        &got.positions[..input.positions.len()],
+        &input.positions[..]
+    );
+    assert_eq!(summary["faces_added"], report.faces_added);
+    assert_eq!(summary["vertices_added"], report.vertices_added);
+    assert!(report.vertices_added > 0);
+
+    // The sentence names what was filled and what was left open.
+    let o = beltrami(&["fill-holes", s(&holes()), s(&out), "--force"]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.starts_with("filled 5 holes of "), "{text}");
+    assert!(text.contains("the outer boundary"), "{text}");
+}
+
+#[test]
+fn options_change_what_is_filled() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    let input = holes();
+    let run = |extra: &[&str]| -> Value {
+        let mut args = vec!["fill-holes", s(&input), s(&out), "--json", "--force"];
+        args.extend_from_slice(extra);
+        json(&args)
+    };
+    // --all closes the outer rim too.
+    let all = run(&["--all"]);
+    assert_eq!(all["filled"].as_array().unwrap().len(), 6);
+    assert_eq!(all["boundary_loops_left"], 0);
+    // Only the missing triangle has at most 3 edges.
+    let small = run(&["--max-loop-edges", "3"]);
+    assert_eq!(small["filled"].as_array().unwrap().len(), 1);
+    assert_eq!(small["faces_added"], 1);
+    let reasons: Vec<&str> = small["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["reason"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        reasons.iter().filter(|r| **r == "too_large").count(),
+        4,
+        "{reasons:?}"
+    );
+    let o = beltrami(&[
+        "fill-holes",
+        s(&holes()),
+        s(&out),
+        "--force",
+        "--max-loop-edges",
+        "3",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("with more than 3 edges"), "{text}");
+    // --no-refine: the bare triangulations, no vertex added.
+    let bare = run(&["--no-refine"]);
+    assert_eq!(bare["vertices_added"], 0);
+    // --no-fair: the same connectivity as with fairing, nothing faired.
+    let flat = run(&["--no-fair"]);
+    let faired = run(&[]);
+    assert_eq!(flat["faces_added"], faired["faces_added"]);
+    assert!(
+        flat["filled"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|h| h["faired_order"].is_null())
+    );
+    assert!(
+        faired["filled"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|h| h["faired_order"] == 2)
+    );
+}
+
+#[test]
+fn bad_input_and_usage_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    for bad in fs::read_dir(fixtures().join("bad")).unwrap() {
+        let bad = bad.unwrap().path();
+        if bad.ends_with("isolated_vertices.obj") {
+            continue; // the one valid file of the corpus
+        }
+        let o = beltrami(&["fill-holes", s(&bad), s(&out)]);
+        assert_eq!(o.status.code(), Some(1), "{bad:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&o.stderr).lines().count(),
+            1,
+            "{bad:?}"
+        );
+        assert!(!out.exists(), "{bad:?}");
+    }
+    // A quad mesh: one line naming the problem.
+    let o = beltrami(&["fill-holes", s(&fixtures().join("cube_quads.obj")), s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(error_line(&o, dir.path()).contains("needs a triangle mesh"));
+    assert!(!out.exists());
+    let input = holes();
+    for args in [
+        &["--max-loop-edges", "2"][..],
+        &["--max-loop-edges", "-1"][..],
+        &["--max-loop-edges", "many"][..],
+        &["--fair-order", "2"][..],
+    ] {
+        let mut all = vec!["fill-holes", s(&input), s(&out)];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(!out.exists());
+    }
+    let o = beltrami(&["fill-holes", s(&holes()), s(&out), "--max-loop-edges", "2"]);
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+    // The input is not overwritten without --force.
+    let o = beltrami(&["fill-holes", s(&holes()), s(&holes())]);
+    assert_eq!(o.status.code(), Some(2));
+}
