@@ -55,6 +55,12 @@ impl<'a> Reference<'a> {
         self.index.signed_distances(positions)
     }
 
+    /// The RMS distance of `positions` to the clean surface.
+    pub(crate) fn rms(&self, positions: &[DVec3]) -> Result<f64, MetricsError> {
+        let d = self.index.distances(positions)?;
+        Ok(DistanceStats::new(&d, &vec![1.0; d.len()])?.rms)
+    }
+
     pub(crate) fn measure(
         &self,
         scheme: &str,
@@ -124,6 +130,7 @@ impl<'a> Reference<'a> {
                 boundary_max,
                 feature_dihedral_deg,
                 stuck_vertices,
+                seed: case.seed,
             },
             rings,
         })

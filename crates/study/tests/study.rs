@@ -23,6 +23,7 @@ fn small_config(registry: &WeightRegistry) -> StudyConfig {
     let mut config = StudyConfig::paper(registry);
     config.size = Size::Small;
     config.iterations = vec![2, 5, 10];
+    config.seeds = 1;
     config
 }
 
@@ -215,7 +216,10 @@ fn verdicts_come_from_the_data() {
     let findings = beltrami_study::findings(&rows);
     // Only the sphere was studied: F-lens, block and golf-ball findings are not evaluated.
     for f in &findings {
-        let sphere = f.id.starts_with("sphere") || f.id == "cotangent_much_slower";
+        let sphere = f.id.starts_with("sphere")
+            || f.id == "cotangent_much_slower"
+            || f.id == "distance_as_fast_as_uniform"
+            || f.id == "distance_is_the_compromise";
         assert_eq!(
             f.verdict == Verdict::NotEvaluated,
             !sphere,
@@ -248,8 +252,66 @@ fn verdicts_come_from_the_data() {
         .find(|f| f.id == "sphere_rms_cotangent_best")
         .unwrap()
         .verdict;
-    assert_eq!(after, Verdict::NotReproduced);
+    assert_eq!(after, Verdict::Contradicted);
     assert_ne!(before, Verdict::NotEvaluated);
+}
+
+#[test]
+fn several_seeds_give_spreads_optima_and_the_early_plot() {
+    let mut registry = WeightRegistry::with_builtins();
+    registry.register(Squared).unwrap();
+    let mut config = small_config(&registry);
+    config.surfaces = vec![beltrami_surfaces::SurfaceKind::FLens];
+    config.iterations = vec![20, 40];
+    config.seeds = 2;
+    config.countermeasure_scheme = None;
+    config.edge_comparison = None;
+    let results = run_study(&config, &mut |_| {}).unwrap();
+    let rows = results.all_seed_rows();
+    // Seed 2 runs the paper's three schemes only.
+    let seed2: Vec<_> = rows.iter().filter(|r| r.seed == 2).collect();
+    assert_eq!(seed2.len(), 1 + 3 * 2);
+    assert!(seed2.iter().all(|r| r.scheme != "inverse-squared"));
+    assert_eq!(rows.iter().filter(|r| r.seed == 1).count(), 1 + 4 * 2);
+    // The seeds' inputs differ, so their RMS differs.
+    let input = |seed: u64| {
+        rows.iter()
+            .find(|r| r.seed == seed && r.scheme == "input")
+            .unwrap()
+            .rms
+    };
+    assert!((input(1) - input(2)).abs() > 1e-9);
+    // The RMS is observed at every iteration from 0 to EARLY_ITERATIONS.
+    let curve = &results.surfaces[0].rms_curve;
+    for it in 0..=beltrami_study::EARLY_ITERATIONS {
+        let scheme = if it == 0 { "input" } else { "cotangent" };
+        assert_eq!(
+            curve
+                .iter()
+                .filter(|p| p.scheme == scheme && p.iteration == it)
+                .count(),
+            2,
+            "iteration {it}"
+        );
+    }
+    // On the F-lens the optimum lies at a few iterations, far below the input's RMS and
+    // below the RMS at 40 iterations.
+    let optima = beltrami_study::optima(curve);
+    let cot = optima.iter().find(|o| o.scheme == "cotangent").unwrap();
+    assert!(cot.iterations.1 < 20, "{cot:?}");
+    assert_eq!(cot.rms.n, 2);
+    assert!(cot.rms.mean < 0.5 * cot.input_rms.mean, "{cot:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let written = write_study(&results, dir.path()).unwrap();
+    assert_eq!(written.rows, rows);
+    let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(report.contains("## Recommendation"));
+    assert!(report.contains("## The RMS-optimal iteration count"));
+    assert!(report.contains("| noise seeds | 2 (1, 2)"));
+    assert!(report.contains("Cotangent normalisation"));
+    assert!(dir.path().join("plots/rms_early_flens.png").exists());
+    let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
+    assert!(csv.lines().any(|l| l.starts_with("flens,cotangent,40,") && l.ends_with(",2")));
 }
 
 #[test]
@@ -265,6 +327,12 @@ fn invalid_configurations_are_errors() {
     config.iterations = vec![];
     assert!(run_study(&config, &mut |_| {}).is_err());
     config.iterations = vec![1];
+    config.seeds = 0;
+    assert_eq!(
+        run_study(&config, &mut |_| {}).unwrap_err().to_string(),
+        "the number of noise seeds must be at least 1"
+    );
+    config.seeds = 1;
     config.schemes = Vec::<Arc<dyn WeightScheme>>::new();
     assert_eq!(
         run_study(&config, &mut |_| {}).unwrap_err().to_string(),
