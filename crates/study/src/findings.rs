@@ -240,7 +240,6 @@ fn iterations_of(rows: &[Row], surface: &str, scheme: &str) -> Vec<usize> {
     v
 }
 
-
 fn listing(values: &[(&str, Spread)]) -> String {
     values
         .iter()
@@ -390,8 +389,7 @@ fn not_evaluated(id: &'static str, claim: &'static str) -> Finding {
         id,
         claim,
         verdict: Verdict::NotEvaluated,
-        evidence: "the study did not include the surfaces, schemes or iterations this needs"
-            .into(),
+        evidence: "the study did not include the surfaces, schemes or iterations this needs".into(),
         tolerance: "–".into(),
         note: String::new(),
     }
@@ -639,12 +637,17 @@ fn gap_grows_finding(rows: &[Row]) -> Finding {
     if gaps.len() < 2 {
         return not_evaluated(id, claim);
     }
-    let rms_mean = spread(rows, "flens", "cotangent", its[its.len() - 1], |r| Some(r.rms))
-        .map_or(0.0, |s| s.mean);
+    let rms_mean = spread(rows, "flens", "cotangent", its[its.len() - 1], |r| {
+        Some(r.rms)
+    })
+    .map_or(0.0, |s| s.mean);
     let tol = REL_TOL * rms_mean;
     let first = gaps[0].1;
     let last = gaps[gaps.len() - 1].1;
-    let steps: Vec<Comparison> = gaps.windows(2).map(|w| compare(&w[1].1, &w[0].1, tol)).collect();
+    let steps: Vec<Comparison> = gaps
+        .windows(2)
+        .map(|w| compare(&w[1].1, &w[0].1, tol))
+        .collect();
     let verdict = match compare(&last, &first, tol) {
         Comparison::Greater
             if steps
@@ -840,7 +843,8 @@ fn distance_speed_finding(rows: &[Row]) -> Finding {
 /// observation (≤ 50 iterations), reproduced when less than a tenth has happened by 50.
 fn edge_blur_finding(rows: &[Row]) -> Finding {
     let id = "block_edges_blur_after_50";
-    let claim = "Block: edge blurring appears when the number of iterations exceeds 50 (Sec. 5; Fig. 8).";
+    let claim =
+        "Block: edge blurring appears when the number of iterations exceeds 50 (Sec. 5; Fig. 8).";
     let its = iterations_of(rows, "block", "cotangent");
     let (Some(&first), Some(&last)) = (its.first(), its.last()) else {
         return not_evaluated(id, claim);
@@ -848,7 +852,12 @@ fn edge_blur_finding(rows: &[Row]) -> Finding {
     if first > 50 || last <= 50 {
         return not_evaluated(id, claim);
     }
-    let at50 = its.iter().copied().filter(|&i| i <= 50).max().unwrap_or(first);
+    let at50 = its
+        .iter()
+        .copied()
+        .filter(|&i| i <= 50)
+        .max()
+        .unwrap_or(first);
     let dih: fn(&Row) -> Option<f64> = |r| r.feature_dihedral_deg;
     let Some(input) = spread(rows, "block", "input", 0, dih) else {
         return not_evaluated(id, claim);
@@ -932,9 +941,11 @@ fn stability_finding(rows: &[Row]) -> Finding {
     } else {
         Verdict::Contradicted
     };
-    let (lo, hi) = changes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, c| {
-        (a.0.min(c.2), a.1.max(c.2))
-    });
+    let (lo, hi) = changes
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, c| {
+            (a.0.min(c.2), a.1.max(c.2))
+        });
     Finding {
         id,
         claim,
@@ -961,12 +972,18 @@ fn compromise_finding(found: &[Finding]) -> Finding {
     let claim = "Recommendation: inverse-distance weights as the default, because their smoothness is close to cotangent's and their time close to uniform's (Sec. 5).";
     let get = |id: &str| found.iter().find(|f| f.id == id).map(|f| f.verdict);
     let reasons = [
-        ("flens_distance_close_to_cotangent", get("flens_distance_close_to_cotangent")),
+        (
+            "flens_distance_close_to_cotangent",
+            get("flens_distance_close_to_cotangent"),
+        ),
         (
             "block_rms_distance_overlaps_cotangent",
             get("block_rms_distance_overlaps_cotangent"),
         ),
-        ("distance_as_fast_as_uniform", get("distance_as_fast_as_uniform")),
+        (
+            "distance_as_fast_as_uniform",
+            get("distance_as_fast_as_uniform"),
+        ),
     ];
     let verdicts: Vec<Verdict> = reasons.iter().filter_map(|r| r.1).collect();
     if verdicts.iter().all(|v| *v == Verdict::NotEvaluated) {
@@ -988,7 +1005,9 @@ fn compromise_finding(found: &[Finding]) -> Finding {
             .map(|(id, v)| format!("{id}: {}", v.map_or("–", Verdict::label)))
             .collect::<Vec<_>>()
             .join("; "),
-        tolerance: "contradicted if one of its reasons is contradicted; reproduced if all are reproduced".into(),
+        tolerance:
+            "contradicted if one of its reasons is contradicted; reproduced if all are reproduced"
+                .into(),
         note: String::new(),
     }
 }
@@ -1017,6 +1036,8 @@ mod tests {
             feature_dihedral_deg: None,
             stuck_vertices: 0,
             seed,
+            flipped_faces: None,
+            min_angle_deg: None,
         }
     }
 
@@ -1031,38 +1052,63 @@ mod tests {
     }
 
     fn verdict(rows: &[Row], id: &str) -> Verdict {
-        findings(rows).into_iter().find(|f| f.id == id).unwrap().verdict
+        findings(rows)
+            .into_iter()
+            .find(|f| f.id == id)
+            .unwrap()
+            .verdict
     }
 
     #[test]
     fn a_clear_ranking_is_reproduced() {
         let rows = flens(&[0.70, 0.71], &[0.65, 0.64], &[0.53, 0.54]);
-        assert_eq!(verdict(&rows, "flens_rms_cotangent_best"), Verdict::Reproduced);
-        assert_eq!(verdict(&rows, "flens_rms_uniform_worst"), Verdict::Reproduced);
+        assert_eq!(
+            verdict(&rows, "flens_rms_cotangent_best"),
+            Verdict::Reproduced
+        );
+        assert_eq!(
+            verdict(&rows, "flens_rms_uniform_worst"),
+            Verdict::Reproduced
+        );
     }
 
     #[test]
     fn a_reversed_ranking_is_contradicted() {
         let rows = flens(&[0.50, 0.51], &[0.65, 0.64], &[0.60, 0.61]);
-        assert_eq!(verdict(&rows, "flens_rms_cotangent_best"), Verdict::Contradicted);
-        assert_eq!(verdict(&rows, "flens_rms_uniform_worst"), Verdict::Contradicted);
+        assert_eq!(
+            verdict(&rows, "flens_rms_cotangent_best"),
+            Verdict::Contradicted
+        );
+        assert_eq!(
+            verdict(&rows, "flens_rms_uniform_worst"),
+            Verdict::Contradicted
+        );
     }
 
     #[test]
     fn a_difference_below_the_tolerance_is_inconclusive() {
         // Cotangent smallest by 0.2 %, below the 1 % tolerance.
         let rows = flens(&[0.700], &[0.701], &[0.699]);
-        assert_eq!(verdict(&rows, "flens_rms_cotangent_best"), Verdict::Inconclusive);
+        assert_eq!(
+            verdict(&rows, "flens_rms_cotangent_best"),
+            Verdict::Inconclusive
+        );
     }
 
     #[test]
     fn a_difference_within_the_seed_spread_is_inconclusive() {
         // Means differ by 5 %, but the ranges over the seeds overlap.
         let rows = flens(&[0.80, 0.60], &[0.80, 0.62], &[0.74, 0.58]);
-        assert_eq!(verdict(&rows, "flens_rms_cotangent_best"), Verdict::Inconclusive);
+        assert_eq!(
+            verdict(&rows, "flens_rms_cotangent_best"),
+            Verdict::Inconclusive
+        );
         // The same means without spread decide it.
         let rows = flens(&[0.70], &[0.71], &[0.66]);
-        assert_eq!(verdict(&rows, "flens_rms_cotangent_best"), Verdict::Reproduced);
+        assert_eq!(
+            verdict(&rows, "flens_rms_cotangent_best"),
+            Verdict::Reproduced
+        );
     }
 
     #[test]
@@ -1120,11 +1166,17 @@ mod tests {
             rows
         };
         assert_eq!(
-            verdict(&sphere(0.9859, 0.9859, 0.9861), "sphere_radius_only_uniform_shrinks"),
+            verdict(
+                &sphere(0.9859, 0.9859, 0.9861),
+                "sphere_radius_only_uniform_shrinks"
+            ),
             Verdict::Contradicted
         );
         assert_eq!(
-            verdict(&sphere(0.98, 1.0, 0.99999), "sphere_radius_only_uniform_shrinks"),
+            verdict(
+                &sphere(0.98, 1.0, 0.99999),
+                "sphere_radius_only_uniform_shrinks"
+            ),
             Verdict::Reproduced
         );
     }
@@ -1137,8 +1189,14 @@ mod tests {
             x.time_s = t;
             rows.push(x);
         }
-        assert_eq!(verdict(&rows, "distance_as_fast_as_uniform"), Verdict::Contradicted);
-        assert_eq!(verdict(&rows, "cotangent_much_slower"), Verdict::Contradicted);
+        assert_eq!(
+            verdict(&rows, "distance_as_fast_as_uniform"),
+            Verdict::Contradicted
+        );
+        assert_eq!(
+            verdict(&rows, "cotangent_much_slower"),
+            Verdict::Contradicted
+        );
         for r in &mut rows {
             r.time_s = match r.scheme.as_str() {
                 "uniform" => 1.0,
@@ -1146,7 +1204,10 @@ mod tests {
                 _ => 30.0,
             };
         }
-        assert_eq!(verdict(&rows, "distance_as_fast_as_uniform"), Verdict::Reproduced);
+        assert_eq!(
+            verdict(&rows, "distance_as_fast_as_uniform"),
+            Verdict::Reproduced
+        );
         assert_eq!(verdict(&rows, "cotangent_much_slower"), Verdict::Reproduced);
     }
 

@@ -131,6 +131,16 @@ impl<'a> Reference<'a> {
                 feature_dihedral_deg,
                 stuck_vertices,
                 seed: case.seed,
+                flipped_faces: beltrami_algorithms::flipped_faces(
+                    mesh,
+                    positions,
+                    &case.clean.positions,
+                )
+                .ok(),
+                min_angle_deg: beltrami_algorithms::mesh_quality(mesh, positions)
+                    .ok()
+                    .and_then(|q| q.shape)
+                    .map(|s| s.min_angle),
             },
             rings,
         })

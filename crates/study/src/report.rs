@@ -281,6 +281,7 @@ fn markdown(
     optimum_section(&mut s, results, rows, optima, shown);
     surface_sections(&mut s, results, rows, figures, shown);
     countermeasure_section(&mut s, results, shown);
+    quality_section(&mut s, results, rows, shown);
     edge_section(&mut s, results);
     units_section(&mut s, results);
     differences_section(&mut s, results);
@@ -499,7 +500,8 @@ fn differences_section(s: &mut String, results: &StudyResults) {
         "- **Noise level.** The paper does not state it; here σ = {} along the vertex normals, a common level in mesh-denoising benchmarks, with {} seed(s). Rankings at small differences may depend on it.",
         match c.noise {
             beltrami_surfaces::NoiseLevel::Absolute(x) => format!("{x} (absolute)"),
-            beltrami_surfaces::NoiseLevel::RelativeToMeanEdge(r) => format!("{r} × mean edge length"),
+            beltrami_surfaces::NoiseLevel::RelativeToMeanEdge(r) =>
+                format!("{r} × mean edge length"),
         },
         c.seeds
     );
@@ -520,6 +522,88 @@ fn differences_section(s: &mut String, results: &StudyResults) {
         s,
         "\nThe full data are in `results.csv` (every seed; the `seed` column) and `results.json` next to this report."
     );
+}
+
+/// Mesh quality beside accuracy: flipped faces against the clean mesh and the smallest
+/// angle, per scheme (mean over the seeds) and per counter-measure (first seed).
+fn quality_section(s: &mut String, results: &StudyResults, rows: &[Row], shown: usize) {
+    if !rows.iter().any(|r| r.flipped_faces.is_some()) {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "## Mesh quality beside accuracy
+"
+    );
+    let _ = writeln!(
+        s,
+        "After {shown} iterations: faces whose normal points against the clean mesh's (folds), and the smallest corner angle. Plain schemes: mean over the seeds [range]; counter-measures (`scheme/method`, `once` = weights computed once from the noisy input): seed {}.\n",
+        results.config.seed
+    );
+    let _ = writeln!(
+        s,
+        "| surface | run | flipped faces | smallest angle (°) |\n|---|---|---|---|"
+    );
+    for r in &results.surfaces {
+        let name = r.case.clean.name;
+        let mut labels: Vec<&str> = vec!["input"];
+        labels.extend(r.runs.iter().map(|x| x.scheme.as_str()));
+        for label in labels {
+            let it = if label == "input" { 0 } else { shown };
+            let of: Vec<&Row> = rows
+                .iter()
+                .filter(|x| x.surface == name && x.scheme == label && x.iteration == it)
+                .collect();
+            let flipped: Vec<f64> = of
+                .iter()
+                .filter_map(|x| x.flipped_faces.map(|n| n as f64))
+                .collect();
+            let angle: Vec<f64> = of.iter().filter_map(|x| x.min_angle_deg).collect();
+            let _ = writeln!(
+                s,
+                "| {name} | {label} | {} | {} |",
+                Spread::of(&flipped).map_or_else(|| "–".into(), |v| v.text()),
+                Spread::of(&angle).map_or_else(|| "–".into(), |v| v.text())
+            );
+        }
+        for m in r
+            .countermeasures
+            .iter()
+            .filter(|m| m.row.iteration == shown)
+        {
+            let _ = writeln!(
+                s,
+                "| {name} | {} | {} | {} |",
+                m.row.scheme,
+                m.row
+                    .flipped_faces
+                    .map_or_else(|| "–".into(), |n| n.to_string()),
+                opt(m.row.min_angle_deg)
+            );
+        }
+    }
+    let _ = writeln!(s);
+    for r in &results.surfaces {
+        let at = |suffix: &str| {
+            r.countermeasures
+                .iter()
+                .find(|m| m.row.iteration == shown && m.row.scheme.ends_with(suffix))
+                .and_then(|m| m.row.flipped_faces.map(|n| (m.row.scheme.clone(), n)))
+        };
+        if let (Some((plain, p)), Some((once, o))) = (at("/plain"), at("/once")) {
+            let cause = if p > o {
+                "so recomputing the weights from the moving positions causes the folding"
+            } else {
+                "so recomputing the weights does not add folds here"
+            };
+            let _ = writeln!(
+                s,
+                "- {}: `{plain}` (weights recomputed every iteration) has {p} flipped faces after {shown} iterations, `{once}` (weights computed once) {o}, {cause}.",
+                r.case.clean.name
+            );
+        }
+    }
+    let _ = writeln!(s);
 }
 
 /// The RMS-optimal iteration counts per surface and scheme.
@@ -709,7 +793,10 @@ fn recommendation_section(
                 text.push_str(", so the ranking at the optimum and at the paper's count differ");
             }
             text.push('.');
-            if let (Some(tb), Some(tu)) = (time_at(rows, name, b, shown), time_at(rows, name, "uniform", shown)) {
+            if let (Some(tb), Some(tu)) = (
+                time_at(rows, name, b, shown),
+                time_at(rows, name, "uniform", shown),
+            ) {
                 if b != "uniform" && tu > 0.0 {
                     let _ = write!(text, " `{b}` takes {:.1}× the time of `uniform`.", tb / tu);
                 }
@@ -785,7 +872,7 @@ fn countermeasure_section(s: &mut String, results: &StudyResults, shown: usize) 
     let _ = writeln!(s, "## Shrinkage counter-measures\n");
     let _ = writeln!(
         s,
-        "Plain diffusion shrinks (a discrete mean-curvature flow). Beside it, with the same scheme and noisy input: Taubin's λ|μ filter (λ = 0.6307, μ = −0.6732, pass band k_PB = 0.1), the HC push-back towards the input (α = 0.1, β = 0.6; local, so it works on open patches), and the volume-preserving rescale about the surface centroid (closed surfaces only). Each Taubin iteration is two sweeps. Labels are `scheme/method`; all rows are in `countermeasures.csv`.\n"
+        "Plain diffusion shrinks (a discrete mean-curvature flow). Beside it, with the same scheme and noisy input: Taubin's λ|μ filter (λ = 0.6307, μ = −0.6732, pass band k_PB = 0.1), the HC push-back towards the input (α = 0.1, β = 0.6; local, so it works on open patches), the volume-preserving rescale about the surface centroid (closed surfaces only), and plain diffusion with the weights computed once from the noisy input (`once`). Each Taubin iteration is two sweeps. Labels are `scheme/method`; all rows are in `countermeasures.csv`.\n"
     );
     for r in with {
         let name = r.case.clean.name;

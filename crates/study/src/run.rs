@@ -121,7 +121,11 @@ impl StudyResults {
     #[must_use]
     pub fn all_seed_rows(&self) -> Vec<Row> {
         let mut rows = self.rows();
-        rows.extend(self.surfaces.iter().flat_map(|s| s.seed_rows.iter().cloned()));
+        rows.extend(
+            self.surfaces
+                .iter()
+                .flat_map(|s| s.seed_rows.iter().cloned()),
+        );
         rows
     }
 }
@@ -287,6 +291,11 @@ fn run_countermeasures(
             lambda: cm.lambda,
             method: cm.method,
             preserve_volume: cm.preserve_volume,
+            update: if cm.weights_once {
+                beltrami_smooth::WeightUpdate::Once
+            } else {
+                config.update
+            },
             ..smooth_config(config)
         };
         runs.push(run_reported(
@@ -318,14 +327,20 @@ fn run_reported(
         label,
         config.max_iterations(),
     ));
-    let run =
-        run_one(case, scheme, label, &config.iterations, smooth, early, progress).map_err(|source| {
-            StudyError::Smooth {
-                surface: case.clean.name.to_string(),
-                scheme: label.to_string(),
-                source,
-            }
-        })?;
+    let run = run_one(
+        case,
+        scheme,
+        label,
+        &config.iterations,
+        smooth,
+        early,
+        progress,
+    )
+    .map_err(|source| StudyError::Smooth {
+        surface: case.clean.name.to_string(),
+        scheme: label.to_string(),
+        source,
+    })?;
     progress(Progress::RunFinished);
     Ok(run)
 }
@@ -423,7 +438,11 @@ fn rms_curve(
                 })
         })
         .collect::<Result<_, _>>()?;
-    out.extend(measured.iter().map(|m| point(&m.row.scheme, m.row.iteration, m.row.rms)));
+    out.extend(
+        measured
+            .iter()
+            .map(|m| point(&m.row.scheme, m.row.iteration, m.row.rms)),
+    );
     let order = |scheme: &str| runs.iter().position(|r| r.scheme == scheme);
     out.sort_by_key(|p| (order(&p.scheme), p.iteration));
     Ok(out)

@@ -65,7 +65,7 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
     // One run per surface and scheme, each to the largest iteration count, plus the
     // counter-measures: plain, Taubin, HC on the F-lens; and the volume rescale too on
     // the sphere and the block.
-    assert_eq!(runs.len(), 4 * 4 + 3 + 4 + 4);
+    assert_eq!(runs.len(), 4 * 4 + 4 + 5 + 5);
     assert!(runs.iter().any(|r| r.0 == "flens" && r.1 == "cotangent/hc"));
     assert!(
         !runs
@@ -163,6 +163,16 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
             .collect()
     };
     assert!(report.contains("## Shrinkage counter-measures"));
+    // Mesh quality beside accuracy: every row counts folds and has a smallest angle of a
+    // real triangle; weights computed once are run beside plain diffusion.
+    assert!(report.contains("## Mesh quality beside accuracy"));
+    for r in &written.rows {
+        assert!(r.flipped_faces.is_some(), "{r:?}");
+        let a = r.min_angle_deg.unwrap();
+        assert!(a > 0.0 && a <= 60.0, "{r:?}");
+    }
+    assert_eq!(cm("block", "once").len(), 3);
+    assert_eq!(cm("flens", "once").len(), 3);
     let cm_csv = std::fs::read_to_string(dir.path().join("countermeasures.csv")).unwrap();
     assert!(cm_csv.starts_with(CSV_HEADER));
     assert!(cm_csv.contains("block,cotangent/taubin,10,"));
@@ -311,7 +321,10 @@ fn several_seeds_give_spreads_optima_and_the_early_plot() {
     assert!(report.contains("Cotangent normalisation"));
     assert!(dir.path().join("plots/rms_early_flens.png").exists());
     let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
-    assert!(csv.lines().any(|l| l.starts_with("flens,cotangent,40,") && l.ends_with(",2")));
+    let seed_column = CSV_HEADER.split(',').position(|c| c == "seed").unwrap();
+    assert!(csv.lines().any(
+        |l| l.starts_with("flens,cotangent,40,") && l.split(',').nth(seed_column) == Some("2")
+    ));
 }
 
 #[test]
