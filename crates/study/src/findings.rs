@@ -133,7 +133,9 @@ pub fn sig(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
-    if (1e-4..1e6).contains(&x.abs()) {
+    if x.fract() == 0.0 && x.abs() < 1e6 {
+        format!("{x:.0}")
+    } else if (1e-4..1e6).contains(&x.abs()) {
         let digits = 5 - x.abs().log10().floor() as i32;
         format!("{x:.*}", digits.clamp(0, 12) as usize)
     } else {
@@ -1234,5 +1236,6 @@ mod tests {
         assert_eq!(compare(&a, &c, 0.01), Comparison::Unresolved);
         assert_eq!(sig(21.134013), "21.1340");
         assert_eq!(sig(0.0123456789), "0.0123457");
+        assert_eq!(sig(141.0), "141");
     }
 }

@@ -723,8 +723,13 @@ fn recommendation_section(
             continue;
         };
         let mut text = format!(
-            "- **{name}**: the smallest RMS is reached after {} iterations with {} ({}{unit}, {:.0} % of the input's {}{unit})",
+            "- **{name}**: the smallest RMS is reached after {} {} with {} ({}{unit}, {:.0} % of the input's {}{unit})",
             first.iterations_text(),
+            if first.iterations == (1, 1) {
+                "iteration"
+            } else {
+                "iterations"
+            },
             names(&best[..1]),
             first.rms.text(),
             100.0 * first.rms.mean / first.input_rms.mean,
@@ -755,10 +760,15 @@ fn recommendation_section(
             if let Some(p) = best_paper.first() {
                 let _ = write!(
                     text,
-                    "; of the paper's schemes, {} reaches {}{unit} after {} iterations",
+                    "; of the paper's schemes, {} reaches {}{unit} after {} {}",
                     names(&best_paper[..1]),
                     p.rms.text(),
-                    p.iterations_text()
+                    p.iterations_text(),
+                    if p.iterations == (1, 1) {
+                        "iteration"
+                    } else {
+                        "iterations"
+                    }
                 );
                 if best_paper.len() > 1 {
                     let _ = write!(
