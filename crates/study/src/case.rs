@@ -17,4 +17,6 @@ pub struct SurfaceCase {
     pub sigma: f64,
     /// The connectivity (shared by clean, noisy and smoothed positions).
     pub mesh: HalfedgeMesh,
+    /// The seed of the noise.
+    pub seed: u64,
 }

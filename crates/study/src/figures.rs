@@ -12,7 +12,7 @@ use beltrami_viz::render::{ColorMap, Image, View, grid, render_mesh};
 use crate::error::StudyError;
 use crate::measure::Reference;
 use crate::results::Row;
-use crate::run::{StudyResults, SurfaceResult};
+use crate::run::{EARLY_ITERATIONS, StudyResults, SurfaceResult};
 
 /// A figure written by the study: its file stem (under `plots/` or `renders/`), its
 /// caption and the paper figure it corresponds to.
@@ -54,6 +54,32 @@ fn series_by_scheme(
                 rows.iter()
                     .filter(|r| r.surface == surface && r.scheme == run.scheme)
                     .filter_map(|r| f(r).map(|v| (r.iteration as f64, v))),
+            );
+            Series::new(run.scheme.clone(), points)
+        })
+        .collect()
+}
+
+/// Per scheme, the mean RMS over the seeds at every iteration up to
+/// [`EARLY_ITERATIONS`], starting from the input's.
+fn early_series(result: &SurfaceResult) -> Vec<Series> {
+    let mean_at = |scheme: &str, it: usize| {
+        let v: Vec<f64> = result
+            .rms_curve
+            .iter()
+            .filter(|p| p.scheme == scheme && p.iteration == it)
+            .map(|p| p.rms)
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    let input = mean_at("input", 0);
+    result
+        .runs
+        .iter()
+        .map(|run| {
+            let points = input.map(|v| (0.0, v)).into_iter().chain(
+                (1..=EARLY_ITERATIONS)
+                    .filter_map(|it| mean_at(&run.scheme, it).map(|v| (it as f64, v))),
             );
             Series::new(run.scheme.clone(), points)
         })
@@ -152,6 +178,21 @@ pub fn write_figures(
                 ),
                 log_y: false,
                 series: series_by_scheme(result, rows, |r| Some(r.rms)),
+            },
+            name,
+            &mut figures,
+        )?;
+        write_line(
+            dir,
+            PlotSpec {
+                stem: format!("rms_early_{name}"),
+                title: format!("{name}: RMS, iterations 0 to {EARLY_ITERATIONS}"),
+                y_label: format!("RMS distance{u}"),
+                caption: format!(
+                    "RMS distance to the clean surface on the {name}, every iteration from 0 to {EARLY_ITERATIONS} (mean over the noise seeds): the RMS-optimal iteration count lies here"
+                ),
+                log_y: false,
+                series: early_series(result),
             },
             name,
             &mut figures,

@@ -21,6 +21,7 @@ mod error;
 mod figures;
 mod findings;
 mod measure;
+mod optimum;
 mod preservation;
 mod report;
 mod results;
@@ -28,12 +29,16 @@ mod run;
 mod units;
 
 pub use case::SurfaceCase;
-pub use config::{StudyConfig, paper_iterations};
+pub use config::{DEFAULT_SEEDS, PAPER_SCHEMES, StudyConfig, paper_iterations};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::{PreservationError, StudyError};
 pub use figures::{Figure, write_figures};
-pub use findings::{Finding, Verdict, findings};
+pub use findings::{
+    Comparison, Finding, FindingsContext, REL_TOL, SAME_SPEED, Spread, Verdict, compare, findings,
+    findings_with, sig, sphere_closed_form,
+};
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
+pub use optimum::{Optimum, optima};
 pub use preservation::{
     EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,
     edge_preservation,
@@ -41,6 +46,7 @@ pub use preservation::{
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{
-    Progress, SchemeRun, Snapshot, StudyResults, SurfaceResult, UNITS_CUTOFF, run_study,
+    EARLY_ITERATIONS, Progress, RmsPoint, SchemeRun, Snapshot, StudyResults, SurfaceResult,
+    UNITS_CUTOFF, run_study,
 };
 pub use units::{UnitsComparison, UnitsRow, units_comparison};

@@ -55,6 +55,12 @@ impl<'a> Reference<'a> {
         self.index.signed_distances(positions)
     }
 
+    /// The RMS distance of `positions` to the clean surface.
+    pub(crate) fn rms(&self, positions: &[DVec3]) -> Result<f64, MetricsError> {
+        let d = self.index.distances(positions)?;
+        Ok(DistanceStats::new(&d, &vec![1.0; d.len()])?.rms)
+    }
+
     pub(crate) fn measure(
         &self,
         scheme: &str,
@@ -124,6 +130,17 @@ impl<'a> Reference<'a> {
                 boundary_max,
                 feature_dihedral_deg,
                 stuck_vertices,
+                seed: case.seed,
+                flipped_faces: beltrami_algorithms::flipped_faces(
+                    mesh,
+                    positions,
+                    &case.clean.positions,
+                )
+                .ok(),
+                min_angle_deg: beltrami_algorithms::mesh_quality(mesh, positions)
+                    .ok()
+                    .and_then(|q| q.shape)
+                    .map(|s| s.min_angle),
             },
             rings,
         })

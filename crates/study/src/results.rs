@@ -45,10 +45,17 @@ pub struct Row {
     pub feature_dihedral_deg: Option<f64>,
     /// Vertices that could not move in the last iteration (weights summing to ≤ 0).
     pub stuck_vertices: usize,
+    /// The seed of the noise of this row's input.
+    pub seed: u64,
+    /// Faces whose normal points against the clean mesh's (turned by more than 90°):
+    /// folds (`None` when the positions are not finite).
+    pub flipped_faces: Option<usize>,
+    /// The smallest corner angle of the mesh's non-degenerate triangles, degrees.
+    pub min_angle_deg: Option<f64>,
 }
 
 /// The CSV header, in the order of [`Row`]'s fields.
-pub const CSV_HEADER: &str = "surface,scheme,iteration,time_s,rms,mean,max,area_rms,normal_mean_deg,normal_rms_deg,volume,volume_ratio,sphere_radius,boundary_mean,boundary_max,feature_dihedral_deg,stuck_vertices";
+pub const CSV_HEADER: &str = "surface,scheme,iteration,time_s,rms,mean,max,area_rms,normal_mean_deg,normal_rms_deg,volume,volume_ratio,sphere_radius,boundary_mean,boundary_max,feature_dihedral_deg,stuck_vertices,seed,flipped_faces,min_angle_deg";
 
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(String::new, |x| format!("{x:e}"))
@@ -60,7 +67,7 @@ impl Row {
     #[must_use]
     pub fn to_csv(&self) -> String {
         format!(
-            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{},{},{}",
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{},{},{},{},{},{}",
             self.surface,
             self.scheme,
             self.iteration,
@@ -77,7 +84,11 @@ impl Row {
             opt(self.boundary_mean),
             opt(self.boundary_max),
             opt(self.feature_dihedral_deg),
-            self.stuck_vertices
+            self.stuck_vertices,
+            self.seed,
+            self.flipped_faces
+                .map_or_else(String::new, |n| n.to_string()),
+            opt(self.min_angle_deg)
         )
     }
 }

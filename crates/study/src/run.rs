@@ -42,6 +42,29 @@ pub struct SchemeRun {
     pub scheme: String,
     /// The observed iterations, ascending.
     pub snapshots: Vec<Snapshot>,
+    /// Every iteration from 1 to [`EARLY_ITERATIONS`] (or the run's length), for the
+    /// RMS-optimal iteration count; empty for counter-measure runs.
+    pub early: Vec<Snapshot>,
+}
+
+/// Every iteration up to this one is observed (RMS only), for the RMS-optimal
+/// iteration count, which lies at a few iterations on the paper's surfaces.
+pub const EARLY_ITERATIONS: usize = 10;
+
+/// The RMS distance to the clean surface of one run at one iteration (early iterations
+/// and the observed ones, every seed).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RmsPoint {
+    /// The surface's name.
+    pub surface: String,
+    /// The scheme's name (`"input"` at iteration 0).
+    pub scheme: String,
+    /// The seed of the noise.
+    pub seed: u64,
+    /// Iterations done.
+    pub iteration: usize,
+    /// RMS distance to the clean surface, in the surface's unit.
+    pub rms: f64,
 }
 
 /// Everything the study computed for one surface.
@@ -57,6 +80,12 @@ pub struct SurfaceResult {
     /// [`StudyConfig::countermeasures`]); their rows name the scheme as
     /// `scheme/label`, e.g. `cotangent/taubin`. Empty for surfaces without them.
     pub countermeasures: Vec<Measured>,
+    /// The rows of the further noise seeds (see [`StudyConfig::seeds`]): the same
+    /// schemes and iterations from inputs with other noise.
+    pub seed_rows: Vec<Row>,
+    /// The RMS at every iteration from 0 to [`EARLY_ITERATIONS`] and at every observed
+    /// iteration, per scheme and seed.
+    pub rms_curve: Vec<RmsPoint>,
 }
 
 /// The study's results.
@@ -87,6 +116,18 @@ impl StudyResults {
             .flat_map(|s| s.measured.iter().map(|m| m.row.clone()))
             .collect()
     }
+
+    /// [`rows`](Self::rows) followed by the rows of the further noise seeds.
+    #[must_use]
+    pub fn all_seed_rows(&self) -> Vec<Row> {
+        let mut rows = self.rows();
+        rows.extend(
+            self.surfaces
+                .iter()
+                .flat_map(|s| s.seed_rows.iter().cloned()),
+        );
+        rows
+    }
 }
 
 /// What the study reports while it runs.
@@ -105,7 +146,17 @@ fn prepare(kind: SurfaceKind, config: &StudyConfig) -> Result<SurfaceCase, Study
     let mesh = clean
         .mesh()
         .map_err(|e| StudyError::Config(format!("surface {}: {e}", clean.name)))?;
-    let (noisy, sigma) = add_normal_noise(&mesh, &clean.positions, config.noise, config.seed)
+    with_noise(kind, clean, mesh, config, config.seed)
+}
+
+fn with_noise(
+    kind: SurfaceKind,
+    clean: beltrami_surfaces::Surface,
+    mesh: beltrami_halfedge::HalfedgeMesh,
+    config: &StudyConfig,
+    seed: u64,
+) -> Result<SurfaceCase, StudyError> {
+    let (noisy, sigma) = add_normal_noise(&mesh, &clean.positions, config.noise, seed)
         .map_err(|e| StudyError::Config(format!("noise on {}: {e}", clean.name)))?;
     Ok(SurfaceCase {
         kind,
@@ -113,6 +164,7 @@ fn prepare(kind: SurfaceKind, config: &StudyConfig) -> Result<SurfaceCase, Study
         noisy,
         sigma,
         mesh,
+        seed,
     })
 }
 
@@ -150,6 +202,25 @@ pub fn run_study(
         let runs = run_schemes(&case, config, progress)?;
         let cm_runs = run_countermeasures(&case, config, progress)?;
         let (measured, countermeasures) = measure_runs(&case, &runs, &cm_runs)?;
+        let mut rms_curve = rms_curve(&case, &runs, &measured)?;
+        let mut seed_rows = Vec::new();
+        let seed_config = StudyConfig {
+            schemes: config.seed_schemes(),
+            ..config.clone()
+        };
+        for k in 1..config.seeds {
+            let other = with_noise(
+                kind,
+                case.clean.clone(),
+                case.mesh.clone(),
+                config,
+                config.seed.wrapping_add(k as u64),
+            )?;
+            let other_runs = run_schemes(&other, &seed_config, progress)?;
+            let (other_measured, _) = measure_runs(&other, &other_runs, &[])?;
+            rms_curve.extend(self::rms_curve(&other, &other_runs, &other_measured)?);
+            seed_rows.extend(other_measured.into_iter().map(|m| m.row));
+        }
         if let Some(comparison) = sphere_units(kind, config)? {
             units = Some(comparison);
         }
@@ -161,6 +232,8 @@ pub fn run_study(
             runs,
             measured,
             countermeasures,
+            seed_rows,
+            rms_curve,
         });
     }
     Ok(StudyResults {
@@ -186,6 +259,7 @@ fn run_schemes(
             scheme.name(),
             config,
             smooth_config(config),
+            true,
             progress,
         )?;
         runs.push(run);
@@ -217,6 +291,11 @@ fn run_countermeasures(
             lambda: cm.lambda,
             method: cm.method,
             preserve_volume: cm.preserve_volume,
+            update: if cm.weights_once {
+                beltrami_smooth::WeightUpdate::Once
+            } else {
+                config.update
+            },
             ..smooth_config(config)
         };
         runs.push(run_reported(
@@ -225,6 +304,7 @@ fn run_countermeasures(
             &label,
             config,
             smooth,
+            false,
             progress,
         )?);
     }
@@ -239,6 +319,7 @@ fn run_reported(
     label: &str,
     config: &StudyConfig,
     smooth: SmoothConfig,
+    early: bool,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<SchemeRun, StudyError> {
     progress(Progress::RunStarted(
@@ -246,14 +327,20 @@ fn run_reported(
         label,
         config.max_iterations(),
     ));
-    let run =
-        run_one(case, scheme, label, &config.iterations, smooth, progress).map_err(|source| {
-            StudyError::Smooth {
-                surface: case.clean.name.to_string(),
-                scheme: label.to_string(),
-                source,
-            }
-        })?;
+    let run = run_one(
+        case,
+        scheme,
+        label,
+        &config.iterations,
+        smooth,
+        early,
+        progress,
+    )
+    .map_err(|source| StudyError::Smooth {
+        surface: case.clean.name.to_string(),
+        scheme: label.to_string(),
+        source,
+    })?;
     progress(Progress::RunFinished);
     Ok(run)
 }
@@ -308,6 +395,57 @@ fn measure_runs(
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((measured, countermeasures))
+}
+
+/// The RMS of the input, of every early iteration and of every observed iteration, for
+/// each run of `case`.
+fn rms_curve(
+    case: &SurfaceCase,
+    runs: &[SchemeRun],
+    measured: &[Measured],
+) -> Result<Vec<RmsPoint>, StudyError> {
+    let reference = Reference::new(case).map_err(|source| StudyError::Metrics {
+        surface: case.clean.name.to_string(),
+        scheme: "input".to_string(),
+        source,
+    })?;
+    let point = |scheme: &str, iteration: usize, rms: f64| RmsPoint {
+        surface: case.clean.name.to_string(),
+        scheme: scheme.to_string(),
+        seed: case.seed,
+        iteration,
+        rms,
+    };
+    let early: Vec<(&str, &Snapshot)> = runs
+        .iter()
+        .flat_map(|r| {
+            r.early
+                .iter()
+                .filter(|s| !r.snapshots.iter().any(|t| t.iteration == s.iteration))
+                .map(move |s| (r.scheme.as_str(), s))
+        })
+        .collect();
+    let mut out: Vec<RmsPoint> = early
+        .par_iter()
+        .map(|&(scheme, s)| {
+            reference
+                .rms(&s.positions)
+                .map(|rms| point(scheme, s.iteration, rms))
+                .map_err(|source| StudyError::Metrics {
+                    surface: case.clean.name.to_string(),
+                    scheme: scheme.to_string(),
+                    source,
+                })
+        })
+        .collect::<Result<_, _>>()?;
+    out.extend(
+        measured
+            .iter()
+            .map(|m| point(&m.row.scheme, m.row.iteration, m.row.rms)),
+    );
+    let order = |scheme: &str| runs.iter().position(|r| r.scheme == scheme);
+    out.sort_by_key(|p| (order(&p.scheme), p.iteration));
+    Ok(out)
 }
 
 /// On the sphere, with a counter-measure scheme: unit spheres of several densities
@@ -369,9 +507,11 @@ fn run_one(
     label: &str,
     iterations: &[usize],
     smooth_config: SmoothConfig,
+    record_early: bool,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<SchemeRun, beltrami_smooth::SmoothError> {
     let mut snapshots = Vec::with_capacity(iterations.len());
+    let mut early = Vec::new();
     let mut wanted = iterations.iter().copied().peekable();
     // Smoothing time only: the clock runs while the smoother works and stops while the
     // observer copies positions.
@@ -383,6 +523,14 @@ fn run_one(
     smoother.run(|it| {
         elapsed += resumed.elapsed().as_secs_f64();
         progress(Progress::Iteration(it.index));
+        if record_early && it.index <= EARLY_ITERATIONS {
+            early.push(Snapshot {
+                iteration: it.index,
+                time_s: elapsed,
+                stuck_vertices: it.stats().stuck_vertices,
+                positions: it.positions().to_vec(),
+            });
+        }
         if wanted.peek() == Some(&it.index) {
             wanted.next();
             snapshots.push(Snapshot {
@@ -398,5 +546,6 @@ fn run_one(
     Ok(SchemeRun {
         scheme: label.to_string(),
         snapshots,
+        early,
     })
 }

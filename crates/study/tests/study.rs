@@ -23,6 +23,7 @@ fn small_config(registry: &WeightRegistry) -> StudyConfig {
     let mut config = StudyConfig::paper(registry);
     config.size = Size::Small;
     config.iterations = vec![2, 5, 10];
+    config.seeds = 1;
     config
 }
 
@@ -64,7 +65,7 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
     // One run per surface and scheme, each to the largest iteration count, plus the
     // counter-measures: plain, Taubin, HC on the F-lens; and the volume rescale too on
     // the sphere and the block.
-    assert_eq!(runs.len(), 4 * 4 + 3 + 4 + 4);
+    assert_eq!(runs.len(), 4 * 4 + 4 + 5 + 5);
     assert!(runs.iter().any(|r| r.0 == "flens" && r.1 == "cotangent/hc"));
     assert!(
         !runs
@@ -162,6 +163,16 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
             .collect()
     };
     assert!(report.contains("## Shrinkage counter-measures"));
+    // Mesh quality beside accuracy: every row counts folds and has a smallest angle of a
+    // real triangle; weights computed once are run beside plain diffusion.
+    assert!(report.contains("## Mesh quality beside accuracy"));
+    for r in &written.rows {
+        assert!(r.flipped_faces.is_some(), "{r:?}");
+        let a = r.min_angle_deg.unwrap();
+        assert!(a > 0.0 && a <= 60.0, "{r:?}");
+    }
+    assert_eq!(cm("block", "once").len(), 3);
+    assert_eq!(cm("flens", "once").len(), 3);
     let cm_csv = std::fs::read_to_string(dir.path().join("countermeasures.csv")).unwrap();
     assert!(cm_csv.starts_with(CSV_HEADER));
     assert!(cm_csv.contains("block,cotangent/taubin,10,"));
@@ -215,7 +226,10 @@ fn verdicts_come_from_the_data() {
     let findings = beltrami_study::findings(&rows);
     // Only the sphere was studied: F-lens, block and golf-ball findings are not evaluated.
     for f in &findings {
-        let sphere = f.id.starts_with("sphere") || f.id == "cotangent_much_slower";
+        let sphere = f.id.starts_with("sphere")
+            || f.id == "cotangent_much_slower"
+            || f.id == "distance_as_fast_as_uniform"
+            || f.id == "distance_is_the_compromise";
         assert_eq!(
             f.verdict == Verdict::NotEvaluated,
             !sphere,
@@ -248,8 +262,69 @@ fn verdicts_come_from_the_data() {
         .find(|f| f.id == "sphere_rms_cotangent_best")
         .unwrap()
         .verdict;
-    assert_eq!(after, Verdict::NotReproduced);
+    assert_eq!(after, Verdict::Contradicted);
     assert_ne!(before, Verdict::NotEvaluated);
+}
+
+#[test]
+fn several_seeds_give_spreads_optima_and_the_early_plot() {
+    let mut registry = WeightRegistry::with_builtins();
+    registry.register(Squared).unwrap();
+    let mut config = small_config(&registry);
+    config.surfaces = vec![beltrami_surfaces::SurfaceKind::FLens];
+    config.iterations = vec![20, 40];
+    config.seeds = 2;
+    config.countermeasure_scheme = None;
+    config.edge_comparison = None;
+    let results = run_study(&config, &mut |_| {}).unwrap();
+    let rows = results.all_seed_rows();
+    // Seed 2 runs the paper's three schemes only.
+    let seed2: Vec<_> = rows.iter().filter(|r| r.seed == 2).collect();
+    assert_eq!(seed2.len(), 1 + 3 * 2);
+    assert!(seed2.iter().all(|r| r.scheme != "inverse-squared"));
+    assert_eq!(rows.iter().filter(|r| r.seed == 1).count(), 1 + 4 * 2);
+    // The seeds' inputs differ, so their RMS differs.
+    let input = |seed: u64| {
+        rows.iter()
+            .find(|r| r.seed == seed && r.scheme == "input")
+            .unwrap()
+            .rms
+    };
+    assert!((input(1) - input(2)).abs() > 1e-9);
+    // The RMS is observed at every iteration from 0 to EARLY_ITERATIONS.
+    let curve = &results.surfaces[0].rms_curve;
+    for it in 0..=beltrami_study::EARLY_ITERATIONS {
+        let scheme = if it == 0 { "input" } else { "cotangent" };
+        assert_eq!(
+            curve
+                .iter()
+                .filter(|p| p.scheme == scheme && p.iteration == it)
+                .count(),
+            2,
+            "iteration {it}"
+        );
+    }
+    // On the F-lens the optimum lies at a few iterations, far below the input's RMS and
+    // below the RMS at 40 iterations.
+    let optima = beltrami_study::optima(curve);
+    let cot = optima.iter().find(|o| o.scheme == "cotangent").unwrap();
+    assert!(cot.iterations.1 < 20, "{cot:?}");
+    assert_eq!(cot.rms.n, 2);
+    assert!(cot.rms.mean < 0.5 * cot.input_rms.mean, "{cot:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let written = write_study(&results, dir.path()).unwrap();
+    assert_eq!(written.rows, rows);
+    let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(report.contains("## Recommendation"));
+    assert!(report.contains("## The RMS-optimal iteration count"));
+    assert!(report.contains("| noise seeds | 2 (1, 2)"));
+    assert!(report.contains("Cotangent normalisation"));
+    assert!(dir.path().join("plots/rms_early_flens.png").exists());
+    let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
+    let seed_column = CSV_HEADER.split(',').position(|c| c == "seed").unwrap();
+    assert!(csv.lines().any(
+        |l| l.starts_with("flens,cotangent,40,") && l.split(',').nth(seed_column) == Some("2")
+    ));
 }
 
 #[test]
@@ -265,6 +340,12 @@ fn invalid_configurations_are_errors() {
     config.iterations = vec![];
     assert!(run_study(&config, &mut |_| {}).is_err());
     config.iterations = vec![1];
+    config.seeds = 0;
+    assert_eq!(
+        run_study(&config, &mut |_| {}).unwrap_err().to_string(),
+        "the number of noise seeds must be at least 1"
+    );
+    config.seeds = 1;
     config.schemes = Vec::<Arc<dyn WeightScheme>>::new();
     assert_eq!(
         run_study(&config, &mut |_| {}).unwrap_err().to_string(),
