@@ -10,7 +10,10 @@
 //! - [`delaunay_flip`]: Lawson's edge flips towards a Delaunay mesh on the same vertices
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
-//!   surfaces and the change of the surface measured.
+//!   surfaces and the change of the surface measured;
+//! - [`decimate`]: quadric-error decimation (Garland & Heckbert 1997) by halfedge
+//!   collapses, as OpenMesh's `DecimaterT` + `ModQuadricT`, with boundary, normal,
+//!   aspect-ratio and distance constraints and the Hausdorff distance reported.
 //!
 //! Both match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T` (positions within
 //! 1e-12 of the bounding-box diagonal, the same triangles); `docs/subdivision.md` in the
@@ -35,10 +38,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod decimate;
 mod delaunay;
 mod error;
 pub mod subdivision;
 
+pub use decimate::{
+    DecimateError, DecimateOptions, DecimateReport, DecimateStop, DecimateTarget, Placement,
+    RefusalCounts, decimate,
+};
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

@@ -24,6 +24,7 @@ use beltrami_weights::WeightRegistry;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod compare;
+mod decimate;
 mod delaunay;
 mod error;
 mod fit;
@@ -83,6 +84,9 @@ enum Command {
     /// Flip edges until no cotangent weight is negative (a Delaunay mesh on the same
     /// vertices), optionally keeping sharp and curved edges.
     Delaunay(delaunay::DelaunayArgs),
+    /// Decimate a triangle mesh by quadric error metrics to a target vertex count,
+    /// optionally keeping the boundary and bounding normal change and distance.
+    Decimate(decimate::DecimateArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -191,6 +195,7 @@ where
         Command::Study(args) => study::run(args, registry, &mut stdout),
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
+        Command::Decimate(args) => decimate::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),
