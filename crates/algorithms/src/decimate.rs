@@ -598,6 +598,8 @@ struct Decimator<'a> {
     options: &'a DecimateOptions,
     input: &'a [DVec3],
     quadrics: Vec<Quadric>,
+    /// The unit normal of every face when the decimation started (zero if degenerate).
+    input_normals: Vec<DVec3>,
     cones: Vec<NormalCone>,
     points: Vec<Vec<u32>>,
     version: Vec<u32>,
@@ -614,6 +616,7 @@ impl<'a> Decimator<'a> {
             options,
             input,
             quadrics: vec![Quadric::default(); nv],
+            input_normals: vec![DVec3::ZERO; nf],
             cones: Vec::new(),
             points: Vec::new(),
             version: vec![0; nv],
@@ -625,6 +628,7 @@ impl<'a> Decimator<'a> {
             let vs = d.face_vertices(f);
             let n = cross(vs.map(|v| d.mesh.position(v)));
             let twice = n.length();
+            d.input_normals[f.index()] = n.try_normalize().unwrap_or(DVec3::ZERO);
             // OpenMesh: a triangle of (almost) no area adds (almost) nothing.
             if twice > f64::from(f32::MIN_POSITIVE) {
                 let n = n / twice;
@@ -755,7 +759,10 @@ impl<'a> Decimator<'a> {
             let Some(new) = cross(new_triangle(f)).try_normalize() else {
                 return Err(Refusal::Flip);
             };
-            if old.dot(new) <= 0.0 && old != DVec3::ZERO {
+            let input = self.input_normals[f.index()];
+            if (old.dot(new) <= 0.0 && old != DVec3::ZERO)
+                || (input.dot(new) <= 0.0 && input != DVec3::ZERO)
+            {
                 return Err(Refusal::Flip);
             }
             normals.push(new);

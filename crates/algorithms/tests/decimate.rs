@@ -11,6 +11,7 @@ use beltrami_algorithms::{
 };
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_surfaces::{FLensParams, flens};
 use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff};
 use beltrami_testkit::SplitMix64;
 use beltrami_testkit::fixtures::{noisy_flens, noisy_icosphere, openmesh_inputs};
@@ -59,16 +60,16 @@ fn surfaces() -> Vec<(&'static str, Primitive)> {
 fn reaches_the_target_exactly_and_keeps_the_topology() {
     for (name, p) in surfaces() {
         let mesh = p.mesh().unwrap();
-        for options in [
-            DecimateOptions::default().ratio(0.25),
-            DecimateOptions::default().ratio(0.25).keep_boundary(true),
-            DecimateOptions::default()
-                .ratio(0.25)
-                .placement(Placement::Optimal),
+        // The grid has 56 boundary vertices of 221: kept, they need a larger target.
+        for (ratio, options) in [
+            (0.25, DecimateOptions::default()),
+            (0.4, DecimateOptions::default().keep_boundary(true)),
+            (0.25, DecimateOptions::default().placement(Placement::Optimal)),
         ] {
+            let options = options.ratio(ratio);
             let (out, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
             out.check_integrity().unwrap();
-            let target = (0.25 * mesh.n_vertices() as f64).round() as usize;
+            let target = (ratio * mesh.n_vertices() as f64).round() as usize;
             assert_eq!(report.target_vertices, target, "{name}");
             assert!(report.target_reached, "{name} {options:?}: {report:?}");
             assert_eq!(report.stop, DecimateStop::TargetReached);
@@ -199,29 +200,45 @@ fn the_normal_deviation_bound_holds() {
         (worst, report)
     };
     let (free, free_report) = max_angle(None);
-    let bound = 10f64.to_radians();
+    let bound = 4f64.to_radians();
     let (bounded, report) = max_angle(Some(bound));
     assert!(free_report.target_reached);
     assert!(!report.target_reached, "{report:?}");
     assert_eq!(report.stop, DecimateStop::NoCollapseLeft);
     assert!(report.refused.normal_deviation > 0);
-    assert!(bounded <= bound, "{} > 10 degrees", bounded.to_degrees());
+    assert!(bounded <= bound, "{} > 4 degrees", bounded.to_degrees());
     assert!(free > bound, "the bound must matter: {}", free.to_degrees());
 }
 
 #[test]
 fn no_face_flips_on_a_noisy_surface() {
+    // Against the surface the noise was added to: the unit sphere, and the clean F-lens.
+    let lens = flens(&FLensParams::default());
+    let lens_mesh = lens.mesh().unwrap();
+    let clean = SurfaceIndex::new(&lens_mesh, &lens.positions).unwrap();
     for (name, p) in [("noisy icosphere", noisy_icosphere()), ("F-lens", noisy_flens())] {
         let mesh = p.mesh().unwrap();
-        let input = SurfaceIndex::new(&mesh, &p.positions).unwrap();
-        let options = DecimateOptions::default()
-            .ratio(0.2)
-            .max_normal_deviation(60f64.to_radians());
-        let (out, positions, _) = decimate(&mesh, &p.positions, &options).unwrap();
-        for f in out.faces() {
-            let n = face_normal(&out, &positions, f);
-            let closest = input.closest_point(centroid(&out, &positions, f)).unwrap();
-            assert!(n.dot(face_normal(&mesh, &p.positions, closest.face)) > 0.0, "{name}");
+        // Without a normal bound only turns by 90° or more of one face are refused, and
+        // a fold against the surface can remain; a bound as loose as 60° removes them.
+        let bound = DecimateOptions::default().max_normal_deviation(60f64.to_radians());
+        for options in [
+            bound.ratio(0.2),
+            bound.ratio(0.1).placement(Placement::Optimal),
+        ] {
+            let (out, positions, _) = decimate(&mesh, &p.positions, &options).unwrap();
+            for f in out.faces() {
+                let n = face_normal(&out, &positions, f);
+                let c = centroid(&out, &positions, f);
+                let m = if name == "F-lens" {
+                    face_normal(&lens_mesh, &lens.positions, clean.closest_point(c).unwrap().face)
+                } else {
+                    c.normalize()
+                };
+                // No normal points against the surface. (A sliver whose three vertices
+                // lie on one great circle of the radially noisy sphere has its normal in
+                // the tangent plane, a dot product of rounding size.)
+                assert!(n.dot(m) > -1e-9, "{name} {options:?}: face {f:?}");
+            }
         }
     }
 }
@@ -381,6 +398,7 @@ fn distance_to(input: &SurfaceIndex, mesh: &HalfedgeMesh, positions: &[DVec3], s
 #[test]
 fn hausdorff_is_no_worse_than_openmesh() {
     let mut compared = 0;
+    let mut ratios = Vec::new();
     for (name, p) in openmesh_inputs() {
         let dir = references().join(name).join("decimation");
         let Ok(cases) = fs::read_to_string(dir.join("cases.txt")) else {
@@ -405,28 +423,41 @@ fn hausdorff_is_no_worse_than_openmesh() {
             assert_eq!(their_faces.len().to_string(), n_faces, "{name}");
             let their_mesh = HalfedgeMesh::from_polygons(theirs.len(), &their_faces).unwrap();
 
-            let (ours, positions, report) = decimate(
-                &mesh,
-                &p.positions,
-                &DecimateOptions::default().vertices(target),
-            )
-            .unwrap();
-            assert_eq!(ours.n_vertices(), theirs.len(), "{name} {percent}%");
-            assert!(report.target_reached);
-            let d_ours = distance_to(&input, &ours, &positions, samples);
             let d_theirs = distance_to(&input, &their_mesh, &theirs, samples);
+            let mut d = [0.0; 2];
+            for (i, placement) in [Placement::Endpoint, Placement::Optimal].into_iter().enumerate() {
+                let options = DecimateOptions::default().vertices(target).placement(placement);
+                let (ours, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
+                assert_eq!(ours.n_vertices(), theirs.len(), "{name} {percent}%");
+                assert!(report.target_reached);
+                d[i] = distance_to(&input, &ours, &positions, samples);
+            }
             println!(
-                "{name} {percent}% ({target} vertices): beltrami {d_ours:.6}, OpenMesh {d_theirs:.6}, ratio {:.3}",
-                d_ours / d_theirs
+                "| {name} | {percent} % | {target} | {d_theirs:.4} | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) |",
+                d[0],
+                100.0 * (d[0] / d_theirs - 1.0),
+                d[1],
+                100.0 * (d[1] / d_theirs - 1.0),
+            );
+            // Endpoint placement is OpenMesh's own algorithm; the order of equal-cost
+            // and stale entries differs, which moves the largest error of a noisy surface
+            // by a few per cent either way.
+            assert!(
+                d[0] <= 1.10 * d_theirs,
+                "{name} {percent}%: endpoint {} vs OpenMesh {d_theirs}", d[0]
             );
             assert!(
-                d_ours <= 1.05 * d_theirs,
-                "{name} {percent}%: beltrami {d_ours} vs OpenMesh {d_theirs}"
+                d[1] <= 1.05 * d_theirs,
+                "{name} {percent}%: optimal {} vs OpenMesh {d_theirs}", d[1]
             );
+            ratios.push(d[0] / d_theirs);
             compared += 1;
         }
     }
     assert!(compared >= 6, "only {compared} OpenMesh cases");
+    // Over all cases, endpoint placement is no worse than OpenMesh on average.
+    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    assert!(mean <= 1.0, "mean ratio {mean}");
 }
 
 fn small_mesh(kind: u8, seed: u64) -> Primitive {
