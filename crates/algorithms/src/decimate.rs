@@ -744,14 +744,22 @@ impl<'a> Decimator<'a> {
         let moved = position != p1;
         let removed = [m.face(h), m.face(h.twin())];
         let is_removed = |f: FaceId| removed.contains(&Some(f));
-        let mut changed: Vec<FaceId> = m.faces_around_vertex(v0).filter(|&f| !is_removed(f)).collect();
+        let mut changed: Vec<FaceId> = m
+            .faces_around_vertex(v0)
+            .filter(|&f| !is_removed(f))
+            .collect();
         if moved {
             changed.extend(m.faces_around_vertex(v1).filter(|&f| !is_removed(f)));
         }
         let old_triangle = |f: FaceId| self.face_vertices(f).map(|v| m.position(v));
         let new_triangle = |f: FaceId| {
-            self.face_vertices(f)
-                .map(|v| if v == v0 || v == v1 { position } else { m.position(v) })
+            self.face_vertices(f).map(|v| {
+                if v == v0 || v == v1 {
+                    position
+                } else {
+                    m.position(v)
+                }
+            })
         };
         let mut normals = Vec::with_capacity(changed.len());
         for &f in &changed {
@@ -807,7 +815,10 @@ impl<'a> Decimator<'a> {
         }
         let (mut cleared, mut assigned) = (Vec::new(), Vec::new());
         if let Some(max) = self.options.max_distance {
-            cleared = m.faces_around_vertex(v0).chain(m.faces_around_vertex(v1)).collect();
+            cleared = m
+                .faces_around_vertex(v0)
+                .chain(m.faces_around_vertex(v1))
+                .collect();
             cleared.sort_unstable();
             cleared.dedup();
             let targets: Vec<(FaceId, [DVec3; 3])> = cleared

@@ -11,8 +11,8 @@ use beltrami_algorithms::{
 };
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_surfaces::{FLensParams, flens};
 use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff};
+use beltrami_surfaces::{FLensParams, flens};
 use beltrami_testkit::SplitMix64;
 use beltrami_testkit::fixtures::{noisy_flens, noisy_icosphere, openmesh_inputs};
 use beltrami_testkit::openmesh::read_f64s;
@@ -64,7 +64,10 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
         for (ratio, options) in [
             (0.25, DecimateOptions::default()),
             (0.4, DecimateOptions::default().keep_boundary(true)),
-            (0.25, DecimateOptions::default().placement(Placement::Optimal)),
+            (
+                0.25,
+                DecimateOptions::default().placement(Placement::Optimal),
+            ),
         ] {
             let options = options.ratio(ratio);
             let (out, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
@@ -79,7 +82,11 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
             assert_eq!(report.faces_after, out.n_faces());
             assert_eq!(report.collapses, mesh.n_vertices() - target);
             assert_eq!(out.is_closed(), mesh.is_closed(), "{name}");
-            assert_eq!(out.euler_characteristic(), mesh.euler_characteristic(), "{name}");
+            assert_eq!(
+                out.euler_characteristic(),
+                mesh.euler_characteristic(),
+                "{name}"
+            );
             assert_eq!(boundary_loops(&out), boundary_loops(&mesh), "{name}");
             assert!(positions.iter().all(|p| p.is_finite()));
             assert!(report.hausdorff.is_finite() && report.hausdorff >= 0.0);
@@ -99,7 +106,11 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
 fn endpoint_placement_keeps_input_positions() {
     let p = noisy_icosphere();
     let (_, positions, _) = run(&p, &DecimateOptions::default().ratio(0.3));
-    let mut input: Vec<[u64; 3]> = p.positions.iter().map(|q| q.to_array().map(f64::to_bits)).collect();
+    let mut input: Vec<[u64; 3]> = p
+        .positions
+        .iter()
+        .map(|q| q.to_array().map(f64::to_bits))
+        .collect();
     input.sort_unstable();
     for q in positions {
         assert!(input.binary_search(&q.to_array().map(f64::to_bits)).is_ok());
@@ -110,8 +121,10 @@ fn endpoint_placement_keeps_input_positions() {
 fn a_sphere_stays_close_to_the_sphere() {
     let p = primitives::icosphere(4);
     for placement in [Placement::Endpoint, Placement::Optimal] {
-        let (out, positions, report) =
-            run(&p, &DecimateOptions::default().ratio(0.1).placement(placement));
+        let (out, positions, report) = run(
+            &p,
+            &DecimateOptions::default().ratio(0.1).placement(placement),
+        );
         assert_eq!(out.euler_characteristic(), 2);
         // 256 vertices on a unit sphere: the chord sagitta of an edge of ~0.22 is ~0.006.
         assert!(report.hausdorff < 0.03, "{placement:?}: {report:?}");
@@ -152,9 +165,12 @@ fn keep_boundary_keeps_every_boundary_vertex_bit_for_bit() {
             assert!(report.refused.boundary > 0, "{name}");
         }
         // Without the option the boundary is decimated too.
-        let (out, _, _) = decimate(&mesh, &p.positions, &DecimateOptions::default().ratio(0.3))
-            .unwrap();
-        let n = out.vertices().filter(|&v| out.is_boundary_vertex(v)).count();
+        let (out, _, _) =
+            decimate(&mesh, &p.positions, &DecimateOptions::default().ratio(0.3)).unwrap();
+        let n = out
+            .vertices()
+            .filter(|&v| out.is_boundary_vertex(v))
+            .count();
         assert!(n < boundary.len(), "{name}");
     }
 }
@@ -216,7 +232,10 @@ fn no_face_flips_on_a_noisy_surface() {
     let lens = flens(&FLensParams::default());
     let lens_mesh = lens.mesh().unwrap();
     let clean = SurfaceIndex::new(&lens_mesh, &lens.positions).unwrap();
-    for (name, p) in [("noisy icosphere", noisy_icosphere()), ("F-lens", noisy_flens())] {
+    for (name, p) in [
+        ("noisy icosphere", noisy_icosphere()),
+        ("F-lens", noisy_flens()),
+    ] {
         let mesh = p.mesh().unwrap();
         // Without a normal bound only turns by 90° or more of one face are refused, and
         // a fold against the surface can remain; a bound as loose as 60° removes them.
@@ -230,7 +249,11 @@ fn no_face_flips_on_a_noisy_surface() {
                 let n = face_normal(&out, &positions, f);
                 let c = centroid(&out, &positions, f);
                 let m = if name == "F-lens" {
-                    face_normal(&lens_mesh, &lens.positions, clean.closest_point(c).unwrap().face)
+                    face_normal(
+                        &lens_mesh,
+                        &lens.positions,
+                        clean.closest_point(c).unwrap().face,
+                    )
                 } else {
                     c.normalize()
                 };
@@ -257,7 +280,10 @@ fn the_error_bound_holds_and_stops_early() {
 
 #[test]
 fn the_distance_bound_holds_for_every_input_vertex() {
-    for (name, p) in [("noisy icosphere", noisy_icosphere()), ("F-lens", noisy_flens())] {
+    for (name, p) in [
+        ("noisy icosphere", noisy_icosphere()),
+        ("F-lens", noisy_flens()),
+    ] {
         let free = run(&p, &DecimateOptions::default().ratio(0.1)).2;
         let bound = 0.5 * free.hausdorff_from_input;
         for placement in [Placement::Endpoint, Placement::Optimal] {
@@ -274,7 +300,10 @@ fn the_distance_bound_holds_for_every_input_vertex() {
                 .unwrap()
                 .into_iter()
                 .fold(0.0f64, f64::max);
-            assert!(worst <= bound * (1.0 + 1e-9), "{name} {placement:?}: {worst} > {bound}");
+            assert!(
+                worst <= bound * (1.0 + 1e-9),
+                "{name} {placement:?}: {worst} > {bound}"
+            );
         }
     }
 }
@@ -297,9 +326,16 @@ fn the_aspect_ratio_bound_holds() {
     };
     let bound = 3.0;
     let (free, _) = worst(&DecimateOptions::default().ratio(0.2));
-    let (bounded, report) = worst(&DecimateOptions::default().ratio(0.2).max_aspect_ratio(bound));
+    let (bounded, report) = worst(
+        &DecimateOptions::default()
+            .ratio(0.2)
+            .max_aspect_ratio(bound),
+    );
     // No triangle worse than the bound or the worst input triangle.
-    assert!(bounded <= bound.max(worst_in), "{bounded} (input {worst_in})");
+    assert!(
+        bounded <= bound.max(worst_in),
+        "{bounded} (input {worst_in})"
+    );
     assert!(free > bounded, "the bound must matter: {free}");
     assert!(report.refused.aspect_ratio > 0);
 }
@@ -315,7 +351,9 @@ fn decimation_is_deterministic() {
     let a = run(&p, &options);
     let b = run(&p, &options);
     assert_eq!(a.0.to_polygons(), b.0.to_polygons());
-    let bits = |v: &[DVec3]| -> Vec<[u64; 3]> { v.iter().map(|q| q.to_array().map(f64::to_bits)).collect() };
+    let bits = |v: &[DVec3]| -> Vec<[u64; 3]> {
+        v.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
+    };
     assert_eq!(bits(&a.1), bits(&b.1));
     assert_eq!(a.2, b.2);
 }
@@ -389,7 +427,12 @@ fn read_faces(path: &Path) -> Vec<[u32; 3]> {
 
 /// The symmetric Hausdorff distance to the input, with the same sampling for every
 /// output compared.
-fn distance_to(input: &SurfaceIndex, mesh: &HalfedgeMesh, positions: &[DVec3], samples: usize) -> f64 {
+fn distance_to(
+    input: &SurfaceIndex,
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    samples: usize,
+) -> f64 {
     let out = SurfaceIndex::new(mesh, positions).unwrap();
     let sampling = HausdorffSampling::VerticesAndSurface { samples, seed: 7 };
     hausdorff(&out, input, sampling).unwrap().symmetric
@@ -425,8 +468,13 @@ fn hausdorff_is_no_worse_than_openmesh() {
 
             let d_theirs = distance_to(&input, &their_mesh, &theirs, samples);
             let mut d = [0.0; 2];
-            for (i, placement) in [Placement::Endpoint, Placement::Optimal].into_iter().enumerate() {
-                let options = DecimateOptions::default().vertices(target).placement(placement);
+            for (i, placement) in [Placement::Endpoint, Placement::Optimal]
+                .into_iter()
+                .enumerate()
+            {
+                let options = DecimateOptions::default()
+                    .vertices(target)
+                    .placement(placement);
                 let (ours, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
                 assert_eq!(ours.n_vertices(), theirs.len(), "{name} {percent}%");
                 assert!(report.target_reached);
@@ -444,11 +492,13 @@ fn hausdorff_is_no_worse_than_openmesh() {
             // by a few per cent either way.
             assert!(
                 d[0] <= 1.10 * d_theirs,
-                "{name} {percent}%: endpoint {} vs OpenMesh {d_theirs}", d[0]
+                "{name} {percent}%: endpoint {} vs OpenMesh {d_theirs}",
+                d[0]
             );
             assert!(
                 d[1] <= 1.05 * d_theirs,
-                "{name} {percent}%: optimal {} vs OpenMesh {d_theirs}", d[1]
+                "{name} {percent}%: optimal {} vs OpenMesh {d_theirs}",
+                d[1]
             );
             ratios.push(d[0] / d_theirs);
             compared += 1;

@@ -132,7 +132,10 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
     }
     if let Some(a) = args.max_aspect_ratio {
         if !(a >= 1.0 && a.is_finite()) {
-            return usage(format!("--max-aspect-ratio must be >= 1, got {}", number(a)));
+            return usage(format!(
+                "--max-aspect-ratio must be >= 1, got {}",
+                number(a)
+            ));
         }
         options = options.max_aspect_ratio(a);
     }
@@ -170,7 +173,10 @@ fn why_not(report: &DecimateReport) -> String {
     if named.is_empty() {
         "no collapse left".to_string()
     } else {
-        format!("no collapse left, refused mostly by {}", named.join(" and "))
+        format!(
+            "no collapse left, refused mostly by {}",
+            named.join(" and ")
+        )
     }
 }
 

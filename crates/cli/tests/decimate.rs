@@ -23,13 +23,29 @@ fn decimates_into_the_library_result() {
     for name in ["noisy_icosphere_4.ply", "flens_68x33.ply", "torus_12x8.ply"] {
         let input = fixtures().join(name);
         let out = dir.path().join("out.ply");
-        let o = beltrami(&["decimate", s(&input), s(&out), "--ratio", "0.25", "--json", "--force"]);
-        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let o = beltrami(&[
+            "decimate",
+            s(&input),
+            s(&out),
+            "--ratio",
+            "0.25",
+            "--json",
+            "--force",
+        ]);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
         let data = read_mesh(&input).unwrap();
         let mesh = data.mesh().unwrap();
-        let (want, positions, report) =
-            decimate(&mesh, &data.positions, &DecimateOptions::default().ratio(0.25)).unwrap();
+        let (want, positions, report) = decimate(
+            &mesh,
+            &data.positions,
+            &DecimateOptions::default().ratio(0.25),
+        )
+        .unwrap();
         let got = read_mesh(&out).unwrap();
         assert_eq!(got.positions, positions, "{name}");
         assert_eq!(got.faces, want.to_polygons(), "{name}");
@@ -67,11 +83,21 @@ fn the_sentence_says_whether_the_target_was_reached() {
     let dir = tempfile::tempdir().unwrap();
     let input = fixtures().join("flens_68x33.ply");
     let out = dir.path().join("out.off");
-    let o = beltrami(&["decimate", s(&input), s(&out), "--vertices", "500", "--keep-boundary"]);
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--vertices",
+        "500",
+        "--keep-boundary",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let line = String::from_utf8(o.stdout).unwrap();
     assert_eq!(line.lines().count(), 1, "{line}");
-    assert!(line.contains("2244 -> 500 vertices (target 500 reached)"), "{line}");
+    assert!(
+        line.contains("2244 -> 500 vertices (target 500 reached)"),
+        "{line}"
+    );
     assert!(line.contains("Hausdorff"), "{line}");
     assert_eq!(read_mesh(&out).unwrap().positions.len(), 500);
 
