@@ -163,7 +163,7 @@ fn why_not(report: &DecimateReport) -> String {
         (r.aspect_ratio, "--max-aspect-ratio"),
         (r.distance, "--max-distance"),
     ];
-    reasons.sort_by(|a, b| b.0.cmp(&a.0));
+    reasons.sort_by_key(|r| std::cmp::Reverse(r.0));
     let named: Vec<&str> = reasons
         .iter()
         .filter(|(n, _)| *n > 0)
