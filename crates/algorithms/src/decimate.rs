@@ -115,8 +115,9 @@ pub struct DecimateOptions {
     /// The largest angle, radians in [0, π], between the normal of an output triangle
     /// and the normal of any input triangle merged into it (tracked with normal cones,
     /// as pmp-library does). `None`: only flips (a triangle's normal turning by 90° or
-    /// more in one collapse) and degenerate triangles are refused, which they always
-    /// are.
+    /// more in one collapse, or from its normal at the start) and degenerate triangles
+    /// are refused, which they always are; a triangle can then still end up folded
+    /// against the surface it came from, which a loose bound (60°) prevents.
     pub max_normal_deviation: Option<f64>,
     /// Never remove a boundary vertex: every boundary vertex keeps its position bit for
     /// bit and the boundary polygon stays as it is.
