@@ -21,5 +21,5 @@ mkdir -p "$(dirname "$out")"
 # -ffp-contract=off: no fused multiply-add, so every operation rounds as written (the
 # references must not depend on the compiler's choice of instructions).
 g++ -O2 -std=c++17 -ffp-contract=off -Wall -Wextra \
-  -o "$out" "$here"/*.cc -lOpenMeshCore
+  -o "$out" "$here"/*.cc -lOpenMeshTools -lOpenMeshCore
 echo "$out"

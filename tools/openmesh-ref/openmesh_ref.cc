@@ -46,6 +46,7 @@
 //   Boundary fixed (boundary vertices never move) or free (smoothed over their
 //   one-sided ring). Isolated vertices never move.
 
+#include "decimation.h"
 #include "editing.h"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -662,6 +663,7 @@ int main(int argc, char** argv) {
   try {
     write_editing_references(argv[1], argv[2]);
     write_subdivision(argv[1], argv[2]);
+    write_decimation(argv[1], argv[2]);
     return run(argv[1], argv[2], argv[3], max_iterations);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "openmesh-ref: %s\n", e.what());

@@ -11,6 +11,9 @@
 //!   (every cotangent weight non-negative), written on the editable
 //!   [`EditMesh`](beltrami_halfedge::EditMesh), with a dihedral bound for curved
 //!   surfaces and the change of the surface measured;
+//! - [`decimate`]: quadric-error decimation (Garland & Heckbert 1997) by halfedge
+//!   collapses, as OpenMesh's `DecimaterT` + `ModQuadricT`, with boundary, normal,
+//!   aspect-ratio and distance constraints and the Hausdorff distance reported;
 //! - [`remesh`]: isotropic remeshing (Botsch & Kobbelt 2004) towards a target edge
 //!   length by splits, collapses, flips and tangential relaxation, keeping the boundary
 //!   and sharp features and projecting the vertices back onto the input surface;
@@ -44,6 +47,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod decimate;
 mod delaunay;
 mod error;
 mod fill_holes;
@@ -51,6 +55,10 @@ pub mod quality;
 mod remesh;
 pub mod subdivision;
 
+pub use decimate::{
+    DecimateError, DecimateOptions, DecimateReport, DecimateStop, DecimateTarget, Placement,
+    RefusalCounts, decimate,
+};
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
 pub use fill_holes::{

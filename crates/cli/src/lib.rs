@@ -24,6 +24,7 @@ use beltrami_weights::WeightRegistry;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod compare;
+mod decimate;
 mod delaunay;
 mod error;
 mod fill_holes;
@@ -91,6 +92,9 @@ enum Command {
     /// Fill the holes of a mesh (Liepa's minimum-weight triangulation, refined and
     /// faired), leaving the outer boundary of an open surface open unless --all.
     FillHoles(fill_holes::FillHolesArgs),
+    /// Decimate a triangle mesh by quadric error metrics to a target vertex count,
+    /// optionally keeping the boundary and bounding normal change and distance.
+    Decimate(decimate::DecimateArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -201,6 +205,7 @@ where
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
         Command::Remesh(args) => remesh::run(args, &mut stdout),
         Command::FillHoles(args) => fill_holes::run(args, &mut stdout),
+        Command::Decimate(args) => decimate::run(args, &mut stdout),
         Command::Compare(args) => compare::run(args, &mut stdout),
         Command::Fit(args) => fit::run(args, &mut stdout),
         Command::Residual(args) => residual::run(args, &mut stdout),

@@ -1,0 +1,1035 @@
+//! Decimation by quadric error metrics: halfedge collapses, cheapest first, until a target
+//! vertex count is reached or no collapse is left that the constraints allow.
+//!
+//! # Algorithm
+//!
+//! Garland and Heckbert's quadric error metric with halfedge collapses, as OpenMesh's
+//! `DecimaterT` + `ModQuadricT` and pmp-library's `Decimation` run it:
+//!
+//! 1. Every vertex gets the quadric `Q_v(x) = Σ A_f (n_f·x + d_f)²` of the planes of its
+//!    triangles, each weighted by the triangle's area `A_f` (OpenMesh's choice; a
+//!    degenerate triangle adds nothing). Unless boundary vertices are kept, every
+//!    boundary edge adds the plane through it perpendicular to its triangle, weighted by
+//!    the squared edge length, to both its vertices, so that the boundary curve is
+//!    preserved as the surface is.
+//! 2. The collapse of halfedge `v0 → v1` removes `v0` and costs `(Q_v0 + Q_v1)(p)`, with
+//!    `p` the position `v1` gets: its own (endpoint placement, as OpenMesh does), or the
+//!    minimiser of the summed quadric ([`Placement::Optimal`]).
+//! 3. A binary heap holds, per vertex, its cheapest legal outgoing collapse (pmp's and
+//!    OpenMesh's per-vertex scheme), invalidated lazily by a per-vertex version counter;
+//!    ties go to the smaller vertex and then the smaller halfedge id, so the result is a
+//!    deterministic function of the input.
+//! 4. After a collapse `v1` gets `Q_v0 + Q_v1`, and `v1` and its new one-ring are
+//!    evaluated again.
+//!
+//! A collapse is legal when the topology allows it (OpenMesh's `is_collapse_ok` rules,
+//! see [`EditMesh::collapse_edge`], plus `BaseDecimaterT::is_collapse_legal`'s: a
+//! boundary vertex only moves along the boundary, `v0` keeps at least two faces, and two
+//! valence-3 opposite vertices that are joined stay), no changed triangle flips or
+//! degenerates, and every constraint of [`DecimateOptions`] holds.
+//!
+//! # References
+//! - M. Garland, P. S. Heckbert, "Surface simplification using quadric error metrics",
+//!   SIGGRAPH 1997.
+//! - L. Kobbelt, S. Campagna, H.-P. Seidel, "A general framework for mesh decimation",
+//!   Graphics Interface 1998 (the halfedge collapse and the decimation framework
+//!   OpenMesh implements).
+//! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
+//!   AK Peters 2010, chapter 7 (normal cones, the Hausdorff constraint).
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+use std::f64::consts::PI;
+
+use beltrami_halfedge::{
+    DVec3, EditError, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, TopologyError, VertexId,
+};
+use beltrami_metrics::MetricsError;
+use beltrami_metrics::distance::{
+    HausdorffSampling, SurfaceIndex, closest_point_on_triangle, hausdorff,
+};
+use glam::DMat3;
+
+/// The weight of a boundary constraint plane per unit of squared edge length (the face
+/// planes are weighted by area, the same unit).
+const BOUNDARY_WEIGHT: f64 = 1.0;
+
+/// The seed of the surface samples of the reported Hausdorff distance.
+const HAUSDORFF_SEED: u64 = 0x0dec_1a7e;
+
+/// How many vertices [`decimate`] keeps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DecimateTarget {
+    /// This many vertices (at least 1).
+    Vertices(usize),
+    /// This fraction of the input's vertices, in (0, 1]; the count is
+    /// `round(ratio × vertices)`, at least 1.
+    Ratio(f64),
+}
+
+impl Default for DecimateTarget {
+    fn default() -> Self {
+        Self::Ratio(0.5)
+    }
+}
+
+/// Where the kept vertex of a collapse goes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Placement {
+    /// The kept vertex stays where it is (OpenMesh's `ModQuadricT`): the output's
+    /// vertices are a subset of the input's, bit for bit.
+    #[default]
+    Endpoint,
+    /// The kept vertex moves to the minimiser of the summed quadric (Garland and
+    /// Heckbert's optimal placement, solving the 3 × 3 system). When that system is
+    /// singular (a flat or cylindrical neighbourhood) or its solution lies farther than
+    /// twice the edge length from the edge's midpoint, the better of the two end points
+    /// is used. A kept vertex on the boundary never moves.
+    Optimal,
+}
+
+/// The settings of [`decimate`]. Every bound is optional; without any, collapses stop
+/// only at the target or when topology forbids every remaining one.
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{DecimateOptions, DecimateTarget, Placement};
+/// let options = DecimateOptions::default()
+///     .ratio(0.25)
+///     .max_normal_deviation(10f64.to_radians())
+///     .keep_boundary(true)
+///     .placement(Placement::Optimal);
+/// assert_eq!(options.target, DecimateTarget::Ratio(0.25));
+/// assert!(options.keep_boundary);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct DecimateOptions {
+    /// How many vertices to keep (default: half of them).
+    pub target: DecimateTarget,
+    /// The largest quadric error of a collapse, as a distance in the positions' unit
+    /// (not squared): the area-weighted root-mean-square distance of the kept vertex's
+    /// new position to the planes of all input triangles (and boundary constraint
+    /// planes) accumulated into the two vertices, `sqrt(Q(p) / ΣA)`. `None`: no bound.
+    pub max_error: Option<f64>,
+    /// The largest angle, radians in [0, π], between the normal of an output triangle
+    /// and the normal of any input triangle merged into it (tracked with normal cones,
+    /// as pmp-library does). `None`: only flips (a triangle's normal turning by 90° or
+    /// more in one collapse, or from its normal at the start) and degenerate triangles
+    /// are refused, which they always are; a triangle can then still end up folded
+    /// against the surface it came from, which a loose bound (60°) prevents.
+    pub max_normal_deviation: Option<f64>,
+    /// Never remove a boundary vertex: every boundary vertex keeps its position bit for
+    /// bit and the boundary polygon stays as it is.
+    pub keep_boundary: bool,
+    /// Where the kept vertex goes.
+    pub placement: Placement,
+    /// The largest aspect ratio of a triangle a collapse makes: `ℓ²_max √3 / (4A)`, 1 for
+    /// an equilateral triangle, growing without bound as it degenerates. A collapse is
+    /// refused when its worst new triangle exceeds the bound *and* is worse than the
+    /// worst triangle it replaces (so a collapse that improves a bad region stays
+    /// possible). At least 1; `None`: no bound.
+    pub max_aspect_ratio: Option<f64>,
+    /// The largest distance, in the positions' unit, from any input vertex to the output
+    /// surface. Every input vertex is assigned to the triangle closest to it; a collapse
+    /// is refused when a vertex assigned to one of the changed triangles would be
+    /// farther than this from all triangles around the kept vertex afterwards (OpenMesh's
+    /// `ModHausdorffT`). This bounds the one-sided distance input vertices → output, not
+    /// the distance of points inside input triangles. `None`: no bound.
+    pub max_distance: Option<f64>,
+}
+
+impl DecimateOptions {
+    /// Keeps `count` vertices.
+    #[must_use]
+    pub fn vertices(mut self, count: usize) -> Self {
+        self.target = DecimateTarget::Vertices(count);
+        self
+    }
+
+    /// Keeps the fraction `ratio` of the vertices, in (0, 1].
+    #[must_use]
+    pub fn ratio(mut self, ratio: f64) -> Self {
+        self.target = DecimateTarget::Ratio(ratio);
+        self
+    }
+
+    /// Sets the largest quadric error of a collapse, as a distance (see
+    /// [`DecimateOptions::max_error`]).
+    #[must_use]
+    pub fn max_error(mut self, distance: f64) -> Self {
+        self.max_error = Some(distance);
+        self
+    }
+
+    /// Sets the largest normal deviation, in radians.
+    #[must_use]
+    pub fn max_normal_deviation(mut self, radians: f64) -> Self {
+        self.max_normal_deviation = Some(radians);
+        self
+    }
+
+    /// Keeps (`true`) or allows removing (`false`, the default) boundary vertices.
+    #[must_use]
+    pub fn keep_boundary(mut self, keep: bool) -> Self {
+        self.keep_boundary = keep;
+        self
+    }
+
+    /// Sets where the kept vertex goes.
+    #[must_use]
+    pub fn placement(mut self, placement: Placement) -> Self {
+        self.placement = placement;
+        self
+    }
+
+    /// Sets the largest aspect ratio of a new triangle (at least 1).
+    #[must_use]
+    pub fn max_aspect_ratio(mut self, ratio: f64) -> Self {
+        self.max_aspect_ratio = Some(ratio);
+        self
+    }
+
+    /// Sets the largest distance of an input vertex from the output surface.
+    #[must_use]
+    pub fn max_distance(mut self, distance: f64) -> Self {
+        self.max_distance = Some(distance);
+        self
+    }
+
+    /// Checks every value's range.
+    fn validate(&self) -> Result<(), DecimateError> {
+        let bad = |reason: String| Err(DecimateError::Options { reason });
+        match self.target {
+            DecimateTarget::Vertices(0) => {
+                return bad("the target vertex count must be at least 1".into());
+            }
+            DecimateTarget::Ratio(r) if !(r > 0.0 && r <= 1.0) => {
+                return bad(format!("the target ratio must be in (0, 1], got {r}"));
+            }
+            _ => {}
+        }
+        if let Some(e) = self.max_error
+            && !(e >= 0.0 && e.is_finite())
+        {
+            return bad(format!(
+                "the largest quadric error must be finite and >= 0, got {e}"
+            ));
+        }
+        if let Some(a) = self.max_normal_deviation
+            && !(0.0..=PI).contains(&a)
+        {
+            return bad(format!(
+                "the largest normal deviation must be in [0, pi] radians, got {a}"
+            ));
+        }
+        if let Some(a) = self.max_aspect_ratio
+            && !(a >= 1.0 && a.is_finite())
+        {
+            return bad(format!(
+                "the largest aspect ratio must be finite and >= 1, got {a}"
+            ));
+        }
+        if let Some(d) = self.max_distance
+            && !(d >= 0.0 && d.is_finite())
+        {
+            return bad(format!(
+                "the largest distance must be finite and >= 0, got {d}"
+            ));
+        }
+        Ok(())
+    }
+
+    /// The target vertex count for a mesh of `n` vertices.
+    fn target_count(&self, n: usize) -> usize {
+        match self.target {
+            DecimateTarget::Vertices(count) => count,
+            // `ratio` is in (0, 1], so the product is in [0, n] and the cast exact.
+            DecimateTarget::Ratio(r) => ((r * n as f64).round() as usize).max(1),
+        }
+    }
+}
+
+/// Why [`decimate`] stopped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DecimateStop {
+    /// The mesh has the target vertex count (or had no more to begin with).
+    #[default]
+    TargetReached,
+    /// No collapse was left that the topology and the constraints allow; the refusal
+    /// counts of [`DecimateReport::refused`] say which constraints stopped it.
+    NoCollapseLeft,
+}
+
+/// How many candidate collapses each check refused. A vertex's outgoing halfedges are
+/// evaluated again whenever its neighbourhood changes, so one halfedge can be counted
+/// several times: these count evaluations, not distinct edges, and show which checks
+/// limit the decimation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub struct RefusalCounts {
+    /// The topology forbids the collapse (link condition, boundary rules, valence).
+    pub topology: usize,
+    /// [`DecimateOptions::keep_boundary`] keeps the vertex.
+    pub boundary: usize,
+    /// The quadric error exceeds [`DecimateOptions::max_error`].
+    pub error: usize,
+    /// A triangle would flip or degenerate.
+    pub normal_flip: usize,
+    /// A normal would deviate by more than [`DecimateOptions::max_normal_deviation`].
+    pub normal_deviation: usize,
+    /// A triangle would exceed [`DecimateOptions::max_aspect_ratio`].
+    pub aspect_ratio: usize,
+    /// An input vertex would be farther than [`DecimateOptions::max_distance`].
+    pub distance: usize,
+}
+
+/// What [`decimate`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct DecimateReport {
+    /// Vertices of the input.
+    pub vertices_before: usize,
+    /// Faces of the input.
+    pub faces_before: usize,
+    /// Vertices of the output.
+    pub vertices_after: usize,
+    /// Faces of the output.
+    pub faces_after: usize,
+    /// The target vertex count the options asked for.
+    pub target_vertices: usize,
+    /// Collapses done (`vertices_before − vertices_after`).
+    pub collapses: usize,
+    /// Candidate collapses refused, by check.
+    pub refused: RefusalCounts,
+    /// Why the run stopped.
+    pub stop: DecimateStop,
+    /// Whether the output has at most the target vertex count (exactly the target when
+    /// the input had more).
+    pub target_reached: bool,
+    /// The largest quadric error of a collapse done, as a distance in the positions'
+    /// unit (see [`DecimateOptions::max_error`]); 0 without collapses.
+    pub max_quadric_error: f64,
+    /// The symmetric Hausdorff distance between output and input, in the positions'
+    /// unit: the larger of the two one-sided distances below.
+    pub hausdorff: f64,
+    /// The largest distance from the output's vertices and surface samples to the input
+    /// surface.
+    pub hausdorff_to_input: f64,
+    /// The largest distance from the input's vertices and surface samples to the output
+    /// surface.
+    pub hausdorff_from_input: f64,
+}
+
+/// Why [`decimate`] could not run. Every variant names the offending element or value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DecimateError {
+    /// A face is not a triangle; decimation needs a triangle mesh.
+    #[error("face {face} has {len} vertices; decimation needs a triangle mesh")]
+    NotTriangle {
+        /// The face index (0-based, in mesh order).
+        face: usize,
+        /// The number of vertices it has.
+        len: usize,
+    },
+    /// The mesh has no face: there is no surface to decimate.
+    #[error("the mesh has no faces; decimation needs a surface")]
+    NoFaces,
+    /// The positions slice does not have one position per vertex.
+    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
+    PositionCount {
+        /// The length of the positions slice.
+        positions: usize,
+        /// The number of vertices of the mesh.
+        vertices: usize,
+    },
+    /// A position is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite position")]
+    NonFinite {
+        /// The vertex index.
+        vertex: usize,
+    },
+    /// An option is out of its range.
+    #[error("invalid option: {reason}")]
+    Options {
+        /// The problem in words.
+        reason: String,
+    },
+    /// A collapse the checks allowed was refused: a defect of this crate, reported
+    /// rather than panicking.
+    #[error("the decimated mesh is not valid: {0}")]
+    Edit(#[from] EditError),
+    /// The input or the result did not convert between the frozen and the editable
+    /// mesh.
+    #[error("{0}")]
+    Topology(#[from] TopologyError),
+    /// Measuring the Hausdorff distance failed (a defect: the positions are finite).
+    #[error("measuring the Hausdorff distance: {0}")]
+    Metrics(#[from] MetricsError),
+}
+
+/// A symmetric 4 × 4 quadric `Q(x) = xᵀAx + 2bᵀx + c` with the total weight of its
+/// planes.
+#[derive(Clone, Copy, Debug, Default)]
+struct Quadric {
+    /// `A` as `xx, xy, xz, yy, yz, zz`.
+    a: [f64; 6],
+    b: DVec3,
+    c: f64,
+    weight: f64,
+}
+
+impl Quadric {
+    /// `w (n·x + d)²`.
+    fn plane(n: DVec3, d: f64, w: f64) -> Self {
+        Self {
+            a: [
+                w * n.x * n.x,
+                w * n.x * n.y,
+                w * n.x * n.z,
+                w * n.y * n.y,
+                w * n.y * n.z,
+                w * n.z * n.z,
+            ],
+            b: n * (w * d),
+            c: w * d * d,
+            weight: w,
+        }
+    }
+
+    fn add(&mut self, o: &Self) {
+        for (a, b) in self.a.iter_mut().zip(o.a) {
+            *a += b;
+        }
+        self.b += o.b;
+        self.c += o.c;
+        self.weight += o.weight;
+    }
+
+    fn sum(&self, o: &Self) -> Self {
+        let mut s = *self;
+        s.add(o);
+        s
+    }
+
+    fn matrix(&self) -> DMat3 {
+        let [xx, xy, xz, yy, yz, zz] = self.a;
+        DMat3::from_cols(
+            DVec3::new(xx, xy, xz),
+            DVec3::new(xy, yy, yz),
+            DVec3::new(xz, yz, zz),
+        )
+    }
+
+    /// `Q(p)`, clamped at 0 against rounding.
+    fn eval(&self, p: DVec3) -> f64 {
+        let q = p.dot(self.matrix() * p) + 2.0 * self.b.dot(p) + self.c;
+        q.max(0.0)
+    }
+
+    /// `sqrt(Q(p) / weight)`: the weighted RMS distance to the planes.
+    fn rms(&self, p: DVec3) -> f64 {
+        if self.weight > 0.0 {
+            (self.eval(p) / self.weight).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// The minimiser of `Q`, `−A⁻¹b`, when `A` is well conditioned.
+    fn minimiser(&self) -> Option<DVec3> {
+        let m = self.matrix();
+        let scale = self.a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        if scale <= 0.0 {
+            return None;
+        }
+        let det = m.determinant();
+        if det.abs() <= 1e-10 * scale * scale * scale {
+            return None;
+        }
+        let x = m.inverse() * (-self.b);
+        x.is_finite().then_some(x)
+    }
+}
+
+/// A cone of unit normals: its axis and half opening angle (radians).
+#[derive(Clone, Copy, Debug)]
+struct NormalCone {
+    center: DVec3,
+    angle: f64,
+}
+
+impl NormalCone {
+    fn new(n: DVec3) -> Self {
+        Self {
+            center: n,
+            angle: 0.0,
+        }
+    }
+
+    /// The smallest cone around both (pmp-library's `NormalCone::merge`).
+    fn merge(self, other: Self) -> Self {
+        let dp = self.center.dot(other.center).clamp(-1.0, 1.0);
+        if dp > 0.99999 {
+            Self {
+                center: self.center,
+                angle: self.angle.max(other.angle),
+            }
+        } else if dp < -0.99999 {
+            Self {
+                center: self.center,
+                angle: PI,
+            }
+        } else {
+            let center_angle = dp.acos();
+            let min_angle = (-self.angle).min(center_angle - other.angle);
+            let max_angle = self.angle.max(center_angle + other.angle);
+            let angle = 0.5 * (max_angle - min_angle);
+            let axis_angle = 0.5 * (min_angle + max_angle);
+            let center = (self.center * (center_angle - axis_angle).sin()
+                + other.center * axis_angle.sin())
+                / center_angle.sin();
+            Self {
+                center: center.try_normalize().unwrap_or(self.center),
+                angle,
+            }
+        }
+    }
+}
+
+/// Why a candidate collapse was refused.
+#[derive(Clone, Copy, Debug)]
+enum Refusal {
+    Topology,
+    Boundary,
+    Error,
+    Flip,
+    NormalDeviation,
+    AspectRatio,
+    Distance,
+}
+
+impl RefusalCounts {
+    fn count(&mut self, r: Refusal) {
+        let c = match r {
+            Refusal::Topology => &mut self.topology,
+            Refusal::Boundary => &mut self.boundary,
+            Refusal::Error => &mut self.error,
+            Refusal::Flip => &mut self.normal_flip,
+            Refusal::NormalDeviation => &mut self.normal_deviation,
+            Refusal::AspectRatio => &mut self.aspect_ratio,
+            Refusal::Distance => &mut self.distance,
+        };
+        *c += 1;
+    }
+}
+
+/// A legal collapse and what it changes.
+struct Candidate {
+    /// `(Q_v0 + Q_v1)(p)`, the heap's key.
+    error: f64,
+    /// The same as a distance, `sqrt(Q(p) / ΣA)`.
+    rms: f64,
+    /// The kept vertex's new position.
+    position: DVec3,
+    /// The new normal cones of the changed faces (with a normal bound).
+    cones: Vec<(FaceId, NormalCone)>,
+    /// Faces whose input vertices are reassigned, and the new assignment (with a
+    /// distance bound).
+    cleared: Vec<FaceId>,
+    assigned: Vec<(FaceId, Vec<u32>)>,
+}
+
+/// A heap entry: the cheapest collapse of `vertex` when it was evaluated.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    error: f64,
+    vertex: u32,
+    halfedge: u32,
+    version: u32,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Entry {}
+
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Entry {
+    /// Reversed, so that `BinaryHeap` pops the smallest error, then the smallest vertex.
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .error
+            .total_cmp(&self.error)
+            .then(other.vertex.cmp(&self.vertex))
+            .then(other.version.cmp(&self.version))
+    }
+}
+
+/// The raw normal `(b − a) × (c − a)` (twice the area).
+fn cross(t: [DVec3; 3]) -> DVec3 {
+    (t[1] - t[0]).cross(t[2] - t[0])
+}
+
+/// `ℓ²_max √3 / (4A)`: 1 for an equilateral triangle, infinite for a degenerate one.
+fn aspect_ratio(t: [DVec3; 3]) -> f64 {
+    let l2 = (t[1] - t[0])
+        .length_squared()
+        .max((t[2] - t[1]).length_squared())
+        .max((t[0] - t[2]).length_squared());
+    let twice_area = cross(t).length();
+    if twice_area > 0.0 {
+        l2 * 3f64.sqrt() / (2.0 * twice_area)
+    } else {
+        f64::INFINITY
+    }
+}
+
+struct Decimator<'a> {
+    mesh: EditMesh,
+    options: &'a DecimateOptions,
+    input: &'a [DVec3],
+    quadrics: Vec<Quadric>,
+    /// The unit normal of every face when the decimation started (zero if degenerate).
+    input_normals: Vec<DVec3>,
+    cones: Vec<NormalCone>,
+    points: Vec<Vec<u32>>,
+    version: Vec<u32>,
+    heap: BinaryHeap<Entry>,
+    refused: RefusalCounts,
+}
+
+impl<'a> Decimator<'a> {
+    fn new(mesh: EditMesh, options: &'a DecimateOptions, input: &'a [DVec3]) -> Self {
+        let nv = mesh.vertex_capacity();
+        let nf = mesh.face_capacity();
+        let mut d = Self {
+            mesh,
+            options,
+            input,
+            quadrics: vec![Quadric::default(); nv],
+            input_normals: vec![DVec3::ZERO; nf],
+            cones: Vec::new(),
+            points: Vec::new(),
+            version: vec![0; nv],
+            heap: BinaryHeap::new(),
+            refused: RefusalCounts::default(),
+        };
+        let faces: Vec<FaceId> = d.mesh.faces().collect();
+        for &f in &faces {
+            let vs = d.face_vertices(f);
+            let n = cross(vs.map(|v| d.mesh.position(v)));
+            let twice = n.length();
+            d.input_normals[f.index()] = n.try_normalize().unwrap_or(DVec3::ZERO);
+            // OpenMesh: a triangle of (almost) no area adds (almost) nothing.
+            if twice > f64::from(f32::MIN_POSITIVE) {
+                let n = n / twice;
+                let q = Quadric::plane(n, -n.dot(d.mesh.position(vs[0])), 0.5 * twice);
+                for v in vs {
+                    d.quadrics[v.index()].add(&q);
+                }
+            }
+        }
+        if !options.keep_boundary {
+            let boundary: Vec<HalfedgeId> = d
+                .mesh
+                .halfedges()
+                .filter(|&h| d.mesh.is_boundary_halfedge(h))
+                .collect();
+            for h in boundary {
+                let (a, b) = (d.mesh.from_vertex(h), d.mesh.to_vertex(h));
+                let Some(f) = d.mesh.face(h.twin()) else {
+                    continue;
+                };
+                let normal = cross(d.face_vertices(f).map(|v| d.mesh.position(v)));
+                let e = d.mesh.position(b) - d.mesh.position(a);
+                if let Some(m) = e.cross(normal).try_normalize() {
+                    let q = Quadric::plane(
+                        m,
+                        -m.dot(d.mesh.position(a)),
+                        BOUNDARY_WEIGHT * e.length_squared(),
+                    );
+                    d.quadrics[a.index()].add(&q);
+                    d.quadrics[b.index()].add(&q);
+                }
+            }
+        }
+        if options.max_normal_deviation.is_some() {
+            d.cones = vec![NormalCone::new(DVec3::Z); nf];
+            for &f in &faces {
+                let n = cross(d.face_vertices(f).map(|v| d.mesh.position(v)));
+                d.cones[f.index()] = NormalCone::new(n.try_normalize().unwrap_or(DVec3::Z));
+            }
+        }
+        if options.max_distance.is_some() {
+            d.points = vec![Vec::new(); nf];
+            let vertices: Vec<VertexId> = d.mesh.vertices().collect();
+            for v in vertices {
+                if let Some(f) = d.mesh.faces_around_vertex(v).min() {
+                    d.points[f.index()].push(v.raw());
+                }
+            }
+        }
+        d
+    }
+
+    fn face_vertices(&self, f: FaceId) -> [VertexId; 3] {
+        let h = self.mesh.face_halfedge(f);
+        let a = self.mesh.to_vertex(h);
+        let h = self.mesh.next(h);
+        let b = self.mesh.to_vertex(h);
+        let c = self.mesh.to_vertex(self.mesh.next(h));
+        [a, b, c]
+    }
+
+    /// The topological checks: `EditMesh`'s collapse rules plus OpenMesh's
+    /// `is_collapse_legal`, and `keep_boundary`.
+    fn check_topology(&self, h: HalfedgeId) -> Result<(), Refusal> {
+        let m = &self.mesh;
+        if !m.is_live_halfedge(h) {
+            return Err(Refusal::Topology);
+        }
+        let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
+        let b0 = m.is_boundary_vertex(v0);
+        if b0 && self.options.keep_boundary {
+            return Err(Refusal::Boundary);
+        }
+        if !m.is_collapse_ok(h) {
+            return Err(Refusal::Topology);
+        }
+        let (vl, vr) = (m.opposite_vertex(h), m.opposite_vertex(h.twin()));
+        if let (Some(l), Some(r)) = (vl, vr)
+            && m.valence(l) == 3
+            && m.valence(r) == 3
+            && m.find_halfedge(l, r).is_some()
+        {
+            return Err(Refusal::Topology);
+        }
+        if b0 && (!m.is_boundary_vertex(v1) || (vl.is_some() && vr.is_some())) {
+            return Err(Refusal::Topology);
+        }
+        if m.cw_rotated(m.cw_rotated(h)) == h {
+            return Err(Refusal::Topology);
+        }
+        Ok(())
+    }
+
+    /// Everything [`decimate`] checks for the collapse of `h`, and what it would change.
+    fn evaluate(&self, h: HalfedgeId) -> Result<Candidate, Refusal> {
+        self.check_topology(h)?;
+        let m = &self.mesh;
+        let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
+        let (p0, p1) = (m.position(v0), m.position(v1));
+        let q = self.quadrics[v0.index()].sum(&self.quadrics[v1.index()]);
+        let position = match self.options.placement {
+            Placement::Optimal if !m.is_boundary_vertex(v1) => q
+                .minimiser()
+                .filter(|x| (*x - 0.5 * (p0 + p1)).length() <= 2.0 * (p1 - p0).length())
+                .unwrap_or(if q.eval(p0) < q.eval(p1) { p0 } else { p1 }),
+            _ => p1,
+        };
+        let error = q.eval(position);
+        let rms = q.rms(position);
+        if self.options.max_error.is_some_and(|e| rms > e) {
+            return Err(Refusal::Error);
+        }
+        let moved = position != p1;
+        let removed = [m.face(h), m.face(h.twin())];
+        let is_removed = |f: FaceId| removed.contains(&Some(f));
+        let mut changed: Vec<FaceId> = m
+            .faces_around_vertex(v0)
+            .filter(|&f| !is_removed(f))
+            .collect();
+        if moved {
+            changed.extend(m.faces_around_vertex(v1).filter(|&f| !is_removed(f)));
+        }
+        let old_triangle = |f: FaceId| self.face_vertices(f).map(|v| m.position(v));
+        let new_triangle = |f: FaceId| {
+            self.face_vertices(f).map(|v| {
+                if v == v0 || v == v1 {
+                    position
+                } else {
+                    m.position(v)
+                }
+            })
+        };
+        let mut normals = Vec::with_capacity(changed.len());
+        for &f in &changed {
+            let old = cross(old_triangle(f));
+            let Some(new) = cross(new_triangle(f)).try_normalize() else {
+                return Err(Refusal::Flip);
+            };
+            let input = self.input_normals[f.index()];
+            if (old.dot(new) <= 0.0 && old != DVec3::ZERO)
+                || (input.dot(new) <= 0.0 && input != DVec3::ZERO)
+            {
+                return Err(Refusal::Flip);
+            }
+            normals.push(new);
+        }
+        let mut cones = Vec::new();
+        if let Some(max) = self.options.max_normal_deviation {
+            // The face across `vl–v0` takes the place of the removed face `fl`, the
+            // face across `v0–vr` that of `fr` (pmp-library): they inherit its cone.
+            let heirs = [
+                removed[0].and(m.face(m.prev(h).twin())),
+                removed[1].and(m.face(m.next(h.twin()).twin())),
+            ];
+            for (&f, &n) in changed.iter().zip(&normals) {
+                let mut cone = self.cones[f.index()].merge(NormalCone::new(n));
+                for (heir, r) in heirs.into_iter().zip(removed) {
+                    if let (Some(heir), Some(r)) = (heir, r)
+                        && heir == f
+                    {
+                        cone = cone.merge(self.cones[r.index()]);
+                    }
+                }
+                if cone.angle > 0.5 * max {
+                    return Err(Refusal::NormalDeviation);
+                }
+                cones.push((f, cone));
+            }
+        }
+        if let Some(max) = self.options.max_aspect_ratio {
+            let worst_new = changed
+                .iter()
+                .map(|&f| aspect_ratio(new_triangle(f)))
+                .fold(0.0f64, f64::max);
+            let worst_old = changed
+                .iter()
+                .copied()
+                .chain(removed.into_iter().flatten())
+                .map(|f| aspect_ratio(old_triangle(f)))
+                .fold(0.0f64, f64::max);
+            if worst_new > max && worst_new > worst_old {
+                return Err(Refusal::AspectRatio);
+            }
+        }
+        let (mut cleared, mut assigned) = (Vec::new(), Vec::new());
+        if let Some(max) = self.options.max_distance {
+            cleared = m
+                .faces_around_vertex(v0)
+                .chain(m.faces_around_vertex(v1))
+                .collect();
+            cleared.sort_unstable();
+            cleared.dedup();
+            let targets: Vec<(FaceId, [DVec3; 3])> = cleared
+                .iter()
+                .filter(|&&f| !is_removed(f))
+                .map(|&f| (f, new_triangle(f)))
+                .collect();
+            let mut lists: Vec<Vec<u32>> = vec![Vec::new(); targets.len()];
+            for &f in &cleared {
+                for &v in &self.points[f.index()] {
+                    let p = self.input[v as usize];
+                    let mut best: Option<(f64, usize)> = None;
+                    for (i, (_, t)) in targets.iter().enumerate() {
+                        let d = closest_point_on_triangle(p, *t).distance_squared;
+                        if best.is_none_or(|(bd, _)| d < bd) {
+                            best = Some((d, i));
+                        }
+                    }
+                    match best {
+                        Some((d, i)) if d <= max * max => lists[i].push(v),
+                        _ => return Err(Refusal::Distance),
+                    }
+                }
+            }
+            assigned = targets.iter().map(|(f, _)| *f).zip(lists).collect();
+        }
+        Ok(Candidate {
+            error,
+            rms,
+            position,
+            cones,
+            cleared,
+            assigned,
+        })
+    }
+
+    /// Evaluates every outgoing halfedge of `v` and queues the cheapest legal one.
+    fn heap_vertex(&mut self, v: VertexId) {
+        self.version[v.index()] = self.version[v.index()].wrapping_add(1);
+        let halfedges: Vec<HalfedgeId> = self.mesh.halfedges_around_vertex(v).collect();
+        let mut best: Option<(f64, HalfedgeId)> = None;
+        for h in halfedges {
+            match self.evaluate(h) {
+                Ok(c) => {
+                    if best.is_none_or(|(e, bh)| c.error < e || (c.error == e && h < bh)) {
+                        best = Some((c.error, h));
+                    }
+                }
+                Err(r) => self.refused.count(r),
+            }
+        }
+        if let Some((error, h)) = best {
+            self.heap.push(Entry {
+                error,
+                vertex: v.raw(),
+                halfedge: h.raw(),
+                version: self.version[v.index()],
+            });
+        }
+    }
+
+    /// Collapses until `target` vertices are left or the heap is empty; returns the
+    /// largest RMS error of a collapse done.
+    fn run(&mut self, target: usize) -> Result<f64, DecimateError> {
+        let vertices: Vec<VertexId> = self.mesh.vertices().collect();
+        for v in vertices {
+            self.heap_vertex(v);
+        }
+        let mut max_rms: f64 = 0.0;
+        while self.mesh.n_vertices() > target {
+            let Some(entry) = self.heap.pop() else {
+                break;
+            };
+            let v0 = VertexId::new(entry.vertex);
+            if !self.mesh.is_live_vertex(v0) || self.version[v0.index()] != entry.version {
+                continue;
+            }
+            let h = HalfedgeId::new(entry.halfedge);
+            let candidate = match self.evaluate(h) {
+                Ok(c) => c,
+                Err(_) => {
+                    self.heap_vertex(v0);
+                    continue;
+                }
+            };
+            let v1 = self.mesh.collapse_edge(h)?;
+            self.mesh.set_position(v1, candidate.position);
+            let q0 = self.quadrics[v0.index()];
+            self.quadrics[v1.index()].add(&q0);
+            self.version[v0.index()] = self.version[v0.index()].wrapping_add(1);
+            for (f, cone) in candidate.cones {
+                self.cones[f.index()] = cone;
+            }
+            for f in candidate.cleared {
+                self.points[f.index()].clear();
+            }
+            for (f, list) in candidate.assigned {
+                self.points[f.index()] = list;
+            }
+            max_rms = max_rms.max(candidate.rms);
+            let ring: Vec<VertexId> = self.mesh.vertices_around_vertex(v1).collect();
+            self.heap_vertex(v1);
+            for u in ring {
+                self.heap_vertex(u);
+            }
+        }
+        Ok(max_rms)
+    }
+}
+
+/// Decimates a triangle mesh by quadric error metrics: halfedge collapses, cheapest
+/// first, until `options.target` vertices are left or no collapse is left that the
+/// topology and the constraints allow. Returns the new mesh, its positions and a report.
+///
+/// The output's vertices keep the input's relative order (garbage collection is a
+/// stable compaction); with [`Placement::Endpoint`] each is an input vertex, bit for
+/// bit. Topology is preserved: the Euler characteristic, the number of boundary loops
+/// and closedness do not change, and the output is a valid [`HalfedgeMesh`]. The
+/// report's Hausdorff distance is measured between the output and the input over their
+/// vertices plus one surface sample per input face on each side, with a fixed seed.
+///
+/// # Errors
+/// [`DecimateError::PositionCount`] when `positions` does not match the mesh;
+/// [`DecimateError::NotTriangle`] when a face is not a triangle;
+/// [`DecimateError::NoFaces`] for a mesh without faces;
+/// [`DecimateError::NonFinite`] for a non-finite position;
+/// [`DecimateError::Options`] for an option out of its range (see
+/// [`DecimateOptions`]).
+///
+/// # Complexity
+/// O(n log n) collapses and heap operations for `n` vertices, each evaluation O(valence²);
+/// [`DecimateOptions::max_distance`] adds the input vertices of the changed triangles
+/// times their number per evaluation.
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{decimate, DecimateOptions};
+/// use beltrami_halfedge::primitives;
+///
+/// let sphere = primitives::icosphere(3); // 642 vertices
+/// let mesh = sphere.mesh()?;
+/// let (coarse, positions, report) =
+///     decimate(&mesh, &sphere.positions, &DecimateOptions::default().vertices(200))?;
+/// assert_eq!(coarse.n_vertices(), 200);
+/// assert_eq!(positions.len(), 200);
+/// assert!(report.target_reached);
+/// assert_eq!(coarse.euler_characteristic(), 2);
+/// assert!(report.hausdorff < 0.05); // a unit sphere
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn decimate(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &DecimateOptions,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
+    if positions.len() != mesh.n_vertices() {
+        return Err(DecimateError::PositionCount {
+            positions: positions.len(),
+            vertices: mesh.n_vertices(),
+        });
+    }
+    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
+        return Err(DecimateError::NotTriangle {
+            face: f.index(),
+            len: mesh.face_valence(f),
+        });
+    }
+    if mesh.n_faces() == 0 {
+        return Err(DecimateError::NoFaces);
+    }
+    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(DecimateError::NonFinite { vertex: v });
+    }
+    options.validate()?;
+    let target = options.target_count(mesh.n_vertices());
+    let edit = EditMesh::from_mesh(mesh, positions)?;
+    let mut decimator = Decimator::new(edit, options, positions);
+    let max_rms = decimator.run(target)?;
+    let refused = decimator.refused;
+    let mut edit = decimator.mesh;
+    let stop = if edit.n_vertices() <= target {
+        DecimateStop::TargetReached
+    } else {
+        DecimateStop::NoCollapseLeft
+    };
+    edit.garbage_collection();
+    let (out, out_positions) = edit.into_mesh()?;
+    let samples = HausdorffSampling::VerticesAndSurface {
+        samples: mesh.n_faces(),
+        seed: HAUSDORFF_SEED,
+    };
+    let distance = hausdorff(
+        &SurfaceIndex::new(&out, &out_positions)?,
+        &SurfaceIndex::new(mesh, positions)?,
+        samples,
+    )?;
+    let report = DecimateReport {
+        vertices_before: mesh.n_vertices(),
+        faces_before: mesh.n_faces(),
+        vertices_after: out.n_vertices(),
+        faces_after: out.n_faces(),
+        target_vertices: target,
+        collapses: mesh.n_vertices() - out.n_vertices(),
+        refused,
+        stop,
+        target_reached: stop == DecimateStop::TargetReached,
+        max_quadric_error: max_rms,
+        hausdorff: distance.symmetric,
+        hausdorff_to_input: distance.forward,
+        hausdorff_from_input: distance.backward,
+    };
+    Ok((out, out_positions, report))
+}

@@ -1,0 +1,192 @@
+//! `beltrami decimate` as a user runs it: a triangle fixture decimates into the library's
+//! result, the JSON summary has its keys, constraints that stop the run say so, a broken
+//! or non-triangle input gives one error line and no output, and bad usage exits with
+//! code 2 and one line before anything is written.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use beltrami_algorithms::{DecimateOptions, decimate};
+use beltrami_io::read_mesh;
+use common::{beltrami, error_line, s};
+use serde_json::Value;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+#[test]
+fn decimates_into_the_library_result() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["noisy_icosphere_4.ply", "flens_68x33.ply", "torus_12x8.ply"] {
+        let input = fixtures().join(name);
+        let out = dir.path().join("out.ply");
+        let o = beltrami(&[
+            "decimate",
+            s(&input),
+            s(&out),
+            "--ratio",
+            "0.25",
+            "--json",
+            "--force",
+        ]);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let data = read_mesh(&input).unwrap();
+        let mesh = data.mesh().unwrap();
+        let (want, positions, report) = decimate(
+            &mesh,
+            &data.positions,
+            &DecimateOptions::default().ratio(0.25),
+        )
+        .unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{name}");
+        assert_eq!(got.faces, want.to_polygons(), "{name}");
+        for key in [
+            "input",
+            "output",
+            "vertices_before",
+            "vertices_after",
+            "faces_before",
+            "faces_after",
+            "target_vertices",
+            "target_reached",
+            "stop",
+            "collapses",
+            "refused",
+            "placement",
+            "max_quadric_error",
+            "hausdorff",
+            "hausdorff_to_input",
+            "hausdorff_from_input",
+            "seconds",
+        ] {
+            assert!(summary.get(key).is_some(), "{name}: no {key}");
+        }
+        assert_eq!(summary["vertices_after"], report.vertices_after);
+        assert_eq!(summary["target_reached"], true);
+        assert_eq!(summary["stop"], "target reached");
+        assert_eq!(summary["hausdorff"].as_f64().unwrap(), report.hausdorff);
+        assert_eq!(summary["placement"], "endpoint");
+    }
+}
+
+#[test]
+fn the_sentence_says_whether_the_target_was_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("flens_68x33.ply");
+    let out = dir.path().join("out.off");
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--vertices",
+        "500",
+        "--keep-boundary",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let line = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(line.lines().count(), 1, "{line}");
+    assert!(
+        line.contains("2244 -> 500 vertices (target 500 reached)"),
+        "{line}"
+    );
+    assert!(line.contains("Hausdorff"), "{line}");
+    assert_eq!(read_mesh(&out).unwrap().positions.len(), 500);
+
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--ratio",
+        "0.05",
+        "--max-normal-deviation",
+        "5",
+        "--force",
+    ]);
+    assert!(o.status.success());
+    let line = String::from_utf8(o.stdout).unwrap();
+    assert!(line.contains("not reached"), "{line}");
+    assert!(line.contains("--max-normal-deviation"), "{line}");
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--ratio",
+        "0.2",
+        "--optimal",
+        "--max-aspect-ratio",
+        "4",
+        "--max-distance",
+        "0.5",
+        "--max-error",
+        "1",
+        "--json",
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["placement"], "optimal");
+}
+
+#[test]
+fn bad_input_and_usage_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    for bad in fs::read_dir(fixtures().join("bad")).unwrap() {
+        let bad = bad.unwrap().path();
+        if bad.ends_with("isolated_vertices.obj") {
+            continue; // the one valid file of the corpus
+        }
+        let o = beltrami(&["decimate", s(&bad), s(&out), "--ratio", "0.5"]);
+        assert_eq!(o.status.code(), Some(1), "{bad:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&o.stderr).lines().count(),
+            1,
+            "{bad:?}"
+        );
+        assert!(!out.exists(), "{bad:?}");
+    }
+    let quads = fixtures().join("cube_quads.obj");
+    let o = beltrami(&["decimate", s(&quads), s(&out), "--ratio", "0.5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(error_line(&o, dir.path()).contains("needs a triangle mesh"));
+    assert!(!out.exists());
+
+    let input = fixtures().join("grid_4x3.ply");
+    for args in [
+        &[][..],
+        &["--vertices", "10", "--ratio", "0.5"][..],
+        &["--vertices", "0"][..],
+        &["--ratio", "0"][..],
+        &["--ratio", "1.5"][..],
+        &["--ratio", "0.5", "--max-normal-deviation", "200"][..],
+        &["--ratio", "0.5", "--max-error=-1"][..],
+        &["--ratio", "0.5", "--max-aspect-ratio", "0.5"][..],
+        &["--ratio", "0.5", "--max-distance=-1"][..],
+    ] {
+        let mut all = vec!["decimate", s(&input), s(&out)];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&o.stderr).lines().count(),
+            1,
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(!out.exists());
+    }
+    let o = beltrami(&["decimate", s(&input), s(&out), "--ratio", "many"]);
+    assert_eq!(o.status.code(), Some(2));
+    // The input is not overwritten without --force.
+    let o = beltrami(&["decimate", s(&input), s(&input), "--ratio", "0.5"]);
+    assert_eq!(o.status.code(), Some(2));
+}
