@@ -1,11 +1,12 @@
-//! The mesh algorithms: `beltrami.quality`, `beltrami.subdivide`, `beltrami.delaunay`,
-//! with the words, defaults and JSON keys of the commands `info --quality`,
-//! `subdivide` and `delaunay`.
+//! The mesh algorithms: `beltrami.quality`, `subdivide`, `delaunay`, `remesh`,
+//! `decimate` and `fill_holes`, with the words, defaults and JSON keys of the commands
+//! `info --quality`, `subdivide`, `delaunay`, `remesh`, `decimate` and `fill-holes`.
 
 use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
 use beltrami_algorithms::{
-    DelaunayError, DelaunayOptions, MeshQuality, QualityError, Scheme, SubdivisionError,
-    delaunay_flip, flipped_faces, mesh_quality,
+    DecimateError, DecimateOptions, DecimateStop, DelaunayError, DelaunayOptions, FillError,
+    FillOptions, MeshQuality, Placement, QualityError, RemeshError, RemeshOptions, Scheme,
+    SkipReason, SubdivisionError, delaunay_flip, flipped_faces, mesh_quality,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
@@ -197,5 +198,273 @@ pub(crate) fn delaunay<'py>(
     d.set_item("kept_by_topology", report.kept_by_topology)?;
     d.set_item("hit_flip_limit", report.hit_flip_limit)?;
     d.set_item("max_deviation", report.max_deviation)?;
+    Ok((result_mesh(m, p), d))
+}
+
+fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
+    MeshError::new_err(format!("{what}: {e}"))
+}
+
+/// Isotropic remeshing (Botsch & Kobbelt 2004), as `beltrami remesh`: splits, collapses,
+/// valence flips and tangential relaxation towards one edge length, every vertex
+/// projected back onto the input. `edge_length` (in the mesh's unit) or
+/// `edge_length_relative` (a multiple of the input's mean edge length; default 1), or
+/// `adaptive=(min_edge, max_edge, error)` for curvature-adaptive sizing;
+/// `features` (degrees) keeps edges sharper than that as curves; the boundary is always
+/// kept. Returns `(Mesh, report)`, the report with the keys of `remesh --json`
+/// (without the file names and `seconds`).
+///
+/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh or a target too
+/// small for the surface.
+#[pyfunction]
+#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn remesh<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    edge_length: Option<f64>,
+    edge_length_relative: Option<f64>,
+    adaptive: Option<(f64, f64, f64)>,
+    iterations: usize,
+    features: Option<f64>,
+    projection: bool,
+) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let given = [
+        edge_length.is_some(),
+        edge_length_relative.is_some(),
+        adaptive.is_some(),
+    ];
+    if given.iter().filter(|&&g| g).count() > 1 {
+        return Err(PyValueError::new_err(
+            "give one of edge_length, edge_length_relative and adaptive",
+        ));
+    }
+    let mut options = RemeshOptions::default()
+        .iterations(iterations)
+        .projection(projection);
+    if let Some(l) = edge_length {
+        options = options.edge_length(l);
+    }
+    if let Some(r) = edge_length_relative {
+        options = options.relative_edge_length(r);
+    }
+    if let Some((a, b, e)) = adaptive {
+        options = options.adaptive(a, b, e);
+    }
+    if let Some(deg) = features {
+        if !(0.0..=180.0).contains(&deg) {
+            return Err(PyValueError::new_err(format!(
+                "features must be between 0 and 180 degrees, got {deg}"
+            )));
+        }
+        options = options.feature_angle(deg.to_radians());
+    }
+    let (m, p, r) = py.detach(|| {
+        no_panic(|| {
+            beltrami_algorithms::remesh(&mesh.mesh, &mesh.positions, &options).map_err(
+                |e| match e {
+                    RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
+                    e => algorithm_error("remesh", e),
+                },
+            )
+        })
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("target_edge_length", r.target_edge_length)?;
+    d.set_item("adaptive", adaptive.is_some())?;
+    d.set_item("iterations", r.iterations.len())?;
+    d.set_item("splits", r.splits)?;
+    d.set_item("collapses", r.collapses)?;
+    d.set_item("flips", r.flips)?;
+    d.set_item("vertices_before", r.vertices_before)?;
+    d.set_item("faces_before", r.faces_before)?;
+    d.set_item("vertices", r.vertices)?;
+    d.set_item("faces", r.faces)?;
+    d.set_item("mean_edge_length_before", r.mean_edge_length_before)?;
+    d.set_item("edge_length_cv_before", r.edge_length_cv_before)?;
+    d.set_item("mean_edge_length", r.mean_edge_length)?;
+    d.set_item("edge_length_cv", r.edge_length_cv)?;
+    d.set_item("feature_edges", r.feature_edges)?;
+    d.set_item("boundary_edges", r.boundary_edges)?;
+    d.set_item("corners", r.corners)?;
+    d.set_item("hausdorff", r.hausdorff)?;
+    d.set_item("feature_angle_degrees", features)?;
+    d.set_item("projection", projection)?;
+    Ok((result_mesh(m, p), d))
+}
+
+/// Quadric-error decimation (Garland & Heckbert 1997), as `beltrami decimate`: to
+/// `vertices` vertices or `ratio` of them (exactly one), by halfedge collapses that keep
+/// the topology. `max_error` and `max_distance` (in the mesh's unit),
+/// `max_normal_deviation` (degrees) and `max_aspect_ratio` stop collapses that would
+/// exceed them; `keep_boundary` keeps every boundary vertex; `optimal` moves the kept
+/// vertex to the quadric's minimum. Returns `(Mesh, report)`, the report with the keys
+/// of `decimate --json` (without the file names and `seconds`).
+///
+/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
+#[pyfunction]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, optimal = false, max_aspect_ratio = None, max_distance = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn decimate<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    vertices: Option<usize>,
+    ratio: Option<f64>,
+    max_error: Option<f64>,
+    max_normal_deviation: Option<f64>,
+    keep_boundary: bool,
+    optimal: bool,
+    max_aspect_ratio: Option<f64>,
+    max_distance: Option<f64>,
+) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let mut options = match (vertices, ratio) {
+        (Some(n), None) => DecimateOptions::default().vertices(n),
+        (None, Some(r)) => DecimateOptions::default().ratio(r),
+        _ => {
+            return Err(PyValueError::new_err(
+                "give exactly one of vertices and ratio",
+            ));
+        }
+    };
+    options = options.keep_boundary(keep_boundary).placement(if optimal {
+        Placement::Optimal
+    } else {
+        Placement::Endpoint
+    });
+    if let Some(e) = max_error {
+        options = options.max_error(e);
+    }
+    if let Some(deg) = max_normal_deviation {
+        options = options.max_normal_deviation(deg.to_radians());
+    }
+    if let Some(a) = max_aspect_ratio {
+        options = options.max_aspect_ratio(a);
+    }
+    if let Some(d) = max_distance {
+        options = options.max_distance(d);
+    }
+    let (m, p, r) = py.detach(|| {
+        no_panic(|| {
+            beltrami_algorithms::decimate(&mesh.mesh, &mesh.positions, &options).map_err(
+                |e| match e {
+                    DecimateError::Options { .. } => PyValueError::new_err(e.to_string()),
+                    e => algorithm_error("decimate", e),
+                },
+            )
+        })
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("vertices_before", r.vertices_before)?;
+    d.set_item("vertices_after", r.vertices_after)?;
+    d.set_item("faces_before", r.faces_before)?;
+    d.set_item("faces_after", r.faces_after)?;
+    d.set_item("target_vertices", r.target_vertices)?;
+    d.set_item("target_reached", r.target_reached)?;
+    d.set_item(
+        "stop",
+        match r.stop {
+            DecimateStop::TargetReached => "target reached",
+            _ => "no collapse left",
+        },
+    )?;
+    d.set_item("collapses", r.collapses)?;
+    let refused = PyDict::new(py);
+    refused.set_item("topology", r.refused.topology)?;
+    refused.set_item("boundary", r.refused.boundary)?;
+    refused.set_item("max_error", r.refused.error)?;
+    refused.set_item("normal_flip", r.refused.normal_flip)?;
+    refused.set_item("max_normal_deviation", r.refused.normal_deviation)?;
+    refused.set_item("max_aspect_ratio", r.refused.aspect_ratio)?;
+    refused.set_item("max_distance", r.refused.distance)?;
+    d.set_item("refused", refused)?;
+    d.set_item("placement", if optimal { "optimal" } else { "endpoint" })?;
+    d.set_item("max_quadric_error", r.max_quadric_error)?;
+    d.set_item("hausdorff", r.hausdorff)?;
+    d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;
+    d.set_item("hausdorff_from_input", r.hausdorff_from_input)?;
+    Ok((result_mesh(m, p), d))
+}
+
+/// Hole filling (Liepa 2003), as `beltrami fill-holes`: each boundary loop of at most
+/// `max_loop_edges` edges (default 500) triangulated by minimum weight, refined to the
+/// surrounding density (`refine`) and faired with the rim fixed (`fair`). The loop with
+/// the longest perimeter is the outer boundary and stays open unless `fill_all`.
+/// Returns `(Mesh, report)`: `loops`, `filled` and `skipped` (a dict per loop:
+/// `boundary_edges`, `perimeter`, and `faces_added`, `vertices_added`, `area`,
+/// `faired_order` or the `reason`), `faces_added`, `vertices_added`,
+/// `boundary_loops_left`, as `fill-holes --json`. The input's vertices and faces keep
+/// their indices; new ones are appended.
+///
+/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
+#[pyfunction]
+#[pyo3(signature = (mesh, *, max_loop_edges = None, fill_all = false, refine = true, fair = true))]
+pub(crate) fn fill_holes<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    max_loop_edges: Option<usize>,
+    fill_all: bool,
+    refine: bool,
+    fair: bool,
+) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let mut options = FillOptions::default()
+        .fill_all(fill_all)
+        .refine(refine)
+        .fair(fair);
+    if let Some(n) = max_loop_edges {
+        options = options.max_loop_edges(n);
+    }
+    let (m, p, r) = py.detach(|| {
+        no_panic(|| {
+            beltrami_algorithms::fill_holes(&mesh.mesh, &mesh.positions, &options).map_err(|e| {
+                match e {
+                    FillError::Options { .. } => PyValueError::new_err(e.to_string()),
+                    e => algorithm_error("fill_holes", e),
+                }
+            })
+        })
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("vertices", m.n_vertices())?;
+    d.set_item("faces", m.n_faces())?;
+    d.set_item("loops", r.loops)?;
+    let filled = r
+        .filled
+        .iter()
+        .map(|h| {
+            let e = PyDict::new(py);
+            e.set_item("boundary_edges", h.boundary_edges)?;
+            e.set_item("perimeter", h.perimeter)?;
+            e.set_item("faces_added", h.faces_added)?;
+            e.set_item("vertices_added", h.vertices_added)?;
+            e.set_item("area", h.area)?;
+            e.set_item("faired_order", h.faired_order)?;
+            Ok(e)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let skipped = r
+        .skipped
+        .iter()
+        .map(|h| {
+            let e = PyDict::new(py);
+            e.set_item("boundary_edges", h.boundary_edges)?;
+            e.set_item("perimeter", h.perimeter)?;
+            e.set_item(
+                "reason",
+                match h.reason {
+                    SkipReason::OuterBoundary => "outer_boundary",
+                    SkipReason::TooLarge => "too_large",
+                    SkipReason::NonManifoldVertex => "non_manifold_vertex",
+                    _ => "no_manifold_triangulation",
+                },
+            )?;
+            Ok(e)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    d.set_item("filled", filled)?;
+    d.set_item("skipped", skipped)?;
+    d.set_item("faces_added", r.faces_added)?;
+    d.set_item("vertices_added", r.vertices_added)?;
+    d.set_item("boundary_loops_left", m.boundary_loops().count())?;
+    d.set_item("max_loop_edges", options.max_loop_edges)?;
     Ok((result_mesh(m, p), d))
 }

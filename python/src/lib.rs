@@ -4,7 +4,7 @@
 //! package `beltrami`: meshes from and to numpy arrays, reading and writing mesh
 //! files, `info`, `smooth` with the options, defaults and report of
 //! `beltrami smooth`, comparisons and fits, and the mesh algorithms (`quality`,
-//! `subdivide`, `delaunay`). Heavy calls run without the GIL; errors become Python
+//! `subdivide`, `delaunay`, `remesh`, `decimate`, `fill_holes`). Heavy calls run without the GIL; errors become Python
 //! exceptions with the library's one-line messages.
 
 mod algorithms;
@@ -50,5 +50,8 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::quality, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::remesh, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::decimate, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::fill_holes, m)?)?;
     Ok(())
 }

@@ -107,3 +107,59 @@ def test_quality_and_algorithms_match_the_cli(cli, tmp_path):
     np.testing.assert_array_equal(flipped.faces, bt.read(out).faces)
     for key in ("flips", "negative_before", "negative_after", "kept_by_dihedral"):
         assert report[key] == summary[key]
+
+
+def test_remesh_evens_out_the_edges(sphere):
+    even, report = bt.remesh(sphere, edge_length_relative=1.5)
+    assert report["edge_length_cv"] < report["edge_length_cv_before"]
+    assert report["mean_edge_length"] == pytest.approx(report["target_edge_length"], rel=0.15)
+    assert bt.info(even)["closed"] and bt.info(even)["genus"] == 0
+    with pytest.raises(ValueError, match="one of"):
+        bt.remesh(sphere, edge_length=0.1, edge_length_relative=1.0)
+    with pytest.raises(ValueError):
+        bt.remesh(sphere, edge_length=-1.0)
+
+
+def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
+    light, report = bt.decimate(sphere, ratio=0.25)
+    assert report["target_reached"] and len(light.vertices) == report["target_vertices"]
+    assert bt.info(light)["euler_characteristic"] == 2
+    # Endpoint placement keeps input points.
+    kept = {tuple(p) for p in sphere.vertices}
+    assert all(tuple(p) in kept for p in light.vertices)
+    with pytest.raises(ValueError, match="exactly one"):
+        bt.decimate(sphere)
+
+
+def test_fill_holes_closes_a_cut_sphere():
+    whole = bt.generate("sphere", level=3)
+    centre = whole.vertices[0]
+    cut = np.linalg.norm(whole.vertices[whole.faces].mean(axis=1) - centre, axis=1) > 0.3
+    holed = bt.Mesh(whole.vertices, whole.faces[cut])
+    closed, report = bt.fill_holes(holed, fill_all=True)
+    assert report["boundary_loops_left"] == 0 and len(report["filled"]) == 1
+    assert bt.info(closed)["closed"]
+    np.testing.assert_array_equal(closed.vertices[: len(whole.vertices)], whole.vertices)
+    # Faired on a sphere: the new vertices stay near it.
+    new = closed.vertices[len(whole.vertices):]
+    assert np.abs(np.linalg.norm(new, axis=1) - 1.0).max() < 0.05
+    _, kept_open = bt.fill_holes(holed)  # the only loop is the outer boundary
+    assert kept_open["skipped"][0]["reason"] == "outer_boundary"
+
+
+def test_the_editing_commands_match_the_cli(cli, tmp_path):
+    src = tmp_path / "noisy.ply"
+    run(cli, "generate", "sphere", src, "--level", "3", "--noise", "0.1", "--seed", "2")
+    mesh = bt.read(src)
+    for command, extra, call in [
+        ("remesh", ["--edge-length-relative", "1.2"], lambda: bt.remesh(mesh, edge_length_relative=1.2)),
+        ("decimate", ["--ratio", "0.3"], lambda: bt.decimate(mesh, ratio=0.3)),
+    ]:
+        out = tmp_path / f"{command}.ply"
+        summary = json.loads(run(cli, command, src, out, *extra, "--json"))
+        got, report = call()
+        from_cli = bt.read(out)
+        np.testing.assert_array_equal(got.vertices, from_cli.vertices)
+        np.testing.assert_array_equal(got.faces, from_cli.faces)
+        for key, value in report.items():
+            assert summary[key] == value, (command, key)

@@ -150,6 +150,42 @@ def delaunay(
 ) -> tuple[Mesh, dict[str, Any]]:
     """Edge flips until no cotangent weight is negative, as `beltrami delaunay --json`."""
 
+def remesh(
+    mesh: Mesh,
+    edge_length: Optional[float] = None,
+    *,
+    edge_length_relative: Optional[float] = None,
+    adaptive: Optional[tuple[float, float, float]] = None,
+    iterations: int = 10,
+    features: Optional[float] = None,
+    projection: bool = True,
+) -> tuple[Mesh, dict[str, Any]]:
+    """Isotropic remeshing, as `beltrami remesh --json`."""
+
+def decimate(
+    mesh: Mesh,
+    vertices: Optional[int] = None,
+    *,
+    ratio: Optional[float] = None,
+    max_error: Optional[float] = None,
+    max_normal_deviation: Optional[float] = None,
+    keep_boundary: bool = False,
+    optimal: bool = False,
+    max_aspect_ratio: Optional[float] = None,
+    max_distance: Optional[float] = None,
+) -> tuple[Mesh, dict[str, Any]]:
+    """Quadric-error decimation, as `beltrami decimate --json`."""
+
+def fill_holes(
+    mesh: Mesh,
+    *,
+    max_loop_edges: Optional[int] = None,
+    fill_all: bool = False,
+    refine: bool = True,
+    fair: bool = True,
+) -> tuple[Mesh, dict[str, Any]]:
+    """Hole filling, as `beltrami fill-holes --json`."""
+
 def laplacian(
     mesh: Mesh,
     weights: str = "cotangent",
