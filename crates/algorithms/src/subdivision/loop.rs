@@ -162,21 +162,55 @@ const SECOND: [usize; 3] = [2, 5, 8];
 const MIDDLE: [usize; 3] = [11, 9, 10];
 /// For corners 0..=8, the halfedge `hj` whose half it is, or 3 for an interior edge.
 const HALF_OF: [usize; 9] = [1, 3, 0, 2, 3, 1, 0, 3, 2];
-/// The mate of each corner that opens an interior edge, by corner (only 1, 4, 7 used).
-const INTERIOR_MATE: [usize; 9] = [0, 11, 0, 0, 9, 0, 0, 10, 0];
+/// `RANK[mask][i]`: how many of corners `0..i` open an edge in a face whose halves open
+/// as `mask` says (bit `j` for the halves of `hj`).
+const RANK: [[u32; 9]; 8] = rank_table();
 /// Faces per parallel task of the builder.
-const FACE_CHUNK: usize = 1 << 11;
+const FACE_CHUNK: usize = 1 << 10;
+
+const fn rank_table() -> [[u32; 9]; 8] {
+    let mut table = [[0; 9]; 8];
+    let mut mask = 0;
+    while mask < 8 {
+        let mut count = 0;
+        let mut i = 0;
+        while i < 9 {
+            table[mask][i] = count;
+            if HALF_OF[i] == 3 || mask & (1 << HALF_OF[i]) != 0 {
+                count += 1;
+            }
+            i += 1;
+        }
+        mask += 1;
+    }
+    table
+}
+
+/// Whether corner `i` (0..=8) opens an edge in a face whose halves open as `mask` says.
+#[inline]
+fn opens_at(mask: u8, i: usize) -> bool {
+    HALF_OF[i] == 3 || mask & (1 << HALF_OF[i]) != 0
+}
 
 /// The next corner within the same triangle.
 #[inline]
-fn next_corner(k: usize) -> usize {
-    if k % 3 == 2 { k - 2 } else { k + 1 }
+fn next_corner(i: usize) -> usize {
+    if i % 3 == 2 { i - 2 } else { i + 1 }
 }
 
-/// Facts about the faces of the coarse mesh that the closed form reads.
+/// The corner of the twin of the half at corner `i` (a half of `hj`), in the face across
+/// where the twin of `hj` is at position `jg`.
+#[inline]
+fn across(i: usize, j: usize, jg: usize) -> usize {
+    if FIRST[j] == i { SECOND[jg] } else { FIRST[jg] }
+}
+
+/// What the closed form reads of the coarse mesh.
 struct Coarse<'a> {
     mesh: &'a HalfedgeMesh,
-    /// Per face, bit `j` set when halfedge `hj` opens its two halves in this face.
+    /// Per halfedge, its position `j` in its face (unused on the boundary).
+    position: Vec<u8>,
+    /// Per face, bit `j` set when the halves of `hj` open their edges in this face.
     opens: Vec<u8>,
     /// Per face, the first fine edge it opens; one more entry, the number of edges.
     base: Vec<u32>,
@@ -191,43 +225,36 @@ impl Coarse<'_> {
         [h0, h1, self.mesh.next(h1)]
     }
 
-    /// The face of `h` and the position `j` of `h` in it.
+    /// The face of the inner halfedge `h` and the position of `h` in it.
     #[inline]
     fn locate(&self, h: HalfedgeId) -> (usize, usize) {
-        let g = self.mesh.face(h).expect("an inner halfedge").index();
-        let [h0, h1, _] = self.halfedges(g);
-        (g, usize::from(h != h0) + usize::from(h != h0 && h != h1))
+        let g = self.mesh.face(h).map_or(0, |g| g.index());
+        (g, usize::from(self.position[h.index()]))
     }
 
     /// The fine edge opened at corner `i` (0..=8, an opening one) of face `f`.
     #[inline]
     fn opened_edge(&self, f: usize, i: usize) -> u32 {
-        let mask = self.opens[f];
-        let before = (0..i)
-            .filter(|&c| HALF_OF[c] == 3 || mask & (1 << HALF_OF[c]) != 0)
-            .count();
-        self.base[f] + before as u32
+        self.base[f] + RANK[usize::from(self.opens[f])][i]
     }
 
-    /// The fine halfedge of corner `i` (0..12) of face `f`.
-    fn corner_halfedge(&self, f: usize, i: usize) -> u32 {
-        if i >= 9 {
-            let opener = match i {
-                9 => 4,
-                10 => 7,
-                _ => 1,
+    /// The fine halfedges of the twelve corners of face `f`.
+    fn corner_halfedges(&self, f: usize, out: &mut [u32]) {
+        let mask = self.opens[f];
+        let hs = self.halfedges(f);
+        for i in 0..9 {
+            out[i] = if opens_at(mask, i) {
+                2 * self.opened_edge(f, i)
+            } else {
+                // The face across, earlier in order, opened this half from its side.
+                let j = HALF_OF[i];
+                let (g, jg) = self.locate(hs[j].twin());
+                2 * self.opened_edge(g, across(i, j, jg)) + 1
             };
-            return 2 * self.opened_edge(f, opener) + 1;
         }
-        let j = HALF_OF[i];
-        if j == 3 || self.opens[f] & (1 << j) != 0 {
-            return 2 * self.opened_edge(f, i);
-        }
-        // The face across, earlier in order, opened this half from the other side.
-        let hj = self.halfedges(f)[j];
-        let (g, jg) = self.locate(hj.twin());
-        let mate = if FIRST[j] == i { SECOND[jg] } else { FIRST[jg] };
-        2 * self.opened_edge(g, mate) + 1
+        out[9] = out[4] | 1;
+        out[10] = out[7] | 1;
+        out[11] = out[1] | 1;
     }
 }
 
@@ -254,19 +281,33 @@ pub(super) fn refine(mesh: &HalfedgeMesh) -> Result<HalfedgeMesh, SubdivisionErr
     let (nv, ne, nf) = (mesh.n_vertices(), mesh.n_edges(), mesh.n_faces());
     let none = RawConnectivity::NONE;
 
-    // Which halves each face opens: those of halfedges whose twin is on the boundary or
-    // in a later face.
+    let position: Vec<u8> = (0..2 * ne)
+        .into_par_iter()
+        .with_min_len(4 * FACE_CHUNK)
+        .map(|h| {
+            let h = HalfedgeId::new(h as u32);
+            mesh.face(h).map_or(3, |f| {
+                let h0 = mesh.face_halfedge(f);
+                if h == h0 {
+                    0
+                } else if h == mesh.next(h0) {
+                    1
+                } else {
+                    2
+                }
+            })
+        })
+        .collect();
+    // A face opens the halves of its halfedges whose twin is on the boundary or in a
+    // later face.
     let opens: Vec<u8> = (0..nf)
         .into_par_iter()
         .with_min_len(FACE_CHUNK)
         .map(|f| {
-            let hs = {
-                let h0 = mesh.face_halfedge(super::face(f));
-                let h1 = mesh.next(h0);
-                [h0, h1, mesh.next(h1)]
-            };
+            let h0 = mesh.face_halfedge(super::face(f));
+            let h1 = mesh.next(h0);
             let mut mask = 0u8;
-            for (j, h) in hs.into_iter().enumerate() {
+            for (j, h) in [h0, h1, mesh.next(h1)].into_iter().enumerate() {
                 if mesh.face(h.twin()).is_none_or(|g| g.index() > f) {
                     mask |= 1 << j;
                 }
@@ -283,26 +324,20 @@ pub(super) fn refine(mesh: &HalfedgeMesh) -> Result<HalfedgeMesh, SubdivisionErr
     base.push(total);
     let n_edges = total as usize;
     debug_assert_eq!(n_edges, 2 * ne + 3 * nf);
-    let coarse = Coarse { mesh, opens, base };
+    let coarse = Coarse {
+        mesh,
+        position,
+        opens,
+        base,
+    };
 
-    // The fine halfedge and the vertex of every corner.
-    let corner_he: Vec<u32> = (0..nf)
-        .into_par_iter()
+    // The fine halfedge of every corner.
+    let mut corner_he = vec![0u32; 12 * nf];
+    corner_he
+        .par_chunks_mut(12)
         .with_min_len(FACE_CHUNK)
-        .flat_map_iter(|f| (0..12).map(move |i| (f, i)))
-        .map(|(f, i)| coarse.corner_halfedge(f, i))
-        .collect();
-    let corner_vertex: Vec<u32> = (0..nf)
-        .into_par_iter()
-        .with_min_len(FACE_CHUNK)
-        .flat_map_iter(|f| {
-            let [h0, h1, h2] = coarse.halfedges(f);
-            let [a, b, c] = [h0, h1, h2].map(|h| mesh.to_vertex(h).raw());
-            let point = |h: HalfedgeId| (nv + h.edge().index()) as u32;
-            let (ab, bc, ca) = (point(h1), point(h2), point(h0));
-            [a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca]
-        })
-        .collect();
+        .enumerate()
+        .for_each(|(f, out)| coarse.corner_halfedges(f, out));
 
     // Outgoing halfedges: at a boundary vertex the boundary halfedge leaving it (the
     // twin of a half met from the inside); otherwise the halfedge leaving it in its
@@ -330,6 +365,8 @@ pub(super) fn refine(mesh: &HalfedgeMesh) -> Result<HalfedgeMesh, SubdivisionErr
             } else {
                 let [h, t] = edge(v - nv).halfedges();
                 match (mesh.face(h), mesh.face(t)) {
+                    // Boundary edge: the fine boundary halfedge leaving the point is the
+                    // twin of the first half of the inner halfedge.
                     (Some(_), None) => {
                         let (g, j) = coarse.locate(h);
                         corner_he[12 * g + FIRST[j]] ^ 1
@@ -339,8 +376,7 @@ pub(super) fn refine(mesh: &HalfedgeMesh) -> Result<HalfedgeMesh, SubdivisionErr
                         corner_he[12 * g + FIRST[j]] ^ 1
                     }
                     (fh, ft) => {
-                        let last = if fh > ft { h } else { t };
-                        let (f, j) = coarse.locate(last);
+                        let (f, j) = coarse.locate(if fh > ft { h } else { t });
                         corner_he[12 * f + MIDDLE[j]]
                     }
                 }
@@ -365,46 +401,49 @@ pub(super) fn refine(mesh: &HalfedgeMesh) -> Result<HalfedgeMesh, SubdivisionErr
         .zip(chunk_starts.windows(2))
         .collect();
     pieces.into_par_iter().for_each(|(((to, next), face), w)| {
-        let first_halfedge = 2 * coarse.base[w[0]] as usize;
+        let first_halfedge = 2 * coarse.base[w[0]];
         for f in w[0]..w[1] {
             let mask = coarse.opens[f];
-            for i in 0..9 {
+            let hs = coarse.halfedges(f);
+            let [a, b, c] = hs.map(|h| mesh.to_vertex(h).raw());
+            let point = |h: HalfedgeId| (nv + h.edge().index()) as u32;
+            let (ab, bc, ca) = (point(hs[1]), point(hs[2]), point(hs[0]));
+            let verts = [a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca];
+            let he = &corner_he[12 * f..12 * f + 12];
+            let fine_face = 4 * f as u32;
+            for i in (0..9).filter(|&i| opens_at(mask, i)) {
+                let h = (he[i] - first_halfedge) as usize;
+                let n = next_corner(i);
+                to[h] = verts[n];
+                next[h] = he[n];
+                face[h] = fine_face + (i / 3) as u32;
+                // The twin runs along the mate corner, or on the boundary.
+                to[h + 1] = verts[i];
                 let j = HALF_OF[i];
-                if j != 3 && mask & (1 << j) == 0 {
-                    continue;
-                }
-                let k = 12 * f + i;
-                let h = corner_he[k] as usize - first_halfedge;
-                let kn = next_corner(k);
-                to[h] = corner_vertex[kn];
-                next[h] = corner_he[kn];
-                face[h] = (4 * f + i / 3) as u32;
-                // The twin: the mate corner, or a boundary halfedge.
-                let mate = if j == 3 {
-                    Some(12 * f + INTERIOR_MATE[i])
+                if j == 3 {
+                    let mate = match i {
+                        1 => 11,
+                        4 => 9,
+                        _ => 10,
+                    };
+                    next[h + 1] = he[next_corner(mate)];
+                    face[h + 1] = fine_face + 3;
+                } else if mesh.is_boundary_halfedge(hs[j].twin()) {
+                    // After a boundary halfedge comes the boundary halfedge leaving its
+                    // target.
+                    next[h + 1] = v_out[verts[i] as usize];
                 } else {
-                    let hj = coarse.halfedges(f)[j];
-                    mesh.face(hj.twin()).map(|_| {
-                        let (g, jg) = coarse.locate(hj.twin());
-                        12 * g + if FIRST[j] == i { SECOND[jg] } else { FIRST[jg] }
-                    })
-                };
-                to[h + 1] = corner_vertex[k];
-                match mate {
-                    Some(m) => {
-                        next[h + 1] = corner_he[next_corner(m)];
-                        face[h + 1] = (m / 3) as u32;
-                    }
-                    // After a boundary halfedge comes the boundary halfedge leaving
-                    // its target.
-                    None => next[h + 1] = v_out[corner_vertex[k] as usize],
+                    let (g, jg) = coarse.locate(hs[j].twin());
+                    let mate = across(i, j, jg);
+                    next[h + 1] = corner_he[12 * g + next_corner(mate)];
+                    face[h + 1] = (4 * g + mate / 3) as u32;
                 }
             }
         }
     });
     let f_he: Vec<u32> = (0..4 * nf)
         .into_par_iter()
-        .with_min_len(FACE_CHUNK)
+        .with_min_len(4 * FACE_CHUNK)
         .map(|t| corner_he[3 * t + 2])
         .collect();
 
