@@ -44,6 +44,39 @@ fn first(a: Fault, b: Fault) -> Fault {
     }
 }
 
+/// The first `i` in `0..n` for which `check` finds a fault. The range is cut into chunks
+/// of a fixed size, each scanned in order on one of rayon's threads; the lowest fault
+/// wins, so the answer does not depend on the number of threads.
+fn first_fault(n: usize, check: impl Fn(usize) -> Option<&'static str> + Sync) -> Fault {
+    (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .find_map_first(|c| {
+            (c * CHUNK..n.min((c + 1) * CHUNK)).find_map(|i| check(i).map(|inv| (i, inv)))
+        })
+}
+
+/// The sum of `check` over `0..n` and its first fault (chunked as [`first_fault`]). A
+/// chunk stops at its first fault, so the sum is meaningful only without one.
+fn sum_or_fault(
+    n: usize,
+    check: impl Fn(usize, &mut Vec<u32>) -> Result<usize, &'static str> + Sync,
+) -> (usize, Fault) {
+    (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut buf = Vec::new();
+            let mut sum = 0;
+            for i in c * CHUNK..n.min((c + 1) * CHUNK) {
+                match check(i, &mut buf) {
+                    Ok(len) => sum += len,
+                    Err(inv) => return (sum, Some((i, inv))),
+                }
+            }
+            (sum, None)
+        })
+        .reduce(|| (0, None), |a, b| (a.0 + b.0, first(a.1, b.1)))
+}
+
 /// Whether `items` has a repeated entry (quadratic for short lists, sorting otherwise).
 fn has_repeat(items: &mut [u32]) -> bool {
     if items.len() <= 16 {
@@ -178,49 +211,35 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
         });
     }
     // Ranges first, so that the structural checks below never index out of bounds.
-    let bad_halfedge = (0..nh).into_par_iter().with_min_len(CHUNK).find_first(|&i| {
-        m.h_to[i] as usize >= nv
-            || m.h_next[i] as usize >= nh
-            || m.h_prev[i] as usize >= nh
-            || (m.h_face[i] != INVALID && m.h_face[i] as usize >= nf)
-    });
-    if let Some(h) = bad_halfedge {
-        return fail(HalfedgeId::from_index(h), "links are in range");
+    let in_range = |i: usize| {
+        let ok = (m.h_to[i] as usize) < nv
+            && (m.h_next[i] as usize) < nh
+            && (m.h_prev[i] as usize) < nh
+            && (m.h_face[i] == INVALID || (m.h_face[i] as usize) < nf);
+        (!ok).then_some("links are in range")
+    };
+    if let Some((h, invariant)) = first_fault(nh, in_range) {
+        return fail(HalfedgeId::from_index(h), invariant);
     }
-    if let Some(f) = (0..nf)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .find_first(|&f| m.f_he[f] as usize >= nh)
-    {
-        return fail(FaceId::from_index(f), "links are in range");
+    if let Some((f, invariant)) = first_fault(nf, |f| {
+        (m.f_he[f] as usize >= nh).then_some("links are in range")
+    }) {
+        return fail(FaceId::from_index(f), invariant);
     }
-    if let Some(v) = (0..nv)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .find_first(|&v| m.v_out[v] != INVALID && m.v_out[v] as usize >= nh)
-    {
-        return fail(VertexId::from_index(v), "links are in range");
+    if let Some((v, invariant)) = first_fault(nv, |v| {
+        (m.v_out[v] != INVALID && m.v_out[v] as usize >= nh).then_some("links are in range")
+    }) {
+        return fail(VertexId::from_index(v), invariant);
     }
 
     // Per halfedge. Afterwards `next` is a permutation with inverse `prev` (prev ∘ next
     // is the identity on a finite set), so every walk below closes.
-    if let Some((h, invariant)) = (0..nh)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .find_map_first(|h| halfedge_fault(m, h).map(|inv| (h, inv)))
-    {
+    if let Some((h, invariant)) = first_fault(nh, |h| halfedge_fault(m, h)) {
         return fail(HalfedgeId::from_index(h), invariant);
     }
 
     // Per face, with the total length of the face cycles.
-    let (cycles, fault) = (0..nf)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .map_init(Vec::new, |buf, f| match face_check(m, f, strictness, buf) {
-            Ok(len) => (len, None),
-            Err(inv) => (0, Some((f, inv))),
-        })
-        .reduce(|| (0, None), |a, b| (a.0 + b.0, first(a.1, b.1)));
+    let (cycles, fault) = sum_or_fault(nf, |f, buf| face_check(m, f, strictness, buf));
     if let Some((f, invariant)) = fault {
         return fail(FaceId::from_index(f), invariant);
     }
@@ -253,18 +272,12 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
     // Per vertex. Rotating an outgoing halfedge is a permutation of the halfedges, and
     // distinct vertices have disjoint circulations, so the circulations cover every
     // halfedge exactly when each vertex's covers all its outgoing halfedges.
-    let (covered, fault) = (0..nv)
-        .into_par_iter()
-        .with_min_len(CHUNK)
-        .map_init(Vec::new, |buf, v| match vertex_check(m, v, strictness, buf) {
-            Ok(len) => (len, None),
-            Err(inv) => (0, Some((v, inv))),
-        })
-        .reduce(|| (0, None), |a, b| (a.0 + b.0, first(a.1, b.1)));
+    let (covered, fault) = sum_or_fault(nv, |v, buf| vertex_check(m, v, strictness, buf));
     if covered != nh || fault.is_some() {
         // Find the first vertex at fault by the element-by-element rules.
         sequential_vertex_check(m)?;
-        let (v, invariant) = fault.unwrap_or((0, "circulation visits every outgoing halfedge once"));
+        let (v, invariant) =
+            fault.unwrap_or((0, "circulation visits every outgoing halfedge once"));
         return fail(VertexId::from_index(v), invariant);
     }
     Ok(())
