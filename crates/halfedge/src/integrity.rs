@@ -218,8 +218,23 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
             && (m.h_face[i] == INVALID || (m.h_face[i] as usize) < nf);
         (!ok).then_some("links are in range")
     };
-    if let Some((h, invariant)) = first_fault(nh, in_range) {
-        return fail(HalfedgeId::from_index(h), invariant);
+    // The common case (all in range) is settled by maxima, which vectorise; the
+    // element-by-element scan runs only to name the culprit.
+    let max = |a: &[u32]| a.par_chunks(CHUNK).map(|c| c.iter().copied().max().unwrap_or(0)).max();
+    // A boundary halfedge's face is `INVALID`, which wraps to 0.
+    let max_face = m
+        .h_face
+        .par_chunks(CHUNK)
+        .map(|c| c.iter().map(|f| f.wrapping_add(1)).max().unwrap_or(0))
+        .max();
+    let all_in_range = max(&m.h_to).is_none_or(|x| (x as usize) < nv)
+        && max(&m.h_next).is_none_or(|x| (x as usize) < nh)
+        && max(&m.h_prev).is_none_or(|x| (x as usize) < nh)
+        && max_face.is_none_or(|x| x as usize <= nf);
+    if !all_in_range {
+        if let Some((h, invariant)) = first_fault(nh, in_range) {
+            return fail(HalfedgeId::from_index(h), invariant);
+        }
     }
     if let Some((f, invariant)) = first_fault(nf, |f| {
         (m.f_he[f] as usize >= nh).then_some("links are in range")

@@ -1,5 +1,9 @@
 //! Building a [`HalfedgeMesh`] from its raw connectivity arrays, validated in O(n).
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use rayon::prelude::*;
+
 use crate::build::check_count;
 use crate::error::TopologyError;
 use crate::ids::{ElementId, HalfedgeId};
@@ -80,9 +84,9 @@ impl HalfedgeMesh {
     /// `"face 3"`, `"vertex 7"` or `"mesh"`) and the invariant that fails.
     ///
     /// # Complexity
-    /// O(V + H + F) time and memory (valences above 16 add a sort of their ring); the
-    /// `prev` links are derived in one sequential pass, the checks run on rayon's
-    /// threads.
+    /// O(V + H + F) time and memory (valences above 16 add a sort of their ring). The
+    /// `prev` links are derived and the checks run on rayon's threads; the result, and
+    /// the error on bad input, do not depend on their number.
     ///
     /// # Examples
     /// ```
@@ -125,7 +129,7 @@ impl HalfedgeMesh {
                 invariant: "the number of halfedges is even",
             });
         }
-        let h_prev = derive_prev(&h_next)?;
+        let h_prev = invert_next(&h_next);
         let mesh = HalfedgeMesh {
             v_out,
             h_to,
@@ -134,7 +138,11 @@ impl HalfedgeMesh {
             h_face,
             f_he,
         };
-        validate(&mesh, Strictness::Raw)?;
+        if let Err(err) = validate(&mesh, Strictness::Raw) {
+            // When `next` is no permutation, `invert_next` guessed; name that fault.
+            check_next(&mesh.h_next)?;
+            return Err(err);
+        }
         Ok(mesh)
     }
 
@@ -155,17 +163,36 @@ impl HalfedgeMesh {
     }
 }
 
-/// The inverse of `next`, or the first halfedge whose `next` is out of range or already
-/// taken by a lower halfedge.
-fn derive_prev(h_next: &[u32]) -> Result<Vec<u32>, TopologyError> {
+/// The inverse of `next`, in parallel: `prev[next[h]] = h`, an out-of-range `next` left
+/// out. Exact when `next` is a permutation; otherwise some entries stay `INVALID` (the
+/// halfedges that are nobody's `next`), which validation reports, and
+/// [`check_next`] then names the real fault.
+fn invert_next(h_next: &[u32]) -> Vec<u32> {
     let nh = h_next.len();
-    let mut h_prev = vec![INVALID; nh];
+    let prev: Vec<AtomicU32> = (0..nh).map(|_| AtomicU32::new(INVALID)).collect();
+    h_next
+        .par_iter()
+        .enumerate()
+        .with_min_len(1 << 12)
+        .for_each(|(h, &n)| {
+            if let Some(p) = prev.get(n as usize) {
+                // Each slot is written once when `next` is a permutation; otherwise one
+                // of the writers wins, and the fault is found after validation.
+                p.store(h as u32, Ordering::Relaxed);
+            }
+        });
+    prev.into_iter().map(AtomicU32::into_inner).collect()
+}
+
+/// The first halfedge whose `next` is out of range or also the `next` of a lower one.
+fn check_next(h_next: &[u32]) -> Result<(), TopologyError> {
+    let mut taken = vec![false; h_next.len()];
     for (h, &n) in h_next.iter().enumerate() {
-        let invariant = match h_prev.get_mut(n as usize) {
+        let invariant = match taken.get_mut(n as usize) {
             None => "links are in range",
-            Some(p) if *p != INVALID => "no two halfedges have the same next",
-            Some(p) => {
-                *p = h as u32;
+            Some(true) => "no two halfedges have the same next",
+            Some(t) => {
+                *t = true;
                 continue;
             }
         };
@@ -174,5 +201,5 @@ fn derive_prev(h_next: &[u32]) -> Result<Vec<u32>, TopologyError> {
             invariant,
         });
     }
-    Ok(h_prev)
+    Ok(())
 }
