@@ -319,14 +319,21 @@ fn a_loop_step_equals_building_its_face_list() {
         let mut positions = p.positions.clone();
         for step in 1..=3 {
             let faces = documented_loop_faces(&mesh);
-            let expected = HalfedgeMesh::from_polygons(mesh.n_vertices() + mesh.n_edges(), &faces)
-                .unwrap();
+            let expected =
+                HalfedgeMesh::from_polygons(mesh.n_vertices() + mesh.n_edges(), &faces).unwrap();
             let (fine, fine_positions) = loop_subdivide(&mesh, &positions, 1).unwrap();
-            assert!(fine == expected, "{name}, step {step}: the connectivity differs");
+            assert!(
+                fine == expected,
+                "{name}, step {step}: the connectivity differs"
+            );
             // Several steps at once are the same as one at a time.
-            let (at_once, at_once_positions) = loop_subdivide(&p.mesh().unwrap(), &p.positions, step).unwrap();
+            let (at_once, at_once_positions) =
+                loop_subdivide(&p.mesh().unwrap(), &p.positions, step).unwrap();
             assert!(at_once == fine, "{name}, {step} steps at once");
-            assert_eq!(at_once_positions, fine_positions, "{name}, {step} steps at once");
+            assert_eq!(
+                at_once_positions, fine_positions,
+                "{name}, {step} steps at once"
+            );
             mesh = fine;
             positions = fine_positions;
         }

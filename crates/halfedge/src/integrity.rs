@@ -48,11 +48,9 @@ fn first(a: Fault, b: Fault) -> Fault {
 /// of a fixed size, each scanned in order on one of rayon's threads; the lowest fault
 /// wins, so the answer does not depend on the number of threads.
 fn first_fault(n: usize, check: impl Fn(usize) -> Option<&'static str> + Sync) -> Fault {
-    (0..n.div_ceil(CHUNK))
-        .into_par_iter()
-        .find_map_first(|c| {
-            (c * CHUNK..n.min((c + 1) * CHUNK)).find_map(|i| check(i).map(|inv| (i, inv)))
-        })
+    (0..n.div_ceil(CHUNK)).into_par_iter().find_map_first(|c| {
+        (c * CHUNK..n.min((c + 1) * CHUNK)).find_map(|i| check(i).map(|inv| (i, inv)))
+    })
 }
 
 /// The sum of `check` over `0..n` and its first fault (chunked as [`first_fault`]). A
@@ -220,7 +218,11 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
     };
     // The common case (all in range) is settled by maxima, which vectorise; the
     // element-by-element scan runs only to name the culprit.
-    let max = |a: &[u32]| a.par_chunks(CHUNK).map(|c| c.iter().copied().max().unwrap_or(0)).max();
+    let max = |a: &[u32]| {
+        a.par_chunks(CHUNK)
+            .map(|c| c.iter().copied().max().unwrap_or(0))
+            .max()
+    };
     // A boundary halfedge's face is `INVALID`, which wraps to 0.
     let max_face = m
         .h_face

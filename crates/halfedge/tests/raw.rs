@@ -56,7 +56,10 @@ fn isolated_vertices_and_empty_meshes_are_accepted() {
         v_out: vec![NONE; 3],
         ..RawConnectivity::default()
     };
-    assert_eq!(HalfedgeMesh::from_raw_parts(points).unwrap().n_vertices(), 3);
+    assert_eq!(
+        HalfedgeMesh::from_raw_parts(points).unwrap().n_vertices(),
+        3
+    );
 }
 
 #[test]
@@ -156,7 +159,8 @@ fn a_wrong_twin_is_refused() {
     raw.h_face[h ^ 1] = NONE;
     let (_, invariant) = integrity(raw);
     assert!(
-        invariant == "next(h) lies in the face of h" || invariant == "an edge has at least one face",
+        invariant == "next(h) lies in the face of h"
+            || invariant == "an edge has at least one face",
         "{invariant}"
     );
 }
@@ -168,10 +172,7 @@ fn wrong_face_links_are_refused() {
     raw.f_he[0] = raw.f_he[1];
     assert_eq!(
         integrity(raw),
-        (
-            "face 0".into(),
-            "the face's halfedge belongs to the face"
-        )
+        ("face 0".into(), "the face's halfedge belongs to the face")
     );
     // A face that points at a boundary halfedge.
     let mut raw = base.clone();
@@ -181,10 +182,7 @@ fn wrong_face_links_are_refused() {
     raw.f_he[1] = b as u32;
     assert_eq!(
         integrity(raw),
-        (
-            "face 1".into(),
-            "the face's halfedge belongs to the face"
-        )
+        ("face 1".into(), "the face's halfedge belongs to the face")
     );
 }
 
@@ -251,7 +249,11 @@ fn bowtie() -> RawConnectivity {
     raw.v_out.extend([a.v_out[1] + nh, a.v_out[2] + nh]);
     raw.h_to.extend(a.h_to.iter().map(|&v| shift_v(v)));
     raw.h_next.extend(a.h_next.iter().map(|&h| h + nh));
-    raw.h_face.extend(a.h_face.iter().map(|&f| if f == NONE { NONE } else { f + 1 }));
+    raw.h_face.extend(
+        a.h_face
+            .iter()
+            .map(|&f| if f == NONE { NONE } else { f + 1 }),
+    );
     raw.f_he.extend(a.f_he.iter().map(|&h| h + nh));
     raw
 }

@@ -54,8 +54,11 @@ use crate::error::SubdivisionError;
 /// not fit in a mesh (checked before any work).
 ///
 /// # Complexity
-/// O(4^steps · F) time and memory; each step is dominated by building the finer mesh
-/// (O(C log C) for its C corners). The position pass runs in parallel.
+/// O(4^steps · F) time and memory. Each step computes the positions and writes the
+/// finer connectivity in closed form, O(V + E + F) without sorting or hashing, then
+/// validates it ([`HalfedgeMesh::from_raw_parts`], O(n)); all passes but a prefix sum
+/// over the faces run in parallel. The connectivity is exactly what
+/// [`HalfedgeMesh::from_polygons`] builds from the face list above.
 ///
 /// # References
 /// Charles Loop, *Smooth Subdivision Surfaces Based on Triangles*, Master's thesis,
@@ -131,7 +134,6 @@ fn edge_point(mesh: &HalfedgeMesh, p: &[DVec3], e: EdgeId) -> DVec3 {
         (ends * 3.0 + c + d) * 0.125
     }
 }
-
 
 // The refined connectivity in closed form.
 //
