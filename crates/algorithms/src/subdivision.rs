@@ -1,9 +1,14 @@
 //! Uniform subdivision of triangle meshes: [`loop_subdivide`] and [`sqrt3_subdivide`].
 //!
-//! Each step builds the finer mesh directly: the new positions and the new face list
-//! are computed from the coarse mesh, and the face list is turned into a validated
-//! [`HalfedgeMesh`] by [`HalfedgeMesh::from_polygons`]. Nothing is edited in place, so
-//! the coarse mesh stays usable and the result does not depend on an order of edits.
+//! Each step builds the finer mesh directly from the coarse one; nothing is edited in
+//! place, so the coarse mesh stays usable and the result does not depend on an order of
+//! edits. A Loop step writes the refined connectivity in closed form (every coarse edge
+//! becomes two edges, every face three interior edges and four faces) and validates it
+//! with [`HalfedgeMesh::from_raw_parts`]: O(n), no sorting or hashing, in parallel. The
+//! arrays are exactly those [`HalfedgeMesh::from_polygons`] makes of the step's face
+//! list (same edge numbering, halfedge directions, outgoing halfedges and face
+//! halfedges), which a test checks. A √3 step computes its face list and builds it with
+//! [`HalfedgeMesh::from_polygons`] (O(C log C) for C corners).
 //!
 //! Conventions shared by both schemes:
 //! - positions are `f64` in the units of the input; subdivision is affine, so the

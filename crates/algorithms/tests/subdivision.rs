@@ -265,3 +265,77 @@ fn zero_steps_return_the_input() {
     }
     assert_eq!(Scheme::from_name("butterfly"), None);
 }
+
+/// The face list a Loop step documents: face `f` with vertices `[a, b, c]` (its halfedge
+/// `h0` ends at `a`, `h1 = next(h0)` at `b`, `h2` at `c`) becomes `[a, ab, ca]`,
+/// `[b, bc, ab]`, `[c, ca, bc]`, `[ab, bc, ca]`, the point of edge `e` being vertex
+/// `n_vertices + e`.
+fn documented_loop_faces(mesh: &HalfedgeMesh) -> Vec<[u32; 3]> {
+    let point = |h: beltrami_halfedge::HalfedgeId| (mesh.n_vertices() + h.edge().index()) as u32;
+    mesh.faces()
+        .flat_map(|f| {
+            let h0 = mesh.face_halfedge(f);
+            let h1 = mesh.next(h0);
+            let h2 = mesh.next(h1);
+            let [a, b, c] = [h0, h1, h2].map(|h| mesh.to_vertex(h).raw());
+            let (ab, bc, ca) = (point(h1), point(h2), point(h0));
+            [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+        })
+        .collect()
+}
+
+/// `p` with isolated vertices: one before vertex 0, one after every `stride`-th
+/// vertex and one at the end.
+fn with_isolated_vertices(p: &Primitive, stride: u32) -> Primitive {
+    let new_id = |v: u32| v + v / stride + 1;
+    let n = p.positions.len() as u32;
+    let mut positions = vec![DVec3::splat(7.0); new_id(n - 1) as usize + 2];
+    for (v, &x) in (0..n).zip(&p.positions) {
+        positions[new_id(v) as usize] = x;
+    }
+    let mut faces = beltrami_halfedge::PolygonList::new();
+    for f in p.faces.iter() {
+        let f: Vec<u32> = f.iter().map(|&v| new_id(v)).collect();
+        faces.push(&f);
+    }
+    Primitive::new(positions, faces)
+}
+
+#[test]
+fn a_loop_step_equals_building_its_face_list() {
+    // The closed-form connectivity of a step must be exactly what the general builder
+    // makes of the documented face list: the same edge numbering, halfedge directions,
+    // outgoing halfedges, boundary links and face halfedges (HalfedgeMesh: PartialEq).
+    let mut cases = meshes();
+    cases.push(("icosphere3", primitives::icosphere(3)));
+    cases.push(("torus_fine", primitives::torus(3.0, 1.0, 24, 11)));
+    cases.extend(beltrami_testkit::fixtures::openmesh_inputs());
+    let grid = primitives::grid(6, 4);
+    cases.push(("grid_with_isolated", with_isolated_vertices(&grid, 5)));
+    let sphere = primitives::icosphere(1);
+    cases.push(("sphere_with_isolated", with_isolated_vertices(&sphere, 4)));
+    for (name, p) in cases {
+        let mut mesh = p.mesh().unwrap();
+        let mut positions = p.positions.clone();
+        for step in 1..=3 {
+            let faces = documented_loop_faces(&mesh);
+            let expected =
+                HalfedgeMesh::from_polygons(mesh.n_vertices() + mesh.n_edges(), &faces).unwrap();
+            let (fine, fine_positions) = loop_subdivide(&mesh, &positions, 1).unwrap();
+            assert!(
+                fine == expected,
+                "{name}, step {step}: the connectivity differs"
+            );
+            // Several steps at once are the same as one at a time.
+            let (at_once, at_once_positions) =
+                loop_subdivide(&p.mesh().unwrap(), &p.positions, step).unwrap();
+            assert!(at_once == fine, "{name}, {step} steps at once");
+            assert_eq!(
+                at_once_positions, fine_positions,
+                "{name}, {step} steps at once"
+            );
+            mesh = fine;
+            positions = fine_positions;
+        }
+    }
+}

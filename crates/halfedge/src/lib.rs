@@ -78,6 +78,7 @@ mod mesh;
 mod mesh_data;
 mod polygons;
 pub mod primitives;
+mod raw;
 pub mod reorder;
 mod repair;
 
@@ -96,4 +97,5 @@ pub use map::{EdgeMap, FaceMap, HalfedgeMap, IdMap, VertexMap};
 pub use mesh::HalfedgeMesh;
 pub use mesh_data::MeshData;
 pub use polygons::PolygonList;
+pub use raw::RawConnectivity;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
