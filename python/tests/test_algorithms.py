@@ -110,10 +110,18 @@ def test_quality_and_algorithms_match_the_cli(cli, tmp_path):
 
 
 def test_remesh_evens_out_the_edges(sphere):
-    even, report = bt.remesh(sphere, edge_length_relative=1.5)
-    assert report["edge_length_cv"] < report["edge_length_cv_before"]
+    # An irregular planar patch: a grid with every vertex pushed about in its plane.
+    g = grid(12, 12)
+    rng = np.random.default_rng(3)
+    v = g.vertices.copy()
+    inner = (v[:, 0] > 0) & (v[:, 0] < 12) & (v[:, 1] > 0) & (v[:, 1] < 12)
+    v[inner, :2] += rng.uniform(-0.35, 0.35, (inner.sum(), 2))
+    even, report = bt.remesh(bt.Mesh(v, g.faces), edge_length_relative=1.0)
+    assert report["edge_length_cv"] < 0.8 * report["edge_length_cv_before"]
     assert report["mean_edge_length"] == pytest.approx(report["target_edge_length"], rel=0.15)
-    assert bt.info(even)["closed"] and bt.info(even)["genus"] == 0
+    assert bt.info(even)["boundary_loops"] == 1
+    closed, _ = bt.remesh(sphere, edge_length_relative=1.5)
+    assert bt.info(closed)["closed"] and bt.info(closed)["genus"] == 0
     with pytest.raises(ValueError, match="one of"):
         bt.remesh(sphere, edge_length=0.1, edge_length_relative=1.0)
     with pytest.raises(ValueError):

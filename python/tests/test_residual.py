@@ -31,7 +31,10 @@ def test_a_plane_form_leaves_the_sine():
     # 1 %), so the tolerances are 2 % and 3 %.
     assert r["sq"] == pytest.approx(0.1 / np.sqrt(2), rel=2e-2)
     assert r["sq"] < 0.1 / np.sqrt(2)
-    assert r["sa"] == pytest.approx(0.2 / np.pi, rel=3e-2)
+    # Sa's |z| has kinks at the zeros: on 8 samples per period the lumped rule gives the
+    # samples' mean |sin| (0.604), not 2/pi (0.637).
+    sampled = 0.1 * np.mean(np.abs(np.sin(2 * np.pi * np.arange(8) / 8)))
+    assert r["sa"] == pytest.approx(sampled, rel=2e-2)
     assert r["form"]["kind"] == "plane"
     assert r["smoothed"] is None and r["measured"] is None
     assert r["heights"].shape == (41 * 41,)
