@@ -79,6 +79,8 @@ fn format_name(format: MeshFormat) -> &'static str {
         MeshFormat::Stl => "STL",
         MeshFormat::Obj => "OBJ",
         MeshFormat::Off => "OFF",
+        MeshFormat::X3p => "X3P",
+        MeshFormat::Sdf => "SDF",
         _ => "mesh",
     }
 }

@@ -34,9 +34,9 @@ const SAMPLE_SEED: u64 = 1;
 /// Arguments of `beltrami compare`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct CompareArgs {
-    /// The mesh to judge (.ply, .stl, .obj or .off), e.g. a smoothed or measured surface.
+    /// The mesh to judge (.ply, .stl, .obj, .off, or an .x3p or .sdf height map), e.g. a smoothed or measured surface.
     mesh: PathBuf,
-    /// The reference surface (.ply, .stl, .obj or .off), e.g. the clean or nominal surface.
+    /// The reference surface (.ply, .stl, .obj, .off, or an .x3p or .sdf height map), e.g. the clean or nominal surface.
     reference: PathBuf,
     /// Print one JSON object instead of a table.
     #[arg(long)]

@@ -11,13 +11,13 @@ use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::number;
 
 /// Arguments of `beltrami decimate`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct DecimateArgs {
-    /// The triangle mesh (.ply, .stl, .obj or .off).
+    /// The triangle mesh (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The decimated mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
@@ -183,6 +183,11 @@ fn why_not(report: &DecimateReport) -> String {
 /// Runs `beltrami decimate`.
 pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliError> {
     let options = options(args)?;
+    refuse_height_map_output(
+        &args.output,
+        "decimate",
+        "decimation leaves an irregular mesh",
+    )?;
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;

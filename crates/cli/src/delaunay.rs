@@ -16,7 +16,7 @@ use crate::text::{counted, number};
 /// Arguments of `beltrami delaunay`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct DelaunayArgs {
-    /// The triangle mesh (.ply, .stl, .obj or .off).
+    /// The triangle mesh (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The flipped mesh, the same vertices in the same order (.ply, .stl, .obj or .off by
     /// extension).

@@ -10,13 +10,13 @@ use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami fill-holes`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct FillHolesArgs {
-    /// The triangle mesh (.ply, .stl, .obj or .off).
+    /// The triangle mesh (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The filled mesh (.ply, .stl, .obj or .off by extension): the input's vertices
     /// in the same order and bit for bit, the new vertices after them.
@@ -110,6 +110,11 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
             "--max-loop-edges must be at least 3 (a triangle), got {n}"
         )));
     }
+    refuse_height_map_output(
+        &args.output,
+        "fill-holes",
+        "the filled patches add vertices off the grid",
+    )?;
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;

@@ -18,7 +18,7 @@ pub(crate) struct FitArgs {
     /// The shape: sphere, circle (a plane through the points, then the circle in it) or
     /// cylinder.
     shape: Shape,
-    /// The mesh or point set (.ply, .stl, .obj or .off).
+    /// The mesh or point set (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     mesh: PathBuf,
     /// Print one JSON object instead of a table.
     #[arg(long)]

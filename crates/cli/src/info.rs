@@ -18,7 +18,7 @@ use crate::text::{counted, number, vector};
 /// Arguments of `beltrami info`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct InfoArgs {
-    /// The mesh file (.ply, .stl, .obj or .off).
+    /// The mesh file (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     mesh: PathBuf,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -240,6 +240,8 @@ fn format_name(format: MeshFormat) -> &'static str {
         MeshFormat::Stl => "STL",
         MeshFormat::Obj => "OBJ",
         MeshFormat::Off => "OFF",
+        MeshFormat::X3p => "X3P",
+        MeshFormat::Sdf => "SDF",
         _ => "mesh",
     }
 }

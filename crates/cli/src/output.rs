@@ -24,6 +24,24 @@ use crate::error::CliError;
 /// Whether `a` and `b` name the same existing file: the same path after resolving
 /// symbolic links and `..`, or (on Unix) the same inode on the same device, which also
 /// catches hard links. A path that does not exist names no input.
+/// Refuses an OUTPUT named `.x3p` or `.sdf` for a command whose result is no height map
+/// (its vertices leave the input's grid), before any work: `why` says what moves them.
+pub(crate) fn refuse_height_map_output(
+    path: &Path,
+    command: &str,
+    why: &str,
+) -> Result<(), CliError> {
+    match beltrami_io::MeshFormat::from_path(path) {
+        Ok(beltrami_io::MeshFormat::X3p | beltrami_io::MeshFormat::Sdf) => {
+            Err(CliError::Usage(format!(
+                "{command} cannot write {} as a height map: {why}; write .ply, .stl, .obj or .off instead",
+                path.display()
+            )))
+        }
+        _ => Ok(()),
+    }
+}
+
 pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
         return false;

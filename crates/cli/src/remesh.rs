@@ -10,13 +10,13 @@ use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::number;
 
 /// Arguments of `beltrami remesh`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct RemeshArgs {
-    /// The triangle mesh (.ply, .stl, .obj or .off).
+    /// The triangle mesh (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The remeshed mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
@@ -151,6 +151,11 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
 /// Runs `beltrami remesh`.
 pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliError> {
     let options = options(args)?;
+    refuse_height_map_output(
+        &args.output,
+        "remesh",
+        "remeshing makes new vertices off the grid",
+    )?;
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;

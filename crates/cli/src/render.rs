@@ -32,7 +32,7 @@ Examples:
   beltrami compare smoothed.ply clean.ply --scalars distance.ply
   beltrami render distance.ply distance.png --scalar signed_distance --size 800x600")]
 pub(crate) struct RenderArgs {
-    /// The mesh to draw (.ply, .stl, .obj or .off).
+    /// The mesh to draw (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     mesh: PathBuf,
     /// The image to write (.png); it is replaced atomically.
     #[arg(value_name = "OUT.png")]

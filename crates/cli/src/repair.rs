@@ -16,7 +16,7 @@ use crate::text::counted;
 /// Arguments of `beltrami repair`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct RepairArgs {
-    /// The mesh to repair (.ply, .stl, .obj or .off).
+    /// The mesh to repair (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The repaired mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,

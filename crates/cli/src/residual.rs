@@ -3,10 +3,11 @@
 //! sphere or cylinder.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
+use beltrami_io::{MeshData, MeshFormat};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::check_same_topology;
 use beltrami_metrics::residual::{
@@ -75,7 +76,9 @@ pub(crate) struct ResidualArgs {
     /// Write the reference surface (SMOOTHED, or MEASURED laid onto the form) to this
     /// PLY file with the residual of every vertex as the property `residual` and a colour
     /// map (blue pits, white 0, red peaks), as `compare --scalars` writes signed
-    /// distances. `--out` is an older name.
+    /// distances. For a height-map MEASURED (.x3p, .sdf) the path may end in .x3p or
+    /// .sdf instead: the residual is written as a height map on MEASURED's grid, for
+    /// instrument software. `--out` is an older name.
     #[arg(long, value_name = "RESIDUAL.ply", alias = "out")]
     scalars: Option<PathBuf>,
     /// Measure heights from the residual's area-weighted mean instead of from the
@@ -233,9 +236,10 @@ struct SpatialJson {
 
 /// Runs `beltrami residual`.
 pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliError> {
-    if let Some(path) = &args.scalars {
-        check_ply_path("--scalars", path)?;
-    }
+    let height_map_out = match &args.scalars {
+        Some(path) => scalars_target(path, &args.measured)?,
+        None => false,
+    };
     for &mr in &args.smc {
         if !(0.0..=100.0).contains(&mr) {
             return Err(CliError::Usage(format!(
@@ -254,7 +258,9 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     inputs.extend(args.smoothed.as_ref());
     outputs.check(&inputs, args.force)?;
     let measured = load_input(&args.measured, &args.read, Some("residual"))?;
-    let grid = measured.height_map;
+    let grid = measured.height_map.clone();
+    // The grid's points, for a residual written back as a height map.
+    let grid_points = height_map_out.then(|| (measured.positions.clone(), measured.faces.clone()));
     let on_measured = metrics_error(&args.measured);
 
     // The residual and the reference surface it lives on.
@@ -333,11 +339,19 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
 
     let mut staged = Staged::new();
-    let written = match &args.scalars {
-        Some(path) => {
+    let written = match (&args.scalars, grid_points) {
+        (Some(path), Some((mut positions, faces))) => {
+            // The residual as the heights over MEASURED's grid points.
+            for (p, h) in positions.iter_mut().zip(&heights) {
+                p.z = *h;
+            }
+            staged.push_mesh(path, &MeshData { positions, faces }, false)?;
+            Some(path.display().to_string())
+        }
+        (Some(path), None) => {
             Some(stage_scalar_ply(&mut staged, path, &reference, "residual", &heights)?.0)
         }
-        None => None,
+        (None, _) => None,
     };
     staged.commit()?;
     let summary = summarise(
@@ -360,6 +374,30 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         }
     }
     Ok(())
+}
+
+/// Whether `--scalars PATH` is a height map (.x3p, .sdf) rather than a PLY file; a
+/// height map needs a height-map MEASURED, whose grid it is written on.
+fn scalars_target(path: &Path, measured: &Path) -> Result<bool, CliError> {
+    let height_map = |p: &Path| {
+        matches!(
+            MeshFormat::from_path(p),
+            Ok(MeshFormat::X3p | MeshFormat::Sdf)
+        )
+    };
+    if !height_map(path) {
+        check_ply_path("--scalars", path)?;
+        return Ok(false);
+    }
+    if height_map(measured) {
+        Ok(true)
+    } else {
+        Err(CliError::Usage(format!(
+            "--scalars writes a height map ('{}') only for a height-map MEASURED (.x3p or .sdf), whose grid it uses; write the residual of '{}' as PLY",
+            path.display(),
+            measured.display()
+        )))
+    }
 }
 
 /// Whose error a failure of the parameters is.

@@ -12,13 +12,13 @@ use serde::Serialize;
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
 use crate::memory::Size;
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::counted;
 
 /// Arguments of `beltrami subdivide`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct SubdivideArgs {
-    /// The triangle mesh to subdivide (.ply, .stl, .obj or .off).
+    /// The triangle mesh to subdivide (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     input: PathBuf,
     /// The subdivided mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
@@ -135,6 +135,11 @@ struct Summary {
 
 /// Runs `beltrami subdivide`.
 pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliError> {
+    refuse_height_map_output(
+        &args.output,
+        "subdivide",
+        "subdivision moves the vertices and adds new ones",
+    )?;
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;

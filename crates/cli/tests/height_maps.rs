@@ -124,20 +124,38 @@ fn a_repaired_height_map_is_written_back_as_one() {
 fn height_map_outputs_that_cannot_be_written_are_refused_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let x3p = write_scan(dir.path(), "scan.x3p");
-    // Per-vertex scalars need PLY: a usage error before anything is read.
+    // Per-vertex scalars need PLY, or a height map for a height-map input: a usage
+    // error before anything is read.
     let out = beltrami(&[
         "residual",
         s(&x3p),
         "--form",
         "plane",
         "--scalars",
-        s(&dir.path().join("r.x3p")),
+        s(&dir.path().join("r.stl")),
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         error_line(&out, dir.path()),
-        "error: --scalars writes a PLY file (per-vertex scalars need PLY), got 'r.x3p' (see 'beltrami --help')"
+        "error: --scalars writes a PLY file (per-vertex scalars need PLY), got 'r.stl' (see 'beltrami --help')"
     );
+    let ply = dir.path().join("scan.ply");
+    write_mesh(&ply, &read_mesh(&x3p).unwrap(), &WriteOptions::default()).unwrap();
+    let out = beltrami(&[
+        "residual",
+        s(&ply),
+        "--form",
+        "plane",
+        "--scalars",
+        s(&dir.path().join("r.x3p")),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        error_line(&out, dir.path()).contains("only for a height-map MEASURED"),
+        "{}",
+        error_line(&out, dir.path())
+    );
+    assert!(!dir.path().join("r.x3p").exists());
     // A mesh that is no grid cannot become a height map.
     let sphere = squashed_sphere(dir.path(), "sphere.ply", 2);
     let out = beltrami(&["repair", s(&sphere), s(&dir.path().join("sphere.x3p"))]);
@@ -177,4 +195,87 @@ fn broken_height_maps_fail_with_exit_code_1_and_one_line() {
         error_line(&out, dir.path()),
         "error: short.sdf: line 11: sdf value 5: the data end after 5 values, but NumPoints × NumProfiles = 6"
     );
+}
+
+#[test]
+fn commands_that_leave_the_grid_refuse_a_height_map_output_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let x3p = write_scan(dir.path(), "scan.x3p");
+    for (command, extra) in [
+        ("smooth", &[][..]),
+        ("remesh", &[][..]),
+        ("decimate", &["--ratio", "0.5"][..]),
+        ("fill-holes", &[][..]),
+        ("subdivide", &[][..]),
+    ] {
+        for name in ["out.x3p", "out.sdf"] {
+            let out_path = dir.path().join(name);
+            let mut args = vec![command, s(&x3p), s(&out_path)];
+            args.extend(extra);
+            let out = beltrami(&args);
+            assert_eq!(out.status.code(), Some(2), "{command} {name}");
+            let line = error_line(&out, dir.path());
+            assert!(
+                line.starts_with(&format!("error: {command} cannot write "))
+                    && line.contains("as a height map"),
+                "{command}: {line}"
+            );
+            assert!(!out_path.exists());
+        }
+    }
+}
+
+#[test]
+fn info_names_the_height_map_format() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, format) in [("scan.x3p", "X3P"), ("scan.sdf", "SDF")] {
+        let path = write_scan(dir.path(), name);
+        assert_eq!(json(&["info", s(&path), "--json"])["format"], format);
+    }
+}
+
+#[test]
+fn a_residual_is_written_back_as_a_height_map_on_the_measured_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let x3p = write_scan(dir.path(), "scan.x3p");
+    for name in ["levelled.x3p", "levelled.sdf"] {
+        let out = dir.path().join(name);
+        let run = beltrami(&[
+            "residual",
+            s(&x3p),
+            "--form",
+            "plane",
+            "--remove-mean",
+            "--scalars",
+            s(&out),
+            "--json",
+        ]);
+        assert!(
+            run.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let back = read_height_map(&out).unwrap();
+        // The same grid, the tilt gone: what is left is the sine.
+        assert_eq!((back.nx, back.ny), (NX, NY));
+        let valid: Vec<f64> = back.z.iter().copied().filter(|z| !z.is_nan()).collect();
+        let rms = (valid.iter().map(|z| z * z).sum::<f64>() / valid.len() as f64).sqrt();
+        assert!(
+            (rms / (AMPLITUDE / SQRT_2) - 1.0).abs() < 0.02,
+            "{name}: rms {rms}"
+        );
+        let peak = valid.iter().fold(0.0f64, |m, z| m.max(z.abs()));
+        // With the tilt (2.4e-7 over the grid) the peak would pass 3e-7; the plane also
+        // takes up a little of the sine, so the peak is not quite the amplitude.
+        assert!(
+            peak < 1.25 * AMPLITUDE,
+            "{name}: the tilt is gone, peak {peak}"
+        );
+        // And it reads back as the residual's own input: its residual from a plane is
+        // the same Sq.
+        let summary = json(&["residual", s(&out), "--form", "plane", "--json"]);
+        let first = json(&["residual", s(&x3p), "--form", "plane", "--json"]);
+        let sq = |j: &serde_json::Value| j["sq"].as_f64().unwrap();
+        assert!((sq(&summary) / sq(&first) - 1.0).abs() < 1e-3, "{name}");
+    }
 }

@@ -24,7 +24,7 @@ use crate::memory::parse_size;
 /// patch keeps its outline.
 #[derive(Debug, clap::Args)]
 pub(crate) struct SmoothArgs {
-    /// The input mesh (.ply, .stl, .obj or .off).
+    /// The input mesh (.ply, .stl, .obj, .off, or an .x3p or .sdf height map).
     pub(crate) input: PathBuf,
     /// The output mesh (.ply, .stl, .obj or .off); same vertices and faces, new positions.
     pub(crate) output: PathBuf,

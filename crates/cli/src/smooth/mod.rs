@@ -14,7 +14,7 @@ use beltrami_weights::WeightScheme;
 use crate::error::CliError;
 use crate::load::load_checked;
 use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{number, plural};
 
 mod args;
@@ -34,6 +34,11 @@ pub(crate) fn run(
 ) -> Result<(), CliError> {
     let scheme = registry.get(&args.weights)?;
     args.check_combination()?;
+    refuse_height_map_output(
+        &args.output,
+        "smooth",
+        "smoothing moves the vertices in x and y, off the grid",
+    )?;
     let mut outputs = Outputs::new();
     outputs
         .add(&args.output, "OUTPUT")
