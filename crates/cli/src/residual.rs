@@ -258,7 +258,7 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     inputs.extend(args.smoothed.as_ref());
     outputs.check(&inputs, args.force)?;
     let measured = load_input(&args.measured, &args.read, Some("residual"))?;
-    let grid = measured.height_map.clone();
+    let grid = measured.height_map;
     // The grid's points, for a residual written back as a height map.
     let grid_points = height_map_out.then(|| (measured.positions.clone(), measured.faces.clone()));
     let on_measured = metrics_error(&args.measured);
