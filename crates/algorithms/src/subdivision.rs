@@ -2,12 +2,12 @@
 //!
 //! Each step builds the finer mesh directly from the coarse one; nothing is edited in
 //! place, so the coarse mesh stays usable and the result does not depend on an order of
-//! edits. A Loop step writes the refined connectivity in closed form (every coarse edge
-//! becomes two edges, every face three interior edges and four faces) and validates it
-//! with [`HalfedgeMesh::from_raw_parts`]: O(n), no sorting or hashing, in parallel. The
-//! arrays are exactly those [`HalfedgeMesh::from_polygons`] makes of the step's face
-//! list (same edge numbering, halfedge directions, outgoing halfedges and face
-//! halfedges), which a test checks. A √3 step computes its face list and builds it with
+//! edits. A Loop step takes the refined connectivity from
+//! [`HalfedgeMesh::split_triangles`], which writes it in closed form (every coarse edge
+//! becomes two edges, every face three interior edges and four faces): O(n), no sorting
+//! or hashing, in parallel, valid by construction. The arrays are exactly those
+//! [`HalfedgeMesh::from_polygons`] makes of the step's face list (same edge numbering,
+//! halfedge directions, outgoing halfedges and face halfedges), which a test checks. A √3 step computes its face list and builds it with
 //! [`HalfedgeMesh::from_polygons`] (O(C log C) for C corners).
 //!
 //! Conventions shared by both schemes:

@@ -79,6 +79,7 @@ mod mesh_data;
 mod polygons;
 pub mod primitives;
 mod raw;
+mod refine;
 pub mod reorder;
 mod repair;
 

@@ -167,7 +167,7 @@ impl HalfedgeMesh {
 /// out. Exact when `next` is a permutation; otherwise some entries stay `INVALID` (the
 /// halfedges that are nobody's `next`), which validation reports, and
 /// [`check_next`] then names the real fault.
-fn invert_next(h_next: &[u32]) -> Vec<u32> {
+pub(crate) fn invert_next(h_next: &[u32]) -> Vec<u32> {
     let nh = h_next.len();
     let prev: Vec<AtomicU32> = (0..nh).map(|_| AtomicU32::new(INVALID)).collect();
     h_next
