@@ -6,12 +6,11 @@ use std::path::PathBuf;
 use beltrami_algorithms::{
     DecimateError, DecimateOptions, DecimateReport, DecimateStop, Placement, decimate,
 };
-use beltrami_io::MeshData;
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged, refuse_height_map_output};
+use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::number;
 
 /// Arguments of `beltrami decimate`.
@@ -205,13 +204,7 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let data = MeshData {
-        positions,
-        faces: mesh.to_polygons(),
-    };
-    let mut staged = Staged::new();
-    staged.push_mesh(&args.output, &data, args.ascii)?;
-    staged.commit()?;
+    write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {
         let r = &report.refused;

@@ -5,12 +5,11 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_algorithms::{DelaunayError, DelaunayOptions, delaunay_flip};
-use beltrami_io::MeshData;
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, write_result};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami delaunay`.
@@ -96,13 +95,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let data = MeshData {
-        positions,
-        faces: mesh.to_polygons(),
-    };
-    let mut staged = Staged::new();
-    staged.push_mesh(&args.output, &data, args.ascii)?;
-    staged.commit()?;
+    write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {
         let summary = Summary {

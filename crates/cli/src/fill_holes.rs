@@ -5,12 +5,11 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_algorithms::{FillError, FillOptions, SkipReason, fill_holes};
-use beltrami_io::MeshData;
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged, refuse_height_map_output};
+use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami fill-holes`.
@@ -139,13 +138,7 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let data = MeshData {
-        positions,
-        faces: mesh.to_polygons(),
-    };
-    let mut staged = Staged::new();
-    staged.push_mesh(&args.output, &data, args.ascii)?;
-    staged.commit()?;
+    write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {
         let summary = Summary {

@@ -42,6 +42,23 @@ pub(crate) fn refuse_height_map_output(
     }
 }
 
+/// Writes the result of a mesh algorithm (its connectivity and positions) to `path` as
+/// one staged, atomic write: nothing appears unless the whole file is written.
+pub(crate) fn write_result(
+    path: &Path,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    positions: Vec<beltrami_halfedge::DVec3>,
+    ascii: bool,
+) -> Result<(), CliError> {
+    let data = MeshData {
+        positions,
+        faces: mesh.to_polygons(),
+    };
+    let mut staged = Staged::new();
+    staged.push_mesh(path, &data, ascii)?;
+    staged.commit()
+}
+
 pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
         return false;

@@ -5,12 +5,11 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_algorithms::{RemeshError, RemeshOptions, remesh};
-use beltrami_io::MeshData;
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, Staged, refuse_height_map_output};
+use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::number;
 
 /// Arguments of `beltrami remesh`.
@@ -177,13 +176,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let data = MeshData {
-        positions,
-        faces: mesh.to_polygons(),
-    };
-    let mut staged = Staged::new();
-    staged.push_mesh(&args.output, &data, args.ascii)?;
-    staged.commit()?;
+    write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {
         let summary = Summary {

@@ -5,14 +5,13 @@ use std::path::{Path, PathBuf};
 
 use beltrami_algorithms::{MeshCounts, Scheme};
 use beltrami_halfedge::{HalfedgeMesh, MAX_ELEMENTS};
-use beltrami_io::MeshData;
 use clap::ValueEnum;
 use serde::Serialize;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
 use crate::memory::Size;
-use crate::output::{Outputs, Staged, refuse_height_map_output};
+use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::counted;
 
 /// Arguments of `beltrami subdivide`.
@@ -160,13 +159,7 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
             message: e.to_string(),
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let data = MeshData {
-        positions,
-        faces: fine.to_polygons(),
-    };
-    let mut staged = Staged::new();
-    staged.push_mesh(&args.output, &data, args.ascii)?;
-    staged.commit()?;
+    write_result(&args.output, &fine, positions, args.ascii)?;
 
     if args.json {
         let summary = Summary {
