@@ -8,7 +8,7 @@ use beltrami_algorithms::{
 };
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::number;
@@ -193,13 +193,11 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "decimate")?;
     let start = std::time::Instant::now();
-    let (mesh, positions, report) = decimate(&loaded.mesh, &loaded.positions, &options)
-        .map_err(|e| CliError::Input {
+    let (mesh, positions, report) =
+        decimate(&loaded.mesh, &loaded.positions, &options).map_err(|e| CliError::Input {
             path: args.input.clone(),
             message: match e {
-                DecimateError::NotTriangle { face, len } => format!(
-                    "face {face} has {len} vertices; decimate needs a triangle mesh (triangulate it first)"
-                ),
+                DecimateError::NotTriangle { face, len } => not_triangles("decimate", face, len),
                 e => e.to_string(),
             },
         })?;

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use beltrami_algorithms::{DelaunayError, DelaunayOptions, delaunay_flip};
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::{Outputs, write_result};
 use crate::text::{counted, number};
@@ -88,9 +88,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
         .map_err(|e| CliError::Input {
             path: args.input.clone(),
             message: match e {
-                DelaunayError::NotTriangle { face, len } => format!(
-                    "face {face} has {len} vertices; delaunay needs a triangle mesh (triangulate it first)"
-                ),
+                DelaunayError::NotTriangle { face, len } => not_triangles("delaunay", face, len),
                 e => e.to_string(),
             },
         })?;

@@ -59,6 +59,14 @@ pub(crate) enum CliError {
     },
 }
 
+/// The one line for a face that is not a triangle, given to a command (or option) that
+/// needs a triangle mesh.
+pub(crate) fn not_triangles(command: &str, face: impl fmt::Display, len: usize) -> String {
+    format!(
+        "face {face} has {len} vertices; {command} needs a triangle mesh (triangulate it first)"
+    )
+}
+
 impl CliError {
     /// 2 for bad usage (also an output that would overwrite an input), 1 for
     /// everything else.

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use beltrami_algorithms::{FillError, FillOptions, SkipReason, fill_holes};
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::{counted, number};
@@ -127,13 +127,11 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         options = options.max_loop_edges(n);
     }
     let start = std::time::Instant::now();
-    let (mesh, positions, report) = fill_holes(&loaded.mesh, &loaded.positions, &options)
-        .map_err(|e| CliError::Input {
+    let (mesh, positions, report) =
+        fill_holes(&loaded.mesh, &loaded.positions, &options).map_err(|e| CliError::Input {
             path: args.input.clone(),
             message: match e {
-                FillError::NotTriangle { face, len } => format!(
-                    "face {face} has {len} vertices; fill-holes needs a triangle mesh (triangulate it first)"
-                ),
+                FillError::NotTriangle { face, len } => not_triangles("fill-holes", face, len),
                 e => e.to_string(),
             },
         })?;

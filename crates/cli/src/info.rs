@@ -10,7 +10,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::MeshFormat;
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{LoadedMesh, ReadArgs, coincident_vertices, load};
 use crate::repair::RepairJson;
 use crate::text::{counted, number, vector};
@@ -296,9 +296,7 @@ fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, 
     let input_error = |path: &PathBuf, e: QualityError| CliError::Input {
         path: path.clone(),
         message: match e {
-            QualityError::NotTriangle { face, len } => format!(
-                "face {face} has {len} vertices; --quality needs a triangle mesh (triangulate it first)"
-            ),
+            QualityError::NotTriangle { face, len } => not_triangles("--quality", face, len),
             e => e.to_string(),
         },
     };

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use beltrami_algorithms::{RemeshError, RemeshOptions, remesh};
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::{Outputs, refuse_height_map_output, write_result};
 use crate::text::number;
@@ -161,14 +161,12 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
     let start = std::time::Instant::now();
-    let (mesh, positions, report) = remesh(&loaded.mesh, &loaded.positions, &options)
-        .map_err(|e| match e {
+    let (mesh, positions, report) =
+        remesh(&loaded.mesh, &loaded.positions, &options).map_err(|e| match e {
             RemeshError::Options { reason } => CliError::Usage(reason),
             RemeshError::NotTriangle { face, len } => CliError::Input {
                 path: args.input.clone(),
-                message: format!(
-                    "face {face} has {len} vertices; remesh needs a triangle mesh (triangulate it first)"
-                ),
+                message: not_triangles("remesh", face, len),
             },
             e => CliError::Input {
                 path: args.input.clone(),

@@ -8,7 +8,7 @@ use beltrami_halfedge::{HalfedgeMesh, MAX_ELEMENTS};
 use clap::ValueEnum;
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::memory::Size;
 use crate::output::{Outputs, refuse_height_map_output, write_result};
@@ -147,7 +147,11 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
     let scheme = args.scheme.scheme();
     let mesh = &loaded.mesh;
     if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(not_triangles(&args.input, f.index(), mesh.face_valence(f)));
+        return Err(not_a_triangle_mesh(
+            &args.input,
+            f.index(),
+            mesh.face_valence(f),
+        ));
     }
     check_size(mesh, scheme, args.steps)?;
 
@@ -197,11 +201,9 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
 }
 
 /// The error for a mesh with a face that is not a triangle.
-fn not_triangles(path: &Path, face: usize, len: usize) -> CliError {
+fn not_a_triangle_mesh(path: &Path, face: usize, len: usize) -> CliError {
     CliError::Input {
         path: path.to_path_buf(),
-        message: format!(
-            "face {face} has {len} vertices; subdivide needs a triangle mesh (triangulate it first)"
-        ),
+        message: not_triangles("subdivide", face, len),
     }
 }
