@@ -19,7 +19,6 @@ use crate::mesh::Mesh;
 /// What the computation gives back to be put into a dict.
 struct Computed {
     texture: SurfaceTexture,
-    heights: Vec<f64>,
     form: Option<(beltrami_metrics::residual::FittedForm, bool)>,
     vertices: usize,
     faces: usize,
@@ -131,13 +130,7 @@ fn compute(
     };
     let geometry = Geometry::new(reference_mesh, &reference_positions)?;
     let texture = surface_texture(&geometry, &residual, options)?;
-    let shift = if options.areal.datum == Datum::Mean {
-        texture.areal.mean
-    } else {
-        0.0
-    };
     Ok(Computed {
-        heights: residual.iter().map(|r| r - shift).collect(),
         texture,
         form: fitted,
         vertices: reference_mesh.n_vertices(),
@@ -234,6 +227,6 @@ fn to_dict<'py>(
     d.set_item("mean", s.mean)?;
     d.set_item("area", s.area)?;
     d.set_item("scalars", py.None())?;
-    d.set_item("heights", PyArray1::from_vec(py, c.heights.clone()))?;
+    d.set_item("heights", PyArray1::from_vec(py, c.texture.heights.clone()))?;
     Ok(d)
 }

@@ -330,26 +330,20 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         .smr_heights(args.smr.clone())
         .smc_ratios(args.smc.clone());
     let texture = surface_texture(&geometry, &residual, &options).map_err(&on_reference)?;
-    // The residual from the datum, as the spatial parameters saw it.
-    let shift = if args.remove_mean {
-        texture.areal.mean
-    } else {
-        0.0
-    };
-    let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
+    let heights = &texture.heights;
 
     let mut staged = Staged::new();
     let written = match (&args.scalars, grid_points) {
         (Some(path), Some((mut positions, faces))) => {
             // The residual as the heights over MEASURED's grid points.
-            for (p, h) in positions.iter_mut().zip(&heights) {
+            for (p, h) in positions.iter_mut().zip(heights) {
                 p.z = *h;
             }
             staged.push_mesh(path, &MeshData { positions, faces }, false)?;
             Some(path.display().to_string())
         }
         (Some(path), None) => {
-            Some(stage_scalar_ply(&mut staged, path, &reference, "residual", &heights)?.0)
+            Some(stage_scalar_ply(&mut staged, path, &reference, "residual", heights)?.0)
         }
         (None, _) => None,
     };

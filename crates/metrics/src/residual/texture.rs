@@ -140,6 +140,9 @@ pub struct SurfaceTexture {
     pub smc: Vec<(f64, f64)>,
     /// Sal, Str, Std and their grid.
     pub spatial: SpatialSummary,
+    /// The residual from the datum, one height per vertex (what the spatial parameters
+    /// were computed on): the residual itself, or minus its mean with [`Datum::Mean`].
+    pub heights: Vec<f64>,
 }
 
 /// Every areal parameter of `residual` (one height per vertex of `geometry`, the
@@ -243,6 +246,7 @@ pub fn surface_texture(
         smr,
         smc,
         spatial,
+        heights,
     })
 }
 
