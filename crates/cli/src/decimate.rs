@@ -8,9 +8,10 @@ use beltrami_algorithms::{
 };
 use serde::Serialize;
 
+use crate::edit_report::{EditReport, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, refuse_height_map_output, write_result};
+use crate::output::{Outputs, refuse_height_map_output, write_result_and_report};
 use crate::text::number;
 
 /// Arguments of `beltrami decimate`.
@@ -49,13 +50,19 @@ pub(crate) struct DecimateArgs {
     /// unit) from the output surface.
     #[arg(long, value_name = "D")]
     max_distance: Option<f64>,
-    /// Print a JSON summary instead of the sentence.
+    /// Print a JSON summary (with the mesh quality before and after) instead of the
+    /// sentence and the quality table.
     #[arg(long)]
     json: bool,
+    /// Also write the JSON summary, with the mesh quality before and after, to this
+    /// file.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT (or the --report file) even when it is the input or
+    /// write-protected.
     #[arg(long)]
     force: bool,
     #[command(flatten)]
@@ -188,7 +195,9 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         "decimation leaves an irregular mesh",
     )?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "decimate")?;
@@ -202,42 +211,57 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    write_result(&args.output, &mesh, positions, args.ascii)?;
-
+    let quality = QualityChange::measure(
+        &args.input,
+        "decimate",
+        (&loaded.mesh, &loaded.positions),
+        (&mesh, &positions),
+    )?;
+    let r = &report.refused;
+    let summary = Summary {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        vertices_before: report.vertices_before,
+        vertices_after: report.vertices_after,
+        faces_before: report.faces_before,
+        faces_after: report.faces_after,
+        target_vertices: report.target_vertices,
+        target_reached: report.target_reached,
+        stop: match report.stop {
+            DecimateStop::TargetReached => "target reached",
+            _ => "no collapse left",
+        },
+        collapses: report.collapses,
+        refused: Refused {
+            topology: r.topology,
+            boundary: r.boundary,
+            max_error: r.error,
+            normal_flip: r.normal_flip,
+            max_normal_deviation: r.normal_deviation,
+            max_aspect_ratio: r.aspect_ratio,
+            max_distance: r.distance,
+        },
+        placement: if args.optimal { "optimal" } else { "endpoint" },
+        max_quadric_error: report.max_quadric_error,
+        hausdorff: report.hausdorff,
+        hausdorff_to_input: report.hausdorff_to_input,
+        hausdorff_from_input: report.hausdorff_from_input,
+        seconds,
+    };
+    let json = EditReport {
+        summary: &summary,
+        quality: &quality,
+    }
+    .to_json()?;
+    write_result_and_report(
+        &args.output,
+        &mesh,
+        positions,
+        args.ascii,
+        args.report.as_ref().map(|path| (path, json.as_slice())),
+    )?;
     if args.json {
-        let r = &report.refused;
-        let summary = Summary {
-            input: args.input.display().to_string(),
-            output: args.output.display().to_string(),
-            vertices_before: report.vertices_before,
-            vertices_after: report.vertices_after,
-            faces_before: report.faces_before,
-            faces_after: report.faces_after,
-            target_vertices: report.target_vertices,
-            target_reached: report.target_reached,
-            stop: match report.stop {
-                DecimateStop::TargetReached => "target reached",
-                _ => "no collapse left",
-            },
-            collapses: report.collapses,
-            refused: Refused {
-                topology: r.topology,
-                boundary: r.boundary,
-                max_error: r.error,
-                normal_flip: r.normal_flip,
-                max_normal_deviation: r.normal_deviation,
-                max_aspect_ratio: r.aspect_ratio,
-                max_distance: r.distance,
-            },
-            placement: if args.optimal { "optimal" } else { "endpoint" },
-            max_quadric_error: report.max_quadric_error,
-            hausdorff: report.hausdorff,
-            hausdorff_to_input: report.hausdorff_to_input,
-            hausdorff_from_input: report.hausdorff_from_input,
-            seconds,
-        };
-        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
-        writeln!(out)?;
+        out.write_all(&json)?;
         return Ok(());
     }
     for line in &loaded.repair_lines {
@@ -261,5 +285,6 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         report.vertices_after,
         number(report.hausdorff),
     )?;
+    quality.write_table(out)?;
     Ok(())
 }

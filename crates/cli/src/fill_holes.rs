@@ -7,9 +7,10 @@ use std::path::PathBuf;
 use beltrami_algorithms::{FillError, FillOptions, SkipReason, fill_holes};
 use serde::Serialize;
 
+use crate::edit_report::{EditReport, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, refuse_height_map_output, write_result};
+use crate::output::{Outputs, refuse_height_map_output, write_result_and_report};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami fill-holes`.
@@ -37,13 +38,19 @@ pub(crate) struct FillHolesArgs {
     /// flat between the rim vertices.
     #[arg(long)]
     no_fair: bool,
-    /// Print a JSON summary instead of the sentence.
+    /// Print a JSON summary (with the mesh quality before and after) instead of the
+    /// sentence and the quality table.
     #[arg(long)]
     json: bool,
+    /// Also write the JSON summary, with the mesh quality before and after, to this
+    /// file.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT (or the --report file) even when it is the input or
+    /// write-protected.
     #[arg(long)]
     force: bool,
     #[command(flatten)]
@@ -115,7 +122,9 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         "the filled patches add vertices off the grid",
     )?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "fill-holes")?;
@@ -136,44 +145,59 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    write_result(&args.output, &mesh, positions, args.ascii)?;
-
+    let quality = QualityChange::measure(
+        &args.input,
+        "fill-holes",
+        (&loaded.mesh, &loaded.positions),
+        (&mesh, &positions),
+    )?;
+    let summary = Summary {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        vertices: mesh.n_vertices(),
+        faces: mesh.n_faces(),
+        loops: report.loops,
+        filled: report
+            .filled
+            .iter()
+            .map(|h| Hole {
+                boundary_edges: h.boundary_edges,
+                perimeter: h.perimeter,
+                faces_added: h.faces_added,
+                vertices_added: h.vertices_added,
+                area: h.area,
+                faired_order: h.faired_order,
+            })
+            .collect(),
+        skipped: report
+            .skipped
+            .iter()
+            .map(|s| Skipped {
+                boundary_edges: s.boundary_edges,
+                perimeter: s.perimeter,
+                reason: reason_key(s.reason),
+            })
+            .collect(),
+        faces_added: report.faces_added,
+        vertices_added: report.vertices_added,
+        boundary_loops_left: mesh.boundary_loops().count(),
+        max_loop_edges: options.max_loop_edges,
+        seconds,
+    };
+    let json = EditReport {
+        summary: &summary,
+        quality: &quality,
+    }
+    .to_json()?;
+    write_result_and_report(
+        &args.output,
+        &mesh,
+        positions,
+        args.ascii,
+        args.report.as_ref().map(|path| (path, json.as_slice())),
+    )?;
     if args.json {
-        let summary = Summary {
-            input: args.input.display().to_string(),
-            output: args.output.display().to_string(),
-            vertices: mesh.n_vertices(),
-            faces: mesh.n_faces(),
-            loops: report.loops,
-            filled: report
-                .filled
-                .iter()
-                .map(|h| Hole {
-                    boundary_edges: h.boundary_edges,
-                    perimeter: h.perimeter,
-                    faces_added: h.faces_added,
-                    vertices_added: h.vertices_added,
-                    area: h.area,
-                    faired_order: h.faired_order,
-                })
-                .collect(),
-            skipped: report
-                .skipped
-                .iter()
-                .map(|s| Skipped {
-                    boundary_edges: s.boundary_edges,
-                    perimeter: s.perimeter,
-                    reason: reason_key(s.reason),
-                })
-                .collect(),
-            faces_added: report.faces_added,
-            vertices_added: report.vertices_added,
-            boundary_loops_left: mesh.boundary_loops().count(),
-            max_loop_edges: options.max_loop_edges,
-            seconds,
-        };
-        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
-        writeln!(out)?;
+        out.write_all(&json)?;
         return Ok(());
     }
     for line in &loaded.repair_lines {
@@ -221,5 +245,6 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         counted(report.vertices_added, "vertex", "vertices"),
         number(area),
     )?;
+    quality.write_table(out)?;
     Ok(())
 }

@@ -75,27 +75,27 @@ struct Summary {
 #[derive(Debug, Serialize)]
 pub(crate) struct QualityJson {
     degenerate_faces: usize,
-    min_angle_degrees: Option<f64>,
+    pub(crate) min_angle_degrees: Option<f64>,
     max_angle_degrees: Option<f64>,
-    mean_min_angle_degrees: Option<f64>,
+    pub(crate) mean_min_angle_degrees: Option<f64>,
     mean_aspect_ratio: Option<f64>,
-    max_aspect_ratio: Option<f64>,
+    pub(crate) max_aspect_ratio: Option<f64>,
     /// Upper ends of the aspect-ratio bins; the last bin is open.
     aspect_ratio_bins: Vec<f64>,
     aspect_ratio_histogram: Vec<usize>,
     edge_length_min: Option<f64>,
     edge_length_mean: Option<f64>,
     edge_length_max: Option<f64>,
-    edge_length_cv: Option<f64>,
+    pub(crate) edge_length_cv: Option<f64>,
     /// Index k: interior vertices with k edges.
     valence_histogram: Vec<usize>,
     /// Index k: boundary vertices with k edges.
     boundary_valence_histogram: Vec<usize>,
     /// Share of vertices with valence 6 (4 on the boundary), 0 to 1.
-    regular_share: f64,
+    pub(crate) regular_share: f64,
     interior_edges: usize,
     negative_cotangent_edges: usize,
-    negative_cotangent_share: f64,
+    pub(crate) negative_cotangent_share: f64,
     /// Faces turned against --reference; null without it.
     flipped_faces: Option<usize>,
 }

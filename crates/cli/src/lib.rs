@@ -26,6 +26,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 mod compare;
 mod decimate;
 mod delaunay;
+mod edit_report;
 mod error;
 mod fill_holes;
 mod fit;

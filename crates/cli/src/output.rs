@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use beltrami_io::{
     Encoding, IoError, MeshData, StagedFile, WriteOptions, check_writable, resolve_target,
-    stage_mesh,
+    stage_bytes, stage_mesh,
 };
 
 use crate::error::CliError;
@@ -50,12 +50,27 @@ pub(crate) fn write_result(
     positions: Vec<beltrami_halfedge::DVec3>,
     ascii: bool,
 ) -> Result<(), CliError> {
+    write_result_and_report(path, mesh, positions, ascii, None)
+}
+
+/// [`write_result`], and with `report` the bytes of a report file beside it, staged
+/// together: both appear, or neither.
+pub(crate) fn write_result_and_report(
+    path: &Path,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    positions: Vec<beltrami_halfedge::DVec3>,
+    ascii: bool,
+    report: Option<(&PathBuf, &[u8])>,
+) -> Result<(), CliError> {
     let data = MeshData {
         positions,
         faces: mesh.to_polygons(),
     };
     let mut staged = Staged::new();
     staged.push_mesh(path, &data, ascii)?;
+    if let Some((report, bytes)) = report {
+        staged.push(report, |report| stage_bytes(report, bytes))?;
+    }
     staged.commit()
 }
 

@@ -7,9 +7,10 @@ use std::path::PathBuf;
 use beltrami_algorithms::{RemeshError, RemeshOptions, remesh};
 use serde::Serialize;
 
+use crate::edit_report::{EditReport, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, refuse_height_map_output, write_result};
+use crate::output::{Outputs, refuse_height_map_output, write_result_and_report};
 use crate::text::number;
 
 /// Arguments of `beltrami remesh`.
@@ -54,13 +55,19 @@ pub(crate) struct RemeshArgs {
     /// within their tangent planes, and a curved surface shrinks slightly).
     #[arg(long)]
     no_projection: bool,
-    /// Print a JSON summary instead of the sentence.
+    /// Print a JSON summary (with the mesh quality before and after) instead of the
+    /// sentence and the quality table.
     #[arg(long)]
     json: bool,
+    /// Also write the JSON summary, with the mesh quality before and after, to this
+    /// file.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT (or the --report file) even when it is the input or
+    /// write-protected.
     #[arg(long)]
     force: bool,
     #[command(flatten)]
@@ -156,7 +163,9 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         "remeshing makes new vertices off the grid",
     )?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs
+        .add(&args.output, "OUTPUT")
+        .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
@@ -174,36 +183,51 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    write_result(&args.output, &mesh, positions, args.ascii)?;
-
+    let quality = QualityChange::measure(
+        &args.input,
+        "remesh",
+        (&loaded.mesh, &loaded.positions),
+        (&mesh, &positions),
+    )?;
+    let summary = Summary {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        target_edge_length: report.target_edge_length,
+        adaptive: args.adaptive,
+        iterations: report.iterations.len(),
+        splits: report.splits,
+        collapses: report.collapses,
+        flips: report.flips,
+        vertices_before: report.vertices_before,
+        faces_before: report.faces_before,
+        vertices: report.vertices,
+        faces: report.faces,
+        mean_edge_length_before: report.mean_edge_length_before,
+        edge_length_cv_before: report.edge_length_cv_before,
+        mean_edge_length: report.mean_edge_length,
+        edge_length_cv: report.edge_length_cv,
+        feature_edges: report.feature_edges,
+        boundary_edges: report.boundary_edges,
+        corners: report.corners,
+        hausdorff: report.hausdorff,
+        feature_angle_degrees: args.features,
+        projection: !args.no_projection,
+        seconds,
+    };
+    let json = EditReport {
+        summary: &summary,
+        quality: &quality,
+    }
+    .to_json()?;
+    write_result_and_report(
+        &args.output,
+        &mesh,
+        positions,
+        args.ascii,
+        args.report.as_ref().map(|path| (path, json.as_slice())),
+    )?;
     if args.json {
-        let summary = Summary {
-            input: args.input.display().to_string(),
-            output: args.output.display().to_string(),
-            target_edge_length: report.target_edge_length,
-            adaptive: args.adaptive,
-            iterations: report.iterations.len(),
-            splits: report.splits,
-            collapses: report.collapses,
-            flips: report.flips,
-            vertices_before: report.vertices_before,
-            faces_before: report.faces_before,
-            vertices: report.vertices,
-            faces: report.faces,
-            mean_edge_length_before: report.mean_edge_length_before,
-            edge_length_cv_before: report.edge_length_cv_before,
-            mean_edge_length: report.mean_edge_length,
-            edge_length_cv: report.edge_length_cv,
-            feature_edges: report.feature_edges,
-            boundary_edges: report.boundary_edges,
-            corners: report.corners,
-            hausdorff: report.hausdorff,
-            feature_angle_degrees: args.features,
-            projection: !args.no_projection,
-            seconds,
-        };
-        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
-        writeln!(out)?;
+        out.write_all(&json)?;
         return Ok(());
     }
     for line in &loaded.repair_lines {
@@ -224,5 +248,6 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         number(report.edge_length_cv_before),
         number(report.hausdorff),
     )?;
+    quality.write_table(out)?;
     Ok(())
 }

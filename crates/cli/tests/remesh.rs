@@ -75,7 +75,9 @@ fn a_generated_sphere_remeshes_to_the_target_length() {
     let o = beltrami(&["remesh", s(&sphere), s(&out), "--force"]);
     assert!(o.status.success());
     let line = String::from_utf8(o.stdout).unwrap();
-    assert_eq!(line.lines().count(), 1, "{line}");
+    // The sentence, then the quality table: a header and six rows.
+    assert_eq!(line.lines().count(), 8, "{line}");
+    assert!(line.lines().nth(1).unwrap().starts_with("quality"), "{line}");
     assert!(line.contains("642 vertices, 1280 faces ->"), "{line}");
     assert!(line.contains("mean edge length"), "{line}");
     assert!(line.contains("variation"), "{line}");

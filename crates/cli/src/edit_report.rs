@@ -1,0 +1,118 @@
+//! What `remesh`, `decimate` and `fill-holes` share once their algorithm has run: the
+//! mesh quality of the input and of the result (printed as a before/after table, and
+//! carried in `--json` and in the `--report FILE.json` document), and one staged write
+//! of the result mesh together with the report, so that neither appears without the
+//! other ([`write_result_and_report`](crate::output::write_result_and_report)).
+
+use std::io::Write;
+use std::path::Path;
+
+use beltrami_algorithms::{QualityError, mesh_quality};
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use serde::Serialize;
+
+use crate::error::{CliError, not_triangles};
+use crate::info::QualityJson;
+use crate::text::number;
+
+/// The quality of the input and of the result, as `info --quality --json` reports it
+/// (angles in degrees).
+#[derive(Debug, Serialize)]
+pub(crate) struct QualityChange {
+    /// The input mesh.
+    pub(crate) quality_before: QualityJson,
+    /// The result.
+    pub(crate) quality_after: QualityJson,
+}
+
+impl QualityChange {
+    /// Measures both meshes; `input` and `command` name them in an error (a face that
+    /// is not a triangle cannot reach this point, since every editing algorithm refuses
+    /// it first).
+    pub(crate) fn measure(
+        input: &Path,
+        command: &str,
+        before: (&HalfedgeMesh, &[DVec3]),
+        after: (&HalfedgeMesh, &[DVec3]),
+    ) -> Result<Self, CliError> {
+        let error = |e: QualityError| CliError::Input {
+            path: input.to_path_buf(),
+            message: match e {
+                QualityError::NotTriangle { face, len } => not_triangles(command, face, len),
+                e => e.to_string(),
+            },
+        };
+        let quality_before = mesh_quality(before.0, before.1).map_err(error)?;
+        let quality_after = mesh_quality(after.0, after.1).map_err(error)?;
+        Ok(Self {
+            quality_before: QualityJson::new(&quality_before, None),
+            quality_after: QualityJson::new(&quality_after, None),
+        })
+    }
+
+    /// The before/after table printed under the command's sentence: one row per
+    /// figure, the input's value, then the result's.
+    pub(crate) fn write_table(&self, out: &mut impl Write) -> std::io::Result<()> {
+        let (b, a) = (&self.quality_before, &self.quality_after);
+        let degrees =
+            |x: Option<f64>| x.map_or_else(|| "-".to_string(), |x| format!("{}°", number(x)));
+        let plain = |x: Option<f64>| x.map_or_else(|| "-".to_string(), number);
+        let percent = |x: f64| format!("{}%", number(100.0 * x));
+        let rows = [
+            (
+                "smallest angle",
+                degrees(b.min_angle_degrees),
+                degrees(a.min_angle_degrees),
+            ),
+            (
+                "mean smallest angle",
+                degrees(b.mean_min_angle_degrees),
+                degrees(a.mean_min_angle_degrees),
+            ),
+            (
+                "largest aspect ratio",
+                plain(b.max_aspect_ratio),
+                plain(a.max_aspect_ratio),
+            ),
+            (
+                "edge length CV",
+                plain(b.edge_length_cv),
+                plain(a.edge_length_cv),
+            ),
+            (
+                "regular vertices",
+                percent(b.regular_share),
+                percent(a.regular_share),
+            ),
+            (
+                "negative cotangent",
+                percent(b.negative_cotangent_share),
+                percent(a.negative_cotangent_share),
+            ),
+        ];
+        writeln!(out, "{:<21} {:>12} {:>12}", "quality", "before", "after")?;
+        for (name, before, after) in rows {
+            writeln!(out, "{name:<21} {before:>12} {after:>12}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The `--json` and `--report` document: the command's own summary with the quality
+/// before and after beside it.
+#[derive(Debug, Serialize)]
+pub(crate) struct EditReport<'a, S: Serialize> {
+    #[serde(flatten)]
+    pub(crate) summary: &'a S,
+    #[serde(flatten)]
+    pub(crate) quality: &'a QualityChange,
+}
+
+impl<S: Serialize> EditReport<'_, S> {
+    /// The document as pretty JSON with a final newline.
+    pub(crate) fn to_json(&self) -> Result<Vec<u8>, CliError> {
+        let mut json = serde_json::to_vec_pretty(self).map_err(std::io::Error::from)?;
+        json.push(b'\n');
+        Ok(json)
+    }
+}
