@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use beltrami_io::MeshData;
-use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise};
+use beltrami_surfaces::{NoiseLevel, Surface, SurfaceKind, add_normal_noise, cut_holes};
 use clap::ValueEnum;
 
 use crate::error::CliError;
@@ -47,11 +47,22 @@ pub(crate) struct GenerateArgs {
         hide = true
     )]
     relative: bool,
-    /// Seed of the noise (the same seed gives the same numbers on every platform).
-    #[arg(long, default_value_t = 1, requires = "noise")]
-    seed: u64,
-    /// Also write the clean surface (the reference) to this file.
-    #[arg(long, requires = "noise")]
+    /// Seed of the noise and of the holes' places (the same seed gives the same numbers
+    /// on every platform) [default: 1].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Cut this many round holes into the surface, as a scan leaves them where the
+    /// sensor saw nothing: each removes the faces whose centroid lies within
+    /// --hole-radius of a seeded vertex away from the boundary and from the other
+    /// holes. The clean reference (--clean) stays whole.
+    #[arg(long, value_name = "N")]
+    holes: Option<usize>,
+    /// With --holes: the holes' radius as a multiple of the mean edge length.
+    #[arg(long, value_name = "R", default_value_t = 3.0, requires = "holes")]
+    hole_radius: f64,
+    /// Also write the clean surface (the reference: without noise and without holes) to
+    /// this file.
+    #[arg(long)]
     clean: Option<PathBuf>,
     /// Replace write-protected output files.
     #[arg(long)]
@@ -111,6 +122,32 @@ fn stage(
 
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
+    if args.noise.is_none() && args.holes.is_none() {
+        if args.seed.is_some() {
+            return Err(CliError::Usage(
+                "--seed needs --noise or --holes (it seeds them)".to_string(),
+            ));
+        }
+        if args.clean.is_some() {
+            return Err(CliError::Usage(
+                "--clean needs --noise or --holes (without them OUTPUT is the clean surface)"
+                    .to_string(),
+            ));
+        }
+    }
+    if args.holes.is_some() && args.shuffle.is_some() {
+        return Err(CliError::Usage(
+            "--holes and --shuffle cannot be combined (cutting holes renumbers the vertices)"
+                .to_string(),
+        ));
+    }
+    if !(args.hole_radius.is_finite() && args.hole_radius > 0.0) {
+        return Err(CliError::Usage(format!(
+            "--hole-radius must be a positive number, got {}",
+            number(args.hole_radius)
+        )));
+    }
+    let seed = args.seed.unwrap_or(1);
     let mut outputs = Outputs::new();
     outputs
         .add(&args.output, "OUTPUT")
@@ -137,7 +174,7 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
             } else {
                 NoiseLevel::RelativeToMeanEdge(level)
             };
-            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, noise, args.seed)
+            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, noise, seed)
                 .map_err(|e| CliError::Usage(e.to_string()))?;
             let how = if args.absolute_noise {
                 String::new()
@@ -148,7 +185,7 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
                 ", normal noise sigma = {}{}{how} (seed {})",
                 number(sigma),
                 unit_suffix(surface.unit),
-                args.seed
+                seed
             );
             noisy
         }
@@ -163,7 +200,25 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
         }
     };
     let mut staged = Staged::new();
-    stage(&mut staged, &args.output, &surface, positions, args.ascii)?;
+    let mut counts = (mesh.n_vertices(), mesh.n_faces());
+    match args.holes {
+        None => stage(&mut staged, &args.output, &surface, positions, args.ascii)?,
+        Some(count) => {
+            let radius = args.hole_radius * mesh_mean_edge(&mesh, &surface.positions)?;
+            let noisy = MeshData::new(positions, surface.faces.clone());
+            let cut = cut_holes(&noisy, count, radius, seed)
+                .map_err(|e| CliError::Usage(e.to_string()))?;
+            counts = (cut.data.positions.len(), cut.data.faces.len());
+            note.push_str(&format!(
+                ", {} of radius {}{} cut (seed {seed}, {} removed)",
+                counted(count, "hole", "holes"),
+                number(radius),
+                unit_suffix(surface.unit),
+                counted(cut.faces_removed, "face", "faces"),
+            ));
+            staged.push_mesh(&args.output, &cut.data, args.ascii)?;
+        }
+    }
     if let Some(clean) = &args.clean {
         stage(
             &mut staged,
@@ -181,8 +236,8 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
         out,
         "generated {} ({}, {}, {}){note} -> {}",
         surface.name,
-        counted(mesh.n_vertices(), "vertex", "vertices"),
-        counted(mesh.n_faces(), "face", "faces"),
+        counted(counts.0, "vertex", "vertices"),
+        counted(counts.1, "face", "faces"),
         if unit_suffix(surface.unit).is_empty() {
             "unitless".to_string()
         } else {
@@ -194,4 +249,15 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
         writeln!(out, "clean reference -> {}", clean.display())?;
     }
     Ok(())
+}
+
+/// The mean edge length of the clean surface, in its unit (each edge once).
+fn mesh_mean_edge(
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    positions: &[beltrami_halfedge::DVec3],
+) -> Result<f64, CliError> {
+    beltrami_halfedge::geometry::Geometry::new(mesh, positions)
+        .ok()
+        .and_then(|g| g.mean_edge_length())
+        .ok_or_else(|| CliError::Usage("internal: generated surface has no edges".to_string()))
 }

@@ -95,7 +95,10 @@ fn the_sentence_says_whether_the_target_was_reached() {
     let line = String::from_utf8(o.stdout).unwrap();
     // The sentence, then the quality table: a header and six rows.
     assert_eq!(line.lines().count(), 8, "{line}");
-    assert!(line.lines().nth(1).unwrap().starts_with("quality"), "{line}");
+    assert!(
+        line.lines().nth(1).unwrap().starts_with("quality"),
+        "{line}"
+    );
     assert!(
         line.contains("2244 -> 500 vertices (target 500 reached)"),
         "{line}"

@@ -84,7 +84,10 @@ fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
     let text = String::from_utf8(o.stdout).unwrap();
     // The sentence, then the quality table: a header and six rows.
     assert_eq!(text.lines().count(), 8, "{text}");
-    assert!(text.lines().nth(1).unwrap().starts_with("quality"), "{text}");
+    assert!(
+        text.lines().nth(1).unwrap().starts_with("quality"),
+        "{text}"
+    );
     assert!(text.starts_with("filled 5 holes of "), "{text}");
     assert!(text.contains("the outer boundary"), "{text}");
 }

@@ -745,3 +745,69 @@ fn a_mesh_split_at_seams_is_pointed_to_its_merge() {
         (Some(8), Some(1), Some(true))
     );
 }
+
+/// The pipeline of docs/pipeline.md: a scan-like lens (noise and three holes) is
+/// filled, remeshed and smoothed, and each step brings it closer to the clean lens.
+#[test]
+fn scan_fill_remesh_smooth_residual_each_step_helps() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    stdout(&[
+        "generate",
+        "flens",
+        s(&p("scan.ply")),
+        "--noise",
+        "0.2",
+        "--holes",
+        "3",
+        "--clean",
+        s(&p("lens.ply")),
+    ]);
+    stdout(&["fill-holes", s(&p("scan.ply")), s(&p("filled.ply"))]);
+    stdout(&["remesh", s(&p("filled.ply")), s(&p("even.ply"))]);
+    stdout(&["smooth", s(&p("even.ply")), s(&p("smooth.ply"))]);
+    let compare = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&stdout(&[
+            "compare",
+            s(&p(name)),
+            s(&p("lens.ply")),
+            "--json",
+        ]))
+        .unwrap()
+    };
+    let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();
+    let (scan, filled, even, smooth) = (
+        compare("scan.ply"),
+        compare("filled.ply"),
+        compare("even.ply"),
+        compare("smooth.ply"),
+    );
+    // Filling: the lens is covered again (the reference's farthest point from the mesh
+    // falls from a hole's radius to the noise's reach), and only the outline is open.
+    assert!(
+        f(&filled, "hausdorff_reference_to_mesh") < f(&scan, "hausdorff_reference_to_mesh") / 3.0
+    );
+    assert_eq!(info(&p("filled.ply"), &[])["boundary_loops"], 1);
+    // Each later step lowers the RMS distance to the clean lens.
+    assert!(f(&filled, "rms") <= f(&scan, "rms") * 1.01);
+    assert!(f(&even, "rms") < f(&filled, "rms"));
+    assert!(f(&smooth, "rms") < 0.7 * f(&even, "rms"));
+    // The residual of the remeshed scan from its smoothed version is the noise: its Sq
+    // is of the order of the noise's σ (0.2 of the mean edge length).
+    let residual: serde_json::Value = serde_json::from_str(&stdout(&[
+        "residual",
+        s(&p("even.ply")),
+        s(&p("smooth.ply")),
+        "--json",
+    ]))
+    .unwrap();
+    let sigma = 0.2
+        * info(&p("lens.ply"), &[])["mean_edge_length"]
+            .as_f64()
+            .unwrap();
+    let sq = residual["sq"].as_f64().unwrap();
+    assert!(
+        sq > 0.5 * sigma && sq < 1.2 * sigma,
+        "Sq {sq}, sigma {sigma}"
+    );
+}

@@ -186,3 +186,64 @@ fn shuffle_renumbers_the_vertices_of_the_same_surface() {
         assert_eq!(a, b);
     }
 }
+
+#[test]
+fn holes_are_cut_into_the_noisy_surface_and_the_reference_stays_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let out = beltrami(&[
+        "generate",
+        "flens",
+        &p("scan.ply"),
+        "--noise",
+        "0.1",
+        "--holes",
+        "3",
+        "--clean",
+        &p("clean.ply"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("3 holes of radius"), "{text}");
+    let scan = read_mesh(std::path::Path::new(&p("scan.ply"))).unwrap();
+    let clean = read_mesh(std::path::Path::new(&p("clean.ply"))).unwrap();
+    assert!(scan.faces.len() < clean.faces.len());
+    assert_eq!(
+        clean.positions.len(),
+        2244,
+        "the reference is the whole lens"
+    );
+    let loops = |m: &beltrami_io::MeshData| m.mesh().unwrap().boundary_loops().count();
+    assert_eq!(loops(&scan), loops(&clean) + 3);
+    // The same noise with and without holes: every kept vertex is a noisy vertex.
+    let out = beltrami(&["generate", "flens", &p("noisy.ply"), "--noise", "0.1"]);
+    assert!(out.status.success());
+    let noisy = read_mesh(std::path::Path::new(&p("noisy.ply"))).unwrap();
+    assert!(scan.positions.iter().all(|q| noisy.positions.contains(q)));
+    // Holes without noise need no --noise; bad combinations are usage errors.
+    let out = beltrami(&["generate", "sphere", &p("holed.ply"), "--holes", "2"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for bad in [
+        &["--holes", "1", "--shuffle", "3"][..],
+        &["--holes", "500"],
+        &["--holes", "1", "--hole-radius", "0"],
+        &["--seed", "4"],
+        &["--clean", "c.ply"],
+    ] {
+        let mut args = vec!["generate", "flens", "bad.ply"];
+        args.extend_from_slice(bad);
+        let out = beltrami(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
+    }
+    assert!(!std::path::Path::new("bad.ply").exists());
+}

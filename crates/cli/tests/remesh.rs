@@ -77,7 +77,10 @@ fn a_generated_sphere_remeshes_to_the_target_length() {
     let line = String::from_utf8(o.stdout).unwrap();
     // The sentence, then the quality table: a header and six rows.
     assert_eq!(line.lines().count(), 8, "{line}");
-    assert!(line.lines().nth(1).unwrap().starts_with("quality"), "{line}");
+    assert!(
+        line.lines().nth(1).unwrap().starts_with("quality"),
+        "{line}"
+    );
     assert!(line.contains("642 vertices, 1280 faces ->"), "{line}");
     assert!(line.contains("mean edge length"), "{line}");
     assert!(line.contains("variation"), "{line}");

@@ -18,6 +18,12 @@ pub enum SurfaceError {
         /// The σ in length units.
         sigma: f64,
     },
+    /// Holes that cannot be cut as asked (a bad radius, or not enough room).
+    #[error("{reason}")]
+    InvalidHoles {
+        /// What is wrong, in one sentence.
+        reason: String,
+    },
     /// The positions do not match the mesh.
     #[error(transparent)]
     Topology(#[from] TopologyError),

@@ -1,7 +1,8 @@
 //! # beltrami-surfaces
 //!
 //! The test surfaces of the Laplace–Beltrami comparison (the paper's Table 1) and
-//! seeded Gaussian noise along vertex normals:
+//! seeded Gaussian noise along vertex normals, and seeded round holes ([`cut_holes`]) as
+//! a scan leaves them:
 //!
 //! | surface | what | vertices / faces | unit |
 //! |---|---|---|---|
@@ -28,6 +29,7 @@ mod block;
 mod error;
 mod flens;
 mod golfball;
+mod holes;
 mod noise;
 mod surface;
 
@@ -35,6 +37,7 @@ pub use block::{BlockParams, block};
 pub use error::SurfaceError;
 pub use flens::{FLensParams, flens};
 pub use golfball::{GolfBallParams, geodesic_sphere, golf_ball};
+pub use holes::{CutHoles, cut_holes};
 pub use noise::{NoiseLevel, NormalRng, add_normal_noise};
 pub use surface::{Surface, shuffle_order};
 
