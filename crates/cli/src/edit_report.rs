@@ -2,10 +2,10 @@
 //! mesh quality of the input and of the result (printed as a before/after table, and
 //! carried in `--json` and in the `--report FILE.json` document), and one staged write
 //! of the result mesh together with the report, so that neither appears without the
-//! other ([`write_result_and_report`](crate::output::write_result_and_report)).
+//! other.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use beltrami_algorithms::{QualityError, mesh_quality};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
@@ -13,6 +13,7 @@ use serde::Serialize;
 
 use crate::error::{CliError, not_triangles};
 use crate::info::QualityJson;
+use crate::output::{Outputs, write_result_and_report};
 use crate::text::number;
 
 /// The quality of the input and of the result, as `info --quality --json` reports it
@@ -101,18 +102,69 @@ impl QualityChange {
 /// The `--json` and `--report` document: the command's own summary with the quality
 /// before and after beside it.
 #[derive(Debug, Serialize)]
-pub(crate) struct EditReport<'a, S: Serialize> {
+struct EditReport<'a, S: Serialize> {
     #[serde(flatten)]
-    pub(crate) summary: &'a S,
+    summary: &'a S,
     #[serde(flatten)]
-    pub(crate) quality: &'a QualityChange,
+    quality: &'a QualityChange,
 }
 
-impl<S: Serialize> EditReport<'_, S> {
-    /// The document as pretty JSON with a final newline.
-    pub(crate) fn to_json(&self) -> Result<Vec<u8>, CliError> {
-        let mut json = serde_json::to_vec_pretty(self).map_err(std::io::Error::from)?;
+/// The output options the editing commands share.
+#[derive(Debug, clap::Args)]
+pub(crate) struct EditOutputArgs {
+    /// Print a JSON summary (with the mesh quality before and after) instead of the
+    /// sentence and the quality table.
+    #[arg(long)]
+    json: bool,
+    /// Also write the JSON summary, with the mesh quality before and after, to this
+    /// file.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
+    /// Write PLY (and STL) as ascii text instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Replace OUTPUT (or the --report file) even when it is the input or
+    /// write-protected.
+    #[arg(long)]
+    force: bool,
+}
+
+impl EditOutputArgs {
+    /// Checks OUTPUT and the `--report` file against each other and the input, before
+    /// any work (see [`Outputs::check`]).
+    pub(crate) fn check(&self, output: &Path, input: &PathBuf) -> Result<(), CliError> {
+        let mut outputs = Outputs::new();
+        outputs
+            .add(output, "OUTPUT")
+            .add_opt(self.report.as_ref(), "--report");
+        outputs.check(&[input], self.force)
+    }
+
+    /// Writes the result mesh to `output` and, with `--report`, the JSON document
+    /// (`summary` with `quality`) as one staged write; with `--json` prints the
+    /// document. Returns whether it printed it (then the command prints nothing else).
+    pub(crate) fn write(
+        &self,
+        output: &Path,
+        mesh: &HalfedgeMesh,
+        positions: Vec<DVec3>,
+        summary: &impl Serialize,
+        quality: &QualityChange,
+        out: &mut impl Write,
+    ) -> Result<bool, CliError> {
+        let mut json = serde_json::to_vec_pretty(&EditReport { summary, quality })
+            .map_err(std::io::Error::from)?;
         json.push(b'\n');
-        Ok(json)
+        write_result_and_report(
+            output,
+            mesh,
+            positions,
+            self.ascii,
+            self.report.as_ref().map(|path| (path, json.as_slice())),
+        )?;
+        if self.json {
+            out.write_all(&json)?;
+        }
+        Ok(self.json)
     }
 }

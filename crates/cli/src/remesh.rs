@@ -7,10 +7,10 @@ use std::path::PathBuf;
 use beltrami_algorithms::{RemeshError, RemeshOptions, remesh};
 use serde::Serialize;
 
-use crate::edit_report::{EditReport, QualityChange};
+use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, refuse_height_map_output, write_result_and_report};
+use crate::output::refuse_height_map_output;
 use crate::text::number;
 
 /// Arguments of `beltrami remesh`.
@@ -55,21 +55,8 @@ pub(crate) struct RemeshArgs {
     /// within their tangent planes, and a curved surface shrinks slightly).
     #[arg(long)]
     no_projection: bool,
-    /// Print a JSON summary (with the mesh quality before and after) instead of the
-    /// sentence and the quality table.
-    #[arg(long)]
-    json: bool,
-    /// Also write the JSON summary, with the mesh quality before and after, to this
-    /// file.
-    #[arg(long, value_name = "FILE.json")]
-    report: Option<PathBuf>,
-    /// Write PLY (and STL) as ascii text instead of binary.
-    #[arg(long)]
-    ascii: bool,
-    /// Replace OUTPUT (or the --report file) even when it is the input or
-    /// write-protected.
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    outputs: EditOutputArgs,
     #[command(flatten)]
     read: ReadArgs,
 }
@@ -162,11 +149,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         "remesh",
         "remeshing makes new vertices off the grid",
     )?;
-    let mut outputs = Outputs::new();
-    outputs
-        .add(&args.output, "OUTPUT")
-        .add_opt(args.report.as_ref(), "--report");
-    outputs.check(&[&args.input], args.force)?;
+    args.outputs.check(&args.output, &args.input)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
     let start = std::time::Instant::now();
@@ -214,20 +197,10 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         projection: !args.no_projection,
         seconds,
     };
-    let json = EditReport {
-        summary: &summary,
-        quality: &quality,
-    }
-    .to_json()?;
-    write_result_and_report(
-        &args.output,
-        &mesh,
-        positions,
-        args.ascii,
-        args.report.as_ref().map(|path| (path, json.as_slice())),
-    )?;
-    if args.json {
-        out.write_all(&json)?;
+    if args
+        .outputs
+        .write(&args.output, &mesh, positions, &summary, &quality, out)?
+    {
         return Ok(());
     }
     for line in &loaded.repair_lines {
