@@ -18,7 +18,7 @@ use beltrami_metrics::distance::{
     check_same_topology, displacement_stats, one_sided_hausdorff,
     one_sided_hausdorff_from_vertex_distances, surface_area, volume,
 };
-use beltrami_metrics::normals::normal_deviation;
+use beltrami_metrics::normals::{NormalDeviation, normal_deviation};
 use beltrami_viz::render::ColorMap;
 use serde::Serialize;
 
@@ -175,6 +175,103 @@ struct Scalars {
 
 /// Runs `beltrami compare`.
 pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliError> {
+    check_outputs(args)?;
+    let start = Instant::now();
+    let mesh = load_input(&args.mesh, &args.read, Some("compare"))?;
+    let reference = load_input(&args.reference, &args.read, Some("compare"))?;
+    let read = start.elapsed().as_secs_f64();
+    let on_mesh = metrics_error(&args.mesh);
+    let on_reference = metrics_error(&args.reference);
+
+    let d = distances(args, &mesh, &reference)?;
+    let unsigned: Vec<f64> = d.signed.iter().map(|s| s.abs()).collect();
+    let areas = Geometry::new(&mesh.mesh, &mesh.positions)
+        .and_then(|g| g.vertex_areas(VertexAreaKind::Barycentric))
+        .map_err(|e| on_mesh(e.into()))?;
+    let stats = DistanceStats::new(&unsigned, areas.as_slice()).map_err(&on_mesh)?;
+    let signed_stats = SignedDistanceStats::new(&d.signed).map_err(&on_mesh)?;
+
+    let mut notes = Notes::default();
+    let (displacement, normals) = vertex_to_vertex(args, &mesh, &reference, &mut notes)?;
+    let mesh_volume = closed_volume(&mesh).map_err(&on_mesh)?;
+    let reference_volume = closed_volume(&reference).map_err(&on_reference)?;
+    notes.volume = match (mesh_volume, reference_volume) {
+        (Some(_), Some(_)) => String::new(),
+        (None, Some(_)) => format!("{} is open", args.mesh.display()),
+        (Some(_), None) => format!("{} is open", args.reference.display()),
+        (None, None) => "both meshes are open".to_string(),
+    };
+    let area = Areas {
+        mesh: surface_area(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?,
+        reference: surface_area(&reference.mesh, &reference.positions).map_err(&on_reference)?,
+    };
+    let scalars = write_outputs(args, &mesh, &d.signed)?;
+
+    let h = d.hausdorff;
+    let mut comparison = Comparison {
+        mesh: summary(&args.mesh, &mesh),
+        reference: summary(&args.reference, &reference),
+        rms: stats.rms,
+        mean: stats.mean,
+        max: stats.max,
+        area_rms: stats.area_weighted_rms,
+        signed: Signed {
+            mean: signed_stats.mean,
+            min: signed_stats.min,
+            max: signed_stats.max,
+            std_dev: signed_stats.std_dev,
+        },
+        hausdorff: h.symmetric,
+        hausdorff_mesh_to_reference: h.forward,
+        hausdorff_reference_to_mesh: h.backward,
+        hausdorff_samples: d.samples,
+        same_topology: displacement.is_some(),
+        displacement: displacement.map(|d| Displacement {
+            rms: d.rms,
+            mean: d.mean,
+            max: d.max,
+            area_rms: d.area_weighted_rms,
+        }),
+        normal_deviation_deg: normals.map(|n| NormalAngles {
+            mean: n.mean_deg,
+            rms: n.rms_deg,
+            max: n.max_deg,
+            faces: n.compared,
+        }),
+        normal_area_weighted_error: normals.map(|n| n.area_weighted_error),
+        volume: mesh_volume
+            .zip(reference_volume)
+            .map(|(mesh, reference)| Volumes {
+                mesh,
+                reference,
+                ratio: mesh / reference,
+            }),
+        area,
+        scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
+        png: args.png.as_ref().map(|p| p.display().to_string()),
+        seconds: Seconds {
+            read,
+            index_build: d.index_build,
+            queries: d.queries,
+            other: 0.0,
+            total: 0.0,
+        },
+    };
+    comparison.seconds.total = start.elapsed().as_secs_f64();
+    comparison.seconds.other =
+        (comparison.seconds.total - read - d.index_build - d.queries).max(0.0);
+    if args.json {
+        serde_json::to_writer_pretty(&mut *out, &comparison).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+    } else {
+        write_table(&comparison, &notes, out)?;
+    }
+    Ok(())
+}
+
+/// Checks the output options before anything is read: `--scalars` is a PLY file,
+/// `--png` a PNG, and neither is an input or the other (see [`Outputs::check`]).
+fn check_outputs(args: &CompareArgs) -> Result<(), CliError> {
     if let Some(path) = &args.scalars {
         check_ply_path("--scalars", path)?;
     }
@@ -192,14 +289,29 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
     outputs
         .add_opt(args.scalars.as_ref(), "--scalars")
         .add_opt(args.png.as_ref(), "--png");
-    outputs.check(&[&args.mesh, &args.reference], args.force)?;
-    let start = Instant::now();
-    let mesh = load_input(&args.mesh, &args.read, Some("compare"))?;
-    let reference = load_input(&args.reference, &args.read, Some("compare"))?;
-    let read = start.elapsed().as_secs_f64();
+    outputs.check(&[&args.mesh, &args.reference], args.force)
+}
+
+/// The point-to-surface distances both ways and the seconds they took.
+struct Distances {
+    /// The signed distance of each of MESH's vertices to REFERENCE.
+    signed: Vec<f64>,
+    hausdorff: HausdorffDistance,
+    /// `--samples` (0: vertices only).
+    samples: u64,
+    index_build: f64,
+    queries: f64,
+}
+
+/// Builds both surfaces' closest-point indices and measures the signed vertex
+/// distances and the two one-sided Hausdorff distances.
+fn distances(
+    args: &CompareArgs,
+    mesh: &LoadedMesh,
+    reference: &LoadedMesh,
+) -> Result<Distances, CliError> {
     let on_mesh = metrics_error(&args.mesh);
     let on_reference = metrics_error(&args.reference);
-
     let clock = Instant::now();
     let reference_index =
         SurfaceIndex::new(&reference.mesh, &reference.positions).map_err(&on_reference)?;
@@ -227,23 +339,29 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             .map_err(&on_mesh)?;
     let backward =
         one_sided_hausdorff(&reference_index, &mesh_index, sampling).map_err(&on_mesh)?;
-    let h = HausdorffDistance::from_one_sided(forward, backward);
-    let queries = clock.elapsed().as_secs_f64();
+    Ok(Distances {
+        signed,
+        hausdorff: HausdorffDistance::from_one_sided(forward, backward),
+        samples,
+        index_build,
+        queries: clock.elapsed().as_secs_f64(),
+    })
+}
 
-    let unsigned: Vec<f64> = signed.iter().map(|s| s.abs()).collect();
-    let areas = Geometry::new(&mesh.mesh, &mesh.positions)
-        .and_then(|g| g.vertex_areas(VertexAreaKind::Barycentric))
-        .map_err(|e| on_mesh(e.into()))?;
-    let stats = DistanceStats::new(&unsigned, areas.as_slice()).map_err(&on_mesh)?;
-    let signed_stats = SignedDistanceStats::new(&signed).map_err(&on_mesh)?;
-
+/// The vertex-to-vertex figures of two meshes with one topology: displacements and
+/// face-normal deviations; `None` (with the reason in `notes`) otherwise.
+fn vertex_to_vertex(
+    args: &CompareArgs,
+    mesh: &LoadedMesh,
+    reference: &LoadedMesh,
+    notes: &mut Notes,
+) -> Result<(Option<DistanceStats>, Option<NormalDeviation>), CliError> {
     let pair = pair_subject(&args.mesh, &args.reference);
     let on_pair = |source| CliError::Metrics {
         subject: pair.clone(),
         source,
     };
-    let mut notes = Notes::default();
-    let (displacement, normals) = match check_same_topology(&mesh.mesh, &reference.mesh) {
+    match check_same_topology(&mesh.mesh, &reference.mesh) {
         Ok(()) => {
             let d = displacement_stats(
                 &mesh.mesh,
@@ -265,37 +383,32 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
                 }
                 Err(e) => return Err(on_pair(e)),
             };
-            (Some(d), n)
+            Ok((Some(d), n))
         }
         Err(MetricsError::TopologyMismatch { detail }) => {
             notes.topology = format!("the meshes do not share their topology: {detail}");
             notes.normals.clone_from(&notes.topology);
-            (None, None)
+            Ok((None, None))
         }
-        Err(e) => return Err(on_pair(e)),
-    };
+        Err(e) => Err(on_pair(e)),
+    }
+}
 
-    let mesh_volume = closed_volume(&mesh).map_err(&on_mesh)?;
-    let reference_volume = closed_volume(&reference).map_err(&on_reference)?;
-    notes.volume = match (mesh_volume, reference_volume) {
-        (Some(_), Some(_)) => String::new(),
-        (None, Some(_)) => format!("{} is open", args.mesh.display()),
-        (Some(_), None) => format!("{} is open", args.reference.display()),
-        (None, None) => "both meshes are open".to_string(),
-    };
-    let area = Areas {
-        mesh: surface_area(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?,
-        reference: surface_area(&reference.mesh, &reference.positions).map_err(&on_reference)?,
-    };
-
+/// Writes `--scalars` (MESH with its signed distances) and `--png` (MESH coloured by
+/// them) as one staged write; returns the scalar file's name and colour range.
+fn write_outputs(
+    args: &CompareArgs,
+    mesh: &LoadedMesh,
+    signed: &[f64],
+) -> Result<Option<(String, f64)>, CliError> {
     let mut staged = Staged::new();
     let scalars = match &args.scalars {
         Some(path) => Some(stage_scalar_ply(
             &mut staged,
             path,
-            &mesh,
+            mesh,
             "signed_distance",
-            &signed,
+            signed,
         )?),
         None => None,
     };
@@ -310,7 +423,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             &mesh.positions,
             Some(VertexScalars {
                 label: &label,
-                values: &signed,
+                values: signed,
                 range: ColorRange::Symmetric,
             }),
             ViewKind::Iso,
@@ -320,65 +433,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         staged.push(path, |path| stage_bytes(path, &rendered.bytes))?;
     }
     staged.commit()?;
-
-    let mut comparison = Comparison {
-        mesh: summary(&args.mesh, &mesh),
-        reference: summary(&args.reference, &reference),
-        rms: stats.rms,
-        mean: stats.mean,
-        max: stats.max,
-        area_rms: stats.area_weighted_rms,
-        signed: Signed {
-            mean: signed_stats.mean,
-            min: signed_stats.min,
-            max: signed_stats.max,
-            std_dev: signed_stats.std_dev,
-        },
-        hausdorff: h.symmetric,
-        hausdorff_mesh_to_reference: h.forward,
-        hausdorff_reference_to_mesh: h.backward,
-        hausdorff_samples: samples,
-        same_topology: displacement.is_some(),
-        displacement: displacement.map(|d| Displacement {
-            rms: d.rms,
-            mean: d.mean,
-            max: d.max,
-            area_rms: d.area_weighted_rms,
-        }),
-        normal_deviation_deg: normals.map(|n| NormalAngles {
-            mean: n.mean_deg,
-            rms: n.rms_deg,
-            max: n.max_deg,
-            faces: n.compared,
-        }),
-        normal_area_weighted_error: normals.map(|n| n.area_weighted_error),
-        volume: mesh_volume
-            .zip(reference_volume)
-            .map(|(mesh, reference)| Volumes {
-                mesh,
-                reference,
-                ratio: mesh / reference,
-            }),
-        area,
-        scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
-        png: args.png.as_ref().map(|p| p.display().to_string()),
-        seconds: Seconds {
-            read,
-            index_build,
-            queries,
-            other: 0.0,
-            total: 0.0,
-        },
-    };
-    comparison.seconds.total = start.elapsed().as_secs_f64();
-    comparison.seconds.other = (comparison.seconds.total - read - index_build - queries).max(0.0);
-    if args.json {
-        serde_json::to_writer_pretty(&mut *out, &comparison).map_err(std::io::Error::from)?;
-        writeln!(out)?;
-    } else {
-        write_table(&comparison, &notes, out)?;
-    }
-    Ok(())
+    Ok(scalars)
 }
 
 /// Why a row of the table is empty.
