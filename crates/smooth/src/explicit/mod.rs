@@ -97,6 +97,72 @@ impl std::fmt::Debug for Explicit<'_> {
     }
 }
 
+/// What each vertex does in a sweep (in the smoother's numbering): isolated, fixed
+/// boundary and pinned vertices stay, curve-boundary vertices follow their boundary,
+/// the rest are rows of the operator.
+fn vertex_roles(
+    mesh: &HalfedgeMesh,
+    config: &SmoothConfig,
+    perm: Option<&VertexPermutation>,
+) -> Vec<Role> {
+    let mut roles: Vec<Role> = mesh
+        .vertices()
+        .map(|v| {
+            if mesh.is_isolated(v) {
+                return Role::Still;
+            }
+            match (mesh.is_boundary_vertex(v), config.boundary) {
+                (false, _) | (true, Boundary::Free) => Role::Row,
+                (true, Boundary::Fixed) => Role::Still,
+                (true, Boundary::Curve) => Role::Curve,
+            }
+        })
+        .collect();
+    for &v in &config.pinned {
+        let v = perm.map_or(v, |p| p.to_new(v));
+        roles[v.index()] = Role::Still;
+    }
+    roles
+}
+
+/// The curve-boundary vertices with their two boundary neighbours, in increasing
+/// vertex order (so that a sweep finds them with a cursor); weights come later.
+fn curve_rows(mesh: &HalfedgeMesh, roles: &[Role]) -> Vec<CurveRow> {
+    mesh.vertices()
+        .filter(|v| roles[v.index()] == Role::Curve)
+        .map(|v| {
+            // Outgoing boundary halfedge v -> b; the boundary halfedge before it
+            // comes from a.
+            let out = mesh.outgoing_halfedge(v).expect("not isolated");
+            CurveRow {
+                v: v.raw(),
+                a: mesh.from_vertex(mesh.prev(out)).raw(),
+                b: mesh.to_vertex(out).raw(),
+                wa: 0.0,
+                wb: 0.0,
+            }
+        })
+        .collect()
+}
+
+/// The enclosed volume volume preservation keeps.
+///
+/// # Errors
+/// [`SmoothError::Weights`] when the positions do not match the mesh;
+/// [`SmoothError::DegenerateVolume`] when the volume is not positive and finite.
+fn input_volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<f64, SmoothError> {
+    let volume = Geometry::new(mesh, positions)
+        .and_then(|g| g.volume())
+        .map_err(beltrami_weights::WeightError::from)?;
+    if !(volume > 0.0 && volume.is_finite()) {
+        return Err(SmoothError::DegenerateVolume {
+            volume,
+            iteration: 0,
+        });
+    }
+    Ok(volume)
+}
+
 impl<'a> Explicit<'a> {
     /// Prepares a run on `positions` (copied) and computes the first weights; `config`
     /// has been validated (see [`Smoother::new`](crate::Smoother::new)).
@@ -130,53 +196,12 @@ impl<'a> Explicit<'a> {
         };
         let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)
             .map_err(|e| to_caller(e.into()))?;
-        let mut roles: Vec<Role> = mesh
-            .vertices()
-            .map(|v| {
-                if mesh.is_isolated(v) {
-                    return Role::Still;
-                }
-                match (mesh.is_boundary_vertex(v), config.boundary) {
-                    (false, _) | (true, Boundary::Free) => Role::Row,
-                    (true, Boundary::Fixed) => Role::Still,
-                    (true, Boundary::Curve) => Role::Curve,
-                }
-            })
-            .collect();
-        for &v in &config.pinned {
-            let v = perm.as_ref().map_or(v, |p| p.to_new(v));
-            roles[v.index()] = Role::Still;
-        }
-        // In increasing vertex order, so that a sweep finds them with a cursor.
-        let curve: Vec<CurveRow> = mesh
-            .vertices()
-            .filter(|v| roles[v.index()] == Role::Curve)
-            .map(|v| {
-                // Outgoing boundary halfedge v -> b; the boundary halfedge before it
-                // comes from a.
-                let out = mesh.outgoing_halfedge(v).expect("not isolated");
-                CurveRow {
-                    v: v.raw(),
-                    a: mesh.from_vertex(mesh.prev(out)).raw(),
-                    b: mesh.to_vertex(out).raw(),
-                    wa: 0.0,
-                    wb: 0.0,
-                }
-            })
-            .collect();
+        let roles = vertex_roles(&mesh, &config, perm.as_ref());
+        let curve = curve_rows(&mesh, &roles);
         let compound = config.method != Method::Laplacian || config.preserve_volume;
         // The input volume in the caller's numbering (the same bits either way).
         let volume = if config.preserve_volume {
-            let volume = Geometry::new(caller_mesh, caller_positions)
-                .and_then(|g| g.volume())
-                .map_err(beltrami_weights::WeightError::from)?;
-            if !(volume > 0.0 && volume.is_finite()) {
-                return Err(SmoothError::DegenerateVolume {
-                    volume,
-                    iteration: 0,
-                });
-            }
-            volume
+            input_volume(caller_mesh, caller_positions)?
         } else {
             0.0
         };
