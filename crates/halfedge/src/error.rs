@@ -109,8 +109,11 @@ pub enum TopologyError {
         /// Number of vertices of the mesh.
         vertices: usize,
     },
-    /// A half-edge invariant does not hold (found by
-    /// [`check_integrity`](crate::HalfedgeMesh::check_integrity); a bug, never bad input).
+    /// A half-edge invariant does not hold: found by
+    /// [`check_integrity`](crate::HalfedgeMesh::check_integrity) (after a mesh built by
+    /// this crate, a bug) or by
+    /// [`from_raw_parts`](crate::HalfedgeMesh::from_raw_parts), which validates arrays a
+    /// caller assembled (bad input).
     #[error("integrity violated at {element}: {invariant}")]
     Integrity {
         /// The element where the check failed, e.g. `"halfedge 12"`.
