@@ -756,6 +756,8 @@ struct Decimator<'a> {
     heap: Heap,
     /// Scratch: the outgoing halfedges of the kept vertex of a collapse.
     spokes: Vec<HalfedgeId>,
+    /// Scratch: the neighbours of the removed vertex of a collapse.
+    support: Vec<VertexId>,
     refused: RefusalCounts,
     /// The smallest quadric error the shape penalty divides (see
     /// [`DecimateOptions::quality_threshold`]): `10⁻¹² ℓ̄⁴` for the mean input edge
@@ -779,6 +781,7 @@ impl<'a> Decimator<'a> {
             parked: vec![false; nh],
             heap: Heap::new(Vec::new(), nh),
             spokes: Vec::new(),
+            support: Vec::new(),
             refused: RefusalCounts::default(),
             error_floor: 0.0,
         };
@@ -1245,6 +1248,10 @@ impl<'a> Decimator<'a> {
                 continue;
             };
             let v0 = self.mesh.from_vertex(h);
+            if !optimal {
+                self.support.clear();
+                self.support.extend(self.mesh.vertices_around_vertex(v0));
+            }
             let v1 = self.mesh.collapse_edge(h)?;
             self.mesh.set_position(v1, candidate.position);
             let q0 = self.quadrics[v0.index()];
@@ -1259,6 +1266,20 @@ impl<'a> Decimator<'a> {
                 self.points[f.index()] = list;
             }
             max_rms = max_rms.max(candidate.rms);
+            if !optimal {
+                // `DecimaterT`'s update: the outgoing collapses of `v0`'s former
+                // neighbours (`v1` among them) are evaluated again; those of `v1`'s other
+                // neighbours keep their keys until their own neighbourhood changes.
+                for k in 0..self.support.len() {
+                    let u = self.support[k];
+                    self.spokes.clear();
+                    self.spokes.extend(self.mesh.halfedges_around_vertex(u));
+                    for j in 0..self.spokes.len() {
+                        self.queue(self.spokes[j]);
+                    }
+                }
+                continue;
+            }
             self.spokes.clear();
             self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
             for k in 0..self.spokes.len() {

@@ -105,7 +105,7 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
 #[test]
 fn endpoint_placement_keeps_input_positions() {
     let p = noisy_icosphere();
-    let (_, positions, _) = run(&p, &DecimateOptions::default().ratio(0.3));
+    let (_, positions, _) = run(&p, &DecimateOptions::openmesh().ratio(0.3));
     let mut input: Vec<[u64; 3]> = p
         .positions
         .iter()
@@ -467,31 +467,43 @@ fn hausdorff_is_no_worse_than_openmesh() {
             let their_mesh = HalfedgeMesh::from_polygons(theirs.len(), &their_faces).unwrap();
 
             let d_theirs = distance_to(&input, &their_mesh, &theirs, samples);
-            let mut d = [0.0; 2];
-            for (i, placement) in [Placement::Endpoint, Placement::Optimal]
-                .into_iter()
-                .enumerate()
+            let mut d = [0.0; 3];
+            for (i, options) in [
+                DecimateOptions::openmesh(),
+                DecimateOptions::openmesh().placement(Placement::Optimal),
+                DecimateOptions::default(),
+            ]
+            .into_iter()
+            .enumerate()
             {
-                let options = DecimateOptions::default()
-                    .vertices(target)
-                    .placement(placement);
+                let options = options.vertices(target);
                 let (ours, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
                 assert_eq!(ours.n_vertices(), theirs.len(), "{name} {percent}%");
                 assert!(report.target_reached);
                 d[i] = distance_to(&input, &ours, &positions, samples);
             }
             println!(
-                "| {name} | {percent} % | {target} | {d_theirs:.4} | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) |",
+                "| {name} | {percent} % | {target} | {d_theirs:.4} | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) |",
                 d[0],
                 100.0 * (d[0] / d_theirs - 1.0),
                 d[1],
                 100.0 * (d[1] / d_theirs - 1.0),
+                d[2],
+                100.0 * (d[2] / d_theirs - 1.0),
             );
-            // Endpoint placement is OpenMesh's own algorithm; the order of equal-cost
-            // and stale entries differs, which moves the largest error of a noisy surface
-            // by a few per cent either way.
+            // The default (optimal placement, shape penalty) is no worse than OpenMesh.
             assert!(
-                d[0] <= 1.10 * d_theirs,
+                d[2] <= d_theirs,
+                "{name} {percent}%: default {} vs OpenMesh {d_theirs}",
+                d[2]
+            );
+            // Endpoint placement without the penalty is OpenMesh's own algorithm, with
+            // its update rule; beltrami also refuses collapses that flip a triangle,
+            // which `ModQuadricT` alone allows, and the order of equal-cost collapses
+            // differs: that moves the largest error of a noisy surface by a few per cent
+            // either way (+5.1 % at most over these fixtures).
+            assert!(
+                d[0] <= 1.06 * d_theirs,
                 "{name} {percent}%: endpoint {} vs OpenMesh {d_theirs}",
                 d[0]
             );
