@@ -13,14 +13,20 @@
 //!    the squared edge length, to both its vertices, so that the boundary curve is
 //!    preserved as the surface is.
 //! 2. The collapse of halfedge `v0 → v1` removes `v0` and costs `(Q_v0 + Q_v1)(p)`, with
-//!    `p` the position `v1` gets: its own (endpoint placement, as OpenMesh does), or the
-//!    minimiser of the summed quadric ([`Placement::Optimal`]).
-//! 3. A binary heap holds, per vertex, its cheapest legal outgoing collapse (pmp's and
-//!    OpenMesh's per-vertex scheme), invalidated lazily by a per-vertex version counter;
-//!    ties go to the smaller vertex and then the smaller halfedge id, so the result is a
-//!    deterministic function of the input.
-//! 4. After a collapse `v1` gets `Q_v0 + Q_v1`, and `v1` and its new one-ring are
-//!    evaluated again.
+//!    `p` the position `v1` gets: the minimiser of the summed quadric (the default,
+//!    [`Placement::Optimal`]) or its own (endpoint placement, as OpenMesh does). By
+//!    default the cost is divided by a shape penalty when the worst triangle the
+//!    collapse makes is badly shaped ([`DecimateOptions::quality_threshold`], MeshLab's
+//!    quality-weighted priority).
+//! 3. An indexed binary heap holds every halfedge by its cost (the two halfedges of an
+//!    interior edge share one entry when their optimal placement is the same); legality
+//!    is checked only when an entry reaches the top, and a refused halfedge is parked
+//!    until a collapse changes its neighbourhood. Ties go to the smaller halfedge id, so
+//!    the result is a deterministic function of the input.
+//! 4. After a collapse `v1` gets `Q_v0 + Q_v1`, the edges at `v1` are queued with their
+//!    new cost and the parked halfedges around `v1`'s neighbours are queued again (with
+//!    endpoint placement: the outgoing halfedges of `v0`'s former neighbours, OpenMesh's
+//!    update).
 //!
 //! A collapse is legal when the topology allows it (OpenMesh's `is_collapse_ok` rules,
 //! see [`EditMesh::collapse_edge`], plus `BaseDecimaterT::is_collapse_legal`'s: a
@@ -727,15 +733,16 @@ fn aspect_ratio(t: [DVec3; 3]) -> f64 {
     }
 }
 
-/// `4A / (√3 ℓ²_max)`, the inverse of [`aspect_ratio`]: 1 for an equilateral triangle,
-/// 0 for a degenerate one.
-fn shape_quality(t: [DVec3; 3]) -> f64 {
+/// The square of `4A / (√3 ℓ²_max)`, the inverse of [`aspect_ratio`]: 1 for an
+/// equilateral triangle, 0 for a degenerate one. (Squared to save a square root per
+/// triangle; the caller takes one of the worst.)
+fn shape_quality_squared(t: [DVec3; 3]) -> f64 {
     let l2 = (t[1] - t[0])
         .length_squared()
         .max((t[2] - t[1]).length_squared())
         .max((t[0] - t[2]).length_squared());
     if l2 > 0.0 {
-        2.0 * cross(t).length() / (3f64.sqrt() * l2)
+        4.0 * cross(t).length_squared() / (3.0 * l2 * l2)
     } else {
         0.0
     }
@@ -983,12 +990,13 @@ impl<'a> Decimator<'a> {
         }
         let mut worst = f64::INFINITY;
         self.changed_triangles(h, position, |_, t| {
-            worst = worst.min(shape_quality(t));
+            worst = worst.min(shape_quality_squared(t));
             worst > 0.0
         });
         if worst <= 0.0 {
             return Err(Refusal::Flip);
         }
+        let worst = worst.sqrt();
         Ok((
             error.max(self.error_floor) / (worst / threshold).min(1.0),
             symmetric,

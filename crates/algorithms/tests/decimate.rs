@@ -117,6 +117,91 @@ fn endpoint_placement_keeps_input_positions() {
     }
 }
 
+/// The smallest interior angle of the mesh's triangles, degrees.
+fn min_angle(mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
+    mesh.faces()
+        .map(|f| {
+            let t = mesh.triangle_vertices(f).map(|v| positions[v.index()]);
+            (0..3)
+                .map(|i| {
+                    let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                    (b - a).angle_between(c - a).to_degrees()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The share of interior vertices of valence 6.
+fn regular_share(mesh: &HalfedgeMesh) -> f64 {
+    let regular = mesh.vertices().filter(|&v| mesh.valence(v) == 6).count();
+    regular as f64 / mesh.n_vertices() as f64
+}
+
+#[test]
+fn the_default_gives_well_shaped_triangles_and_a_smaller_distance() {
+    // The paper's level-6 sphere (40 962 vertices) to 10 %, and a noisy sphere to 20 %.
+    let sphere = primitives::icosphere(6);
+    // The noise dominates the noisy sphere's distance: there the default only has to
+    // be no worse.
+    for (name, p, ratio, angle, distance) in [
+        ("icosphere 6", &sphere, 0.1, 15.0, 0.8),
+        ("noisy icosphere", &noisy_icosphere(), 0.2, 10.0, 1.0),
+    ] {
+        let (plain, plain_positions, plain_report) =
+            run(p, &DecimateOptions::openmesh().ratio(ratio));
+        let (out, positions, report) = run(p, &DecimateOptions::default().ratio(ratio));
+        assert!(report.target_reached, "{name}");
+        out.check_integrity().unwrap();
+        let (a, a_plain) = (
+            min_angle(&out, &positions),
+            min_angle(&plain, &plain_positions),
+        );
+        // The default's smallest angle is that of MeshLab's and MeshLib's outputs or
+        // better (about 15° on the level-6 sphere), and better than without it.
+        assert!(a > angle, "{name}: smallest angle {a}° (plain {a_plain}°)");
+        assert!(a > a_plain + 5.0, "{name}: {a}° against {a_plain}°");
+        assert!(
+            report.hausdorff < distance * plain_report.hausdorff,
+            "{name}: {} against {}",
+            report.hausdorff,
+            plain_report.hausdorff
+        );
+        assert!(
+            regular_share(&out) > regular_share(&plain),
+            "{name}: regular share {} against {}",
+            regular_share(&out),
+            regular_share(&plain)
+        );
+    }
+}
+
+#[test]
+fn the_shape_penalty_orders_collapses_but_never_stops_them() {
+    // The strongest penalty still reaches the target, on a closed and an open surface,
+    // and the penalty lifts the smallest angle over no penalty at the same placement.
+    for (name, p) in [
+        ("noisy icosphere", noisy_icosphere()),
+        ("F-lens", noisy_flens()),
+    ] {
+        let optimal = DecimateOptions::default().ratio(0.15);
+        let (out, positions, report) = run(&p, &optimal.quality_threshold(1.0));
+        assert!(report.target_reached, "{name}: {report:?}");
+        out.check_integrity().unwrap();
+        let (bare, bare_positions, _) = run(&p, &optimal.quality_threshold(0.0));
+        assert!(
+            min_angle(&out, &positions) > min_angle(&bare, &bare_positions),
+            "{name}"
+        );
+    }
+    let o = DecimateOptions::openmesh();
+    assert_eq!(o.placement, Placement::Endpoint);
+    assert_eq!(o.quality_threshold, 0.0);
+    let d = DecimateOptions::default();
+    assert_eq!(d.placement, Placement::Optimal);
+    assert_eq!(d.quality_threshold, 0.4);
+}
+
 #[test]
 fn a_sphere_stays_close_to_the_sphere() {
     let p = primitives::icosphere(4);
@@ -375,6 +460,9 @@ fn bad_input_and_options_are_typed_errors() {
         d.max_normal_deviation(f64::NAN),
         d.max_aspect_ratio(0.5),
         d.max_distance(-0.1),
+        d.quality_threshold(-0.1),
+        d.quality_threshold(1.5),
+        d.quality_threshold(f64::NAN),
     ] {
         assert!(
             matches!(bad(options), DecimateError::Options { .. }),
