@@ -629,12 +629,14 @@ proptest! {
 
     #[test]
     fn random_meshes_and_targets(kind in 0u8..4, seed in any::<u64>(), ratio in 0.05f64..1.0,
-                                 keep in any::<bool>(), optimal in any::<bool>()) {
+                                 keep in any::<bool>(), optimal in any::<bool>(),
+                                 quality in prop::sample::select(vec![0.0, 0.4, 1.0])) {
         let p = small_mesh(kind, seed);
         let mesh = p.mesh().unwrap();
         let options = DecimateOptions::default()
             .ratio(ratio)
             .keep_boundary(keep)
+            .quality_threshold(quality)
             .placement(if optimal { Placement::Optimal } else { Placement::Endpoint });
         let (out, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
         out.check_integrity().unwrap();
