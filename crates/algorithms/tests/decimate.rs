@@ -105,7 +105,7 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
 #[test]
 fn endpoint_placement_keeps_input_positions() {
     let p = noisy_icosphere();
-    let (_, positions, _) = run(&p, &DecimateOptions::default().ratio(0.3));
+    let (_, positions, _) = run(&p, &DecimateOptions::openmesh().ratio(0.3));
     let mut input: Vec<[u64; 3]> = p
         .positions
         .iter()
@@ -115,6 +115,91 @@ fn endpoint_placement_keeps_input_positions() {
     for q in positions {
         assert!(input.binary_search(&q.to_array().map(f64::to_bits)).is_ok());
     }
+}
+
+/// The smallest interior angle of the mesh's triangles, degrees.
+fn min_angle(mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
+    mesh.faces()
+        .map(|f| {
+            let t = mesh.triangle_vertices(f).map(|v| positions[v.index()]);
+            (0..3)
+                .map(|i| {
+                    let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                    (b - a).angle_between(c - a).to_degrees()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The share of interior vertices of valence 6.
+fn regular_share(mesh: &HalfedgeMesh) -> f64 {
+    let regular = mesh.vertices().filter(|&v| mesh.valence(v) == 6).count();
+    regular as f64 / mesh.n_vertices() as f64
+}
+
+#[test]
+fn the_default_gives_well_shaped_triangles_and_a_smaller_distance() {
+    // The paper's level-6 sphere (40 962 vertices) to 10 %, and a noisy sphere to 20 %.
+    let sphere = primitives::icosphere(6);
+    // The noise dominates the noisy sphere's distance: there the default only has to
+    // be no worse.
+    for (name, p, ratio, angle, distance) in [
+        ("icosphere 6", &sphere, 0.1, 15.0, 0.8),
+        ("noisy icosphere", &noisy_icosphere(), 0.2, 10.0, 1.0),
+    ] {
+        let (plain, plain_positions, plain_report) =
+            run(p, &DecimateOptions::openmesh().ratio(ratio));
+        let (out, positions, report) = run(p, &DecimateOptions::default().ratio(ratio));
+        assert!(report.target_reached, "{name}");
+        out.check_integrity().unwrap();
+        let (a, a_plain) = (
+            min_angle(&out, &positions),
+            min_angle(&plain, &plain_positions),
+        );
+        // The default's smallest angle is that of MeshLab's and MeshLib's outputs or
+        // better (about 15° on the level-6 sphere), and better than without it.
+        assert!(a > angle, "{name}: smallest angle {a}° (plain {a_plain}°)");
+        assert!(a > a_plain + 5.0, "{name}: {a}° against {a_plain}°");
+        assert!(
+            report.hausdorff < distance * plain_report.hausdorff,
+            "{name}: {} against {}",
+            report.hausdorff,
+            plain_report.hausdorff
+        );
+        assert!(
+            regular_share(&out) > regular_share(&plain),
+            "{name}: regular share {} against {}",
+            regular_share(&out),
+            regular_share(&plain)
+        );
+    }
+}
+
+#[test]
+fn the_shape_penalty_orders_collapses_but_never_stops_them() {
+    // The strongest penalty still reaches the target, on a closed and an open surface,
+    // and the penalty lifts the smallest angle over no penalty at the same placement.
+    for (name, p) in [
+        ("noisy icosphere", noisy_icosphere()),
+        ("F-lens", noisy_flens()),
+    ] {
+        let optimal = DecimateOptions::default().ratio(0.15);
+        let (out, positions, report) = run(&p, &optimal.quality_threshold(1.0));
+        assert!(report.target_reached, "{name}: {report:?}");
+        out.check_integrity().unwrap();
+        let (bare, bare_positions, _) = run(&p, &optimal.quality_threshold(0.0));
+        assert!(
+            min_angle(&out, &positions) > min_angle(&bare, &bare_positions),
+            "{name}"
+        );
+    }
+    let o = DecimateOptions::openmesh();
+    assert_eq!(o.placement, Placement::Endpoint);
+    assert_eq!(o.quality_threshold, 0.0);
+    let d = DecimateOptions::default();
+    assert_eq!(d.placement, Placement::Optimal);
+    assert_eq!(d.quality_threshold, 0.4);
 }
 
 #[test]
@@ -375,6 +460,9 @@ fn bad_input_and_options_are_typed_errors() {
         d.max_normal_deviation(f64::NAN),
         d.max_aspect_ratio(0.5),
         d.max_distance(-0.1),
+        d.quality_threshold(-0.1),
+        d.quality_threshold(1.5),
+        d.quality_threshold(f64::NAN),
     ] {
         assert!(
             matches!(bad(options), DecimateError::Options { .. }),
@@ -467,31 +555,43 @@ fn hausdorff_is_no_worse_than_openmesh() {
             let their_mesh = HalfedgeMesh::from_polygons(theirs.len(), &their_faces).unwrap();
 
             let d_theirs = distance_to(&input, &their_mesh, &theirs, samples);
-            let mut d = [0.0; 2];
-            for (i, placement) in [Placement::Endpoint, Placement::Optimal]
-                .into_iter()
-                .enumerate()
+            let mut d = [0.0; 3];
+            for (i, options) in [
+                DecimateOptions::openmesh(),
+                DecimateOptions::openmesh().placement(Placement::Optimal),
+                DecimateOptions::default(),
+            ]
+            .into_iter()
+            .enumerate()
             {
-                let options = DecimateOptions::default()
-                    .vertices(target)
-                    .placement(placement);
+                let options = options.vertices(target);
                 let (ours, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
                 assert_eq!(ours.n_vertices(), theirs.len(), "{name} {percent}%");
                 assert!(report.target_reached);
                 d[i] = distance_to(&input, &ours, &positions, samples);
             }
             println!(
-                "| {name} | {percent} % | {target} | {d_theirs:.4} | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) |",
+                "| {name} | {percent} % | {target} | {d_theirs:.4} | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) | {:.4} ({:+.1} %) |",
                 d[0],
                 100.0 * (d[0] / d_theirs - 1.0),
                 d[1],
                 100.0 * (d[1] / d_theirs - 1.0),
+                d[2],
+                100.0 * (d[2] / d_theirs - 1.0),
             );
-            // Endpoint placement is OpenMesh's own algorithm; the order of equal-cost
-            // and stale entries differs, which moves the largest error of a noisy surface
-            // by a few per cent either way.
+            // The default (optimal placement, shape penalty) is no worse than OpenMesh.
             assert!(
-                d[0] <= 1.10 * d_theirs,
+                d[2] <= d_theirs,
+                "{name} {percent}%: default {} vs OpenMesh {d_theirs}",
+                d[2]
+            );
+            // Endpoint placement without the penalty is OpenMesh's own algorithm, with
+            // its update rule; beltrami also refuses collapses that flip a triangle,
+            // which `ModQuadricT` alone allows, and the order of equal-cost collapses
+            // differs: that moves the largest error of a noisy surface by a few per cent
+            // either way (+5.1 % at most over these fixtures).
+            assert!(
+                d[0] <= 1.06 * d_theirs,
                 "{name} {percent}%: endpoint {} vs OpenMesh {d_theirs}",
                 d[0]
             );
@@ -529,12 +629,14 @@ proptest! {
 
     #[test]
     fn random_meshes_and_targets(kind in 0u8..4, seed in any::<u64>(), ratio in 0.05f64..1.0,
-                                 keep in any::<bool>(), optimal in any::<bool>()) {
+                                 keep in any::<bool>(), optimal in any::<bool>(),
+                                 quality in prop::sample::select(vec![0.0, 0.4, 1.0])) {
         let p = small_mesh(kind, seed);
         let mesh = p.mesh().unwrap();
         let options = DecimateOptions::default()
             .ratio(ratio)
             .keep_boundary(keep)
+            .quality_threshold(quality)
             .placement(if optimal { Placement::Optimal } else { Placement::Endpoint });
         let (out, positions, report) = decimate(&mesh, &p.positions, &options).unwrap();
         out.check_integrity().unwrap();
