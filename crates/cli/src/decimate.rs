@@ -39,9 +39,25 @@ pub(crate) struct DecimateArgs {
     /// Never remove a boundary vertex (the boundary stays bit for bit).
     #[arg(long)]
     keep_boundary: bool,
-    /// Move the kept vertex to the quadric's minimiser instead of keeping it in place.
-    #[arg(long)]
+    /// Where the kept vertex of a collapse goes: the quadric's minimiser (optimal), or
+    /// its own position (endpoint, OpenMesh's choice: the output's vertices are input
+    /// vertices, bit for bit).
+    #[arg(long, value_enum, default_value_t = PlacementArg::Optimal)]
+    placement: PlacementArg,
+    /// The same as --placement optimal, the default (kept for scripts written when
+    /// endpoint was the default).
+    #[arg(long, hide = true, conflicts_with = "placement")]
     optimal: bool,
+    /// Make collapses that create a triangle of shape quality below Q cost more (quality
+    /// 4·area / (√3·longest edge²): 1 for an equilateral triangle, about 0.3 for a 15°
+    /// needle), so that well-shaped collapses go first; 0 turns the penalty off. It
+    /// orders collapses and never refuses one. In [0, 1].
+    #[arg(long, value_name = "Q", default_value_t = 0.4)]
+    quality_threshold: f64,
+    /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
+    /// placement and no shape penalty.
+    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold"])]
+    openmesh: bool,
     /// Refuse a collapse that makes a triangle of a larger aspect ratio (1 for an
     /// equilateral triangle; at least 1) unless it improves on the triangles it replaces.
     #[arg(long, value_name = "A")]
@@ -54,6 +70,15 @@ pub(crate) struct DecimateArgs {
     outputs: EditOutputArgs,
     #[command(flatten)]
     read: ReadArgs,
+}
+
+/// `--placement`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum PlacementArg {
+    /// The quadric's minimiser.
+    Optimal,
+    /// The kept vertex's own position.
+    Endpoint,
 }
 
 /// Refusal counts of `decimate --json`.
@@ -84,6 +109,8 @@ struct Summary {
     collapses: usize,
     refused: Refused,
     placement: &'static str,
+    /// The shape-quality threshold of the penalty (0: none).
+    quality_threshold: f64,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
     /// The symmetric Hausdorff distance output <-> input, in the mesh's unit.
@@ -138,9 +165,24 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
         }
         options = options.max_distance(d);
     }
-    if args.optimal {
-        options = options.placement(Placement::Optimal);
+    if !(0.0..=1.0).contains(&args.quality_threshold) {
+        return usage(format!(
+            "--quality-threshold must be in [0, 1], got {}",
+            number(args.quality_threshold)
+        ));
     }
+    options = if args.openmesh {
+        options
+            .placement(Placement::Endpoint)
+            .quality_threshold(0.0)
+    } else {
+        options
+            .placement(match args.placement {
+                PlacementArg::Optimal => Placement::Optimal,
+                PlacementArg::Endpoint => Placement::Endpoint,
+            })
+            .quality_threshold(args.quality_threshold)
+    };
     Ok(options.keep_boundary(args.keep_boundary))
 }
 
@@ -224,7 +266,15 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             max_aspect_ratio: r.aspect_ratio,
             max_distance: r.distance,
         },
-        placement: if args.optimal { "optimal" } else { "endpoint" },
+        placement: match (args.openmesh, args.placement) {
+            (false, PlacementArg::Optimal) => "optimal",
+            _ => "endpoint",
+        },
+        quality_threshold: if args.openmesh {
+            0.0
+        } else {
+            args.quality_threshold
+        },
         max_quadric_error: report.max_quadric_error,
         hausdorff: report.hausdorff,
         hausdorff_to_input: report.hausdorff_to_input,

@@ -8,7 +8,7 @@ mod common;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use beltrami_algorithms::{DecimateOptions, decimate};
+use beltrami_algorithms::{DecimateOptions, Placement, decimate};
 use beltrami_io::read_mesh;
 use common::{beltrami, error_line, s};
 use serde_json::Value;
@@ -74,7 +74,66 @@ fn decimates_into_the_library_result() {
         assert_eq!(summary["target_reached"], true);
         assert_eq!(summary["stop"], "target reached");
         assert_eq!(summary["hausdorff"].as_f64().unwrap(), report.hausdorff);
-        assert_eq!(summary["placement"], "endpoint");
+        assert_eq!(summary["placement"], "optimal");
+        assert_eq!(summary["quality_threshold"], 0.4);
+    }
+}
+
+#[test]
+fn openmesh_mode_and_endpoint_placement_keep_input_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let data = read_mesh(&input).unwrap();
+    let mesh = data.mesh().unwrap();
+    for (extra, options, threshold) in [
+        (&["--openmesh"][..], DecimateOptions::openmesh(), 0.0),
+        (
+            &["--placement", "endpoint"],
+            DecimateOptions::default().placement(Placement::Endpoint),
+            0.4,
+        ),
+    ] {
+        let out = dir.path().join("out.ply");
+        let mut args = vec![
+            "decimate",
+            s(&input),
+            s(&out),
+            "--ratio",
+            "0.3",
+            "--json",
+            "--force",
+        ];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert!(
+            o.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(summary["placement"], "endpoint", "{extra:?}");
+        assert_eq!(summary["quality_threshold"], threshold, "{extra:?}");
+        let (_, positions, _) = decimate(&mesh, &data.positions, &options.ratio(0.3)).unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{extra:?}");
+        // Endpoint placement: every output vertex is an input vertex, bit for bit.
+        assert!(
+            got.positions.iter().all(|p| data.positions.contains(p)),
+            "{extra:?}"
+        );
+    }
+    for bad in [
+        &["--quality-threshold", "1.5"][..],
+        &["--openmesh", "--placement", "optimal"],
+        &["--openmesh", "--quality-threshold", "0.2"],
+        &["--placement", "middle"],
+    ] {
+        let out = dir.path().join("bad.ply");
+        let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3"];
+        args.extend_from_slice(bad);
+        let o = beltrami(&args);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+        assert!(!out.exists(), "{bad:?}");
     }
 }
 
