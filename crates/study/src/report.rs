@@ -5,6 +5,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::closed_form::{predicted_radius, weighted_mean_edge_sq};
 use crate::error::StudyError;
 use crate::figures::{Figure, shown_iteration, write_figures};
 use crate::findings::{
@@ -282,6 +283,12 @@ fn markdown(
     surface_sections(&mut s, results, rows, figures, shown);
     countermeasure_section(&mut s, results, shown);
     quality_section(&mut s, results, rows, shown);
+    if let Some(c) = &results.remeshing {
+        crate::remeshing::remesh_section(&mut s, c, &results.config);
+    }
+    if let Some(t) = &results.timings {
+        crate::timing::timing_section(&mut s, t);
+    }
     edge_section(&mut s, results);
     units_section(&mut s, results);
     differences_section(&mut s, results);
@@ -338,11 +345,16 @@ fn setup_section(s: &mut String, results: &StudyResults) {
     let _ = writeln!(s, "| weights computed | {} iteration |", c.update);
     let _ = writeln!(s, "| negative weights | {} |", c.negative_weights);
     let _ = writeln!(s, "| normalisation | weight sum (paper Eq. 2) |");
+    let info = results
+        .timings
+        .as_ref()
+        .map_or_else(crate::timing::machine_info, |t| t.machine.clone());
     let _ = writeln!(
         s,
-        "| machine | {} {}, {} threads |",
-        m.os, m.arch, m.threads
+        "| machine | {}, {} {}, {} threads |",
+        info.cpu, m.os, m.arch, m.threads
     );
+    let _ = writeln!(s, "| commit | {} |", info.commit);
     let _ = writeln!(
         s,
         "| wall time of the study | {:.1} s |\n",
@@ -428,9 +440,13 @@ fn surface_sections(
                 "one noise seed".to_string()
             }
         );
+        let u = crate::figures::unit_label(r.case.clean.unit);
+        let predicted = predicted_radii(results, r, shown);
         let _ = writeln!(
             s,
-            "| scheme | RMS | max | normal dev. (°) | volume ratio | sphere radius | boundary mean | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|---|---|---|"
+            "| scheme | RMS{u} | max{u} | normal dev. (°) | volume ratio (1) | sphere radius{u} |{} boundary mean{u} | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|{}---|---|---|",
+            if predicted.is_empty() { "" } else { " predicted radius, closed form |" },
+            if predicted.is_empty() { "" } else { "---|" },
         );
         let mut schemes = vec!["input"];
         schemes.extend(r.runs.iter().map(|x| x.scheme.as_str()));
@@ -444,9 +460,22 @@ fn surface_sections(
                     .collect();
                 Spread::of(&v).map_or_else(|| "–".into(), |sp| sp.text())
             };
+            let closed = if predicted.is_empty() {
+                String::new()
+            } else {
+                let p = predicted.iter().find(|(n, _)| n == scheme).map(|x| x.1);
+                format!(
+                    " {} |",
+                    if scheme == "input" {
+                        num(1.0)
+                    } else {
+                        opt(p)
+                    }
+                )
+            };
             let _ = writeln!(
                 s,
-                "| {scheme} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {scheme} | {} | {} | {} | {} | {} |{closed} {} | {} | {} |",
                 cell(|x| Some(x.rms)),
                 cell(|x| Some(x.max)),
                 cell(|x| Some(x.normal_mean_deg)),
@@ -462,6 +491,26 @@ fn surface_sections(
             );
         }
         let _ = writeln!(s);
+        if !predicted.is_empty() {
+            let _ = writeln!(
+                s,
+                "The predicted radius is the closed form r₀ (1 − λ⟨ℓ²⟩_w/2r₀²)ⁿ for the clean unit sphere (r₀ = 1, n = {shown}, λ = {}), with each scheme's weighted mean squared edge length ⟨ℓ²⟩_w = Σⱼ wᵢⱼ ℓᵢⱼ² / Σⱼ wᵢⱼ averaged over the vertices of the clean sphere ({}); the noise is left out. The radius plot shows it dashed in the scheme's colour.\n",
+                results.config.lambda,
+                predicted
+                    .iter()
+                    .map(|(n, _)| {
+                        let l2 = results
+                            .config
+                            .schemes
+                            .iter()
+                            .find(|x| x.name() == n)
+                            .and_then(|x| weighted_mean_edge_sq(&r.case.mesh, &r.case.clean.positions, x.as_ref()));
+                        format!("{n} {}", opt(l2))
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
         for f in figures.iter().filter(|f| f.surface == name) {
             let file = if f.path.ends_with(".png") {
                 f.path.clone()
@@ -471,6 +520,28 @@ fn surface_sections(
             let _ = writeln!(s, "![{}]({file})\n\n*{}*\n", f.caption, f.caption);
         }
     }
+}
+
+/// Per scheme of `r`'s runs, the closed-form radius after `shown` iterations on the
+/// unit sphere (empty for other surfaces).
+fn predicted_radii(results: &StudyResults, r: &crate::run::SurfaceResult, shown: usize) -> Vec<(String, f64)> {
+    if r.case.kind != beltrami_surfaces::SurfaceKind::Sphere {
+        return Vec::new();
+    }
+    results
+        .config
+        .schemes
+        .iter()
+        .filter(|x| r.runs.iter().any(|run| run.scheme == x.name()))
+        .filter_map(|x| {
+            weighted_mean_edge_sq(&r.case.mesh, &r.case.clean.positions, x.as_ref()).map(|l2| {
+                (
+                    x.name().to_string(),
+                    predicted_radius(1.0, results.config.lambda, l2, shown),
+                )
+            })
+        })
+        .collect()
 }
 
 /// Where the study's set-up departs from the paper's, and where the data are.
