@@ -240,7 +240,7 @@ fn write_line(
     let data: Vec<Series> = spec.series.iter().filter(|s| !s.dashed).cloned().collect();
     let diff = spec.diff && curves_overlap(&data);
     let mut plot = LinePlot::new(spec.title.clone(), "iterations", spec.y_label.clone());
-    plot.series = spec.series;
+    plot.series = spec.series.clone();
     plot.log_y = spec.log_y;
     let rel = format!("plots/{}", spec.stem);
     write_plot(&plot, &dir.join(&rel)).map_err(viz(&spec.stem))?;
@@ -256,7 +256,14 @@ fn write_line(
             "iterations",
             format!("{}, scheme − {base}", spec.y_label),
         );
-        plot.series = differences(&data);
+        // The data and any prediction (dashed), each minus the first data series.
+        let mut all = vec![data[0].clone()];
+        all.extend(spec.series.iter().skip(1).cloned());
+        plot.series = differences(&all)
+            .into_iter()
+            .zip(spec.series.iter().skip(1))
+            .map(|(d, s)| if s.dashed { d.dashed() } else { d })
+            .collect();
         let stem = format!("{}_diff", spec.stem);
         let rel = format!("plots/{stem}");
         write_plot(&plot, &dir.join(&rel)).map_err(viz(&stem))?;
@@ -531,13 +538,13 @@ fn profile_plot(
         SurfaceKind::FLens => (
             Plane::new(DVec3::ZERO, DVec3::Y),
             (DVec3::X, DVec3::Z),
-            "section y = 0",
+            "y = 0",
             ("x", "z"),
         ),
         _ => (
             Plane::new(DVec3::new(0.0, 0.0, 0.01), DVec3::Z),
             (DVec3::X, DVec3::Y),
-            "section z = 0.01 through the middle hole: both walls",
+            "z = 0.01, both walls of the middle hole",
             ("x", "y"),
         ),
     };
@@ -548,7 +555,7 @@ fn profile_plot(
     })?;
     let unit = result.case.clean.unit;
     let mut plot = LinePlot::new(
-        format!("{name}: cross-section profile ({what}) after {shown} iterations"),
+        format!("{name}: section {what}, {shown} iterations"),
         format!("{} ({unit})", labels.0),
         format!("{} ({unit})", labels.1),
     );
@@ -579,7 +586,7 @@ fn profile_plot(
     write_plot(&plot, &dir.join(&rel)).map_err(viz(&rel))?;
     figures.push(Figure {
         path: rel,
-        caption: format!("Cross-section profile of the {name} ({what}): clean, noisy input and each scheme after {shown} iterations (the paper's cross-sectional profile comparison)"),
+        caption: format!("Cross-section profile of the {name} (section {what}): clean, noisy input and each scheme after {shown} iterations (the paper's cross-sectional profile comparison)"),
         surface: name.to_string(),
     });
     Ok(())
@@ -712,10 +719,6 @@ fn golf_closeup(
         scheme: "close-up".into(),
         source,
     };
-    let image_error = |e: beltrami_viz::VizError| StudyError::Image {
-        name: format!("renders/{name}_valence5"),
-        reason: e.to_string(),
-    };
     let reference = Reference::new(&result.case).map_err(metrics_error)?;
     let centre = clean.iter().copied().sum::<DVec3>() / clean.len().max(1) as f64;
     let p = clean[v];
@@ -767,30 +770,77 @@ fn golf_closeup(
     if !(largest > 0.0 && largest.is_finite()) {
         return Ok(());
     }
-    let colors = ColorMap::symmetric(largest);
-    let (w, h) = (360, 360);
-    let panels = positions
-        .iter()
-        .zip(&residuals)
-        .map(|(pos, r)| render_mesh(mesh, pos, Some(r), &colors, &view, frame, w, h))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(image_error)?;
     let unit = unit_label(result.case.clean.unit);
-    let image = grid(
-        &panels,
-        panels.len(),
+    let u = result.case.clean.unit;
+    let across = sig(2.0 * half);
+    let render = |positions: &[&[DVec3]],
+                  values: &[Vec<f64>],
+                  labels: &[String],
+                  colors: &ColorMap,
+                  title: &str,
+                  bar: &str,
+                  stem: &str|
+     -> Result<String, StudyError> {
+        let image_error = |e: beltrami_viz::VizError| StudyError::Image {
+            name: format!("renders/{stem}"),
+            reason: e.to_string(),
+        };
+        let panels = positions
+            .iter()
+            .zip(values)
+            .map(|(pos, r)| render_mesh(mesh, pos, Some(r), colors, &view, frame, 360, 360))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(image_error)?;
+        let image = grid(&panels, panels.len(), labels, &[String::new()], title, Some((colors, bar)))
+            .map_err(image_error)?;
+        let rel = format!("renders/{stem}.png");
+        image.write_png(&dir.join(&rel)).map_err(image_error)?;
+        Ok(rel)
+    };
+    let rel = render(
+        &positions,
+        &residuals,
         &labels,
-        &[String::new()],
+        &ColorMap::symmetric(largest),
         &format!("{name}: residual near a valence-5 vertex"),
-        Some((&colors, &format!("signed distance − its mean{unit}"))),
-    )
-    .map_err(image_error)?;
-    let rel = format!("renders/{name}_valence5.png");
-    image.write_png(&dir.join(&rel)).map_err(image_error)?;
+        &format!("signed distance − its mean{unit}"),
+        &format!("{name}_valence5"),
+    )?;
     figures.push(Figure {
         path: rel,
-        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {} {unit_name} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {unit_name}", sig(2.0 * half), sig(largest), unit_name = result.case.clean.unit),
+        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}. The dimples fill in for every scheme alike", sig(largest)),
         surface: name.to_string(),
     });
+    // Each scheme against the schemes' mean: where one departs from the others.
+    if residuals.len() > 2 {
+        let k = (residuals.len() - 1) as f64;
+        let mean: Vec<f64> = (0..residuals[0].len())
+            .map(|i| residuals[1..].iter().map(|r| r[i]).sum::<f64>() / k)
+            .collect();
+        let departures: Vec<Vec<f64>> = residuals[1..]
+            .iter()
+            .map(|r| r.iter().zip(&mean).map(|(a, m)| a - m).collect())
+            .collect();
+        let spread = departures
+            .iter()
+            .flat_map(|d| near.iter().map(move |&i| d[i].abs()))
+            .fold(0.0, f64::max);
+        if spread > 0.0 && spread.is_finite() {
+            let rel = render(
+                &positions[1..],
+                &departures,
+                &labels[1..],
+                &ColorMap::symmetric(spread),
+                &format!("{name}: each scheme minus the schemes' mean near a valence-5 vertex"),
+                &format!("signed distance − the schemes' mean{unit}"),
+                &format!("{name}_valence5_schemes"),
+            )?;
+            figures.push(Figure {
+                path: rel,
+                caption: format!("The same close-up, each scheme's signed distance minus the mean over the schemes after {shown} iterations: where one scheme departs from the others near the irregular vertex (colour scale ±{} {u}, the largest departure there)", sig(spread)),
+                surface: name.to_string(),
+            });
+        }
+    }
     Ok(())
 }

@@ -49,7 +49,7 @@ pub use preservation::{
 };
 pub use remeshing::{
     CotangentRms, MeshFigures, REMESH_ITERATIONS, REMESH_LONG_ITERATIONS, RemeshComparison,
-    RemeshRow, default_remesh, describe_target,
+    RemeshRow, SHARE_TOL, default_remesh, describe_target,
 };
 pub use timing::{MachineInfo, SchemeTiming, TIMING_ITERATIONS, TIMING_REPEATS, Timings, cpu_model, git_commit, machine_info, median};
 pub use report::{Written, write_study};

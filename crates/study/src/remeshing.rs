@@ -278,15 +278,20 @@ fn cotangent_rms(
     })
 }
 
+/// A share of negative weights changes only by more than this (0.1 percentage point)
+/// besides [`REL_TOL`](crate::REL_TOL) of its value: shares near 0 are not compared
+/// relatively.
+pub const SHARE_TOL: f64 = 0.001;
+
 /// How `after` compares with `before`: `"lower"` or `"higher"` when they differ by more
-/// than `rel_tol` of `before`'s magnitude, `"the same"` otherwise (or when either is not
-/// finite: `"not comparable"`).
+/// than `rel_tol` of `before`'s magnitude and more than `abs_tol`, `"the same"`
+/// otherwise (or when either is not finite: `"not comparable"`).
 #[must_use]
-pub(crate) fn change_word(before: f64, after: f64, rel_tol: f64) -> &'static str {
+pub(crate) fn change_word(before: f64, after: f64, rel_tol: f64, abs_tol: f64) -> &'static str {
     if !(before.is_finite() && after.is_finite()) {
         return "not comparable";
     }
-    let tol = rel_tol * before.abs();
+    let tol = (rel_tol * before.abs()).max(abs_tol);
     if after < before - tol {
         "lower"
     } else if after > before + tol {
@@ -380,15 +385,25 @@ pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, conf
     );
     for r in &comparison.rows {
         let (a, b) = (&r.original, &r.remeshed);
-        let neg = change_word(r.before.negative_share_noisy, r.after.negative_share_noisy, tol);
-        let neg_clean = change_word(r.before.negative_share_clean, r.after.negative_share_clean, tol);
+        let neg = change_word(
+            r.before.negative_share_noisy,
+            r.after.negative_share_noisy,
+            tol,
+            SHARE_TOL,
+        );
+        let neg_clean = change_word(
+            r.before.negative_share_clean,
+            r.after.negative_share_clean,
+            tol,
+            SHARE_TOL,
+        );
         let ang = match (r.before.min_angle_deg, r.after.min_angle_deg) {
-            (Some(x), Some(y)) => change_word(x, y, tol),
+            (Some(x), Some(y)) => change_word(x, y, tol, 0.0),
             _ => "not comparable",
         };
         let rel = |x: &CotangentRms, v: f64| v / x.input;
-        let opt_word = change_word(rel(a, a.optimum), rel(b, b.optimum), tol);
-        let long_word = change_word(rel(a, a.at_long), rel(b, b.at_long), tol);
+        let opt_word = change_word(rel(a, a.optimum), rel(b, b.optimum), tol, 0.0);
+        let long_word = change_word(rel(a, a.at_long), rel(b, b.at_long), tol, 0.0);
         let _ = writeln!(
             s,
             "- **{}**: the share of negative cotangent weights is {neg} on the remeshed noisy input ({} → {}; clean mesh: {neg_clean}, {} → {}), the smallest angle {ang} ({} → {}°). The cotangent scheme's RMS at its optimum, relative to the input's, is {opt_word} ({} → {}); after {REMESH_LONG_ITERATIONS} iterations it is {long_word} ({} → {}).",
@@ -407,7 +422,10 @@ pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, conf
     }
     let _ = writeln!(
         s,
-        "\nNoise of σ = 0.2 × the mean edge length along the normals makes many edges non-Delaunay whatever the clean triangulation is, so the noisy input's share of negative weights is what the cotangent scheme meets in its first iterations.\n"
+        "\nA share of negative weights counts as changed beyond {} % of its value and {} percentage point; an angle or a relative RMS beyond {} %.\n",
+        100.0 * tol,
+        100.0 * SHARE_TOL,
+        100.0 * tol
     );
 }
 
@@ -417,13 +435,16 @@ mod tests {
 
     #[test]
     fn change_word_uses_the_tolerance() {
-        assert_eq!(change_word(1.0, 0.98, 0.01), "lower");
-        assert_eq!(change_word(1.0, 1.02, 0.01), "higher");
-        assert_eq!(change_word(1.0, 1.005, 0.01), "the same");
-        assert_eq!(change_word(1.0, 0.995, 0.01), "the same");
-        assert_eq!(change_word(0.0, 0.0, 0.01), "the same");
-        assert_eq!(change_word(0.0, 1e-9, 0.01), "higher");
-        assert_eq!(change_word(f64::NAN, 1.0, 0.01), "not comparable");
+        assert_eq!(change_word(1.0, 0.98, 0.01, 0.0), "lower");
+        assert_eq!(change_word(1.0, 1.02, 0.01, 0.0), "higher");
+        assert_eq!(change_word(1.0, 1.005, 0.01, 0.0), "the same");
+        assert_eq!(change_word(1.0, 0.995, 0.01, 0.0), "the same");
+        assert_eq!(change_word(0.0, 0.0, 0.01, 0.0), "the same");
+        assert_eq!(change_word(0.0, 1e-9, 0.01, 0.0), "higher");
+        // Near zero the absolute tolerance decides.
+        assert_eq!(change_word(2e-5, 0.0, 0.01, SHARE_TOL), "the same");
+        assert_eq!(change_word(0.133, 0.009, 0.01, SHARE_TOL), "lower");
+        assert_eq!(change_word(f64::NAN, 1.0, 0.01, 0.0), "not comparable");
     }
 
     #[test]
@@ -464,6 +485,7 @@ mod tests {
             r.before.negative_share_noisy,
             r.after.negative_share_noisy,
             crate::findings::REL_TOL,
+            SHARE_TOL,
         );
         assert!(text.contains(&format!("negative cotangent weights is {word}")));
         // A changed number changes the text.

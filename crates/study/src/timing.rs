@@ -5,6 +5,7 @@
 
 use std::ops::ControlFlow;
 use std::path::Path;
+use std::time::Instant;
 
 use beltrami_smooth::{SmoothConfig, Smoother, Statistics};
 use beltrami_weights::{LaplacianOptions, Normalization, WeightScheme};
@@ -28,12 +29,16 @@ pub struct SchemeTiming {
     pub surface: String,
     /// The scheme's name.
     pub scheme: String,
-    /// Median weight computation per iteration (every iteration recomputes them with
-    /// the study's default update policy; the first computation included), seconds.
+    /// Median set-up of a run (the smoother's construction: checks, the first weights,
+    /// the operator's structure), once per run, seconds.
+    pub build_s: f64,
+    /// Median weight recomputation per iteration (the run's weight time beyond the
+    /// set-up, over the iterations after the first, which uses the first weights; 0 for
+    /// weights that do not depend on the positions), seconds.
     pub weights_s: f64,
     /// Median position update per iteration, seconds.
     pub update_s: f64,
-    /// Median of the whole iteration (weights + update, per run), seconds.
+    /// Median of an iteration's work (weights + update), seconds.
     pub total_s: f64,
     /// The smallest and largest total over the repeats, seconds.
     pub total_range_s: (f64, f64),
@@ -124,15 +129,21 @@ pub(crate) fn time_schemes(
                 scheme: scheme.name().to_string(),
                 source,
             };
-            let (mut w, mut u, mut t) = (Vec::new(), Vec::new(), Vec::new());
+            let (mut b, mut w, mut u, mut t) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for _ in 0..TIMING_REPEATS {
-                let done = Smoother::new(&case.mesh, &case.noisy, scheme.as_ref(), smooth.clone())
-                    .map_err(failed)?
+                let start = Instant::now();
+                let smoother =
+                    Smoother::new(&case.mesh, &case.noisy, scheme.as_ref(), smooth.clone())
+                        .map_err(failed)?;
+                let build = start.elapsed().as_secs_f64();
+                let done = smoother
                     .run(|_| ControlFlow::Continue(()))
                     .map_err(failed)?;
                 let n = done.report.iterations.max(1) as f64;
-                let ws = done.report.weight_time.as_secs_f64() / n;
+                let refreshes = (done.report.iterations.max(2) - 1) as f64;
+                let ws = (done.report.weight_time.as_secs_f64() - build).max(0.0) / refreshes;
                 let us = done.report.update_time.as_secs_f64() / n;
+                b.push(build);
                 w.push(ws);
                 u.push(us);
                 t.push(ws + us);
@@ -142,6 +153,7 @@ pub(crate) fn time_schemes(
             rows.push(SchemeTiming {
                 surface: case.clean.name.to_string(),
                 scheme: scheme.name().to_string(),
+                build_s: median(&b).unwrap_or(f64::NAN),
                 weights_s: median(&w).unwrap_or(f64::NAN),
                 update_s: median(&u).unwrap_or(f64::NAN),
                 total_s: median(&t).unwrap_or(f64::NAN),
@@ -262,7 +274,7 @@ pub(crate) fn timing_section(s: &mut String, t: &Timings) {
 ");
     let _ = writeln!(
         s,
-        "Timed apart from the study's runs, one run after the other: per surface and scheme, {} runs of {} iterations on the noisy input of the first seed (weights recomputed every iteration, as in the study); the median per iteration of the weight computation and of the position update, in milliseconds, with the range of the total over the runs. Machine: {}, {}, {} threads; commit {}. The cumulative times of the tables and the time plots come from the study's single runs.\n",
+        "Timed apart from the study's runs, one run after the other: per surface and scheme, {} runs of {} iterations on the noisy input of the first seed (weights recomputed every iteration, as in the study); the medians, in milliseconds, of a run's set-up (checks, the first weights, the operator's structure; once per run) and, per iteration, of the weight recomputation and of the position update, with the range of an iteration's total over the runs. The ratios compare an iteration's total. Machine: {}, {}, {} threads; commit {}. The cumulative times of the tables and the time plots come from the study's single runs.\n",
         t.repeats, t.iterations, t.machine.cpu, t.machine.os, t.machine.threads, t.machine.commit
     );
     let mut schemes: Vec<&str> = Vec::new();
@@ -273,18 +285,19 @@ pub(crate) fn timing_section(s: &mut String, t: &Timings) {
     }
     let _ = write!(
         s,
-        "| surface | scheme | weights (ms/iteration) | update (ms/iteration) | total (ms/iteration) [min–max] |"
+        "| surface | scheme | set-up (ms) | weights (ms/iteration) | update (ms/iteration) | total (ms/iteration) [min–max] |"
     );
     for other in &schemes {
         let _ = write!(s, " × {other} (1) |");
     }
-    let _ = writeln!(s, "\n|---|---|---|---|---|{}", "---|".repeat(schemes.len()));
+    let _ = writeln!(s, "\n|---|---|---|---|---|---|{}", "---|".repeat(schemes.len()));
     for r in &t.rows {
         let _ = write!(
             s,
-            "| {} | {} | {} | {} | {} [{}–{}] |",
+            "| {} | {} | {} | {} | {} | {} [{}–{}] |",
             r.surface,
             r.scheme,
+            ms(r.build_s),
             ms(r.weights_s),
             ms(r.update_s),
             ms(r.total_s),
@@ -380,6 +393,7 @@ mod tests {
         let row = |scheme: &str, total_s| SchemeTiming {
             surface: "sphere".into(),
             scheme: scheme.into(),
+            build_s: 2.0 * total_s,
             weights_s: 0.25 * total_s,
             update_s: 0.75 * total_s,
             total_s,
@@ -400,7 +414,7 @@ mod tests {
         timing_section(&mut s, &t);
         assert!(s.contains("Test CPU"));
         assert!(s.contains("commit 0123456789ab"));
-        assert!(s.contains("| sphere | cotangent | 1.000 | 3.000 | 4.000 [4.000–6.000] | 4.00 | 2.00 | 1 |"), "{s}");
+        assert!(s.contains("| sphere | cotangent | 8.000 | 1.000 | 3.000 | 4.000 [4.000–6.000] | 4.00 | 2.00 | 1 |"), "{s}");
         assert!(s.contains("sphere 4.00× uniform and 2.00× distance"));
     }
 
@@ -409,6 +423,7 @@ mod tests {
         let row = |scheme: &str, total_s| SchemeTiming {
             surface: "s".into(),
             scheme: scheme.into(),
+            build_s: 0.0,
             weights_s: 0.0,
             update_s: total_s,
             total_s,

@@ -276,11 +276,13 @@ fn draw<'a, DB: DrawingBackend + 'a>(
             color,
             stroke: layout.line,
             sample: None,
+            dashed: false,
         };
         if !series.dashed {
             chart.draw_series(prepared.markers[i].iter().map(|&p| glyph(p)))?;
         }
         let sample = (layout.tick * 2.2).round() as i32;
+        let dashed = series.dashed;
         chart
             .draw_series(LineSeries::new(std::iter::empty(), style))?
             .label(series.label.as_str())
@@ -291,6 +293,7 @@ fn draw<'a, DB: DrawingBackend + 'a>(
                 color,
                 stroke: layout_line,
                 sample: Some(sample),
+                dashed,
             });
     }
     chart
