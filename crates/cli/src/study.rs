@@ -88,10 +88,15 @@ pub(crate) struct StudyArgs {
     /// Remeshing before smoothing (the paper's MeshLab step), reported beside the
     /// original meshes: the target edge length L in each surface's unit (default:
     /// each clean mesh's mean edge length, --remesh-relative 1).
-    #[arg(long, value_name = "L", conflicts_with_all = ["remesh_relative", "no_remesh"])]
+    #[arg(long, value_name = "L", conflicts_with_all = ["remesh_relative", "no_remesh"], allow_negative_numbers = true)]
     remesh: Option<f64>,
     /// The remeshing target edge length as R × each clean mesh's mean edge length.
-    #[arg(long, value_name = "R", conflicts_with = "no_remesh")]
+    #[arg(
+        long,
+        value_name = "R",
+        conflicts_with = "no_remesh",
+        allow_negative_numbers = true
+    )]
     remesh_relative: Option<f64>,
     /// Skip the remeshing comparison.
     #[arg(long)]

@@ -81,11 +81,19 @@ mod tests {
             plain += a / *c as f64;
         }
         plain /= mesh.n_vertices() as f64;
-        let u = weighted_mean_edge_sq(&mesh, &s.positions, registry.get("uniform").unwrap().as_ref())
-            .unwrap();
+        let u = weighted_mean_edge_sq(
+            &mesh,
+            &s.positions,
+            registry.get("uniform").unwrap().as_ref(),
+        )
+        .unwrap();
         assert!((u - plain).abs() < 1e-15 * plain.max(1.0), "{u} vs {plain}");
-        let d = weighted_mean_edge_sq(&mesh, &s.positions, registry.get("distance").unwrap().as_ref())
-            .unwrap();
+        let d = weighted_mean_edge_sq(
+            &mesh,
+            &s.positions,
+            registry.get("distance").unwrap().as_ref(),
+        )
+        .unwrap();
         // Inverse-distance weights favour short edges: a smaller weighted mean.
         assert!(d < u, "{d} !< {u}");
         assert!(d > 0.9 * u);
@@ -106,8 +114,8 @@ mod tests {
                 ..LaplacianOptions::default()
             });
             let out = smooth(&mesh, &s.positions, scheme.as_ref(), config).unwrap();
-            let r = out.positions.iter().map(|p| p.length()).sum::<f64>()
-                / out.positions.len() as f64;
+            let r =
+                out.positions.iter().map(|p| p.length()).sum::<f64>() / out.positions.len() as f64;
             let predicted = predicted_radius(1.0, 0.5, l2, 20);
             // The closed form holds to a small fraction of the shrink.
             let shrink = 1.0 - predicted;

@@ -141,13 +141,10 @@ pub fn differences(series: &[Series]) -> Vec<Series> {
     };
     rest.iter()
         .map(|s| {
-            let points = s.points.iter().filter_map(|&(x, y)| {
-                first
-                    .points
-                    .iter()
-                    .find(|p| p.0 == x)
-                    .map(|p| (x, y - p.1))
-            });
+            let points = s
+                .points
+                .iter()
+                .filter_map(|&(x, y)| first.points.iter().find(|p| p.0 == x).map(|p| (x, y - p.1)));
             let mut d = Series::new(format!("{} − {}", s.label, first.label), points);
             d.style = s.style;
             d
@@ -256,14 +253,12 @@ fn write_line(
             "iterations",
             format!("{}, scheme − {base}", spec.y_label),
         );
-        // The data and any prediction (dashed), each minus the first data series.
-        let mut all = vec![data[0].clone()];
-        all.extend(spec.series.iter().skip(1).cloned());
-        plot.series = differences(&all)
-            .into_iter()
-            .zip(spec.series.iter().skip(1))
-            .map(|(d, s)| if s.dashed { d.dashed() } else { d })
-            .collect();
+        // The data minus the first data series; predictions (dashed) minus the first
+        // prediction: the measured gap beside the predicted one.
+        plot.series = differences(&data);
+        let predicted: Vec<Series> = spec.series.iter().filter(|s| s.dashed).cloned().collect();
+        plot.series
+            .extend(differences(&predicted).into_iter().map(Series::dashed));
         let stem = format!("{}_diff", spec.stem);
         let rel = format!("plots/{stem}");
         write_plot(&plot, &dir.join(&rel)).map_err(viz(&stem))?;
@@ -384,7 +379,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: radius_series(results, result, rows),
-                diff: true,
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -402,7 +397,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.volume_ratio),
-                diff: true,
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -419,7 +414,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.boundary_mean),
-                diff: true,
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -438,7 +433,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.feature_dihedral_deg),
-                diff: false,
+                    diff: false,
                 },
                 name,
                 &mut figures,
@@ -791,8 +786,15 @@ fn golf_closeup(
             .map(|(pos, r)| render_mesh(mesh, pos, Some(r), colors, &view, frame, 360, 360))
             .collect::<Result<Vec<_>, _>>()
             .map_err(image_error)?;
-        let image = grid(&panels, panels.len(), labels, &[String::new()], title, Some((colors, bar)))
-            .map_err(image_error)?;
+        let image = grid(
+            &panels,
+            panels.len(),
+            labels,
+            &[String::new()],
+            title,
+            Some((colors, bar)),
+        )
+        .map_err(image_error)?;
         let rel = format!("renders/{stem}.png");
         image.write_png(&dir.join(&rel)).map_err(image_error)?;
         Ok(rel)
@@ -843,4 +845,33 @@ fn golf_closeup(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlap_is_judged_against_the_plot_height() {
+        let a = Series::new("uniform", [(0.0, 1.0), (10.0, 0.5), (20.0, 0.0)]);
+        let close = Series::new("cotangent", [(0.0, 1.0), (10.0, 0.51), (20.0, 0.01)]);
+        let apart = Series::new("distance", [(0.0, 1.0), (10.0, 0.6), (20.0, 0.0)]);
+        assert!(curves_overlap(&[a.clone(), close.clone()]));
+        assert!(!curves_overlap(&[a.clone(), close.clone(), apart]));
+        assert!(!curves_overlap(std::slice::from_ref(&a)));
+        let flat = Series::new("flat", [(0.0, 1.0), (1.0, 1.0)]);
+        assert!(!curves_overlap(&[flat.clone(), flat]));
+        let d = differences(&[a, close.with_style(2)]);
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].label, "cotangent − uniform");
+        assert_eq!(d[0].style, Some(2));
+        assert_eq!(d[0].points.len(), 3);
+        assert!((d[0].points[1].1 - 0.01).abs() < 1e-12);
+    }
+
+    #[test]
+    fn units_label_lengths() {
+        assert_eq!(unit_label("mm"), " (mm)");
+        assert_eq!(unit_label("1"), " (clean radii)");
+    }
 }

@@ -469,7 +469,11 @@ mod tests {
         let c = remesh_comparison(&[&case], &config, &default_remesh(), cot.as_ref()).unwrap();
         let r = &c.rows[0];
         // The remeshed vertices lie on the clean surface (the box keeps its edges).
-        assert!(r.hausdorff < 1e-9 * r.target_edge_length.max(1.0), "{}", r.hausdorff);
+        assert!(
+            r.hausdorff < 1e-9 * r.target_edge_length.max(1.0),
+            "{}",
+            r.hausdorff
+        );
         assert!((r.after.mean_edge_length / r.target_edge_length - 1.0).abs() < 0.2);
         // Smoothing helps on both inputs, and the optimum is at least as good as 10
         // iterations.

@@ -363,7 +363,7 @@ fn setup_section(s: &mut String, results: &StudyResults) {
 
     let _ = writeln!(
         s,
-        "| surface | vertices | faces | closed | unit | noise σ |\n|---|---|---|---|---|---|"
+        "| surface | vertices | faces | closed | unit | noise σ (unit) |\n|---|---|---|---|---|---|"
     );
     for r in &results.surfaces {
         let _ = writeln!(
@@ -445,7 +445,11 @@ fn surface_sections(
         let _ = writeln!(
             s,
             "| scheme | RMS{u} | max{u} | normal dev. (°) | volume ratio (1) | sphere radius{u} |{} boundary mean{u} | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|{}---|---|---|",
-            if predicted.is_empty() { "" } else { " predicted radius, closed form |" },
+            if predicted.is_empty() {
+                ""
+            } else {
+                " predicted radius, closed form |"
+            },
             if predicted.is_empty() { "" } else { "---|" },
         );
         let mut schemes = vec!["input"];
@@ -464,14 +468,7 @@ fn surface_sections(
                 String::new()
             } else {
                 let p = predicted.iter().find(|(n, _)| n == scheme).map(|x| x.1);
-                format!(
-                    " {} |",
-                    if scheme == "input" {
-                        num(1.0)
-                    } else {
-                        opt(p)
-                    }
-                )
+                format!(" {} |", if scheme == "input" { num(1.0) } else { opt(p) })
             };
             let _ = writeln!(
                 s,
@@ -504,7 +501,13 @@ fn surface_sections(
                             .schemes
                             .iter()
                             .find(|x| x.name() == n)
-                            .and_then(|x| weighted_mean_edge_sq(&r.case.mesh, &r.case.clean.positions, x.as_ref()));
+                            .and_then(|x| {
+                                weighted_mean_edge_sq(
+                                    &r.case.mesh,
+                                    &r.case.clean.positions,
+                                    x.as_ref(),
+                                )
+                            });
                         format!("{n} {}", opt(l2))
                     })
                     .collect::<Vec<_>>()
@@ -524,7 +527,11 @@ fn surface_sections(
 
 /// Per scheme of `r`'s runs, the closed-form radius after `shown` iterations on the
 /// unit sphere (empty for other surfaces).
-fn predicted_radii(results: &StudyResults, r: &crate::run::SurfaceResult, shown: usize) -> Vec<(String, f64)> {
+fn predicted_radii(
+    results: &StudyResults,
+    r: &crate::run::SurfaceResult,
+    shown: usize,
+) -> Vec<(String, f64)> {
     if r.case.kind != beltrami_surfaces::SurfaceKind::Sphere {
         return Vec::new();
     }
@@ -695,7 +702,7 @@ fn optimum_section(
     );
     let _ = writeln!(
         s,
-        "| surface | scheme | optimal iterations | RMS at the optimum | input RMS | RMS at {shown} it. | RMS at {shown} / at the optimum |\n|---|---|---|---|---|---|---|"
+        "| surface | scheme | optimal iterations | RMS at the optimum (unit) | input RMS (unit) | RMS at {shown} it. (unit) | RMS at {shown} / at the optimum (1) |\n|---|---|---|---|---|---|---|"
     );
     for o in optima {
         let at = rms_at(rows, &o.surface, &o.scheme, shown);
@@ -966,14 +973,20 @@ fn countermeasure_section(s: &mut String, results: &StudyResults, shown: usize) 
             } else {
                 ("mean boundary displacement", |x| x.boundary_mean)
             };
-        let _ = writeln!(s, "### {name}: {metric}\n");
+        let u = crate::figures::unit_label(r.case.clean.unit);
+        let metric_unit = if metric.starts_with("mean boundary") {
+            u.clone()
+        } else {
+            " (1)".to_string()
+        };
+        let _ = writeln!(s, "### {name}: {metric}{metric_unit}\n");
         let mut header = String::from("| method |");
         let mut rule = String::from("|---|");
         for i in &columns {
             let _ = write!(header, " {i} it. |");
             rule.push_str("---|");
         }
-        let _ = write!(header, " RMS at {shown} it. |");
+        let _ = write!(header, " RMS at {shown} it.{u} |");
         rule.push_str("---|");
         let has_dihedral = rows.iter().any(|x| x.feature_dihedral_deg.is_some());
         if has_dihedral {
@@ -1025,7 +1038,7 @@ fn edge_section(s: &mut String, results: &StudyResults) {
     );
     let _ = writeln!(
         s,
-        "| run | iterations | flat-side RMS | dihedral error (°) | volume loss | reached the target |\n|---|---|---|---|---|---|"
+        "| run | iterations | flat-side RMS (mm) | dihedral error (°) | volume loss (%) | reached the target |\n|---|---|---|---|---|---|"
     );
     let line = |s: &mut String, name: &str, m: &crate::Measures, reached: &str| {
         let _ = writeln!(
@@ -1084,7 +1097,7 @@ fn units_section(s: &mut String, results: &StudyResults) {
     );
     let _ = writeln!(
         s,
-        "| level | vertices | iterations for λc | radius, λc | radius, fixed λ × iterations | radius, one implicit step of t | implicit step (s) |\n|---|---|---|---|---|---|---|"
+        "| level | vertices | iterations for λc | radius, λc (clean radii) | radius, fixed λ × iterations (clean radii) | radius, one implicit step of t (clean radii) | implicit step (s) |\n|---|---|---|---|---|---|---|"
     );
     for r in &u.rows {
         let _ = writeln!(

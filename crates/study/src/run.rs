@@ -252,12 +252,9 @@ pub fn run_study(
     };
     let cotangent = config.schemes.iter().find(|s| s.name() == "cotangent");
     let remeshing = match (&config.remesh, cotangent) {
-        (Some(options), Some(scheme)) => Some(remesh_comparison(
-            &cases,
-            config,
-            options,
-            scheme.as_ref(),
-        )?),
+        (Some(options), Some(scheme)) => {
+            Some(remesh_comparison(&cases, config, options, scheme.as_ref())?)
+        }
         _ => None,
     };
     Ok(StudyResults {

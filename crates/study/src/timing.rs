@@ -180,11 +180,7 @@ pub fn machine_info() -> MachineInfo {
         .ok()
         .map(|c| c.trim().to_string())
         .filter(|c| !c.is_empty())
-        .or_else(|| {
-            std::env::current_dir()
-                .ok()
-                .and_then(|d| git_commit(&d))
-        })
+        .or_else(|| std::env::current_dir().ok().and_then(|d| git_commit(&d)))
         .unwrap_or_else(|| "unknown".into());
     MachineInfo {
         cpu,
@@ -270,8 +266,11 @@ fn ms(x: f64) -> String {
 /// scheme against every other.
 pub(crate) fn timing_section(s: &mut String, t: &Timings) {
     use std::fmt::Write as _;
-    let _ = writeln!(s, "## Timing
-");
+    let _ = writeln!(
+        s,
+        "## Timing
+"
+    );
     let _ = writeln!(
         s,
         "Timed apart from the study's runs, one run after the other: per surface and scheme, {} runs of {} iterations on the noisy input of the first seed (weights recomputed every iteration, as in the study); the medians, in milliseconds, of a run's set-up (checks, the first weights, the operator's structure; once per run) and, per iteration, of the weight recomputation and of the position update, with the range of an iteration's total over the runs. The ratios compare an iteration's total. Machine: {}, {}, {} threads; commit {}. The cumulative times of the tables and the time plots come from the study's single runs.\n",
@@ -290,7 +289,11 @@ pub(crate) fn timing_section(s: &mut String, t: &Timings) {
     for other in &schemes {
         let _ = write!(s, " × {other} (1) |");
     }
-    let _ = writeln!(s, "\n|---|---|---|---|---|---|{}", "---|".repeat(schemes.len()));
+    let _ = writeln!(
+        s,
+        "\n|---|---|---|---|---|---|{}",
+        "---|".repeat(schemes.len())
+    );
     for r in &t.rows {
         let _ = write!(
             s,
@@ -323,7 +326,11 @@ pub(crate) fn timing_section(s: &mut String, t: &Timings) {
                 surfaces.push(&r.surface);
             }
         }
-        let others: Vec<&str> = schemes.iter().copied().filter(|x| *x != "cotangent").collect();
+        let others: Vec<&str> = schemes
+            .iter()
+            .copied()
+            .filter(|x| *x != "cotangent")
+            .collect();
         let parts: Vec<String> = surfaces
             .iter()
             .map(|surface| {
@@ -408,7 +415,11 @@ mod tests {
             },
             repeats: 7,
             iterations: 10,
-            rows: vec![row("uniform", 1e-3), row("distance", 2e-3), row("cotangent", 4e-3)],
+            rows: vec![
+                row("uniform", 1e-3),
+                row("distance", 2e-3),
+                row("cotangent", 4e-3),
+            ],
         };
         let mut s = String::new();
         timing_section(&mut s, &t);
