@@ -810,7 +810,7 @@ fn golf_closeup(
     )?;
     figures.push(Figure {
         path: rel,
-        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}. The dimples fill in for every scheme alike", sig(largest)),
+        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}", sig(largest)),
         surface: name.to_string(),
     });
     // Each scheme against the schemes' mean: where one departs from the others.
