@@ -355,6 +355,7 @@ fn setup_section(s: &mut String, results: &StudyResults) {
         info.cpu, m.os, m.arch, m.threads
     );
     let _ = writeln!(s, "| commit | {} |", info.commit);
+    let _ = writeln!(s, "| load (at the timing) | {} |", info.load_text());
     let _ = writeln!(
         s,
         "| wall time of the study | {:.1} s |\n",

@@ -56,6 +56,31 @@ pub struct MachineInfo {
     /// The commit of the source (`BELTRAMI_COMMIT` in the environment, else read from
     /// the `.git` directory above the working directory), or `"unknown"`.
     pub commit: String,
+    /// The 1-minute load average when measured (`/proc/loadavg`), if available: above
+    /// the thread count, other processes shared the machine.
+    pub load: Option<f64>,
+}
+
+impl MachineInfo {
+    /// Whether the load average exceeded the thread count (other work shared the
+    /// machine); `false` when unknown.
+    #[must_use]
+    pub fn shared(&self) -> bool {
+        self.load.is_some_and(|l| l > self.threads as f64)
+    }
+
+    /// The load in words for the report.
+    #[must_use]
+    pub fn load_text(&self) -> String {
+        match self.load {
+            Some(l) if self.shared() => format!(
+                "load average {l:.2} on {} threads: other processes shared the machine, so the times are disturbed",
+                self.threads
+            ),
+            Some(l) => format!("load average {l:.2} on {} threads", self.threads),
+            None => "load average unknown".into(),
+        }
+    }
 }
 
 /// The study's timings.
@@ -182,11 +207,16 @@ pub fn machine_info() -> MachineInfo {
         .filter(|c| !c.is_empty())
         .or_else(|| std::env::current_dir().ok().and_then(|d| git_commit(&d)))
         .unwrap_or_else(|| "unknown".into());
+    let load = std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|t| t.split_whitespace().next()?.parse::<f64>().ok())
+        .filter(|l| l.is_finite());
     MachineInfo {
         cpu,
         os: format!("{} {}", std::env::consts::OS, std::env::consts::ARCH),
         threads: rayon::current_num_threads(),
         commit,
+        load,
     }
 }
 
@@ -273,8 +303,14 @@ pub(crate) fn timing_section(s: &mut String, t: &Timings) {
     );
     let _ = writeln!(
         s,
-        "Timed apart from the study's runs, one run after the other: per surface and scheme, {} runs of {} iterations on the noisy input of the first seed (weights recomputed every iteration, as in the study); the medians, in milliseconds, of a run's set-up (checks, the first weights, the operator's structure; once per run) and, per iteration, of the weight recomputation and of the position update, with the range of an iteration's total over the runs. The ratios compare an iteration's total. Machine: {}, {}, {} threads; commit {}. The cumulative times of the tables and the time plots come from the study's single runs.\n",
-        t.repeats, t.iterations, t.machine.cpu, t.machine.os, t.machine.threads, t.machine.commit
+        "Timed apart from the study's runs, one run after the other: per surface and scheme, {} runs of {} iterations on the noisy input of the first seed (weights recomputed every iteration, as in the study); the medians, in milliseconds, of a run's set-up (checks, the first weights, the operator's structure; once per run) and, per iteration, of the weight recomputation and of the position update, with the range of an iteration's total over the runs. The ratios compare an iteration's total. Machine: {}, {}, {} threads; commit {}; {}. The cumulative times of the tables and the time plots come from the study's single runs.\n",
+        t.repeats,
+        t.iterations,
+        t.machine.cpu,
+        t.machine.os,
+        t.machine.threads,
+        t.machine.commit,
+        t.machine.load_text()
     );
     let mut schemes: Vec<&str> = Vec::new();
     for r in &t.rows {
@@ -412,6 +448,7 @@ mod tests {
                 os: "linux x86_64".into(),
                 threads: 2,
                 commit: "0123456789ab".into(),
+                load: Some(3.5),
             },
             repeats: 7,
             iterations: 10,
@@ -425,6 +462,7 @@ mod tests {
         timing_section(&mut s, &t);
         assert!(s.contains("Test CPU"));
         assert!(s.contains("commit 0123456789ab"));
+        assert!(s.contains("load average 3.50 on 2 threads: other processes shared the machine"));
         assert!(s.contains("| sphere | cotangent | 8.000 | 1.000 | 3.000 | 4.000 [4.000–6.000] | 4.00 | 2.00 | 1 |"), "{s}");
         assert!(s.contains("sphere 4.00× uniform and 2.00× distance"));
     }
