@@ -119,7 +119,7 @@ pub fn curves_overlap(series: &[Series]) -> bool {
         (lo.min(v), hi.max(v))
     });
     let span = hi - lo;
-    if !(span > 0.0) {
+    if span.is_nan() || span <= 0.0 {
         return false;
     }
     rest.iter().all(|s| {
@@ -726,7 +726,7 @@ fn golf_closeup(
         .and_then(|q| q.edge_length)
         .map_or(0.0, |e| e.mean);
     let half = CLOSEUP_EDGES * mean_edge;
-    if !(half > 0.0) {
+    if half.is_nan() || half <= 0.0 {
         return Ok(());
     }
     let frame = Some((p - DVec3::splat(half), p + DVec3::splat(half)));

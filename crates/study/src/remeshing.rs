@@ -117,7 +117,7 @@ pub struct RemeshComparison {
 pub fn describe_target(options: &RemeshOptions) -> String {
     match options.edge_length {
         EdgeLength::Absolute(l) => format!("L = {l} (in each surface's unit)"),
-        EdgeLength::Relative(r) if r == 1.0 => "L = the clean mesh's mean edge length".into(),
+        EdgeLength::Relative(1.0) => "L = the clean mesh's mean edge length".into(),
         EdgeLength::Relative(r) => format!("L = {r} × the clean mesh's mean edge length"),
         EdgeLength::Adaptive { .. } => "curvature-adaptive".into(),
         _ => "other".into(),

@@ -45,7 +45,7 @@ pub struct SchemeTiming {
 }
 
 /// Where the timings were measured.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MachineInfo {
     /// The CPU model (`/proc/cpuinfo`'s `model name`), or `"unknown"`.
     pub cpu: String,
