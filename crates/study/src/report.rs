@@ -449,7 +449,7 @@ fn surface_sections(
             if predicted.is_empty() {
                 ""
             } else {
-                " predicted radius, closed form |"
+                " predicted radius, closed form (clean radii) |"
             },
             if predicted.is_empty() { "" } else { "---|" },
         );
