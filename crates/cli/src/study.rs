@@ -85,6 +85,22 @@ pub(crate) struct StudyArgs {
     /// Skip the shrinkage counter-measure runs.
     #[arg(long)]
     no_countermeasures: bool,
+    /// Remeshing before smoothing (the paper's MeshLab step), reported beside the
+    /// original meshes: the target edge length L in each surface's unit (default:
+    /// each clean mesh's mean edge length, --remesh-relative 1).
+    #[arg(long, value_name = "L", conflicts_with_all = ["remesh_relative", "no_remesh"], allow_negative_numbers = true)]
+    remesh: Option<f64>,
+    /// The remeshing target edge length as R × each clean mesh's mean edge length.
+    #[arg(
+        long,
+        value_name = "R",
+        conflicts_with = "no_remesh",
+        allow_negative_numbers = true
+    )]
+    remesh_relative: Option<f64>,
+    /// Skip the remeshing comparison.
+    #[arg(long)]
+    no_remesh: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -151,6 +167,13 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             .get("bilateral")
             .ok()
             .zip(registry.get("cotangent").ok()),
+        remesh: match (args.no_remesh, args.remesh, args.remesh_relative) {
+            (true, ..) => None,
+            (_, Some(l), _) => Some(beltrami_study::default_remesh().edge_length(l)),
+            (_, _, Some(r)) => Some(beltrami_study::default_remesh().relative_edge_length(r)),
+            _ => Some(beltrami_study::default_remesh()),
+        },
+        timing: true,
     };
     config
         .validate()

@@ -52,6 +52,15 @@ pub struct StudyConfig {
     /// [`edge_preservation`](crate::edge_preservation)); `None`, or no block among the
     /// surfaces: skipped.
     pub edge_comparison: Option<(Arc<dyn WeightScheme>, Arc<dyn WeightScheme>)>,
+    /// Remeshing before smoothing (the paper's MeshLab step): each clean surface is
+    /// remeshed with these options, gets noise of the same level and first seed, and
+    /// the cotangent scheme smooths it beside the original input (see
+    /// [`RemeshComparison`](crate::RemeshComparison)); `None`, or no `cotangent` among
+    /// the schemes: skipped. Default: [`default_remesh`](crate::default_remesh).
+    pub remesh: Option<beltrami_algorithms::RemeshOptions>,
+    /// Time every scheme apart from the study's runs: medians of repeated short runs,
+    /// weights apart from updates (see [`Timings`](crate::Timings)). Default `true`.
+    pub timing: bool,
 }
 
 impl std::fmt::Debug for StudyConfig {
@@ -79,6 +88,8 @@ impl std::fmt::Debug for StudyConfig {
                     .as_ref()
                     .map(|s| s.name().to_string()),
             )
+            .field("remesh", &self.remesh)
+            .field("timing", &self.timing)
             .finish()
     }
 }
@@ -121,11 +132,14 @@ impl StudyConfig {
                 .get("bilateral")
                 .ok()
                 .zip(registry.get("cotangent").ok()),
+            remesh: Some(crate::remeshing::default_remesh()),
+            timing: true,
         }
     }
 
     /// Checks the configuration: at least one surface and scheme, iteration counts
-    /// positive and strictly ascending, λ in (0, 1].
+    /// positive and strictly ascending, λ in (0, 1], a remeshing target length positive
+    /// and finite.
     ///
     /// # Errors
     /// [`StudyError::Config`] saying what is wrong.
@@ -156,6 +170,19 @@ impl StudyConfig {
                 "lambda must be in (0, 1], got {}",
                 self.lambda
             )));
+        }
+        if let Some(r) = &self.remesh {
+            let length = match r.edge_length {
+                beltrami_algorithms::EdgeLength::Absolute(l)
+                | beltrami_algorithms::EdgeLength::Relative(l) => Some(l),
+                _ => None,
+            };
+            if length.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
+                return Err(StudyError::Config(format!(
+                    "the remeshing target edge length must be positive and finite, got {}",
+                    length.unwrap_or(f64::NAN)
+                )));
+            }
         }
         for c in &self.countermeasures {
             if !(c.lambda > 0.0 && c.lambda <= 1.0) {

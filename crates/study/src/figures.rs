@@ -9,7 +9,9 @@ use beltrami_surfaces::SurfaceKind;
 use beltrami_viz::plot::{LinePlot, Series, write_plot};
 use beltrami_viz::render::{ColorMap, Image, View, grid, render_mesh};
 
+use crate::closed_form::{predicted_radius, weighted_mean_edge_sq};
 use crate::error::StudyError;
+use crate::findings::sig;
 use crate::measure::Reference;
 use crate::results::Row;
 use crate::run::{EARLY_ITERATIONS, StudyResults, SurfaceResult};
@@ -55,9 +57,130 @@ fn series_by_scheme(
                     .filter(|r| r.surface == surface && r.scheme == run.scheme)
                     .filter_map(|r| f(r).map(|v| (r.iteration as f64, v))),
             );
-            Series::new(run.scheme.clone(), points)
+            Series::new(run.scheme.clone(), points).with_style(scheme_style(result, &run.scheme))
         })
         .collect()
+}
+
+/// A length unit for an axis or a column header: ` (mm)`, or ` (clean radii)` for the
+/// unit sphere, whose lengths are in units of its clean radius (unit `"1"`).
+pub(crate) fn unit_label(unit: &str) -> String {
+    if unit == "1" {
+        " (clean radii)".into()
+    } else {
+        format!(" ({unit})")
+    }
+}
+
+/// The palette slot of the input (black).
+pub(crate) const INPUT_STYLE: usize = 6;
+/// The palette slot of the clean surface (grey).
+pub(crate) const CLEAN_STYLE: usize = 7;
+
+/// The palette slot of a series: a scheme keeps its position among the study's schemes
+/// in every plot (skipping the slots of the input and the clean surface), `"input"` and
+/// `"clean"` have their own.
+pub(crate) fn scheme_style(result: &SurfaceResult, label: &str) -> usize {
+    match label {
+        "input" => INPUT_STYLE,
+        "clean" => CLEAN_STYLE,
+        _ => {
+            let i = result
+                .runs
+                .iter()
+                .position(|r| r.scheme == label)
+                .unwrap_or(result.runs.len());
+            if i < INPUT_STYLE { i } else { i + 2 }
+        }
+    }
+}
+
+/// Two curves closer than this fraction of a plot's height everywhere are drawn on top
+/// of each other; the study then adds a difference panel.
+pub const OVERLAP_FRACTION: f64 = 0.02;
+
+/// Whether every series lies within [`OVERLAP_FRACTION`] of the plot's height (the
+/// span of all finite values) of the first one at each of the first one's x values
+/// (series without a point there are not compared). `false` with fewer than two
+/// series or a span of zero.
+#[must_use]
+pub fn curves_overlap(series: &[Series]) -> bool {
+    let Some((first, rest)) = series.split_first() else {
+        return false;
+    };
+    if rest.is_empty() {
+        return false;
+    }
+    let values = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|v| v.is_finite());
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    let span = hi - lo;
+    if span.is_nan() || span <= 0.0 {
+        return false;
+    }
+    rest.iter().all(|s| {
+        first.points.iter().all(|&(x, y)| {
+            s.points
+                .iter()
+                .find(|p| p.0 == x)
+                .is_none_or(|p| (p.1 - y).abs() <= OVERLAP_FRACTION * span)
+        })
+    })
+}
+
+/// Each series after the first minus the first at the first one's x values (a
+/// difference panel), keeping labels and styles; points without a partner are left out.
+#[must_use]
+pub fn differences(series: &[Series]) -> Vec<Series> {
+    let Some((first, rest)) = series.split_first() else {
+        return Vec::new();
+    };
+    rest.iter()
+        .map(|s| {
+            let points = s
+                .points
+                .iter()
+                .filter_map(|&(x, y)| first.points.iter().find(|p| p.0 == x).map(|p| (x, y - p.1)));
+            let mut d = Series::new(format!("{} − {}", s.label, first.label), points);
+            d.style = s.style;
+            d
+        })
+        .collect()
+}
+
+/// The fitted radius per scheme and, on the unit sphere, each scheme's closed-form
+/// prediction r₀ (1 − λ⟨ℓ²⟩_w/2r₀²)ⁿ as a dashed line in the scheme's colour (see
+/// [`crate::closed_form`]).
+fn radius_series(results: &StudyResults, result: &SurfaceResult, rows: &[Row]) -> Vec<Series> {
+    let mut series = series_by_scheme(result, rows, |r| r.sphere_radius);
+    if result.case.kind != SurfaceKind::Sphere {
+        return series;
+    }
+    let last = results.config.max_iterations();
+    for scheme in &results.config.schemes {
+        if !result.runs.iter().any(|r| r.scheme == scheme.name()) {
+            continue;
+        }
+        let Some(l2) = weighted_mean_edge_sq(
+            &result.case.mesh,
+            &result.case.clean.positions,
+            scheme.as_ref(),
+        ) else {
+            continue;
+        };
+        let lambda = results.config.lambda;
+        let points = (0..=last).map(|n| (n as f64, predicted_radius(1.0, lambda, l2, n)));
+        series.push(
+            Series::new(format!("{} (closed form)", scheme.name()), points)
+                .with_style(scheme_style(result, scheme.name()))
+                .dashed(),
+        );
+    }
+    series
 }
 
 /// Per scheme, the mean RMS over the seeds at every iteration up to
@@ -81,7 +204,7 @@ fn early_series(result: &SurfaceResult) -> Vec<Series> {
                 (1..=EARLY_ITERATIONS)
                     .filter_map(|it| mean_at(&run.scheme, it).map(|v| (it as f64, v))),
             );
-            Series::new(run.scheme.clone(), points)
+            Series::new(run.scheme.clone(), points).with_style(scheme_style(result, &run.scheme))
         })
         .collect()
 }
@@ -93,6 +216,9 @@ struct PlotSpec {
     caption: String,
     log_y: bool,
     series: Vec<Series>,
+    /// Add a difference panel (each scheme minus the first) when the schemes' curves
+    /// overlap (see [`curves_overlap`]).
+    diff: bool,
 }
 
 fn write_line(
@@ -108,16 +234,43 @@ fn write_line(
     {
         return Ok(());
     }
-    let mut plot = LinePlot::new(spec.title, "iterations", spec.y_label);
-    plot.series = spec.series;
+    let data: Vec<Series> = spec.series.iter().filter(|s| !s.dashed).cloned().collect();
+    let diff = spec.diff && curves_overlap(&data);
+    let mut plot = LinePlot::new(spec.title.clone(), "iterations", spec.y_label.clone());
+    plot.series = spec.series.clone();
     plot.log_y = spec.log_y;
     let rel = format!("plots/{}", spec.stem);
     write_plot(&plot, &dir.join(&rel)).map_err(viz(&spec.stem))?;
     figures.push(Figure {
         path: rel,
-        caption: spec.caption,
+        caption: spec.caption.clone(),
         surface: surface.to_string(),
     });
+    if diff {
+        let base = data.first().map_or("", |s| s.label.as_str()).to_string();
+        let mut plot = LinePlot::new(
+            format!("{}: difference from {base}", spec.title),
+            "iterations",
+            format!("{}, scheme − {base}", spec.y_label),
+        );
+        // The data minus the first data series; predictions (dashed) minus the first
+        // prediction: the measured gap beside the predicted one.
+        plot.series = differences(&data);
+        let predicted: Vec<Series> = spec.series.iter().filter(|s| s.dashed).cloned().collect();
+        plot.series
+            .extend(differences(&predicted).into_iter().map(Series::dashed));
+        let stem = format!("{}_diff", spec.stem);
+        let rel = format!("plots/{stem}");
+        write_plot(&plot, &dir.join(&rel)).map_err(viz(&stem))?;
+        figures.push(Figure {
+            path: rel,
+            caption: format!(
+                "The same as a difference from `{base}`: the schemes' curves above lie within {} % of the plot's height of each other, too close to tell apart",
+                100.0 * OVERLAP_FRACTION
+            ),
+            surface: surface.to_string(),
+        });
+    }
     Ok(())
 }
 
@@ -162,11 +315,7 @@ pub fn write_figures(
     for result in &results.surfaces {
         let name = result.case.clean.name;
         let unit = result.case.clean.unit;
-        let u = if unit == "1" {
-            String::new()
-        } else {
-            format!(" ({unit})")
-        };
+        let u = unit_label(unit);
         write_line(
             dir,
             PlotSpec {
@@ -178,6 +327,7 @@ pub fn write_figures(
                 ),
                 log_y: false,
                 series: series_by_scheme(result, rows, |r| Some(r.rms)),
+                diff: true,
             },
             name,
             &mut figures,
@@ -193,6 +343,7 @@ pub fn write_figures(
                 ),
                 log_y: false,
                 series: early_series(result),
+                diff: true,
             },
             name,
             &mut figures,
@@ -208,6 +359,7 @@ pub fn write_figures(
                 ),
                 log_y: true,
                 series: series_by_scheme(result, rows, |r| (r.iteration > 0).then_some(r.time_s)),
+                diff: false,
             },
             name,
             &mut figures,
@@ -226,7 +378,8 @@ pub fn write_figures(
                         "Radius of the least-squares sphere through the smoothed {name} (paper Figs. 7b, 11a)"
                     ),
                     log_y: false,
-                    series: series_by_scheme(result, rows, |r| r.sphere_radius),
+                    series: radius_series(results, result, rows),
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -244,6 +397,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.volume_ratio),
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -260,6 +414,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.boundary_mean),
+                    diff: true,
                 },
                 name,
                 &mut figures,
@@ -278,6 +433,7 @@ pub fn write_figures(
                     ),
                     log_y: false,
                     series: series_by_scheme(result, rows, |r| r.feature_dihedral_deg),
+                    diff: false,
                 },
                 name,
                 &mut figures,
@@ -287,6 +443,9 @@ pub fn write_figures(
             profile_plot(dir, result, shown, &mut figures)?;
         }
         render_grid(dir, results, result, &mut figures)?;
+        if result.case.kind == SurfaceKind::GolfBall {
+            golf_closeup(dir, result, shown, &mut figures)?;
+        }
     }
     Ok(figures)
 }
@@ -301,13 +460,19 @@ fn ring_plot(
     let mut plot = LinePlot::new(
         format!("{name}: error by distance from the boundary after {shown} iterations"),
         "rings from the boundary",
-        "RMS distance to the clean surface",
+        format!(
+            "RMS distance to the clean surface{}",
+            unit_label(result.case.clean.unit)
+        ),
     );
     for m in &result.measured {
         if m.row.iteration == shown || m.row.scheme == "input" {
             if let Some(rings) = &m.rings {
                 let points = rings.rings.iter().map(|r| (f64::from(r.ring), r.rms));
-                plot.series.push(Series::new(m.row.scheme.clone(), points));
+                plot.series.push(
+                    Series::new(m.row.scheme.clone(), points)
+                        .with_style(scheme_style(result, &m.row.scheme)),
+                );
             }
         }
     }
@@ -324,7 +489,9 @@ fn ring_plot(
     Ok(())
 }
 
-/// The longest polyline of a plane section, as (u, v) coordinates in the plane.
+/// Every polyline of a plane section, as (u, v) coordinates in the plane, the longest
+/// first, joined by a non-finite point (where the plotted line breaks): a section
+/// through the block's middle hole has two loops, one per wall.
 fn section(
     positions: &[DVec3],
     result: &SurfaceResult,
@@ -333,29 +500,25 @@ fn section(
 ) -> Result<Vec<(f64, f64)>, StudyError> {
     let geometry = Geometry::new(&result.case.mesh, positions)
         .map_err(|e| StudyError::Config(e.to_string()))?;
-    let polylines: Vec<Polyline> =
+    let mut polylines: Vec<Polyline> =
         cross_section(&geometry, plane).map_err(|source| StudyError::Metrics {
             surface: result.case.clean.name.to_string(),
             scheme: "profile".into(),
             source,
         })?;
-    let longest = polylines
-        .iter()
-        .max_by(|a, b| a.length().total_cmp(&b.length()));
-    Ok(longest
-        .map(|l| {
-            let mut pts: Vec<(f64, f64)> = l
-                .positions()
-                .map(|p| (p.dot(axes.0), p.dot(axes.1)))
-                .collect();
-            if l.closed {
-                if let Some(&first) = pts.first() {
-                    pts.push(first);
-                }
-            }
-            pts
-        })
-        .unwrap_or_default())
+    polylines.sort_by(|a, b| b.length().total_cmp(&a.length()));
+    let mut out = Vec::new();
+    for l in &polylines {
+        if !out.is_empty() {
+            out.push((f64::NAN, f64::NAN));
+        }
+        let start = out.len();
+        out.extend(l.positions().map(|p| (p.dot(axes.0), p.dot(axes.1))));
+        if l.closed && out.len() > start {
+            out.push(out[start]);
+        }
+    }
+    Ok(out)
 }
 
 fn profile_plot(
@@ -370,13 +533,13 @@ fn profile_plot(
         SurfaceKind::FLens => (
             Plane::new(DVec3::ZERO, DVec3::Y),
             (DVec3::X, DVec3::Z),
-            "section y = 0",
+            "y = 0",
             ("x", "z"),
         ),
         _ => (
             Plane::new(DVec3::new(0.0, 0.0, 0.01), DVec3::Z),
             (DVec3::X, DVec3::Y),
-            "section z = 0.01",
+            "z = 0.01, both walls of the middle hole",
             ("x", "y"),
         ),
     };
@@ -387,32 +550,38 @@ fn profile_plot(
     })?;
     let unit = result.case.clean.unit;
     let mut plot = LinePlot::new(
-        format!("{name}: cross-section profile ({what}) after {shown} iterations"),
+        format!("{name}: section {what}, {shown} iterations"),
         format!("{} ({unit})", labels.0),
         format!("{} ({unit})", labels.1),
     );
     plot.aspect_equal = result.case.kind == SurfaceKind::Block;
-    plot.series.push(Series::new(
-        "clean",
-        section(&result.case.clean.positions, result, &plane, axes)?,
-    ));
-    plot.series.push(Series::new(
-        "input",
-        section(&result.case.noisy, result, &plane, axes)?,
-    ));
+    plot.series.push(
+        Series::new(
+            "clean",
+            section(&result.case.clean.positions, result, &plane, axes)?,
+        )
+        .with_style(CLEAN_STYLE),
+    );
+    plot.series.push(
+        Series::new("input", section(&result.case.noisy, result, &plane, axes)?)
+            .with_style(INPUT_STYLE),
+    );
     for run in &result.runs {
         if let Some(s) = run.snapshots.iter().find(|s| s.iteration == shown) {
-            plot.series.push(Series::new(
-                run.scheme.clone(),
-                section(&s.positions, result, &plane, axes)?,
-            ));
+            plot.series.push(
+                Series::new(
+                    run.scheme.clone(),
+                    section(&s.positions, result, &plane, axes)?,
+                )
+                .with_style(scheme_style(result, &run.scheme)),
+            );
         }
     }
     let rel = format!("plots/profile_{name}");
     write_plot(&plot, &dir.join(&rel)).map_err(viz(&rel))?;
     figures.push(Figure {
         path: rel,
-        caption: format!("Cross-section profile of the {name} ({what}): clean, noisy input and each scheme after {shown} iterations (the paper's cross-sectional profile comparison)"),
+        caption: format!("Cross-section profile of the {name} (section {what}): clean, noisy input and each scheme after {shown} iterations (the paper's cross-sectional profile comparison)"),
         surface: name.to_string(),
     });
     Ok(())
@@ -494,11 +663,7 @@ fn render_grid(
     let mut columns = vec!["input".to_string()];
     columns.extend(iterations.iter().map(|i| format!("{i} iterations")));
     let rows: Vec<String> = result.runs.iter().map(|r| r.scheme.clone()).collect();
-    let unit = if result.case.clean.unit == "1" {
-        String::new()
-    } else {
-        format!(" ({})", result.case.clean.unit)
-    };
+    let unit = unit_label(result.case.clean.unit);
     let image = grid(
         &panels,
         columns.len(),
@@ -516,4 +681,197 @@ fn render_grid(
         surface: name.to_string(),
     });
     Ok(())
+}
+
+/// The first interior vertex of valence 5 (an icosahedron corner of the golf ball).
+pub(crate) fn valence5_vertex(mesh: &beltrami_halfedge::HalfedgeMesh) -> Option<usize> {
+    mesh.vertices()
+        .find(|&v| !mesh.is_boundary_vertex(v) && mesh.valence(v) == 5)
+        .map(|v| v.index())
+}
+
+/// Half the width of the golf ball close-up, in mean edge lengths.
+const CLOSEUP_EDGES: f64 = 8.0;
+
+/// A close-up of the golf ball around a valence-5 vertex, looking along its normal:
+/// the input and each scheme after `shown` iterations, coloured by the residual — the
+/// signed distance to the clean surface minus its mean over the whole ball (the uniform
+/// shrink) — so the local bumps at the irregular vertex show.
+fn golf_closeup(
+    dir: &Path,
+    result: &SurfaceResult,
+    shown: usize,
+    figures: &mut Vec<Figure>,
+) -> Result<(), StudyError> {
+    let name = result.case.clean.name;
+    let mesh = &result.case.mesh;
+    let clean = &result.case.clean.positions;
+    let Some(v) = valence5_vertex(mesh) else {
+        return Ok(());
+    };
+    let metrics_error = |source| StudyError::Metrics {
+        surface: name.to_string(),
+        scheme: "close-up".into(),
+        source,
+    };
+    let reference = Reference::new(&result.case).map_err(metrics_error)?;
+    let centre = clean.iter().copied().sum::<DVec3>() / clean.len().max(1) as f64;
+    let p = clean[v];
+    let normal = (p - centre).normalize_or_zero();
+    if normal == DVec3::ZERO {
+        return Ok(());
+    }
+    let mean_edge = beltrami_algorithms::mesh_quality(mesh, clean)
+        .ok()
+        .and_then(|q| q.edge_length)
+        .map_or(0.0, |e| e.mean);
+    let half = CLOSEUP_EDGES * mean_edge;
+    if half.is_nan() || half <= 0.0 {
+        return Ok(());
+    }
+    let frame = Some((p - DVec3::splat(half), p + DVec3::splat(half)));
+    let up = if normal.cross(DVec3::Z).length() > 0.1 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
+    let view = View::new(-normal, up);
+    let mut labels = vec!["input".to_string()];
+    let mut positions: Vec<&[DVec3]> = vec![&result.case.noisy];
+    for run in &result.runs {
+        if let Some(s) = run.snapshots.iter().find(|s| s.iteration == shown) {
+            labels.push(format!("{} ({shown} it.)", run.scheme));
+            positions.push(&s.positions);
+        }
+    }
+    let near: Vec<usize> = clean
+        .iter()
+        .enumerate()
+        .filter(|(_, q)| q.distance(p) <= half)
+        .map(|(i, _)| i)
+        .collect();
+    let mut residuals = Vec::with_capacity(positions.len());
+    let mut largest: f64 = 0.0;
+    for (k, pos) in positions.iter().enumerate() {
+        let signed = reference.signed_distances(pos).map_err(metrics_error)?;
+        let mean = signed.iter().sum::<f64>() / signed.len().max(1) as f64;
+        let r: Vec<f64> = signed.iter().map(|d| d - mean).collect();
+        // The colour scale follows the smoothed panels; the input's noise would swamp it.
+        if k > 0 {
+            largest = near.iter().map(|&i| r[i].abs()).fold(largest, f64::max);
+        }
+        residuals.push(r);
+    }
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Ok(());
+    }
+    let unit = unit_label(result.case.clean.unit);
+    let u = result.case.clean.unit;
+    let across = sig(2.0 * half);
+    let render = |positions: &[&[DVec3]],
+                  values: &[Vec<f64>],
+                  labels: &[String],
+                  colors: &ColorMap,
+                  title: &str,
+                  bar: &str,
+                  stem: &str|
+     -> Result<String, StudyError> {
+        let image_error = |e: beltrami_viz::VizError| StudyError::Image {
+            name: format!("renders/{stem}"),
+            reason: e.to_string(),
+        };
+        let panels = positions
+            .iter()
+            .zip(values)
+            .map(|(pos, r)| render_mesh(mesh, pos, Some(r), colors, &view, frame, 360, 360))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(image_error)?;
+        let image = grid(
+            &panels,
+            panels.len(),
+            labels,
+            &[String::new()],
+            title,
+            Some((colors, bar)),
+        )
+        .map_err(image_error)?;
+        let rel = format!("renders/{stem}.png");
+        image.write_png(&dir.join(&rel)).map_err(image_error)?;
+        Ok(rel)
+    };
+    let rel = render(
+        &positions,
+        &residuals,
+        &labels,
+        &ColorMap::symmetric(largest),
+        &format!("{name}: residual near a valence-5 vertex"),
+        &format!("signed distance − its mean{unit}"),
+        &format!("{name}_valence5"),
+    )?;
+    figures.push(Figure {
+        path: rel,
+        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}", sig(largest)),
+        surface: name.to_string(),
+    });
+    // Each scheme against the schemes' mean: where one departs from the others.
+    if residuals.len() > 2 {
+        let k = (residuals.len() - 1) as f64;
+        let mean: Vec<f64> = (0..residuals[0].len())
+            .map(|i| residuals[1..].iter().map(|r| r[i]).sum::<f64>() / k)
+            .collect();
+        let departures: Vec<Vec<f64>> = residuals[1..]
+            .iter()
+            .map(|r| r.iter().zip(&mean).map(|(a, m)| a - m).collect())
+            .collect();
+        let spread = departures
+            .iter()
+            .flat_map(|d| near.iter().map(move |&i| d[i].abs()))
+            .fold(0.0, f64::max);
+        if spread > 0.0 && spread.is_finite() {
+            let rel = render(
+                &positions[1..],
+                &departures,
+                &labels[1..],
+                &ColorMap::symmetric(spread),
+                &format!("{name}: each scheme minus the schemes' mean near a valence-5 vertex"),
+                &format!("signed distance − the schemes' mean{unit}"),
+                &format!("{name}_valence5_schemes"),
+            )?;
+            figures.push(Figure {
+                path: rel,
+                caption: format!("The same close-up, each scheme's signed distance minus the mean over the schemes after {shown} iterations: where one scheme departs from the others near the irregular vertex (colour scale ±{} {u}, the largest departure there)", sig(spread)),
+                surface: name.to_string(),
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlap_is_judged_against_the_plot_height() {
+        let a = Series::new("uniform", [(0.0, 1.0), (10.0, 0.5), (20.0, 0.0)]);
+        let close = Series::new("cotangent", [(0.0, 1.0), (10.0, 0.51), (20.0, 0.01)]);
+        let apart = Series::new("distance", [(0.0, 1.0), (10.0, 0.6), (20.0, 0.0)]);
+        assert!(curves_overlap(&[a.clone(), close.clone()]));
+        assert!(!curves_overlap(&[a.clone(), close.clone(), apart]));
+        assert!(!curves_overlap(std::slice::from_ref(&a)));
+        let flat = Series::new("flat", [(0.0, 1.0), (1.0, 1.0)]);
+        assert!(!curves_overlap(&[flat.clone(), flat]));
+        let d = differences(&[a, close.with_style(2)]);
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].label, "cotangent − uniform");
+        assert_eq!(d[0].style, Some(2));
+        assert_eq!(d[0].points.len(), 3);
+        assert!((d[0].points[1].1 - 0.01).abs() < 1e-12);
+    }
+
+    #[test]
+    fn units_label_lengths() {
+        assert_eq!(unit_label("mm"), " (mm)");
+        assert_eq!(unit_label("1"), " (clean radii)");
+    }
 }

@@ -15,6 +15,7 @@
 //! ```
 
 mod case;
+mod closed_form;
 mod config;
 mod countermeasures;
 mod error;
@@ -23,16 +24,19 @@ mod findings;
 mod measure;
 mod optimum;
 mod preservation;
+mod remeshing;
 mod report;
 mod results;
 mod run;
+mod timing;
 mod units;
 
 pub use case::SurfaceCase;
+pub use closed_form::{predicted_radius, weighted_mean_edge_sq};
 pub use config::{DEFAULT_SEEDS, PAPER_SCHEMES, StudyConfig, paper_iterations};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::{PreservationError, StudyError};
-pub use figures::{Figure, write_figures};
+pub use figures::{Figure, OVERLAP_FRACTION, curves_overlap, differences, write_figures};
 pub use findings::{
     Comparison, Finding, FindingsContext, REL_TOL, SAME_SPEED, Spread, Verdict, compare, findings,
     findings_with, sig, sphere_closed_form,
@@ -43,10 +47,18 @@ pub use preservation::{
     EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,
     edge_preservation,
 };
+pub use remeshing::{
+    CotangentRms, MeshFigures, REMESH_ITERATIONS, REMESH_LONG_ITERATIONS, RemeshComparison,
+    RemeshRow, SHARE_TOL, default_remesh, describe_target,
+};
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{
     EARLY_ITERATIONS, Progress, RmsPoint, SchemeRun, Snapshot, StudyResults, SurfaceResult,
     UNITS_CUTOFF, run_study,
+};
+pub use timing::{
+    MachineInfo, SchemeTiming, TIMING_ITERATIONS, TIMING_REPEATS, Timings, cpu_model, git_commit,
+    machine_info, median,
 };
 pub use units::{UnitsComparison, UnitsRow, units_comparison};

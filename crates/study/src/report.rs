@@ -5,6 +5,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::closed_form::{predicted_radius, weighted_mean_edge_sq};
 use crate::error::StudyError;
 use crate::figures::{Figure, shown_iteration, write_figures};
 use crate::findings::{
@@ -282,6 +283,12 @@ fn markdown(
     surface_sections(&mut s, results, rows, figures, shown);
     countermeasure_section(&mut s, results, shown);
     quality_section(&mut s, results, rows, shown);
+    if let Some(c) = &results.remeshing {
+        crate::remeshing::remesh_section(&mut s, c, &results.config);
+    }
+    if let Some(t) = &results.timings {
+        crate::timing::timing_section(&mut s, t);
+    }
     edge_section(&mut s, results);
     units_section(&mut s, results);
     differences_section(&mut s, results);
@@ -338,11 +345,17 @@ fn setup_section(s: &mut String, results: &StudyResults) {
     let _ = writeln!(s, "| weights computed | {} iteration |", c.update);
     let _ = writeln!(s, "| negative weights | {} |", c.negative_weights);
     let _ = writeln!(s, "| normalisation | weight sum (paper Eq. 2) |");
+    let info = results
+        .timings
+        .as_ref()
+        .map_or_else(crate::timing::machine_info, |t| t.machine.clone());
     let _ = writeln!(
         s,
-        "| machine | {} {}, {} threads |",
-        m.os, m.arch, m.threads
+        "| machine | {}, {} {}, {} threads |",
+        info.cpu, m.os, m.arch, m.threads
     );
+    let _ = writeln!(s, "| commit | {} |", info.commit);
+    let _ = writeln!(s, "| load (at the timing) | {} |", info.load_text());
     let _ = writeln!(
         s,
         "| wall time of the study | {:.1} s |\n",
@@ -351,7 +364,7 @@ fn setup_section(s: &mut String, results: &StudyResults) {
 
     let _ = writeln!(
         s,
-        "| surface | vertices | faces | closed | unit | noise σ |\n|---|---|---|---|---|---|"
+        "| surface | vertices | faces | closed | unit | noise σ (unit) |\n|---|---|---|---|---|---|"
     );
     for r in &results.surfaces {
         let _ = writeln!(
@@ -428,9 +441,17 @@ fn surface_sections(
                 "one noise seed".to_string()
             }
         );
+        let u = crate::figures::unit_label(r.case.clean.unit);
+        let predicted = predicted_radii(results, r, shown);
         let _ = writeln!(
             s,
-            "| scheme | RMS | max | normal dev. (°) | volume ratio | sphere radius | boundary mean | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|---|---|---|"
+            "| scheme | RMS{u} | max{u} | normal dev. (°) | volume ratio (1) | sphere radius{u} |{} boundary mean{u} | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|{}---|---|---|",
+            if predicted.is_empty() {
+                ""
+            } else {
+                " predicted radius, closed form (clean radii) |"
+            },
+            if predicted.is_empty() { "" } else { "---|" },
         );
         let mut schemes = vec!["input"];
         schemes.extend(r.runs.iter().map(|x| x.scheme.as_str()));
@@ -444,9 +465,15 @@ fn surface_sections(
                     .collect();
                 Spread::of(&v).map_or_else(|| "–".into(), |sp| sp.text())
             };
+            let closed = if predicted.is_empty() {
+                String::new()
+            } else {
+                let p = predicted.iter().find(|(n, _)| n == scheme).map(|x| x.1);
+                format!(" {} |", if scheme == "input" { num(1.0) } else { opt(p) })
+            };
             let _ = writeln!(
                 s,
-                "| {scheme} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {scheme} | {} | {} | {} | {} | {} |{closed} {} | {} | {} |",
                 cell(|x| Some(x.rms)),
                 cell(|x| Some(x.max)),
                 cell(|x| Some(x.normal_mean_deg)),
@@ -462,6 +489,32 @@ fn surface_sections(
             );
         }
         let _ = writeln!(s);
+        if !predicted.is_empty() {
+            let _ = writeln!(
+                s,
+                "The predicted radius is the closed form r₀ (1 − λ⟨ℓ²⟩_w/2r₀²)ⁿ for the clean unit sphere (r₀ = 1, n = {shown}, λ = {}), with each scheme's weighted mean squared edge length ⟨ℓ²⟩_w = Σⱼ wᵢⱼ ℓᵢⱼ² / Σⱼ wᵢⱼ averaged over the vertices of the clean sphere ({}); the noise is left out. The radius plot shows it dashed in the scheme's colour.\n",
+                results.config.lambda,
+                predicted
+                    .iter()
+                    .map(|(n, _)| {
+                        let l2 = results
+                            .config
+                            .schemes
+                            .iter()
+                            .find(|x| x.name() == n)
+                            .and_then(|x| {
+                                weighted_mean_edge_sq(
+                                    &r.case.mesh,
+                                    &r.case.clean.positions,
+                                    x.as_ref(),
+                                )
+                            });
+                        format!("{n} {}", opt(l2))
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
         for f in figures.iter().filter(|f| f.surface == name) {
             let file = if f.path.ends_with(".png") {
                 f.path.clone()
@@ -471,6 +524,32 @@ fn surface_sections(
             let _ = writeln!(s, "![{}]({file})\n\n*{}*\n", f.caption, f.caption);
         }
     }
+}
+
+/// Per scheme of `r`'s runs, the closed-form radius after `shown` iterations on the
+/// unit sphere (empty for other surfaces).
+fn predicted_radii(
+    results: &StudyResults,
+    r: &crate::run::SurfaceResult,
+    shown: usize,
+) -> Vec<(String, f64)> {
+    if r.case.kind != beltrami_surfaces::SurfaceKind::Sphere {
+        return Vec::new();
+    }
+    results
+        .config
+        .schemes
+        .iter()
+        .filter(|x| r.runs.iter().any(|run| run.scheme == x.name()))
+        .filter_map(|x| {
+            weighted_mean_edge_sq(&r.case.mesh, &r.case.clean.positions, x.as_ref()).map(|l2| {
+                (
+                    x.name().to_string(),
+                    predicted_radius(1.0, results.config.lambda, l2, shown),
+                )
+            })
+        })
+        .collect()
 }
 
 /// Where the study's set-up departs from the paper's, and where the data are.
@@ -513,6 +592,15 @@ fn differences_section(s: &mut String, results: &StudyResults) {
         s,
         "- **Weight updates and timing.** Weights that depend on the positions are recomputed {} iteration, as the paper times them; times are those of this implementation, where every scheme computes its weights in one pass over the halfedges, so the paper's cotangent timings reflect its implementation, not the method.",
         format!("{:?}", c.update).to_lowercase()
+    );
+    let _ = writeln!(
+        s,
+        "- **Remeshing.** The paper remeshes its surfaces in MeshLab before adding noise; the study's runs use the surfaces as generated, {}",
+        if results.remeshing.is_some() {
+            "and \"Remeshing before smoothing\" measures what an isotropic remesh changes for the cotangent scheme."
+        } else {
+            "and this study skipped the remeshing comparison."
+        }
     );
     let _ = writeln!(
         s,
@@ -624,7 +712,7 @@ fn optimum_section(
     );
     let _ = writeln!(
         s,
-        "| surface | scheme | optimal iterations | RMS at the optimum | input RMS | RMS at {shown} it. | RMS at {shown} / at the optimum |\n|---|---|---|---|---|---|---|"
+        "| surface | scheme | optimal iterations | RMS at the optimum (unit) | input RMS (unit) | RMS at {shown} it. (unit) | RMS at {shown} / at the optimum (1) |\n|---|---|---|---|---|---|---|"
     );
     for o in optima {
         let at = rms_at(rows, &o.surface, &o.scheme, shown);
@@ -895,14 +983,20 @@ fn countermeasure_section(s: &mut String, results: &StudyResults, shown: usize) 
             } else {
                 ("mean boundary displacement", |x| x.boundary_mean)
             };
-        let _ = writeln!(s, "### {name}: {metric}\n");
+        let u = crate::figures::unit_label(r.case.clean.unit);
+        let metric_unit = if metric.starts_with("mean boundary") {
+            u.clone()
+        } else {
+            " (1)".to_string()
+        };
+        let _ = writeln!(s, "### {name}: {metric}{metric_unit}\n");
         let mut header = String::from("| method |");
         let mut rule = String::from("|---|");
         for i in &columns {
             let _ = write!(header, " {i} it. |");
             rule.push_str("---|");
         }
-        let _ = write!(header, " RMS at {shown} it. |");
+        let _ = write!(header, " RMS at {shown} it.{u} |");
         rule.push_str("---|");
         let has_dihedral = rows.iter().any(|x| x.feature_dihedral_deg.is_some());
         if has_dihedral {
@@ -954,7 +1048,7 @@ fn edge_section(s: &mut String, results: &StudyResults) {
     );
     let _ = writeln!(
         s,
-        "| run | iterations | flat-side RMS | dihedral error (°) | volume loss | reached the target |\n|---|---|---|---|---|---|"
+        "| run | iterations | flat-side RMS (mm) | dihedral error (°) | volume loss (%) | reached the target |\n|---|---|---|---|---|---|"
     );
     let line = |s: &mut String, name: &str, m: &crate::Measures, reached: &str| {
         let _ = writeln!(
@@ -1013,7 +1107,7 @@ fn units_section(s: &mut String, results: &StudyResults) {
     );
     let _ = writeln!(
         s,
-        "| level | vertices | iterations for λc | radius, λc | radius, fixed λ × iterations | radius, one implicit step of t | implicit step (s) |\n|---|---|---|---|---|---|---|"
+        "| level | vertices | iterations for λc | radius, λc (clean radii) | radius, fixed λ × iterations (clean radii) | radius, one implicit step of t (clean radii) | implicit step (s) |\n|---|---|---|---|---|---|---|"
     );
     for r in &u.rows {
         let _ = writeln!(

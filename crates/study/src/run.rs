@@ -16,7 +16,9 @@ use crate::countermeasures::countermeasure_surface;
 use crate::error::StudyError;
 use crate::measure::{Measured, Reference};
 use crate::preservation::{self, EdgePreservation, EdgePreservationOptions};
+use crate::remeshing::{RemeshComparison, remesh_comparison};
 use crate::results::Row;
+use crate::timing::{Timings, time_schemes};
 use crate::units::{UnitsComparison, units_comparison};
 
 /// The cut-off wavelength of the density comparison on unit spheres, in radii.
@@ -102,6 +104,11 @@ pub struct StudyResults {
     /// one λ × iterations (with the counter-measure scheme; `None` without it or
     /// without the sphere).
     pub units: Option<UnitsComparison>,
+    /// Remeshing before smoothing against the original meshes (see
+    /// [`StudyConfig::remesh`]).
+    pub remeshing: Option<RemeshComparison>,
+    /// Timings apart from the runs (see [`StudyConfig::timing`]); never in the rows.
+    pub timings: Option<Timings>,
     /// Wall time of the whole study, seconds.
     pub wall_time_s: f64,
 }
@@ -183,7 +190,8 @@ fn smooth_config(config: &StudyConfig) -> SmoothConfig {
 ///
 /// Per surface, in the configured order: the scheme runs, the counter-measure runs,
 /// the metrics of every snapshot, then the density comparison (on the sphere) and the
-/// edge-preservation comparison (on the block).
+/// edge-preservation comparison (on the block). After all surfaces: the timings (one
+/// run after the other) and the remeshing comparison (in parallel over the surfaces).
 ///
 /// # Errors
 /// [`StudyError::Config`] for an invalid configuration, [`StudyError::Smooth`] and
@@ -236,11 +244,26 @@ pub fn run_study(
             rms_curve,
         });
     }
+    let cases: Vec<&SurfaceCase> = surfaces.iter().map(|s| &s.case).collect();
+    let timings = if config.timing {
+        Some(time_schemes(&cases, &config.seed_schemes(), config)?)
+    } else {
+        None
+    };
+    let cotangent = config.schemes.iter().find(|s| s.name() == "cotangent");
+    let remeshing = match (&config.remesh, cotangent) {
+        (Some(options), Some(scheme)) => {
+            Some(remesh_comparison(&cases, config, options, scheme.as_ref())?)
+        }
+        _ => None,
+    };
     Ok(StudyResults {
         config: config.clone(),
         surfaces,
         edge_preservation,
         units,
+        remeshing,
+        timings,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }

@@ -114,8 +114,39 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
             "missing {stem}"
         );
     }
+    assert!(
+        written
+            .figures
+            .iter()
+            .any(|f| f.path == "renders/golfball_valence5.png")
+    );
     let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(report.contains("inverse-squared"));
+    // Remeshing, timing and the closed-form radius are in the report.
+    for heading in [
+        "## Remeshing before smoothing",
+        "## Timing",
+        "predicted radius, closed form",
+    ] {
+        assert!(report.contains(heading), "missing {heading}");
+    }
+    let remeshing = results.remeshing.as_ref().unwrap();
+    assert_eq!(remeshing.rows.len(), 4);
+    let timings = results.timings.as_ref().unwrap();
+    // The paper's three schemes on every surface, with positive medians.
+    assert_eq!(timings.rows.len(), 4 * 3);
+    assert!(
+        timings
+            .rows
+            .iter()
+            .all(|r| r.total_s > 0.0 && r.build_s > 0.0)
+    );
+    // Timings stay out of the CSV: its header is unchanged.
+    assert!(
+        !std::fs::read_to_string(dir.path().join("results.csv"))
+            .unwrap()
+            .contains("build")
+    );
     assert!(report.contains("](renders/flens.png)"));
     for f in &written.findings {
         assert!(report.contains(f.claim));

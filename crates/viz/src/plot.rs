@@ -7,7 +7,8 @@
 //! output names the `sans-serif` family and leaves the font to the viewer. Output is
 //! deterministic: the same plot gives the same bytes.
 //!
-//! Each series gets a colour (Okabe–Ito palette) and a marker shape; markers are drawn at
+//! Each series gets a colour (Okabe–Ito palette) and a marker shape, by its position or
+//! by a fixed palette slot ([`Series::style`]); dashed series have no markers. Markers are drawn at
 //! every point of short series and at about a dozen staggered points of long ones. The
 //! legend lists the series in order, in the corner of the plot that covers the fewest
 //! data. Axis ranges enclose the data with a 5 % margin; ticks fall on round values and
@@ -56,6 +57,13 @@ pub struct Series {
     pub label: String,
     /// The points, joined in this order.
     pub points: Vec<(f64, f64)>,
+    /// The palette slot (colour and marker shape) of the series; `None`: its position
+    /// in the plot. Fixing it keeps one colour per quantity (a weight scheme) across
+    /// plots that show different subsets.
+    pub style: Option<usize>,
+    /// Draw the line dashed and without markers (a prediction or reference beside the
+    /// data).
+    pub dashed: bool,
 }
 
 impl Series {
@@ -65,7 +73,23 @@ impl Series {
         Self {
             label: label.into(),
             points: points.into_iter().collect(),
+            style: None,
+            dashed: false,
         }
+    }
+
+    /// Sets the palette slot (see [`style`](Self::style)).
+    #[must_use]
+    pub fn with_style(mut self, slot: usize) -> Self {
+        self.style = Some(slot);
+        self
+    }
+
+    /// Draws the series dashed, without markers.
+    #[must_use]
+    pub fn dashed(mut self) -> Self {
+        self.dashed = true;
+        self
     }
 }
 
@@ -228,11 +252,22 @@ fn draw<'a, DB: DrawingBackend + 'a>(
         .draw()?;
     let (layout_marker, layout_line) = (layout.marker, layout.line);
     for (i, (series, runs)) in plot.series.iter().zip(&prepared.runs).enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
-        let kind = MARKERS[i % MARKERS.len()];
+        let slot = series.style.unwrap_or(i);
+        let color = PALETTE[slot % PALETTE.len()];
+        let kind = MARKERS[slot % MARKERS.len()];
         let style = color.stroke_width(layout.line);
         for run in runs {
-            chart.draw_series(LineSeries::new(run.iter().copied(), style))?;
+            if series.dashed {
+                let dash = (layout.tick * 0.8).round().max(2.0) as i32;
+                chart.draw_series(DashedLineSeries::new(
+                    run.iter().copied(),
+                    dash,
+                    dash,
+                    style,
+                ))?;
+            } else {
+                chart.draw_series(LineSeries::new(run.iter().copied(), style))?;
+            }
         }
         let glyph = |at| Glyph {
             at,
@@ -241,9 +276,13 @@ fn draw<'a, DB: DrawingBackend + 'a>(
             color,
             stroke: layout.line,
             sample: None,
+            dashed: false,
         };
-        chart.draw_series(prepared.markers[i].iter().map(|&p| glyph(p)))?;
+        if !series.dashed {
+            chart.draw_series(prepared.markers[i].iter().map(|&p| glyph(p)))?;
+        }
         let sample = (layout.tick * 2.2).round() as i32;
+        let dashed = series.dashed;
         chart
             .draw_series(LineSeries::new(std::iter::empty(), style))?
             .label(series.label.as_str())
@@ -254,6 +293,7 @@ fn draw<'a, DB: DrawingBackend + 'a>(
                 color,
                 stroke: layout_line,
                 sample: Some(sample),
+                dashed,
             });
     }
     chart

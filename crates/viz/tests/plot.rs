@@ -178,3 +178,36 @@ fn single_points_and_equal_aspect_plots_draw() {
     flat.series.push(Series::new("c", [(1.0, 2.0), (1.0, 2.0)]));
     assert!(plot_svg(&flat, 400, 300).is_ok());
 }
+
+#[test]
+fn a_fixed_style_keeps_a_series_colour_and_dashed_series_have_no_markers() {
+    // Alone in a plot, a series styled as slot 2 gets slot 2's colour, not slot 0's.
+    let mut plot = LinePlot::new("t", "x", "y");
+    plot.series
+        .push(Series::new("cotangent", [(0.0, 1.0), (1.0, 2.0)]).with_style(2));
+    let svg = plot_svg(&plot, 800, 500).unwrap();
+    assert!(svg.contains("#009E73"), "slot 2 is green");
+    assert!(!svg.contains("#0072B2"), "slot 0's blue is not used");
+    // A dashed series draws more, shorter segments than the same series solid, and
+    // no marker.
+    let solid = {
+        let mut p = LinePlot::new("t", "x", "y");
+        p.series.push(Series::new("a", [(0.0, 0.0), (10.0, 10.0)]));
+        plot_svg(&p, 800, 500).unwrap()
+    };
+    let dashed = {
+        let mut p = LinePlot::new("t", "x", "y");
+        p.series
+            .push(Series::new("a", [(0.0, 0.0), (10.0, 10.0)]).dashed());
+        plot_svg(&p, 800, 500).unwrap()
+    };
+    let blue = |svg: &str| svg.matches("#0072B2").count();
+    assert!(
+        blue(&dashed) > blue(&solid) + 5,
+        "{} vs {}",
+        blue(&dashed),
+        blue(&solid)
+    );
+    assert!(solid.contains("<circle"), "the first marker is a circle");
+    assert!(!dashed.contains("<circle"));
+}

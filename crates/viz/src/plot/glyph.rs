@@ -54,6 +54,8 @@ pub(super) struct Glyph<C> {
     pub(super) stroke: u32,
     /// For a legend entry: the length of the line sample, the marker in its middle.
     pub(super) sample: Option<i32>,
+    /// For a legend entry of a dashed series: the sample is dashed and has no marker.
+    pub(super) dashed: bool,
 }
 
 impl<'a, C: 'a> PointCollection<'a, C> for &'a Glyph<C> {
@@ -76,6 +78,15 @@ impl<C, DB: DrawingBackend> Drawable<DB> for Glyph<C> {
             return Ok(());
         };
         let line = self.color.stroke_width(self.stroke);
+        if let (Some(length), true) = (self.sample, self.dashed) {
+            let dash = (length / 5).max(2);
+            let mut at = x;
+            while at < x + length {
+                backend.draw_line((at, y), ((at + dash).min(x + length), y), &line)?;
+                at += 2 * dash;
+            }
+            return Ok(());
+        }
         if let Some(length) = self.sample {
             backend.draw_line((x, y), (x + length, y), &line)?;
             x += length / 2;
