@@ -18,6 +18,14 @@ use crate::errors::{MeshError, no_panic, topology_error};
 /// k ≥ 3; k = 3 for triangles). Raises `MeshError` naming the offending vertex or
 /// face when a coordinate is not finite, an index is out of range, or the faces do
 /// not form an oriented 2-manifold.
+///
+/// What is copied: a C-contiguous float64 (N, 3) array is read in place and copied
+/// once, into the mesh's own positions (the half-edge structure owns its arrays, so
+/// the mesh never aliases numpy memory; a later change to the array does not change
+/// the mesh). Any other layout or dtype (Fortran order, a strided view, float32,
+/// integers) is first converted by `numpy.ascontiguousarray`, a second copy. The faces
+/// are read as int64 the same way (int32 faces, e.g. Open3D's, are converted first)
+/// and copied into the mesh's face list. `vertices` and `faces` return fresh copies.
 #[pyclass(module = "beltrami", name = "Mesh", frozen)]
 pub(crate) struct Mesh {
     pub(crate) positions: Vec<DVec3>,
