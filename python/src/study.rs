@@ -91,12 +91,10 @@ fn study_error(e: &StudyError) -> PyErr {
     match e {
         StudyError::Config(message) => PyValueError::new_err(message.clone()),
         StudyError::Write { path, source } => io_error(path, source),
-        StudyError::CreateDir { path, source } => {
-            pyo3::exceptions::PyOSError::new_err(format!(
-                "{}: cannot create the directory: {source}",
-                path.display()
-            ))
-        }
+        StudyError::CreateDir { path, source } => pyo3::exceptions::PyOSError::new_err(format!(
+            "{}: cannot create the directory: {source}",
+            path.display()
+        )),
         e => PyRuntimeError::new_err(e.to_string()),
     }
 }
@@ -260,7 +258,12 @@ pub(crate) fn study<'py>(
     d.set_item("wall_time_s", wall_time_s)?;
     let findings = PyList::empty(py);
     let verdicts = PyDict::new(py);
-    for word in ["reproduced", "contradicted", "inconclusive", "not evaluated"] {
+    for word in [
+        "reproduced",
+        "contradicted",
+        "inconclusive",
+        "not evaluated",
+    ] {
         verdicts.set_item(word, 0)?;
     }
     for f in &written.findings {
@@ -272,9 +275,7 @@ pub(crate) fn study<'py>(
         finding.set_item("evidence", &f.evidence)?;
         finding.set_item("tolerance", &f.tolerance)?;
         findings.append(finding)?;
-        let count: usize = verdicts
-            .get_item(word)?
-            .map_or(Ok(0), |c| c.extract())?;
+        let count: usize = verdicts.get_item(word)?.map_or(Ok(0), |c| c.extract())?;
         verdicts.set_item(word, count + 1)?;
     }
     d.set_item("findings", findings)?;

@@ -34,7 +34,7 @@ __all__ = ["SUFFIXES", "process_scan", "run", "scans_in"]
 SUFFIXES = (".ply", ".stl", ".obj", ".off", ".x3p", ".sdf")
 
 #: The residual's keys that are no areal parameter of the scan (options, nested parts).
-_NOT_PARAMETERS = {"heights", "measured", "smoothed", "form", "smr", "smc", "seconds"}
+_NOT_PARAMETERS = {"heights", "measured", "smoothed", "form", "smr", "smc", "spatial", "scalars"}
 
 
 def scans_in(folder: Union[str, os.PathLike[str]]) -> list[str]:
