@@ -14,7 +14,7 @@ def assert_same(a: bt.Mesh, b: bt.Mesh) -> None:
 
 
 def test_numpy_round_trip_copies_once_and_keeps_the_bits(sphere):
-    vertices = np.ascontiguousarray(sphere.vertices)
+    vertices = sphere.vertices.copy()  # writeable, C-contiguous float64
     mesh = bt.Mesh(vertices, sphere.faces)
     assert_same(mesh, sphere)
     # The mesh owns its copy: changing the array afterwards does not change it.

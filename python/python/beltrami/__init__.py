@@ -128,7 +128,8 @@ def to_open3d(mesh: Mesh) -> Any:
     import open3d
 
     return open3d.geometry.TriangleMesh(
-        open3d.utility.Vector3dVector(mesh.vertices),
+        # Open3D takes writeable arrays only; `mesh.vertices` is a read-only copy.
+        open3d.utility.Vector3dVector(np.array(mesh.vertices)),
         open3d.utility.Vector3iVector(np.ascontiguousarray(_triangles(mesh), dtype=np.int32)),
     )
 
