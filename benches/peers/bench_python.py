@@ -73,13 +73,18 @@ def cli_smooth(cli, path, out, report, args, reps):
     return statistics.median(smoothing), min(smoothing), max(smoothing), statistics.median(wall)
 
 
+# VmHWM, not getrusage's ru_maxrss, which a child inherits from its parent at fork.
 MEMORY_CHILD = """
-import resource, sys
+import sys
 import beltrami.batch
-base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+
+def kib(field):
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith(field))
+
+base = kib("VmHWM:")
 row = beltrami.batch.process_scan(sys.argv[1], smooth={"iterations": int(sys.argv[2])})
-peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-print(base * 1024, peak * 1024, row["vertices"])
+print(base * 1024, kib("VmHWM:") * 1024, row["vertices"])
 """
 
 
@@ -117,6 +122,7 @@ def main():
     ap.add_argument("--iterations", type=int, default=100)
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--peer-reps", type=int, default=3)
+    ap.add_argument("--no-peers", action="store_true", help="only the binding against the CLI")
     ap.add_argument("--memory", action="store_true",
                     help="only measure a batch worker's peak memory per million vertices")
     a = ap.parse_args()
@@ -149,25 +155,33 @@ def main():
         bt.write(path, sphere)
         out, report = os.path.join(tmp, "out.ply"), os.path.join(tmp, "report.json")
 
-        # The binding against the binary, alternating so that both see the same machine.
+        # The binding against the binary, run by run in turn, so that both see the same
+        # machine (other work on it slows both alike).
         overhead = []
         for weights, update, boundary in (("cotangent", "every", "fixed"),
                                           ("uniform", "once", "fixed")):
             args = ["--iterations", str(n), "--weights", weights, "--update", update,
                     "--boundary", boundary]
-            cli = cli_smooth(a.cli, path, out, report, args, a.reps)
-            py = timed(lambda _: bt.smooth(sphere, weights=weights, iterations=n, update=update,
-                                           boundary=boundary), reps=a.reps)
-            cli2 = cli_smooth(a.cli, path, out, report, args, a.reps)
-            cli_med = statistics.median([cli[0], cli2[0]])
-            same = np.array_equal(py[3][0].vertices, bt.read(out).vertices)
-            ratio = py[0] / cli_med - 1.0
+            cli_s, cli_wall, py_s, result = [], [], [], None
+            for _ in range(a.reps):
+                smoothing, _, _, wall = cli_smooth(a.cli, path, out, report, args, 1)
+                cli_s.append(smoothing)
+                cli_wall.append(wall)
+                t0 = time.perf_counter()
+                result = bt.smooth(sphere, weights=weights, iterations=n, update=update,
+                                   boundary=boundary)
+                py_s.append(time.perf_counter() - t0)
+            same = np.array_equal(result[0].vertices, bt.read(out).vertices)
+            cli_med, py_med = statistics.median(cli_s), statistics.median(py_s)
+            ratio = py_med / cli_med - 1.0
             overhead.append((weights, update, ratio))
             row("beltrami", f"CLI smooth --weights {weights} --update {update} (report)",
-                cli_med, min(cli[1], cli2[1]), max(cli[2], cli2[2]),
-                f"process wall {statistics.median([cli[3], cli2[3]]):.3f} s")
-            row("beltrami", f"bt.smooth(weights={weights!r}, update={update!r})", *py[:3],
-                f"binding overhead {100 * ratio:+.1f} %, positions {'bit-identical' if same else 'DIFFER'}")
+                cli_med, min(cli_s), max(cli_s),
+                f"process wall {statistics.median(cli_wall):.3f} s")
+            row("beltrami", f"bt.smooth(weights={weights!r}, update={update!r})", py_med,
+                min(py_s), max(py_s),
+                f"binding overhead {100 * ratio:+.1f} %, positions "
+                f"{'bit-identical' if same else 'DIFFER'}")
         med, lo, hi, _ = timed(lambda _: bt.Mesh(V, F), reps=a.reps)
         row("beltrami", "bt.Mesh(V, F): copy in + half-edge build", med, lo, hi)
         med, lo, hi, _ = timed(lambda _: sphere.vertices, reps=a.reps)
@@ -242,10 +256,11 @@ def main():
         med, lo, hi, _ = timed(lambda _: bt.smooth(sphere, iterations=n, boundary="free"), reps=r)
         row("beltrami", "bt.smooth(weights='cotangent')", med, lo, hi, "same semantics")
 
-    peer("trimesh", trimesh_rows)
-    peer("open3d", open3d_rows)
-    peer("pymeshlab", pymeshlab_rows)
-    peer("libigl", igl_rows)
+    if not a.no_peers:
+        peer("trimesh", trimesh_rows)
+        peer("open3d", open3d_rows)
+        peer("pymeshlab", pymeshlab_rows)
+        peer("libigl", igl_rows)
 
     print(f"Level-{a.level} sphere ({nv} vertices), {n} iterations, one process; "
           f"median of {a.reps} runs (beltrami vs CLI), {r} (peers).\n")
