@@ -14,7 +14,9 @@ the positions copied into the run, the GIL released, the smoothing, the result c
 into a new Mesh and the report built as a dict. The CLI's time is the smoothing time of
 its `--report` (`seconds.weights + seconds.updates`, without reading and writing the
 file), which is the same work; its process wall time is shown beside it. The overhead
-is median(binding) / median(CLI smoothing) - 1, which the package keeps at most 5 %.
+is median(binding) / median(CLI smoothing) - 1, which the package aims to keep at most
+5 %; beside it, the same against the CLI's wall time without reading and writing the
+file (which includes the smoother's set-up, as the binding's time does).
 Copying in (`bt.Mesh(V, F)`, which also builds the half-edge connectivity) and out
 (`mesh.vertices`) are timed on their own.
 
@@ -59,18 +61,17 @@ def timed(run, setup=None, reps=5):
     return statistics.median(times), min(times), max(times), result
 
 
-def cli_smooth(cli, path, out, report, args, reps):
-    """Medians of the CLI's smoothing seconds (from --report) and process wall time."""
-    smoothing, wall = [], []
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        subprocess.run([cli, "smooth", path, out, "--report", report, "--force", *args],
-                       check=True, capture_output=True)
-        wall.append(time.perf_counter() - t0)
-        with open(report) as f:
-            seconds = json.load(f)["seconds"]
-        smoothing.append(seconds["weights"] + seconds["updates"])
-    return statistics.median(smoothing), min(smoothing), max(smoothing), statistics.median(wall)
+def cli_smooth(cli, path, out, report, args):
+    """One CLI run: its smoothing seconds (from --report), its process wall time, and the
+    wall time without reading and writing the mesh (the smoother's set-up and run,
+    the report, process start and exit)."""
+    t0 = time.perf_counter()
+    subprocess.run([cli, "smooth", path, out, "--report", report, "--force", *args],
+                   check=True, capture_output=True)
+    wall = time.perf_counter() - t0
+    with open(report) as f:
+        seconds = json.load(f)["seconds"]
+    return seconds["weights"] + seconds["updates"], wall, wall - seconds["read"] - seconds["write"]
 
 
 # VmHWM, not getrusage's ru_maxrss, which a child inherits from its parent at fork.
@@ -144,7 +145,7 @@ def main():
               file=sys.stderr, flush=True)
 
     sphere = bt.generate("sphere", level=a.level, noise=0.2, seed=1)
-    V = np.ascontiguousarray(sphere.vertices)
+    V = sphere.vertices.copy()  # writeable: Open3D refuses read-only arrays
     F = np.ascontiguousarray(sphere.faces)
     nv = len(V)
     print(f"sphere level {a.level}: {nv} vertices, {len(F)} faces, {n} iterations",
@@ -162,11 +163,12 @@ def main():
                                           ("uniform", "once", "fixed")):
             args = ["--iterations", str(n), "--weights", weights, "--update", update,
                     "--boundary", boundary]
-            cli_s, cli_wall, py_s, result = [], [], [], None
+            cli_s, cli_wall, cli_phase, py_s, result = [], [], [], [], None
             for _ in range(a.reps):
-                smoothing, _, _, wall = cli_smooth(a.cli, path, out, report, args, 1)
+                smoothing, wall, phase = cli_smooth(a.cli, path, out, report, args)
                 cli_s.append(smoothing)
                 cli_wall.append(wall)
+                cli_phase.append(phase)
                 t0 = time.perf_counter()
                 result = bt.smooth(sphere, weights=weights, iterations=n, update=update,
                                    boundary=boundary)
@@ -174,10 +176,12 @@ def main():
             same = np.array_equal(result[0].vertices, bt.read(out).vertices)
             cli_med, py_med = statistics.median(cli_s), statistics.median(py_s)
             ratio = py_med / cli_med - 1.0
-            overhead.append((weights, update, ratio))
+            phase_med = statistics.median(cli_phase)
+            overhead.append((weights, update, ratio, py_med / phase_med - 1.0))
             row("beltrami", f"CLI smooth --weights {weights} --update {update} (report)",
                 cli_med, min(cli_s), max(cli_s),
-                f"process wall {statistics.median(cli_wall):.3f} s")
+                f"process wall {statistics.median(cli_wall):.3f} s, without read and write "
+                f"{phase_med:.3f} s")
             row("beltrami", f"bt.smooth(weights={weights!r}, update={update!r})", py_med,
                 min(py_s), max(py_s),
                 f"binding overhead {100 * ratio:+.1f} %, positions "
@@ -269,9 +273,10 @@ def main():
     for tool, what, med, lo, hi, note in rows:
         print(f"| {tool} | {what} | {med:.3f} | {lo:.3f}-{hi:.3f} | {note} |")
     print()
-    for weights, update, ratio in overhead:
-        print(f"binding overhead, {weights}/{update}: {100 * ratio:+.1f} % "
-              f"({'within' if ratio <= 0.05 else 'OVER'} the 5 % budget)")
+    for weights, update, ratio, phase in overhead:
+        print(f"binding overhead, {weights}/{update}: {100 * ratio:+.1f} % over the CLI's "
+              f"smoothing seconds ({'within' if ratio <= 0.05 else 'over'} the 5 % budget), "
+              f"{100 * phase:+.1f} % over its wall time without reading and writing")
     print(f"\nmachine: {machine()}")
 
 

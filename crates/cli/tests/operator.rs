@@ -21,8 +21,11 @@ fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
 }
 
-/// The (row, column, value) triples of a Matrix Market file, 0-based, and its size line.
-fn read_mtx(path: &Path) -> ((usize, usize, usize), Vec<(usize, usize, f64)>) {
+/// A (row, column, value) entry, 0-based.
+type Entry = (usize, usize, f64);
+
+/// The entries of a Matrix Market file and its size line (rows, columns, entries).
+fn read_mtx(path: &Path) -> ((usize, usize, usize), Vec<Entry>) {
     let text = fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     assert_eq!(
@@ -35,7 +38,7 @@ fn read_mtx(path: &Path) -> ((usize, usize, usize), Vec<(usize, usize, f64)>) {
         .split(' ')
         .map(|t| t.parse().unwrap())
         .collect();
-    let entries: Vec<(usize, usize, f64)> = lines
+    let entries: Vec<Entry> = lines
         .map(|line| {
             let t: Vec<&str> = line.split(' ').collect();
             assert_eq!(t.len(), 3, "{line}");
@@ -56,7 +59,7 @@ fn read_mtx(path: &Path) -> ((usize, usize, usize), Vec<(usize, usize, f64)>) {
 }
 
 /// The library's Laplacian of `path` as sorted (row, column, value) triples.
-fn library_laplacian(path: &Path, normalization: Normalization) -> Vec<(usize, usize, f64)> {
+fn library_laplacian(path: &Path, normalization: Normalization) -> Vec<Entry> {
     let data = read_mesh(path).unwrap();
     let mesh = data.mesh().unwrap();
     let scheme = WeightRegistry::with_builtins().get("cotangent").unwrap();
