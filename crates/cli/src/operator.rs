@@ -405,8 +405,16 @@ mod tests {
     fn seventeen_digits_in_c_form_read_back_exactly() {
         assert_eq!(sci17(-1.0), "-1.0000000000000000e+00");
         assert_eq!(sci17(0.0), "0.0000000000000000e+00");
-        assert_eq!(sci17(1.5e-300), "1.5000000000000000e-300");
-        for x in [0.1, 1.0 / 3.0, -2.0f64.sqrt() * 1e7, f64::MIN_POSITIVE] {
+        assert_eq!(sci17(2f64.powi(-20)), "9.5367431640625000e-07");
+        assert_eq!(sci17(2f64.powi(100)), "1.2676506002282294e+30");
+        assert!(sci17(2f64.powi(-1000)).ends_with("e-302"));
+        for x in [
+            0.1,
+            1.0 / 3.0,
+            -2.0f64.sqrt() * 1e7,
+            f64::MIN_POSITIVE,
+            2f64.powi(-1000),
+        ] {
             assert_eq!(sci17(x).parse::<f64>().unwrap().to_bits(), x.to_bits());
         }
     }
