@@ -30,8 +30,8 @@ fn result_mesh(mesh: HalfedgeMesh, positions: Vec<DVec3>) -> Mesh {
     let faces = mesh.to_polygons();
     Mesh {
         positions,
-        faces,
-        mesh,
+        faces: std::sync::Arc::new(faces),
+        mesh: std::sync::Arc::new(mesh),
         source: None,
         repair: None,
     }

@@ -71,8 +71,8 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
         .map_err(|e| topology_error(Some(path), &e))?;
     Ok(Mesh {
         positions,
-        faces,
-        mesh,
+        faces: std::sync::Arc::new(faces),
+        mesh: std::sync::Arc::new(mesh),
         source: Some((path.to_path_buf(), format)),
         repair: report,
     })

@@ -19,6 +19,7 @@ mod operator;
 mod residual;
 mod scheme;
 mod smooth;
+mod study;
 mod weights;
 
 use pyo3::prelude::*;
@@ -53,5 +54,6 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::remesh, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::decimate, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::fill_holes, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study, m)?)?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `beltrami.Mesh`: positions and faces with their half-edge connectivity.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, RepairReport};
 use beltrami_io::{MeshData, MeshFormat};
@@ -18,11 +19,21 @@ use crate::errors::{MeshError, no_panic, topology_error};
 /// k ≥ 3; k = 3 for triangles). Raises `MeshError` naming the offending vertex or
 /// face when a coordinate is not finite, an index is out of range, or the faces do
 /// not form an oriented 2-manifold.
+///
+/// What is copied: a C-contiguous float64 (N, 3) array is read in place and copied
+/// once, into the mesh's own positions (the half-edge structure owns its arrays, so
+/// the mesh never aliases numpy memory; a later change to the array does not change
+/// the mesh). Any other layout or dtype (Fortran order, a strided view, float32,
+/// integers) is first converted by `numpy.ascontiguousarray`, a second copy. The faces
+/// are read as int64 the same way (int32 faces, e.g. Open3D's, are converted first)
+/// and copied into the mesh's face list. `vertices` and `faces` return fresh copies.
 #[pyclass(module = "beltrami", name = "Mesh", frozen)]
 pub(crate) struct Mesh {
     pub(crate) positions: Vec<DVec3>,
-    pub(crate) faces: PolygonList,
-    pub(crate) mesh: HalfedgeMesh,
+    /// Shared with the meshes made from this one with new positions (`smooth`'s
+    /// result), which therefore copy neither the faces nor the connectivity.
+    pub(crate) faces: Arc<PolygonList>,
+    pub(crate) mesh: Arc<HalfedgeMesh>,
     /// The file the mesh was read from, and its format.
     pub(crate) source: Option<(PathBuf, MeshFormat)>,
     /// What a repair on reading changed.
@@ -46,8 +57,8 @@ impl Mesh {
         })?;
         Ok(Self {
             positions,
-            faces,
-            mesh,
+            faces: Arc::new(faces),
+            mesh: Arc::new(mesh),
             source,
             repair: None,
         })
@@ -55,15 +66,16 @@ impl Mesh {
 
     /// The positions and faces as the io crate holds them (copied).
     pub(crate) fn data(&self) -> MeshData {
-        MeshData::new(self.positions.clone(), self.faces.clone())
+        MeshData::new(self.positions.clone(), PolygonList::clone(&self.faces))
     }
 
-    /// The same connectivity with new positions.
+    /// The same connectivity with new positions (the faces and the connectivity are
+    /// shared, not copied).
     pub(crate) fn with_positions(&self, positions: Vec<DVec3>) -> Self {
         Self {
             positions,
-            faces: self.faces.clone(),
-            mesh: self.mesh.clone(),
+            faces: Arc::clone(&self.faces),
+            mesh: Arc::clone(&self.mesh),
             source: None,
             repair: None,
         }

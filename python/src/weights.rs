@@ -29,6 +29,17 @@ pub(crate) fn scheme(name: &str) -> PyResult<Arc<dyn WeightScheme>> {
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// Every registered scheme, in the registry's order (built-ins, the edge-preserving
+/// schemes, then those registered from Python).
+pub(crate) fn all_schemes() -> PyResult<Vec<Arc<dyn WeightScheme>>> {
+    Ok(registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .iter()
+        .cloned()
+        .collect())
+}
+
 /// The names of the registered weight schemes, sorted.
 #[pyfunction]
 pub(crate) fn weight_schemes() -> PyResult<Vec<String>> {

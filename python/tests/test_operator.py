@@ -67,3 +67,63 @@ def test_bad_words_are_value_errors(sphere):
         bt.laplacian(sphere, normalize="mass")
     with pytest.raises(ValueError, match="vertex_area must be one of"):
         bt.mass_matrix(sphere, vertex_area="voronoi")
+
+
+@pytest.mark.parametrize(
+    ("args", "options"),
+    [
+        ([], {}),
+        (["--weights", "uniform"], {"weights": "uniform"}),
+        (["--normalize", "area"], {"normalize": "area"}),
+        (
+            ["--normalize", "area", "--vertex-area", "barycentric", "--cotangent-negative", "clamp"],
+            {"normalize": "area", "vertex_area": "barycentric", "cotangent_negative": "clamp"},
+        ),
+    ],
+)
+def test_the_cli_operator_files_are_the_package_laplacian(cli, tmp_path, args, options):
+    import subprocess
+
+    import scipy.io
+
+    mesh = bt.generate("flens", size="small", noise=0.2, seed=4)
+    scan = tmp_path / "scan.ply"
+    bt.write(scan, mesh)
+    want = bt.laplacian(bt.read(scan), **options)
+    for ext in ("mtx", "npz"):
+        out = tmp_path / f"L.{ext}"
+        done = subprocess.run(
+            [str(cli), "operator", str(scan), str(out), "--force", *args],
+            capture_output=True,
+            text=True,
+        )
+        assert done.returncode == 0, done.stderr
+        got = scipy.io.mmread(out) if ext == "mtx" else scipy_sparse.load_npz(out)
+        got = scipy_sparse.csr_matrix(got)
+        assert got.shape == want.shape
+        assert abs(got - want).max() <= 1e-15, ext
+        if ext == "npz":
+            assert got.format == "csr"
+            # save_npz's CSR arrays, exactly: same structure and the same bits.
+            np.testing.assert_array_equal(got.indptr, want.indptr)
+            np.testing.assert_array_equal(got.indices, want.indices)
+            np.testing.assert_array_equal(got.data, want.data)
+        else:
+            np.testing.assert_array_equal(got.toarray(), want.toarray())
+
+
+def test_the_cli_mass_matrix_is_the_package_mass_matrix(cli, tmp_path):
+    import subprocess
+
+    scan = tmp_path / "scan.ply"
+    bt.write(scan, bt.generate("sphere", level=3, noise=0.1))
+    out = tmp_path / "M.npz"
+    done = subprocess.run(
+        [str(cli), "operator", str(scan), str(out), "--mass", "--vertex-area", "barycentric"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    want = bt.mass_matrix(bt.read(scan), vertex_area="barycentric")
+    got = scipy_sparse.load_npz(out)
+    np.testing.assert_array_equal(got.toarray(), want.toarray())

@@ -34,6 +34,7 @@ mod generate;
 mod info;
 mod load;
 mod memory;
+mod operator;
 mod output;
 mod remesh;
 mod render;
@@ -96,6 +97,9 @@ enum Command {
     /// Decimate a triangle mesh by quadric error metrics to a target vertex count,
     /// optionally keeping the boundary and bounding normal change and distance.
     Decimate(decimate::DecimateArgs),
+    /// Write the Laplacian (or with --mass the lumped mass matrix) of a mesh as a sparse
+    /// matrix: Matrix Market .mtx or scipy's CSR .npz.
+    Operator(operator::OperatorArgs),
     /// Run the whole comparison study and write its report, plots and renders.
     Study(study::StudyArgs),
     /// List the weight schemes `smooth --weights` and `study --weights` accept.
@@ -202,6 +206,7 @@ where
         Command::Smooth(args) => smooth::run(args, registry, &mut stdout),
         Command::Generate(args) => generate::run(args, &mut stdout),
         Command::Study(args) => study::run(args, registry, &mut stdout),
+        Command::Operator(args) => operator::run(args, registry, &mut stdout),
         Command::Subdivide(args) => subdivide::run(args, &mut stdout),
         Command::Delaunay(args) => delaunay::run(args, &mut stdout),
         Command::Remesh(args) => remesh::run(args, &mut stdout),

@@ -40,6 +40,7 @@ from ._beltrami import (
     remesh,
     residual,
     smooth,
+    study,
     subdivide,
     weight_schemes,
     write,
@@ -60,6 +61,7 @@ __all__ = [
     "fit_cylinder",
     "fit_sphere",
     "from_open3d",
+    "from_pyvista",
     "from_trimesh",
     "generate",
     "info",
@@ -71,6 +73,7 @@ __all__ = [
     "remesh",
     "residual",
     "smooth",
+    "study",
     "subdivide",
     "to_open3d",
     "to_pyvista",
@@ -103,7 +106,13 @@ def to_trimesh(mesh: Mesh) -> Any:
 
 
 def from_open3d(mesh: Any) -> Mesh:
-    """A ``Mesh`` from an ``open3d.geometry.TriangleMesh`` (its ``vertices`` and ``triangles``)."""
+    """A ``Mesh`` from an ``open3d.geometry.TriangleMesh`` (its ``vertices`` and ``triangles``).
+
+    Duck-typed: anything whose ``vertices`` and ``triangles`` numpy can read as (N, 3)
+    and (M, 3) arrays works; Open3D itself is not imported. Open3D's vectors are copied
+    once into the mesh (``numpy.asarray`` of them is a view). Raises ``MeshError`` when
+    the triangles are not an oriented 2-manifold.
+    """
     import numpy as np
 
     return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.triangles))
@@ -112,28 +121,67 @@ def from_open3d(mesh: Any) -> Mesh:
 def to_open3d(mesh: Mesh) -> Any:
     """An ``open3d.geometry.TriangleMesh`` with the mesh's vertices and triangles.
 
-    Needs Open3D (``pip install open3d``) and a triangle mesh.
+    Needs Open3D (``pip install open3d``, which is not a dependency) and a triangle
+    mesh (``MeshError`` for a polygon mesh).
     """
+    import numpy as np
     import open3d
 
     return open3d.geometry.TriangleMesh(
-        open3d.utility.Vector3dVector(mesh.vertices.copy()),
-        open3d.utility.Vector3iVector(_triangles(mesh).astype("int32")),
+        # Open3D takes writeable arrays only; `mesh.vertices` is a read-only copy.
+        open3d.utility.Vector3dVector(np.array(mesh.vertices)),
+        open3d.utility.Vector3iVector(np.ascontiguousarray(_triangles(mesh), dtype=np.int32)),
     )
 
 
 def to_pyvista(mesh: Mesh) -> Any:
     """A ``pyvista.PolyData`` with the mesh's vertices and faces (polygons too).
 
-    Needs PyVista (``pip install pyvista``).
+    Needs PyVista (``pip install pyvista``, which is not a dependency). The faces become
+    PyVista's flat cell array ``[k, v0, …, v(k-1), k, …]``.
     """
     import numpy as np
     import pyvista
 
     faces = mesh.faces
-    rows = faces if isinstance(faces, list) else list(faces)
-    cells = np.concatenate([np.concatenate(([len(f)], f)) for f in rows]) if rows else []
-    return pyvista.PolyData(mesh.vertices.copy(), np.asarray(cells, dtype=np.int64))
+    if isinstance(faces, list):
+        cells = (
+            np.concatenate([np.concatenate(([len(f)], f)) for f in faces])
+            if faces
+            else np.zeros(0, dtype=np.int64)
+        )
+    else:
+        counts = np.full((faces.shape[0], 1), faces.shape[1], dtype=np.int64)
+        cells = np.hstack([counts, faces]).ravel()
+    return pyvista.PolyData(mesh.vertices, cells.astype(np.int64))
+
+
+def from_pyvista(mesh: Any) -> Mesh:
+    """A ``Mesh`` from a ``pyvista.PolyData`` (its ``points`` and flat ``faces`` cell array).
+
+    Duck-typed: anything with ``points`` ((N, 3)) and ``faces`` (``[k, v0, …, k, …]``)
+    works; PyVista itself is not imported. Lines, vertices and strips of the PolyData
+    are ignored. Raises ``MeshError`` for a cell array that does not parse or faces
+    that are no oriented 2-manifold.
+    """
+    import numpy as np
+
+    cells = np.asarray(mesh.faces, dtype=np.int64).ravel()
+    rows = []
+    i = 0
+    while i < len(cells):
+        k = int(cells[i])
+        if k < 3 or i + 1 + k > len(cells):
+            raise MeshError(f"pyvista face cell array: bad vertex count {k} at offset {i}")
+        rows.append(cells[i + 1 : i + 1 + k])
+        i += 1 + k
+    if any(len(r) != len(rows[0]) for r in rows):
+        raise MeshError(
+            "the PolyData mixes faces of different sizes; triangulate it first"
+            " (PolyData.triangulate())"
+        )
+    faces = np.stack(rows) if rows else np.zeros((0, 3), dtype=np.int64)
+    return Mesh(np.asarray(mesh.points), faces)
 
 
 def _triangles(mesh: Mesh) -> Any:

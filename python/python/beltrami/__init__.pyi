@@ -225,3 +225,30 @@ def to_open3d(mesh: Mesh) -> Any:
 
 def to_pyvista(mesh: Mesh) -> Any:
     """A pyvista.PolyData with the mesh's vertices and faces."""
+
+def from_pyvista(mesh: Any) -> Mesh:
+    """A Mesh from a pyvista.PolyData (its points and flat faces cell array)."""
+
+def study(
+    out: _Path = "study",
+    *,
+    surfaces: Sequence[Literal["flens", "sphere", "block", "golfball"]] = (
+        "flens",
+        "sphere",
+        "block",
+        "golfball",
+    ),
+    weights: Optional[Sequence[str]] = None,
+    iterations: Sequence[int] = (10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 200),
+    lam: float = 0.8,
+    noise: float = 0.2,
+    absolute_noise: bool = False,
+    seed: int = 1,
+    seeds: int = 3,
+    boundary: Literal["fixed", "free", "curve"] = "free",
+    update: Literal["every", "once"] = "every",
+    small: bool = False,
+    countermeasure_weights: str = "cotangent",
+    no_countermeasures: bool = False,
+) -> dict[str, Any]:
+    """The comparison study, as `beltrami study`: writes `out`, returns the paths and verdicts."""

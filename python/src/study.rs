@@ -1,0 +1,284 @@
+//! `beltrami.study`: the whole comparison study, as `beltrami study` runs it.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use beltrami_io::{check_writable, stage_dir};
+use beltrami_smooth::{Boundary, WeightUpdate};
+use beltrami_study::{Countermeasure, StudyConfig, StudyError, Verdict, run_study, write_study};
+use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
+use beltrami_weights::{NegativeWeights, WeightScheme};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors::{io_error, no_panic};
+use crate::weights::{all_schemes, scheme};
+
+/// The entries a study writes into its directory (as the command line knows them).
+const STUDY_ENTRIES: [&str; 6] = [
+    "report.md",
+    "results.csv",
+    "results.json",
+    "countermeasures.csv",
+    "plots",
+    "renders",
+];
+
+/// Refuses an output directory that holds anything but an earlier study, before the
+/// study runs (`ValueError`), and one that cannot be written (`OSError`).
+fn check_out_dir(dir: &Path) -> PyResult<()> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    check_writable(parent.join("report.md")).map_err(|e| io_error(dir, &e))?;
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        if dir.exists() {
+            return Err(PyValueError::new_err(format!(
+                "out {} is not a directory",
+                dir.display()
+            )));
+        }
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if !STUDY_ENTRIES.contains(&name.as_ref()) {
+            return Err(PyValueError::new_err(format!(
+                "out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
+                dir.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Every file under `dir`, sorted, as paths starting with `dir`.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(d) = pending.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                pending.push(path);
+            } else {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+fn verdict_word(v: Verdict) -> &'static str {
+    match v {
+        Verdict::Reproduced => "reproduced",
+        Verdict::Contradicted => "contradicted",
+        Verdict::Inconclusive => "inconclusive",
+        _ => "not evaluated",
+    }
+}
+
+/// A failed study: the configuration is `ValueError`, a file that cannot be written
+/// `OSError`, anything else (a run that failed) `RuntimeError`.
+fn study_error(e: &StudyError) -> PyErr {
+    match e {
+        StudyError::Config(message) => PyValueError::new_err(message.clone()),
+        StudyError::Write { path, source } => io_error(path, source),
+        StudyError::CreateDir { path, source } => pyo3::exceptions::PyOSError::new_err(format!(
+            "{}: cannot create the directory: {source}",
+            path.display()
+        )),
+        e => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// Runs the whole comparison study, as `beltrami study` does, and writes its report,
+/// tables, plots and renders into `out`.
+///
+/// The options are `beltrami study`'s, with the same words and defaults (`--lambda` →
+/// `lam`, `-` → `_`): the paper's four surfaces, every registered weight scheme
+/// (schemes registered with `register_weight` included), the iteration counts 10, 20,
+/// …, 100 and 200, λ = 0.8, noise σ = 0.2 × the mean edge length (absolute, in the
+/// surfaces' length unit, with `absolute_noise=True`), `seeds` noise seeds counted up
+/// from `seed`, a free boundary, weights recomputed every iteration, the paper's sizes
+/// (`small=True`: small variants, a quick look), and the shrinkage counter-measure runs
+/// with `countermeasure_weights` unless `no_countermeasures`.
+///
+/// `out` must be new, empty, or hold an earlier study, which is replaced as a whole
+/// once the new one has been written (a failed run leaves it as it was).
+///
+/// Returns a dict: `out` and `report` (the paths of the directory and its report.md),
+/// `files` (every file written, sorted), `surfaces` and `schemes` (the names run),
+/// `observations` (rows of results.csv), `wall_time_s`, `findings` (one dict per
+/// statement of the paper checked: `id`, `claim`, `verdict` — `"reproduced"`,
+/// `"contradicted"`, `"inconclusive"` or `"not evaluated"` — `evidence`,
+/// `tolerance`), and `verdicts` (the count of each verdict).
+///
+/// Raises `ValueError` for an unknown surface or scheme or a bad option, `OSError`
+/// when `out` cannot be written, and what a Python weight scheme raised. The study runs
+/// without the GIL (a Python scheme takes it for its calls) and cannot be interrupted
+/// before it ends.
+#[pyfunction]
+#[pyo3(signature = (
+    out = PathBuf::from("study"),
+    *,
+    surfaces = vec!["flens".to_string(), "sphere".to_string(), "block".to_string(), "golfball".to_string()],
+    weights = None,
+    iterations = beltrami_study::paper_iterations(),
+    lam = 0.8,
+    noise = 0.2,
+    absolute_noise = false,
+    seed = 1,
+    seeds = beltrami_study::DEFAULT_SEEDS,
+    boundary = "free",
+    update = "every",
+    small = false,
+    countermeasure_weights = "cotangent",
+    no_countermeasures = false,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn study<'py>(
+    py: Python<'py>,
+    out: PathBuf,
+    surfaces: Vec<String>,
+    weights: Option<Vec<String>>,
+    iterations: Vec<usize>,
+    lam: f64,
+    noise: f64,
+    absolute_noise: bool,
+    seed: u64,
+    seeds: usize,
+    boundary: &str,
+    update: &str,
+    small: bool,
+    countermeasure_weights: &str,
+    no_countermeasures: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let surfaces = surfaces
+        .iter()
+        .map(|s| SurfaceKind::from_name(s).map_err(|e| PyValueError::new_err(e.to_string())))
+        .collect::<PyResult<Vec<_>>>()?;
+    let schemes: Vec<Arc<dyn WeightScheme>> = match &weights {
+        None => all_schemes()?,
+        Some(names) => names.iter().map(|w| scheme(w)).collect::<PyResult<_>>()?,
+    };
+    let boundary = match boundary {
+        "fixed" => Boundary::Fixed,
+        "free" => Boundary::Free,
+        "curve" => Boundary::Curve,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "boundary must be one of 'fixed', 'free', 'curve', got '{boundary}'"
+            )));
+        }
+    };
+    let update = match update {
+        "every" => WeightUpdate::Every,
+        "once" => WeightUpdate::Once,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "update must be one of 'every', 'once', got '{update}'"
+            )));
+        }
+    };
+    let config = StudyConfig {
+        surfaces,
+        size: if small { Size::Small } else { Size::Paper },
+        schemes,
+        iterations,
+        lambda: lam,
+        noise: if absolute_noise {
+            NoiseLevel::Absolute(noise)
+        } else {
+            NoiseLevel::RelativeToMeanEdge(noise)
+        },
+        seed,
+        seeds,
+        boundary,
+        update,
+        negative: NegativeWeights::Keep,
+        countermeasures: if no_countermeasures {
+            Vec::new()
+        } else {
+            Countermeasure::defaults(lam)
+        },
+        countermeasure_scheme: if no_countermeasures {
+            None
+        } else {
+            Some(scheme(countermeasure_weights)?)
+        },
+        edge_comparison: scheme("bilateral").ok().zip(scheme("cotangent").ok()),
+    };
+    config
+        .validate()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    check_out_dir(&out)?;
+    let names: Vec<String> = config
+        .schemes
+        .iter()
+        .map(|s| s.name().to_string())
+        .collect();
+    let written = py.detach(|| {
+        no_panic(|| {
+            let results = run_study(&config, &mut |_| {}).map_err(|e| study_error(&e))?;
+            let staged = stage_dir(&out).map_err(|e| io_error(&out, &e))?;
+            let written = write_study(&results, staged.path()).map_err(|e| study_error(&e))?;
+            staged.commit().map_err(|e| io_error(&out, &e))?;
+            Ok((results.wall_time_s, written))
+        })
+    });
+    for name in &names {
+        if let Some(e) = crate::scheme::take_failure(name) {
+            return Err(e);
+        }
+    }
+    let (wall_time_s, written) = written?;
+
+    let d = PyDict::new(py);
+    d.set_item("out", &out)?;
+    d.set_item("report", out.join("report.md"))?;
+    d.set_item("files", files_under(&out))?;
+    d.set_item(
+        "surfaces",
+        config
+            .surfaces
+            .iter()
+            .map(|s| s.name().to_string())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("schemes", names)?;
+    d.set_item("observations", written.rows.len())?;
+    d.set_item("wall_time_s", wall_time_s)?;
+    let findings = PyList::empty(py);
+    let verdicts = PyDict::new(py);
+    for word in [
+        "reproduced",
+        "contradicted",
+        "inconclusive",
+        "not evaluated",
+    ] {
+        verdicts.set_item(word, 0)?;
+    }
+    for f in &written.findings {
+        let word = verdict_word(f.verdict);
+        let finding = PyDict::new(py);
+        finding.set_item("id", f.id)?;
+        finding.set_item("claim", f.claim)?;
+        finding.set_item("verdict", word)?;
+        finding.set_item("evidence", &f.evidence)?;
+        finding.set_item("tolerance", &f.tolerance)?;
+        findings.append(finding)?;
+        let count: usize = verdicts.get_item(word)?.map_or(Ok(0), |c| c.extract())?;
+        verdicts.set_item(word, count + 1)?;
+    }
+    d.set_item("findings", findings)?;
+    d.set_item("verdicts", verdicts)?;
+    Ok(d)
+}
