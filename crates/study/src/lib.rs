@@ -26,6 +26,7 @@ mod preservation;
 mod report;
 mod results;
 mod run;
+mod scan;
 mod units;
 
 pub use case::SurfaceCase;
@@ -48,5 +49,10 @@ pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{
     EARLY_ITERATIONS, Progress, RmsPoint, SchemeRun, Snapshot, StudyResults, SurfaceResult,
     UNITS_CUTOFF, run_study,
+};
+pub use scan::{
+    DEFAULT_IMPLICIT_STEPS, OBSERVE_EVERY_UP_TO, OBSERVE_STRIDE, REPORT_ITERATIONS, SCAN_CSV_HEADER,
+    ScanBest, ScanConfig, ScanMethod, ScanResults, ScanRow, ScanSurface, ScanTiming, ScanWritten,
+    TAUBIN_LAMBDA, TAUBIN_MU, TIME_HEADING, run_scan, scan_csv, smooth_options, write_scan,
 };
 pub use units::{UnitsComparison, UnitsRow, units_comparison};
