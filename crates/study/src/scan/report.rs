@@ -226,7 +226,7 @@ pub fn smooth_options(config: &super::ScanConfig, scheme: &str, method: &str, it
 
 fn count_text(row: &ScanRow) -> String {
     if row.method == "implicit" {
-        format!("1 step of {}", num(row.step))
+        format!("1 step of {}", row.step)
     } else {
         row.iteration.to_string()
     }
@@ -283,7 +283,7 @@ fn markdown(results: &ScanResults) -> String {
                 config
                     .implicit_steps
                     .iter()
-                    .map(|t| num(*t))
+                    .map(ToString::to_string)
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
@@ -362,7 +362,7 @@ fn best_sections(s: &mut String, results: &ScanResults, base_rms: f64) {
         overall.scheme,
         overall.method,
         if overall.method == "implicit" {
-            format!("one step of time step {}", num(overall.step))
+            format!("one step of time step {}", overall.step)
         } else {
             format!("{} iterations", overall.iteration)
         },
@@ -408,7 +408,7 @@ fn best_sections(s: &mut String, results: &ScanResults, base_rms: f64) {
     );
     for b in &results.best {
         let count = if b.method == "implicit" {
-            format!("1 step of {}", num(b.step))
+            format!("1 step of {}", b.step)
         } else {
             b.iteration.to_string()
         };
@@ -435,7 +435,7 @@ fn effect_section(s: &mut String, results: &ScanResults) {
     let _ = writeln!(s, "## What smoothing removes and how much it shrinks\n");
     let _ = writeln!(
         s,
-        "Per scheme and method at {} iterations (where observed; implicit: every time step). The *removed residual* is the input's signed normal deviation from the smoothed mesh (as `beltrami residual INPUT SMOOTHED` measures it): Sq and Sz (ISO 25178-2) say how much noise and texture the smoothing took away; its area-weighted mean, the shift, is the mean displacement along the normals (positive: inwards, i.e. shrinkage). {} Minimum angle and flipped faces (normals turned by more than 90° against the input) show the mesh quality.{}\n",
+        "Per scheme and method at {} iterations (where observed; implicit: every time step). The *removed residual* is the input's signed normal deviation from the smoothed mesh (as `beltrami residual INPUT SMOOTHED` measures it): Sq and Sz (ISO 25178-2) say how much noise and texture the smoothing took away; its area-weighted mean, the shift, is the mean displacement against the smoothed surface's normals (positive: the surface moved against its normals, inwards on a closed mesh: shrinkage). {} Minimum angle and flipped faces (normals turned by more than 90° against the input) show the mesh quality.{}\n",
         REPORT_ITERATIONS
             .iter()
             .map(ToString::to_string)

@@ -64,8 +64,9 @@ impl ScanSurface {
 /// Lengths are in the input's unit. The *removed residual* is the input's signed
 /// normal deviation from the smoothed mesh (what `beltrami residual INPUT SMOOTHED`
 /// measures): its ISO 25178-2 height parameters say how much texture and noise the
-/// smoothing took away; its area-weighted mean (`shift`) is the mean displacement along
-/// the normals, positive when the smoothed surface lies inside the input (shrinkage).
+/// smoothing took away; its area-weighted mean (`shift`) is the mean displacement
+/// against the smoothed surface's normals, positive when the smoothed surface lies
+/// inside the input (shrinkage, on a closed mesh with outward normals).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ScanRow {
     /// The scheme's name (`"input"` for the baseline).
@@ -90,7 +91,7 @@ pub struct ScanRow {
     pub removed_sq: f64,
     /// Sz of the removed residual.
     pub removed_sz: f64,
-    /// Area-weighted mean of the removed residual (positive: moved inwards).
+    /// Area-weighted mean of the removed residual (positive: moved against the normals).
     pub shift: f64,
     /// The smallest interior angle of any face, degrees (`None` if every face is
     /// degenerate).
