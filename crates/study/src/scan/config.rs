@@ -214,6 +214,22 @@ impl ScanConfig {
         out
     }
 
+    /// The explicit iterations at which the removed residual and the mesh quality are
+    /// measured too: [`REPORT_ITERATIONS`](crate::REPORT_ITERATIONS) up to the limit,
+    /// and the limit. (Each run's best count is measured in full as well.)
+    #[must_use]
+    pub fn detailed_iterations(&self) -> Vec<usize> {
+        let mut out: Vec<usize> = crate::scan::REPORT_ITERATIONS
+            .iter()
+            .copied()
+            .filter(|&i| i <= self.max_iterations)
+            .collect();
+        if out.last() != Some(&self.max_iterations) {
+            out.push(self.max_iterations);
+        }
+        out
+    }
+
     /// Checks the configuration.
     ///
     /// # Errors

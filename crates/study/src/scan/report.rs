@@ -44,7 +44,7 @@ pub fn scan_csv(rows: &[ScanRow]) -> String {
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:e},{},{},{},{:e},{:e},{:e},{:e},{:e},{},{}",
+            "{},{},{},{:e},{},{},{},{:e},{},{},{},{},{},{}",
             r.scheme,
             r.method,
             r.iteration,
@@ -53,12 +53,12 @@ pub fn scan_csv(rows: &[ScanRow]) -> String {
             opt(r.max),
             opt(r.volume_ratio),
             r.area_ratio,
-            r.removed_sa,
-            r.removed_sq,
-            r.removed_sz,
-            r.shift,
+            opt(r.removed_sa),
+            opt(r.removed_sq),
+            opt(r.removed_sz),
+            opt(r.shift),
             opt(r.min_angle_deg),
-            r.flipped_faces
+            r.flipped_faces.map_or_else(String::new, |n| n.to_string())
         );
     }
     out
@@ -477,11 +477,11 @@ fn effect_section(s: &mut String, results: &ScanResults) {
             l,
             " {} | {} | {} | {} | {} | {} |",
             num(r.area_ratio),
-            num(r.shift),
-            num(r.removed_sq),
-            num(r.removed_sz),
+            onum(r.shift),
+            onum(r.removed_sq),
+            onum(r.removed_sz),
             onum(r.min_angle_deg),
-            r.flipped_faces
+            r.flipped_faces.map_or_else(|| "–".into(), |n| n.to_string())
         );
         let _ = writeln!(s, "{l}");
     };

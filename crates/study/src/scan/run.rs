@@ -11,6 +11,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 use beltrami_metrics::residual::{ArealOptions, areal_parameters, normal_residual};
 use beltrami_smooth::{SmoothConfig, Smoother, Statistics};
 use beltrami_weights::WeightScheme;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::config::{ScanConfig, ScanMethod};
@@ -85,19 +86,21 @@ pub struct ScanRow {
     pub volume_ratio: Option<f64>,
     /// Surface area over the input's.
     pub area_ratio: f64,
-    /// Sa of the removed residual.
-    pub removed_sa: f64,
+    /// Sa of the removed residual. This and the following fields are measured at the
+    /// counts of [`ScanConfig::detailed_iterations`], at every implicit step and at
+    /// each run's best count; `None` elsewhere.
+    pub removed_sa: Option<f64>,
     /// Sq of the removed residual.
-    pub removed_sq: f64,
+    pub removed_sq: Option<f64>,
     /// Sz of the removed residual.
-    pub removed_sz: f64,
+    pub removed_sz: Option<f64>,
     /// Area-weighted mean of the removed residual (positive: moved against the normals).
-    pub shift: f64,
-    /// The smallest interior angle of any face, degrees (`None` if every face is
+    pub shift: Option<f64>,
+    /// The smallest interior angle of any face, degrees (also `None` if every face is
     /// degenerate).
     pub min_angle_deg: Option<f64>,
     /// Faces whose normal turned by more than 90° against the input.
-    pub flipped_faces: usize,
+    pub flipped_faces: Option<usize>,
 }
 
 /// The best observation of one scheme and method against the reference: the smallest
@@ -216,6 +219,8 @@ impl<'a> Observer<'a> {
         Ok(Some(((sum / d.len() as f64).sqrt(), max)))
     }
 
+    /// The row of one observation: distances, volume and area always; the removed
+    /// residual and the mesh quality when `detailed`.
     fn measure(
         &self,
         scheme: &str,
@@ -223,19 +228,17 @@ impl<'a> Observer<'a> {
         iteration: usize,
         step: f64,
         positions: &[DVec3],
+        detailed: bool,
     ) -> Result<ScanRow, MetricsError> {
         let mesh = &self.input.mesh;
-        let input = Geometry::new(mesh, &self.input.data.positions)?;
         let geometry = Geometry::new(mesh, positions)?;
         let distances = self.distances(positions)?;
-        let residual = normal_residual(&input, &geometry)?;
-        let areal = areal_parameters(&geometry, residual.as_slice(), &ArealOptions::default())?;
         let volume_ratio = match self.input_volume {
             Some(v0) => Some(geometry.volume()? / v0).filter(|r| r.is_finite()),
             None => None,
         };
         let area = geometry.surface_area();
-        Ok(ScanRow {
+        let mut row = ScanRow {
             scheme: scheme.to_string(),
             method: method.to_string(),
             iteration,
@@ -248,21 +251,34 @@ impl<'a> Observer<'a> {
             } else {
                 1.0
             },
-            removed_sa: areal.sa,
-            removed_sq: areal.sq,
-            removed_sz: areal.sz,
-            shift: areal.mean,
-            min_angle_deg: beltrami_algorithms::mesh_quality(mesh, positions)
+            removed_sa: None,
+            removed_sq: None,
+            removed_sz: None,
+            shift: None,
+            min_angle_deg: None,
+            flipped_faces: None,
+        };
+        if detailed {
+            let input = Geometry::new(mesh, &self.input.data.positions)?;
+            let residual = normal_residual(&input, &geometry)?;
+            let areal =
+                areal_parameters(&geometry, residual.as_slice(), &ArealOptions::default())?;
+            row.removed_sa = Some(areal.sa);
+            row.removed_sq = Some(areal.sq);
+            row.removed_sz = Some(areal.sz);
+            row.shift = Some(areal.mean);
+            row.min_angle_deg = beltrami_algorithms::mesh_quality(mesh, positions)
                 .ok()
                 .and_then(|q| q.shape)
-                .map(|s| s.min_angle),
-            flipped_faces: beltrami_algorithms::flipped_faces(
+                .map(|s| s.min_angle);
+            row.flipped_faces = beltrami_algorithms::flipped_faces(
                 mesh,
                 positions,
                 &self.input.data.positions,
             )
-            .unwrap_or(0),
-        })
+            .ok();
+        }
+        Ok(row)
     }
 }
 
@@ -288,9 +304,11 @@ fn reference_warning(input: &ScanSurface, reference: &ScanSurface) -> Option<Str
 
 /// Runs every configured scheme and method on `input`, observing each explicit run at
 /// [`ScanConfig::observed_iterations`] and each implicit time step once, and measures
-/// every observation against the input (and the reference, if given). Runs go one
-/// after the other; the closest-point queries against the reference run in parallel.
-/// The results do not depend on the thread count.
+/// every observation against the input (and the reference, if given). The runs go in
+/// parallel (each one's smoothing and metrics in order); `progress` hears one
+/// [`Progress::RunStarted`] for all of them, one [`Progress::Iteration`] per finished
+/// run and one [`Progress::RunFinished`]. The results do not depend on the thread
+/// count.
 ///
 /// With a reference, the best observation per scheme and method is the one with the
 /// smallest RMS distance to it, and its positions are kept.
@@ -323,45 +341,76 @@ pub fn run_scan(
     let observer = Observer::new(&input, reference.as_ref()).map_err(metrics("input"))?;
     let mut rows = vec![
         observer
-            .measure("input", "input", 0, 0.0, &input.data.positions)
+            .measure("input", "input", 0, 0.0, &input.data.positions, true)
             .map_err(metrics("input"))?,
     ];
+    let jobs: Vec<(&dyn WeightScheme, ScanMethod)> = config
+        .schemes
+        .iter()
+        .flat_map(|scheme| config.methods.iter().map(move |&m| (scheme.as_ref(), m)))
+        .collect();
+    // The runs go in parallel, each on its own; the main thread reports progress, one
+    // step per finished run. The results are collected in the configured order.
+    progress(Progress::RunStarted(
+        &input.name,
+        "every scheme and method",
+        jobs.len(),
+    ));
+    let (sender, finished) = std::sync::mpsc::channel::<()>();
+    let observer_ref = &observer;
+    let outcomes: Vec<Result<MethodRun, RunError>> = std::thread::scope(|scope| {
+        let jobs = &jobs;
+        let worker = scope.spawn(move || {
+            jobs.par_iter()
+                .map_with(sender, |sender, &(scheme, method)| {
+                    let run = run_method(observer_ref, scheme, method, config);
+                    // The receiver lives until every sender is gone.
+                    let _ = sender.send(());
+                    run
+                })
+                .collect::<Vec<_>>()
+        });
+        for (done, ()) in finished.iter().enumerate() {
+            progress(Progress::Iteration(done + 1));
+        }
+        worker
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    });
+    progress(Progress::RunFinished);
     let mut best = Vec::new();
     let mut best_positions = Vec::new();
     let mut timings = Vec::new();
-    for scheme in &config.schemes {
-        for &method in &config.methods {
-            let label = format!("{}/{}", scheme.name(), method.label());
-            let run = run_method(&observer, scheme.as_ref(), method, config, progress)
-                .map_err(|e| match e {
-                    RunError::Smooth(source) => StudyError::Smooth {
-                        surface: input.name.clone(),
-                        scheme: label.clone(),
-                        source,
-                    },
-                    RunError::Metrics(source) => metrics(&label)(source),
-                })?;
-            if let Some((row, positions)) = run.best {
-                let last = run.rows.last().map(|r| (r.iteration, r.step));
-                best.push(ScanBest {
-                    scheme: scheme.name().to_string(),
-                    method: method.label().to_string(),
-                    iteration: row.iteration,
-                    step: row.step,
-                    rms: row.rms.unwrap_or(f64::NAN),
-                    max: row.max.unwrap_or(f64::NAN),
-                    at_last_observed: last == Some((row.iteration, row.step)),
-                    file: format!("best-{}-{}.ply", scheme.name(), method.label()),
-                });
-                best_positions.push(positions);
-            }
-            rows.extend(run.rows);
-            timings.push(ScanTiming {
+    for (&(scheme, method), outcome) in jobs.iter().zip(outcomes) {
+        let label = format!("{}/{}", scheme.name(), method.label());
+        let run = outcome.map_err(|e| match e {
+            RunError::Smooth(source) => StudyError::Smooth {
+                surface: input.name.clone(),
+                scheme: label.clone(),
+                source,
+            },
+            RunError::Metrics(source) => metrics(&label)(source),
+        })?;
+        if let Some((row, positions)) = run.best {
+            let last = run.rows.last().map(|r| (r.iteration, r.step));
+            best.push(ScanBest {
                 scheme: scheme.name().to_string(),
                 method: method.label().to_string(),
-                smoothing_s: run.smoothing_s,
+                iteration: row.iteration,
+                step: row.step,
+                rms: row.rms.unwrap_or(f64::NAN),
+                max: row.max.unwrap_or(f64::NAN),
+                at_last_observed: last == Some((row.iteration, row.step)),
+                file: format!("best-{}-{}.ply", scheme.name(), method.label()),
             });
+            best_positions.push(positions);
         }
+        rows.extend(run.rows);
+        timings.push(ScanTiming {
+            scheme: scheme.name().to_string(),
+            method: method.label().to_string(),
+            smoothing_s: run.smoothing_s,
+        });
     }
     drop(observer);
     Ok(ScanResults {
@@ -405,7 +454,6 @@ fn run_method(
     scheme: &dyn WeightScheme,
     method: ScanMethod,
     config: &ScanConfig,
-    progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<MethodRun, RunError> {
     let input = observer.input;
     let base = SmoothConfig::new(config.lambda, config.max_iterations)
@@ -417,12 +465,7 @@ fn run_method(
     let mut best = None;
     let mut smoothing_s = 0.0;
     if method == ScanMethod::Implicit {
-        progress(Progress::RunStarted(
-            &input.name,
-            scheme.name(),
-            config.implicit_steps.len(),
-        ));
-        for (k, &t) in config.implicit_steps.iter().enumerate() {
+        for &t in &config.implicit_steps {
             let clock = Instant::now();
             let smoothed = Smoother::new(
                 &input.mesh,
@@ -434,13 +477,11 @@ fn run_method(
             .map_err(RunError::Smooth)?;
             smoothing_s += clock.elapsed().as_secs_f64();
             let row = observer
-                .measure(scheme.name(), method.label(), 1, t, &smoothed.positions)
+                .measure(scheme.name(), method.label(), 1, t, &smoothed.positions, true)
                 .map_err(RunError::Metrics)?;
             keep_best(&mut best, &row, &smoothed.positions);
             rows.push(row);
-            progress(Progress::Iteration(k + 1));
         }
-        progress(Progress::RunFinished);
         return Ok(MethodRun {
             rows,
             best,
@@ -449,12 +490,8 @@ fn run_method(
     }
     let step = method.explicit_step(config.lambda);
     let observed = config.observed_iterations();
+    let detailed = config.detailed_iterations();
     let mut wanted = observed.iter().copied().peekable();
-    progress(Progress::RunStarted(
-        &input.name,
-        scheme.name(),
-        config.max_iterations,
-    ));
     let mut failed = None;
     let mut resumed = Instant::now();
     let smoother = Smoother::new(
@@ -467,7 +504,6 @@ fn run_method(
     smoother
         .run(|it| {
             smoothing_s += resumed.elapsed().as_secs_f64();
-            progress(Progress::Iteration(it.index));
             if wanted.peek() == Some(&it.index) {
                 wanted.next();
                 match observer.measure(
@@ -476,6 +512,7 @@ fn run_method(
                     it.index,
                     step,
                     it.positions(),
+                    detailed.contains(&it.index),
                 ) {
                     Ok(row) => {
                         keep_best(&mut best, &row, it.positions());
@@ -494,7 +531,17 @@ fn run_method(
     if let Some(e) = failed {
         return Err(RunError::Metrics(e));
     }
-    progress(Progress::RunFinished);
+    if let Some((row, positions)) = &mut best
+        && row.removed_sq.is_none()
+    {
+        let full = observer
+            .measure(scheme.name(), method.label(), row.iteration, step, positions, true)
+            .map_err(RunError::Metrics)?;
+        if let Some(r) = rows.iter_mut().find(|r| r.iteration == full.iteration) {
+            *r = full.clone();
+        }
+        *row = full;
+    }
     Ok(MethodRun {
         rows,
         best,
