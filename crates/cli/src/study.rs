@@ -4,12 +4,12 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use beltrami_io::MeshData;
 use beltrami_io::{check_writable, stage_dir};
 use beltrami_smooth::{Boundary, WeightUpdate};
-use beltrami_io::MeshData;
 use beltrami_study::{
-    Countermeasure, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig, Verdict,
-    run_scan, run_study, sig, write_scan, write_study,
+    Countermeasure, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig, Verdict, run_scan,
+    run_study, sig, write_scan, write_study,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
@@ -487,7 +487,11 @@ fn run_input(
                     format!("{}/{}", b.scheme, b.method),
                     count,
                     sig(b.rms),
-                    if b.rms < input_rms { "" } else { " (worse than the input)" },
+                    if b.rms < input_rms {
+                        ""
+                    } else {
+                        " (worse than the input)"
+                    },
                     args.out.join(&b.file).display()
                 )?;
             }

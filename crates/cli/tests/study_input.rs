@@ -54,10 +54,20 @@ fn with_a_reference_it_writes_the_best_meshes_that_compare_agrees_with() {
     let dir = tempfile::tempdir().unwrap();
     let (noisy, clean) = generated(dir.path());
     let out_dir = dir.path().join("scan");
-    let out = study(&["--input", &noisy, "--reference", &clean, "--out", s(&out_dir)]);
+    let out = study(&[
+        "--input",
+        &noisy,
+        "--reference",
+        &clean,
+        "--out",
+        s(&out_dir),
+    ]);
     assert!(out.status.success(), "{out:?}");
     let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(stdout.starts_with("study of noisy.ply: 2 schemes x 2 methods"), "{stdout}");
+    assert!(
+        stdout.starts_with("study of noisy.ply: 2 schemes x 2 methods"),
+        "{stdout}"
+    );
     assert!(stdout.contains("best-cotangent-plain.ply"), "{stdout}");
     let json = results_json(&out_dir);
     let best = json["best"].as_array().unwrap();
@@ -88,7 +98,14 @@ fn the_reported_smooth_options_reproduce_the_best_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let (noisy, clean) = generated(dir.path());
     let out_dir = dir.path().join("scan");
-    let out = study(&["--input", &noisy, "--reference", &clean, "--out", s(&out_dir)]);
+    let out = study(&[
+        "--input",
+        &noisy,
+        "--reference",
+        &clean,
+        "--out",
+        s(&out_dir),
+    ]);
     assert!(out.status.success(), "{out:?}");
     let json = results_json(&out_dir);
     let best = json["best"]
@@ -111,7 +128,10 @@ fn the_reported_smooth_options_reproduce_the_best_mesh() {
     assert!(out.status.success(), "{out:?}");
     let a = beltrami_io::read_mesh(&smoothed).unwrap();
     let b = beltrami_io::read_mesh(out_dir.join("best-cotangent-plain.ply")).unwrap();
-    assert!(a.positions == b.positions, "the same positions, bit for bit");
+    assert!(
+        a.positions == b.positions,
+        "the same positions, bit for bit"
+    );
 }
 
 #[test]
@@ -128,7 +148,10 @@ fn without_a_reference_no_best_meshes_are_written() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["report.md", "results.csv", "results.json", "timings.csv"]);
+    assert_eq!(
+        names,
+        ["report.md", "results.csv", "results.json", "timings.csv"]
+    );
     let json = results_json(&out_dir);
     assert!(json["reference"].is_null());
     assert!(json["best"].as_array().unwrap().is_empty());
@@ -142,7 +165,14 @@ fn two_runs_write_the_same_bytes() {
     let (noisy, clean) = generated(dir.path());
     let run = |name: &str| {
         let out_dir = dir.path().join(name);
-        let out = study(&["--input", &noisy, "--reference", &clean, "--out", s(&out_dir)]);
+        let out = study(&[
+            "--input",
+            &noisy,
+            "--reference",
+            &clean,
+            "--out",
+            s(&out_dir),
+        ]);
         assert!(out.status.success(), "{out:?}");
         out_dir
     };
@@ -167,9 +197,15 @@ fn usage_errors_exit_2() {
     let out_dir = dir.path().join("scan");
     for (args, expected) in [
         (vec!["study", "--input", &noisy, "--small"], "--small"),
-        (vec!["study", "--input", &noisy, "--surfaces", "flens"], "--surfaces"),
+        (
+            vec!["study", "--input", &noisy, "--surfaces", "flens"],
+            "--surfaces",
+        ),
         (vec!["study", "--input", &noisy, "--seeds", "2"], "--seeds"),
-        (vec!["study", "--input", &noisy, "--noise", "0.1"], "--noise"),
+        (
+            vec!["study", "--input", &noisy, "--noise", "0.1"],
+            "--noise",
+        ),
         (vec!["study", "--reference", &clean], "--input"),
         (vec!["study", "--methods", "plain"], "--input"),
     ] {
@@ -186,9 +222,18 @@ fn usage_errors_exit_2() {
         assert!(!out_dir.exists());
     }
     for (extra, expected) in [
-        (vec!["--iterations", "10,20"], "--iterations takes one number"),
-        (vec!["--methods", "jacobi"], "--methods: unknown method 'jacobi'"),
-        (vec!["--implicit-steps", "0"], "implicit time steps must be positive"),
+        (
+            vec!["--iterations", "10,20"],
+            "--iterations takes one number",
+        ),
+        (
+            vec!["--methods", "jacobi"],
+            "--methods: unknown method 'jacobi'",
+        ),
+        (
+            vec!["--implicit-steps", "0"],
+            "implicit time steps must be positive",
+        ),
     ] {
         let mut args = vec!["study", "--input", &noisy, "--out", s(&out_dir)];
         args.extend(extra);

@@ -51,8 +51,9 @@ pub use run::{
     UNITS_CUTOFF, run_study,
 };
 pub use scan::{
-    DEFAULT_IMPLICIT_STEPS, OBSERVE_EVERY_UP_TO, OBSERVE_STRIDE, REPORT_ITERATIONS, SCAN_CSV_HEADER,
-    ScanBest, ScanConfig, ScanMethod, ScanResults, ScanRow, ScanSurface, ScanTiming, ScanWritten,
-    TAUBIN_LAMBDA, TAUBIN_MU, TIME_HEADING, run_scan, scan_csv, smooth_options, write_scan,
+    DEFAULT_IMPLICIT_STEPS, OBSERVE_EVERY_UP_TO, OBSERVE_STRIDE, REPORT_ITERATIONS,
+    SCAN_CSV_HEADER, ScanBest, ScanConfig, ScanMethod, ScanResults, ScanRow, ScanSurface,
+    ScanTiming, ScanWritten, TAUBIN_LAMBDA, TAUBIN_MU, TIME_HEADING, run_scan, scan_csv,
+    smooth_options, write_scan,
 };
 pub use units::{UnitsComparison, UnitsRow, units_comparison};

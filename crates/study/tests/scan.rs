@@ -76,15 +76,15 @@ fn with_a_reference_the_best_count_smooths_and_beats_the_input() {
         .iter()
         .find(|b| b.scheme == "cotangent" && b.method == "plain")
         .unwrap();
-    assert!(
-        plain.iteration < 20 && !plain.at_last_observed,
-        "{plain:?}"
-    );
+    assert!(plain.iteration < 20 && !plain.at_last_observed, "{plain:?}");
     let thirty = results
         .rows_of("cotangent", "plain")
         .find(|r| r.iteration == 30)
         .unwrap();
-    assert!(thirty.rms.unwrap() > plain.rms, "shrinkage after the optimum");
+    assert!(
+        thirty.rms.unwrap() > plain.rms,
+        "shrinkage after the optimum"
+    );
     assert!(thirty.volume_ratio.unwrap() < 0.99, "{thirty:?}");
     // The best row carries the detailed numbers even off the report's counts.
     for b in &results.best {
@@ -119,8 +119,7 @@ fn the_best_mesh_files_hold_the_reported_rms() {
         assert!(report.contains(&format!("`{}`", b.file)), "{}", b.file);
     }
     let json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap())
-            .unwrap();
+        serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap()).unwrap();
     assert_eq!(json["best"].as_array().unwrap().len(), results.best.len());
     assert_eq!(json["rows"].as_array().unwrap().len(), results.rows.len());
 }
@@ -136,7 +135,12 @@ fn without_a_reference_there_is_no_best_but_shrinkage_and_residual_numbers() {
     )
     .unwrap();
     assert!(results.best.is_empty() && results.best_positions.is_empty());
-    assert!(results.rows.iter().all(|r| r.rms.is_none() && r.max.is_none()));
+    assert!(
+        results
+            .rows
+            .iter()
+            .all(|r| r.rms.is_none() && r.max.is_none())
+    );
     // The closed sphere shrinks: the volume ratio falls below 1 with the iterations.
     let plain: Vec<_> = results.rows_of("uniform", "plain").collect();
     assert_eq!(plain.len(), 20 + 2, "1..=20, 25, 30 observed");
@@ -147,7 +151,13 @@ fn without_a_reference_there_is_no_best_but_shrinkage_and_residual_numbers() {
             .and_then(|r| r.volume_ratio)
             .unwrap()
     };
-    assert!(v(1) < 1.0 && v(10) < v(1) && v(30) < v(10), "{} {} {}", v(1), v(10), v(30));
+    assert!(
+        v(1) < 1.0 && v(10) < v(1) && v(30) < v(10),
+        "{} {} {}",
+        v(1),
+        v(10),
+        v(30)
+    );
     // The removed residual grows with smoothing, at the report's counts.
     let sq = |i: usize| {
         plain
@@ -165,10 +175,21 @@ fn without_a_reference_there_is_no_best_but_shrinkage_and_residual_numbers() {
         "the residual is measured at the report's counts only"
     );
     // Shrinkage: the surface moves against its (outward) normals.
-    assert!(plain.iter().find(|r| r.iteration == 30).unwrap().shift.unwrap() > 0.0);
+    assert!(
+        plain
+            .iter()
+            .find(|r| r.iteration == 30)
+            .unwrap()
+            .shift
+            .unwrap()
+            > 0.0
+    );
     let dir = tempfile::tempdir().unwrap();
     let written = write_scan(&results, dir.path()).unwrap();
-    assert!(written.files.iter().all(|f| !f.starts_with("best-")), "{written:?}");
+    assert!(
+        written.files.iter().all(|f| !f.starts_with("best-")),
+        "{written:?}"
+    );
     let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(report.contains("no ground truth"), "{report}");
     assert!(!report.contains("## Recommendation"));
@@ -190,7 +211,7 @@ fn the_files_are_the_same_bytes_on_one_thread_and_many() {
             let mut bytes = std::fs::read(dir.path().join(name)).unwrap();
             if name == "report.md" {
                 let text = String::from_utf8(bytes).unwrap();
-                bytes = text[..text.find(TIME_HEADING).unwrap()].as_bytes().to_vec();
+                bytes = text.as_bytes()[..text.find(TIME_HEADING).unwrap()].to_vec();
             }
             files.push((name.clone(), bytes));
         }
@@ -254,7 +275,9 @@ fn a_reference_elsewhere_gives_a_warning() {
     let results = run_scan(
         ScanSurface::new("noisy.ply", noisy).unwrap(),
         Some(ScanSurface::new("far.ply", far).unwrap()),
-        &small_config().methods(vec![ScanMethod::Plain]).max_iterations(3),
+        &small_config()
+            .methods(vec![ScanMethod::Plain])
+            .max_iterations(3),
         &mut |_| {},
     )
     .unwrap();
@@ -267,13 +290,23 @@ fn the_observed_counts() {
     let c = ScanConfig::default();
     let observed = c.observed_iterations();
     assert_eq!(&observed[..20], &(1..=20).collect::<Vec<_>>()[..]);
-    assert_eq!(&observed[20..], &[25, 30, 35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85, 90, 95, 100]);
     assert_eq!(
-        ScanConfig::default().max_iterations(23).observed_iterations().last(),
+        &observed[20..],
+        &[
+            25, 30, 35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85, 90, 95, 100
+        ]
+    );
+    assert_eq!(
+        ScanConfig::default()
+            .max_iterations(23)
+            .observed_iterations()
+            .last(),
         Some(&23)
     );
     assert_eq!(
-        ScanConfig::default().max_iterations(23).detailed_iterations(),
+        ScanConfig::default()
+            .max_iterations(23)
+            .detailed_iterations(),
         vec![1, 2, 3, 5, 10, 20, 23]
     );
 }

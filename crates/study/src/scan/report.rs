@@ -126,7 +126,12 @@ fn write(dir: &Path, name: &str, bytes: &[u8], files: &mut Vec<String>) -> Resul
 /// [`StudyError::Write`] naming the file that could not be written.
 pub fn write_scan(results: &ScanResults, dir: &Path) -> Result<ScanWritten, StudyError> {
     let mut files = Vec::new();
-    write(dir, "results.csv", scan_csv(&results.rows).as_bytes(), &mut files)?;
+    write(
+        dir,
+        "results.csv",
+        scan_csv(&results.rows).as_bytes(),
+        &mut files,
+    )?;
     let config = &results.config;
     let json = Json {
         input: surface_json(&results.input),
@@ -190,7 +195,13 @@ fn percent_change(value: f64, base: f64) -> String {
 
 /// The `beltrami smooth` options that reproduce one observation.
 #[must_use]
-pub fn smooth_options(config: &super::ScanConfig, scheme: &str, method: &str, iteration: usize, step: f64) -> String {
+pub fn smooth_options(
+    config: &super::ScanConfig,
+    scheme: &str,
+    method: &str,
+    iteration: usize,
+    step: f64,
+) -> String {
     let mut s = format!("--weights {scheme}");
     match ScanMethod::from_label(method) {
         Ok(ScanMethod::Plain) => {
@@ -203,7 +214,11 @@ pub fn smooth_options(config: &super::ScanConfig, scheme: &str, method: &str, it
             );
         }
         Ok(ScanMethod::Hc) => {
-            let _ = write!(s, " --method hc --lambda {} --iterations {iteration}", config.lambda);
+            let _ = write!(
+                s,
+                " --method hc --lambda {} --iterations {iteration}",
+                config.lambda
+            );
         }
         Ok(ScanMethod::Implicit) => {
             let _ = write!(
@@ -254,7 +269,11 @@ fn markdown(results: &ScanResults) -> String {
         input.name,
         input.mesh.n_vertices(),
         input.mesh.n_faces(),
-        if input.mesh.is_closed() { "closed" } else { "open" }
+        if input.mesh.is_closed() {
+            "closed"
+        } else {
+            "open"
+        }
     );
     match &results.reference {
         Some(r) => {
@@ -319,14 +338,20 @@ fn markdown(results: &ScanResults) -> String {
         s,
         "- `results.csv`: one row per scheme, method and observed iteration (implicit: per time step), the input first (scheme `input`, iteration 0). Columns: `rms`, `max` (distance to the reference; empty without one), `volume_ratio` (closed meshes), `area_ratio`, `removed_sa`, `removed_sq`, `removed_sz`, `shift` (the removed residual), `min_angle_deg`, `flipped_faces`."
     );
-    let _ = writeln!(s, "- `results.json`: the settings, the best observations and the same rows.");
+    let _ = writeln!(
+        s,
+        "- `results.json`: the settings, the best observations and the same rows."
+    );
     if !results.best.is_empty() {
         let _ = writeln!(
             s,
             "- `best-<scheme>-<method>.ply`: the mesh at each scheme's and method's smallest RMS (binary PLY, the input's faces)."
         );
     }
-    let _ = writeln!(s, "- `timings.csv`: smoothing time per run (differs from run to run).\n");
+    let _ = writeln!(
+        s,
+        "- `timings.csv`: smoothing time per run (differs from run to run).\n"
+    );
     let _ = writeln!(s, "{TIME_HEADING}\n");
     let _ = writeln!(
         s,
@@ -366,7 +391,13 @@ fn best_sections(s: &mut String, results: &ScanResults, base_rms: f64) {
         } else {
             format!("{} iterations", overall.iteration)
         },
-        smooth_options(config, &overall.scheme, &overall.method, overall.iteration, overall.step),
+        smooth_options(
+            config,
+            &overall.scheme,
+            &overall.method,
+            overall.iteration,
+            overall.step
+        ),
         overall.file,
         if better {
             ""
@@ -398,7 +429,10 @@ fn best_sections(s: &mut String, results: &ScanResults, base_rms: f64) {
         "The observation with the smallest RMS distance to the reference. \"vs input\" compares it with the input's RMS ({}); a count marked † is the last one observed, so the minimum may lie beyond it.\n",
         num(base_rms)
     );
-    let _ = writeln!(s, "| scheme | method | best count | RMS | vs input | max | file |");
+    let _ = writeln!(
+        s,
+        "| scheme | method | best count | RMS | vs input | max | file |"
+    );
     let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---|");
     let _ = writeln!(
         s,
@@ -481,7 +515,8 @@ fn effect_section(s: &mut String, results: &ScanResults) {
             onum(r.removed_sq),
             onum(r.removed_sz),
             onum(r.min_angle_deg),
-            r.flipped_faces.map_or_else(|| "–".into(), |n| n.to_string())
+            r.flipped_faces
+                .map_or_else(|| "–".into(), |n| n.to_string())
         );
         let _ = writeln!(s, "{l}");
     };

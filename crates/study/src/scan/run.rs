@@ -261,8 +261,7 @@ impl<'a> Observer<'a> {
         if detailed {
             let input = Geometry::new(mesh, &self.input.data.positions)?;
             let residual = normal_residual(&input, &geometry)?;
-            let areal =
-                areal_parameters(&geometry, residual.as_slice(), &ArealOptions::default())?;
+            let areal = areal_parameters(&geometry, residual.as_slice(), &ArealOptions::default())?;
             row.removed_sa = Some(areal.sa);
             row.removed_sq = Some(areal.sq);
             row.removed_sz = Some(areal.sz);
@@ -271,12 +270,9 @@ impl<'a> Observer<'a> {
                 .ok()
                 .and_then(|q| q.shape)
                 .map(|s| s.min_angle);
-            row.flipped_faces = beltrami_algorithms::flipped_faces(
-                mesh,
-                positions,
-                &self.input.data.positions,
-            )
-            .ok();
+            row.flipped_faces =
+                beltrami_algorithms::flipped_faces(mesh, positions, &self.input.data.positions)
+                    .ok();
         }
         Ok(row)
     }
@@ -477,7 +473,14 @@ fn run_method(
             .map_err(RunError::Smooth)?;
             smoothing_s += clock.elapsed().as_secs_f64();
             let row = observer
-                .measure(scheme.name(), method.label(), 1, t, &smoothed.positions, true)
+                .measure(
+                    scheme.name(),
+                    method.label(),
+                    1,
+                    t,
+                    &smoothed.positions,
+                    true,
+                )
                 .map_err(RunError::Metrics)?;
             keep_best(&mut best, &row, &smoothed.positions);
             rows.push(row);
@@ -535,7 +538,14 @@ fn run_method(
         && row.removed_sq.is_none()
     {
         let full = observer
-            .measure(scheme.name(), method.label(), row.iteration, step, positions, true)
+            .measure(
+                scheme.name(),
+                method.label(),
+                row.iteration,
+                step,
+                positions,
+                true,
+            )
             .map_err(RunError::Metrics)?;
         if let Some(r) = rows.iter_mut().find(|r| r.iteration == full.iteration) {
             *r = full.clone();
