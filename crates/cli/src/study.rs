@@ -14,6 +14,7 @@ use beltrami_study::{
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
 use clap::ValueEnum;
+use clap::builder::ArgPredicate;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
@@ -44,10 +45,15 @@ pub(crate) struct StudyArgs {
     /// The weight schemes, comma-separated (default: every registered scheme).
     #[arg(long, value_delimiter = ',')]
     weights: Vec<String>,
-    /// The iteration counts to observe, comma-separated and ascending (default: the
-    /// paper's 10, 20, …, 100 and 200). With --input: one number, the last explicit
-    /// iteration observed (default 100).
-    #[arg(long, value_delimiter = ',')]
+    /// The iteration counts to observe, comma-separated and ascending (the paper's by
+    /// default). With --input: one number, the last explicit iteration observed
+    /// (default 100).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "10,20,30,40,50,60,70,80,90,100,200",
+        default_value_if("input", ArgPredicate::IsPresent, None)
+    )]
     iterations: Vec<usize>,
     /// The step λ, in (0, 1].
     #[arg(long, default_value_t = 0.8, allow_negative_numbers = true)]
@@ -73,8 +79,13 @@ pub(crate) struct StudyArgs {
     /// How boundary vertices move. Free by default, as in the paper, whose F-lens
     /// loses its outline (`smooth` keeps a measured patch's outline: fixed, the
     /// default with --input).
-    #[arg(long, value_enum)]
-    boundary: Option<BoundaryArg>,
+    #[arg(
+        long,
+        value_enum,
+        default_value_t = BoundaryArg::Free,
+        default_value_if("input", ArgPredicate::IsPresent, "fixed")
+    )]
+    boundary: BoundaryArg,
     /// When weights are computed.
     #[arg(long, value_enum, default_value_t = UpdateArg::Every)]
     update: UpdateArg,
@@ -147,11 +158,7 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
         surfaces,
         size: if args.small { Size::Small } else { Size::Paper },
         schemes,
-        iterations: if args.iterations.is_empty() {
-            beltrami_study::paper_iterations()
-        } else {
-            args.iterations.clone()
-        },
+        iterations: args.iterations.clone(),
         lambda: args.lambda,
         noise: if args.absolute_noise {
             NoiseLevel::Absolute(args.noise)
@@ -160,7 +167,7 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
         },
         seed: args.seed,
         seeds: args.seeds,
-        boundary: match args.boundary.unwrap_or(BoundaryArg::Free) {
+        boundary: match args.boundary {
             BoundaryArg::Fixed => Boundary::Fixed,
             BoundaryArg::Free => Boundary::Free,
             BoundaryArg::Curve => Boundary::Curve,
@@ -373,7 +380,7 @@ fn scan_config(args: &StudyArgs, registry: &WeightRegistry) -> Result<ScanConfig
     let mut config = ScanConfig::default()
         .schemes(schemes)
         .lambda(args.lambda)
-        .boundary(match args.boundary.unwrap_or(BoundaryArg::Fixed) {
+        .boundary(match args.boundary {
             BoundaryArg::Fixed => Boundary::Fixed,
             BoundaryArg::Free => Boundary::Free,
             BoundaryArg::Curve => Boundary::Curve,

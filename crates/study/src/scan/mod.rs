@@ -6,12 +6,13 @@
 //! ```
 //! use beltrami_halfedge::primitives;
 //! use beltrami_study::{ScanConfig, ScanMethod, ScanSurface, run_scan};
+//! use beltrami_surfaces::{NoiseLevel, add_normal_noise};
 //!
 //! let clean = primitives::icosphere(2);
 //! let mut noisy = clean.clone();
-//! for (i, p) in noisy.positions.iter_mut().enumerate() {
-//!     *p *= if i % 2 == 0 { 1.02 } else { 0.98 };
-//! }
+//! let mesh = clean.mesh().unwrap();
+//! let level = NoiseLevel::RelativeToMeanEdge(0.2);
+//! noisy.positions = add_normal_noise(&mesh, &clean.positions, level, 1).unwrap().0;
 //! let input = ScanSurface::new("noisy", noisy)?;
 //! let reference = ScanSurface::new("clean", clean)?;
 //! let config = ScanConfig::default().methods(vec![ScanMethod::Plain]).max_iterations(10);
