@@ -4,14 +4,20 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use beltrami_io::MeshData;
 use beltrami_io::{check_writable, stage_dir};
 use beltrami_smooth::{Boundary, WeightUpdate};
-use beltrami_study::{Countermeasure, Progress, StudyConfig, Verdict, run_study, write_study};
+use beltrami_study::{
+    Countermeasure, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig, Verdict, run_scan,
+    run_study, sig, write_scan, write_study,
+};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
 use clap::ValueEnum;
+use clap::builder::ArgPredicate;
 
 use crate::error::CliError;
+use crate::load::{ReadArgs, load};
 use crate::text::counted;
 
 /// Arguments of `beltrami study`.
@@ -40,11 +46,13 @@ pub(crate) struct StudyArgs {
     #[arg(long, value_delimiter = ',')]
     weights: Vec<String>,
     /// The iteration counts to observe, comma-separated and ascending (the paper's by
-    /// default).
+    /// default). With --input: one number, the last explicit iteration observed
+    /// (default 100).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "10,20,30,40,50,60,70,80,90,100,200"
+        default_value = "10,20,30,40,50,60,70,80,90,100,200",
+        default_value_if("input", ArgPredicate::IsPresent, None)
     )]
     iterations: Vec<usize>,
     /// The step λ, in (0, 1].
@@ -69,8 +77,14 @@ pub(crate) struct StudyArgs {
     #[arg(long, default_value_t = beltrami_study::DEFAULT_SEEDS)]
     seeds: usize,
     /// How boundary vertices move. Free by default, as in the paper, whose F-lens
-    /// loses its outline (`smooth` keeps a measured patch's outline: fixed).
-    #[arg(long, value_enum, default_value_t = BoundaryArg::Free)]
+    /// loses its outline (`smooth` keeps a measured patch's outline: fixed, the
+    /// default with --input).
+    #[arg(
+        long,
+        value_enum,
+        default_value_t = BoundaryArg::Free,
+        default_value_if("input", ArgPredicate::IsPresent, "fixed")
+    )]
     boundary: BoundaryArg,
     /// When weights are computed.
     #[arg(long, value_enum, default_value_t = UpdateArg::Every)]
@@ -101,6 +115,33 @@ pub(crate) struct StudyArgs {
     /// Skip the remeshing comparison.
     #[arg(long)]
     no_remesh: bool,
+    /// Study this surface (a scan: .ply, .stl, .obj or .off) instead of the paper's:
+    /// every scheme with plain, Taubin, HC and implicit smoothing, observed iteration by
+    /// iteration (see docs/study-input.md). Not with --surfaces, --small, --seed,
+    /// --seeds, --noise, --absolute-noise, the counter-measure or the remeshing options.
+    #[arg(
+        long,
+        value_name = "SCAN",
+        conflicts_with_all = [
+            "surfaces", "small", "seed", "seeds", "noise", "absolute_noise",
+            "countermeasure_weights", "no_countermeasures", "remesh", "remesh_relative",
+            "no_remesh"
+        ]
+    )]
+    input: Option<PathBuf>,
+    /// With --input: the clean surface to measure against (any mesh of the part, in the
+    /// same unit and position). Adds the RMS distance per iteration, the RMS-optimal
+    /// count per scheme and method, and the best meshes (`best-<scheme>-<method>.ply`).
+    #[arg(long, value_name = "CLEAN", requires = "input")]
+    reference: Option<PathBuf>,
+    /// With --input: the methods, comma-separated: plain, taubin, hc, implicit
+    /// (default: all four).
+    #[arg(long, value_delimiter = ',', requires = "input")]
+    methods: Vec<String>,
+    /// With --input: the implicit time steps, comma-separated, each run as one
+    /// backward-Euler step (default 0.25, 0.5, 1, 2, 4, 8, 16, 32).
+    #[arg(long, value_delimiter = ',', requires = "input")]
+    implicit_steps: Vec<f64>,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -224,17 +265,11 @@ fn check_out_dir(dir: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs `beltrami study`.
-pub(crate) fn run(
-    args: &StudyArgs,
-    registry: &WeightRegistry,
-    out: &mut impl Write,
-) -> Result<(), CliError> {
-    let config = config(args, registry)?;
-    check_out_dir(&args.out)?;
+/// A progress bar per run on a terminal; nothing otherwise.
+pub(crate) fn terminal_progress() -> impl FnMut(Progress<'_>) {
     let terminal = std::io::stderr().is_terminal();
     let mut bar: Option<indicatif::ProgressBar> = None;
-    let mut progress = |p: Progress<'_>| {
+    move |p: Progress<'_>| {
         if !terminal {
             return;
         }
@@ -261,7 +296,21 @@ pub(crate) fn run(
                 }
             }
         }
-    };
+    }
+}
+
+/// Runs `beltrami study`.
+pub(crate) fn run(
+    args: &StudyArgs,
+    registry: &WeightRegistry,
+    out: &mut impl Write,
+) -> Result<(), CliError> {
+    if let Some(input) = &args.input {
+        return run_input(args, input, registry, out);
+    }
+    let config = config(args, registry)?;
+    check_out_dir(&args.out)?;
+    let mut progress = terminal_progress();
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
     let io = |source| CliError::Io {
         path: args.out.clone(),
@@ -292,6 +341,192 @@ pub(crate) fn run(
             _ => "not evaluated",
         };
         writeln!(out, "  {mark}  {}", f.id)?;
+    }
+    Ok(())
+}
+
+/// The entries a study of one given surface writes into its directory (besides
+/// `best-<scheme>-<method>.ply`).
+const SCAN_ENTRIES: [&str; 4] = ["report.md", "results.csv", "results.json", "timings.csv"];
+
+/// Whether `name` is an entry a study of one given surface writes.
+fn is_scan_entry(name: &str) -> bool {
+    SCAN_ENTRIES.contains(&name)
+        || (name.starts_with("best-")
+            && Path::new(name)
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ply")))
+}
+
+/// [`check_out_dir`] for `--input`: refuses a directory holding anything but an
+/// earlier study of a given surface.
+fn check_scan_out_dir(dir: &Path) -> Result<(), CliError> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    check_writable(parent.join("report.md")).map_err(|source| CliError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        if dir.exists() {
+            return Err(CliError::Usage(format!(
+                "--out {} is not a directory",
+                dir.display()
+            )));
+        }
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if !is_scan_entry(&name) {
+            return Err(CliError::Usage(format!(
+                "--out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
+                dir.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The configuration of `study --input`.
+fn scan_config(args: &StudyArgs, registry: &WeightRegistry) -> Result<ScanConfig, CliError> {
+    let schemes: Vec<Arc<dyn WeightScheme>> = if args.weights.is_empty() {
+        registry.iter().cloned().collect()
+    } else {
+        args.weights
+            .iter()
+            .map(|w| registry.get(w))
+            .collect::<Result<_, _>>()?
+    };
+    let mut config = ScanConfig::default()
+        .schemes(schemes)
+        .lambda(args.lambda)
+        .boundary(match args.boundary {
+            BoundaryArg::Fixed => Boundary::Fixed,
+            BoundaryArg::Free => Boundary::Free,
+            BoundaryArg::Curve => Boundary::Curve,
+        })
+        .update(match args.update {
+            UpdateArg::Every => WeightUpdate::Every,
+            UpdateArg::Once => WeightUpdate::Once,
+        });
+    match args.iterations.as_slice() {
+        [] => {}
+        [n] => config = config.max_iterations(*n),
+        _ => {
+            return Err(CliError::Usage(
+                "with --input, --iterations takes one number: the last iteration observed (every one up to 20 is observed, then every 5th)".into(),
+            ));
+        }
+    }
+    if !args.methods.is_empty() {
+        let methods = args
+            .methods
+            .iter()
+            .map(|m| ScanMethod::from_label(m))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| CliError::Usage(format!("--methods: {e}")))?;
+        config = config.methods(methods);
+    }
+    if !args.implicit_steps.is_empty() {
+        config = config.implicit_steps(args.implicit_steps.clone());
+    }
+    config
+        .validate()
+        .map_err(|e| CliError::Usage(e.to_string()))?;
+    Ok(config)
+}
+
+/// Reads a surface for `study --input` (or its reference), named by its file name.
+fn load_scan(path: &Path) -> Result<ScanSurface, CliError> {
+    let loaded = load(path, &ReadArgs::default())?;
+    loaded.require_faces(path, "study")?;
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    ScanSurface::new(
+        name,
+        MeshData {
+            positions: loaded.positions,
+            faces: loaded.faces,
+        },
+    )
+    .map_err(|e| CliError::Input {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// Runs `beltrami study --input SCAN [--reference CLEAN]`.
+fn run_input(
+    args: &StudyArgs,
+    input: &Path,
+    registry: &WeightRegistry,
+    out: &mut impl Write,
+) -> Result<(), CliError> {
+    let config = scan_config(args, registry)?;
+    check_scan_out_dir(&args.out)?;
+    let scan = load_scan(input)?;
+    let reference = args.reference.as_deref().map(load_scan).transpose()?;
+    let mut progress = terminal_progress();
+    let results = run_scan(scan, reference, &config, &mut progress).map_err(CliError::Study)?;
+    for w in &results.warnings {
+        eprintln!("warning: {w}");
+    }
+    let io = |source| CliError::Io {
+        path: args.out.clone(),
+        source,
+    };
+    let staged = stage_dir(&args.out).map_err(io)?;
+    write_scan(&results, staged.path()).map_err(CliError::Study)?;
+    staged.commit().map_err(io)?;
+    writeln!(
+        out,
+        "study of {}: {} x {}, {}, {:.1} s -> {}",
+        results.input.name,
+        counted(config.schemes.len(), "scheme", "schemes"),
+        counted(config.methods.len(), "method", "methods"),
+        counted(results.rows.len(), "observation", "observations"),
+        results.wall_time_s,
+        args.out.join("report.md").display()
+    )?;
+    let base = results.baseline();
+    match base.rms {
+        None => writeln!(
+            out,
+            "no --reference: no ground truth, so no best count; the report shows what smoothing removes and how much it shrinks"
+        )?,
+        Some(input_rms) => {
+            writeln!(
+                out,
+                "RMS distance to the reference: input {}; the smallest per scheme and method:",
+                sig(input_rms)
+            )?;
+            for b in &results.best {
+                let count = if b.method == "implicit" {
+                    format!("1 step of {}", b.step)
+                } else {
+                    counted(b.iteration, "iteration", "iterations")
+                };
+                writeln!(
+                    out,
+                    "  {:<22} {:<20} rms {}{} -> {}",
+                    format!("{}/{}", b.scheme, b.method),
+                    count,
+                    sig(b.rms),
+                    if b.rms < input_rms {
+                        ""
+                    } else {
+                        " (worse than the input)"
+                    },
+                    args.out.join(&b.file).display()
+                )?;
+            }
+        }
     }
     Ok(())
 }

@@ -44,6 +44,9 @@ pub enum StudyError {
     /// An invalid study configuration.
     #[error("{0}")]
     Config(String),
+    /// A given surface (`study --input` or its reference) that cannot be studied.
+    #[error("{0}")]
+    Input(String),
     /// Smoothing failed.
     #[error("{surface} / {scheme}: {source}")]
     Smooth {

@@ -28,6 +28,7 @@ mod remeshing;
 mod report;
 mod results;
 mod run;
+mod scan;
 mod timing;
 mod units;
 
@@ -56,6 +57,12 @@ pub use results::{CSV_HEADER, Row, to_csv};
 pub use run::{
     EARLY_ITERATIONS, Progress, RmsPoint, SchemeRun, Snapshot, StudyResults, SurfaceResult,
     UNITS_CUTOFF, run_study,
+};
+pub use scan::{
+    DEFAULT_IMPLICIT_STEPS, OBSERVE_EVERY_UP_TO, OBSERVE_STRIDE, REPORT_ITERATIONS,
+    SCAN_CSV_HEADER, ScanBest, ScanConfig, ScanMethod, ScanResults, ScanRow, ScanSurface,
+    ScanTiming, ScanWritten, TAUBIN_LAMBDA, TAUBIN_MU, TIME_HEADING, run_scan, scan_csv,
+    smooth_options, write_scan,
 };
 pub use timing::{
     MachineInfo, SchemeTiming, TIMING_ITERATIONS, TIMING_REPEATS, Timings, cpu_model, git_commit,
