@@ -297,13 +297,17 @@ pub(crate) fn remesh<'py>(
 /// `vertices` vertices or `ratio` of them (exactly one), by halfedge collapses that keep
 /// the topology. `max_error` and `max_distance` (in the mesh's unit),
 /// `max_normal_deviation` (degrees) and `max_aspect_ratio` stop collapses that would
-/// exceed them; `keep_boundary` keeps every boundary vertex; `optimal` moves the kept
-/// vertex to the quadric's minimum. Returns `(Mesh, report)`, the report with the keys
+/// exceed them; `keep_boundary` keeps every boundary vertex; `placement` is
+/// `"optimal"` (the kept vertex moves to the quadric's minimum, the default) or
+/// `"endpoint"` (it stays: output vertices are input vertices); `quality_threshold`
+/// (default 0.4, in [0, 1]; 0 turns it off) makes collapses that create poorly shaped
+/// triangles cost more; `openmesh=True` is OpenMesh's plain quadric decimation
+/// (endpoint placement, no shape penalty). Returns `(Mesh, report)`, the report with the keys
 /// of `decimate --json` (without the file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, optimal = false, max_aspect_ratio = None, max_distance = None))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -313,7 +317,9 @@ pub(crate) fn decimate<'py>(
     max_error: Option<f64>,
     max_normal_deviation: Option<f64>,
     keep_boundary: bool,
-    optimal: bool,
+    placement: &str,
+    quality_threshold: f64,
+    openmesh: bool,
     max_aspect_ratio: Option<f64>,
     max_distance: Option<f64>,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
@@ -326,11 +332,29 @@ pub(crate) fn decimate<'py>(
             ));
         }
     };
-    options = options.keep_boundary(keep_boundary).placement(if optimal {
-        Placement::Optimal
+    let placement = match placement {
+        "optimal" => Placement::Optimal,
+        "endpoint" => Placement::Endpoint,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "placement must be 'optimal' or 'endpoint', got '{placement}'"
+            )));
+        }
+    };
+    if !(0.0..=1.0).contains(&quality_threshold) {
+        return Err(PyValueError::new_err(format!(
+            "quality_threshold must be in [0, 1], got {quality_threshold}"
+        )));
+    }
+    let (placement, quality_threshold) = if openmesh {
+        (Placement::Endpoint, 0.0)
     } else {
-        Placement::Endpoint
-    });
+        (placement, quality_threshold)
+    };
+    options = options
+        .keep_boundary(keep_boundary)
+        .placement(placement)
+        .quality_threshold(quality_threshold);
     if let Some(e) = max_error {
         options = options.max_error(e);
     }
@@ -377,7 +401,14 @@ pub(crate) fn decimate<'py>(
     refused.set_item("max_aspect_ratio", r.refused.aspect_ratio)?;
     refused.set_item("max_distance", r.refused.distance)?;
     d.set_item("refused", refused)?;
-    d.set_item("placement", if optimal { "optimal" } else { "endpoint" })?;
+    d.set_item(
+        "placement",
+        match placement {
+            Placement::Optimal => "optimal",
+            _ => "endpoint",
+        },
+    )?;
+    d.set_item("quality_threshold", quality_threshold)?;
     d.set_item("max_quadric_error", r.max_quadric_error)?;
     d.set_item("hausdorff", r.hausdorff)?;
     d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;

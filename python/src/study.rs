@@ -3,11 +3,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_io::{check_writable, stage_dir};
 use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_study::{Countermeasure, StudyConfig, StudyError, Verdict, run_study, write_study};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
-use beltrami_weights::{NegativeWeights, WeightScheme};
+use beltrami_weights::{NegativeWeights, Normalization, WeightScheme};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -109,7 +110,12 @@ fn study_error(e: &StudyError) -> PyErr {
 /// surfaces' length unit, with `absolute_noise=True`), `seeds` noise seeds counted up
 /// from `seed`, a free boundary, weights recomputed every iteration, the paper's sizes
 /// (`small=True`: small variants, a quick look), and the shrinkage counter-measure runs
-/// with `countermeasure_weights` unless `no_countermeasures`.
+/// with `countermeasure_weights` unless `no_countermeasures`; negative weights kept
+/// (`cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`), rows normalised by the weight
+/// sum (`normalize="area"` divides by the `vertex_area`, `"mixed"` or
+/// `"barycentric"`), and the remeshing comparison at each clean mesh's mean edge
+/// length (`remesh` in the surfaces' unit, `remesh_relative` as a multiple of the mean,
+/// `no_remesh=True` to skip it).
 ///
 /// `out` must be new, empty, or hold an earlier study, which is replaced as a whole
 /// once the new one has been written (a failed run leaves it as it was).
@@ -142,6 +148,12 @@ fn study_error(e: &StudyError) -> PyErr {
     small = false,
     countermeasure_weights = "cotangent",
     no_countermeasures = false,
+    cotangent_negative = "keep",
+    normalize = "sum",
+    vertex_area = "mixed",
+    remesh = None,
+    remesh_relative = None,
+    no_remesh = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn study<'py>(
@@ -160,7 +172,62 @@ pub(crate) fn study<'py>(
     small: bool,
     countermeasure_weights: &str,
     no_countermeasures: bool,
+    cotangent_negative: &str,
+    normalize: &str,
+    vertex_area: &str,
+    remesh: Option<f64>,
+    remesh_relative: Option<f64>,
+    no_remesh: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let negative = match cotangent_negative {
+        "keep" => NegativeWeights::Keep,
+        "clamp" => NegativeWeights::Clamp,
+        "abs" => NegativeWeights::Abs,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "cotangent_negative must be one of 'keep', 'clamp', 'abs', got '{cotangent_negative}'"
+            )));
+        }
+    };
+    let normalization = match (normalize, vertex_area) {
+        ("sum", "mixed" | "barycentric") => Normalization::WeightSum,
+        ("area", "mixed") => Normalization::Area(VertexAreaKind::MixedVoronoi),
+        ("area", "barycentric") => Normalization::Area(VertexAreaKind::Barycentric),
+        ("sum" | "area", _) => {
+            return Err(PyValueError::new_err(format!(
+                "vertex_area must be one of 'mixed', 'barycentric', got '{vertex_area}'"
+            )));
+        }
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "normalize must be one of 'sum', 'area', got '{normalize}'"
+            )));
+        }
+    };
+    let positive = |name: &str, x: f64| {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(PyValueError::new_err(format!(
+                "{name} must be a positive number, got {x}"
+            )))
+        }
+    };
+    let remesh = match (no_remesh, remesh, remesh_relative) {
+        (true, None, None) => None,
+        (true, ..) | (false, Some(_), Some(_)) => {
+            return Err(PyValueError::new_err(
+                "give at most one of remesh, remesh_relative and no_remesh",
+            ));
+        }
+        (false, Some(l), None) => {
+            Some(beltrami_study::default_remesh().edge_length(positive("remesh", l)?))
+        }
+        (false, None, Some(r)) => Some(
+            beltrami_study::default_remesh().relative_edge_length(positive("remesh_relative", r)?),
+        ),
+        (false, None, None) => Some(beltrami_study::default_remesh()),
+    };
     let surfaces = surfaces
         .iter()
         .map(|s| SurfaceKind::from_name(s).map_err(|e| PyValueError::new_err(e.to_string())))
@@ -203,7 +270,8 @@ pub(crate) fn study<'py>(
         seeds,
         boundary,
         update,
-        negative: NegativeWeights::Keep,
+        negative,
+        normalization,
         countermeasures: if no_countermeasures {
             Vec::new()
         } else {
@@ -215,6 +283,8 @@ pub(crate) fn study<'py>(
             Some(scheme(countermeasure_weights)?)
         },
         edge_comparison: scheme("bilateral").ok().zip(scheme("cotangent").ok()),
+        remesh,
+        timing: true,
     };
     config
         .validate()

@@ -12,12 +12,13 @@ use beltrami_study::{
     run_study, sig, write_scan, write_study,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
-use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
+use beltrami_weights::{WeightRegistry, WeightScheme};
 use clap::ValueEnum;
 use clap::builder::ArgPredicate;
 
 use crate::error::CliError;
 use crate::load::{ReadArgs, load};
+use crate::smooth::{AreaArg, NegativeArg, NormalizeArg, normalization};
 use crate::text::counted;
 
 /// Arguments of `beltrami study`.
@@ -89,6 +90,19 @@ pub(crate) struct StudyArgs {
     /// When weights are computed.
     #[arg(long, value_enum, default_value_t = UpdateArg::Every)]
     update: UpdateArg,
+    /// Treatment of negative weights (cotangent weights of edges whose opposite angles
+    /// sum to more than 180°): keep them (the paper's), clamp them to 0, or take their
+    /// absolute value. As in `smooth`.
+    #[arg(long, value_enum, default_value_t = NegativeArg::Keep)]
+    cotangent_negative: NegativeArg,
+    /// Row normalisation: sum (divide by the weight sum, paper Eq. 2, the default) or
+    /// area (divide by the vertex area, paper Eq. 6: unstable with λ = 0.8 on fine
+    /// meshes, see the report's "Where this study differs"). As in `smooth`.
+    #[arg(long, value_enum, default_value_t = NormalizeArg::Sum)]
+    normalize: NormalizeArg,
+    /// The vertex area for --normalize area.
+    #[arg(long, value_enum, default_value_t = AreaArg::Mixed)]
+    vertex_area: AreaArg,
     /// Small variants of the surfaces (a quick look; not the paper's sizes).
     #[arg(long)]
     small: bool,
@@ -193,7 +207,8 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             UpdateArg::Every => WeightUpdate::Every,
             UpdateArg::Once => WeightUpdate::Once,
         },
-        negative: NegativeWeights::Keep,
+        negative: args.cotangent_negative.policy(),
+        normalization: normalization(args.normalize, args.vertex_area),
         countermeasures: if args.no_countermeasures {
             Vec::new()
         } else {

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
-use beltrami_weights::{NegativeWeights, WeightRegistry, WeightScheme};
+use beltrami_weights::{NegativeWeights, Normalization, WeightRegistry, WeightScheme};
 
 use crate::countermeasures::Countermeasure;
 use crate::error::StudyError;
@@ -42,6 +42,9 @@ pub struct StudyConfig {
     pub update: WeightUpdate,
     /// The negative-weight policy (default keep).
     pub negative: NegativeWeights,
+    /// The row normalisation (default the weight sum, paper Eq. 2; dividing by the
+    /// vertex area, paper Eq. 6, makes λ = 0.8 unstable on fine meshes).
+    pub normalization: Normalization,
     /// Shrinkage counter-measures run beside plain diffusion on the sphere, the block
     /// and the F-lens (empty: none), with [`countermeasure_scheme`](Self::countermeasure_scheme).
     pub countermeasures: Vec<Countermeasure>,
@@ -80,6 +83,7 @@ impl std::fmt::Debug for StudyConfig {
             .field("boundary", &self.boundary)
             .field("update", &self.update)
             .field("negative", &self.negative)
+            .field("normalization", &self.normalization)
             .field("countermeasures", &self.countermeasures)
             .field(
                 "countermeasure_scheme",
@@ -126,6 +130,7 @@ impl StudyConfig {
             boundary: Boundary::Free,
             update: WeightUpdate::Every,
             negative: NegativeWeights::Keep,
+            normalization: Normalization::WeightSum,
             countermeasures: Countermeasure::defaults(0.8),
             countermeasure_scheme: registry.get("cotangent").ok(),
             edge_comparison: registry

@@ -12,7 +12,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_metrics::distance::{DistanceStats, SurfaceIndex};
 use beltrami_smooth::{SmoothConfig, Smoother, Statistics};
 use beltrami_surfaces::add_normal_noise;
-use beltrami_weights::{LaplacianOptions, Normalization, WeightScheme};
+use beltrami_weights::{LaplacianOptions, WeightScheme};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -233,7 +233,7 @@ fn cotangent_rms(
         .update(config.update)
         .statistics(Statistics::OnDemand)
         .laplacian(LaplacianOptions {
-            normalization: Normalization::WeightSum,
+            normalization: config.normalization,
             negative: config.negative,
         });
     let mut kept: Vec<(usize, Vec<DVec3>)> = Vec::new();

@@ -7,7 +7,7 @@ use std::time::Instant;
 use beltrami_halfedge::DVec3;
 use beltrami_smooth::{SmoothConfig, Smoother};
 use beltrami_surfaces::{Size, SurfaceKind, add_normal_noise};
-use beltrami_weights::{LaplacianOptions, Normalization};
+use beltrami_weights::LaplacianOptions;
 use rayon::prelude::*;
 
 use crate::case::SurfaceCase;
@@ -180,7 +180,7 @@ fn smooth_config(config: &StudyConfig) -> SmoothConfig {
         .boundary(config.boundary)
         .update(config.update)
         .laplacian(LaplacianOptions {
-            normalization: Normalization::WeightSum,
+            normalization: config.normalization,
             negative: config.negative,
         })
 }

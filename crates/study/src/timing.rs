@@ -8,7 +8,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use beltrami_smooth::{SmoothConfig, Smoother, Statistics};
-use beltrami_weights::{LaplacianOptions, Normalization, WeightScheme};
+use beltrami_weights::{LaplacianOptions, WeightScheme};
 use serde::Serialize;
 
 use crate::case::SurfaceCase;
@@ -143,7 +143,7 @@ pub(crate) fn time_schemes(
         .update(config.update)
         .statistics(Statistics::OnDemand)
         .laplacian(LaplacianOptions {
-            normalization: Normalization::WeightSum,
+            normalization: config.normalization,
             negative: config.negative,
         });
     let mut rows = Vec::new();

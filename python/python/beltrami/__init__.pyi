@@ -170,7 +170,9 @@ def decimate(
     max_error: Optional[float] = None,
     max_normal_deviation: Optional[float] = None,
     keep_boundary: bool = False,
-    optimal: bool = False,
+    placement: Literal["optimal", "endpoint"] = "optimal",
+    quality_threshold: float = 0.4,
+    openmesh: bool = False,
     max_aspect_ratio: Optional[float] = None,
     max_distance: Optional[float] = None,
 ) -> tuple[Mesh, dict[str, Any]]:
@@ -250,5 +252,11 @@ def study(
     small: bool = False,
     countermeasure_weights: str = "cotangent",
     no_countermeasures: bool = False,
+    cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
+    normalize: Literal["sum", "area"] = "sum",
+    vertex_area: Literal["mixed", "barycentric"] = "mixed",
+    remesh: Optional[float] = None,
+    remesh_relative: Optional[float] = None,
+    no_remesh: bool = False,
 ) -> dict[str, Any]:
     """The comparison study, as `beltrami study`: writes `out`, returns the paths and verdicts."""

@@ -197,6 +197,28 @@ pub(crate) enum NormalizeArg {
     Area,
 }
 
+/// The row normalisation of `--normalize` and `--vertex-area`.
+pub(crate) fn normalization(normalize: NormalizeArg, area: AreaArg) -> Normalization {
+    match (normalize, area) {
+        (NormalizeArg::Sum, _) => Normalization::WeightSum,
+        (NormalizeArg::Area, AreaArg::Mixed) => Normalization::Area(VertexAreaKind::MixedVoronoi),
+        (NormalizeArg::Area, AreaArg::Barycentric) => {
+            Normalization::Area(VertexAreaKind::Barycentric)
+        }
+    }
+}
+
+impl NegativeArg {
+    /// The negative-weight policy of `--cotangent-negative`.
+    pub(crate) fn policy(self) -> NegativeWeights {
+        match self {
+            Self::Keep => NegativeWeights::Keep,
+            Self::Clamp => NegativeWeights::Clamp,
+            Self::Abs => NegativeWeights::Abs,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub(crate) enum AreaArg {
@@ -258,20 +280,8 @@ impl SmoothArgs {
     }
 
     pub(crate) fn config(&self) -> SmoothConfig {
-        let normalization = match (self.normalize(), self.vertex_area) {
-            (NormalizeArg::Sum, _) => Normalization::WeightSum,
-            (NormalizeArg::Area, AreaArg::Mixed) => {
-                Normalization::Area(VertexAreaKind::MixedVoronoi)
-            }
-            (NormalizeArg::Area, AreaArg::Barycentric) => {
-                Normalization::Area(VertexAreaKind::Barycentric)
-            }
-        };
-        let negative = match self.cotangent_negative {
-            NegativeArg::Keep => NegativeWeights::Keep,
-            NegativeArg::Clamp => NegativeWeights::Clamp,
-            NegativeArg::Abs => NegativeWeights::Abs,
-        };
+        let normalization = normalization(self.normalize(), self.vertex_area);
+        let negative = self.cotangent_negative.policy();
         let mut config = SmoothConfig::new(self.lambda(), self.iterations)
             .boundary(match self.boundary {
                 BoundaryArg::Fixed => Boundary::Fixed,

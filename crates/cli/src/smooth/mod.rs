@@ -20,10 +20,8 @@ use crate::text::{number, plural};
 mod args;
 mod report;
 
-pub(crate) use args::SmoothArgs;
-use args::{
-    LARGE_RUN_ITERATIONS, MethodArg, NormalizeArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
-};
+pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
+use args::{LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND};
 use report::{ReadSeconds, build_report, method_label};
 
 /// Runs `beltrami smooth`.
