@@ -39,8 +39,8 @@ pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::{PreservationError, StudyError};
 pub use figures::{Figure, OVERLAP_FRACTION, curves_overlap, differences, write_figures};
 pub use findings::{
-    Comparison, Finding, FindingsContext, REL_TOL, SAME_SPEED, Spread, Verdict, compare, findings,
-    findings_with, sig, sphere_closed_form,
+    Comparison, Finding, FindingsContext, MedianTimeRatios, REL_TOL, SAME_SPEED, Spread,
+    TIMED_SURFACES, Verdict, compare, findings, findings_with, sig, sphere_closed_form,
 };
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
 pub use optimum::{Optimum, optima};

@@ -9,7 +9,8 @@ use crate::closed_form::{predicted_radius, weighted_mean_edge_sq};
 use crate::error::StudyError;
 use crate::figures::{Figure, shown_iteration, write_figures};
 use crate::findings::{
-    Comparison, Finding, FindingsContext, REL_TOL, Spread, compare, findings_with, sig,
+    Comparison, Finding, FindingsContext, MedianTimeRatios, REL_TOL, Spread, TIMED_SURFACES,
+    compare, findings_with, sig,
 };
 use crate::optimum::{Optimum, optima};
 use crate::results::{Row, to_csv};
@@ -240,8 +241,17 @@ fn findings_context(results: &StudyResults) -> FindingsContext {
             .collect();
         (!per.is_empty()).then(|| per.iter().sum::<f64>() / per.len() as f64)
     });
+    let median_time_ratios = results.timings.as_ref().map(|t| {
+        let pair = |num: &str, den: &str| TIMED_SURFACES.map(|s| t.ratio(s, num, den));
+        MedianTimeRatios {
+            cotangent_uniform: pair("cotangent", "uniform"),
+            cotangent_distance: pair("cotangent", "distance"),
+            distance_uniform: pair("distance", "uniform"),
+        }
+    });
     FindingsContext {
         lambda: results.config.lambda,
+        median_time_ratios,
         sphere_mean_edge_sq,
     }
 }
