@@ -115,7 +115,8 @@ fn study_error(e: &StudyError) -> PyErr {
 /// sum (`normalize="area"` divides by the `vertex_area`, `"mixed"` or
 /// `"barycentric"`), and the remeshing comparison at each clean mesh's mean edge
 /// length (`remesh` in the surfaces' unit, `remesh_relative` as a multiple of the mean,
-/// `no_remesh=True` to skip it).
+/// `no_remesh=True` to skip it), and the worked example of `study --input` on the noisy
+/// block (`no_scan_example=True` to skip it).
 ///
 /// `out` must be new, empty, or hold an earlier study, which is replaced as a whole
 /// once the new one has been written (a failed run leaves it as it was).
@@ -154,6 +155,7 @@ fn study_error(e: &StudyError) -> PyErr {
     remesh = None,
     remesh_relative = None,
     no_remesh = false,
+    no_scan_example = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn study<'py>(
@@ -178,6 +180,7 @@ pub(crate) fn study<'py>(
     remesh: Option<f64>,
     remesh_relative: Option<f64>,
     no_remesh: bool,
+    no_scan_example: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let negative = match cotangent_negative {
         "keep" => NegativeWeights::Keep,
@@ -285,6 +288,7 @@ pub(crate) fn study<'py>(
         edge_comparison: scheme("bilateral").ok().zip(scheme("cotangent").ok()),
         remesh,
         timing: true,
+        scan_example: !no_scan_example,
     };
     config
         .validate()

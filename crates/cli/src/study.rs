@@ -129,6 +129,10 @@ pub(crate) struct StudyArgs {
     /// Skip the remeshing comparison.
     #[arg(long)]
     no_remesh: bool,
+    /// Skip the worked example of `--input` on the noisy block (the report's "study on
+    /// a given surface" and the scan/ directory).
+    #[arg(long)]
+    no_scan_example: bool,
     /// Study this surface (a scan: .ply, .stl, .obj or .off) instead of the paper's:
     /// every scheme with plain, Taubin, HC and implicit smoothing, observed iteration by
     /// iteration (see docs/study-input.md). Not with --surfaces, --small, --seed,
@@ -139,7 +143,7 @@ pub(crate) struct StudyArgs {
         conflicts_with_all = [
             "surfaces", "small", "seed", "seeds", "noise", "absolute_noise",
             "countermeasure_weights", "no_countermeasures", "remesh", "remesh_relative",
-            "no_remesh"
+            "no_remesh", "no_scan_example"
         ]
     )]
     input: Option<PathBuf>,
@@ -230,6 +234,7 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             _ => Some(beltrami_study::default_remesh()),
         },
         timing: true,
+        scan_example: !args.no_scan_example,
     };
     config
         .validate()

@@ -64,6 +64,11 @@ pub struct StudyConfig {
     /// Time every scheme apart from the study's runs: medians of repeated short runs,
     /// weights apart from updates (see [`Timings`](crate::Timings)). Default `true`.
     pub timing: bool,
+    /// Run the study of a given surface (`study --input`'s machinery,
+    /// [`run_scan`](crate::run_scan)) on the first seed's noisy block against the clean
+    /// block, with the paper's schemes, as a worked example (report section and the
+    /// `scan/` directory); skipped without the block. Default `true`.
+    pub scan_example: bool,
 }
 
 impl std::fmt::Debug for StudyConfig {
@@ -94,6 +99,7 @@ impl std::fmt::Debug for StudyConfig {
             )
             .field("remesh", &self.remesh)
             .field("timing", &self.timing)
+            .field("scan_example", &self.scan_example)
             .finish()
     }
 }
@@ -139,6 +145,7 @@ impl StudyConfig {
                 .zip(registry.get("cotangent").ok()),
             remesh: Some(crate::remeshing::default_remesh()),
             timing: true,
+            scan_example: true,
         }
     }
 

@@ -149,6 +149,11 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
         .collect();
     let optima = optima(&curve);
     let figures = write_figures(results, &primary, dir)?;
+    if let Some(scan) = &results.scan {
+        let scan_dir = dir.join("scan");
+        mkdir(&scan_dir)?;
+        crate::scan::write_scan(scan, &scan_dir)?;
+    }
     write(dir, "results.csv", to_csv(&rows).as_bytes())?;
     let countermeasure_rows: Vec<Row> = results
         .surfaces
@@ -300,6 +305,9 @@ fn markdown(
         crate::timing::timing_section(&mut s, t);
     }
     edge_section(&mut s, results);
+    if let Some(scan) = &results.scan {
+        scan_section(&mut s, scan);
+    }
     units_section(&mut s, results);
     differences_section(&mut s, results);
     s
@@ -967,6 +975,78 @@ fn countermeasure_iterations(observed: &[usize]) -> Vec<usize> {
     ];
     picked.dedup();
     picked
+}
+
+/// The study of the noisy block as a given surface: the best count per scheme and
+/// method against the input and `smooth`'s defaults.
+fn scan_section(s: &mut String, scan: &crate::scan::ScanResults) {
+    let _ = writeln!(
+        s,
+        "## The study on a given surface
+"
+    );
+    let _ = writeln!(
+        s,
+        "`beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a mesh you give, observes every iteration against the clean one and writes the best mesh of each (docs/study-input.md). Here it runs on this study's {} against the {} with the paper's schemes; its whole report is [scan/report.md](scan/report.md).\n",
+        scan.input.name,
+        scan.reference
+            .as_ref()
+            .map_or("reference", |r| r.name.as_str())
+    );
+    let Some(base) = scan.baseline().rms else {
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "| scheme | method | best count | step | RMS at the best (mm) | change from the input |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|");
+    for b in &scan.best {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {}{} | {} | {} | {:+.1} % |",
+            b.scheme,
+            b.method,
+            b.iteration,
+            if b.at_last_observed {
+                " (last observed)"
+            } else {
+                ""
+            },
+            sig(b.step),
+            sig(b.rms),
+            100.0 * (b.rms / base - 1.0)
+        );
+    }
+    let defaults = scan
+        .rows_of("cotangent", "plain")
+        .find(|r| r.iteration == 10)
+        .and_then(|r| r.rms);
+    let best = scan.best.iter().min_by(|a, b| a.rms.total_cmp(&b.rms));
+    if let (Some(d), Some(b)) = (defaults, best) {
+        let _ = writeln!(
+            s,
+            "\nThe noisy input is {} mm from the clean block (RMS). `smooth`'s defaults (cotangent, λ = {}, 10 plain iterations) leave it {} mm away ({:+.1} %); the closest is `{}` with `{}` smoothing at {} {} ({} mm, {:+.1} %).\n",
+            sig(base),
+            sig(scan.config.lambda),
+            sig(d),
+            100.0 * (d / base - 1.0),
+            b.scheme,
+            b.method,
+            if b.method == "implicit" {
+                "time step"
+            } else {
+                "iteration count"
+            },
+            if b.method == "implicit" {
+                sig(b.step)
+            } else {
+                b.iteration.to_string()
+            },
+            sig(b.rms),
+            100.0 * (b.rms / base - 1.0)
+        );
+    }
 }
 
 /// The section on shrinkage counter-measures: per surface, the metric that shows

@@ -4,7 +4,7 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use beltrami_halfedge::DVec3;
+use beltrami_halfedge::{DVec3, MeshData};
 use beltrami_smooth::{SmoothConfig, Smoother};
 use beltrami_surfaces::{Size, SurfaceKind, add_normal_noise};
 use beltrami_weights::LaplacianOptions;
@@ -18,6 +18,7 @@ use crate::measure::{Measured, Reference};
 use crate::preservation::{self, EdgePreservation, EdgePreservationOptions};
 use crate::remeshing::{RemeshComparison, remesh_comparison};
 use crate::results::Row;
+use crate::scan::{ScanConfig, ScanResults, ScanSurface, run_scan};
 use crate::timing::{Timings, time_schemes};
 use crate::units::{UnitsComparison, units_comparison};
 
@@ -109,6 +110,9 @@ pub struct StudyResults {
     pub remeshing: Option<RemeshComparison>,
     /// Timings apart from the runs (see [`StudyConfig::timing`]); never in the rows.
     pub timings: Option<Timings>,
+    /// The study of the noisy block as a given surface (see
+    /// [`StudyConfig::scan_example`]).
+    pub scan: Option<ScanResults>,
     /// Wall time of the whole study, seconds.
     pub wall_time_s: f64,
 }
@@ -257,6 +261,11 @@ pub fn run_study(
         }
         _ => None,
     };
+    let scan = if config.scan_example {
+        scan_example(&cases, config)?
+    } else {
+        None
+    };
     Ok(StudyResults {
         config: config.clone(),
         surfaces,
@@ -264,8 +273,41 @@ pub fn run_study(
         units,
         remeshing,
         timings,
+        scan,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The study of a given surface ([`run_scan`]) on the first seed's noisy block against
+/// the clean block, with the paper's schemes among the configured ones; `None` without
+/// the block or without any of them.
+fn scan_example(
+    cases: &[&SurfaceCase],
+    config: &StudyConfig,
+) -> Result<Option<ScanResults>, StudyError> {
+    let Some(block) = cases.iter().find(|c| c.kind == SurfaceKind::Block) else {
+        return Ok(None);
+    };
+    let schemes: Vec<_> = config
+        .schemes
+        .iter()
+        .filter(|s| crate::PAPER_SCHEMES.contains(&s.name()))
+        .cloned()
+        .collect();
+    if schemes.is_empty() {
+        return Ok(None);
+    }
+    let faces = block.clean.faces.clone();
+    let input = ScanSurface::new(
+        format!("block, noisy (seed {})", block.seed),
+        MeshData::new(block.noisy.clone(), faces.clone()),
+    )?;
+    let reference = ScanSurface::new("block, clean", block.clean.data.clone())?;
+    let scan = ScanConfig::default()
+        .schemes(schemes)
+        .lambda(config.lambda)
+        .update(config.update);
+    run_scan(input, Some(reference), &scan, &mut |_| {}).map(Some)
 }
 
 /// One run per configured scheme on `case`, in the configured order.

@@ -83,6 +83,19 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
         let len = std::fs::metadata(dir.path().join(name)).unwrap().len();
         assert!(len > 100, "{name} is {len} bytes");
     }
+    // The worked example of `study --input` on the noisy block: its own report, and a
+    // section whose best counts beat the noisy input, with `smooth`'s defaults beside.
+    let scan = results.scan.as_ref().expect("the block is studied as a given surface");
+    assert_eq!(scan.best.len(), 3 * 4, "paper schemes × methods");
+    let input_rms = scan.baseline().rms.unwrap();
+    assert!(scan.best.iter().all(|b| b.rms < input_rms));
+    assert!(dir.path().join("scan/report.md").is_file());
+    let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    let section = report
+        .split("## The study on a given surface")
+        .nth(1)
+        .expect("the section");
+    assert!(section.contains("scan/report.md") && section.contains("`smooth`'s defaults"));
     for f in &written.figures {
         let files: Vec<String> = if f.path.ends_with(".png") {
             vec![f.path.clone()]

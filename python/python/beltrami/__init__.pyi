@@ -258,5 +258,6 @@ def study(
     remesh: Optional[float] = None,
     remesh_relative: Optional[float] = None,
     no_remesh: bool = False,
+    no_scan_example: bool = False,
 ) -> dict[str, Any]:
     """The comparison study, as `beltrami study`: writes `out`, returns the paths and verdicts."""
