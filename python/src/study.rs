@@ -17,13 +17,14 @@ use crate::errors::{io_error, no_panic};
 use crate::weights::{all_schemes, scheme};
 
 /// The entries a study writes into its directory (as the command line knows them).
-const STUDY_ENTRIES: [&str; 6] = [
+const STUDY_ENTRIES: [&str; 7] = [
     "report.md",
     "results.csv",
     "results.json",
     "countermeasures.csv",
     "plots",
     "renders",
+    "scan",
 ];
 
 /// Refuses an output directory that holds anything but an earlier study, before the

@@ -243,13 +243,14 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
 }
 
 /// The entries a study writes into its directory.
-const STUDY_ENTRIES: [&str; 6] = [
+const STUDY_ENTRIES: [&str; 7] = [
     "report.md",
     "results.csv",
     "results.json",
     "countermeasures.csv",
     "plots",
     "renders",
+    "scan",
 ];
 
 /// Refuses an output directory that holds anything but an earlier study (which the

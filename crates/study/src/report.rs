@@ -954,7 +954,7 @@ fn recommendation_section(
     );
     let _ = writeln!(
         s,
-        "On your own surface: `beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a given mesh, observes every iteration against the clean one, names the RMS-optimal count of each and writes its mesh (`best-<scheme>-<method>.ply`); without a reference it reports shrinkage, residual parameters and mesh quality (docs/study-input.md). The repository's `docs/study/scan/report.md` is that study of a noisy block (`beltrami generate block noisy.ply --noise 0.2 --clean clean.ply`) against its clean original.\n"
+        "On your own surface: `beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a given mesh, observes every iteration against the clean one, names the RMS-optimal count of each and writes its mesh (`best-<scheme>-<method>.ply`); without a reference it reports shrinkage, residual parameters and mesh quality (docs/study-input.md). The section \"The study on a given surface\" below runs it on this study's noisy block.\n"
     );
 }
 
@@ -977,6 +977,15 @@ fn countermeasure_iterations(observed: &[usize]) -> Vec<usize> {
     picked
 }
 
+/// "1 iteration", "12 iterations".
+fn counted_iterations(n: usize) -> String {
+    if n == 1 {
+        "1 iteration".to_string()
+    } else {
+        format!("{n} iterations")
+    }
+}
+
 /// The study of the noisy block as a given surface: the best count per scheme and
 /// method against the input and `smooth`'s defaults.
 fn scan_section(s: &mut String, scan: &crate::scan::ScanResults) {
@@ -987,7 +996,7 @@ fn scan_section(s: &mut String, scan: &crate::scan::ScanResults) {
     );
     let _ = writeln!(
         s,
-        "`beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a mesh you give, observes every iteration against the clean one and writes the best mesh of each (docs/study-input.md). Here it runs on this study's {} against the {} with the paper's schemes; its whole report is [scan/report.md](scan/report.md).\n",
+        "`beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a mesh you give, observes every iteration against the clean one and writes the best mesh of each (docs/study-input.md). Here it runs on this study's {} against the {}, with the paper's schemes; its whole report is [scan/report.md](scan/report.md).\n",
         scan.input.name,
         scan.reference
             .as_ref()
@@ -1026,7 +1035,7 @@ fn scan_section(s: &mut String, scan: &crate::scan::ScanResults) {
     if let (Some(d), Some(b)) = (defaults, best) {
         let _ = writeln!(
             s,
-            "\nThe noisy input is {} mm from the clean block (RMS). `smooth`'s defaults (cotangent, λ = {}, 10 plain iterations) leave it {} mm away ({:+.1} %); the closest is `{}` with `{}` smoothing at {} {} ({} mm, {:+.1} %).\n",
+            "\nThe noisy input is {} mm from the clean block (RMS). `smooth`'s defaults (cotangent, λ = {}, 10 plain iterations) leave it {} mm away ({:+.1} %); the closest is `{}` with `{}` smoothing, {} ({} mm, {:+.1} %).\n",
             sig(base),
             sig(scan.config.lambda),
             sig(d),
@@ -1034,14 +1043,9 @@ fn scan_section(s: &mut String, scan: &crate::scan::ScanResults) {
             b.scheme,
             b.method,
             if b.method == "implicit" {
-                "time step"
+                format!("one step of time {}", sig(b.step))
             } else {
-                "iteration count"
-            },
-            if b.method == "implicit" {
-                sig(b.step)
-            } else {
-                b.iteration.to_string()
+                format!("after {}", counted_iterations(b.iteration))
             },
             sig(b.rms),
             100.0 * (b.rms / base - 1.0)

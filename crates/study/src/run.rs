@@ -299,10 +299,10 @@ fn scan_example(
     }
     let faces = block.clean.faces.clone();
     let input = ScanSurface::new(
-        format!("block, noisy (seed {})", block.seed),
+        format!("noisy block (seed {})", block.seed),
         MeshData::new(block.noisy.clone(), faces.clone()),
     )?;
-    let reference = ScanSurface::new("block, clean", block.clean.data.clone())?;
+    let reference = ScanSurface::new("clean block", block.clean.data.clone())?;
     let scan = ScanConfig::default()
         .schemes(schemes)
         .lambda(config.lambda)

@@ -85,7 +85,10 @@ fn reduced_study_writes_everything_and_includes_plug_in_schemes() {
     }
     // The worked example of `study --input` on the noisy block: its own report, and a
     // section whose best counts beat the noisy input, with `smooth`'s defaults beside.
-    let scan = results.scan.as_ref().expect("the block is studied as a given surface");
+    let scan = results
+        .scan
+        .as_ref()
+        .expect("the block is studied as a given surface");
     assert_eq!(scan.best.len(), 3 * 4, "paper schemes × methods");
     let input_rms = scan.baseline().rms.unwrap();
     assert!(scan.best.iter().all(|b| b.rms < input_rms));
