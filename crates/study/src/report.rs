@@ -578,14 +578,72 @@ fn differences_section(s: &mut String, results: &StudyResults) {
         s,
         "Each point below is an interpretation of what the paper leaves open or a deliberate departure from it; a verdict above may depend on it.\n"
     );
+    let limits: Vec<(String, f64)> = results
+        .surfaces
+        .iter()
+        .filter_map(|r| {
+            r.area_step_limit.map(|l| {
+                let unit = r.case.clean.unit;
+                let unit = if unit.is_empty() || unit == "1" {
+                    String::new()
+                } else {
+                    format!(" {unit}²")
+                };
+                (format!("{} {}{unit}", r.case.clean.name, sig(l)), l)
+            })
+        })
+        .collect();
+    let unstable: Vec<&(String, f64)> = limits.iter().filter(|(_, l)| c.lambda > *l).collect();
+    let stability = if limits.is_empty()
+        || c.normalization != beltrami_weights::Normalization::WeightSum
+    {
+        String::new()
+    } else {
+        let names = unstable
+            .iter()
+            .map(|(n, _)| n.split(' ').next().unwrap_or_default())
+            .collect::<Vec<_>>()
+            .join(", ");
+        let verdict = if unstable.is_empty() {
+            "so λ is within it on every surface here".to_string()
+        } else {
+            let worst = unstable
+                .iter()
+                .map(|(_, l)| c.lambda / l)
+                .fold(0.0_f64, f64::max);
+            format!(
+                "so λ exceeds it on {names} (up to {worst:.0}×) and the frequencies near the mesh's resolution would grow there (`smooth` and `study --normalize area` refuse such a step)"
+            )
+        };
+        format!(
+            " Read as Eq. 6, λ = {} is a time step in length², and an explicit step is stable only up to 1 / max_i (Σ_j w_ij / A_i); on the noisy inputs that limit is {}, {verdict}.",
+            c.lambda,
+            limits
+                .iter()
+                .map(|(t, _)| t.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
     let _ = writeln!(
         s,
-        "- **Cotangent normalisation.** Every scheme, cotangent included, is normalised by its weight sum (the paper's Eq. 2, x ← x + λ Σ w_ij (x_j − x_i) / Σ w_ij), not by 1/(2A_i) as in the paper's Eq. 6. With λ = {} only the weight-sum reading is stable; the area normalisation is available in `smooth --normalize area`.",
-        c.lambda
+        "- **Cotangent normalisation.** {} (the paper's Eq. 2, x ← x + λ Σ w_ij (x_j − x_i) / Σ w_ij), not by 1/(2A_i) as in the paper's Eq. 6; the area normalisation is available in `smooth --normalize area` and `study --normalize area`.{stability}",
+        if c.normalization == beltrami_weights::Normalization::WeightSum {
+            "Every scheme, cotangent included, is normalised by its weight sum"
+        } else {
+            "This run normalises by the vertex area (`--normalize area`); the study's default normalises every scheme by its weight sum"
+        }
     );
     let _ = writeln!(
         s,
-        "- **Negative cotangent weights** are kept as they are (the paper: \"usually the absolute value is used\"); `smooth --negative abs|clamp` offers the alternatives."
+        "- **Negative cotangent weights** are {} (the paper: \"usually the absolute value is used\"); `--cotangent-negative abs|clamp` (in `smooth` and `study`) offers the alternatives.",
+        match c.negative {
+            beltrami_weights::NegativeWeights::Clamp =>
+                "clamped to 0 in this run (`--cotangent-negative clamp`)",
+            beltrami_weights::NegativeWeights::Abs =>
+                "replaced by their absolute value in this run (`--cotangent-negative abs`)",
+            _ => "kept as they are",
+        }
     );
     let _ = writeln!(
         s,

@@ -89,6 +89,10 @@ pub struct SurfaceResult {
     /// The RMS at every iteration from 0 to [`EARLY_ITERATIONS`] and at every observed
     /// iteration, per scheme and seed.
     pub rms_curve: Vec<RmsPoint>,
+    /// The largest stable explicit step of the cotangent scheme with the paper's
+    /// Eq. 6 normalisation (by the mixed vertex area) on the noisy input, in length²
+    /// ([`Smoother::stable_step_limit`]); `None` without the cotangent scheme.
+    pub area_step_limit: Option<f64>,
 }
 
 /// The study's results.
@@ -239,6 +243,7 @@ pub fn run_study(
         if let Some(comparison) = block_edges(kind, &case, config)? {
             edge_preservation = Some(comparison);
         }
+        let area_step_limit = area_step_limit(&case, config)?;
         surfaces.push(SurfaceResult {
             case,
             runs,
@@ -246,6 +251,7 @@ pub fn run_study(
             countermeasures,
             seed_rows,
             rms_curve,
+            area_step_limit,
         });
     }
     let cases: Vec<&SurfaceCase> = surfaces.iter().map(|s| &s.case).collect();
@@ -308,6 +314,31 @@ fn scan_example(
         .lambda(config.lambda)
         .update(config.update);
     run_scan(input, Some(reference), &scan, &mut |_| {}).map(Some)
+}
+
+/// The largest stable explicit step of the cotangent scheme normalised by the mixed
+/// vertex area (paper Eq. 6) on the noisy input, in length².
+fn area_step_limit(case: &SurfaceCase, config: &StudyConfig) -> Result<Option<f64>, StudyError> {
+    let Some(cotangent) = config.schemes.iter().find(|s| s.name() == "cotangent") else {
+        return Ok(None);
+    };
+    let smooth = SmoothConfig::new(config.lambda, 1)
+        .boundary(config.boundary)
+        .laplacian(LaplacianOptions {
+            normalization: beltrami_weights::Normalization::Area(
+                beltrami_halfedge::geometry::VertexAreaKind::MixedVoronoi,
+            ),
+            negative: config.negative,
+        });
+    let smoother =
+        Smoother::new(&case.mesh, &case.noisy, cotangent.as_ref(), smooth).map_err(|source| {
+            StudyError::Smooth {
+                surface: case.clean.name.to_string(),
+                scheme: "cotangent (area normalisation)".to_string(),
+                source,
+            }
+        })?;
+    Ok(smoother.stable_step_limit())
 }
 
 /// One run per configured scheme on `case`, in the configured order.
@@ -583,6 +614,14 @@ fn run_one(
     let mut elapsed = 0.0;
     let mut resumed = Instant::now();
     let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config)?;
+    // An explicit step by the area normalisation beyond the stable limit makes the high
+    // frequencies grow: refused, as `smooth` refuses it.
+    if let Some(max_stable) = smoother.stable_step_limit() {
+        let lambda = smoother.config().lambda;
+        if lambda > max_stable {
+            return Err(beltrami_smooth::SmoothError::UnstableStep { lambda, max_stable });
+        }
+    }
     elapsed += resumed.elapsed().as_secs_f64();
     resumed = Instant::now();
     smoother.run(|it| {

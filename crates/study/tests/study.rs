@@ -399,3 +399,31 @@ fn invalid_configurations_are_errors() {
         "no weight scheme selected"
     );
 }
+
+#[test]
+fn the_papers_area_normalisation_with_its_step_is_refused_and_the_limit_reported() {
+    let registry = WeightRegistry::with_builtins();
+    let mut config = small_config(&registry);
+    config.surfaces = vec![beltrami_surfaces::SurfaceKind::Sphere];
+    config.timing = false;
+    config.remesh = None;
+    config.countermeasures = Vec::new();
+    config.countermeasure_scheme = None;
+    // The weight-sum run reports the limit an area-normalised step would have.
+    let results = run_study(&config, &mut |_| {}).unwrap();
+    let limit = results.surfaces[0].area_step_limit.unwrap();
+    assert!(limit > 0.0 && limit < config.lambda, "{limit}");
+    let dir = tempfile::tempdir().unwrap();
+    write_study(&results, dir.path()).unwrap();
+    let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(
+        report.contains("that limit is sphere") && report.contains("so λ exceeds it on sphere"),
+        "no stability sentence"
+    );
+    // The area normalisation at λ = 0.8 is refused with the limit, not run into NaN.
+    config.normalization = beltrami_weights::Normalization::Area(
+        beltrami_halfedge::geometry::VertexAreaKind::MixedVoronoi,
+    );
+    let e = run_study(&config, &mut |_| {}).unwrap_err().to_string();
+    assert!(e.contains("not a stable explicit step"), "{e}");
+}
