@@ -72,7 +72,7 @@ pub(crate) struct StudyArgs {
     /// The number of noise seeds (--seed, --seed + 1, …). The paper's schemes (uniform,
     /// distance, cotangent) run on each seed's input, other schemes on the first; tables
     /// give the mean and the range over the seeds, and verdicts take the range into
-    /// account. Plots, renders and counter-measures use the first seed. The default, 3,
+    /// account. Plots draw the mean with the range; renders and counter-measures use the first seed. The default, 3,
     /// was chosen by measurement: each further seed adds a few seconds to the default
     /// study on two cores.
     #[arg(long, default_value_t = beltrami_study::DEFAULT_SEEDS)]

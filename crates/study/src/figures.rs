@@ -44,22 +44,34 @@ fn series_by_scheme(
     f: impl Fn(&Row) -> Option<f64>,
 ) -> Vec<Series> {
     let surface = result.case.clean.name;
-    let input = rows
-        .iter()
-        .find(|r| r.surface == surface && r.scheme == "input")
-        .and_then(&f);
-    result
-        .runs
-        .iter()
-        .map(|run| {
-            let points = input.map(|v| (0.0, v)).into_iter().chain(
-                rows.iter()
-                    .filter(|r| r.surface == surface && r.scheme == run.scheme)
-                    .filter_map(|r| f(r).map(|v| (r.iteration as f64, v))),
-            );
-            Series::new(run.scheme.clone(), points).with_style(scheme_style(result, &run.scheme))
-        })
-        .collect()
+    // Per iteration, the values over the noise seeds (the rows hold every seed).
+    let by_iteration = |scheme: &str| {
+        let mut at: Vec<(usize, Vec<f64>)> = Vec::new();
+        for r in rows
+            .iter()
+            .filter(|r| r.surface == surface && r.scheme == scheme)
+        {
+            if let Some(v) = f(r) {
+                match at.iter_mut().find(|(i, _)| *i == r.iteration) {
+                    Some((_, values)) => values.push(v),
+                    None => at.push((r.iteration, vec![v])),
+                }
+            }
+        }
+        at.sort_by_key(|(i, _)| *i);
+        at
+    };
+    let input = by_iteration("input");
+    let mut series = Vec::new();
+    for run in &result.runs {
+        let at: Vec<(usize, Vec<f64>)> = input
+            .iter()
+            .map(|(_, v)| (0, v.clone()))
+            .chain(by_iteration(&run.scheme))
+            .collect();
+        series.extend(mean_and_range(result, &run.scheme, &at));
+    }
+    series
 }
 
 /// A length unit for an axis or a column header: ` (mm)`, or ` (clean radii)` for the
@@ -186,27 +198,50 @@ fn radius_series(results: &StudyResults, result: &SurfaceResult, rows: &[Row]) -
 /// Per scheme, the mean RMS over the seeds at every iteration up to
 /// [`EARLY_ITERATIONS`], starting from the input's.
 fn early_series(result: &SurfaceResult) -> Vec<Series> {
-    let mean_at = |scheme: &str, it: usize| {
-        let v: Vec<f64> = result
+    let values_at = |scheme: &str, it: usize| -> Vec<f64> {
+        result
             .rms_curve
             .iter()
             .filter(|p| p.scheme == scheme && p.iteration == it)
             .map(|p| p.rms)
-            .collect();
-        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+            .collect()
     };
-    let input = mean_at("input", 0);
-    result
-        .runs
-        .iter()
-        .map(|run| {
-            let points = input.map(|v| (0.0, v)).into_iter().chain(
-                (1..=EARLY_ITERATIONS)
-                    .filter_map(|it| mean_at(&run.scheme, it).map(|v| (it as f64, v))),
+    let input = values_at("input", 0);
+    let mut series = Vec::new();
+    for run in &result.runs {
+        let at: Vec<(usize, Vec<f64>)> = std::iter::once((0, input.clone()))
+            .chain((1..=EARLY_ITERATIONS).map(|it| (it, values_at(&run.scheme, it))))
+            .filter(|(_, v)| !v.is_empty())
+            .collect();
+        series.extend(mean_and_range(result, &run.scheme, &at));
+    }
+    series
+}
+
+/// The mean line of `scheme` through `at` (iteration, values over the seeds) and, when
+/// some iteration has several seeds, their range as two thin dashed lines in the same
+/// colour, left out of the legend.
+fn mean_and_range(result: &SurfaceResult, scheme: &str, at: &[(usize, Vec<f64>)]) -> Vec<Series> {
+    let point = |g: &dyn Fn(&[f64]) -> f64| -> Vec<(f64, f64)> {
+        at.iter().map(|(i, v)| (*i as f64, g(v))).collect()
+    };
+    let style = scheme_style(result, scheme);
+    let mut series = vec![
+        Series::new(scheme, point(&|v| v.iter().sum::<f64>() / v.len() as f64)).with_style(style),
+    ];
+    if at.iter().any(|(_, v)| v.len() > 1) {
+        let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        for bound in [point(&lo), point(&hi)] {
+            series.push(
+                Series::new(format!("{scheme} (seed range)"), bound)
+                    .with_style(style)
+                    .dashed()
+                    .without_legend(),
             );
-            Series::new(run.scheme.clone(), points).with_style(scheme_style(result, &run.scheme))
-        })
-        .collect()
+        }
+    }
+    series
 }
 
 struct PlotSpec {
@@ -235,15 +270,30 @@ fn write_line(
         return Ok(());
     }
     let data: Vec<Series> = spec.series.iter().filter(|s| !s.dashed).cloned().collect();
+    // Predictions are dashed and listed; the seeds' range is dashed and not listed.
+    let predicted: Vec<Series> = spec
+        .series
+        .iter()
+        .filter(|s| s.dashed && s.in_legend)
+        .cloned()
+        .collect();
     let diff = spec.diff && curves_overlap(&data);
     let mut plot = LinePlot::new(spec.title.clone(), "iterations", spec.y_label.clone());
     plot.series = spec.series.clone();
     plot.log_y = spec.log_y;
     let rel = format!("plots/{}", spec.stem);
     write_plot(&plot, &dir.join(&rel)).map_err(viz(&spec.stem))?;
+    let spread = spec.series.iter().any(|s| !s.in_legend);
     figures.push(Figure {
         path: rel,
-        caption: spec.caption.clone(),
+        caption: if spread {
+            format!(
+                "{}; lines: the mean over the noise seeds, thin dashed lines in the same colour: their range",
+                spec.caption
+            )
+        } else {
+            spec.caption.clone()
+        },
         surface: surface.to_string(),
     });
     if diff {
@@ -256,7 +306,6 @@ fn write_line(
         // The data minus the first data series; predictions (dashed) minus the first
         // prediction: the measured gap beside the predicted one.
         plot.series = differences(&data);
-        let predicted: Vec<Series> = spec.series.iter().filter(|s| s.dashed).cloned().collect();
         plot.series
             .extend(differences(&predicted).into_iter().map(Series::dashed));
         let stem = format!("{}_diff", spec.stem);
@@ -301,7 +350,9 @@ pub(crate) fn render_iterations(results: &StudyResults) -> Vec<usize> {
     picks
 }
 
-/// Writes every plot and render into `dir/plots` and `dir/renders`.
+/// Writes every plot and render into `dir/plots` and `dir/renders`. `rows` are every
+/// seed's ([`StudyResults::all_seed_rows`](crate::StudyResults::all_seed_rows)): the
+/// lines are means over the seeds, with their range as thin dashed lines.
 ///
 /// # Errors
 /// [`StudyError::Plot`], [`StudyError::Image`] or [`StudyError::Metrics`].
@@ -339,7 +390,7 @@ pub fn write_figures(
                 title: format!("{name}: RMS, iterations 0 to {EARLY_ITERATIONS}"),
                 y_label: format!("RMS distance{u}"),
                 caption: format!(
-                    "RMS distance to the clean surface on the {name}, every iteration from 0 to {EARLY_ITERATIONS} (mean over the noise seeds): the RMS-optimal iteration count lies here"
+                    "RMS distance to the clean surface on the {name}, every iteration from 0 to {EARLY_ITERATIONS}: the RMS-optimal iteration count lies here"
                 ),
                 log_y: false,
                 series: early_series(result),

@@ -139,7 +139,6 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
     mkdir(dir)?;
     mkdir(&dir.join("plots"))?;
     mkdir(&dir.join("renders"))?;
-    let primary = results.rows();
     let rows = results.all_seed_rows();
     let findings = findings_with(&rows, &findings_context(results));
     let curve: Vec<crate::run::RmsPoint> = results
@@ -148,7 +147,7 @@ pub fn write_study(results: &StudyResults, dir: &Path) -> Result<Written, StudyE
         .flat_map(|s| s.rms_curve.iter().cloned())
         .collect();
     let optima = optima(&curve);
-    let figures = write_figures(results, &primary, dir)?;
+    let figures = write_figures(results, &rows, dir)?;
     if let Some(scan) = &results.scan {
         let scan_dir = dir.join("scan");
         mkdir(&scan_dir)?;
@@ -349,7 +348,7 @@ fn setup_section(s: &mut String, results: &StudyResults) {
         .collect();
     let _ = writeln!(
         s,
-        "| noise seeds | {} ({}); {} run on every seed, any other scheme on seed {} only; tables give the mean over the seeds and, in brackets, the range [min–max]; plots, renders and counter-measures use seed {} |",
+        "| noise seeds | {} ({}); {} run on every seed, any other scheme on seed {} only; tables give the mean over the seeds and, in brackets, the range [min–max]; plots draw the mean and, as thin dashed lines, the range; renders and counter-measures use seed {} |",
         c.seeds,
         (0..c.seeds)
             .map(|k| (c.seed.wrapping_add(k as u64)).to_string())

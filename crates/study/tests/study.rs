@@ -367,6 +367,20 @@ fn several_seeds_give_spreads_optima_and_the_early_plot() {
     assert!(report.contains("| noise seeds | 2 (1, 2)"));
     assert!(report.contains("Cotangent normalisation"));
     assert!(dir.path().join("plots/rms_early_flens.png").exists());
+    // The plots draw the mean over the seeds with their range: the caption says so, and
+    // the range's bounds are left out of the legend.
+    let rms = written
+        .figures
+        .iter()
+        .find(|f| f.path == "plots/rms_flens")
+        .unwrap();
+    assert!(
+        rms.caption.contains("mean over the noise seeds"),
+        "{}",
+        rms.caption
+    );
+    let svg = std::fs::read_to_string(dir.path().join("plots/rms_flens.svg")).unwrap();
+    assert!(svg.contains("cotangent") && !svg.contains("seed range"));
     let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
     let seed_column = CSV_HEADER.split(',').position(|c| c == "seed").unwrap();
     assert!(csv.lines().any(

@@ -64,6 +64,9 @@ pub struct Series {
     /// Draw the line dashed and without markers (a prediction or reference beside the
     /// data).
     pub dashed: bool,
+    /// List the series in the legend (default); `false` for a companion line, e.g. the
+    /// bounds of a spread drawn beside its mean.
+    pub in_legend: bool,
 }
 
 impl Series {
@@ -75,6 +78,7 @@ impl Series {
             points: points.into_iter().collect(),
             style: None,
             dashed: false,
+            in_legend: true,
         }
     }
 
@@ -89,6 +93,13 @@ impl Series {
     #[must_use]
     pub fn dashed(mut self) -> Self {
         self.dashed = true;
+        self
+    }
+
+    /// Leaves the series out of the legend (see [`in_legend`](Self::in_legend)).
+    #[must_use]
+    pub fn without_legend(mut self) -> Self {
+        self.in_legend = false;
         self
     }
 }
@@ -255,7 +266,13 @@ fn draw<'a, DB: DrawingBackend + 'a>(
         let slot = series.style.unwrap_or(i);
         let color = PALETTE[slot % PALETTE.len()];
         let kind = MARKERS[slot % MARKERS.len()];
-        let style = color.stroke_width(layout.line);
+        // A companion line (left out of the legend) is drawn at half the width.
+        let width = if series.in_legend {
+            layout.line
+        } else {
+            (layout.line / 2).max(1)
+        };
+        let style = color.stroke_width(width);
         for run in runs {
             if series.dashed {
                 let dash = (layout.tick * 0.8).round().max(2.0) as i32;
@@ -280,6 +297,9 @@ fn draw<'a, DB: DrawingBackend + 'a>(
         };
         if !series.dashed {
             chart.draw_series(prepared.markers[i].iter().map(|&p| glyph(p)))?;
+        }
+        if !series.in_legend {
+            continue;
         }
         let sample = (layout.tick * 2.2).round() as i32;
         let dashed = series.dashed;

@@ -245,7 +245,8 @@ pub(super) fn legend_corner(
         .fold(0f32, f32::max);
     // plotters' legend: the line sample, the text, margins; one row per series.
     let legend_w = (f64::from(widest) + 2.5 * layout.tick + 40.0) / w;
-    let legend_h = (plot.series.len() as f64 * 1.4 * layout.tick + 20.0) / h;
+    let listed = plot.series.iter().filter(|s| s.in_legend).count();
+    let legend_h = (listed as f64 * 1.4 * layout.tick + 20.0) / h;
     let (fx, fy) = (legend_w.min(1.0), legend_h.min(1.0));
     let corners = [
         (
