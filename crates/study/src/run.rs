@@ -243,7 +243,7 @@ pub fn run_study(
         if let Some(comparison) = block_edges(kind, &case, config)? {
             edge_preservation = Some(comparison);
         }
-        let area_step_limit = area_step_limit(&case, config)?;
+        let area_step_limit = area_step_limit(&case, config);
         surfaces.push(SurfaceResult {
             case,
             runs,
@@ -317,28 +317,26 @@ fn scan_example(
 }
 
 /// The largest stable explicit step of the cotangent scheme normalised by the mixed
-/// vertex area (paper Eq. 6) on the noisy input, in length².
-fn area_step_limit(case: &SurfaceCase, config: &StudyConfig) -> Result<Option<f64>, StudyError> {
-    let Some(cotangent) = config.schemes.iter().find(|s| s.name() == "cotangent") else {
-        return Ok(None);
+/// vertex area (paper Eq. 6) on the noisy input, in length²; `None` without the
+/// cotangent scheme or when the operator cannot be set up (an auxiliary figure never
+/// fails the study). A curve boundary, which needs the weight sum, counts as free.
+fn area_step_limit(case: &SurfaceCase, config: &StudyConfig) -> Option<f64> {
+    let cotangent = config.schemes.iter().find(|s| s.name() == "cotangent")?;
+    let boundary = match config.boundary {
+        beltrami_smooth::Boundary::Curve => beltrami_smooth::Boundary::Free,
+        b => b,
     };
     let smooth = SmoothConfig::new(config.lambda, 1)
-        .boundary(config.boundary)
+        .boundary(boundary)
         .laplacian(LaplacianOptions {
             normalization: beltrami_weights::Normalization::Area(
                 beltrami_halfedge::geometry::VertexAreaKind::MixedVoronoi,
             ),
             negative: config.negative,
         });
-    let smoother =
-        Smoother::new(&case.mesh, &case.noisy, cotangent.as_ref(), smooth).map_err(|source| {
-            StudyError::Smooth {
-                surface: case.clean.name.to_string(),
-                scheme: "cotangent (area normalisation)".to_string(),
-                source,
-            }
-        })?;
-    Ok(smoother.stable_step_limit())
+    Smoother::new(&case.mesh, &case.noisy, cotangent.as_ref(), smooth)
+        .ok()?
+        .stable_step_limit()
 }
 
 /// One run per configured scheme on `case`, in the configured order.
