@@ -132,9 +132,20 @@ def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
     light, report = bt.decimate(sphere, ratio=0.25)
     assert report["target_reached"] and len(light.vertices) == report["target_vertices"]
     assert bt.info(light)["euler_characteristic"] == 2
-    # Endpoint placement keeps input points.
+    assert report["placement"] == "optimal" and report["quality_threshold"] == 0.4
     kept = {tuple(p) for p in sphere.vertices}
-    assert all(tuple(p) in kept for p in light.vertices)
+    # The default moves kept vertices to the quadric's minimum; endpoint placement (and
+    # OpenMesh's mode) keeps input points.
+    assert not all(tuple(p) in kept for p in light.vertices)
+    for options in ({"placement": "endpoint"}, {"openmesh": True}):
+        light, report = bt.decimate(sphere, ratio=0.25, **options)
+        assert report["placement"] == "endpoint"
+        assert all(tuple(p) in kept for p in light.vertices)
+    assert report["quality_threshold"] == 0.0
+    with pytest.raises(ValueError, match="placement"):
+        bt.decimate(sphere, ratio=0.25, placement="middle")
+    with pytest.raises(ValueError, match="quality_threshold"):
+        bt.decimate(sphere, ratio=0.25, quality_threshold=2.0)
     with pytest.raises(ValueError, match="exactly one"):
         bt.decimate(sphere)
 
