@@ -254,8 +254,9 @@ const STUDY_ENTRIES: [&str; 7] = [
 ];
 
 /// Refuses an output directory that holds anything but an earlier study (which the
-/// new one replaces), before the study runs.
-fn check_out_dir(dir: &Path) -> Result<(), CliError> {
+/// new one replaces), before the study runs: `is_entry` names what a study writes
+/// there (the paper's study or, with `--input`, the study of a given surface).
+fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), CliError> {
     let parent = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -276,7 +277,7 @@ fn check_out_dir(dir: &Path) -> Result<(), CliError> {
     for entry in entries.flatten() {
         let name = entry.file_name();
         let name = name.to_string_lossy();
-        if !STUDY_ENTRIES.contains(&name.as_ref()) {
+        if !is_entry(&name) {
             return Err(CliError::Usage(format!(
                 "--out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
                 dir.display()
@@ -330,7 +331,7 @@ pub(crate) fn run(
         return run_input(args, input, registry, out);
     }
     let config = config(args, registry)?;
-    check_out_dir(&args.out)?;
+    check_out_dir(&args.out, |name| STUDY_ENTRIES.contains(&name))?;
     let mut progress = terminal_progress();
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
     let io = |source| CliError::Io {
@@ -377,39 +378,6 @@ fn is_scan_entry(name: &str) -> bool {
             && Path::new(name)
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("ply")))
-}
-
-/// [`check_out_dir`] for `--input`: refuses a directory holding anything but an
-/// earlier study of a given surface.
-fn check_scan_out_dir(dir: &Path) -> Result<(), CliError> {
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    check_writable(parent.join("report.md")).map_err(|source| CliError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        if dir.exists() {
-            return Err(CliError::Usage(format!(
-                "--out {} is not a directory",
-                dir.display()
-            )));
-        }
-        return Ok(());
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let name = name.to_string_lossy();
-        if !is_scan_entry(&name) {
-            return Err(CliError::Usage(format!(
-                "--out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
-                dir.display()
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// The configuration of `study --input`.
@@ -490,7 +458,7 @@ fn run_input(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let config = scan_config(args, registry)?;
-    check_scan_out_dir(&args.out)?;
+    check_out_dir(&args.out, is_scan_entry)?;
     let scan = load_scan(input)?;
     let reference = args.reference.as_deref().map(load_scan).transpose()?;
     let mut progress = terminal_progress();
