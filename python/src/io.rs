@@ -67,7 +67,7 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
     } else {
         (data.positions, data.faces, None)
     };
-    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygon_list(positions.len(), &faces)
         .map_err(|e| topology_error(Some(path), &e))?;
     Ok(Mesh {
         positions,

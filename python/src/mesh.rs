@@ -51,7 +51,7 @@ impl Mesh {
         let path = source.as_ref().map(|(p, _)| p.clone());
         let mesh = py.detach(|| {
             no_panic(|| {
-                HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+                HalfedgeMesh::from_polygon_list(positions.len(), &faces)
                     .map_err(|e| topology_error(path.as_deref(), &e))
             })
         })?;

@@ -250,7 +250,7 @@ fn load_inner(
             )
         }
     };
-    let mesh = HalfedgeMesh::from_polygons(positions.len(), faces.iter())
+    let mesh = HalfedgeMesh::from_polygon_list(positions.len(), &faces)
         .map_err(|e| topology(e, &positions, &faces))?;
     let build_seconds = t1.elapsed().as_secs_f64();
     let mut repair_lines = Vec::new();

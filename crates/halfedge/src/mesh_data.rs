@@ -43,11 +43,11 @@ impl MeshData {
     /// Builds the half-edge connectivity of the faces over `positions.len()` vertices.
     ///
     /// # Errors
-    /// Those of [`HalfedgeMesh::from_polygons`]: anything that is not an oriented
+    /// Those of [`HalfedgeMesh::from_polygon_list`]: anything that is not an oriented
     /// 2-manifold, named by input index ([`repair`](crate::repair) fixes what can be
     /// fixed).
     pub fn mesh(&self) -> Result<HalfedgeMesh, TopologyError> {
-        HalfedgeMesh::from_polygons(self.positions.len(), self.faces.iter())
+        HalfedgeMesh::from_polygon_list(self.positions.len(), &self.faces)
     }
 }
 

@@ -182,7 +182,7 @@ impl Repaired {
     /// # Ok::<(), beltrami_halfedge::TopologyError>(())
     /// ```
     pub fn mesh(&self) -> Result<HalfedgeMesh, TopologyError> {
-        HalfedgeMesh::from_polygons(self.positions.len(), self.faces.iter())
+        HalfedgeMesh::from_polygon_list(self.positions.len(), &self.faces)
     }
 }
 
@@ -852,9 +852,10 @@ fn orient(
 
 /// The corner before each corner in its face.
 fn previous_corners(corners: &Corners<'_>) -> Vec<u32> {
-    let mut prev = vec![0; corners.next.len()];
-    for (k, &n) in corners.next.iter().enumerate() {
-        prev[n as usize] = k as u32;
+    let n_corners = corners.indices.len() as u32;
+    let mut prev = vec![0; n_corners as usize];
+    for k in 0..n_corners {
+        prev[corners.next(k) as usize] = k;
     }
     prev
 }
@@ -864,7 +865,7 @@ fn corner_at(corners: &Corners<'_>, k: u32, x: u32) -> u32 {
     if corners.from(k) == x {
         k
     } else {
-        corners.next[k as usize]
+        corners.next(k)
     }
 }
 
@@ -936,11 +937,7 @@ fn detach_tangled_sheets(
     mate: &mut [u32],
     report: &mut RepairReport,
 ) -> bool {
-    let out_corners = Corners {
-        indices: out,
-        face: corners.face.clone(),
-        next: corners.next.clone(),
-    };
+    let out_corners = corners.with_indices(out);
     let (sorted, starts) = out_corners.edge_groups();
     let mut opened = false;
     for g in starts.windows(2) {

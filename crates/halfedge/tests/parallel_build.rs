@@ -20,6 +20,15 @@ fn same_on_one_and_two_threads(
     let one = build_on(1, n, faces);
     let two = build_on(2, n, faces);
     assert_eq!(format!("{one:?}"), format!("{two:?}"));
+    // The borrowed-list builder checks the faces in parallel: the same result.
+    for threads in [1, 2] {
+        let list = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+            .install(|| HalfedgeMesh::from_polygon_list(n, faces));
+        assert_eq!(format!("{list:?}"), format!("{two:?}"));
+    }
     two
 }
 
@@ -69,6 +78,19 @@ fn meshes_and_errors_do_not_depend_on_the_thread_count() {
             ),
             "{err}"
         );
+        // Faces that are bad on their own, here and a second one later: the first
+        // is named.
+        let n32 = u32::try_from(n).expect("small");
+        for bad in [
+            vec![face[0], face[1], n32],
+            vec![face[0], face[1]],
+            vec![face[0], face[1], face[0]],
+        ] {
+            let mut faces = with_face(&faces, at, Some(&bad));
+            faces.push(&[0, 0, 1]);
+            let err = same_on_one_and_two_threads(n, &faces).expect_err("a bad face");
+            assert!(err.to_string().contains(&format!("face {at} ")), "{err}");
+        }
         // A face removed: a hole (which pinches a vertex on the grid's border).
         let holed = with_face(&faces, at, None);
         let _ = same_on_one_and_two_threads(n, &holed);

@@ -354,13 +354,26 @@ enum Array {
     FHe,
 }
 
-fn corrupt(raw: &mut RawConnectivity, array: Array, index: usize, value: u32) -> bool {
-    let slot = match array {
-        Array::VOut => raw.v_out.get_mut(index),
-        Array::HTo => raw.h_to.get_mut(index),
-        Array::HNext => raw.h_next.get_mut(index),
-        Array::HFace => raw.h_face.get_mut(index),
-        Array::FHe => raw.f_he.get_mut(index),
+/// Sets entry `index` (taken modulo the array's length) of `array` to `value`; false when
+/// it already has that value.
+fn corrupt(
+    raw: &mut RawConnectivity,
+    array: Array,
+    index: prop::sample::Index,
+    value: u32,
+) -> bool {
+    let entries = match array {
+        Array::VOut => &mut raw.v_out,
+        Array::HTo => &mut raw.h_to,
+        Array::HNext => &mut raw.h_next,
+        Array::HFace => &mut raw.h_face,
+        Array::FHe => &mut raw.f_he,
+    };
+    let slot = if entries.is_empty() {
+        None
+    } else {
+        let i = index.index(entries.len());
+        entries.get_mut(i)
     };
     match slot {
         Some(s) if *s != value => {
@@ -384,7 +397,7 @@ proptest! {
             Just(Array::VOut), Just(Array::HTo), Just(Array::HNext),
             Just(Array::HFace), Just(Array::FHe)
         ],
-        index in 0usize..200,
+        index in any::<prop::sample::Index>(),
         value in prop_oneof![0u32..60, Just(NONE), Just(1000u32)],
     ) {
         let p = [

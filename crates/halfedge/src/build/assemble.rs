@@ -16,36 +16,11 @@ pub(super) fn assemble(
     origin: Origin<'_>,
 ) -> Result<HalfedgeMesh, TopologyError> {
     let corners = Corners::new(list);
-    let (sorted, starts) = corners.edge_groups();
     let n_corners = corners.indices.len();
-
-    // Validate edge groups and pair each corner with the corner that runs the other
-    // way along its edge (`INVALID` on the boundary); among violations report the one
-    // met first in face order.
-    let mut worst: Option<(u32, TopologyError)> = None;
-    let mut mate = vec![INVALID; n_corners];
-    for g in starts.windows(2) {
-        let group = &sorted[g[0]..g[1]];
-        match *group {
-            [_] => {}
-            [k1, k2] if corners.from(k1) != corners.from(k2) => {
-                mate[k1 as usize] = k2;
-                mate[k2 as usize] = k1;
-            }
-            _ => {
-                // The error is made only for the group met first so far.
-                let first = group[0];
-                if worst.as_ref().is_none_or(|(k, _)| first < *k) {
-                    worst = Some((first, group_error(&corners, group, origin)));
-                }
-            }
-        }
-    }
-    if let Some((_, err)) = worst {
-        return Err(err);
-    }
-    drop(sorted);
-    drop(starts);
+    let mate = match mates(&corners, n_vertices) {
+        Some(mate) => mate,
+        None => mates_from_groups(&corners, origin)?,
+    };
 
     // Edge `e` is numbered by its first corner in corner order: a corner starts a new
     // edge unless its mate comes before it.
@@ -56,11 +31,13 @@ pub(super) fn assemble(
         .count();
     check_count("halfedges", 2 * n_edges)?;
     let n_halfedges = 2 * n_edges;
-    let mut corner_he = vec![INVALID; n_corners];
-    let mut h_to = vec![INVALID; n_halfedges];
+    // Every entry of these four is written below (zeroed memory costs no pass over it);
+    // `h_face` keeps `INVALID` on the boundary.
+    let mut corner_he = vec![0; n_corners];
+    let mut h_to = vec![0; n_halfedges];
+    let mut h_next = vec![0; n_halfedges];
+    let mut h_prev = vec![0; n_halfedges];
     let mut h_face = vec![INVALID; n_halfedges];
-    let mut h_next = vec![INVALID; n_halfedges];
-    let mut h_prev = vec![INVALID; n_halfedges];
     let mut v_out = vec![INVALID; n_vertices];
 
     let mut e = 0u32;
@@ -90,17 +67,33 @@ pub(super) fn assemble(
         }
     }
     drop(mate);
-    for k in 0..n_corners {
-        let h = corner_he[k] as usize;
-        let nk = corners.next[k] as usize;
-        h_to[h] = corners.indices[nk];
-        h_face[h] = corners.face[k];
-        h_next[h] = corner_he[nk];
-        h_prev[corner_he[nk] as usize] = h as u32;
+    if corners.triangles() {
+        // The same as the general loop below, a triangle at a time.
+        let triangles = corner_he
+            .chunks_exact(3)
+            .zip(corners.indices.chunks_exact(3));
+        for (f, (he, to)) in triangles.enumerate() {
+            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+                let h = he[i] as usize;
+                h_to[h] = to[j];
+                h_face[h] = f as u32;
+                h_next[h] = he[j];
+                h_prev[he[j] as usize] = he[i];
+            }
+        }
+    } else {
+        for k in 0..n_corners {
+            let h = corner_he[k] as usize;
+            let nk = corners.next(k as u32) as usize;
+            h_to[h] = corners.indices[nk];
+            h_face[h] = corners.face(k as u32) as u32;
+            h_next[h] = corner_he[nk];
+            h_prev[corner_he[nk] as usize] = h as u32;
+        }
     }
     // Link boundary loops: after b -> a comes the boundary halfedge leaving a.
     for t in (1..n_halfedges).step_by(2) {
-        if h_face[t] == INVALID && h_to[t] != INVALID {
+        if h_face[t] == INVALID {
             let n = v_out[h_to[t] as usize];
             h_next[t] = n;
             h_prev[n as usize] = t as u32;
@@ -159,6 +152,99 @@ pub(super) fn assemble(
     Ok(mesh)
 }
 
+/// The corner running the other way along each corner's edge (`INVALID` on the
+/// boundary), or `None` when some edge is used by more than two corners or twice in the
+/// same direction.
+///
+/// The corners leaving each vertex are listed together (a counting sort by vertex);
+/// the mate of corner `a -> b` is then the one corner in `b`'s list that ends at `a`.
+/// A valid mesh is checked this way without sorting the edges: a vertex pair with
+/// more than two corners, or with two in the same direction, shows up either as two
+/// corners `b -> a` (when some corner runs `a -> b`) or, for a pair without a corner
+/// `b -> a`, as a second corner `a -> b` in `a`'s list, which is checked for boundary
+/// corners only. When the check fails, [`mates_from_groups`] finds the error to report.
+fn mates(corners: &Corners<'_>, n_vertices: usize) -> Option<Vec<u32>> {
+    let n_corners = corners.indices.len();
+    // `start[v]..start[v + 1]` lists, in `out_to`, where the corners leaving `v` end,
+    // and in `out_corner` which corners they are (in corner order).
+    let mut start = vec![0u32; n_vertices + 1];
+    for &v in corners.indices {
+        start[v as usize + 1] += 1;
+    }
+    for v in 0..n_vertices {
+        start[v + 1] += start[v];
+    }
+    let mut out_to = vec![0u32; n_corners];
+    let mut out_corner = vec![0u32; n_corners];
+    let mut fill = start[..n_vertices].to_vec();
+    for k in 0..n_corners as u32 {
+        let slot = &mut fill[corners.from(k) as usize];
+        out_to[*slot as usize] = corners.to(k);
+        out_corner[*slot as usize] = k;
+        *slot += 1;
+    }
+    drop(fill);
+    let leaving = |v: u32| start[v as usize] as usize..start[v as usize + 1] as usize;
+
+    let mut mate = vec![INVALID; n_corners];
+    let valid = mate
+        .par_chunks_mut(PARALLEL_CHUNK)
+        .enumerate()
+        .all(|(chunk, mates)| {
+            let first = (chunk * PARALLEL_CHUNK) as u32;
+            mates.iter_mut().zip(first..).all(|(mate, k)| {
+                let (a, b) = (corners.from(k), corners.to(k));
+                let back = leaving(b);
+                let mut found = INVALID;
+                for i in back {
+                    if out_to[i] == a {
+                        if found != INVALID {
+                            return false;
+                        }
+                        found = out_corner[i];
+                    }
+                }
+                *mate = found;
+                found != INVALID || out_to[leaving(a)].iter().filter(|&&to| to == b).count() == 1
+            })
+        });
+    valid.then_some(mate)
+}
+
+/// The mates of [`mates`] from the corners sorted by vertex pair, validating every
+/// pair: among the vertex pairs used by more than two corners or twice in the same
+/// direction, the error names the one whose first corner comes first. This is the
+/// path for lists [`mates`] rejects, and the reference it is tested against.
+pub(super) fn mates_from_groups(
+    corners: &Corners<'_>,
+    origin: Origin<'_>,
+) -> Result<Vec<u32>, TopologyError> {
+    let (sorted, starts) = corners.edge_groups();
+    let mut worst: Option<(u32, TopologyError)> = None;
+    let mut mate = vec![INVALID; corners.indices.len()];
+    for g in starts.windows(2) {
+        let group = &sorted[g[0]..g[1]];
+        match *group {
+            [_] => {}
+            [k1, k2] if corners.from(k1) != corners.from(k2) => {
+                mate[k1 as usize] = k2;
+                mate[k2 as usize] = k1;
+            }
+            _ => {
+                // The error is made only for the group met first so far.
+                let first = group[0];
+                if worst.as_ref().is_none_or(|(k, _)| first < *k) {
+                    worst = Some((first, group_error(corners, group, origin)));
+                }
+            }
+        }
+    }
+    match worst {
+        Some((_, err)) => Err(err),
+        None => Ok(mate),
+    }
+}
+
 /// The number of outgoing halfedges of `v` met by rotating around it from its
 /// outgoing halfedge (0 for an isolated vertex); more than `limit` stops the walk.
 fn circulation_length(mesh: &HalfedgeMesh, v: usize, limit: usize) -> usize {
@@ -199,5 +285,52 @@ fn group_error(corners: &Corners<'_>, group: &[u32], origin: Origin<'_>) -> Topo
                 faces: group.iter().map(|&k| origin.of(corners.face(k))).collect(),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// Triangles and quads over a few vertices: many shared edges, and every kind of
+    /// edge defect (a pair used three times, twice the same way round).
+    fn polygon_soup() -> impl Strategy<Value = (usize, PolygonList)> {
+        (4usize..9).prop_flat_map(|n| {
+            let face =
+                prop::sample::subsequence((0..n as u32).collect::<Vec<_>>(), 3..=4).prop_shuffle();
+            (Just(n), prop::collection::vec(face, 1..12)).prop_map(|(n, faces)| {
+                let mut list = PolygonList::new();
+                for f in &faces {
+                    list.push(f);
+                }
+                (n, list)
+            })
+        })
+    }
+
+    proptest! {
+        /// The pairing by vertex lists accepts exactly the lists the pairing by sorted
+        /// vertex pairs accepts, with the same mates.
+        #[test]
+        fn mates_agree_with_the_sorted_edge_groups((n, list) in polygon_soup()) {
+            let corners = Corners::new(&list);
+            let reference = mates_from_groups(&corners, Origin(&[]));
+            match mates(&corners, n) {
+                Some(mate) => prop_assert_eq!(Ok(mate), reference),
+                None => prop_assert!(reference.is_err()),
+            }
+        }
+    }
+
+    /// A closed triangle mesh pairs every corner.
+    #[test]
+    fn a_closed_mesh_pairs_every_corner() {
+        let tet = PolygonList::from_triangles(&[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]);
+        let corners = Corners::new(&tet);
+        let mate = mates(&corners, 4).expect("valid");
+        assert!(mate.iter().all(|&m| m != INVALID));
+        assert_eq!(Ok(mate), mates_from_groups(&corners, Origin(&[])));
     }
 }

@@ -7,15 +7,27 @@ use rayon::prelude::*;
 use crate::polygons::PolygonList;
 
 /// Per-corner facts of a polygon list. Corner `k` is entry `k` of the flat index
-/// buffer; it starts the directed edge `indices[k] -> indices[next[k]]`.
+/// buffer; it starts the directed edge `indices[k] -> indices[next(k)]`.
+///
+/// For a list of triangles only, a corner's face and successor follow from its index
+/// (`k / 3`, and the next corner of the same triple), and no per-corner arrays are kept.
 pub(crate) struct Corners<'a> {
     pub(crate) indices: &'a [u32],
-    pub(crate) face: Vec<u32>,
-    pub(crate) next: Vec<u32>,
+    /// Face of each corner; empty for a list of triangles only.
+    face: Vec<u32>,
+    /// Successor of each corner in its face; empty for a list of triangles only.
+    next: Vec<u32>,
 }
 
 impl<'a> Corners<'a> {
     pub(crate) fn new(list: &'a PolygonList) -> Self {
+        if list.is_triangles() {
+            return Self {
+                indices: list.indices(),
+                face: Vec::new(),
+                next: Vec::new(),
+            };
+        }
         let n = list.n_corners();
         let mut face = Vec::with_capacity(n);
         let mut next = Vec::with_capacity(n);
@@ -32,24 +44,55 @@ impl<'a> Corners<'a> {
         }
     }
 
+    /// The same faces and corners with other vertex indices (`indices[k]` for corner
+    /// `k`), as after renumbering the vertices.
+    pub(crate) fn with_indices<'b>(&self, indices: &'b [u32]) -> Corners<'b> {
+        debug_assert_eq!(indices.len(), self.indices.len());
+        Corners {
+            indices,
+            face: self.face.clone(),
+            next: self.next.clone(),
+        }
+    }
+
+    /// Whether the per-corner arrays are implicit (a list of triangles only).
+    #[inline]
+    pub(crate) fn triangles(&self) -> bool {
+        self.next.is_empty()
+    }
+
+    /// The corner after `k` in its face.
+    #[inline]
+    pub(crate) fn next(&self, k: u32) -> u32 {
+        if self.triangles() {
+            if k % 3 == 2 { k - 2 } else { k + 1 }
+        } else {
+            self.next[k as usize]
+        }
+    }
+
+    /// The vertex corner `k` sits at: where its directed edge starts.
+    #[inline]
     pub(crate) fn from(&self, k: u32) -> u32 {
         self.indices[k as usize]
     }
 
+    /// Where the directed edge of corner `k` ends.
+    #[inline]
     pub(crate) fn to(&self, k: u32) -> u32 {
-        self.indices[self.next[k as usize] as usize]
+        self.indices[self.next(k) as usize]
     }
 
+    /// The face of corner `k`.
+    #[inline]
     pub(crate) fn face(&self, k: u32) -> usize {
-        self.face[k as usize] as usize
+        if self.triangles() {
+            k as usize / 3
+        } else {
+            self.face[k as usize] as usize
+        }
     }
 
-    /// Directed edges grouped by their undirected vertex pair: a list of corners sorted
-    /// by (pair, corner), and the start of each group (plus the end).
-    ///
-    /// A counting sort by the lower vertex of the pair (stable, so each bucket is in
-    /// corner order), then a sort of each small bucket by (higher vertex, corner):
-    /// O(C) plus the buckets' sorts, instead of one sort of all C keys.
     pub(crate) fn edge_groups(&self) -> (Vec<u32>, Vec<usize>) {
         let n_corners = self.indices.len();
         let n_vertices = self.indices.iter().max().map_or(0, |&m| m as usize + 1);
@@ -154,8 +197,8 @@ pub(super) fn corner_fans(
         if let [k1, k2] = sorted[g[0]..g[1]] {
             if corners.from(k1) == corners.to(k2) {
                 // k1: a -> b, k2: b -> a. The corner of a in k2's face is next(k2).
-                fans.union(k1, corners.next[k2 as usize]);
-                fans.union(corners.next[k1 as usize], k2);
+                fans.union(k1, corners.next(k2));
+                fans.union(corners.next(k1), k2);
             }
         }
     }

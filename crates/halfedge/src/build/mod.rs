@@ -1,5 +1,7 @@
 //! Building a [`HalfedgeMesh`] from a polygon list, with validation and opt-in repairs.
 
+use rayon::prelude::*;
+
 use crate::error::TopologyError;
 use crate::mesh::HalfedgeMesh;
 use crate::polygons::PolygonList;
@@ -58,6 +60,41 @@ impl HalfedgeMesh {
         Self::build(n_vertices, faces, &BuildOptions::new()).map(|(mesh, _)| mesh)
     }
 
+    /// Like [`from_polygons`](Self::from_polygons), for a face list already in memory:
+    /// the same mesh and the same errors, but the faces are checked in parallel and
+    /// not copied. This is the fast path for meshes read from files.
+    ///
+    /// # Errors
+    /// Those of [`from_polygons`](Self::from_polygons), the first problem found in the
+    /// same order.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::{HalfedgeMesh, PolygonList};
+    /// let tet = PolygonList::from_triangles(&[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]);
+    /// let mesh = HalfedgeMesh::from_polygon_list(4, &tet).unwrap();
+    /// assert_eq!(mesh, HalfedgeMesh::from_polygons(4, tet.iter()).unwrap());
+    /// ```
+    pub fn from_polygon_list(
+        n_vertices: usize,
+        faces: &PolygonList,
+    ) -> Result<Self, TopologyError> {
+        check_count("vertices", n_vertices)?;
+        let problem = (0..faces.len())
+            .into_par_iter()
+            .with_min_len(corners::PARALLEL_CHUNK / 4)
+            .find_map_first(|fi| {
+                let face = &faces.indices()[faces.offsets()[fi]..faces.offsets()[fi + 1]];
+                out_of_range(fi, face, n_vertices).or_else(|| degenerate(fi, face, &mut Vec::new()))
+            });
+        if let Some(err) = problem {
+            return Err(err);
+        }
+        check_count("faces", faces.len())?;
+        check_count("halfedges", 2 * faces.n_corners())?;
+        assemble(n_vertices, faces, Origin(&[]))
+    }
+
     /// Like [`from_polygons`](Self::from_polygons), with the opt-in repairs of `options`.
     /// Returns the mesh and a report of what was repaired.
     ///
@@ -79,23 +116,10 @@ impl HalfedgeMesh {
         let mut scratch = Vec::new();
         for (fi, face) in faces.into_iter().enumerate() {
             let face = face.as_ref();
-            if let Some(&v) = face.iter().find(|&&v| v as usize >= n_vertices) {
-                return Err(TopologyError::VertexOutOfRange {
-                    face: fi,
-                    vertex: v,
-                    n_vertices,
-                });
+            if let Some(err) = out_of_range(fi, face, n_vertices) {
+                return Err(err);
             }
-            let problem = if face.len() < 3 {
-                Some(TopologyError::FaceTooSmall {
-                    face: fi,
-                    len: face.len(),
-                })
-            } else {
-                repeated_vertex(face, &mut scratch)
-                    .map(|vertex| TopologyError::RepeatedVertex { face: fi, vertex })
-            };
-            match problem {
+            match degenerate(fi, face, &mut scratch) {
                 Some(_) if options.drops_degenerate_faces() => {
                     if report.dropped_faces.is_empty() {
                         origin.extend(0..fi);
@@ -152,8 +176,42 @@ pub(crate) fn check_count(kind: &'static str, count: usize) -> Result<(), Topolo
     Ok(())
 }
 
+/// [`TopologyError::VertexOutOfRange`] when input face `fi` names a vertex `>= n_vertices`.
+fn out_of_range(fi: usize, face: &[u32], n_vertices: usize) -> Option<TopologyError> {
+    face.iter()
+        .find(|&&v| v as usize >= n_vertices)
+        .map(|&vertex| TopologyError::VertexOutOfRange {
+            face: fi,
+            vertex,
+            n_vertices,
+        })
+}
+
+/// [`TopologyError::FaceTooSmall`] or [`TopologyError::RepeatedVertex`] when input face
+/// `fi` has fewer than three corners or a vertex twice.
+fn degenerate(fi: usize, face: &[u32], scratch: &mut Vec<u32>) -> Option<TopologyError> {
+    if face.len() < 3 {
+        Some(TopologyError::FaceTooSmall {
+            face: fi,
+            len: face.len(),
+        })
+    } else {
+        repeated_vertex(face, scratch)
+            .map(|vertex| TopologyError::RepeatedVertex { face: fi, vertex })
+    }
+}
+
 /// The first vertex that appears twice in `face` (in order of its second appearance).
 pub(crate) fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
+    if let &[a, b, c] = face {
+        return if a == b || a == c {
+            Some(a)
+        } else if b == c {
+            Some(b)
+        } else {
+            None
+        };
+    }
     if face.len() <= 16 {
         for (i, &v) in face.iter().enumerate() {
             if face[..i].contains(&v) {
