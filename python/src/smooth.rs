@@ -162,10 +162,11 @@ impl Options {
                     "once" => WeightUpdate::Once,
                     _ => WeightUpdate::Every,
                 })
-                .laplacian(LaplacianOptions {
-                    normalization,
-                    negative,
-                })
+                .laplacian(
+                    LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(negative),
+                )
                 .pinned(self.pin.iter().copied().map(VertexId::new).collect())
                 .method(self.method())
                 .preserve_volume(self.preserve_volume);

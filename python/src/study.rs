@@ -259,38 +259,37 @@ pub(crate) fn study<'py>(
             )));
         }
     };
-    let config = StudyConfig {
-        surfaces,
-        size: if small { Size::Small } else { Size::Paper },
-        schemes,
-        iterations,
-        lambda: lam,
-        noise: if absolute_noise {
+    let config = StudyConfig::default()
+        .surfaces(surfaces)
+        .size(if small { Size::Small } else { Size::Paper })
+        .schemes(schemes)
+        .iterations(iterations)
+        .lambda(lam)
+        .noise(if absolute_noise {
             NoiseLevel::Absolute(noise)
         } else {
             NoiseLevel::RelativeToMeanEdge(noise)
-        },
-        seed,
-        seeds,
-        boundary,
-        update,
-        negative,
-        normalization,
-        countermeasures: if no_countermeasures {
+        })
+        .seed(seed)
+        .seeds(seeds)
+        .boundary(boundary)
+        .update(update)
+        .negative(negative)
+        .normalization(normalization)
+        .countermeasures(if no_countermeasures {
             Vec::new()
         } else {
             Countermeasure::defaults(lam)
-        },
-        countermeasure_scheme: if no_countermeasures {
+        })
+        .countermeasure_scheme(if no_countermeasures {
             None
         } else {
             Some(scheme(countermeasure_weights)?)
-        },
-        edge_comparison: scheme("bilateral").ok().zip(scheme("cotangent").ok()),
-        remesh,
-        timing: true,
-        scan_example: !no_scan_example,
-    };
+        })
+        .edge_comparison(scheme("bilateral").ok().zip(scheme("cotangent").ok()))
+        .remesh(remesh)
+        .timing(true)
+        .scan_example(!no_scan_example);
     config
         .validate()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -189,53 +189,54 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             .map(|w| registry.get(w))
             .collect::<Result<_, _>>()?
     };
-    let config = StudyConfig {
-        surfaces,
-        size: if args.small { Size::Small } else { Size::Paper },
-        schemes,
-        iterations: args.iterations.clone(),
-        lambda: args.lambda,
-        noise: if args.absolute_noise {
+    let config = StudyConfig::paper(registry)
+        .surfaces(surfaces)
+        .size(if args.small { Size::Small } else { Size::Paper })
+        .schemes(schemes)
+        .iterations(args.iterations.clone())
+        .lambda(args.lambda)
+        .noise(if args.absolute_noise {
             NoiseLevel::Absolute(args.noise)
         } else {
             NoiseLevel::RelativeToMeanEdge(args.noise)
-        },
-        seed: args.seed,
-        seeds: args.seeds,
-        boundary: match args.boundary {
+        })
+        .seed(args.seed)
+        .seeds(args.seeds)
+        .boundary(match args.boundary {
             BoundaryArg::Fixed => Boundary::Fixed,
             BoundaryArg::Free => Boundary::Free,
             BoundaryArg::Curve => Boundary::Curve,
-        },
-        update: match args.update {
+        })
+        .update(match args.update {
             UpdateArg::Every => WeightUpdate::Every,
             UpdateArg::Once => WeightUpdate::Once,
-        },
-        negative: args.cotangent_negative.policy(),
-        normalization: normalization(args.normalize, args.vertex_area),
-        countermeasures: if args.no_countermeasures {
+        })
+        .negative(args.cotangent_negative.policy())
+        .normalization(normalization(args.normalize, args.vertex_area))
+        .countermeasures(if args.no_countermeasures {
             Vec::new()
         } else {
             Countermeasure::defaults(args.lambda)
-        },
-        countermeasure_scheme: if args.no_countermeasures {
+        })
+        .countermeasure_scheme(if args.no_countermeasures {
             None
         } else {
             Some(registry.get(&args.countermeasure_weights)?)
-        },
-        edge_comparison: registry
-            .get("bilateral")
-            .ok()
-            .zip(registry.get("cotangent").ok()),
-        remesh: match (args.no_remesh, args.remesh, args.remesh_relative) {
+        })
+        .edge_comparison(
+            registry
+                .get("bilateral")
+                .ok()
+                .zip(registry.get("cotangent").ok()),
+        )
+        .remesh(match (args.no_remesh, args.remesh, args.remesh_relative) {
             (true, ..) => None,
             (_, Some(l), _) => Some(beltrami_study::default_remesh().edge_length(l)),
             (_, _, Some(r)) => Some(beltrami_study::default_remesh().relative_edge_length(r)),
             _ => Some(beltrami_study::default_remesh()),
-        },
-        timing: true,
-        scan_example: !args.no_scan_example,
-    };
+        })
+        .timing(true)
+        .scan_example(!args.no_scan_example);
     config
         .validate()
         .map_err(|e| CliError::Usage(e.to_string()))?;

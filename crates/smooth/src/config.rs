@@ -346,6 +346,7 @@ impl DiffusionTime {
 /// assert_eq!(implicit.method.name(), "implicit");
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SmoothConfig {
     /// The step λ. With weight-sum normalisation, a fraction in (0, 1]: each iteration
     /// moves a vertex that fraction of the way to its weighted neighbour average. With

@@ -21,10 +21,12 @@ const COPLANAR_DOT: f64 = 1.0 - 1e-9;
 /// # Examples
 /// ```
 /// use beltrami_study::EdgePreservationOptions;
-/// let options = EdgePreservationOptions { target: 0.5, ..EdgePreservationOptions::default() };
+/// let options = EdgePreservationOptions::new().target(0.5);
 /// assert_eq!(options.lambda, 0.8);
+/// assert_eq!(options.target, 0.5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct EdgePreservationOptions {
     /// The step λ of both runs (weight-sum normalisation, weights recomputed every
     /// iteration, negative weights kept, fixed boundary — the smoother's defaults).
@@ -50,6 +52,7 @@ pub struct EdgePreservationOptions {
 }
 
 impl Default for EdgePreservationOptions {
+    /// λ = 0.8, target 0.25, at most 1000 iterations, features from 60 degrees.
     fn default() -> Self {
         Self {
             lambda: 0.8,
@@ -57,6 +60,45 @@ impl Default for EdgePreservationOptions {
             max_iterations: 1000,
             feature_threshold_deg: 60.0,
         }
+    }
+}
+
+impl EdgePreservationOptions {
+    /// The defaults: λ = 0.8, target 0.25, at most 1000 iterations, features from 60
+    /// degrees.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets the step λ of both runs (see [`lambda`](Self::lambda)).
+    #[must_use]
+    pub fn lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Sets the flat-region smoothness target, a fraction of the input's flat-region
+    /// RMS in (0, 1) (see [`target`](Self::target)).
+    #[must_use]
+    pub fn target(mut self, target: f64) -> Self {
+        self.target = target;
+        self
+    }
+
+    /// Sets the most iterations either run may take.
+    #[must_use]
+    pub fn max_iterations(mut self, max_iterations: usize) -> Self {
+        self.max_iterations = max_iterations;
+        self
+    }
+
+    /// Sets the dihedral angle, in degrees, from which an edge of the clean surface is
+    /// a feature.
+    #[must_use]
+    pub fn feature_threshold_deg(mut self, degrees: f64) -> Self {
+        self.feature_threshold_deg = degrees;
+        self
     }
 }
 
@@ -283,7 +325,7 @@ impl EdgePreservation {
 /// let part = block(&BlockParams { cells: [5, 5, 9], pitch: 1.0, hole: [1, 1], ..BlockParams::default() });
 /// let mesh = part.mesh()?;
 /// let (noisy, _sigma) = add_normal_noise(&mesh, &part.positions, NoiseLevel::RelativeToMeanEdge(0.2), 1)?;
-/// let options = EdgePreservationOptions { target: 0.5, ..Default::default() };
+/// let options = EdgePreservationOptions::new().target(0.5);
 /// let result = edge_preservation(&mesh, &part.positions, &noisy, &BilateralNormal::default(), &Cotangent, &options)?;
 /// assert!(result.scheme.reached_target && result.reference.reached_target);
 /// println!("{result:#?}");

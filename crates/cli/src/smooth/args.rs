@@ -292,10 +292,11 @@ impl SmoothArgs {
                 UpdateArg::Every => WeightUpdate::Every,
                 UpdateArg::Once => WeightUpdate::Once,
             })
-            .laplacian(LaplacianOptions {
-                normalization,
-                negative,
-            })
+            .laplacian(
+                LaplacianOptions::new()
+                    .normalization(normalization)
+                    .negative(negative),
+            )
             .pinned(self.pin.iter().copied().map(VertexId::new).collect())
             .method(self.method())
             .preserve_volume(self.preserve_volume);
