@@ -67,6 +67,8 @@ mod sizing;
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
 
+use crate::error::{algorithm_error, check_finite, check_mesh};
+
 use passes::Remesher;
 
 /// Without a feature angle, a boundary vertex whose two boundary edges turn by more than
@@ -252,66 +254,40 @@ pub struct RemeshReport {
     pub hausdorff: f64,
 }
 
-/// Why [`remesh`] could not run. Every variant names the offending element or value.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum RemeshError {
-    /// A face is not a triangle; remeshing needs a triangle mesh.
-    #[error("face {face} has {len} vertices; remeshing needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position")]
-    NonFinite {
-        /// The vertex index.
-        vertex: usize,
-    },
-    /// The mesh has no faces, or all its edges have length zero: there is no surface to
-    /// remesh and no mean edge length.
-    #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
-    Empty,
-    /// An option is out of its range.
-    #[error("invalid option: {reason}")]
-    Options {
-        /// The problem in words.
-        reason: String,
-    },
-    /// The target length is so small for the surface's area that the result would be
-    /// too large.
-    #[error(
-        "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
-    )]
-    TooManyFaces {
-        /// The (smallest) target edge length.
-        edge_length: f64,
-        /// The estimated number of triangles, `area / (√3/4 · L²)`.
-        predicted: f64,
-        /// [`MAX_REMESH_FACES`].
-        max: usize,
-    },
-    /// An edit the checks allowed was refused: a defect of this crate, reported rather
-    /// than panicking.
-    #[error("an edit failed: {0}")]
-    Edit(#[from] beltrami_halfedge::EditError),
-    /// The input or the result did not convert between the frozen and the editable
-    /// mesh.
-    #[error("{0}")]
-    Topology(#[from] TopologyError),
-    /// A closest-point query failed (a defect: the positions are finite).
-    #[error("projecting onto the input: {0}")]
-    Metrics(#[from] beltrami_metrics::MetricsError),
+algorithm_error! {
+    /// Why [`remesh`] could not run. Every variant names the offending element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum RemeshError for "remeshing" {
+        /// The mesh has no faces, or all its edges have length zero: there is no surface to
+        /// remesh and no mean edge length.
+        #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
+        Empty,
+        /// The target length is so small for the surface's area that the result would be
+        /// too large.
+        #[error(
+            "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
+        )]
+        TooManyFaces {
+            /// The (smallest) target edge length.
+            edge_length: f64,
+            /// The estimated number of triangles, `area / (√3/4 · L²)`.
+            predicted: f64,
+            /// [`MAX_REMESH_FACES`].
+            max: usize,
+        },
+        /// An edit the checks allowed was refused: a defect of this crate, reported rather
+        /// than panicking.
+        #[error("an edit failed: {0}")]
+        Edit(#[from] beltrami_halfedge::EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+        /// A closest-point query failed (a defect: the positions are finite).
+        #[error("projecting onto the input: {0}")]
+        Metrics(#[from] beltrami_metrics::MetricsError),
+    }
 }
 
 /// Whether `x` is a number above zero.
@@ -442,21 +418,8 @@ pub fn remesh(
     positions: &[DVec3],
     options: &RemeshOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(RemeshError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(RemeshError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
-    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(RemeshError::NonFinite { vertex: v });
-    }
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
     let area =
