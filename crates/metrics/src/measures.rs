@@ -34,7 +34,7 @@ use crate::MetricsError;
 /// # Errors
 /// [`MetricsError::Empty`] for a mesh without faces;
 /// [`MetricsError::Topology`] with
-/// [`TopologyError::NotClosed`](beltrami_halfedge::TopologyError::NotClosed) for an open
+/// [`TopologyError::NotClosed`] for an open
 /// mesh; [`MetricsError::NonFinite`] for a non-finite position.
 pub fn volume(geometry: &Geometry<'_>) -> Result<f64, MetricsError> {
     check(geometry)?;

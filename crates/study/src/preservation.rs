@@ -339,24 +339,7 @@ pub fn edge_preservation(
     reference: &dyn WeightScheme,
     options: &EdgePreservationOptions,
 ) -> Result<EdgePreservation, PreservationError> {
-    if !(options.target > 0.0 && options.target < 1.0) {
-        return Err(PreservationError::InvalidParameter {
-            name: "target",
-            reason: format!(
-                "must be a fraction strictly between 0 and 1, got {}",
-                options.target
-            ),
-        });
-    }
-    if !(options.feature_threshold_deg > 0.0 && options.feature_threshold_deg < 180.0) {
-        return Err(PreservationError::InvalidParameter {
-            name: "feature threshold",
-            reason: format!(
-                "must be an angle in degrees strictly between 0 and 180, got {}",
-                options.feature_threshold_deg
-            ),
-        });
-    }
+    options.validate()?;
     let clean_geometry = Geometry::new(mesh, clean)?;
     Geometry::new(mesh, noisy)?;
     let flat = FlatRegion::new(mesh, clean)?;
@@ -394,27 +377,12 @@ pub fn edge_preservation(
     let input = measure(noisy, 0)?;
     let target_flat_rms = options.target * input.flat_rms;
     let run = |s: &dyn WeightScheme| -> Result<SchemeOutcome, PreservationError> {
-        let failed = |source| PreservationError::Smooth {
-            scheme: s.name().to_string(),
-            source,
-        };
-        let config = SmoothConfig::new(options.lambda, options.max_iterations);
-        let mut reached = false;
-        let out = Smoother::new(mesh, noisy, s, config)
-            .map_err(failed)?
-            .run(|it| {
-                if flat.rms(it.positions()) <= target_flat_rms {
-                    reached = true;
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            })
-            .map_err(failed)?;
+        let (positions, iterations, reached) =
+            smooth_until_flat(mesh, noisy, s, options, &flat, target_flat_rms)?;
         Ok(SchemeOutcome {
             scheme: s.name().to_string(),
             reached_target: reached,
-            measures: measure(&out.positions, out.report.iterations)?,
+            measures: measure(&positions, iterations)?,
         })
     };
     let scheme_outcome = run(scheme)?;
@@ -434,4 +402,60 @@ pub fn edge_preservation(
         scheme: scheme_outcome,
         reference: reference_outcome,
     })
+}
+
+impl EdgePreservationOptions {
+    /// Refuses a target outside (0, 1) and a feature threshold outside (0, 180) degrees.
+    fn validate(&self) -> Result<(), PreservationError> {
+        if !(self.target > 0.0 && self.target < 1.0) {
+            return Err(PreservationError::InvalidParameter {
+                name: "target",
+                reason: format!(
+                    "must be a fraction strictly between 0 and 1, got {}",
+                    self.target
+                ),
+            });
+        }
+        if !(self.feature_threshold_deg > 0.0 && self.feature_threshold_deg < 180.0) {
+            return Err(PreservationError::InvalidParameter {
+                name: "feature threshold",
+                reason: format!(
+                    "must be an angle in degrees strictly between 0 and 180, got {}",
+                    self.feature_threshold_deg
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Smooths `noisy` with `scheme` at the options' λ until the flat-region RMS is at most
+/// `target_flat_rms` or the options' iteration limit is reached: the positions, the
+/// number of iterations and whether the target was reached.
+fn smooth_until_flat(
+    mesh: &HalfedgeMesh,
+    noisy: &[DVec3],
+    scheme: &dyn WeightScheme,
+    options: &EdgePreservationOptions,
+    flat: &FlatRegion,
+    target_flat_rms: f64,
+) -> Result<(Vec<DVec3>, usize, bool), PreservationError> {
+    let failed = |source| PreservationError::Smooth {
+        scheme: scheme.name().to_string(),
+        source,
+    };
+    let config = SmoothConfig::new(options.lambda, options.max_iterations);
+    let mut reached = false;
+    let out = Smoother::new(mesh, noisy, scheme, config)
+        .map_err(failed)?
+        .run(|it| {
+            if flat.rms(it.positions()) <= target_flat_rms {
+                reached = true;
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .map_err(failed)?;
+    Ok((out.positions, out.report.iterations, reached))
 }

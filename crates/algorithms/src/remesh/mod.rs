@@ -64,7 +64,8 @@ mod curves;
 mod passes;
 mod sizing;
 
-use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, TopologyError};
+use beltrami_halfedge::edit::VertexProperty;
+use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
@@ -422,9 +423,7 @@ pub fn remesh(
     check_finite(positions)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
-    let area =
-        |edit: &EditMesh, f| curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0;
-    let total_area: f64 = edit.faces().map(|f| area(&edit, f)).sum();
+    let total_area: f64 = edit.faces().map(|f| face_area(&edit, f)).sum();
     if mesh.n_faces() == 0 || !is_positive(mean_before) || !is_positive(total_area) {
         return Err(RemeshError::Empty);
     }
@@ -457,29 +456,7 @@ pub fn remesh(
         target = field.iter().sum::<f64>() / field.len() as f64;
         reference = Some((mesh, field));
     }
-    // The size of the result, estimated before any work: each face's area over that of
-    // an equilateral triangle of its smallest corner's target length.
-    let predicted: f64 = edit
-        .faces()
-        .map(|f| {
-            let size = edit
-                .vertices_around_face(f)
-                .map(|v| *edit.get(sizing, v))
-                .fold(f64::INFINITY, f64::min);
-            area(&edit, f) / (3f64.sqrt() / 4.0 * size * size)
-        })
-        .sum();
-    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
-        return Err(RemeshError::TooManyFaces {
-            edge_length: edit
-                .values(sizing)
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min),
-            predicted,
-            max: MAX_REMESH_FACES,
-        });
-    }
+    check_result_size(&edit, sizing)?;
 
     let mut remesher = Remesher {
         mesh: edit,
@@ -501,7 +478,59 @@ pub fn remesh(
         corners: found.corners,
         ..RemeshReport::default()
     };
-    for _ in 0..options.iterations {
+    run_passes(&mut remesher, options.iterations, &mut report)?;
+    let mut edit = remesher.mesh;
+    edit.remove_property(feature);
+    edit.remove_property(corner);
+    edit.remove_property(sizing);
+    edit.garbage_collection();
+    (report.mean_edge_length, report.edge_length_cv) = edge_length_stats(&edit);
+    let (out, out_positions) = edit.into_mesh()?;
+    measure_result(&out, &out_positions, &index, &mut report)?;
+    Ok((out, out_positions, report))
+}
+
+/// Refuses a target so small for the surface's area that the result would have more
+/// than [`MAX_REMESH_FACES`] faces, estimated before any work: each face's area over
+/// that of an equilateral triangle of its smallest corner's target length.
+fn check_result_size(edit: &EditMesh, sizing: VertexProperty<f64>) -> Result<(), RemeshError> {
+    let predicted: f64 = edit
+        .faces()
+        .map(|f| {
+            let size = edit
+                .vertices_around_face(f)
+                .map(|v| *edit.get(sizing, v))
+                .fold(f64::INFINITY, f64::min);
+            face_area(edit, f) / (3f64.sqrt() / 4.0 * size * size)
+        })
+        .sum();
+    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
+        return Err(RemeshError::TooManyFaces {
+            edge_length: edit
+                .values(sizing)
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
+            predicted,
+            max: MAX_REMESH_FACES,
+        });
+    }
+    Ok(())
+}
+
+/// The area of face `f` (a triangle).
+fn face_area(edit: &EditMesh, f: FaceId) -> f64 {
+    curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0
+}
+
+/// `iterations` rounds of split, collapse, flip and relax, then the removal of caps,
+/// counted into `report`.
+fn run_passes(
+    remesher: &mut Remesher<'_>,
+    iterations: usize,
+    report: &mut RemeshReport,
+) -> Result<(), RemeshError> {
+    for _ in 0..iterations {
         let splits = remesher.split_long_edges()?;
         let collapses = remesher.collapse_short_edges()?;
         let flips = remesher.flip_edges()?;
@@ -520,25 +549,27 @@ pub fn remesh(
         report.flips += caps;
         report.cap_flips = caps;
     }
-    let mut edit = remesher.mesh;
-    edit.remove_property(feature);
-    edit.remove_property(corner);
-    edit.remove_property(sizing);
-    edit.garbage_collection();
-    let (mean, cv) = edge_length_stats(&edit);
-    let (out, out_positions) = edit.into_mesh()?;
+    Ok(())
+}
+
+/// The result's counts and distance to the input surface (of the vertices in a face),
+/// into `report`.
+fn measure_result(
+    out: &HalfedgeMesh,
+    out_positions: &[DVec3],
+    input: &SurfaceIndex,
+    report: &mut RemeshReport,
+) -> Result<(), RemeshError> {
     report.vertices = out.n_vertices();
     report.faces = out.n_faces();
-    report.mean_edge_length = mean;
-    report.edge_length_cv = cv;
     let on_surface: Vec<DVec3> = out
         .vertices()
         .filter(|&v| !out.is_isolated(v))
         .map(|v| out_positions[v.index()])
         .collect();
-    report.hausdorff = index
+    report.hausdorff = input
         .distances(&on_surface)?
         .into_iter()
         .fold(0.0, f64::max);
-    Ok((out, out_positions, report))
+    Ok(())
 }
