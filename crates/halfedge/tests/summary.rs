@@ -52,7 +52,7 @@ fn several_components_have_no_single_genus() {
 fn an_area_near_the_largest_f64_is_finite_and_one_beyond_it_infinite() {
     // The doubled face area 2.25e308 overflows f64; the area itself, 1.125e308, fits.
     let positions = [DVec3::ZERO, DVec3::X * 1.5e154, DVec3::Y * 1.5e154];
-    let mesh = HalfedgeMesh::from_polygons(3, &[[0u32, 1, 2]]).unwrap();
+    let mesh = HalfedgeMesh::from_polygons(3, [[0u32, 1, 2]]).unwrap();
     let geometry = Geometry::new(&mesh, &positions).unwrap();
     let s = geometry.summary();
     assert!((s.area / 1.125e308 - 1.0).abs() < 1e-12, "{}", s.area);
