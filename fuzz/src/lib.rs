@@ -161,10 +161,7 @@ pub fn check_build_smooth(input: &SmoothInput) {
         1 => NegativeWeights::Clamp,
         _ => NegativeWeights::Abs,
     };
-    let laplacian = LaplacianOptions {
-        normalization,
-        negative,
-    };
+    let laplacian = LaplacianOptions::new().normalization(normalization).negative(negative);
     let pinned: Vec<VertexId> = input
         .pinned
         .iter()

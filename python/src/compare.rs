@@ -3,13 +3,13 @@
 
 use std::time::Instant;
 
-use beltrami_halfedge::TopologyError;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
-    check_same_topology, displacement_stats, one_sided_hausdorff, surface_area, volume,
+    check_same_topology, displacement_stats, one_sided_hausdorff,
 };
+use beltrami_metrics::measures::{closed_volume, surface_area};
 use beltrami_metrics::normals::normal_deviation;
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
@@ -52,15 +52,6 @@ fn needs_faces(mesh: &Mesh, what: &str) -> PyResult<()> {
         )));
     }
     Ok(())
-}
-
-/// The enclosed volume of a closed mesh, `None` for an open one.
-fn closed_volume(mesh: &Mesh) -> Result<Option<f64>, MetricsError> {
-    match volume(&mesh.mesh, &mesh.positions) {
-        Ok(v) => Ok(Some(v)),
-        Err(MetricsError::Topology(TopologyError::NotClosed { .. })) => Ok(None),
-        Err(e) => Err(e),
-    }
 }
 
 fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, MetricsError> {
@@ -128,10 +119,12 @@ fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, 
         Err(MetricsError::TopologyMismatch { .. }) => (None, None),
         Err(e) => return Err(e),
     };
-    let volumes = closed_volume(mesh)?.zip(closed_volume(reference)?);
+    let mesh_geometry = Geometry::new(&mesh.mesh, &mesh.positions)?;
+    let reference_geometry = Geometry::new(&reference.mesh, &reference.positions)?;
+    let volumes = closed_volume(&mesh_geometry)?.zip(closed_volume(&reference_geometry)?);
     let areas = (
-        surface_area(&mesh.mesh, &mesh.positions)?,
-        surface_area(&reference.mesh, &reference.positions)?,
+        surface_area(&mesh_geometry)?,
+        surface_area(&reference_geometry)?,
     );
     Ok(Comparison {
         stats,

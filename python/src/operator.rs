@@ -84,10 +84,9 @@ pub(crate) fn laplacian<'py>(
     let n = mesh.mesh.n_vertices();
     let csr = py.detach(|| {
         no_panic(|| {
-            let options = LaplacianOptions {
-                normalization,
-                negative,
-            };
+            let options = LaplacianOptions::new()
+                .normalization(normalization)
+                .negative(negative);
             let lap = Laplacian::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), options)
                 .map_err(|e| MeshError::new_err(e.to_string()))?;
             let mut data = Vec::new();

@@ -6,8 +6,9 @@ use std::time::{Duration, Instant};
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_smooth::{
-    Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, SmoothError as Error,
-    SmoothReport, Smoother, Statistics, StepStats, WeightUpdate,
+    Boundary, DEFAULT_LAMBDA, DiffusionTime, ImplicitSolver, Method, SmoothConfig,
+    SmoothError as Error, SmoothReport, Smoother, Statistics, StepStats, TAUBIN_LAMBDA,
+    WeightUpdate,
 };
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
 use pyo3::exceptions::PyValueError;
@@ -18,13 +19,7 @@ use crate::errors::{no_panic, smooth_error};
 use crate::mesh::Mesh;
 use crate::weights::scheme;
 
-/// The default λ, and Taubin's classic pair (λ, μ) = (0.6307, −0.6732), whose pass
-/// band `1/λ + 1/μ` is 0.1 (Taubin 1995): the command line's defaults.
-const DEFAULT_LAMBDA: f64 = 0.8;
-const TAUBIN_LAMBDA: f64 = 0.6307;
-const TAUBIN_PASS_BAND: f64 = 0.1;
-const HC_ALPHA: f64 = 0.1;
-const HC_BETA: f64 = 0.6;
+/// The default iteration count, as on the command line.
 const DEFAULT_ITERATIONS: usize = 10;
 
 /// How often a run without observer looks for Ctrl-C.
@@ -127,14 +122,8 @@ impl Options {
                 "cholesky" => ImplicitSolver::Cholesky,
                 _ => ImplicitSolver::conjugate_gradient(),
             }),
-            "taubin" => match self.mu {
-                Some(mu) => Method::Taubin { mu },
-                None => Method::taubin_pass_band(self.lambda(), TAUBIN_PASS_BAND),
-            },
-            "hc" => Method::Hc {
-                alpha: self.hc_alpha.unwrap_or(HC_ALPHA),
-                beta: self.hc_beta.unwrap_or(HC_BETA),
-            },
+            "taubin" => Method::taubin_or_pass_band(self.lambda(), self.mu),
+            "hc" => Method::hc_or_default(self.hc_alpha, self.hc_beta),
             _ => Method::Laplacian,
         }
     }
@@ -162,22 +151,16 @@ impl Options {
                     "once" => WeightUpdate::Once,
                     _ => WeightUpdate::Every,
                 })
-                .laplacian(LaplacianOptions {
-                    normalization,
-                    negative,
-                })
+                .laplacian(
+                    LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(negative),
+                )
                 .pinned(self.pin.iter().copied().map(VertexId::new).collect())
                 .method(self.method())
                 .preserve_volume(self.preserve_volume);
-        if let Some(t) = self.time {
-            config = config.duration(DiffusionTime::Time(t));
-        }
-        if let Some(lc) = self.cutoff {
-            config = config.duration(DiffusionTime::Cutoff(lc));
-        }
-        if let Some(eps) = self.until_change {
-            config = config.until_change(eps);
-        }
+        config.duration = DiffusionTime::from_options(self.time, self.cutoff);
+        config.until_change = self.until_change;
         if !self.step_stats {
             config = config.statistics(Statistics::OnDemand);
         }

@@ -4,9 +4,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use beltrami_halfedge::geometry::VertexAreaKind;
-use beltrami_io::{check_writable, stage_dir};
+use beltrami_io::stage_dir;
 use beltrami_smooth::{Boundary, WeightUpdate};
-use beltrami_study::{Countermeasure, StudyConfig, StudyError, Verdict, run_study, write_study};
+use beltrami_study::{
+    Countermeasure, OutDirError, StudyConfig, StudyError, Verdict, is_study_entry, run_study,
+    write_study,
+};
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, Normalization, WeightScheme};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -16,45 +19,13 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::{io_error, no_panic};
 use crate::weights::{all_schemes, scheme};
 
-/// The entries a study writes into its directory (as the command line knows them).
-const STUDY_ENTRIES: [&str; 7] = [
-    "report.md",
-    "results.csv",
-    "results.json",
-    "countermeasures.csv",
-    "plots",
-    "renders",
-    "scan",
-];
-
 /// Refuses an output directory that holds anything but an earlier study, before the
 /// study runs (`ValueError`), and one that cannot be written (`OSError`).
 fn check_out_dir(dir: &Path) -> PyResult<()> {
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    check_writable(parent.join("report.md")).map_err(|e| io_error(dir, &e))?;
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        if dir.exists() {
-            return Err(PyValueError::new_err(format!(
-                "out {} is not a directory",
-                dir.display()
-            )));
-        }
-        return Ok(());
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let name = name.to_string_lossy();
-        if !STUDY_ENTRIES.contains(&name.as_ref()) {
-            return Err(PyValueError::new_err(format!(
-                "out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
-                dir.display()
-            )));
-        }
-    }
-    Ok(())
+    beltrami_study::check_out_dir(dir, is_study_entry).map_err(|e| match e {
+        OutDirError::Unwritable(source) => io_error(dir, &source),
+        e => PyValueError::new_err(format!("out {e}")),
+    })
 }
 
 /// Every file under `dir`, sorted, as paths starting with `dir`.
@@ -259,38 +230,37 @@ pub(crate) fn study<'py>(
             )));
         }
     };
-    let config = StudyConfig {
-        surfaces,
-        size: if small { Size::Small } else { Size::Paper },
-        schemes,
-        iterations,
-        lambda: lam,
-        noise: if absolute_noise {
+    let config = StudyConfig::default()
+        .surfaces(surfaces)
+        .size(if small { Size::Small } else { Size::Paper })
+        .schemes(schemes)
+        .iterations(iterations)
+        .lambda(lam)
+        .noise(if absolute_noise {
             NoiseLevel::Absolute(noise)
         } else {
             NoiseLevel::RelativeToMeanEdge(noise)
-        },
-        seed,
-        seeds,
-        boundary,
-        update,
-        negative,
-        normalization,
-        countermeasures: if no_countermeasures {
+        })
+        .seed(seed)
+        .seeds(seeds)
+        .boundary(boundary)
+        .update(update)
+        .negative(negative)
+        .normalization(normalization)
+        .countermeasures(if no_countermeasures {
             Vec::new()
         } else {
             Countermeasure::defaults(lam)
-        },
-        countermeasure_scheme: if no_countermeasures {
+        })
+        .countermeasure_scheme(if no_countermeasures {
             None
         } else {
             Some(scheme(countermeasure_weights)?)
-        },
-        edge_comparison: scheme("bilateral").ok().zip(scheme("cotangent").ok()),
-        remesh,
-        timing: true,
-        scan_example: !no_scan_example,
-    };
+        })
+        .edge_comparison(scheme("bilateral").ok().zip(scheme("cotangent").ok()))
+        .remesh(remesh)
+        .timing(true)
+        .scan_example(!no_scan_example);
     config
         .validate()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -55,6 +55,8 @@ use beltrami_metrics::distance::{
 };
 use glam::DMat3;
 
+use crate::error::{algorithm_error, check_finite, check_mesh};
+
 /// The weight of a boundary constraint plane per unit of squared edge length (the face
 /// planes are weighted by area, the same unit).
 const BOUNDARY_WEIGHT: f64 = 1.0;
@@ -383,52 +385,26 @@ pub struct DecimateReport {
     pub hausdorff_from_input: f64,
 }
 
-/// Why [`decimate`] could not run. Every variant names the offending element or value.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum DecimateError {
-    /// A face is not a triangle; decimation needs a triangle mesh.
-    #[error("face {face} has {len} vertices; decimation needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The mesh has no face: there is no surface to decimate.
-    #[error("the mesh has no faces; decimation needs a surface")]
-    NoFaces,
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position")]
-    NonFinite {
-        /// The vertex index.
-        vertex: usize,
-    },
-    /// An option is out of its range.
-    #[error("invalid option: {reason}")]
-    Options {
-        /// The problem in words.
-        reason: String,
-    },
-    /// A collapse the checks allowed was refused: a defect of this crate, reported
-    /// rather than panicking.
-    #[error("the decimated mesh is not valid: {0}")]
-    Edit(#[from] EditError),
-    /// The input or the result did not convert between the frozen and the editable
-    /// mesh.
-    #[error("{0}")]
-    Topology(#[from] TopologyError),
-    /// Measuring the Hausdorff distance failed (a defect: the positions are finite).
-    #[error("measuring the Hausdorff distance: {0}")]
-    Metrics(#[from] MetricsError),
+algorithm_error! {
+    /// Why [`decimate`] could not run. Every variant names the offending element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum DecimateError for "decimation" {
+        /// The mesh has no face: there is no surface to decimate.
+        #[error("the mesh has no faces; decimation needs a surface")]
+        NoFaces,
+        /// A collapse the checks allowed was refused: a defect of this crate, reported
+        /// rather than panicking.
+        #[error("the decimated mesh is not valid: {0}")]
+        Edit(#[from] EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+        /// Measuring the Hausdorff distance failed (a defect: the positions are finite).
+        #[error("measuring the Hausdorff distance: {0}")]
+        Metrics(#[from] MetricsError),
+    }
 }
 
 /// A symmetric 4 × 4 quadric `Q(x) = xᵀAx + 2bᵀx + c` with the total weight of its
@@ -1356,24 +1332,11 @@ pub fn decimate(
     positions: &[DVec3],
     options: &DecimateOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(DecimateError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(DecimateError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
+    check_mesh(mesh, positions)?;
     if mesh.n_faces() == 0 {
         return Err(DecimateError::NoFaces);
     }
-    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(DecimateError::NonFinite { vertex: v });
-    }
+    check_finite(positions)?;
     options.validate()?;
     let target = options.target_count(mesh.n_vertices());
     let edit = EditMesh::from_mesh(mesh, positions)?;

@@ -23,7 +23,7 @@ use std::collections::VecDeque;
 use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh};
 use beltrami_metrics::distance::SurfaceIndex;
 
-use crate::error::DelaunayError;
+use crate::error::{DelaunayError, check_finite, check_mesh};
 use crate::quality::{NEGATIVE_COT_TOLERANCE, corner_cot};
 
 /// The settings of [`delaunay_flip`].
@@ -170,21 +170,8 @@ pub fn delaunay_flip(
     positions: &[DVec3],
     options: DelaunayOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, DelaunayReport), DelaunayError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(DelaunayError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(DelaunayError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
-    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(DelaunayError::NonFinite { vertex: v });
-    }
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
     if let Some(d) = options.max_dihedral
         && (d.is_nan() || d < 0.0)
     {

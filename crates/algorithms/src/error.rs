@@ -1,6 +1,106 @@
-//! Errors of `beltrami-algorithms`.
+//! Errors of `beltrami-algorithms`, and the input checks the algorithms share.
 
-use beltrami_halfedge::TopologyError;
+use beltrami_halfedge::{DVec3, HalfedgeMesh, TopologyError};
+
+/// A problem with an algorithm's input, found by the checks every algorithm of this crate
+/// makes first ([`check_mesh`], [`check_finite`]). Each algorithm's error has a variant
+/// of the same name and fields for it (see [`algorithm_error!`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum InputProblem {
+    /// The positions slice does not have one position per vertex.
+    PositionCount { positions: usize, vertices: usize },
+    /// A face is not a triangle (the first one, by index).
+    NotTriangle { face: usize, len: usize },
+    /// A position is NaN or infinite (the first one, by index).
+    NonFinite { vertex: usize },
+}
+
+/// Checks that `positions` has one position per vertex of `mesh` and that every face of
+/// `mesh` is a triangle, in this order.
+pub(crate) fn check_mesh(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<(), InputProblem> {
+    if positions.len() != mesh.n_vertices() {
+        return Err(InputProblem::PositionCount {
+            positions: positions.len(),
+            vertices: mesh.n_vertices(),
+        });
+    }
+    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
+        return Err(InputProblem::NotTriangle {
+            face: f.index(),
+            len: mesh.face_valence(f),
+        });
+    }
+    Ok(())
+}
+
+/// Checks that every position is finite.
+pub(crate) fn check_finite(positions: &[DVec3]) -> Result<(), InputProblem> {
+    match positions.iter().position(|p| !p.is_finite()) {
+        Some(vertex) => Err(InputProblem::NonFinite { vertex }),
+        None => Ok(()),
+    }
+}
+
+/// Declares the error enum of an algorithm that takes a triangle mesh, its positions and
+/// options: the variants every such algorithm shares (`NotTriangle`, `PositionCount`,
+/// `NonFinite`, `Options`), then the algorithm's own, and the conversion from an
+/// [`InputProblem`]. `for "…"` names the algorithm in the `NotTriangle` message
+/// ("face 3 has 4 vertices; remeshing needs a triangle mesh").
+macro_rules! algorithm_error {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident for $what:literal {
+            $($own:tt)*
+        }
+    ) => {
+        $(#[$meta])*
+        pub enum $name {
+            /// A face is not a triangle; the algorithm needs a triangle mesh.
+            #[error("face {face} has {len} vertices; {what} needs a triangle mesh", what = $what)]
+            NotTriangle {
+                /// The face index (0-based, in mesh order).
+                face: usize,
+                /// The number of vertices it has.
+                len: usize,
+            },
+            /// The positions slice does not have one position per vertex.
+            #[error("{positions} positions were given for a mesh of {vertices} vertices")]
+            PositionCount {
+                /// The length of the positions slice.
+                positions: usize,
+                /// The number of vertices of the mesh.
+                vertices: usize,
+            },
+            /// A position is NaN or infinite.
+            #[error("vertex {vertex} has a non-finite position")]
+            NonFinite {
+                /// The vertex index.
+                vertex: usize,
+            },
+            /// An option is out of its range.
+            #[error("invalid option: {reason}")]
+            Options {
+                /// The problem in words.
+                reason: String,
+            },
+            $($own)*
+        }
+
+        impl From<$crate::error::InputProblem> for $name {
+            fn from(problem: $crate::error::InputProblem) -> Self {
+                use $crate::error::InputProblem as P;
+                match problem {
+                    P::PositionCount { positions, vertices } => {
+                        Self::PositionCount { positions, vertices }
+                    }
+                    P::NotTriangle { face, len } => Self::NotTriangle { face, len },
+                    P::NonFinite { vertex } => Self::NonFinite { vertex },
+                }
+            }
+        }
+    };
+}
+pub(crate) use algorithm_error;
 
 /// Why a mesh could not be subdivided. Every variant names the offending element or
 /// count.
@@ -46,48 +146,22 @@ pub enum SubdivisionError {
     Topology(#[from] TopologyError),
 }
 
-/// Why [`delaunay_flip`](crate::delaunay_flip) could not run. Every variant names the
-/// offending element or value.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum DelaunayError {
-    /// A face is not a triangle; flips need a triangle mesh.
-    #[error("face {face} has {len} vertices; Delaunay flipping needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position")]
-    NonFinite {
-        /// The vertex index.
-        vertex: usize,
-    },
-    /// An option is out of its range.
-    #[error("invalid option: {reason}")]
-    Options {
-        /// The problem in words.
-        reason: String,
-    },
-    /// A flip the checks allowed was refused, or the result did not convert back to a
-    /// mesh: a defect of this crate, reported rather than panicking.
-    #[error("the flipped mesh is not valid: {0}")]
-    Edit(#[from] beltrami_halfedge::EditError),
-    /// The input or the result did not convert between the frozen and the editable
-    /// mesh.
-    #[error("{0}")]
-    Topology(#[from] TopologyError),
-    /// Measuring the change of the surface failed (a defect: the positions are finite).
-    #[error("measuring the deviation: {0}")]
-    Metrics(#[from] beltrami_metrics::MetricsError),
+algorithm_error! {
+    /// Why [`delaunay_flip`](crate::delaunay_flip) could not run. Every variant names the
+    /// offending element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum DelaunayError for "Delaunay flipping" {
+        /// A flip the checks allowed was refused, or the result did not convert back to a
+        /// mesh: a defect of this crate, reported rather than panicking.
+        #[error("the flipped mesh is not valid: {0}")]
+        Edit(#[from] beltrami_halfedge::EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+        /// Measuring the change of the surface failed (a defect: the positions are finite).
+        #[error("measuring the deviation: {0}")]
+        Metrics(#[from] beltrami_metrics::MetricsError),
+    }
 }

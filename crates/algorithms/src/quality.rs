@@ -29,6 +29,8 @@
 
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh};
 
+use crate::error::{InputProblem, check_finite, check_mesh};
+
 /// The upper ends of the aspect-ratio histogram's bins: `[1, 1.5)`, `[1.5, 2)`,
 /// `[2, 3)`, `[3, 5)`, `[5, 10)` and `[10, ∞)`.
 pub const ASPECT_RATIO_BINS: [f64; 5] = [1.5, 2.0, 3.0, 5.0, 10.0];
@@ -140,22 +142,25 @@ pub enum QualityError {
     },
 }
 
+impl From<InputProblem> for QualityError {
+    fn from(problem: InputProblem) -> Self {
+        match problem {
+            InputProblem::PositionCount {
+                positions,
+                vertices,
+            } => Self::PositionCount {
+                positions,
+                vertices,
+            },
+            InputProblem::NotTriangle { face, len } => Self::NotTriangle { face, len },
+            InputProblem::NonFinite { vertex } => Self::NonFinite { vertex },
+        }
+    }
+}
+
 fn check(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<(), QualityError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(QualityError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(QualityError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
-    if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(QualityError::NonFinite { vertex });
-    }
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
     Ok(())
 }
 

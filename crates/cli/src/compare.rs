@@ -9,15 +9,15 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use beltrami_halfedge::TopologyError;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_bytes, stage_ply};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
     DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
     check_same_topology, displacement_stats, one_sided_hausdorff,
-    one_sided_hausdorff_from_vertex_distances, surface_area, volume,
+    one_sided_hausdorff_from_vertex_distances,
 };
+use beltrami_metrics::measures::{closed_volume, surface_area};
 use beltrami_metrics::normals::{NormalDeviation, normal_deviation};
 use beltrami_viz::render::ColorMap;
 use serde::Serialize;
@@ -193,8 +193,10 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
 
     let mut notes = Notes::default();
     let (displacement, normals) = vertex_to_vertex(args, &mesh, &reference, &mut notes)?;
-    let mesh_volume = closed_volume(&mesh).map_err(&on_mesh)?;
-    let reference_volume = closed_volume(&reference).map_err(&on_reference)?;
+    let mesh_geometry = geometry(&mesh).map_err(&on_mesh)?;
+    let reference_geometry = geometry(&reference).map_err(&on_reference)?;
+    let mesh_volume = closed_volume(&mesh_geometry).map_err(&on_mesh)?;
+    let reference_volume = closed_volume(&reference_geometry).map_err(&on_reference)?;
     notes.volume = match (mesh_volume, reference_volume) {
         (Some(_), Some(_)) => String::new(),
         (None, Some(_)) => format!("{} is open", args.mesh.display()),
@@ -202,8 +204,8 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         (None, None) => "both meshes are open".to_string(),
     };
     let area = Areas {
-        mesh: surface_area(&mesh.mesh, &mesh.positions).map_err(&on_mesh)?,
-        reference: surface_area(&reference.mesh, &reference.positions).map_err(&on_reference)?,
+        mesh: surface_area(&mesh_geometry).map_err(&on_mesh)?,
+        reference: surface_area(&reference_geometry).map_err(&on_reference)?,
     };
     let scalars = write_outputs(args, &mesh, &d.signed)?;
 
@@ -453,13 +455,9 @@ fn summary(path: &Path, loaded: &LoadedMesh) -> MeshSummary {
     }
 }
 
-/// The enclosed volume of a closed mesh, `None` for an open one.
-fn closed_volume(loaded: &LoadedMesh) -> Result<Option<f64>, MetricsError> {
-    match volume(&loaded.mesh, &loaded.positions) {
-        Ok(v) => Ok(Some(v)),
-        Err(MetricsError::Topology(TopologyError::NotClosed { .. })) => Ok(None),
-        Err(e) => Err(e),
-    }
+/// The geometry of a loaded mesh.
+fn geometry(loaded: &LoadedMesh) -> Result<Geometry<'_>, MetricsError> {
+    Ok(Geometry::new(&loaded.mesh, &loaded.positions)?)
 }
 
 fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::Result<()> {

@@ -5,9 +5,8 @@ use std::path::PathBuf;
 
 use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
 use beltrami_algorithms::{MeshQuality, QualityError, flipped_faces, mesh_quality};
+use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_io::MeshFormat;
 use serde::Serialize;
 
 use crate::error::{CliError, not_triangles};
@@ -234,57 +233,31 @@ fn histogram(counts: &[usize]) -> String {
     }
 }
 
-fn format_name(format: MeshFormat) -> &'static str {
-    match format {
-        MeshFormat::Ply => "PLY",
-        MeshFormat::Stl => "STL",
-        MeshFormat::Obj => "OBJ",
-        MeshFormat::Off => "OFF",
-        MeshFormat::X3p => "X3P",
-        MeshFormat::Sdf => "SDF",
-        _ => "mesh",
-    }
-}
-
 fn summarise(args: &InfoArgs, loaded: &LoadedMesh, quality: Option<QualityJson>) -> Summary {
-    let mesh = &loaded.mesh;
-    let geometry =
-        Geometry::new(mesh, &loaded.positions).expect("the loader gives one position per vertex");
-    let mut loop_lengths: Vec<usize> = mesh.boundary_loops().map(|l| l.len()).collect();
-    loop_lengths.sort_unstable_by(|a, b| b.cmp(a));
-    let bbox = geometry.bounding_box();
-    let triangle_mesh = mesh.is_triangle_mesh();
-    let components = mesh.connected_components();
-    let component_genus: Vec<Option<u32>> =
-        components.summaries.iter().map(|c| c.genus()).collect();
-    let degenerate_faces = mesh
-        .faces()
-        .filter(|&f| geometry.is_degenerate_face(f))
-        .count();
+    let s = Geometry::new(&loaded.mesh, &loaded.positions)
+        .expect("the loader gives one position per vertex")
+        .summary();
     Summary {
         file: args.mesh.display().to_string(),
-        format: format_name(loaded.format),
-        vertices: mesh.n_vertices(),
-        faces: mesh.n_faces(),
-        edges: mesh.n_edges(),
-        triangle_mesh,
-        boundary_loops: loop_lengths.len(),
-        boundary_loop_lengths: loop_lengths,
-        components: components.count(),
-        euler_characteristic: mesh.euler_characteristic(),
-        closed: mesh.n_faces() > 0 && mesh.is_closed(),
-        genus: match component_genus.as_slice() {
-            [only] => *only,
-            _ => None,
-        },
-        component_genus,
-        isolated_vertices: mesh.vertices().filter(|&v| mesh.is_isolated(v)).count(),
-        degenerate_faces,
-        bbox_min: bbox.map(|(lo, _)| lo.to_array()),
-        bbox_max: bbox.map(|(_, hi)| hi.to_array()),
-        mean_edge_length: geometry.mean_edge_length(),
-        area: surface_area(&geometry, mesh, &loaded.positions),
-        volume: geometry.volume().ok(),
+        format: loaded.format.name(),
+        vertices: s.vertices,
+        faces: s.faces,
+        edges: s.edges,
+        triangle_mesh: s.triangle_mesh,
+        boundary_loops: s.boundary_loop_lengths.len(),
+        boundary_loop_lengths: s.boundary_loop_lengths,
+        components: s.components,
+        euler_characteristic: s.euler_characteristic,
+        closed: s.closed,
+        genus: s.genus,
+        component_genus: s.component_genus,
+        isolated_vertices: s.isolated_vertices,
+        degenerate_faces: s.degenerate_faces,
+        bbox_min: s.bounding_box.map(|(lo, _)| lo.to_array()),
+        bbox_max: s.bounding_box.map(|(_, hi)| hi.to_array()),
+        mean_edge_length: s.mean_edge_length,
+        area: s.area,
+        volume: s.volume,
         repairs: RepairJson::from(&loaded.repair.clone().unwrap_or_default()),
         quality,
     }
@@ -324,31 +297,6 @@ fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, 
         }
     };
     Ok(QualityJson::new(&quality, flipped))
-}
-
-/// The surface area, computed again at a power-of-two scale when the face areas
-/// overflow (coordinates beyond about 1e154), so that `inf` means that the true area
-/// is beyond `f64`.
-fn surface_area(geometry: &Geometry<'_>, mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
-    let area = geometry.surface_area();
-    if area.is_finite() {
-        return area;
-    }
-    let largest = positions
-        .iter()
-        .map(|p| p.abs().max_element())
-        .fold(0.0f64, f64::max);
-    if !largest.is_finite() || largest == 0.0 {
-        return area;
-    }
-    // 2^-k with 2^k near the largest coordinate: exact scaling, areas scale by 4^-k.
-    let k = largest.log2().ceil();
-    let scale = (-k).exp2();
-    let scaled: Vec<DVec3> = positions.iter().map(|p| *p * scale).collect();
-    match Geometry::new(mesh, &scaled) {
-        Ok(g) => g.surface_area() * (2.0 * k).exp2(),
-        Err(_) => area,
-    }
 }
 
 /// Runs `beltrami info`.

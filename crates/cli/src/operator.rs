@@ -187,17 +187,16 @@ pub(crate) fn run(
             }
         }
         Some(scheme) => {
-            let options = LaplacianOptions {
-                normalization: match args.normalize {
+            let options = LaplacianOptions::new()
+                .normalization(match args.normalize {
                     NormalizeArg::Sum => Normalization::WeightSum,
                     NormalizeArg::Area => Normalization::Area(kind),
-                },
-                negative: match args.cotangent_negative {
+                })
+                .negative(match args.cotangent_negative {
                     NegativeArg::Keep => NegativeWeights::Keep,
                     NegativeArg::Clamp => NegativeWeights::Clamp,
                     NegativeArg::Abs => NegativeWeights::Abs,
-                },
-            };
+                });
             let lap = Laplacian::new(&loaded.mesh, &loaded.positions, scheme.as_ref(), options)
                 .map_err(|e| input_error(e.to_string()))?;
             laplacian_csr(&lap, loaded.mesh.n_vertices())

@@ -493,6 +493,19 @@ fn form_summary(form: &FittedForm, flipped: bool) -> FormSummary {
 type Row = (&'static str, String, String);
 
 fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
+    write_heading(s, out)?;
+    for (title, rows) in parameter_sections(s) {
+        writeln!(out, "{title}")?;
+        for (key, value, what) in rows {
+            writeln!(out, "{key:<5} {value:<24} {what}")?;
+        }
+    }
+    write_notes(s, out)
+}
+
+/// The table's first lines: what the residual is, of which mesh, and how heights are
+/// measured.
+fn write_heading(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
     match (&s.form, &s.smoothed) {
         (Some(form), _) => {
             let what = match form.degree {
@@ -557,11 +570,16 @@ fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
             "exact-interpolant"
         }
     )?;
+    Ok(())
+}
+
+/// The parameters by section: the titles and the rows of each.
+fn parameter_sections(s: &Summary) -> [(&'static str, Vec<Row>); 5] {
     let dimensionless = |x: Option<f64>| x.map_or_else(|| "- (Sq = 0)".to_string(), number);
     let percent = |x: f64| format!("{} %", number(x));
     let spatial = |x: Option<f64>| x.map_or_else(|| "-".to_string(), number);
     let (p, q) = VOLUME_RATIOS;
-    let sections: [(&str, Vec<Row>); 5] = [
+    [
         (
             "height",
             vec![
@@ -685,13 +703,12 @@ fn write_table(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
                 ),
             ],
         ),
-    ];
-    for (title, rows) in sections {
-        writeln!(out, "{title}")?;
-        for (key, value, what) in rows {
-            writeln!(out, "{key:<5} {value:<24} {what}")?;
-        }
-    }
+    ]
+}
+
+/// The lines under the parameters: the spatial grid, the material ratios asked for and
+/// the scalar file.
+fn write_notes(s: &Summary, out: &mut impl Write) -> std::io::Result<()> {
     match (&s.spatial.unavailable, s.spatial.step) {
         (Some(why), _) => writeln!(out, "spatial parameters unavailable: {why}")?,
         (None, Some(step)) => writeln!(

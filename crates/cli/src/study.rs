@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use beltrami_io::MeshData;
-use beltrami_io::{check_writable, stage_dir};
+use beltrami_io::stage_dir;
 use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_study::{
-    Countermeasure, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig, Verdict, run_scan,
-    run_study, sig, write_scan, write_study,
+    Countermeasure, OutDirError, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig,
+    Verdict, is_scan_entry, is_study_entry, run_scan, run_study, sig, write_scan, write_study,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{WeightRegistry, WeightScheme};
@@ -189,102 +189,70 @@ fn config(args: &StudyArgs, registry: &WeightRegistry) -> Result<StudyConfig, Cl
             .map(|w| registry.get(w))
             .collect::<Result<_, _>>()?
     };
-    let config = StudyConfig {
-        surfaces,
-        size: if args.small { Size::Small } else { Size::Paper },
-        schemes,
-        iterations: args.iterations.clone(),
-        lambda: args.lambda,
-        noise: if args.absolute_noise {
+    let config = StudyConfig::paper(registry)
+        .surfaces(surfaces)
+        .size(if args.small { Size::Small } else { Size::Paper })
+        .schemes(schemes)
+        .iterations(args.iterations.clone())
+        .lambda(args.lambda)
+        .noise(if args.absolute_noise {
             NoiseLevel::Absolute(args.noise)
         } else {
             NoiseLevel::RelativeToMeanEdge(args.noise)
-        },
-        seed: args.seed,
-        seeds: args.seeds,
-        boundary: match args.boundary {
+        })
+        .seed(args.seed)
+        .seeds(args.seeds)
+        .boundary(match args.boundary {
             BoundaryArg::Fixed => Boundary::Fixed,
             BoundaryArg::Free => Boundary::Free,
             BoundaryArg::Curve => Boundary::Curve,
-        },
-        update: match args.update {
+        })
+        .update(match args.update {
             UpdateArg::Every => WeightUpdate::Every,
             UpdateArg::Once => WeightUpdate::Once,
-        },
-        negative: args.cotangent_negative.policy(),
-        normalization: normalization(args.normalize, args.vertex_area),
-        countermeasures: if args.no_countermeasures {
+        })
+        .negative(args.cotangent_negative.policy())
+        .normalization(normalization(args.normalize, args.vertex_area))
+        .countermeasures(if args.no_countermeasures {
             Vec::new()
         } else {
             Countermeasure::defaults(args.lambda)
-        },
-        countermeasure_scheme: if args.no_countermeasures {
+        })
+        .countermeasure_scheme(if args.no_countermeasures {
             None
         } else {
             Some(registry.get(&args.countermeasure_weights)?)
-        },
-        edge_comparison: registry
-            .get("bilateral")
-            .ok()
-            .zip(registry.get("cotangent").ok()),
-        remesh: match (args.no_remesh, args.remesh, args.remesh_relative) {
+        })
+        .edge_comparison(
+            registry
+                .get("bilateral")
+                .ok()
+                .zip(registry.get("cotangent").ok()),
+        )
+        .remesh(match (args.no_remesh, args.remesh, args.remesh_relative) {
             (true, ..) => None,
             (_, Some(l), _) => Some(beltrami_study::default_remesh().edge_length(l)),
             (_, _, Some(r)) => Some(beltrami_study::default_remesh().relative_edge_length(r)),
             _ => Some(beltrami_study::default_remesh()),
-        },
-        timing: true,
-        scan_example: !args.no_scan_example,
-    };
+        })
+        .timing(true)
+        .scan_example(!args.no_scan_example);
     config
         .validate()
         .map_err(|e| CliError::Usage(e.to_string()))?;
     Ok(config)
 }
 
-/// The entries a study writes into its directory.
-const STUDY_ENTRIES: [&str; 7] = [
-    "report.md",
-    "results.csv",
-    "results.json",
-    "countermeasures.csv",
-    "plots",
-    "renders",
-    "scan",
-];
-
-/// Refuses an output directory that holds anything but an earlier study (which the
-/// new one replaces), before the study runs: `is_entry` names what a study writes
-/// there (the paper's study or, with `--input`, the study of a given surface).
+/// Refuses an output directory that holds anything but an earlier study (see
+/// [`beltrami_study::check_out_dir`]), before the study runs.
 fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), CliError> {
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    check_writable(parent.join("report.md")).map_err(|source| CliError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        if dir.exists() {
-            return Err(CliError::Usage(format!(
-                "--out {} is not a directory",
-                dir.display()
-            )));
-        }
-        return Ok(());
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let name = name.to_string_lossy();
-        if !is_entry(&name) {
-            return Err(CliError::Usage(format!(
-                "--out {} holds '{name}', which a study does not write; give a new or empty directory, or one holding an earlier study (which is replaced)",
-                dir.display()
-            )));
-        }
-    }
-    Ok(())
+    beltrami_study::check_out_dir(dir, is_entry).map_err(|e| match e {
+        OutDirError::Unwritable(source) => CliError::Io {
+            path: dir.to_path_buf(),
+            source,
+        },
+        e => CliError::Usage(format!("--out {e}")),
+    })
 }
 
 /// A progress bar per run on a terminal; nothing otherwise.
@@ -331,7 +299,7 @@ pub(crate) fn run(
         return run_input(args, input, registry, out);
     }
     let config = config(args, registry)?;
-    check_out_dir(&args.out, |name| STUDY_ENTRIES.contains(&name))?;
+    check_out_dir(&args.out, is_study_entry)?;
     let mut progress = terminal_progress();
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
     let io = |source| CliError::Io {
@@ -365,19 +333,6 @@ pub(crate) fn run(
         writeln!(out, "  {mark}  {}", f.id)?;
     }
     Ok(())
-}
-
-/// The entries a study of one given surface writes into its directory (besides
-/// `best-<scheme>-<method>.ply`).
-const SCAN_ENTRIES: [&str; 4] = ["report.md", "results.csv", "results.json", "timings.csv"];
-
-/// Whether `name` is an entry a study of one given surface writes.
-fn is_scan_entry(name: &str) -> bool {
-    SCAN_ENTRIES.contains(&name)
-        || (name.starts_with("best-")
-            && Path::new(name)
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("ply")))
 }
 
 /// The configuration of `study --input`.

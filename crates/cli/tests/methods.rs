@@ -347,10 +347,8 @@ fn implicit_steps_match_the_library_and_take_a_physical_time() {
         "--vertex-area",
         "barycentric",
     ]);
-    let area = LaplacianOptions {
-        normalization: Normalization::Area(VertexAreaKind::Barycentric),
-        ..LaplacianOptions::default()
-    };
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::Barycentric));
     let t = DiffusionTime::Cutoff(0.5).time();
     let expected = smooth(
         &mesh,

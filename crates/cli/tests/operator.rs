@@ -63,10 +63,7 @@ fn library_laplacian(path: &Path, normalization: Normalization) -> Vec<Entry> {
     let data = read_mesh(path).unwrap();
     let mesh = data.mesh().unwrap();
     let scheme = WeightRegistry::with_builtins().get("cotangent").unwrap();
-    let options = LaplacianOptions {
-        normalization,
-        ..LaplacianOptions::default()
-    };
+    let options = LaplacianOptions::new().normalization(normalization);
     let lap = Laplacian::new(&mesh, &data.positions, scheme.as_ref(), options).unwrap();
     let mut triples = Vec::new();
     for i in 0..mesh.n_vertices() {

@@ -42,10 +42,19 @@ pub struct HalfedgeMesh {
     pub(crate) f_he: Vec<u32>,
 }
 
+/// The link `raw`, `None` when it is [`INVALID`].
 #[inline]
-fn opt(raw: u32) -> Option<u32> {
+pub(crate) fn opt(raw: u32) -> Option<u32> {
     (raw != INVALID).then_some(raw)
 }
+
+crate::circulators::navigation!(
+    HalfedgeMesh,
+    outgoing: "An outgoing halfedge of `v`, `None` for an isolated vertex. For a boundary vertex \
+               it is the outgoing boundary halfedge; for an interior vertex, the halfedge leaving \
+               it in its last face in input order (as in OpenMesh).",
+    face_halfedge: "The halfedge of face `f` that ends at the face's first vertex."
+);
 
 impl HalfedgeMesh {
     /// The number of vertices, isolated ones included.
@@ -92,113 +101,6 @@ impl HalfedgeMesh {
         IdRange::new(self.n_faces())
     }
 
-    /// The vertex `h` points to.
-    #[inline]
-    #[must_use]
-    pub fn to_vertex(&self, h: HalfedgeId) -> VertexId {
-        VertexId::new(self.h_to[h.index()])
-    }
-
-    /// The vertex `h` starts from (the target of its twin).
-    #[inline]
-    #[must_use]
-    pub fn from_vertex(&self, h: HalfedgeId) -> VertexId {
-        VertexId::new(self.h_to[h.twin().index()])
-    }
-
-    /// The next halfedge along the face (or boundary loop) of `h`.
-    #[inline]
-    #[must_use]
-    pub fn next(&self, h: HalfedgeId) -> HalfedgeId {
-        HalfedgeId::new(self.h_next[h.index()])
-    }
-
-    /// The previous halfedge along the face (or boundary loop) of `h`.
-    #[inline]
-    #[must_use]
-    pub fn prev(&self, h: HalfedgeId) -> HalfedgeId {
-        HalfedgeId::new(self.h_prev[h.index()])
-    }
-
-    /// The face `h` belongs to, `None` for a boundary halfedge.
-    #[inline]
-    #[must_use]
-    pub fn face(&self, h: HalfedgeId) -> Option<FaceId> {
-        opt(self.h_face[h.index()]).map(FaceId::new)
-    }
-
-    /// An outgoing halfedge of `v`, `None` for an isolated vertex. For a boundary vertex
-    /// it is the outgoing boundary halfedge; for an interior vertex, the halfedge leaving
-    /// it in its last face in input order (as in OpenMesh).
-    #[inline]
-    #[must_use]
-    pub fn outgoing_halfedge(&self, v: VertexId) -> Option<HalfedgeId> {
-        opt(self.v_out[v.index()]).map(HalfedgeId::new)
-    }
-
-    /// The halfedge of face `f` that ends at the face's first vertex.
-    #[inline]
-    #[must_use]
-    pub fn face_halfedge(&self, f: FaceId) -> HalfedgeId {
-        HalfedgeId::new(self.f_he[f.index()])
-    }
-
-    /// Rotates an outgoing halfedge counter-clockwise around its start vertex:
-    /// `twin(prev(h))`.
-    #[inline]
-    #[must_use]
-    pub fn ccw_rotated(&self, h: HalfedgeId) -> HalfedgeId {
-        self.prev(h).twin()
-    }
-
-    /// Rotates an outgoing halfedge clockwise around its start vertex: `next(twin(h))`.
-    #[inline]
-    #[must_use]
-    pub fn cw_rotated(&self, h: HalfedgeId) -> HalfedgeId {
-        self.next(h.twin())
-    }
-
-    /// The two vertices of an edge, `[from, to]` of its halfedge `2e`.
-    #[inline]
-    #[must_use]
-    pub fn edge_vertices(&self, e: EdgeId) -> [VertexId; 2] {
-        let [h, t] = e.halfedges();
-        [self.to_vertex(t), self.to_vertex(h)]
-    }
-
-    /// Whether `h` is a boundary halfedge (has no face).
-    #[inline]
-    #[must_use]
-    pub fn is_boundary_halfedge(&self, h: HalfedgeId) -> bool {
-        self.h_face[h.index()] == INVALID
-    }
-
-    /// Whether either halfedge of `e` is a boundary halfedge.
-    #[inline]
-    #[must_use]
-    pub fn is_boundary_edge(&self, e: EdgeId) -> bool {
-        let [a, b] = e.halfedges();
-        self.is_boundary_halfedge(a) || self.is_boundary_halfedge(b)
-    }
-
-    /// Whether `v` lies on the boundary. O(1). An isolated vertex counts as boundary
-    /// (it has no closed fan around it), as in OpenMesh.
-    #[inline]
-    #[must_use]
-    pub fn is_boundary_vertex(&self, v: VertexId) -> bool {
-        match self.outgoing_halfedge(v) {
-            None => true,
-            Some(h) => self.is_boundary_halfedge(h),
-        }
-    }
-
-    /// Whether `v` has no incident edge.
-    #[inline]
-    #[must_use]
-    pub fn is_isolated(&self, v: VertexId) -> bool {
-        self.v_out[v.index()] == INVALID
-    }
-
     /// Whether face `f` has at least one boundary edge.
     #[must_use]
     pub fn is_boundary_face(&self, f: FaceId) -> bool {
@@ -223,39 +125,6 @@ impl HalfedgeMesh {
     #[must_use]
     pub fn n_boundary_halfedges(&self) -> usize {
         self.h_face.iter().filter(|&&f| f == INVALID).count()
-    }
-
-    /// The number of edges at `v` (its vertex degree). 0 for an isolated vertex.
-    ///
-    /// # Complexity
-    /// O(valence).
-    #[must_use]
-    pub fn valence(&self, v: VertexId) -> usize {
-        self.halfedges_around_vertex(v).count()
-    }
-
-    /// The number of vertices (= edges) of face `f`.
-    #[must_use]
-    pub fn face_valence(&self, f: FaceId) -> usize {
-        self.halfedges_around_face(f).count()
-    }
-
-    /// The halfedge from `from` to `to`, if they are joined by an edge.
-    ///
-    /// # Complexity
-    /// O(valence of `from`).
-    #[must_use]
-    pub fn find_halfedge(&self, from: VertexId, to: VertexId) -> Option<HalfedgeId> {
-        self.halfedges_around_vertex(from)
-            .find(|&h| self.to_vertex(h) == to)
-    }
-
-    /// The vertex opposite halfedge `h` in its triangle: `to_vertex(next(h))`. `None` for a
-    /// boundary halfedge. Meaningful for triangles only.
-    #[inline]
-    #[must_use]
-    pub fn opposite_vertex(&self, h: HalfedgeId) -> Option<VertexId> {
-        (!self.is_boundary_halfedge(h)).then(|| self.to_vertex(self.next(h)))
     }
 
     /// The vertices of triangle `f` in input order, `[v0, v1, v2]`.

@@ -23,6 +23,20 @@ pub enum MeshFormat {
 }
 
 impl MeshFormat {
+    /// The format's name in capitals, as `beltrami info` prints it: `PLY`, `STL`, `OBJ`,
+    /// `OFF`, `X3P` or `SDF`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ply => "PLY",
+            Self::Stl => "STL",
+            Self::Obj => "OBJ",
+            Self::Off => "OFF",
+            Self::X3p => "X3P",
+            Self::Sdf => "SDF",
+        }
+    }
+
     /// Whether the format stores a height map (X3P, SDF) rather than a mesh.
     #[must_use]
     pub fn is_height_map(self) -> bool {

@@ -1,11 +1,12 @@
 //! Enclosed volume and surface area of a mesh, for comparing a mesh with its reference.
 //!
-//! Both are checked wrappers of the [`Geometry`] queries: they reject a mesh without
-//! faces, positions that do not match the mesh and non-finite positions with a
-//! [`MetricsError`]. They are also re-exported from [`distance`](crate::distance).
+//! Both take a [`Geometry`], like the other metrics, and are checked wrappers of its
+//! queries: they reject a mesh without faces and non-finite positions with a
+//! [`MetricsError`] (positions that do not match the mesh are refused by
+//! [`Geometry::new`]). They are also re-exported from [`distance`](crate::distance).
 
+use beltrami_halfedge::TopologyError;
 use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use crate::MetricsError;
 
@@ -19,48 +20,73 @@ use crate::MetricsError;
 ///
 /// # Examples
 /// ```
+/// use beltrami_halfedge::geometry::Geometry;
 /// use beltrami_halfedge::primitives;
-/// use beltrami_metrics::measures::volume;
+/// use beltrami_metrics::measures::{surface_area, volume};
 /// let cube = primitives::cube();
-/// assert!((volume(&cube.mesh()?, &cube.positions)? - 1.0).abs() < 1e-15);
+/// let mesh = cube.mesh()?;
+/// let geometry = Geometry::new(&mesh, &cube.positions)?;
+/// assert!((volume(&geometry)? - 1.0).abs() < 1e-15);
+/// assert!((surface_area(&geometry)? - 6.0).abs() < 1e-15);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
 /// # Errors
 /// [`MetricsError::Empty`] for a mesh without faces;
 /// [`MetricsError::Topology`] with
-/// [`TopologyError::NotClosed`](beltrami_halfedge::TopologyError::NotClosed) for an open
-/// mesh, or `PositionCount` when `positions` does not match; [`MetricsError::NonFinite`]
-/// for a non-finite position.
-pub fn volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<f64, MetricsError> {
-    let geometry = checked(mesh, positions)?;
+/// [`TopologyError::NotClosed`] for an open
+/// mesh; [`MetricsError::NonFinite`] for a non-finite position.
+pub fn volume(geometry: &Geometry<'_>) -> Result<f64, MetricsError> {
+    check(geometry)?;
     Ok(geometry.volume()?)
+}
+
+/// The enclosed volume of a closed mesh, in unit³, `None` for an open one: [`volume`]
+/// with the open mesh not an error.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::geometry::Geometry;
+/// use beltrami_halfedge::primitives;
+/// use beltrami_metrics::measures::closed_volume;
+/// let grid = primitives::grid(2, 2);
+/// let mesh = grid.mesh()?;
+/// assert_eq!(closed_volume(&Geometry::new(&mesh, &grid.positions)?)?, None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// [`MetricsError::Empty`] for a mesh without faces; [`MetricsError::NonFinite`] for a
+/// non-finite position.
+pub fn closed_volume(geometry: &Geometry<'_>) -> Result<Option<f64>, MetricsError> {
+    match volume(geometry) {
+        Ok(v) => Ok(Some(v)),
+        Err(MetricsError::Topology(TopologyError::NotClosed { .. })) => Ok(None),
+        Err(e) => Err(e),
+    }
 }
 
 /// The total area of a mesh's faces, in unit² (compensated sum of the face areas; a thin
 /// wrapper of [`Geometry::surface_area`]).
 ///
 /// # Errors
-/// [`MetricsError::Empty`] for a mesh without faces; [`MetricsError::Topology`] when
-/// `positions` does not match the mesh; [`MetricsError::NonFinite`] for a non-finite
-/// position.
-pub fn surface_area(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<f64, MetricsError> {
-    Ok(checked(mesh, positions)?.surface_area())
+/// [`MetricsError::Empty`] for a mesh without faces; [`MetricsError::NonFinite`] for a
+/// non-finite position.
+pub fn surface_area(geometry: &Geometry<'_>) -> Result<f64, MetricsError> {
+    check(geometry)?;
+    Ok(geometry.surface_area())
 }
 
-fn checked<'a>(
-    mesh: &'a HalfedgeMesh,
-    positions: &'a [DVec3],
-) -> Result<Geometry<'a>, MetricsError> {
-    let geometry = Geometry::new(mesh, positions)?;
-    if mesh.n_faces() == 0 {
+/// Refuses a mesh without faces and non-finite positions.
+fn check(geometry: &Geometry<'_>) -> Result<(), MetricsError> {
+    if geometry.mesh().n_faces() == 0 {
         return Err(MetricsError::Empty { what: "mesh" });
     }
-    if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+    if let Some(index) = geometry.positions().iter().position(|p| !p.is_finite()) {
         return Err(MetricsError::NonFinite {
             what: "position",
             index,
         });
     }
-    Ok(geometry)
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! Distances to a reference surface: exact point–triangle cases, analytic surfaces, signs,
 //! a brute-force cross-check, Hausdorff, volumes, errors and determinism.
 
+use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, EdgeId, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use beltrami_metrics::MetricsError;
@@ -764,15 +765,18 @@ fn surface_sampling_is_reproducible_and_on_the_surface() {
 fn volume_and_area_of_a_cube_and_icospheres() {
     let cube = primitives::cube();
     let mesh = cube.mesh().unwrap();
-    assert!((volume(&mesh, &cube.positions).unwrap() - 1.0).abs() < 1e-15);
-    assert!((surface_area(&mesh, &cube.positions).unwrap() - 6.0).abs() < 1e-15);
+    assert!((volume(&Geometry::new(&mesh, &cube.positions).unwrap()).unwrap() - 1.0).abs() < 1e-15);
+    assert!(
+        (surface_area(&Geometry::new(&mesh, &cube.positions).unwrap()).unwrap() - 6.0).abs()
+            < 1e-15
+    );
     // A cube far from the origin and scaled: 8 mm³.
     let far: Vec<DVec3> = cube
         .positions
         .iter()
         .map(|p| *p * 2.0 + DVec3::splat(1e4))
         .collect();
-    assert!((volume(&mesh, &far).unwrap() - 8.0).abs() < 1e-9);
+    assert!((volume(&Geometry::new(&mesh, &far).unwrap()).unwrap() - 8.0).abs() < 1e-9);
 
     // An inscribed polyhedron of the unit sphere contains the ball of its smallest face
     // distance, so 4π/3 (1 − sag)³ < V < 4π/3, and the same for the area with the square.
@@ -781,12 +785,12 @@ fn volume_and_area_of_a_cube_and_icospheres() {
         let sphere = primitives::icosphere(level);
         let mesh = sphere.mesh().unwrap();
         let sag = sphere_sag(&sphere);
-        let v = volume(&mesh, &sphere.positions).unwrap();
+        let v = volume(&Geometry::new(&mesh, &sphere.positions).unwrap()).unwrap();
         assert!(
             v < ball && v > ball * (1.0 - sag).powi(3),
             "level {level}: {v}"
         );
-        let a = surface_area(&mesh, &sphere.positions).unwrap();
+        let a = surface_area(&Geometry::new(&mesh, &sphere.positions).unwrap()).unwrap();
         assert!(
             a < 3.0 * ball && a > 3.0 * ball * (1.0 - sag).powi(2),
             "level {level}: {a}"
@@ -795,21 +799,28 @@ fn volume_and_area_of_a_cube_and_icospheres() {
     // The level-6 values quoted in the project's research notes (six decimals).
     let sphere = primitives::icosphere(6);
     let mesh = sphere.mesh().unwrap();
-    assert!((volume(&mesh, &sphere.positions).unwrap() - 4.188224).abs() < 5e-7);
-    assert!((surface_area(&mesh, &sphere.positions).unwrap() - 12.565431).abs() < 5e-7);
+    assert!(
+        (volume(&Geometry::new(&mesh, &sphere.positions).unwrap()).unwrap() - 4.188224).abs()
+            < 5e-7
+    );
+    assert!(
+        (surface_area(&Geometry::new(&mesh, &sphere.positions).unwrap()).unwrap() - 12.565431)
+            .abs()
+            < 5e-7
+    );
 }
 
 #[test]
 fn volume_of_an_open_mesh_is_an_error() {
     let grid = primitives::grid(2, 2);
-    let err = volume(&grid.mesh().unwrap(), &grid.positions).unwrap_err();
+    let err = volume(&Geometry::new(&grid.mesh().unwrap(), &grid.positions).unwrap()).unwrap_err();
     assert_eq!(
         err,
         MetricsError::Topology(TopologyError::NotClosed { boundary_loops: 1 })
     );
     let empty = HalfedgeMesh::from_polygons(0, &[] as &[[u32; 3]]).unwrap();
     assert_eq!(
-        volume(&empty, &[]).unwrap_err(),
+        volume(&Geometry::new(&empty, &[]).unwrap()).unwrap_err(),
         MetricsError::Empty { what: "mesh" }
     );
 }

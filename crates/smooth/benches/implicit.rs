@@ -26,10 +26,10 @@ fn config(edge: f64, update: WeightUpdate, solver: ImplicitSolver) -> SmoothConf
     // A step of ten edge lengths squared: far beyond the explicit limit (about ℓ²/4).
     SmoothConfig::new(10.0 * edge * edge, 1_000_000)
         .update(update)
-        .laplacian(LaplacianOptions {
-            normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
-            ..Default::default()
-        })
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi)),
+        )
         .method(Method::implicit(solver))
 }
 

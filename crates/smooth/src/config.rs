@@ -187,7 +187,53 @@ pub enum Method {
     },
 }
 
+/// The default step λ of plain diffusion, HC and implicit runs: 0.8, the paper's.
+pub const DEFAULT_LAMBDA: f64 = 0.8;
+
+/// Taubin's classic step λ = 0.6307, which with μ = −0.6732 gives the pass band
+/// `1/λ + 1/μ` = [`TAUBIN_PASS_BAND`] (Taubin 1995): the default λ of a Taubin run.
+pub const TAUBIN_LAMBDA: f64 = 0.6307;
+
+/// Taubin's classic pass-band frequency `k_pb = 1/λ + 1/μ` = 0.1 (Taubin 1995): a Taubin
+/// run without μ gets the μ of this pass band (see [`Method::taubin_or_pass_band`]).
+pub const TAUBIN_PASS_BAND: f64 = 0.1;
+
+/// The published default α of the HC algorithm (Vollmer et al. 1999): 0.1.
+pub const HC_ALPHA: f64 = 0.1;
+
+/// The published default β of the HC algorithm (Vollmer et al. 1999): 0.6.
+pub const HC_BETA: f64 = 0.6;
+
 impl Method {
+    /// Taubin's filter with `mu`, or, without it, with the μ of the classic pass band
+    /// [`TAUBIN_PASS_BAND`] for the step `lambda` (see
+    /// [`taubin_pass_band`](Self::taubin_pass_band)).
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_smooth::{Method, TAUBIN_LAMBDA, TAUBIN_PASS_BAND};
+    /// assert_eq!(Method::taubin_or_pass_band(0.5, Some(-0.53)), Method::Taubin { mu: -0.53 });
+    /// let Method::Taubin { mu } = Method::taubin_or_pass_band(TAUBIN_LAMBDA, None) else { unreachable!() };
+    /// assert!((1.0 / TAUBIN_LAMBDA + 1.0 / mu - TAUBIN_PASS_BAND).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn taubin_or_pass_band(lambda: f64, mu: Option<f64>) -> Self {
+        match mu {
+            Some(mu) => Self::Taubin { mu },
+            None => Self::taubin_pass_band(lambda, TAUBIN_PASS_BAND),
+        }
+    }
+
+    /// The HC algorithm with `alpha` and `beta`, each [`HC_ALPHA`] or [`HC_BETA`] when not
+    /// given.
+    #[must_use]
+    pub fn hc_or_default(alpha: Option<f64>, beta: Option<f64>) -> Self {
+        Self::Hc {
+            alpha: alpha.unwrap_or(HC_ALPHA),
+            beta: beta.unwrap_or(HC_BETA),
+        }
+    }
+
     /// Taubin's filter with μ chosen for a pass-band frequency `k_pb`:
     /// `μ = 1 / (k_pb − 1/λ)`.
     ///
@@ -207,10 +253,7 @@ impl Method {
     /// The HC algorithm with the published defaults α = 0.1, β = 0.6.
     #[must_use]
     pub fn hc() -> Self {
-        Self::Hc {
-            alpha: 0.1,
-            beta: 0.6,
-        }
+        Self::hc_or_default(None, None)
     }
 
     /// Implicit diffusion with the given solver.
@@ -305,6 +348,21 @@ pub enum DiffusionTime {
 }
 
 impl DiffusionTime {
+    /// The duration of a run given a time `t` or a cut-off wavelength (the cut-off when
+    /// both are given); `None`, a fixed iteration count, when neither is.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_smooth::DiffusionTime;
+    /// assert_eq!(DiffusionTime::from_options(Some(0.5), None), Some(DiffusionTime::Time(0.5)));
+    /// assert_eq!(DiffusionTime::from_options(None, Some(2.0)), Some(DiffusionTime::Cutoff(2.0)));
+    /// assert_eq!(DiffusionTime::from_options(None, None), None);
+    /// ```
+    #[must_use]
+    pub fn from_options(time: Option<f64>, cutoff: Option<f64>) -> Option<Self> {
+        cutoff.map(Self::Cutoff).or(time.map(Self::Time))
+    }
+
     /// The diffusion time in length²: `t`, or `ln 2 · λc² / (4π²)`.
     ///
     /// # Examples
@@ -346,6 +404,7 @@ impl DiffusionTime {
 /// assert_eq!(implicit.method.name(), "implicit");
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SmoothConfig {
     /// The step λ. With weight-sum normalisation, a fraction in (0, 1]: each iteration
     /// moves a vertex that fraction of the way to its weighted neighbour average. With

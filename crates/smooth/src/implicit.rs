@@ -242,6 +242,31 @@ impl<'a> Implicit<'a> {
             return Err(SmoothError::NonFinite { vertex, iteration });
         }
         let mut stats = SolveStats::default();
+        self.factorize(iteration, &mut stats)?;
+        let start = Instant::now();
+        let solved = self.solve(iteration, &mut stats);
+        if solved.is_err() {
+            self.solve_time += start.elapsed();
+        }
+        solved?;
+        let (max, sum, bad) = self.settle();
+        self.solve_time += start.elapsed();
+        if let Some(vertex) = bad {
+            return Err(SmoothError::NonFinite { vertex, iteration });
+        }
+        let n = self.positions.len();
+        self.iteration = iteration;
+        std::mem::swap(&mut self.positions, &mut self.next);
+        Ok(StepStats {
+            max_displacement: max,
+            mean_displacement: if n == 0 { 0.0 } else { sum / n as f64 },
+            stuck_vertices: self.system.stuck,
+            solve: Some(stats),
+        })
+    }
+
+    /// Factorises the system for the direct solver when it is not factored yet.
+    fn factorize(&mut self, iteration: usize, stats: &mut SolveStats) -> Result<(), SmoothError> {
         if let SolverState::Cholesky(direct) = &mut self.solver {
             if !direct.is_factored() {
                 let start = Instant::now();
@@ -257,8 +282,11 @@ impl<'a> Implicit<'a> {
                 })?;
             }
         }
+        Ok(())
+    }
 
-        let start = Instant::now();
+    /// Solves the step's system into `next`, by the direct or the iterative solver.
+    fn solve(&mut self, iteration: usize, stats: &mut SolveStats) -> Result<(), SmoothError> {
         match &mut self.solver {
             SolverState::Cholesky(direct) => {
                 self.system.rhs(&self.positions, &mut self.next);
@@ -280,11 +308,9 @@ impl<'a> Implicit<'a> {
                 self.cg_iterations += outcome.iterations;
                 stats.residual = Some(outcome.residual);
                 if outcome.indefinite {
-                    self.solve_time += start.elapsed();
                     return Err(SmoothError::NotPositiveDefinite { iteration });
                 }
                 if outcome.residual.is_nan() || outcome.residual > *tolerance {
-                    self.solve_time += start.elapsed();
                     return Err(SmoothError::NotConverged {
                         iteration,
                         iterations: outcome.longest,
@@ -294,6 +320,13 @@ impl<'a> Implicit<'a> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Gives the fixed (Dirichlet) rows of `next` back their exact positions and
+    /// measures the displacements: the largest, their sum (in vertex order) and the
+    /// first vertex whose new position is not finite.
+    fn settle(&mut self) -> (f64, f64, Option<u32>) {
         // Dirichlet rows keep their exact bits, whatever the solver's rounding. The
         // distances in parallel, their sum in vertex order.
         let free = &self.system.free;
@@ -329,19 +362,7 @@ impl<'a> Implicit<'a> {
         }
         let max = chunks.iter().fold(0.0, |m: f64, &(c, _)| m.max(c));
         let bad = chunks.iter().find_map(|&(_, b)| b);
-        self.solve_time += start.elapsed();
-        if let Some(vertex) = bad {
-            return Err(SmoothError::NonFinite { vertex, iteration });
-        }
-        let n = self.positions.len();
-        self.iteration = iteration;
-        std::mem::swap(&mut self.positions, &mut self.next);
-        Ok(StepStats {
-            max_displacement: max,
-            mean_displacement: if n == 0 { 0.0 } else { sum / n as f64 },
-            stuck_vertices: self.system.stuck,
-            solve: Some(stats),
-        })
+        (max, sum, bad)
     }
 
     /// The scheme's name, for the report.

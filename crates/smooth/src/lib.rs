@@ -53,8 +53,8 @@ mod report;
 mod smoother;
 
 pub use config::{
-    Boundary, DiffusionTime, ImplicitSolver, Method, Reorder, SmoothConfig, Statistics,
-    WeightUpdate,
+    Boundary, DEFAULT_LAMBDA, DiffusionTime, HC_ALPHA, HC_BETA, ImplicitSolver, Method, Reorder,
+    SmoothConfig, Statistics, TAUBIN_LAMBDA, TAUBIN_PASS_BAND, WeightUpdate,
 };
 pub use error::SmoothError;
 pub use report::{

@@ -138,10 +138,11 @@ fn configs(area_lambda: f64) -> Vec<(usize, SmoothConfig)> {
                         let config = SmoothConfig::new(lambda, 10)
                             .update(update)
                             .boundary(boundary)
-                            .laplacian(LaplacianOptions {
-                                normalization,
-                                negative,
-                            });
+                            .laplacian(
+                                LaplacianOptions::new()
+                                    .normalization(normalization)
+                                    .negative(negative),
+                            );
                         out.push((s, config));
                     }
                 }
@@ -592,9 +593,10 @@ fn non_finite_input_names_the_vertex() {
 fn invalid_lambda_is_rejected() {
     let grid = jittered_grid(3, 8);
     let mesh = grid.mesh();
-    let area = |kind| LaplacianOptions {
-        normalization: Normalization::Area(kind),
-        negative: NegativeWeights::Keep,
+    let area = |kind| {
+        LaplacianOptions::new()
+            .normalization(Normalization::Area(kind))
+            .negative(NegativeWeights::Keep)
     };
     for scheme in SCHEMES {
         for lambda in [
@@ -860,10 +862,11 @@ fn unusable_weights_leave_vertices_stuck_and_counted() {
             let scheme = Constant { value, from: None };
             let config = SmoothConfig::new(0.8, 4)
                 .boundary(Boundary::Free)
-                .laplacian(LaplacianOptions {
-                    normalization: Normalization::WeightSum,
-                    negative,
-                });
+                .laplacian(
+                    LaplacianOptions::new()
+                        .normalization(Normalization::WeightSum)
+                        .negative(negative),
+                );
             let out = smooth(&mesh, &grid.positions, &scheme, config).unwrap();
             assert_eq!(out.positions, grid.positions, "{value} {negative:?}");
             assert!(
@@ -930,10 +933,9 @@ fn huge_area_step_is_non_finite_error_or_finite() {
                 for negative in NEGATIVES {
                     for iterations in [10, 200] {
                         let config = SmoothConfig::new(1e6, iterations).update(update).laplacian(
-                            LaplacianOptions {
-                                normalization: Normalization::Area(kind),
-                                negative,
-                            },
+                            LaplacianOptions::new()
+                                .normalization(Normalization::Area(kind))
+                                .negative(negative),
                         );
                         let label = format!("{} {config:?}", scheme.name());
                         match smooth(&mesh, &sphere.positions, scheme, config) {
@@ -973,10 +975,11 @@ fn a_failed_step_keeps_the_last_finite_iterate() {
     let mesh = sphere.mesh();
     let config = SmoothConfig::new(1e6, 1000)
         .update(WeightUpdate::Once)
-        .laplacian(LaplacianOptions {
-            normalization: Normalization::Area(VertexAreaKind::Barycentric),
-            negative: NegativeWeights::Keep,
-        });
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(Normalization::Area(VertexAreaKind::Barycentric))
+                .negative(NegativeWeights::Keep),
+        );
     let mut smoother = Smoother::new(&mesh, &sphere.positions, &Cotangent, config).unwrap();
     let mut failed = false;
     for k in 1..=1000 {
@@ -1037,10 +1040,11 @@ fn power_of_two_scaling_commutes_bit_for_bit() {
                             let config = SmoothConfig::new(0.8, 10)
                                 .boundary(boundary)
                                 .update(update)
-                                .laplacian(LaplacianOptions {
-                                    normalization: Normalization::WeightSum,
-                                    negative,
-                                });
+                                .laplacian(
+                                    LaplacianOptions::new()
+                                        .normalization(Normalization::WeightSum)
+                                        .negative(negative),
+                                );
                             let label = format!(
                                 "{} 2^{k} {} {config:?}",
                                 case.name,
@@ -1101,10 +1105,11 @@ fn step_statistics_are_finite_when_positions_are() {
     let mesh = sphere.mesh();
     let config = SmoothConfig::new(1e6, 1000)
         .update(WeightUpdate::Once)
-        .laplacian(LaplacianOptions {
-            normalization: Normalization::Area(VertexAreaKind::Barycentric),
-            negative: NegativeWeights::Keep,
-        });
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(Normalization::Area(VertexAreaKind::Barycentric))
+                .negative(NegativeWeights::Keep),
+        );
     let mut smoother = Smoother::new(&mesh, &sphere.positions, &Cotangent, config).unwrap();
     while let Ok(stats) = smoother.step() {
         let largest = smoother
@@ -1274,10 +1279,11 @@ fn cotangent_free_boundary_flow_amplifies_rounding() {
     for negative in NEGATIVES {
         let config = SmoothConfig::new(0.8, 10)
             .boundary(Boundary::Free)
-            .laplacian(LaplacianOptions {
-                normalization: Normalization::WeightSum,
-                negative,
-            });
+            .laplacian(
+                LaplacianOptions::new()
+                    .normalization(Normalization::WeightSum)
+                    .negative(negative),
+            );
         assert!(ill_conditioned(COTANGENT, &config));
         let a = smooth(&mesh, &case.positions, &Cotangent, config.clone()).unwrap();
         let b = smooth(&mesh, &nudged, &Cotangent, config).unwrap();
@@ -1309,12 +1315,11 @@ fn determinism_configs() -> Vec<(usize, SmoothConfig)> {
             for negative in [NegativeWeights::Keep, NegativeWeights::Clamp] {
                 out.push((
                     s,
-                    SmoothConfig::new(0.8, 10)
-                        .boundary(boundary)
-                        .laplacian(LaplacianOptions {
-                            normalization: Normalization::WeightSum,
-                            negative,
-                        }),
+                    SmoothConfig::new(0.8, 10).boundary(boundary).laplacian(
+                        LaplacianOptions::new()
+                            .normalization(Normalization::WeightSum)
+                            .negative(negative),
+                    ),
                 ));
             }
         }
@@ -1323,10 +1328,11 @@ fn determinism_configs() -> Vec<(usize, SmoothConfig)> {
             SmoothConfig::new(0.01, 10)
                 .update(WeightUpdate::Once)
                 .boundary(Boundary::Free)
-                .laplacian(LaplacianOptions {
-                    normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
-                    negative: NegativeWeights::Keep,
-                }),
+                .laplacian(
+                    LaplacianOptions::new()
+                        .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi))
+                        .negative(NegativeWeights::Keep),
+                ),
         ));
     }
     out

@@ -40,10 +40,7 @@ fn noisy(mut prim: Primitive, amplitude: f64) -> (HalfedgeMesh, Vec<DVec3>) {
 }
 
 fn options(normalization: Normalization) -> LaplacianOptions {
-    LaplacianOptions {
-        normalization,
-        ..Default::default()
-    }
+    LaplacianOptions::new().normalization(normalization)
 }
 
 const NORMALIZATIONS: [Normalization; 3] = [
@@ -327,10 +324,9 @@ fn a_huge_step_stays_finite_and_inside_the_input_hull() {
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(*p), hi.max(*p))
         });
-    let clamp = LaplacianOptions {
-        normalization: Normalization::Area(VertexAreaKind::Barycentric),
-        negative: NegativeWeights::Clamp,
-    };
+    let clamp = LaplacianOptions::new()
+        .normalization(Normalization::Area(VertexAreaKind::Barycentric))
+        .negative(NegativeWeights::Clamp);
     let lambda = 50.0;
     // The explicit step blows up at this step size (with the operator frozen: when
     // it is recomputed, the growing areas slow the blow-up down) ...
@@ -578,10 +574,7 @@ fn an_indefinite_system_is_a_typed_error() {
         &mesh,
         &tet.positions,
         &NegativeEdge,
-        implicit(100.0, 1).laplacian(LaplacianOptions {
-            negative: NegativeWeights::Clamp,
-            ..Default::default()
-        }),
+        implicit(100.0, 1).laplacian(LaplacianOptions::new().negative(NegativeWeights::Clamp)),
     );
     assert!(clamped.is_ok());
 }

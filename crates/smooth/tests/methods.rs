@@ -259,10 +259,8 @@ fn a_diffusion_time_does_not_depend_on_the_mesh_density() {
     // Mean-curvature flow of the unit sphere: r(t)² = 1 − 4t.
     let t: f64 = 0.01;
     let expected = (1.0 - 4.0 * t).sqrt();
-    let area = LaplacianOptions {
-        normalization: Normalization::Area(VertexAreaKind::Barycentric),
-        ..LaplacianOptions::default()
-    };
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::Barycentric));
     let cases: [(&dyn WeightScheme, SmoothConfig); 3] = [
         (&Cotangent, SmoothConfig::new(1.0, 1).laplacian(area)),
         (&Cotangent, SmoothConfig::new(0.8, 1)),
@@ -281,10 +279,7 @@ fn a_diffusion_time_does_not_depend_on_the_mesh_density() {
             scheme.name()
         );
         // The same λ × iterations on both meshes: the coarse sphere shrinks far more.
-        let same_steps = SmoothConfig {
-            iterations: n_coarse,
-            ..config
-        };
+        let same_steps = config.iterations(n_coarse);
         let (coarse_n, _) = radius_after(3, same_steps.clone(), scheme);
         let (fine_n, _) = radius_after(5, same_steps, scheme);
         let step_gap = (coarse_n - fine_n).abs();
@@ -310,10 +305,8 @@ fn a_cutoff_wavelength_passes_half_the_amplitude() {
         .iter()
         .map(|p| DVec3::new(p.x, p.y, wave(p)))
         .collect();
-    let area = LaplacianOptions {
-        normalization: Normalization::Area(VertexAreaKind::Barycentric),
-        ..LaplacianOptions::default()
-    };
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::Barycentric));
     for config in [
         SmoothConfig::new(0.8, 1),
         SmoothConfig::new(1.0, 1).laplacian(area),

@@ -419,10 +419,11 @@ fn library_config(case: &Case) -> SmoothConfig {
             RefUpdate::Every => WeightUpdate::Every,
             RefUpdate::Once => WeightUpdate::Once,
         })
-        .laplacian(LaplacianOptions {
-            normalization,
-            negative,
-        })
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(normalization)
+                .negative(negative),
+        )
         .pinned(case.pinned.iter().map(|&v| VertexId::new(v)).collect())
 }
 
@@ -925,10 +926,11 @@ fn curve_boundary_is_rejected_with_area_normalisation() {
                 let config = SmoothConfig::new(0.01, 10)
                     .boundary(Boundary::Curve)
                     .update(update_of(update))
-                    .laplacian(LaplacianOptions {
-                        normalization: Normalization::Area(kind),
-                        negative: NegativeWeights::Keep,
-                    });
+                    .laplacian(
+                        LaplacianOptions::new()
+                            .normalization(Normalization::Area(kind))
+                            .negative(NegativeWeights::Keep),
+                    );
                 let err = smooth(&mesh, &m.positions, library_scheme(scheme), config).unwrap_err();
                 assert_eq!(err, SmoothError::CurveNeedsWeightSum);
             }

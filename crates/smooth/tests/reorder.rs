@@ -223,10 +223,9 @@ fn reordering_changes_no_bit() {
                                         .boundary(boundary)
                                         .update(update)
                                         .preserve_volume(volume)
-                                        .laplacian(LaplacianOptions {
-                                            normalization,
-                                            ..LaplacianOptions::default()
-                                        });
+                                        .laplacian(
+                                            LaplacianOptions::new().normalization(normalization),
+                                        );
                                     if with_pinned {
                                         config = config.pinned(pinned.clone());
                                     }
@@ -256,10 +255,8 @@ fn reordering_changes_no_bit() {
 
 #[test]
 fn blow_ups_report_the_same_error() {
-    let area = LaplacianOptions {
-        normalization: Normalization::Area(VertexAreaKind::MixedVoronoi),
-        ..LaplacianOptions::default()
-    };
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::MixedVoronoi));
     let mut errors = 0;
     for m in meshes() {
         for method in [

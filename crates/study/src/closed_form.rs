@@ -109,10 +109,8 @@ mod tests {
         for name in ["uniform", "distance", "cotangent"] {
             let scheme = registry.get(name).unwrap();
             let l2 = weighted_mean_edge_sq(&mesh, &s.positions, scheme.as_ref()).unwrap();
-            let config = SmoothConfig::new(0.5, 20).laplacian(LaplacianOptions {
-                normalization: Normalization::WeightSum,
-                ..LaplacianOptions::default()
-            });
+            let config = SmoothConfig::new(0.5, 20)
+                .laplacian(LaplacianOptions::new().normalization(Normalization::WeightSum));
             let out = smooth(&mesh, &s.positions, scheme.as_ref(), config).unwrap();
             let r =
                 out.positions.iter().map(|p| p.length()).sum::<f64>() / out.positions.len() as f64;

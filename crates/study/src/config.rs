@@ -11,7 +11,23 @@ use crate::error::StudyError;
 
 /// The parameters of a study: which surfaces, schemes and iteration counts, and how
 /// every run smooths. The defaults reproduce the paper's set-up.
+///
+/// # Examples
+/// ```
+/// use beltrami_study::StudyConfig;
+/// use beltrami_surfaces::Size;
+/// use beltrami_weights::WeightRegistry;
+/// let config = StudyConfig::paper(&WeightRegistry::with_builtins())
+///     .size(Size::Small)
+///     .iterations(vec![2, 5, 10])
+///     .seeds(1);
+/// assert_eq!(config.max_iterations(), 10);
+/// assert_eq!(config.lambda, 0.8);
+/// config.validate()?;
+/// # Ok::<(), beltrami_study::StudyError>(())
+/// ```
 #[derive(Clone)]
+#[non_exhaustive]
 pub struct StudyConfig {
     /// The surfaces, in order (default: F-lens, sphere, block, golf ball).
     pub surfaces: Vec<SurfaceKind>,
@@ -120,6 +136,15 @@ pub fn paper_iterations() -> Vec<usize> {
     it
 }
 
+impl Default for StudyConfig {
+    /// The paper's set-up with the built-in schemes
+    /// ([`WeightRegistry::with_builtins`]: uniform, distance, cotangent), so without an
+    /// edge comparison (which needs a `bilateral` scheme).
+    fn default() -> Self {
+        Self::paper(&WeightRegistry::with_builtins())
+    }
+}
+
 impl StudyConfig {
     /// The paper's set-up with every scheme of `registry`.
     #[must_use]
@@ -147,6 +172,138 @@ impl StudyConfig {
             timing: true,
             scan_example: true,
         }
+    }
+
+    /// Sets the surfaces, in order (see [`surfaces`](Self::surfaces)).
+    #[must_use]
+    pub fn surfaces(mut self, surfaces: Vec<SurfaceKind>) -> Self {
+        self.surfaces = surfaces;
+        self
+    }
+
+    /// Sets paper-sized surfaces or small variants (see [`size`](Self::size)).
+    #[must_use]
+    pub fn size(mut self, size: Size) -> Self {
+        self.size = size;
+        self
+    }
+
+    /// Sets the schemes, in order (see [`schemes`](Self::schemes)).
+    #[must_use]
+    pub fn schemes(mut self, schemes: Vec<Arc<dyn WeightScheme>>) -> Self {
+        self.schemes = schemes;
+        self
+    }
+
+    /// Sets the iteration counts at which each run is observed, ascending (see [`iterations`](Self::iterations)).
+    #[must_use]
+    pub fn iterations(mut self, iterations: Vec<usize>) -> Self {
+        self.iterations = iterations;
+        self
+    }
+
+    /// Sets the step λ (see [`lambda`](Self::lambda)).
+    #[must_use]
+    pub fn lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Sets the noise added to each clean surface (see [`noise`](Self::noise)).
+    #[must_use]
+    pub fn noise(mut self, noise: NoiseLevel) -> Self {
+        self.noise = noise;
+        self
+    }
+
+    /// Sets the seed of the first input's noise (see [`seed`](Self::seed)).
+    #[must_use]
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// Sets the number of noise seeds (see [`seeds`](Self::seeds)).
+    #[must_use]
+    pub fn seeds(mut self, seeds: usize) -> Self {
+        self.seeds = seeds;
+        self
+    }
+
+    /// Sets the boundary mode of every run (see [`boundary`](Self::boundary)).
+    #[must_use]
+    pub fn boundary(mut self, boundary: Boundary) -> Self {
+        self.boundary = boundary;
+        self
+    }
+
+    /// Sets the weight-update policy (see [`update`](Self::update)).
+    #[must_use]
+    pub fn update(mut self, update: WeightUpdate) -> Self {
+        self.update = update;
+        self
+    }
+
+    /// Sets the negative-weight policy (see [`negative`](Self::negative)).
+    #[must_use]
+    pub fn negative(mut self, negative: NegativeWeights) -> Self {
+        self.negative = negative;
+        self
+    }
+
+    /// Sets the row normalisation (see [`normalization`](Self::normalization)).
+    #[must_use]
+    pub fn normalization(mut self, normalization: Normalization) -> Self {
+        self.normalization = normalization;
+        self
+    }
+
+    /// Sets the shrinkage counter-measures (empty: none) (see [`countermeasures`](Self::countermeasures)).
+    #[must_use]
+    pub fn countermeasures(mut self, countermeasures: Vec<Countermeasure>) -> Self {
+        self.countermeasures = countermeasures;
+        self
+    }
+
+    /// Sets the weight scheme of the counter-measure runs (`None`: skip them) (see [`countermeasure_scheme`](Self::countermeasure_scheme)).
+    #[must_use]
+    pub fn countermeasure_scheme(
+        mut self,
+        countermeasure_scheme: Option<Arc<dyn WeightScheme>>,
+    ) -> Self {
+        self.countermeasure_scheme = countermeasure_scheme;
+        self
+    }
+
+    /// Sets the edge-preserving scheme and its reference (`None`: skip the comparison) (see [`edge_comparison`](Self::edge_comparison)).
+    #[must_use]
+    pub fn edge_comparison(
+        mut self,
+        edge_comparison: Option<(Arc<dyn WeightScheme>, Arc<dyn WeightScheme>)>,
+    ) -> Self {
+        self.edge_comparison = edge_comparison;
+        self
+    }
+
+    /// Sets the remeshing before smoothing (`None`: skip it) (see [`remesh`](Self::remesh)).
+    #[must_use]
+    pub fn remesh(mut self, remesh: Option<beltrami_algorithms::RemeshOptions>) -> Self {
+        self.remesh = remesh;
+        self
+    }
+
+    /// Sets whether every scheme is timed apart from the study's runs (see [`timing`](Self::timing)).
+    #[must_use]
+    pub fn timing(mut self, timing: bool) -> Self {
+        self.timing = timing;
+        self
+    }
+
+    /// Sets whether the worked example of a given-surface study runs (see [`scan_example`](Self::scan_example)).
+    #[must_use]
+    pub fn scan_example(mut self, scan_example: bool) -> Self {
+        self.scan_example = scan_example;
+        self
     }
 
     /// Checks the configuration: at least one surface and scheme, iteration counts

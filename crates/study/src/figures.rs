@@ -364,132 +364,8 @@ pub fn write_figures(
     let mut figures = Vec::new();
     let shown = shown_iteration(results);
     for result in &results.surfaces {
-        let name = result.case.clean.name;
-        let unit = result.case.clean.unit;
-        let u = unit_label(unit);
-        write_line(
-            dir,
-            PlotSpec {
-                stem: format!("rms_{name}"),
-                title: format!("{name}: RMS distance to the clean surface"),
-                y_label: format!("RMS distance{u}"),
-                caption: format!(
-                    "RMS of the vertex distances from the smoothed {name} to the clean surface (paper Figs. 4a, 7a, 9a)"
-                ),
-                log_y: false,
-                series: series_by_scheme(result, rows, |r| Some(r.rms)),
-                diff: true,
-            },
-            name,
-            &mut figures,
-        )?;
-        write_line(
-            dir,
-            PlotSpec {
-                stem: format!("rms_early_{name}"),
-                title: format!("{name}: RMS, iterations 0 to {EARLY_ITERATIONS}"),
-                y_label: format!("RMS distance{u}"),
-                caption: format!(
-                    "RMS distance to the clean surface on the {name}, every iteration from 0 to {EARLY_ITERATIONS}: the RMS-optimal iteration count lies here"
-                ),
-                log_y: false,
-                series: early_series(result),
-                diff: true,
-            },
-            name,
-            &mut figures,
-        )?;
-        write_line(
-            dir,
-            PlotSpec {
-                stem: format!("time_{name}"),
-                title: format!("{name}: computation time"),
-                y_label: "cumulative time (s)".into(),
-                caption: format!(
-                    "Cumulative smoothing time on the {name} (paper Figs. 4b, 7c, 9c, 11b)"
-                ),
-                log_y: true,
-                series: series_by_scheme(result, rows, |r| (r.iteration > 0).then_some(r.time_s)),
-                diff: false,
-            },
-            name,
-            &mut figures,
-        )?;
-        if matches!(
-            result.case.kind,
-            SurfaceKind::Sphere | SurfaceKind::GolfBall
-        ) {
-            write_line(
-                dir,
-                PlotSpec {
-                    stem: format!("radius_{name}"),
-                    title: format!("{name}: fitted sphere radius"),
-                    y_label: format!("radius{u}"),
-                    caption: format!(
-                        "Radius of the least-squares sphere through the smoothed {name} (paper Figs. 7b, 11a)"
-                    ),
-                    log_y: false,
-                    series: radius_series(results, result, rows),
-                    diff: true,
-                },
-                name,
-                &mut figures,
-            )?;
-        }
-        if result.case.mesh.is_closed() {
-            write_line(
-                dir,
-                PlotSpec {
-                    stem: format!("volume_{name}"),
-                    title: format!("{name}: enclosed volume"),
-                    y_label: "volume / clean volume".into(),
-                    caption: format!(
-                        "Volume of the smoothed {name} relative to the clean one (paper Fig. 9b)"
-                    ),
-                    log_y: false,
-                    series: series_by_scheme(result, rows, |r| r.volume_ratio),
-                    diff: true,
-                },
-                name,
-                &mut figures,
-            )?;
-        } else {
-            write_line(
-                dir,
-                PlotSpec {
-                    stem: format!("boundary_{name}"),
-                    title: format!("{name}: boundary displacement"),
-                    y_label: format!("mean boundary displacement{u}"),
-                    caption: format!(
-                        "Mean displacement of the {name}'s boundary vertices from the noisy input (paper Fig. 5)"
-                    ),
-                    log_y: false,
-                    series: series_by_scheme(result, rows, |r| r.boundary_mean),
-                    diff: true,
-                },
-                name,
-                &mut figures,
-            )?;
-            ring_plot(dir, result, shown, &mut figures)?;
-        }
-        if result.case.kind == SurfaceKind::Block {
-            write_line(
-                dir,
-                PlotSpec {
-                    stem: format!("dihedral_{name}"),
-                    title: format!("{name}: sharpness of the feature edges"),
-                    y_label: "mean dihedral angle (deg)".into(),
-                    caption: format!(
-                        "Mean dihedral angle at the {name}'s sharp edges (90° when sharp; paper Fig. 8)"
-                    ),
-                    log_y: false,
-                    series: series_by_scheme(result, rows, |r| r.feature_dihedral_deg),
-                    diff: false,
-                },
-                name,
-                &mut figures,
-            )?;
-        }
+        write_history_plots(dir, results, result, rows, &mut figures)?;
+        write_shape_plots(dir, result, rows, shown, &mut figures)?;
         if matches!(result.case.kind, SurfaceKind::FLens | SurfaceKind::Block) {
             profile_plot(dir, result, shown, &mut figures)?;
         }
@@ -499,6 +375,158 @@ pub fn write_figures(
         }
     }
     Ok(figures)
+}
+
+/// The plots of a surface's figures over the iterations: RMS distance (all and early),
+/// time, and the fitted radius of the sphere and the golf ball.
+fn write_history_plots(
+    dir: &Path,
+    results: &StudyResults,
+    result: &SurfaceResult,
+    rows: &[Row],
+    figures: &mut Vec<Figure>,
+) -> Result<(), StudyError> {
+    let name = result.case.clean.name;
+    let u = unit_label(result.case.clean.unit);
+    write_line(
+        dir,
+        PlotSpec {
+            stem: format!("rms_{name}"),
+            title: format!("{name}: RMS distance to the clean surface"),
+            y_label: format!("RMS distance{u}"),
+            caption: format!(
+                "RMS of the vertex distances from the smoothed {name} to the clean surface (paper Figs. 4a, 7a, 9a)"
+            ),
+            log_y: false,
+            series: series_by_scheme(result, rows, |r| Some(r.rms)),
+            diff: true,
+        },
+        name,
+        figures,
+    )?;
+    write_line(
+        dir,
+        PlotSpec {
+            stem: format!("rms_early_{name}"),
+            title: format!("{name}: RMS, iterations 0 to {EARLY_ITERATIONS}"),
+            y_label: format!("RMS distance{u}"),
+            caption: format!(
+                "RMS distance to the clean surface on the {name}, every iteration from 0 to {EARLY_ITERATIONS}: the RMS-optimal iteration count lies here"
+            ),
+            log_y: false,
+            series: early_series(result),
+            diff: true,
+        },
+        name,
+        figures,
+    )?;
+    write_line(
+        dir,
+        PlotSpec {
+            stem: format!("time_{name}"),
+            title: format!("{name}: computation time"),
+            y_label: "cumulative time (s)".into(),
+            caption: format!(
+                "Cumulative smoothing time on the {name} (paper Figs. 4b, 7c, 9c, 11b)"
+            ),
+            log_y: true,
+            series: series_by_scheme(result, rows, |r| (r.iteration > 0).then_some(r.time_s)),
+            diff: false,
+        },
+        name,
+        figures,
+    )?;
+    if matches!(
+        result.case.kind,
+        SurfaceKind::Sphere | SurfaceKind::GolfBall
+    ) {
+        write_line(
+            dir,
+            PlotSpec {
+                stem: format!("radius_{name}"),
+                title: format!("{name}: fitted sphere radius"),
+                y_label: format!("radius{u}"),
+                caption: format!(
+                    "Radius of the least-squares sphere through the smoothed {name} (paper Figs. 7b, 11a)"
+                ),
+                log_y: false,
+                series: radius_series(results, result, rows),
+                diff: true,
+            },
+            name,
+            figures,
+        )?;
+    }
+    Ok(())
+}
+
+/// The plots of a surface's shape over the iterations: the enclosed volume of a closed
+/// surface or the boundary displacement (and ring plot) of an open one, and the
+/// sharpness of the block's edges.
+fn write_shape_plots(
+    dir: &Path,
+    result: &SurfaceResult,
+    rows: &[Row],
+    shown: usize,
+    figures: &mut Vec<Figure>,
+) -> Result<(), StudyError> {
+    let name = result.case.clean.name;
+    let u = unit_label(result.case.clean.unit);
+    if result.case.mesh.is_closed() {
+        write_line(
+            dir,
+            PlotSpec {
+                stem: format!("volume_{name}"),
+                title: format!("{name}: enclosed volume"),
+                y_label: "volume / clean volume".into(),
+                caption: format!(
+                    "Volume of the smoothed {name} relative to the clean one (paper Fig. 9b)"
+                ),
+                log_y: false,
+                series: series_by_scheme(result, rows, |r| r.volume_ratio),
+                diff: true,
+            },
+            name,
+            figures,
+        )?;
+    } else {
+        write_line(
+            dir,
+            PlotSpec {
+                stem: format!("boundary_{name}"),
+                title: format!("{name}: boundary displacement"),
+                y_label: format!("mean boundary displacement{u}"),
+                caption: format!(
+                    "Mean displacement of the {name}'s boundary vertices from the noisy input (paper Fig. 5)"
+                ),
+                log_y: false,
+                series: series_by_scheme(result, rows, |r| r.boundary_mean),
+                diff: true,
+            },
+            name,
+            figures,
+        )?;
+        ring_plot(dir, result, shown, figures)?;
+    }
+    if result.case.kind == SurfaceKind::Block {
+        write_line(
+            dir,
+            PlotSpec {
+                stem: format!("dihedral_{name}"),
+                title: format!("{name}: sharpness of the feature edges"),
+                y_label: "mean dihedral angle (deg)".into(),
+                caption: format!(
+                    "Mean dihedral angle at the {name}'s sharp edges (90° when sharp; paper Fig. 8)"
+                ),
+                log_y: false,
+                series: series_by_scheme(result, rows, |r| r.feature_dihedral_deg),
+                diff: false,
+            },
+            name,
+            figures,
+        )?;
+    }
+    Ok(())
 }
 
 fn ring_plot(

@@ -23,6 +23,7 @@ mod figures;
 mod findings;
 mod measure;
 mod optimum;
+mod out_dir;
 mod preservation;
 mod remeshing;
 mod report;
@@ -44,6 +45,9 @@ pub use findings::{
 };
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
 pub use optimum::{Optimum, optima};
+pub use out_dir::{
+    OutDirError, SCAN_ENTRIES, STUDY_ENTRIES, check_out_dir, is_scan_entry, is_study_entry,
+};
 pub use preservation::{
     EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,
     edge_preservation,

@@ -21,10 +21,12 @@ const COPLANAR_DOT: f64 = 1.0 - 1e-9;
 /// # Examples
 /// ```
 /// use beltrami_study::EdgePreservationOptions;
-/// let options = EdgePreservationOptions { target: 0.5, ..EdgePreservationOptions::default() };
+/// let options = EdgePreservationOptions::new().target(0.5);
 /// assert_eq!(options.lambda, 0.8);
+/// assert_eq!(options.target, 0.5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct EdgePreservationOptions {
     /// The step λ of both runs (weight-sum normalisation, weights recomputed every
     /// iteration, negative weights kept, fixed boundary — the smoother's defaults).
@@ -50,6 +52,7 @@ pub struct EdgePreservationOptions {
 }
 
 impl Default for EdgePreservationOptions {
+    /// λ = 0.8, target 0.25, at most 1000 iterations, features from 60 degrees.
     fn default() -> Self {
         Self {
             lambda: 0.8,
@@ -57,6 +60,45 @@ impl Default for EdgePreservationOptions {
             max_iterations: 1000,
             feature_threshold_deg: 60.0,
         }
+    }
+}
+
+impl EdgePreservationOptions {
+    /// The defaults: λ = 0.8, target 0.25, at most 1000 iterations, features from 60
+    /// degrees.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets the step λ of both runs (see [`lambda`](Self::lambda)).
+    #[must_use]
+    pub fn lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Sets the flat-region smoothness target, a fraction of the input's flat-region
+    /// RMS in (0, 1) (see [`target`](Self::target)).
+    #[must_use]
+    pub fn target(mut self, target: f64) -> Self {
+        self.target = target;
+        self
+    }
+
+    /// Sets the most iterations either run may take.
+    #[must_use]
+    pub fn max_iterations(mut self, max_iterations: usize) -> Self {
+        self.max_iterations = max_iterations;
+        self
+    }
+
+    /// Sets the dihedral angle, in degrees, from which an edge of the clean surface is
+    /// a feature.
+    #[must_use]
+    pub fn feature_threshold_deg(mut self, degrees: f64) -> Self {
+        self.feature_threshold_deg = degrees;
+        self
     }
 }
 
@@ -283,7 +325,7 @@ impl EdgePreservation {
 /// let part = block(&BlockParams { cells: [5, 5, 9], pitch: 1.0, hole: [1, 1], ..BlockParams::default() });
 /// let mesh = part.mesh()?;
 /// let (noisy, _sigma) = add_normal_noise(&mesh, &part.positions, NoiseLevel::RelativeToMeanEdge(0.2), 1)?;
-/// let options = EdgePreservationOptions { target: 0.5, ..Default::default() };
+/// let options = EdgePreservationOptions::new().target(0.5);
 /// let result = edge_preservation(&mesh, &part.positions, &noisy, &BilateralNormal::default(), &Cotangent, &options)?;
 /// assert!(result.scheme.reached_target && result.reference.reached_target);
 /// println!("{result:#?}");
@@ -297,24 +339,7 @@ pub fn edge_preservation(
     reference: &dyn WeightScheme,
     options: &EdgePreservationOptions,
 ) -> Result<EdgePreservation, PreservationError> {
-    if !(options.target > 0.0 && options.target < 1.0) {
-        return Err(PreservationError::InvalidParameter {
-            name: "target",
-            reason: format!(
-                "must be a fraction strictly between 0 and 1, got {}",
-                options.target
-            ),
-        });
-    }
-    if !(options.feature_threshold_deg > 0.0 && options.feature_threshold_deg < 180.0) {
-        return Err(PreservationError::InvalidParameter {
-            name: "feature threshold",
-            reason: format!(
-                "must be an angle in degrees strictly between 0 and 180, got {}",
-                options.feature_threshold_deg
-            ),
-        });
-    }
+    options.validate()?;
     let clean_geometry = Geometry::new(mesh, clean)?;
     Geometry::new(mesh, noisy)?;
     let flat = FlatRegion::new(mesh, clean)?;
@@ -352,27 +377,12 @@ pub fn edge_preservation(
     let input = measure(noisy, 0)?;
     let target_flat_rms = options.target * input.flat_rms;
     let run = |s: &dyn WeightScheme| -> Result<SchemeOutcome, PreservationError> {
-        let failed = |source| PreservationError::Smooth {
-            scheme: s.name().to_string(),
-            source,
-        };
-        let config = SmoothConfig::new(options.lambda, options.max_iterations);
-        let mut reached = false;
-        let out = Smoother::new(mesh, noisy, s, config)
-            .map_err(failed)?
-            .run(|it| {
-                if flat.rms(it.positions()) <= target_flat_rms {
-                    reached = true;
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            })
-            .map_err(failed)?;
+        let (positions, iterations, reached) =
+            smooth_until_flat(mesh, noisy, s, options, &flat, target_flat_rms)?;
         Ok(SchemeOutcome {
             scheme: s.name().to_string(),
             reached_target: reached,
-            measures: measure(&out.positions, out.report.iterations)?,
+            measures: measure(&positions, iterations)?,
         })
     };
     let scheme_outcome = run(scheme)?;
@@ -392,4 +402,60 @@ pub fn edge_preservation(
         scheme: scheme_outcome,
         reference: reference_outcome,
     })
+}
+
+impl EdgePreservationOptions {
+    /// Refuses a target outside (0, 1) and a feature threshold outside (0, 180) degrees.
+    fn validate(&self) -> Result<(), PreservationError> {
+        if !(self.target > 0.0 && self.target < 1.0) {
+            return Err(PreservationError::InvalidParameter {
+                name: "target",
+                reason: format!(
+                    "must be a fraction strictly between 0 and 1, got {}",
+                    self.target
+                ),
+            });
+        }
+        if !(self.feature_threshold_deg > 0.0 && self.feature_threshold_deg < 180.0) {
+            return Err(PreservationError::InvalidParameter {
+                name: "feature threshold",
+                reason: format!(
+                    "must be an angle in degrees strictly between 0 and 180, got {}",
+                    self.feature_threshold_deg
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Smooths `noisy` with `scheme` at the options' λ until the flat-region RMS is at most
+/// `target_flat_rms` or the options' iteration limit is reached: the positions, the
+/// number of iterations and whether the target was reached.
+fn smooth_until_flat(
+    mesh: &HalfedgeMesh,
+    noisy: &[DVec3],
+    scheme: &dyn WeightScheme,
+    options: &EdgePreservationOptions,
+    flat: &FlatRegion,
+    target_flat_rms: f64,
+) -> Result<(Vec<DVec3>, usize, bool), PreservationError> {
+    let failed = |source| PreservationError::Smooth {
+        scheme: scheme.name().to_string(),
+        source,
+    };
+    let config = SmoothConfig::new(options.lambda, options.max_iterations);
+    let mut reached = false;
+    let out = Smoother::new(mesh, noisy, scheme, config)
+        .map_err(failed)?
+        .run(|it| {
+            if flat.rms(it.positions()) <= target_flat_rms {
+                reached = true;
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .map_err(failed)?;
+    Ok((out.positions, out.report.iterations, reached))
 }

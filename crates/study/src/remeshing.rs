@@ -232,10 +232,11 @@ fn cotangent_rms(
         .boundary(config.boundary)
         .update(config.update)
         .statistics(Statistics::OnDemand)
-        .laplacian(LaplacianOptions {
-            normalization: config.normalization,
-            negative: config.negative,
-        });
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(config.normalization)
+                .negative(config.negative),
+        );
     let mut kept: Vec<(usize, Vec<DVec3>)> = Vec::new();
     Smoother::new(mesh, noisy, scheme, smooth)
         .map_err(smooth_failed)?

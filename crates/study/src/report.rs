@@ -14,7 +14,7 @@ use crate::findings::{
 };
 use crate::optimum::{Optimum, optima};
 use crate::results::{Row, to_csv};
-use crate::run::{EARLY_ITERATIONS, StudyResults};
+use crate::run::{EARLY_ITERATIONS, StudyResults, SurfaceResult};
 
 /// What [`write_study`] wrote.
 #[derive(Clone, Debug, PartialEq)]
@@ -885,119 +885,10 @@ fn recommendation_section(
         let Some(first) = best.first() else {
             continue;
         };
-        let mut text = format!(
-            "- **{name}**: the smallest RMS is reached after {} {} with {} ({}{unit}, {:.0} % of the input's {}{unit})",
-            first.iterations_text(),
-            if first.iterations == (1, 1) {
-                "iteration"
-            } else {
-                "iterations"
-            },
-            names(&best[..1]),
-            first.rms.text(),
-            100.0 * first.rms.mean / first.input_rms.mean,
-            first.input_rms.text()
-        );
-        if best.len() > 1 {
-            let _ = write!(
-                text,
-                "; {} {} with it at their optima ({})",
-                names(&best[1..]),
-                if best.len() > 2 { "tie" } else { "ties" },
-                best[1..]
-                    .iter()
-                    .map(|o| format!("{} after {}", o.rms.text(), o.iterations_text()))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-        }
-        if !crate::config::PAPER_SCHEMES.contains(&first.scheme.as_str()) {
-            let paper: Vec<Optimum> = optima
-                .iter()
-                .filter(|o| {
-                    o.surface == name && crate::config::PAPER_SCHEMES.contains(&o.scheme.as_str())
-                })
-                .cloned()
-                .collect();
-            let best_paper = best_optima(&paper, name);
-            if let Some(p) = best_paper.first() {
-                let _ = write!(
-                    text,
-                    "; of the paper's schemes, {} reaches {}{unit} after {} {}",
-                    names(&best_paper[..1]),
-                    p.rms.text(),
-                    p.iterations_text(),
-                    if p.iterations == (1, 1) {
-                        "iteration"
-                    } else {
-                        "iterations"
-                    }
-                );
-                if best_paper.len() > 1 {
-                    let _ = write!(
-                        text,
-                        " ({} {} with it)",
-                        names(&best_paper[1..]),
-                        if best_paper.len() > 2 { "tie" } else { "ties" }
-                    );
-                }
-            }
-        }
+        let mut text = best_sentence(name, &unit, &best, optima);
         text.push('.');
-        // At the paper's iteration count.
-        let at: Vec<(&str, Spread)> = r
-            .runs
-            .iter()
-            .filter_map(|x| rms_at(rows, name, &x.scheme, shown).map(|v| (x.scheme.as_str(), v)))
-            .collect();
-        if let Some((b, v)) = at
-            .iter()
-            .copied()
-            .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean))
-        {
-            let _ = write!(
-                text,
-                " After {shown} iterations, the paper's count, the RMS is {:.1}× the optimum of `{}`; the best scheme there is `{b}` ({}{unit})",
-                v.mean / first.rms.mean,
-                first.scheme,
-                v.text()
-            );
-            if b != first.scheme {
-                text.push_str(", so the ranking at the optimum and at the paper's count differ");
-            }
-            text.push('.');
-            if let (Some(tb), Some(tu)) = (
-                time_at(rows, name, b, shown),
-                time_at(rows, name, "uniform", shown),
-            ) {
-                if b != "uniform" && tu > 0.0 {
-                    let _ = write!(text, " `{b}` takes {:.1}× the time of `uniform`.", tb / tu);
-                }
-            }
-        }
-        // Counter-measures.
-        let cm: Vec<&Row> = r
-            .countermeasures
-            .iter()
-            .map(|m| &m.row)
-            .filter(|x| x.iteration == shown)
-            .collect();
-        if let (Some(best_cm), Some(plain)) = (
-            cm.iter().copied().min_by(|a, b| a.rms.total_cmp(&b.rms)),
-            cm.iter().copied().find(|x| x.scheme.ends_with("/plain")),
-        ) {
-            if best_cm.scheme != plain.scheme {
-                let _ = write!(
-                    text,
-                    " If many iterations are needed, `{}` keeps the RMS at {}{unit} after {shown} iterations against {}{unit} for `{}` (seed {}).",
-                    best_cm.scheme,
-                    sig(best_cm.rms),
-                    sig(plain.rms),
-                    plain.scheme,
-                    results.config.seed
-                );
-            }
-        }
+        paper_count_sentence(&mut text, r, rows, &unit, shown, first);
+        countermeasure_sentence(&mut text, r, results.config.seed, &unit, shown);
         let _ = writeln!(s, "{text}");
     }
     // How many iterations overall.
@@ -1013,6 +904,149 @@ fn recommendation_section(
         s,
         "On your own surface: `beltrami study --input SCAN --reference CLEAN` runs every scheme with plain, Taubin, HC and implicit smoothing on a given mesh, observes every iteration against the clean one, names the RMS-optimal count of each and writes its mesh (`best-<scheme>-<method>.ply`); without a reference it reports shrinkage, residual parameters and mesh quality (docs/study-input.md). The section \"The study on a given surface\" below runs it on this study's noisy block.\n"
     );
+}
+
+/// The recommendation's first sentence for surface `name`: the best schemes at their
+/// optima (`best`, from [`best_optima`]), and the best of the paper's schemes when none
+/// of them is first.
+fn best_sentence(name: &str, unit: &str, best: &[&Optimum], optima: &[Optimum]) -> String {
+    let first = best[0];
+    let mut text = format!(
+        "- **{name}**: the smallest RMS is reached after {} {} with {} ({}{unit}, {:.0} % of the input's {}{unit})",
+        first.iterations_text(),
+        if first.iterations == (1, 1) {
+            "iteration"
+        } else {
+            "iterations"
+        },
+        names(&best[..1]),
+        first.rms.text(),
+        100.0 * first.rms.mean / first.input_rms.mean,
+        first.input_rms.text()
+    );
+    if best.len() > 1 {
+        let _ = write!(
+            text,
+            "; {} {} with it at their optima ({})",
+            names(&best[1..]),
+            if best.len() > 2 { "tie" } else { "ties" },
+            best[1..]
+                .iter()
+                .map(|o| format!("{} after {}", o.rms.text(), o.iterations_text()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    if !crate::config::PAPER_SCHEMES.contains(&first.scheme.as_str()) {
+        let paper: Vec<Optimum> = optima
+            .iter()
+            .filter(|o| {
+                o.surface == name && crate::config::PAPER_SCHEMES.contains(&o.scheme.as_str())
+            })
+            .cloned()
+            .collect();
+        let best_paper = best_optima(&paper, name);
+        if let Some(p) = best_paper.first() {
+            let _ = write!(
+                text,
+                "; of the paper's schemes, {} reaches {}{unit} after {} {}",
+                names(&best_paper[..1]),
+                p.rms.text(),
+                p.iterations_text(),
+                if p.iterations == (1, 1) {
+                    "iteration"
+                } else {
+                    "iterations"
+                }
+            );
+            if best_paper.len() > 1 {
+                let _ = write!(
+                    text,
+                    " ({} {} with it)",
+                    names(&best_paper[1..]),
+                    if best_paper.len() > 2 { "tie" } else { "ties" }
+                );
+            }
+        }
+    }
+    text
+}
+
+/// The recommendation's sentences at the paper's iteration count `shown`: how far the
+/// RMS is from the optimum of `first`, the best scheme there and its time against
+/// `uniform`.
+fn paper_count_sentence(
+    text: &mut String,
+    r: &SurfaceResult,
+    rows: &[Row],
+    unit: &str,
+    shown: usize,
+    first: &Optimum,
+) {
+    let name = r.case.clean.name;
+    let at: Vec<(&str, Spread)> = r
+        .runs
+        .iter()
+        .filter_map(|x| rms_at(rows, name, &x.scheme, shown).map(|v| (x.scheme.as_str(), v)))
+        .collect();
+    if let Some((b, v)) = at
+        .iter()
+        .copied()
+        .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean))
+    {
+        let _ = write!(
+            text,
+            " After {shown} iterations, the paper's count, the RMS is {:.1}× the optimum of `{}`; the best scheme there is `{b}` ({}{unit})",
+            v.mean / first.rms.mean,
+            first.scheme,
+            v.text()
+        );
+        if b != first.scheme {
+            text.push_str(", so the ranking at the optimum and at the paper's count differ");
+        }
+        text.push('.');
+        if let (Some(tb), Some(tu)) = (
+            time_at(rows, name, b, shown),
+            time_at(rows, name, "uniform", shown),
+        ) {
+            if b != "uniform" && tu > 0.0 {
+                let _ = write!(text, " `{b}` takes {:.1}× the time of `uniform`.", tb / tu);
+            }
+        }
+    }
+}
+
+/// The recommendation's sentence on counter-measures: the one that keeps the RMS lowest
+/// after `shown` iterations against plain diffusion (first noise seed `seed`).
+fn countermeasure_sentence(
+    text: &mut String,
+    r: &SurfaceResult,
+    seed: u64,
+    unit: &str,
+    shown: usize,
+) {
+    let cm: Vec<&Row> = r
+        .countermeasures
+        .iter()
+        .map(|m| &m.row)
+        .filter(|x| x.iteration == shown)
+        .collect();
+    if let (Some(best_cm), Some(plain)) = (
+        cm.iter().copied().min_by(|a, b| a.rms.total_cmp(&b.rms)),
+        cm.iter().copied().find(|x| x.scheme.ends_with("/plain")),
+    ) {
+        if best_cm.scheme != plain.scheme {
+            let _ = write!(
+                text,
+                " If many iterations are needed, `{}` keeps the RMS at {}{unit} after {shown} iterations against {}{unit} for `{}` (seed {}).",
+                best_cm.scheme,
+                sig(best_cm.rms),
+                sig(plain.rms),
+                plain.scheme,
+                seed
+            );
+        }
+    }
 }
 
 /// The iterations shown in the counter-measure tables: 10, 50, 100 and 200 where

@@ -187,10 +187,11 @@ fn smooth_config(config: &StudyConfig) -> SmoothConfig {
     SmoothConfig::new(config.lambda, config.max_iterations())
         .boundary(config.boundary)
         .update(config.update)
-        .laplacian(LaplacianOptions {
-            normalization: config.normalization,
-            negative: config.negative,
-        })
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(config.normalization)
+                .negative(config.negative),
+        )
 }
 
 /// Runs the study. Smoothing runs one after the other (so their timings are not
@@ -328,12 +329,13 @@ fn area_step_limit(case: &SurfaceCase, config: &StudyConfig) -> Option<f64> {
     };
     let smooth = SmoothConfig::new(config.lambda, 1)
         .boundary(boundary)
-        .laplacian(LaplacianOptions {
-            normalization: beltrami_weights::Normalization::Area(
-                beltrami_halfedge::geometry::VertexAreaKind::MixedVoronoi,
-            ),
-            negative: config.negative,
-        });
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(beltrami_weights::Normalization::Area(
+                    beltrami_halfedge::geometry::VertexAreaKind::MixedVoronoi,
+                ))
+                .negative(config.negative),
+        );
     Smoother::new(&case.mesh, &case.noisy, cotangent.as_ref(), smooth)
         .ok()?
         .stable_step_limit()
@@ -381,17 +383,15 @@ fn run_countermeasures(
             continue;
         }
         let label = format!("{}/{}", scheme.name(), cm.label);
-        let smooth = SmoothConfig {
-            lambda: cm.lambda,
-            method: cm.method,
-            preserve_volume: cm.preserve_volume,
-            update: if cm.weights_once {
+        let smooth = smooth_config(config)
+            .lambda(cm.lambda)
+            .method(cm.method)
+            .preserve_volume(cm.preserve_volume)
+            .update(if cm.weights_once {
                 beltrami_smooth::WeightUpdate::Once
             } else {
                 config.update
-            },
-            ..smooth_config(config)
-        };
+            });
         runs.push(run_reported(
             case,
             scheme.as_ref(),
@@ -580,10 +580,7 @@ fn block_edges(
     if kind != SurfaceKind::Block {
         return Ok(None);
     }
-    let options = EdgePreservationOptions {
-        lambda: config.lambda,
-        ..EdgePreservationOptions::default()
-    };
+    let options = EdgePreservationOptions::new().lambda(config.lambda);
     let comparison = preservation::edge_preservation(
         &case.mesh,
         &case.clean.positions,

@@ -142,10 +142,11 @@ pub(crate) fn time_schemes(
         .boundary(config.boundary)
         .update(config.update)
         .statistics(Statistics::OnDemand)
-        .laplacian(LaplacianOptions {
-            normalization: config.normalization,
-            negative: config.negative,
-        });
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(config.normalization)
+                .negative(config.negative),
+        );
     let mut rows = Vec::new();
     for case in cases {
         for scheme in schemes {

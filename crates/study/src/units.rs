@@ -88,10 +88,8 @@ pub fn units_comparison(
     let mut rows = Vec::with_capacity(spheres.len());
     for ((level, mesh, x), (iterations_cutoff, radius_cutoff)) in spheres.iter().zip(timed) {
         let out = smooth(mesh, x, scheme, SmoothConfig::new(lambda, iterations_fixed))?;
-        let area = LaplacianOptions {
-            normalization: Normalization::Area(VertexAreaKind::Barycentric),
-            ..LaplacianOptions::default()
-        };
+        let area =
+            LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::Barycentric));
         let start = std::time::Instant::now();
         // One backward-Euler step of the whole time.
         let implicit = smooth(

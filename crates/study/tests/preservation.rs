@@ -124,27 +124,15 @@ fn the_measure_does_not_favour_a_plain_scheme() {
 fn invalid_options_are_refused() {
     let (mesh, clean, noisy) = noisy_block();
     for options in [
-        EdgePreservationOptions {
-            target: 0.0,
-            ..Default::default()
-        },
-        EdgePreservationOptions {
-            target: 1.0,
-            ..Default::default()
-        },
-        EdgePreservationOptions {
-            feature_threshold_deg: 180.0,
-            ..Default::default()
-        },
+        EdgePreservationOptions::new().target(0.0),
+        EdgePreservationOptions::new().target(1.0),
+        EdgePreservationOptions::new().feature_threshold_deg(180.0),
     ] {
         let err =
             edge_preservation(&mesh, &clean, &noisy, &Uniform, &Cotangent, &options).unwrap_err();
         assert!(err.to_string().starts_with("invalid"), "{err}");
     }
-    let bad_lambda = EdgePreservationOptions {
-        lambda: 1.5,
-        ..Default::default()
-    };
+    let bad_lambda = EdgePreservationOptions::new().lambda(1.5);
     let err =
         edge_preservation(&mesh, &clean, &noisy, &Uniform, &Cotangent, &bad_lambda).unwrap_err();
     assert!(err.to_string().contains("uniform"), "{err}");

@@ -112,10 +112,11 @@ fn smooth_config(
     SmoothConfig::new(lambda, iterations)
         .boundary(boundary)
         .update(update)
-        .laplacian(LaplacianOptions {
-            normalization,
-            negative,
-        })
+        .laplacian(
+            LaplacianOptions::new()
+                .normalization(normalization)
+                .negative(negative),
+        )
         .pinned(pinned.to_vec())
 }
 
@@ -272,10 +273,9 @@ fn check_equivariance(
                         "{} {normalization:?} {boundary:?} {update:?}",
                         scheme.name()
                     );
-                    let options = LaplacianOptions {
-                        normalization,
-                        negative: NegativeWeights::Keep,
-                    };
+                    let options = LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(NegativeWeights::Keep);
                     // With area normalisation and weights recomputed every iteration the
                     // stable step shrinks as the mesh does: the run is driven one
                     // iteration at a time, each with the step that is stable for the

@@ -38,10 +38,9 @@ fn schemes() -> Vec<Box<dyn WeightScheme>> {
 }
 
 fn opts(normalization: Normalization, negative: NegativeWeights) -> LaplacianOptions {
-    LaplacianOptions {
-        normalization,
-        negative,
-    }
+    LaplacianOptions::new()
+        .normalization(normalization)
+        .negative(negative)
 }
 
 #[test]

@@ -86,10 +86,11 @@ fn all_options() -> Vec<LaplacianOptions> {
             NegativeWeights::Clamp,
             NegativeWeights::Abs,
         ] {
-            out.push(LaplacianOptions {
-                normalization,
-                negative,
-            });
+            out.push(
+                LaplacianOptions::new()
+                    .normalization(normalization)
+                    .negative(negative),
+            );
         }
     }
     out

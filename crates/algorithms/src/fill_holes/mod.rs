@@ -52,6 +52,8 @@ mod triangulate;
 
 use beltrami_halfedge::{DVec3, EditError, EditMesh, HalfedgeId, HalfedgeMesh, TopologyError};
 
+use crate::error::{algorithm_error, check_finite, check_mesh};
+
 use fair::FairFailure;
 use refine::Patch;
 use triangulate::TriangulateError;
@@ -262,62 +264,36 @@ pub struct FillReport {
     pub vertices_added: usize,
 }
 
-/// Why hole filling could not run. Every variant names the offending element or value.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum FillError {
-    /// A face is not a triangle.
-    #[error("face {face} has {len} vertices; hole filling needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position")]
-    NonFinite {
-        /// The vertex index.
-        vertex: usize,
-    },
-    /// An option is out of its range.
-    #[error("invalid option: {reason}")]
-    Options {
-        /// The problem in words.
-        reason: String,
-    },
-    /// [`fill_hole`] was given a halfedge that is not a live boundary halfedge.
-    #[error("{halfedge} is not a boundary halfedge")]
-    NotBoundary {
-        /// The halfedge.
-        halfedge: HalfedgeId,
-    },
-    /// [`fill_hole`] was given a loop it leaves open; the mesh is unchanged.
-    #[error("the loop of {boundary_edges} edges at {halfedge} was not filled: {}", .reason.describe())]
-    Skipped {
-        /// The halfedge given.
-        halfedge: HalfedgeId,
-        /// The number of edges of its loop.
-        boundary_edges: usize,
-        /// Why.
-        reason: SkipReason,
-    },
-    /// An edit the checks allowed was refused: a defect of this crate, reported rather
-    /// than panicking.
-    #[error("editing the patch failed: {0}")]
-    Edit(#[from] EditError),
-    /// The input or the result did not convert between the frozen and the editable
-    /// mesh.
-    #[error("{0}")]
-    Topology(#[from] TopologyError),
+algorithm_error! {
+    /// Why hole filling could not run. Every variant names the offending element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum FillError for "hole filling" {
+        /// [`fill_hole`] was given a halfedge that is not a live boundary halfedge.
+        #[error("{halfedge} is not a boundary halfedge")]
+        NotBoundary {
+            /// The halfedge.
+            halfedge: HalfedgeId,
+        },
+        /// [`fill_hole`] was given a loop it leaves open; the mesh is unchanged.
+        #[error("the loop of {boundary_edges} edges at {halfedge} was not filled: {}", .reason.describe())]
+        Skipped {
+            /// The halfedge given.
+            halfedge: HalfedgeId,
+            /// The number of edges of its loop.
+            boundary_edges: usize,
+            /// Why.
+            reason: SkipReason,
+        },
+        /// An edit the checks allowed was refused: a defect of this crate, reported rather
+        /// than panicking.
+        #[error("editing the patch failed: {0}")]
+        Edit(#[from] EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+    }
 }
 
 /// The length of a boundary loop.
@@ -543,21 +519,8 @@ pub fn fill_holes(
     positions: &[DVec3],
     options: &FillOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, FillReport), FillError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(FillError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(FillError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
-    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(FillError::NonFinite { vertex: v });
-    }
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
     options.validate()?;
     let loops: Vec<Vec<HalfedgeId>> = mesh.boundary_loops().collect();
     let mut edit = EditMesh::from_mesh(mesh, positions)?;

@@ -64,8 +64,11 @@ mod curves;
 mod passes;
 mod sizing;
 
-use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, TopologyError};
+use beltrami_halfedge::edit::VertexProperty;
+use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
+
+use crate::error::{algorithm_error, check_finite, check_mesh};
 
 use passes::Remesher;
 
@@ -252,66 +255,40 @@ pub struct RemeshReport {
     pub hausdorff: f64,
 }
 
-/// Why [`remesh`] could not run. Every variant names the offending element or value.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum RemeshError {
-    /// A face is not a triangle; remeshing needs a triangle mesh.
-    #[error("face {face} has {len} vertices; remeshing needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// A position is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite position")]
-    NonFinite {
-        /// The vertex index.
-        vertex: usize,
-    },
-    /// The mesh has no faces, or all its edges have length zero: there is no surface to
-    /// remesh and no mean edge length.
-    #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
-    Empty,
-    /// An option is out of its range.
-    #[error("invalid option: {reason}")]
-    Options {
-        /// The problem in words.
-        reason: String,
-    },
-    /// The target length is so small for the surface's area that the result would be
-    /// too large.
-    #[error(
-        "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
-    )]
-    TooManyFaces {
-        /// The (smallest) target edge length.
-        edge_length: f64,
-        /// The estimated number of triangles, `area / (√3/4 · L²)`.
-        predicted: f64,
-        /// [`MAX_REMESH_FACES`].
-        max: usize,
-    },
-    /// An edit the checks allowed was refused: a defect of this crate, reported rather
-    /// than panicking.
-    #[error("an edit failed: {0}")]
-    Edit(#[from] beltrami_halfedge::EditError),
-    /// The input or the result did not convert between the frozen and the editable
-    /// mesh.
-    #[error("{0}")]
-    Topology(#[from] TopologyError),
-    /// A closest-point query failed (a defect: the positions are finite).
-    #[error("projecting onto the input: {0}")]
-    Metrics(#[from] beltrami_metrics::MetricsError),
+algorithm_error! {
+    /// Why [`remesh`] could not run. Every variant names the offending element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum RemeshError for "remeshing" {
+        /// The mesh has no faces, or all its edges have length zero: there is no surface to
+        /// remesh and no mean edge length.
+        #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
+        Empty,
+        /// The target length is so small for the surface's area that the result would be
+        /// too large.
+        #[error(
+            "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
+        )]
+        TooManyFaces {
+            /// The (smallest) target edge length.
+            edge_length: f64,
+            /// The estimated number of triangles, `area / (√3/4 · L²)`.
+            predicted: f64,
+            /// [`MAX_REMESH_FACES`].
+            max: usize,
+        },
+        /// An edit the checks allowed was refused: a defect of this crate, reported rather
+        /// than panicking.
+        #[error("an edit failed: {0}")]
+        Edit(#[from] beltrami_halfedge::EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+        /// A closest-point query failed (a defect: the positions are finite).
+        #[error("projecting onto the input: {0}")]
+        Metrics(#[from] beltrami_metrics::MetricsError),
+    }
 }
 
 /// Whether `x` is a number above zero.
@@ -442,26 +419,11 @@ pub fn remesh(
     positions: &[DVec3],
     options: &RemeshOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    if positions.len() != mesh.n_vertices() {
-        return Err(RemeshError::PositionCount {
-            positions: positions.len(),
-            vertices: mesh.n_vertices(),
-        });
-    }
-    if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-        return Err(RemeshError::NotTriangle {
-            face: f.index(),
-            len: mesh.face_valence(f),
-        });
-    }
-    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(RemeshError::NonFinite { vertex: v });
-    }
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
-    let area =
-        |edit: &EditMesh, f| curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0;
-    let total_area: f64 = edit.faces().map(|f| area(&edit, f)).sum();
+    let total_area: f64 = edit.faces().map(|f| face_area(&edit, f)).sum();
     if mesh.n_faces() == 0 || !is_positive(mean_before) || !is_positive(total_area) {
         return Err(RemeshError::Empty);
     }
@@ -494,29 +456,7 @@ pub fn remesh(
         target = field.iter().sum::<f64>() / field.len() as f64;
         reference = Some((mesh, field));
     }
-    // The size of the result, estimated before any work: each face's area over that of
-    // an equilateral triangle of its smallest corner's target length.
-    let predicted: f64 = edit
-        .faces()
-        .map(|f| {
-            let size = edit
-                .vertices_around_face(f)
-                .map(|v| *edit.get(sizing, v))
-                .fold(f64::INFINITY, f64::min);
-            area(&edit, f) / (3f64.sqrt() / 4.0 * size * size)
-        })
-        .sum();
-    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
-        return Err(RemeshError::TooManyFaces {
-            edge_length: edit
-                .values(sizing)
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min),
-            predicted,
-            max: MAX_REMESH_FACES,
-        });
-    }
+    check_result_size(&edit, sizing)?;
 
     let mut remesher = Remesher {
         mesh: edit,
@@ -538,7 +478,59 @@ pub fn remesh(
         corners: found.corners,
         ..RemeshReport::default()
     };
-    for _ in 0..options.iterations {
+    run_passes(&mut remesher, options.iterations, &mut report)?;
+    let mut edit = remesher.mesh;
+    edit.remove_property(feature);
+    edit.remove_property(corner);
+    edit.remove_property(sizing);
+    edit.garbage_collection();
+    (report.mean_edge_length, report.edge_length_cv) = edge_length_stats(&edit);
+    let (out, out_positions) = edit.into_mesh()?;
+    measure_result(&out, &out_positions, &index, &mut report)?;
+    Ok((out, out_positions, report))
+}
+
+/// Refuses a target so small for the surface's area that the result would have more
+/// than [`MAX_REMESH_FACES`] faces, estimated before any work: each face's area over
+/// that of an equilateral triangle of its smallest corner's target length.
+fn check_result_size(edit: &EditMesh, sizing: VertexProperty<f64>) -> Result<(), RemeshError> {
+    let predicted: f64 = edit
+        .faces()
+        .map(|f| {
+            let size = edit
+                .vertices_around_face(f)
+                .map(|v| *edit.get(sizing, v))
+                .fold(f64::INFINITY, f64::min);
+            face_area(edit, f) / (3f64.sqrt() / 4.0 * size * size)
+        })
+        .sum();
+    if predicted.is_nan() || predicted > MAX_REMESH_FACES as f64 {
+        return Err(RemeshError::TooManyFaces {
+            edge_length: edit
+                .values(sizing)
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
+            predicted,
+            max: MAX_REMESH_FACES,
+        });
+    }
+    Ok(())
+}
+
+/// The area of face `f` (a triangle).
+fn face_area(edit: &EditMesh, f: FaceId) -> f64 {
+    curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0
+}
+
+/// `iterations` rounds of split, collapse, flip and relax, then the removal of caps,
+/// counted into `report`.
+fn run_passes(
+    remesher: &mut Remesher<'_>,
+    iterations: usize,
+    report: &mut RemeshReport,
+) -> Result<(), RemeshError> {
+    for _ in 0..iterations {
         let splits = remesher.split_long_edges()?;
         let collapses = remesher.collapse_short_edges()?;
         let flips = remesher.flip_edges()?;
@@ -557,25 +549,27 @@ pub fn remesh(
         report.flips += caps;
         report.cap_flips = caps;
     }
-    let mut edit = remesher.mesh;
-    edit.remove_property(feature);
-    edit.remove_property(corner);
-    edit.remove_property(sizing);
-    edit.garbage_collection();
-    let (mean, cv) = edge_length_stats(&edit);
-    let (out, out_positions) = edit.into_mesh()?;
+    Ok(())
+}
+
+/// The result's counts and distance to the input surface (of the vertices in a face),
+/// into `report`.
+fn measure_result(
+    out: &HalfedgeMesh,
+    out_positions: &[DVec3],
+    input: &SurfaceIndex,
+    report: &mut RemeshReport,
+) -> Result<(), RemeshError> {
     report.vertices = out.n_vertices();
     report.faces = out.n_faces();
-    report.mean_edge_length = mean;
-    report.edge_length_cv = cv;
     let on_surface: Vec<DVec3> = out
         .vertices()
         .filter(|&v| !out.is_isolated(v))
         .map(|v| out_positions[v.index()])
         .collect();
-    report.hausdorff = index
+    report.hausdorff = input
         .distances(&on_surface)?
         .into_iter()
         .fold(0.0, f64::max);
-    Ok((out, out_positions, report))
+    Ok(())
 }

@@ -143,13 +143,7 @@ pub(crate) const DEFAULT_MAX_ITERATIONS: usize = 1_000_000;
 /// Runs planning more iterations than this print their plan without `--verbose`.
 pub(crate) const LARGE_RUN_ITERATIONS: usize = 10_000;
 
-/// The default λ, and Taubin's classic pair (λ, μ) = (0.6307, −0.6732), whose pass
-/// band `1/λ + 1/μ` is 0.1 (Taubin 1995).
-pub(crate) const DEFAULT_LAMBDA: f64 = 0.8;
-pub(crate) const TAUBIN_LAMBDA: f64 = 0.6307;
-pub(crate) const TAUBIN_PASS_BAND: f64 = 0.1;
-pub(crate) const HC_ALPHA: f64 = 0.1;
-pub(crate) const HC_BETA: f64 = 0.6;
+pub(crate) use beltrami_smooth::{DEFAULT_LAMBDA, TAUBIN_LAMBDA, TAUBIN_PASS_BAND};
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -292,22 +286,16 @@ impl SmoothArgs {
                 UpdateArg::Every => WeightUpdate::Every,
                 UpdateArg::Once => WeightUpdate::Once,
             })
-            .laplacian(LaplacianOptions {
-                normalization,
-                negative,
-            })
+            .laplacian(
+                LaplacianOptions::new()
+                    .normalization(normalization)
+                    .negative(negative),
+            )
             .pinned(self.pin.iter().copied().map(VertexId::new).collect())
             .method(self.method())
             .preserve_volume(self.preserve_volume);
-        if let Some(t) = self.time {
-            config = config.duration(DiffusionTime::Time(t));
-        }
-        if let Some(lc) = self.cutoff {
-            config = config.duration(DiffusionTime::Cutoff(lc));
-        }
-        if let Some(eps) = self.until_change {
-            config = config.until_change(eps);
-        }
+        config.duration = DiffusionTime::from_options(self.time, self.cutoff);
+        config.until_change = self.until_change;
         if self.report.is_none() || self.no_step_stats {
             config = config.statistics(Statistics::OnDemand);
         }
@@ -321,14 +309,8 @@ impl SmoothArgs {
                 SolverArg::Cholesky => ImplicitSolver::Cholesky,
                 SolverArg::Cg => ImplicitSolver::conjugate_gradient(),
             }),
-            MethodArg::Taubin => match self.mu {
-                Some(mu) => Method::Taubin { mu },
-                None => Method::taubin_pass_band(self.lambda(), TAUBIN_PASS_BAND),
-            },
-            MethodArg::Hc => Method::Hc {
-                alpha: self.hc_alpha.unwrap_or(HC_ALPHA),
-                beta: self.hc_beta.unwrap_or(HC_BETA),
-            },
+            MethodArg::Taubin => Method::taubin_or_pass_band(self.lambda(), self.mu),
+            MethodArg::Hc => Method::hc_or_default(self.hc_alpha, self.hc_beta),
         }
     }
 }

@@ -17,7 +17,10 @@ use crate::mesh::INVALID;
 /// deleted, so every other id stays valid, and
 /// [`garbage_collection`](Self::garbage_collection) compacts the arrays and returns the
 /// old → new id maps. Counts ([`n_vertices`](Self::n_vertices) …) and iterators
-/// ([`vertices`](Self::vertices) …) see live elements only.
+/// ([`vertices`](Self::vertices) …) see live elements only. The link accessors and
+/// circulators are [`HalfedgeMesh`](crate::HalfedgeMesh)'s, and take a live element: on
+/// a deleted one they return what the slot last held, and they panic when the id is
+/// out of range.
 ///
 /// Convert with [`from_mesh`](Self::from_mesh) and [`to_mesh`](Self::to_mesh) (both
 /// O(n)); the frozen [`HalfedgeMesh`](crate::HalfedgeMesh) stays the type the smoother
@@ -72,11 +75,6 @@ impl Default for EditMesh {
     fn default() -> Self {
         Self::new()
     }
-}
-
-#[inline]
-pub(crate) fn opt(raw: u32) -> Option<u32> {
-    (raw != INVALID).then_some(raw)
 }
 
 fn raw<I: ElementId>(id: I) -> u32 {

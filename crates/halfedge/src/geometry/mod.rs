@@ -88,6 +88,7 @@ mod kernel;
 mod lanes;
 mod measures;
 mod normals;
+mod summary;
 
 use glam::DVec3;
 
@@ -110,6 +111,7 @@ pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
 }
 pub use batch::{distances_into, distances_with};
 pub use normals::NormalWeighting;
+pub use summary::MeshSummary;
 
 use crate::error::TopologyError;
 use crate::ids::{FaceId, VertexId};

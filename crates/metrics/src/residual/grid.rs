@@ -1,8 +1,8 @@
 //! Height maps on a regular grid, and the resampling of a residual on a mesh onto one in
 //! the mesh's best-fit plane.
 
-use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::areal::Surface;
 use crate::MetricsError;
@@ -268,6 +268,42 @@ pub fn resample_to_grid(
 ) -> Result<ResampledGrid, MetricsError> {
     // Validates the mesh, positions and field.
     Surface::new(geometry, field)?;
+    check_options(options)?;
+    let frame = mean_plane_frame(geometry)?;
+    let project = |p: DVec3| {
+        let d = p - frame.origin;
+        (d.dot(frame.u_axis), d.dot(frame.v_axis))
+    };
+    let projected: Vec<(f64, f64)> = geometry.positions().iter().map(|&p| project(p)).collect();
+    let (low, high) = projected_extent(geometry, &projected)?;
+    let (step, nx, ny) = grid_size(geometry, options, low, high)?;
+    let Rasterised {
+        heights,
+        facing,
+        folded,
+    } = rasterise(geometry.mesh(), &projected, field, low, step, (nx, ny));
+    let folded_fraction = if facing + folded > 0.0 {
+        folded / (facing + folded)
+    } else {
+        0.0
+    };
+    if folded_fraction > options.max_folded_fraction {
+        return Err(MetricsError::NotAHeightField {
+            folded_percent: 100.0 * folded_fraction,
+        });
+    }
+    Ok(ResampledGrid {
+        grid: HeightGrid::new(nx, ny, step, step, heights)?,
+        frame,
+        u0: low[0],
+        v0: low[1],
+        step,
+        folded_fraction,
+    })
+}
+
+/// Refuses a grid step that is not positive and finite and fewer than 16 points.
+fn check_options(options: &ResampleOptions) -> Result<(), MetricsError> {
     if let Some(step) = options.step {
         if !(step > 0.0 && step.is_finite()) {
             return Err(MetricsError::InvalidParameter {
@@ -282,6 +318,12 @@ pub fn resample_to_grid(
             reason: "must be at least 16",
         });
     }
+    Ok(())
+}
+
+/// The least-squares mean plane of the surface (area-weighted), its normal turned to
+/// the side the faces face on balance, with in-plane axes.
+fn mean_plane_frame(geometry: &Geometry<'_>) -> Result<PlaneFrame, MetricsError> {
     let mesh = geometry.mesh();
     let positions = geometry.positions();
     let plane = fit_plane(&FitPoints::area_weighted(mesh, positions)?)?;
@@ -295,17 +337,22 @@ pub fn resample_to_grid(
         plane.normal
     };
     let (u_axis, v_axis) = in_plane_axes(normal);
-    let frame = PlaneFrame {
+    Ok(PlaneFrame {
         origin: plane.point,
         u_axis,
         v_axis,
         normal,
-    };
-    let project = |p: DVec3| {
-        let d = p - frame.origin;
-        (d.dot(u_axis), d.dot(v_axis))
-    };
-    let projected: Vec<(f64, f64)> = positions.iter().map(|&p| project(p)).collect();
+    })
+}
+
+/// The lowest and highest in-plane coordinates `(u, v)` of the vertices in a face;
+/// [`MetricsError::CoordinateTooLarge`] when the extent overflows.
+fn projected_extent(
+    geometry: &Geometry<'_>,
+    projected: &[(f64, f64)],
+) -> Result<([f64; 2], [f64; 2]), MetricsError> {
+    let mesh = geometry.mesh();
+    let positions = geometry.positions();
     let (mut low, mut high) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for f in mesh.faces() {
         for v in mesh.triangle_vertices(f) {
@@ -330,6 +377,17 @@ pub fn resample_to_grid(
             limit: f64::MAX / 2.0,
         });
     }
+    Ok((low, high))
+}
+
+/// The grid step (the option's, or the median edge length, coarsened until the grid
+/// has at most `max_points` points) and the point counts along u and v.
+fn grid_size(
+    geometry: &Geometry<'_>,
+    options: &ResampleOptions,
+    low: [f64; 2],
+    high: [f64; 2],
+) -> Result<(f64, usize, usize), MetricsError> {
     let mut step = match options.step {
         Some(step) => step,
         None => median_edge_length(geometry).ok_or(MetricsError::Empty { what: "mesh area" })?,
@@ -349,6 +407,29 @@ pub fn resample_to_grid(
         });
     }
 
+    Ok((step, nx, ny))
+}
+
+/// The heights interpolated on the grid, and the projected areas of the faces that face
+/// the plane and of the folded ones.
+struct Rasterised {
+    heights: Vec<Option<f64>>,
+    facing: f64,
+    folded: f64,
+}
+
+/// Interpolates `field` linearly at the grid points `(low + i·step, low + j·step)`
+/// inside each face that faces the plane (the first face to cover a point gives its
+/// height), and sums the projected areas of the facing and folded faces; faces of
+/// (nearly) zero projected area are skipped.
+fn rasterise(
+    mesh: &HalfedgeMesh,
+    projected: &[(f64, f64)],
+    field: &[f64],
+    low: [f64; 2],
+    step: f64,
+    (nx, ny): (usize, usize),
+) -> Rasterised {
     let mut heights: Vec<Option<f64>> = vec![None; nx * ny];
     let (mut facing, mut folded) = (0.0, 0.0);
     for f in mesh.faces() {
@@ -401,24 +482,11 @@ pub fn resample_to_grid(
             }
         }
     }
-    let folded_fraction = if facing + folded > 0.0 {
-        folded / (facing + folded)
-    } else {
-        0.0
-    };
-    if folded_fraction > options.max_folded_fraction {
-        return Err(MetricsError::NotAHeightField {
-            folded_percent: 100.0 * folded_fraction,
-        });
+    Rasterised {
+        heights,
+        facing,
+        folded,
     }
-    Ok(ResampledGrid {
-        grid: HeightGrid::new(nx, ny, step, step, heights)?,
-        frame,
-        u0: low[0],
-        v0: low[1],
-        step,
-        folded_fraction,
-    })
 }
 
 /// The median length of the mesh's edges, `None` when all have length 0 (or there is

@@ -248,10 +248,9 @@ mod tests {
                 Normalization::Area(VertexAreaKind::Barycentric),
             ] {
                 for negative in [NegativeWeights::Keep, NegativeWeights::Clamp] {
-                    let options = LaplacianOptions {
-                        normalization,
-                        negative,
-                    };
+                    let options = LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(negative);
                     for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
                         let Ok(lap) = Laplacian::new(mesh, x, scheme, options) else {
                             continue;

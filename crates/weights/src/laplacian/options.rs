@@ -48,11 +48,47 @@ impl NegativeWeights {
     }
 }
 
-/// Options of a [`Laplacian`](crate::Laplacian).
+/// Options of a [`Laplacian`](crate::Laplacian). The default is weight-sum
+/// normalisation ([`Normalization::WeightSum`]) with negative weights kept
+/// ([`NegativeWeights::Keep`]).
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::geometry::VertexAreaKind;
+/// use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
+/// let options = LaplacianOptions::new()
+///     .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi))
+///     .negative(NegativeWeights::Clamp);
+/// assert_eq!(options.negative, NegativeWeights::Clamp);
+/// assert_eq!(LaplacianOptions::default().normalization, Normalization::WeightSum);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct LaplacianOptions {
-    /// Row normalisation.
+    /// Row normalisation (default [`Normalization::WeightSum`]).
     pub normalization: Normalization,
-    /// Treatment of negative weights.
+    /// Treatment of negative weights (default [`NegativeWeights::Keep`]).
     pub negative: NegativeWeights,
+}
+
+impl LaplacianOptions {
+    /// The defaults: weight-sum normalisation, negative weights kept.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets the row normalisation.
+    #[must_use]
+    pub fn normalization(mut self, normalization: Normalization) -> Self {
+        self.normalization = normalization;
+        self
+    }
+
+    /// Sets the treatment of negative weights.
+    #[must_use]
+    pub fn negative(mut self, negative: NegativeWeights) -> Self {
+        self.negative = negative;
+        self
+    }
 }

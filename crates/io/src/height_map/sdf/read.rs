@@ -44,9 +44,11 @@ fn header_error(line: Option<usize>, reason: String) -> IoError {
     IoError::SdfHeader { line, reason }
 }
 
-/// The header fields that the grid needs, as read.
+/// The header fields that the grid needs, as read, each with its line (and, in an
+/// ASCII file, the `Compression` value, which must be 0).
 #[derive(Default)]
 struct Header {
+    compression: Option<(u64, usize)>,
     num_points: Option<(u64, usize)>,
     num_profiles: Option<(u64, usize)>,
     x_scale: Option<(f64, usize)>,
@@ -57,7 +59,36 @@ struct Header {
 
 fn read_ascii<R: BufRead>(reader: R, length: u64) -> Result<HeightMap, IoError> {
     let mut lines = LineReader::new(reader);
-    // The version line.
+    read_version_line(&mut lines)?;
+    let (header, header_end) = read_ascii_header(&mut lines)?;
+    if let Some((code, line)) = header.compression
+        && code != 0
+    {
+        return Err(header_error(
+            Some(line),
+            format!("Compression {code}: only uncompressed data (0) is read"),
+        ));
+    }
+    let grid = Grid::from_header(&header, Some(header_end))?;
+    let n = grid.points;
+    // Each value takes at least two bytes (a digit and a separator).
+    let remaining = length.saturating_sub(lines.bytes_read());
+    if (n as u64).saturating_mul(2) > remaining.saturating_add(1) {
+        return Err(header_error(
+            Some(grid.count_line),
+            format!(
+                "NumPoints × NumProfiles = {n} values need at least {} bytes, but {remaining} follow the header",
+                2 * n as u64 - 1
+            ),
+        ));
+    }
+    let z = read_ascii_values(&mut lines, &grid, header_end)?;
+    grid.height_map(z)
+}
+
+/// Reads the version line of an ASCII file (after any blank lines): `aISO-1.0` or
+/// `aBCR-1.0`.
+fn read_version_line<R: BufRead>(lines: &mut LineReader<R>) -> Result<(), IoError> {
     let first = loop {
         match lines.next_line()? {
             None => return Err(IoError::Empty),
@@ -75,8 +106,13 @@ fn read_ascii<R: BufRead>(reader: R, length: u64) -> Result<HeightMap, IoError> 
             ),
         ));
     }
+    Ok(())
+}
+
+/// Reads the `key = value` lines of an ASCII header up to the `*` line: the header and
+/// the line number of the `*`.
+fn read_ascii_header<R: BufRead>(lines: &mut LineReader<R>) -> Result<(Header, usize), IoError> {
     let mut header = Header::default();
-    let mut compression = None;
     let header_end = loop {
         let Some(line) = lines.next_line()? else {
             return Err(header_error(
@@ -141,33 +177,23 @@ fn read_ascii<R: BufRead>(reader: R, length: u64) -> Result<HeightMap, IoError> 
             "yscale" => header.y_scale = Some(scale("Yscale")?),
             "zscale" => header.z_scale = Some(scale("Zscale")?),
             "datatype" => header.data_type = Some(count("DataType")?),
-            "compression" => compression = Some(count("Compression")?),
+            "compression" => header.compression = Some(count("Compression")?),
             // ManufacID, CreateDate, ModDate, Zresolution, CheckType and anything else
             // describe the data without changing them.
             _ => {}
         }
     };
-    if let Some((code, line)) = compression
-        && code != 0
-    {
-        return Err(header_error(
-            Some(line),
-            format!("Compression {code}: only uncompressed data (0) is read"),
-        ));
-    }
-    let grid = Grid::from_header(&header, Some(header_end))?;
+    Ok((header, header_end))
+}
+
+/// Reads the `grid.points` values after the header (`BAD` for a missing one), scaled
+/// by `Zscale`, up to a `*` or the end of the file.
+fn read_ascii_values<R: BufRead>(
+    lines: &mut LineReader<R>,
+    grid: &Grid,
+    header_end: usize,
+) -> Result<Vec<f64>, IoError> {
     let n = grid.points;
-    // Each value takes at least two bytes (a digit and a separator).
-    let remaining = length.saturating_sub(lines.bytes_read());
-    if (n as u64).saturating_mul(2) > remaining.saturating_add(1) {
-        return Err(header_error(
-            Some(grid.count_line),
-            format!(
-                "NumPoints × NumProfiles = {n} values need at least {} bytes, but {remaining} follow the header",
-                2 * n as u64 - 1
-            ),
-        ));
-    }
     let mut z = Vec::with_capacity(n);
     let mut last_line = header_end;
     'lines: while let Some(line) = lines.next_line()? {
@@ -224,7 +250,7 @@ fn read_ascii<R: BufRead>(reader: R, length: u64) -> Result<HeightMap, IoError> 
             ),
         });
     }
-    grid.height_map(z)
+    Ok(z)
 }
 
 /// The grid a header describes.
@@ -334,6 +360,7 @@ fn read_binary<R: Read>(mut reader: R, length: u64) -> Result<HeightMap, IoError
         y_scale: Some((f64_at(54), 0)),
         z_scale: Some((f64_at(62), 0)),
         data_type: Some((u64::from(h[79]), 0)),
+        compression: None,
     };
     if h[78] != 0 {
         return Err(header_error(
