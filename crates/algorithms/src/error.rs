@@ -45,9 +45,51 @@ pub(crate) fn check_finite(positions: &[DVec3]) -> Result<(), InputProblem> {
 /// options: the variants every such algorithm shares (`NotTriangle`, `PositionCount`,
 /// `NonFinite`, `Options`), then the algorithm's own, and the conversion from an
 /// [`InputProblem`]. `for "…"` names the algorithm in the `NotTriangle` message
-/// ("face 3 has 4 vertices; remeshing needs a triangle mesh").
+/// ("face 3 has 4 vertices; remeshing needs a triangle mesh"). With `mesh only`, the
+/// enum gets the mesh's variants (`NotTriangle`, `PositionCount`) and no conversion: for
+/// an algorithm without options that reads no position value (subdivision).
 macro_rules! algorithm_error {
     (
+        $(#[$meta:meta])*
+        pub enum $name:ident for $what:literal {
+            $($own:tt)*
+        }
+    ) => {
+        $crate::error::algorithm_error! {
+            mesh only
+            $(#[$meta])*
+            pub enum $name for $what {
+                /// A position is NaN or infinite.
+                #[error("vertex {vertex} has a non-finite position")]
+                NonFinite {
+                    /// The vertex index.
+                    vertex: usize,
+                },
+                /// An option is out of its range.
+                #[error("invalid option: {reason}")]
+                Options {
+                    /// The problem in words.
+                    reason: String,
+                },
+                $($own)*
+            }
+        }
+
+        impl From<$crate::error::InputProblem> for $name {
+            fn from(problem: $crate::error::InputProblem) -> Self {
+                use $crate::error::InputProblem as P;
+                match problem {
+                    P::PositionCount { positions, vertices } => {
+                        Self::PositionCount { positions, vertices }
+                    }
+                    P::NotTriangle { face, len } => Self::NotTriangle { face, len },
+                    P::NonFinite { vertex } => Self::NonFinite { vertex },
+                }
+            }
+        }
+    };
+    (
+        mesh only
         $(#[$meta:meta])*
         pub enum $name:ident for $what:literal {
             $($own:tt)*
@@ -71,79 +113,41 @@ macro_rules! algorithm_error {
                 /// The number of vertices of the mesh.
                 vertices: usize,
             },
-            /// A position is NaN or infinite.
-            #[error("vertex {vertex} has a non-finite position")]
-            NonFinite {
-                /// The vertex index.
-                vertex: usize,
-            },
-            /// An option is out of its range.
-            #[error("invalid option: {reason}")]
-            Options {
-                /// The problem in words.
-                reason: String,
-            },
             $($own)*
-        }
-
-        impl From<$crate::error::InputProblem> for $name {
-            fn from(problem: $crate::error::InputProblem) -> Self {
-                use $crate::error::InputProblem as P;
-                match problem {
-                    P::PositionCount { positions, vertices } => {
-                        Self::PositionCount { positions, vertices }
-                    }
-                    P::NotTriangle { face, len } => Self::NotTriangle { face, len },
-                    P::NonFinite { vertex } => Self::NonFinite { vertex },
-                }
-            }
         }
     };
 }
 pub(crate) use algorithm_error;
 
-/// Why a mesh could not be subdivided. Every variant names the offending element or
-/// count.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum SubdivisionError {
-    /// A face is not a triangle; both schemes subdivide triangle meshes only.
-    #[error("face {face} has {len} vertices; subdivision needs a triangle mesh")]
-    NotTriangle {
-        /// The face index (0-based, in mesh order).
-        face: usize,
-        /// The number of vertices it has.
-        len: usize,
-    },
-    /// The positions slice does not have one position per vertex.
-    #[error("{positions} positions were given for a mesh of {vertices} vertices")]
-    PositionCount {
-        /// The length of the positions slice.
-        positions: usize,
-        /// The number of vertices of the mesh.
-        vertices: usize,
-    },
-    /// The result would have more elements than a mesh can hold.
-    #[error(
-        "{steps} steps of {scheme} subdivision would make {count} {kind}; a mesh holds at most {max}"
-    )]
-    TooLarge {
-        /// The scheme's name (`"loop"` or `"sqrt3"`).
-        scheme: &'static str,
-        /// The number of steps asked for.
-        steps: usize,
-        /// `"vertices"`, `"halfedges"` or `"faces"`.
-        kind: &'static str,
-        /// How many there would be (saturated at `u64::MAX`).
-        count: u64,
-        /// The largest supported count.
-        max: usize,
-    },
-    /// The subdivided faces did not build into a mesh. Subdividing a valid mesh always
-    /// gives a valid one, so this is a defect of this crate, reported rather than
-    /// panicking.
-    #[error("the subdivided mesh did not build: {0}")]
-    Topology(#[from] TopologyError),
+algorithm_error! {
+    mesh only
+    /// Why a mesh could not be subdivided. Every variant names the offending element or
+    /// count.
+    #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum SubdivisionError for "subdivision" {
+        /// The result would have more elements than a mesh can hold.
+        #[error(
+            "{steps} steps of {scheme} subdivision would make {count} {kind}; a mesh holds at most {max}"
+        )]
+        TooLarge {
+            /// The scheme's name (`"loop"` or `"sqrt3"`).
+            scheme: &'static str,
+            /// The number of steps asked for.
+            steps: usize,
+            /// `"vertices"`, `"halfedges"` or `"faces"`.
+            kind: &'static str,
+            /// How many there would be (saturated at `u64::MAX`).
+            count: u64,
+            /// The largest supported count.
+            max: usize,
+        },
+        /// The subdivided faces did not build into a mesh. Subdividing a valid mesh always
+        /// gives a valid one, so this is a defect of this crate, reported rather than
+        /// panicking.
+        #[error("the subdivided mesh did not build: {0}")]
+        Topology(#[from] TopologyError),
+    }
 }
 
 algorithm_error! {

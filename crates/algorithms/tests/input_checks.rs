@@ -3,7 +3,7 @@
 
 use beltrami_algorithms::{
     DecimateOptions, DelaunayOptions, FillOptions, RemeshOptions, decimate, delaunay_flip,
-    fill_holes, mesh_quality, remesh,
+    fill_holes, loop_subdivide, mesh_quality, remesh,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
 
@@ -42,6 +42,12 @@ fn a_quad_is_named_with_the_algorithm_that_needs_triangles() {
             "face 0 has 4 vertices; Delaunay flipping needs a triangle mesh",
             "face 0 has 4 vertices; the quality figures are for triangle meshes",
         ]
+    );
+    assert_eq!(
+        loop_subdivide(&mesh, &positions, 1)
+            .unwrap_err()
+            .to_string(),
+        "face 0 has 4 vertices; subdivision needs a triangle mesh"
     );
 }
 
