@@ -18,8 +18,11 @@
 //! - an iterative traversal with a reusable stack that tests both children's boxes of a
 //!   node at once, visits the nearer first and prunes by the best squared distance so far.
 //!
-//! The split is computed with `select_nth_unstable`, comparing integer keys of the centres
-//! (the order of `f64::total_cmp`), with one comparator per axis.
+//! The split is computed with `select_nth_unstable` on 16-byte items: the centres rounded
+//! to `f32` as integer keys (the order of `f32::total_cmp`) and the item index, one `u64`
+//! comparison per axis. The split only has to be *a* deterministic median split: which
+//! tree it builds does not change any answer (the search is exact, ties are broken by the
+//! caller's face order), only how fast the answers are found.
 //!
 //! That is this file (and a Morton order that makes batches of queries coherent); the
 //! exact point–triangle distance and the feature classification stay in our hands, in
@@ -104,8 +107,9 @@ impl Bvh {
             .into_par_iter()
             .map(|i| {
                 let [lo, hi] = bounds(i);
+                let centre = lo + hi;
                 Item {
-                    centre: lo + hi,
+                    key: [centre.x, centre.y, centre.z].map(|c| order_key(c as f32)),
                     index: i as u32,
                 }
             })
@@ -217,19 +221,41 @@ impl Stack {
     }
 }
 
-/// The key of `x` in the total order of [`f64::total_cmp`], as an integer: comparing keys
+/// The key of `x` in the total order of [`f32::total_cmp`], as an integer: comparing keys
 /// is comparing the values as `total_cmp` does.
 #[inline]
-fn order_key(x: f64) -> i64 {
-    let bits = x.to_bits() as i64;
-    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
+fn order_key(x: f32) -> i32 {
+    // Negative values: every bit but the sign flipped (larger magnitudes lower).
+    order_key_bits(x.to_bits() as i32)
 }
 
-/// An item with (twice) its box centre, moved around by the build.
+/// The value of an [`order_key`] (the map is its own inverse on the bits).
+#[inline]
+fn key_value(key: i32) -> f32 {
+    f32::from_bits(order_key_bits(key) as u32)
+}
+
+/// [`order_key`] on bits: an involution.
+#[inline]
+fn order_key_bits(bits: i32) -> i32 {
+    bits ^ ((((bits >> 31) as u32) >> 1) as i32)
+}
+
+/// An item, moved around by the build: the [`order_key`]s of (twice) its box centre
+/// rounded to `f32` (the split needs an order of the centres, not their exact values),
+/// and its index. 16 bytes, so a selection moves half the bytes of `f64` centres.
 #[derive(Clone, Copy, Debug)]
 struct Item {
-    centre: DVec3,
+    key: [i32; 3],
     index: u32,
+}
+
+impl Item {
+    /// The sort key along `axis`: the centre's key, then the index.
+    #[inline]
+    fn along(&self, axis: usize) -> u64 {
+        (u64::from(self.key[axis] as u32 ^ (1 << 31)) << 32) | u64::from(self.index)
+    }
 }
 
 /// The number of interior nodes of the subtree over `n` items. Median splits make it a
@@ -338,22 +364,27 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
 /// of the centres' extent (ties by item index, so the split is a deterministic function of
 /// the input).
 ///
-/// The centres are compared through their [`order_key`]s (the order of `f64::total_cmp`).
+/// The extent is folded over the integer keys (their order is that of the values) and
+/// measured on the values of the extreme keys.
 fn split(items: &mut [Item]) {
-    let (lo, hi) = items
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
-            (lo.min(item.centre), hi.max(item.centre))
-        });
-    let extent = hi - lo;
+    // Four lanes (the index lane unused), so that the fold is one vector min and max.
+    let (lo, hi) = items.iter().fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
+        let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
+        (
+            std::array::from_fn(|a| lo[a].min(k[a])),
+            std::array::from_fn(|a| hi[a].max(k[a])),
+        )
+    });
+    let extent: [f64; 3] =
+        std::array::from_fn(|a| f64::from(key_value(hi[a])) - f64::from(key_value(lo[a])));
     let mid = items.len() / 2;
     // One comparator per axis, so that the axis is not looked up in every comparison.
-    if extent.x >= extent.y && extent.x >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.x), item.index));
-    } else if extent.y >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.y), item.index));
+    if extent[0] >= extent[1] && extent[0] >= extent[2] {
+        items.select_nth_unstable_by_key(mid, |item| item.along(0));
+    } else if extent[1] >= extent[2] {
+        items.select_nth_unstable_by_key(mid, |item| item.along(1));
     } else {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.z), item.index));
+        items.select_nth_unstable_by_key(mid, |item| item.along(2));
     }
 }
 
@@ -441,6 +472,41 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(best.0, scan);
         }
+    }
+
+    #[test]
+    fn order_keys_sort_as_total_cmp_and_give_the_values_back() {
+        let values = [
+            f32::NEG_INFINITY,
+            -3.0e38,
+            -2.0,
+            -1.0,
+            -f32::MIN_POSITIVE,
+            -1e-45,
+            -0.0,
+            0.0,
+            1e-45,
+            f32::MIN_POSITIVE,
+            0.5,
+            1.0,
+            1.0000001,
+            3.0e38,
+            f32::INFINITY,
+        ];
+        for pair in values.windows(2) {
+            assert!(order_key(pair[0]) < order_key(pair[1]), "{pair:?}");
+        }
+        for &x in &values {
+            assert_eq!(key_value(order_key(x)).to_bits(), x.to_bits());
+        }
+        // The split's sort key: the centre's key first, then the index.
+        let item = |x: f32, index| Item {
+            key: [order_key(x); 3],
+            index,
+        };
+        assert!(item(-1.0, 9).along(0) < item(-0.5, 0).along(0));
+        assert!(item(-0.5, 0).along(1) < item(-0.5, 1).along(1));
+        assert!(item(-0.5, 7).along(2) < item(0.25, 0).along(2));
     }
 
     #[test]
