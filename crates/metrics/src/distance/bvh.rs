@@ -59,17 +59,50 @@ struct Child {
 /// An interior node: both children's boxes and references, so that one visit reads one
 /// node (112 bytes) and tests both boxes.
 #[derive(Clone, Copy, Debug)]
+///
+/// The boxes are stored axis by axis, both children side by side (`lo[axis][child]`), so
+/// that both box distances are computed together, two lanes at a time.
 struct Node {
-    lo: [DVec3; 2],
-    hi: [DVec3; 2],
+    lo: [[f64; 2]; 3],
+    hi: [[f64; 2]; 3],
     child: [Child; 2],
+}
+
+impl Node {
+    /// The squared distances from `p` to both children's boxes, each computed exactly as
+    /// [`box_distance_squared`] computes it.
+    #[inline]
+    fn distances_squared(&self, p: [f64; 3]) -> [f64; 2] {
+        let g: [[f64; 2]; 3] = std::array::from_fn(|a| {
+            std::array::from_fn(|c| gap(self.lo[a][c], self.hi[a][c], p[a]))
+        });
+        std::array::from_fn(|c| g[0][c] * g[0][c] + g[1][c] * g[1][c] + g[2][c] * g[2][c])
+    }
+}
+
+/// The larger of `a` and `b` by a plain comparison (no NaN handling: the inputs are
+/// finite), so that it is one `max` instruction.
+#[inline]
+fn larger(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The distance from `p` to the interval `[lo, hi]` along one axis (0 inside; possibly
+/// `-0.0`, which squares like `0.0`).
+#[inline]
+fn gap(lo: f64, hi: f64, p: f64) -> f64 {
+    larger(larger(lo - p, p - hi), 0.0)
 }
 
 /// The squared distance from `p` to the box `[lo, hi]` (0 inside).
 #[inline]
 pub(crate) fn box_distance_squared(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
-    let d = (lo - p).max(p - hi).max(DVec3::ZERO);
-    d.length_squared()
+    let [x, y, z] = [
+        gap(lo.x, hi.x, p.x),
+        gap(lo.y, hi.y, p.y),
+        gap(lo.z, hi.z, p.z),
+    ];
+    x * x + y * y + z * z
 }
 
 /// A subtree's box and reference, as its build returns them.
@@ -127,8 +160,8 @@ impl Bvh {
         let empty = Child { first: 0, count: 0 };
         let mut nodes = vec![
             Node {
-                lo: [DVec3::ZERO; 2],
-                hi: [DVec3::ZERO; 2],
+                lo: [[0.0; 2]; 3],
+                hi: [[0.0; 2]; 3],
                 child: [empty; 2],
             };
             sizes.nodes(n)
@@ -172,6 +205,7 @@ impl Bvh {
         }
         let stack = &mut stack.0;
         stack.clear();
+        let q = p.to_array();
         let mut next = root.child;
         loop {
             if next.count > 0 {
@@ -181,8 +215,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[next.first as usize];
-                let d0 = box_distance_squared(node.lo[0], node.hi[0], p);
-                let d1 = box_distance_squared(node.lo[1], node.hi[1], p);
+                let [d0, d1] = node.distances_squared(q);
                 let ((near, dn), (far, df)) = if d0 <= d1 {
                     ((node.child[0], d0), (node.child[1], d1))
                 } else {
@@ -345,8 +378,8 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
             )
         };
         root[0] = Node {
-            lo: [l.lo, r.lo],
-            hi: [l.hi, r.hi],
+            lo: std::array::from_fn(|a| [l.lo[a], r.lo[a]]),
+            hi: std::array::from_fn(|a| [l.hi[a], r.hi[a]]),
             child: [l.child, r.child],
         };
         Built {
@@ -368,13 +401,15 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
 /// measured on the values of the extreme keys.
 fn split(items: &mut [Item]) {
     // Four lanes (the index lane unused), so that the fold is one vector min and max.
-    let (lo, hi) = items.iter().fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
-        let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
-        (
-            std::array::from_fn(|a| lo[a].min(k[a])),
-            std::array::from_fn(|a| hi[a].max(k[a])),
-        )
-    });
+    let (lo, hi) = items
+        .iter()
+        .fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
+            let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
+            (
+                std::array::from_fn(|a| lo[a].min(k[a])),
+                std::array::from_fn(|a| hi[a].max(k[a])),
+            )
+        });
     let extent: [f64; 3] =
         std::array::from_fn(|a| f64::from(key_value(hi[a])) - f64::from(key_value(lo[a])));
     let mid = items.len() / 2;
