@@ -158,14 +158,15 @@ impl Bvh {
         }
         let sizes = SubtreeSizes::new(n);
         let empty = Child { first: 0, count: 0 };
-        let mut nodes = vec![
-            Node {
+        // Initialised in parallel (tens of megabytes of fresh pages), then overwritten.
+        let mut nodes: Vec<Node> = (0..sizes.nodes(n))
+            .into_par_iter()
+            .map(|_| Node {
                 lo: [[0.0; 2]; 3],
                 hi: [[0.0; 2]; 3],
                 child: [empty; 2],
-            };
-            sizes.nodes(n)
-        ];
+            })
+            .collect();
         let build = Build {
             sizes: &sizes,
             bounds: &bounds,
