@@ -12,9 +12,9 @@
 //!   the input alone (ties by item index) and its node count a function of the item count,
 //!   which lets subtrees be built in parallel into disjoint parts of one preallocated array;
 //! - interior nodes flattened in depth-first order, each holding both children's boxes and
-//!   references (112 bytes; a leaf of at most four items is named in its parent, not
-//!   stored as a node): 524 287 nodes for the 1 310 720 triangles of a level-8 icosphere
-//!   (leaves of two and three triangles);
+//!   references (112 bytes; a leaf of at most eight items is named in its parent, not
+//!   stored as a node): 262 143 nodes for the 1 310 720 triangles of a level-8 icosphere
+//!   (leaves of five triangles);
 //! - an iterative traversal with a reusable stack that tests both children's boxes of a
 //!   node at once, visits the nearer first and prunes by the best squared distance so far.
 //!
@@ -39,7 +39,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// At most this many items in a leaf.
-const LEAF_SIZE: usize = 4;
+const LEAF_SIZE: usize = 8;
 /// Subtrees with at least this many items are built in parallel.
 const PARALLEL_MIN: usize = 1 << 15;
 /// Traversal stack size: a median split halves the item count at each level, so the depth
@@ -130,7 +130,8 @@ pub(crate) struct Bvh {
 impl Bvh {
     /// Builds the hierarchy over `boxes` (`[lo, hi]` per item) and returns it with the leaf
     /// order: `order[k]` is the item stored at leaf position `k`. Object-median split on the
-    /// longest axis of the box centres; deterministic, independent of the thread count.
+    /// longest axis of the box centres (rounded to `f32`, ties by item index); deterministic,
+    /// independent of the thread count.
     ///
     /// # Panics
     /// If there are more than `u32::MAX` items (callers check).

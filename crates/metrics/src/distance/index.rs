@@ -428,8 +428,8 @@ impl SurfaceIndex {
         self.bvh
             .nearest(p, best.distance_squared, &mut hint.stack, |k| {
                 let triangle = &self.triangles[k];
-                // The triangle's own box first: a leaf's box is the union of up to four of
-                // them, and about four in ten of the triangles of a visited leaf are farther
+                // The triangle's own box first: a leaf's box is the union of up to eight of
+                // them, and many of the triangles of a visited leaf are farther
                 // than the best so far. The box distance is computed as the hierarchy's node
                 // test computes it (a triangle alone in a leaf was already pruned by this very
                 // test), and a box at exactly the bound is not skipped (ties go to the face
