@@ -40,6 +40,8 @@ use rayon::prelude::*;
 
 /// At most this many items in a leaf.
 const LEAF_SIZE: usize = 8;
+/// Ranges of at least this many items choose their split axis from a sample of the centres.
+const SAMPLE_MIN: usize = 64;
 /// Subtrees with at least this many items are built in parallel.
 const PARALLEL_MIN: usize = 1 << 15;
 /// Traversal stack size: a median split halves the item count at each level, so the depth
@@ -399,19 +401,25 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
 /// of the centres' extent (ties by item index, so the split is a deterministic function of
 /// the input).
 ///
-/// The extent is folded over the integer keys (their order is that of the values) and
-/// measured on the values of the extreme keys.
+/// The extent is folded over the integer keys (their order is that of the values; every
+/// fourth item of a range of at least [`SAMPLE_MIN`]) and measured on the values of the
+/// extreme keys.
 fn split(items: &mut [Item]) {
     // Four lanes (the index lane unused), so that the fold is one vector min and max.
-    let (lo, hi) = items
-        .iter()
-        .fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
-            let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
-            (
-                std::array::from_fn(|a| lo[a].min(k[a])),
-                std::array::from_fn(|a| hi[a].max(k[a])),
-            )
-        });
+    // Large ranges: every fourth item (the selection leaves them in no particular order,
+    // so a stride is a fair sample); the extent only decides the split axis.
+    let stride = if items.len() >= SAMPLE_MIN { 4 } else { 1 };
+    let (lo, hi) =
+        items
+            .iter()
+            .step_by(stride)
+            .fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
+                let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
+                (
+                    std::array::from_fn(|a| lo[a].min(k[a])),
+                    std::array::from_fn(|a| hi[a].max(k[a])),
+                )
+            });
     let extent: [f64; 3] =
         std::array::from_fn(|a| f64::from(key_value(hi[a])) - f64::from(key_value(lo[a])));
     let mid = items.len() / 2;
