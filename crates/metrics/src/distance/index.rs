@@ -497,9 +497,8 @@ impl SurfaceIndex {
     /// The pseudo-normals, computed on first use.
     fn pseudo_normals(&self) -> &PseudoNormals {
         self.pseudo_normals.get_or_init(|| {
-            // The face normals and corner angles in parallel, then the sums in face order
-            // (the same bits for any thread count): the edge sums and the vertex sums are
-            // two independent sequential loops, run side by side.
+            // The face normals and corner angles in one parallel pass, then the sums in face
+            // order (the same bits for any thread count).
             let (face, angles): (Vec<DVec3>, Vec<[f64; 3]>) = self
                 .face_vertices
                 .par_iter()
@@ -515,30 +514,18 @@ impl SurfaceIndex {
                     (unit_normal(a, b, c), angles)
                 })
                 .unzip();
-            let (edge, vertex) = rayon::join(
-                || {
-                    let mut edge = vec![DVec3::ZERO; self.n_edges];
-                    for (&n, es) in face.iter().zip(&self.face_edges) {
-                        if n != DVec3::ZERO {
-                            for &e in es {
-                                edge[e as usize] += n;
-                            }
-                        }
-                    }
-                    edge
-                },
-                || {
-                    let mut vertex = vec![DVec3::ZERO; self.positions.len()];
-                    for ((&n, vs), angles) in face.iter().zip(&self.face_vertices).zip(&angles) {
-                        if n != DVec3::ZERO {
-                            for k in 0..3 {
-                                vertex[vs[k] as usize] += n * angles[k];
-                            }
-                        }
-                    }
-                    vertex
-                },
-            );
+            let mut edge = vec![DVec3::ZERO; self.n_edges];
+            let mut vertex = vec![DVec3::ZERO; self.positions.len()];
+            for (f, (vs, es)) in self.face_vertices.iter().zip(&self.face_edges).enumerate() {
+                let n = face[f];
+                if n == DVec3::ZERO {
+                    continue;
+                }
+                for k in 0..3 {
+                    edge[es[k] as usize] += n;
+                    vertex[vs[k] as usize] += n * angles[f][k];
+                }
+            }
             PseudoNormals { face, edge, vertex }
         })
     }
