@@ -86,7 +86,7 @@ struct PseudoNormals {
 /// closest points and signed distances of any number of points.
 ///
 /// It owns copies of what it needs (the triangles in hierarchy order, the face–vertex and
-/// face–edge incidences, the positions), about 180 bytes per face, so the reference mesh
+/// face–edge incidences, the positions), about 170 bytes per face, so the reference mesh
 /// can be dropped; the first signed query adds the pseudo-normals, about 70 bytes per
 /// face. Queries take `&self` and run in parallel with rayon; batch results are
 /// identical for any thread count.
