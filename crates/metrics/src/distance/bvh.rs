@@ -520,6 +520,52 @@ mod tests {
     }
 
     #[test]
+    fn coincident_and_collinear_items_are_all_found() {
+        // A third of the items at one point (equal keys on every axis: ties by index), the
+        // rest on a segment along x (zero extent in y and z), in ranges far above the
+        // sampling and parallel-build thresholds.
+        let n = 3 * PARALLEL_MIN;
+        let points: Vec<DVec3> = (0..n)
+            .map(|i| {
+                if i % 3 == 0 {
+                    DVec3::new(0.5, 0.0, 0.0)
+                } else {
+                    DVec3::new(i as f64 / n as f64, 0.0, 0.0)
+                }
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+        for q in [
+            DVec3::new(0.5, 0.1, 0.0),
+            DVec3::new(0.123_456, 0.0, -0.2),
+            DVec3::new(2.0, 1.0, 1.0),
+        ] {
+            let mut best = (f64::INFINITY, usize::MAX);
+            let mut stack = Stack::new();
+            bvh.nearest(q, f64::INFINITY, &mut stack, |k| {
+                let i = order[k] as usize;
+                let d = (points[i] - q).length_squared();
+                if d < best.0 || (d == best.0 && i < best.1) {
+                    best = (d, i);
+                }
+                best.0
+            });
+            let scan = points
+                .iter()
+                .enumerate()
+                .map(|(i, p)| ((p - q).length_squared(), i))
+                .fold(
+                    (f64::INFINITY, usize::MAX),
+                    |a, b| if b.0 < a.0 { b } else { a },
+                );
+            assert_eq!(best, scan, "query {q}");
+        }
+    }
+
+    #[test]
     fn order_keys_sort_as_total_cmp_and_give_the_values_back() {
         let values = [
             f32::NEG_INFINITY,
