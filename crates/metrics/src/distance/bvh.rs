@@ -60,10 +60,10 @@ struct Child {
 
 /// An interior node: both children's boxes and references, so that one visit reads one
 /// node (112 bytes) and tests both boxes.
-#[derive(Clone, Copy, Debug)]
 ///
 /// The boxes are stored axis by axis, both children side by side (`lo[axis][child]`), so
-/// that both box distances are computed together, two lanes at a time.
+/// that both box distances are computed in one pass over the node.
+#[derive(Clone, Copy, Debug)]
 struct Node {
     lo: [[f64; 2]; 3],
     hi: [[f64; 2]; 3],
@@ -281,6 +281,8 @@ fn order_key_bits(bits: i32) -> i32 {
 /// An item, moved around by the build: the [`order_key`]s of (twice) its box centre
 /// rounded to `f32` (the split needs an order of the centres, not their exact values),
 /// and its index. 16 bytes, so a selection moves half the bytes of `f64` centres.
+/// Centres beyond the `f32` range (above about `3e38`) become infinite keys: the tree
+/// stays valid and the answers exact, only its split positions are then by index.
 #[derive(Clone, Copy, Debug)]
 struct Item {
     key: [i32; 3],
