@@ -12,14 +12,17 @@
 //!   the input alone (ties by item index) and its node count a function of the item count,
 //!   which lets subtrees be built in parallel into disjoint parts of one preallocated array;
 //! - interior nodes flattened in depth-first order, each holding both children's boxes and
-//!   references (112 bytes; a leaf of at most four items is named in its parent, not
-//!   stored as a node): 524 287 nodes for the 1 310 720 triangles of a level-8 icosphere
-//!   (leaves of two and three triangles);
+//!   references (112 bytes; a leaf of at most eight items is named in its parent, not
+//!   stored as a node): 262 143 nodes for the 1 310 720 triangles of a level-8 icosphere
+//!   (leaves of five triangles);
 //! - an iterative traversal with a reusable stack that tests both children's boxes of a
 //!   node at once, visits the nearer first and prunes by the best squared distance so far.
 //!
-//! The split is computed with `select_nth_unstable`, comparing integer keys of the centres
-//! (the order of `f64::total_cmp`), with one comparator per axis.
+//! The split is computed with `select_nth_unstable` on 16-byte items: the centres rounded
+//! to `f32` as integer keys (the order of `f32::total_cmp`) and the item index, one `u64`
+//! comparison per axis. The split only has to be *a* deterministic median split: which
+//! tree it builds does not change any answer (the search is exact, ties are broken by the
+//! caller's face order), only how fast the answers are found.
 //!
 //! That is this file (and a Morton order that makes batches of queries coherent); the
 //! exact point–triangle distance and the feature classification stay in our hands, in
@@ -36,7 +39,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// At most this many items in a leaf.
-const LEAF_SIZE: usize = 4;
+const LEAF_SIZE: usize = 8;
+/// Ranges of at least this many items choose their split axis from a sample of the centres.
+const SAMPLE_MIN: usize = 64;
 /// Subtrees with at least this many items are built in parallel.
 const PARALLEL_MIN: usize = 1 << 15;
 /// Traversal stack size: a median split halves the item count at each level, so the depth
@@ -55,18 +60,51 @@ struct Child {
 
 /// An interior node: both children's boxes and references, so that one visit reads one
 /// node (112 bytes) and tests both boxes.
+///
+/// The boxes are stored axis by axis, both children side by side (`lo[axis][child]`), so
+/// that both box distances are computed in one pass over the node.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    lo: [DVec3; 2],
-    hi: [DVec3; 2],
+    lo: [[f64; 2]; 3],
+    hi: [[f64; 2]; 3],
     child: [Child; 2],
+}
+
+impl Node {
+    /// The squared distances from `p` to both children's boxes, each computed exactly as
+    /// [`box_distance_squared`] computes it.
+    #[inline]
+    fn distances_squared(&self, p: [f64; 3]) -> [f64; 2] {
+        let g: [[f64; 2]; 3] = std::array::from_fn(|a| {
+            std::array::from_fn(|c| gap(self.lo[a][c], self.hi[a][c], p[a]))
+        });
+        std::array::from_fn(|c| g[0][c] * g[0][c] + g[1][c] * g[1][c] + g[2][c] * g[2][c])
+    }
+}
+
+/// The larger of `a` and `b` by a plain comparison (no NaN handling: the inputs are
+/// finite), so that it is one `max` instruction.
+#[inline]
+fn larger(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The distance from `p` to the interval `[lo, hi]` along one axis (0 inside; possibly
+/// `-0.0`, which squares like `0.0`).
+#[inline]
+fn gap(lo: f64, hi: f64, p: f64) -> f64 {
+    larger(larger(lo - p, p - hi), 0.0)
 }
 
 /// The squared distance from `p` to the box `[lo, hi]` (0 inside).
 #[inline]
 pub(crate) fn box_distance_squared(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
-    let d = (lo - p).max(p - hi).max(DVec3::ZERO);
-    d.length_squared()
+    let [x, y, z] = [
+        gap(lo.x, hi.x, p.x),
+        gap(lo.y, hi.y, p.y),
+        gap(lo.z, hi.z, p.z),
+    ];
+    x * x + y * y + z * z
 }
 
 /// A subtree's box and reference, as its build returns them.
@@ -94,7 +132,8 @@ pub(crate) struct Bvh {
 impl Bvh {
     /// Builds the hierarchy over `boxes` (`[lo, hi]` per item) and returns it with the leaf
     /// order: `order[k]` is the item stored at leaf position `k`. Object-median split on the
-    /// longest axis of the box centres; deterministic, independent of the thread count.
+    /// longest axis of the box centres (rounded to `f32`, ties by item index); deterministic,
+    /// independent of the thread count.
     ///
     /// # Panics
     /// If there are more than `u32::MAX` items (callers check).
@@ -104,8 +143,9 @@ impl Bvh {
             .into_par_iter()
             .map(|i| {
                 let [lo, hi] = bounds(i);
+                let centre = lo + hi;
                 Item {
-                    centre: lo + hi,
+                    key: [centre.x, centre.y, centre.z].map(|c| order_key(c as f32)),
                     index: i as u32,
                 }
             })
@@ -121,14 +161,15 @@ impl Bvh {
         }
         let sizes = SubtreeSizes::new(n);
         let empty = Child { first: 0, count: 0 };
-        let mut nodes = vec![
-            Node {
-                lo: [DVec3::ZERO; 2],
-                hi: [DVec3::ZERO; 2],
+        // Initialised in parallel (tens of megabytes of fresh pages), then overwritten.
+        let mut nodes: Vec<Node> = (0..sizes.nodes(n))
+            .into_par_iter()
+            .map(|_| Node {
+                lo: [[0.0; 2]; 3],
+                hi: [[0.0; 2]; 3],
                 child: [empty; 2],
-            };
-            sizes.nodes(n)
-        ];
+            })
+            .collect();
         let build = Build {
             sizes: &sizes,
             bounds: &bounds,
@@ -168,6 +209,7 @@ impl Bvh {
         }
         let stack = &mut stack.0;
         stack.clear();
+        let q = p.to_array();
         let mut next = root.child;
         loop {
             if next.count > 0 {
@@ -177,8 +219,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[next.first as usize];
-                let d0 = box_distance_squared(node.lo[0], node.hi[0], p);
-                let d1 = box_distance_squared(node.lo[1], node.hi[1], p);
+                let [d0, d1] = node.distances_squared(q);
                 let ((near, dn), (far, df)) = if d0 <= d1 {
                     ((node.child[0], d0), (node.child[1], d1))
                 } else {
@@ -217,19 +258,43 @@ impl Stack {
     }
 }
 
-/// The key of `x` in the total order of [`f64::total_cmp`], as an integer: comparing keys
+/// The key of `x` in the total order of [`f32::total_cmp`], as an integer: comparing keys
 /// is comparing the values as `total_cmp` does.
 #[inline]
-fn order_key(x: f64) -> i64 {
-    let bits = x.to_bits() as i64;
-    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
+fn order_key(x: f32) -> i32 {
+    // Negative values: every bit but the sign flipped (larger magnitudes lower).
+    order_key_bits(x.to_bits() as i32)
 }
 
-/// An item with (twice) its box centre, moved around by the build.
+/// The value of an [`order_key`] (the map is its own inverse on the bits).
+#[inline]
+fn key_value(key: i32) -> f32 {
+    f32::from_bits(order_key_bits(key) as u32)
+}
+
+/// [`order_key`] on bits: an involution.
+#[inline]
+fn order_key_bits(bits: i32) -> i32 {
+    bits ^ ((((bits >> 31) as u32) >> 1) as i32)
+}
+
+/// An item, moved around by the build: the [`order_key`]s of (twice) its box centre
+/// rounded to `f32` (the split needs an order of the centres, not their exact values),
+/// and its index. 16 bytes, so a selection moves half the bytes of `f64` centres.
+/// Centres beyond the `f32` range (above about `3e38`) become infinite keys: the tree
+/// stays valid and the answers exact, only its split positions are then by index.
 #[derive(Clone, Copy, Debug)]
 struct Item {
-    centre: DVec3,
+    key: [i32; 3],
     index: u32,
+}
+
+impl Item {
+    /// The sort key along `axis`: the centre's key, then the index.
+    #[inline]
+    fn along(&self, axis: usize) -> u64 {
+        (u64::from(self.key[axis] as u32 ^ (1 << 31)) << 32) | u64::from(self.index)
+    }
 }
 
 /// The number of interior nodes of the subtree over `n` items. Median splits make it a
@@ -319,8 +384,8 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
             )
         };
         root[0] = Node {
-            lo: [l.lo, r.lo],
-            hi: [l.hi, r.hi],
+            lo: std::array::from_fn(|a| [l.lo[a], r.lo[a]]),
+            hi: std::array::from_fn(|a| [l.hi[a], r.hi[a]]),
             child: [l.child, r.child],
         };
         Built {
@@ -338,22 +403,35 @@ impl<F: Fn(usize) -> [DVec3; 2] + Sync> Build<'_, F> {
 /// of the centres' extent (ties by item index, so the split is a deterministic function of
 /// the input).
 ///
-/// The centres are compared through their [`order_key`]s (the order of `f64::total_cmp`).
+/// The extent is folded over the integer keys (their order is that of the values; every
+/// fourth item of a range of at least [`SAMPLE_MIN`]) and measured on the values of the
+/// extreme keys.
 fn split(items: &mut [Item]) {
-    let (lo, hi) = items
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), item| {
-            (lo.min(item.centre), hi.max(item.centre))
-        });
-    let extent = hi - lo;
+    // Four lanes (the index lane unused), so that the fold is one vector min and max.
+    // Large ranges: every fourth item (the selection leaves them in no particular order,
+    // so a stride is a fair sample); the extent only decides the split axis.
+    let stride = if items.len() >= SAMPLE_MIN { 4 } else { 1 };
+    let (lo, hi) =
+        items
+            .iter()
+            .step_by(stride)
+            .fold(([i32::MAX; 4], [i32::MIN; 4]), |(lo, hi), item| {
+                let k = [item.key[0], item.key[1], item.key[2], item.index as i32];
+                (
+                    std::array::from_fn(|a| lo[a].min(k[a])),
+                    std::array::from_fn(|a| hi[a].max(k[a])),
+                )
+            });
+    let extent: [f64; 3] =
+        std::array::from_fn(|a| f64::from(key_value(hi[a])) - f64::from(key_value(lo[a])));
     let mid = items.len() / 2;
     // One comparator per axis, so that the axis is not looked up in every comparison.
-    if extent.x >= extent.y && extent.x >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.x), item.index));
-    } else if extent.y >= extent.z {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.y), item.index));
+    if extent[0] >= extent[1] && extent[0] >= extent[2] {
+        items.select_nth_unstable_by_key(mid, |item| item.along(0));
+    } else if extent[1] >= extent[2] {
+        items.select_nth_unstable_by_key(mid, |item| item.along(1));
     } else {
-        items.select_nth_unstable_by_key(mid, |item| (order_key(item.centre.z), item.index));
+        items.select_nth_unstable_by_key(mid, |item| item.along(2));
     }
 }
 
@@ -441,6 +519,87 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(best.0, scan);
         }
+    }
+
+    #[test]
+    fn coincident_and_collinear_items_are_all_found() {
+        // A third of the items at one point (equal keys on every axis: ties by index), the
+        // rest on a segment along x (zero extent in y and z), in ranges far above the
+        // sampling and parallel-build thresholds.
+        let n = 3 * PARALLEL_MIN;
+        let points: Vec<DVec3> = (0..n)
+            .map(|i| {
+                if i % 3 == 0 {
+                    DVec3::new(0.5, 0.0, 0.0)
+                } else {
+                    DVec3::new(i as f64 / n as f64, 0.0, 0.0)
+                }
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+        for q in [
+            DVec3::new(0.5, 0.1, 0.0),
+            DVec3::new(0.123_456, 0.0, -0.2),
+            DVec3::new(2.0, 1.0, 1.0),
+        ] {
+            let mut best = (f64::INFINITY, usize::MAX);
+            let mut stack = Stack::new();
+            bvh.nearest(q, f64::INFINITY, &mut stack, |k| {
+                let i = order[k] as usize;
+                let d = (points[i] - q).length_squared();
+                if d < best.0 || (d == best.0 && i < best.1) {
+                    best = (d, i);
+                }
+                best.0
+            });
+            let scan = points
+                .iter()
+                .enumerate()
+                .map(|(i, p)| ((p - q).length_squared(), i))
+                .fold(
+                    (f64::INFINITY, usize::MAX),
+                    |a, b| if b.0 < a.0 { b } else { a },
+                );
+            assert_eq!(best, scan, "query {q}");
+        }
+    }
+
+    #[test]
+    fn order_keys_sort_as_total_cmp_and_give_the_values_back() {
+        let values = [
+            f32::NEG_INFINITY,
+            -3.0e38,
+            -2.0,
+            -1.0,
+            -f32::MIN_POSITIVE,
+            -1e-45,
+            -0.0,
+            0.0,
+            1e-45,
+            f32::MIN_POSITIVE,
+            0.5,
+            1.0,
+            1.0000001,
+            3.0e38,
+            f32::INFINITY,
+        ];
+        for pair in values.windows(2) {
+            assert!(order_key(pair[0]) < order_key(pair[1]), "{pair:?}");
+        }
+        for &x in &values {
+            assert_eq!(key_value(order_key(x)).to_bits(), x.to_bits());
+        }
+        // The split's sort key: the centre's key first, then the index.
+        let item = |x: f32, index| Item {
+            key: [order_key(x); 3],
+            index,
+        };
+        assert!(item(-1.0, 9).along(0) < item(-0.5, 0).along(0));
+        assert!(item(-0.5, 0).along(1) < item(-0.5, 1).along(1));
+        assert!(item(-0.5, 7).along(2) < item(0.25, 0).along(2));
     }
 
     #[test]

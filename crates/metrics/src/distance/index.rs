@@ -86,7 +86,7 @@ struct PseudoNormals {
 /// closest points and signed distances of any number of points.
 ///
 /// It owns copies of what it needs (the triangles in hierarchy order, the face–vertex and
-/// face–edge incidences, the positions), about 180 bytes per face, so the reference mesh
+/// face–edge incidences, the positions), about 170 bytes per face, so the reference mesh
 /// can be dropped; the first signed query adds the pseudo-normals, about 70 bytes per
 /// face. Queries take `&self` and run in parallel with rayon; batch results are
 /// identical for any thread count.
@@ -428,8 +428,8 @@ impl SurfaceIndex {
         self.bvh
             .nearest(p, best.distance_squared, &mut hint.stack, |k| {
                 let triangle = &self.triangles[k];
-                // The triangle's own box first: a leaf's box is the union of up to four of
-                // them, and about four in ten of the triangles of a visited leaf are farther
+                // The triangle's own box first: a leaf's box is the union of up to eight of
+                // them, and many of the triangles of a visited leaf are farther
                 // than the best so far. The box distance is computed as the hierarchy's node
                 // test computes it (a triangle alone in a leaf was already pruned by this very
                 // test), and a box at exactly the bound is not skipped (ties go to the face
@@ -497,29 +497,23 @@ impl SurfaceIndex {
     /// The pseudo-normals, computed on first use.
     fn pseudo_normals(&self) -> &PseudoNormals {
         self.pseudo_normals.get_or_init(|| {
-            let face: Vec<DVec3> = self
-                .face_vertices
-                .par_iter()
-                .map(|vs| {
-                    let [a, b, c] = vs.map(|v| self.positions[v as usize]);
-                    unit_normal(a, b, c)
-                })
-                .collect();
-            // The corner angles in parallel, then the sums in face order (the same bits
-            // for any thread count).
-            let angles: Vec<[f64; 3]> = self
+            // The face normals and corner angles in one parallel pass, then the sums in face
+            // order (the same bits for any thread count).
+            let (face, angles): (Vec<DVec3>, Vec<[f64; 3]>) = self
                 .face_vertices
                 .par_iter()
                 .map(|vs| {
                     let corners = vs.map(|v| self.positions[v as usize]);
-                    std::array::from_fn(|k| {
+                    let [a, b, c] = corners;
+                    let angles = std::array::from_fn(|k| {
                         let at = corners[k];
                         let u = corners[(k + 1) % 3] - at;
                         let w = corners[(k + 2) % 3] - at;
                         u.cross(w).length().atan2(u.dot(w))
-                    })
+                    });
+                    (unit_normal(a, b, c), angles)
                 })
-                .collect();
+                .unzip();
             let mut edge = vec![DVec3::ZERO; self.n_edges];
             let mut vertex = vec![DVec3::ZERO; self.positions.len()];
             for (f, (vs, es)) in self.face_vertices.iter().zip(&self.face_edges).enumerate() {
