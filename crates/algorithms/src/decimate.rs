@@ -18,11 +18,13 @@
 //!    default the cost is divided by a shape penalty when the worst triangle the
 //!    collapse makes is badly shaped ([`DecimateOptions::quality_threshold`], MeshLab's
 //!    quality-weighted priority).
-//! 3. An indexed binary heap holds every halfedge by its cost (the two halfedges of an
-//!    interior edge share one entry when their optimal placement is the same); legality
-//!    is checked only when an entry reaches the top, and a refused halfedge is parked
-//!    until a collapse changes its neighbourhood. Ties go to the smaller halfedge id, so
-//!    the result is a deterministic function of the input.
+//! 3. An indexed binary heap holds every halfedge by its quadric cost (the two halfedges
+//!    of an interior edge share one entry when their optimal placement is the same), a
+//!    lower bound of its penalised cost; the shape penalty and legality are evaluated
+//!    only when an entry reaches the top (an entry whose penalised cost is larger goes
+//!    back with it), and a refused halfedge is parked until a collapse changes its
+//!    neighbourhood. Ties go to the smaller halfedge id, so the result is a
+//!    deterministic function of the input.
 //! 4. After a collapse `v1` gets `Q_v0 + Q_v1`, the edges at `v1` are queued with their
 //!    new cost and the parked halfedges around `v1`'s neighbours are queued again (with
 //!    endpoint placement: the outgoing halfedges of `v0`'s former neighbours, OpenMesh's
@@ -58,6 +60,9 @@ use glam::DMat3;
 /// The weight of a boundary constraint plane per unit of squared edge length (the face
 /// planes are weighted by area, the same unit).
 const BOUNDARY_WEIGHT: f64 = 1.0;
+
+/// [`Decimator::keyed_at`] of a halfedge whose heap key is a lower bound.
+const NOT_KEYED: u32 = u32::MAX;
 
 /// The seed of the surface samples of the reported Hausdorff distance.
 const HAUSDORFF_SEED: u64 = 0x0dec_1a7e;
@@ -158,6 +163,12 @@ pub struct DecimateOptions {
     /// collapses and never refuses one, so it does not keep the target from being
     /// reached.
     pub quality_threshold: f64,
+    /// Whether [`decimate`] measures the Hausdorff distance between output and input for
+    /// its report (default `true`). The measurement is no part of the decimation and can
+    /// take a third of the time; without it the report's distances are 0 and
+    /// [`DecimateReport::distance_measured`] is `false`, and
+    /// [`DecimateReport::measure_distance`] measures them later.
+    pub measure_distance: bool,
 }
 
 /// The default of [`DecimateOptions::quality_threshold`].
@@ -174,6 +185,7 @@ impl Default for DecimateOptions {
             max_aspect_ratio: None,
             max_distance: None,
             quality_threshold: DEFAULT_QUALITY_THRESHOLD,
+            measure_distance: true,
         }
     }
 }
@@ -252,6 +264,14 @@ impl DecimateOptions {
     #[must_use]
     pub fn quality_threshold(mut self, threshold: f64) -> Self {
         self.quality_threshold = threshold;
+        self
+    }
+
+    /// Measures (`true`, the default) or skips the report's Hausdorff distance (see
+    /// [`DecimateOptions::measure_distance`]).
+    #[must_use]
+    pub fn measure_distance(mut self, measure: bool) -> Self {
+        self.measure_distance = measure;
         self
     }
 
@@ -372,6 +392,9 @@ pub struct DecimateReport {
     /// The largest quadric error of a collapse done, as a distance in the positions'
     /// unit (see [`DecimateOptions::max_error`]); 0 without collapses.
     pub max_quadric_error: f64,
+    /// Whether the three distances below were measured
+    /// ([`DecimateOptions::measure_distance`]); when not, they are 0.
+    pub distance_measured: bool,
     /// The symmetric Hausdorff distance between output and input, in the positions'
     /// unit: the larger of the two one-sided distances below.
     pub hausdorff: f64,
@@ -381,6 +404,38 @@ pub struct DecimateReport {
     /// The largest distance from the input's vertices and surface samples to the output
     /// surface.
     pub hausdorff_from_input: f64,
+}
+
+impl DecimateReport {
+    /// Measures the Hausdorff distance between the decimation's `output` and its
+    /// `input` (each a mesh and its positions) into the report, as [`decimate`] does
+    /// unless [`DecimateOptions::measure_distance`] is off: over the vertices plus one
+    /// surface sample per input face on each side, with a fixed seed, so that the
+    /// result is the same whichever measures it.
+    ///
+    /// # Errors
+    /// [`DecimateError::Metrics`] when a mesh cannot be indexed (a position count that
+    /// does not match, a non-finite position).
+    pub fn measure_distance(
+        &mut self,
+        input: (&HalfedgeMesh, &[DVec3]),
+        output: (&HalfedgeMesh, &[DVec3]),
+    ) -> Result<(), DecimateError> {
+        let samples = HausdorffSampling::VerticesAndSurface {
+            samples: input.0.n_faces(),
+            seed: HAUSDORFF_SEED,
+        };
+        let distance = hausdorff(
+            &SurfaceIndex::new(output.0, output.1)?,
+            &SurfaceIndex::new(input.0, input.1)?,
+            samples,
+        )?;
+        self.distance_measured = true;
+        self.hausdorff = distance.symmetric;
+        self.hausdorff_to_input = distance.forward;
+        self.hausdorff_from_input = distance.backward;
+        Ok(())
+    }
 }
 
 /// Why [`decimate`] could not run. Every variant names the offending element or value.
@@ -499,18 +554,31 @@ impl Quadric {
         }
     }
 
-    /// The minimiser of `Q`, `−A⁻¹b`, when `A` is well conditioned.
+    /// The minimiser of `Q`, `−A⁻¹b`, when `A` is well conditioned: the symmetric
+    /// adjugate once, its first column giving the determinant.
     fn minimiser(&self) -> Option<DVec3> {
-        let m = self.matrix();
+        let [xx, xy, xz, yy, yz, zz] = self.a;
         let scale = self.a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
         if scale <= 0.0 {
             return None;
         }
-        let det = m.determinant();
+        // The cofactors of the symmetric matrix (the adjugate is symmetric too).
+        let c_xx = yy * zz - yz * yz;
+        let c_xy = xz * yz - xy * zz;
+        let c_xz = xy * yz - xz * yy;
+        let det = xx * c_xx + xy * c_xy + xz * c_xz;
         if det.abs() <= 1e-10 * scale * scale * scale {
             return None;
         }
-        let x = m.inverse() * (-self.b);
+        let c_yy = xx * zz - xz * xz;
+        let c_yz = xy * xz - xx * yz;
+        let c_zz = xx * yy - xy * xy;
+        let b = -self.b;
+        let x = DVec3::new(
+            c_xx * b.x + c_xy * b.y + c_xz * b.z,
+            c_xy * b.x + c_yy * b.y + c_yz * b.z,
+            c_xz * b.x + c_yz * b.y + c_zz * b.z,
+        ) / det;
         x.is_finite().then_some(x)
     }
 }
@@ -616,14 +684,19 @@ impl Heap {
     const ABSENT: u32 = u32::MAX;
 
     /// A heap of the given `(key, halfedge)` entries, for halfedge ids below `capacity`.
-    fn new(mut entries: Vec<(f64, u32)>, capacity: usize) -> Self {
-        entries.sort_unstable_by(|a, b| Self::order(*a, *b));
+    fn new(entries: Vec<(f64, u32)>, capacity: usize) -> Self {
         let mut place = vec![Self::ABSENT; capacity];
         for (i, &(_, h)) in entries.iter().enumerate() {
             // `entries` holds at most one entry per halfedge id, each below `u32::MAX`.
             place[h as usize] = i as u32;
         }
-        Self { entries, place }
+        let mut heap = Self { entries, place };
+        // Floyd's heap construction, O(n); the order of the entries taken out is the
+        // strict `(key, halfedge)` order whatever the layout.
+        for i in (0..heap.entries.len() / 2).rev() {
+            heap.down(i);
+        }
+        heap
     }
 
     fn order(a: (f64, u32), b: (f64, u32)) -> Ordering {
@@ -640,34 +713,45 @@ impl Heap {
         self.place[self.entries[j].1 as usize] = j as u32;
     }
 
+    /// Moves the entry at `i` towards the root to its place; each entry it passes moves
+    /// down one level (one write of each place, not a swap per level).
     fn up(&mut self, mut i: usize) {
+        let moving = self.entries[i];
         while i > 0 {
             let parent = (i - 1) / 2;
-            if !self.less(i, parent) {
+            let above = self.entries[parent];
+            if Self::order(moving, above) != Ordering::Less {
                 break;
             }
-            self.swap(i, parent);
+            self.entries[i] = above;
+            self.place[above.1 as usize] = i as u32;
             i = parent;
         }
+        self.entries[i] = moving;
+        self.place[moving.1 as usize] = i as u32;
     }
 
+    /// Moves the entry at `i` towards the leaves to its place (as [`Heap::up`]).
     fn down(&mut self, mut i: usize) {
         let n = self.entries.len();
+        let moving = self.entries[i];
         loop {
-            let (l, r) = (2 * i + 1, 2 * i + 2);
-            let mut m = i;
-            if l < n && self.less(l, m) {
-                m = l;
-            }
-            if r < n && self.less(r, m) {
-                m = r;
-            }
-            if m == i {
+            let l = 2 * i + 1;
+            if l >= n {
                 break;
             }
-            self.swap(i, m);
-            i = m;
+            let r = l + 1;
+            let c = if r < n && self.less(r, l) { r } else { l };
+            let child = self.entries[c];
+            if Self::order(child, moving) != Ordering::Less {
+                break;
+            }
+            self.entries[i] = child;
+            self.place[child.1 as usize] = i as u32;
+            i = c;
         }
+        self.entries[i] = moving;
+        self.place[moving.1 as usize] = i as u32;
     }
 
     /// Queues `h` with `key`, or changes its key.
@@ -761,6 +845,13 @@ struct Decimator<'a> {
     /// neighbourhood changes.
     parked: Vec<bool>,
     heap: Heap,
+    /// Per halfedge: the collapse count when its full key was computed, or
+    /// [`NOT_KEYED`] when its heap key is the lower bound.
+    keyed_at: Vec<u32>,
+    /// Per vertex: the collapse count when its one-ring last changed.
+    changed_at: Vec<u32>,
+    /// Collapses done so far.
+    collapses: u32,
     /// Scratch: the outgoing halfedges of the kept vertex of a collapse.
     spokes: Vec<HalfedgeId>,
     /// Scratch: the neighbours of the removed vertex of a collapse.
@@ -787,6 +878,9 @@ impl<'a> Decimator<'a> {
             points: Vec::new(),
             parked: vec![false; nh],
             heap: Heap::new(Vec::new(), nh),
+            keyed_at: vec![NOT_KEYED; nh],
+            changed_at: vec![0; nv],
+            collapses: 0,
             spokes: Vec::new(),
             support: Vec::new(),
             refused: RefusalCounts::default(),
@@ -911,20 +1005,21 @@ impl<'a> Decimator<'a> {
             Placement::Optimal if !m.is_boundary_vertex(v1) => q
                 .minimiser()
                 .filter(|x| (*x - 0.5 * (p0 + p1)).length() <= 2.0 * (p1 - p0).length())
-                .unwrap_or(if q.eval(p0) < q.eval(p1) { p0 } else { p1 }),
+                .unwrap_or_else(|| if q.eval(p0) < q.eval(p1) { p0 } else { p1 }),
             _ => p1,
         };
         (position, q)
     }
 
-    /// The triangles the collapse of `h` changes, as `(face, new corners)`: those around
+    /// The triangles the collapse of `h` changes, as `(face, new corners, old corners)`
+    /// in the face's order: those around
     /// `v0` and, when the kept vertex moves, those around `v1`, without the (one or two)
     /// triangles at the edge, which are removed.
     fn changed_triangles(
         &self,
         h: HalfedgeId,
         position: DVec3,
-        mut visit: impl FnMut(FaceId, [DVec3; 3]) -> bool,
+        mut visit: impl FnMut(FaceId, [DVec3; 3], [DVec3; 3]) -> bool,
     ) -> bool {
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
@@ -948,7 +1043,8 @@ impl<'a> Decimator<'a> {
                         m.position(v)
                     }
                 };
-                if !visit(f, [position, at(a), at(b)]) {
+                let before = [m.position(c), m.position(a), m.position(b)];
+                if !visit(f, [position, at(a), at(b)], before) {
                     return false;
                 }
             }
@@ -956,18 +1052,17 @@ impl<'a> Decimator<'a> {
         true
     }
 
-    /// The heap key of collapsing `h`: its quadric error, divided by the shape penalty
-    /// when the worst new triangle's quality is below the threshold. Refuses what
-    /// depends only on the two vertices' quadrics and positions (`keep_boundary`,
-    /// `max_error`) and degenerate results.
-    fn priority(&self, h: HalfedgeId) -> Result<f64, Refusal> {
-        self.priority_and_symmetry(h).map(|(key, _)| key)
-    }
-
-    /// [`Decimator::priority`], and whether the twin's is bit for bit the same: both
-    /// move the kept vertex to the same minimiser, neither end point on the boundary,
-    /// and change the same triangles.
-    fn priority_and_symmetry(&self, h: HalfedgeId) -> Result<(f64, bool), Refusal> {
+    /// A lower bound of the heap key of collapsing `h` ([`Decimator::full_key`]): its
+    /// quadric error (at least the error floor when the shape penalty is on), whether
+    /// the twin's is bit for bit the same (both move the kept vertex to the same
+    /// minimiser, neither end point is on the boundary, and they change the same
+    /// triangles), and the kept vertex's position. Refuses what depends only on the two
+    /// vertices' quadrics and positions (`keep_boundary`, `max_error`).
+    ///
+    /// The bound needs the two quadrics alone, so it is what a changed neighbourhood
+    /// queues; the shape penalty, which needs every triangle the collapse makes, is
+    /// evaluated when the entry reaches the top of the heap.
+    fn bound(&self, h: HalfedgeId) -> Result<(f64, bool, DVec3), Refusal> {
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
         let b0 = m.is_boundary_vertex(v0);
@@ -984,41 +1079,68 @@ impl<'a> Decimator<'a> {
             && !b0
             && !m.is_boundary_vertex(v1);
         let error = q.eval(position);
+        let key = if self.options.quality_threshold > 0.0 {
+            error.max(self.error_floor)
+        } else {
+            error
+        };
+        Ok((key, symmetric, position))
+    }
+
+    /// The heap key of collapsing `h` to `position`, given its [`Decimator::bound`]: the
+    /// bound divided by the shape penalty when the worst new triangle's quality is
+    /// below the threshold (never smaller than the bound). Refuses a collapse that
+    /// makes a degenerate triangle.
+    fn full_key(&self, h: HalfedgeId, bound: f64, position: DVec3) -> Result<f64, Refusal> {
         let threshold = self.options.quality_threshold;
         if threshold <= 0.0 {
-            return Ok((error, symmetric));
+            return Ok(bound);
         }
         let mut worst = f64::INFINITY;
-        self.changed_triangles(h, position, |_, t| {
+        self.changed_triangles(h, position, |_, t, _| {
             worst = worst.min(shape_quality_squared(t));
             worst > 0.0
         });
         if worst <= 0.0 {
             return Err(Refusal::Flip);
         }
-        let worst = worst.sqrt();
-        Ok((
-            error.max(self.error_floor) / (worst / threshold).min(1.0),
-            symmetric,
-        ))
+        Ok(bound / (worst.sqrt() / threshold).min(1.0))
+    }
+
+    /// Whether the full key of `h` computed last is still its key: no collapse has
+    /// changed the one-ring of either end since.
+    fn fresh(&self, h: HalfedgeId) -> bool {
+        let at = self.keyed_at[h.index()];
+        at != NOT_KEYED
+            && self.changed_at[self.mesh.from_vertex(h).index()] <= at
+            && self.changed_at[self.mesh.to_vertex(h).index()] <= at
     }
 
     /// Everything [`decimate`] checks for the collapse of `h`, and what it would change.
-    fn evaluate(&self, h: HalfedgeId) -> Result<Candidate, Refusal> {
+    ///
+    /// `placed` is the kept vertex's position when the caller has just computed it
+    /// ([`Decimator::bound`]).
+    fn evaluate(&self, h: HalfedgeId, placed: Option<DVec3>) -> Result<Candidate, Refusal> {
         self.check_topology(h)?;
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
-        let (position, q) = self.placement(h);
+        let (position, q) = match placed {
+            Some(p) => (p, self.quadrics[v0.index()].sum(&self.quadrics[v1.index()])),
+            None => self.placement(h),
+        };
         let rms = q.rms(position);
         if self.options.max_error.is_some_and(|e| rms > e) {
             return Err(Refusal::Error);
         }
         let removed = [m.face(h), m.face(h.twin())];
         let is_removed = |f: FaceId| removed.contains(&Some(f));
-        let mut changed: Vec<(FaceId, DVec3)> = Vec::with_capacity(16);
+        // The changed faces and their new normals, for the bounds that need them.
+        let keep_changed =
+            self.options.max_normal_deviation.is_some() || self.options.max_aspect_ratio.is_some();
+        let mut changed: Vec<(FaceId, DVec3)> = Vec::new();
         let mut flipped = false;
-        self.changed_triangles(h, position, |f, t| {
-            let old = cross(self.face_vertices(f).map(|v| m.position(v)));
+        self.changed_triangles(h, position, |f, t, before| {
+            let old = cross(before);
             let Some(new) = cross(t).try_normalize() else {
                 flipped = true;
                 return false;
@@ -1030,7 +1152,9 @@ impl<'a> Decimator<'a> {
                 flipped = true;
                 return false;
             }
-            changed.push((f, new));
+            if keep_changed {
+                changed.push((f, new));
+            }
             true
         });
         if flipped {
@@ -1134,8 +1258,9 @@ impl<'a> Decimator<'a> {
             self.heap.remove(h.raw());
             return;
         }
-        match self.priority(h) {
-            Ok(key) => self.heap.set(h.raw(), key),
+        self.keyed_at[i] = NOT_KEYED;
+        match self.bound(h) {
+            Ok((key, _, _)) => self.heap.set(h.raw(), key),
             Err(r) => {
                 self.heap.remove(h.raw());
                 self.refuse(h, r);
@@ -1151,8 +1276,8 @@ impl<'a> Decimator<'a> {
             self.queue(h.twin());
             return;
         }
-        match self.priority_and_symmetry(h) {
-            Ok((key, true)) => {
+        match self.bound(h) {
+            Ok((key, true, _)) => {
                 // One entry for the edge, under its even halfedge; both directions are
                 // tried when it comes to the top.
                 let (even, odd) = if h.index() % 2 == 0 {
@@ -1162,6 +1287,8 @@ impl<'a> Decimator<'a> {
                 };
                 self.parked[even.index()] = false;
                 self.parked[odd.index()] = false;
+                self.keyed_at[even.index()] = NOT_KEYED;
+                self.keyed_at[odd.index()] = NOT_KEYED;
                 self.heap.set(even.raw(), key);
                 self.heap.remove(odd.raw());
             }
@@ -1183,11 +1310,15 @@ impl<'a> Decimator<'a> {
     /// Collapses until `target` vertices are left or the heap is empty; returns the
     /// largest RMS error of a collapse done.
     ///
-    /// The heap holds halfedges keyed by [`Decimator::priority`]; legality is checked
-    /// when one comes to the top (lazily, as most queued collapses are never done). A
-    /// refused halfedge is parked until a collapse changes its neighbourhood; a key
-    /// that grew since queueing (the shape penalty of a changed neighbourhood) is
-    /// updated in place.
+    /// The heap holds halfedges keyed by a lower bound of their priority
+    /// ([`Decimator::bound`]); the full key with the shape penalty
+    /// ([`Decimator::full_key`]) and legality are evaluated when one comes to the top
+    /// (lazily, as most queued collapses are never done). A full key larger than the
+    /// entry's goes back into the heap; since every other entry's key is at most its
+    /// own full key, the entry collapsed is the one of the smallest full key among those
+    /// whose key is up to date. A full key stays valid until a collapse changes the
+    /// one-ring of either end. A refused halfedge is parked until a collapse changes
+    /// its neighbourhood.
     fn run(&mut self, target: usize) -> Result<f64, DecimateError> {
         let halfedges: Vec<HalfedgeId> = self.mesh.halfedges().collect();
         let mut entries = Vec::with_capacity(halfedges.len());
@@ -1198,8 +1329,8 @@ impl<'a> Decimator<'a> {
             if std::mem::take(&mut skip_twin) {
                 continue;
             }
-            match self.priority_and_symmetry(h) {
-                Ok((key, symmetric)) => {
+            match self.bound(h) {
+                Ok((key, symmetric, _)) => {
                     entries.push((key, h.raw()));
                     skip_twin = symmetric && h.index() % 2 == 0;
                 }
@@ -1207,8 +1338,8 @@ impl<'a> Decimator<'a> {
             }
         }
         self.heap = Heap::new(entries, self.parked.len());
-        let recheck = self.options.quality_threshold > 0.0;
         let optimal = self.options.placement == Placement::Optimal;
+        let recheck = self.options.quality_threshold > 0.0;
         let mut max_rms: f64 = 0.0;
         while self.mesh.n_vertices() > target {
             let Some((key, raw)) = self.heap.peek() else {
@@ -1220,13 +1351,28 @@ impl<'a> Decimator<'a> {
                 continue;
             }
             let mut directions = [Some(h), None];
+            let mut placed = None;
             if optimal || recheck {
-                match self.priority_and_symmetry(h) {
-                    Ok((current, _)) if recheck && current > key => {
-                        self.heap.set(raw, current);
+                let current = self.bound(h).and_then(|(bound, symmetric, position)| {
+                    if recheck && !self.fresh(h) {
+                        let full = self.full_key(h, bound, position)?;
+                        Ok((Some(full), symmetric, position))
+                    } else {
+                        Ok((None, symmetric, position))
+                    }
+                });
+                if let Ok((Some(_), _, _)) = current {
+                    self.keyed_at[h.index()] = self.collapses;
+                }
+                match current {
+                    Ok((Some(full), _, _)) if full > key => {
+                        // The entry's key was a lower bound, or the neighbourhood has
+                        // changed since: it goes back with its full key.
+                        self.heap.set(raw, full);
                         continue;
                     }
-                    Ok((_, symmetric)) => {
+                    Ok((_, symmetric, position)) => {
+                        placed = Some(position);
                         if symmetric && h.index() % 2 == 0 {
                             directions[1] = Some(h.twin());
                         } else if h.index() % 2 == 0 && !self.heap.contains(h.twin().raw()) {
@@ -1244,7 +1390,7 @@ impl<'a> Decimator<'a> {
             self.heap.remove(raw);
             let mut chosen = None;
             for g in directions.into_iter().flatten() {
-                match self.evaluate(g) {
+                match self.evaluate(g, placed) {
                     Ok(c) => {
                         chosen = Some((g, c));
                         break;
@@ -1260,8 +1406,34 @@ impl<'a> Decimator<'a> {
                 self.support.clear();
                 self.support.extend(self.mesh.vertices_around_vertex(v0));
             }
+            // The edge and one other edge of each triangle at it are removed; their
+            // entries leave the heap now (a removal deep in the heap is cheap, one that
+            // surfaces at the top later costs a full sift).
+            let doomed = [
+                h,
+                self.mesh.next(h),
+                self.mesh.prev(h),
+                self.mesh.next(h.twin()),
+                self.mesh.prev(h.twin()),
+            ];
             let v1 = self.mesh.collapse_edge(h)?;
+            for g in doomed {
+                if !self.mesh.is_live_halfedge(g) {
+                    self.heap.remove(g.raw());
+                    self.heap.remove(g.twin().raw());
+                }
+            }
             self.mesh.set_position(v1, candidate.position);
+            self.collapses += 1;
+            // The one-rings of `v1` and its neighbours changed: their full keys are out
+            // of date.
+            self.spokes.clear();
+            self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
+            self.changed_at[v1.index()] = self.collapses;
+            for k in 0..self.spokes.len() {
+                let u = self.mesh.to_vertex(self.spokes[k]);
+                self.changed_at[u.index()] = self.collapses;
+            }
             let q0 = self.quadrics[v0.index()];
             self.quadrics[v1.index()].add(&q0);
             for (f, cone) in candidate.cones {
@@ -1288,8 +1460,6 @@ impl<'a> Decimator<'a> {
                 }
                 continue;
             }
-            self.spokes.clear();
-            self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
             for k in 0..self.spokes.len() {
                 let g = self.spokes[k];
                 self.queue_edge(g);
@@ -1318,9 +1488,11 @@ impl<'a> Decimator<'a> {
 /// The output's vertices keep the input's relative order (garbage collection is a
 /// stable compaction); with [`Placement::Endpoint`] each is an input vertex, bit for
 /// bit. Topology is preserved: the Euler characteristic, the number of boundary loops
-/// and closedness do not change, and the output is a valid [`HalfedgeMesh`]. The
-/// report's Hausdorff distance is measured between the output and the input over their
-/// vertices plus one surface sample per input face on each side, with a fixed seed.
+/// and closedness do not change, and the output is a valid [`HalfedgeMesh`]. Unless
+/// [`DecimateOptions::measure_distance`] is off, the report's Hausdorff distance is
+/// measured between the output and the input over their vertices plus one surface
+/// sample per input face on each side, with a fixed seed
+/// ([`DecimateReport::measure_distance`]).
 ///
 /// # Errors
 /// [`DecimateError::PositionCount`] when `positions` does not match the mesh;
@@ -1331,7 +1503,8 @@ impl<'a> Decimator<'a> {
 /// [`DecimateOptions`]).
 ///
 /// # Complexity
-/// O(n log n) collapses and heap operations for `n` vertices, each evaluation O(valence²);
+/// O(n log n) collapses and heap operations for `n` vertices; a queued cost is O(1), the
+/// shape penalty at the top of the heap O(valence), a legality check O(valence²);
 /// [`DecimateOptions::max_distance`] adds the input vertices of the changed triangles
 /// times their number per evaluation.
 ///
@@ -1388,16 +1561,7 @@ pub fn decimate(
     };
     edit.garbage_collection();
     let (out, out_positions) = edit.into_mesh()?;
-    let samples = HausdorffSampling::VerticesAndSurface {
-        samples: mesh.n_faces(),
-        seed: HAUSDORFF_SEED,
-    };
-    let distance = hausdorff(
-        &SurfaceIndex::new(&out, &out_positions)?,
-        &SurfaceIndex::new(mesh, positions)?,
-        samples,
-    )?;
-    let report = DecimateReport {
+    let mut report = DecimateReport {
         vertices_before: mesh.n_vertices(),
         faces_before: mesh.n_faces(),
         vertices_after: out.n_vertices(),
@@ -1408,9 +1572,10 @@ pub fn decimate(
         stop,
         target_reached: stop == DecimateStop::TargetReached,
         max_quadric_error: max_rms,
-        hausdorff: distance.symmetric,
-        hausdorff_to_input: distance.forward,
-        hausdorff_from_input: distance.backward,
+        ..DecimateReport::default()
     };
+    if options.measure_distance {
+        report.measure_distance((mesh, positions), (&out, &out_positions))?;
+    }
     Ok((out, out_positions, report))
 }
