@@ -963,8 +963,9 @@ impl<'a> Decimator<'a> {
         [a, b, c]
     }
 
-    /// The topological checks: `EditMesh`'s collapse rules plus OpenMesh's
-    /// `is_collapse_legal`, and `keep_boundary`.
+    /// The topological checks of OpenMesh's `is_collapse_legal`, and `keep_boundary`;
+    /// `EditMesh`'s collapse rules (the link condition) are checked by the collapse
+    /// itself.
     fn check_topology(&self, h: HalfedgeId) -> Result<(), Refusal> {
         let m = &self.mesh;
         if !m.is_live_halfedge(h) {
@@ -987,9 +988,6 @@ impl<'a> Decimator<'a> {
             && m.valence(r) == 3
             && m.find_halfedge(l, r).is_some()
         {
-            return Err(Refusal::Topology);
-        }
-        if !m.is_collapse_ok(h) {
             return Err(Refusal::Topology);
         }
         Ok(())
@@ -1388,35 +1386,44 @@ impl<'a> Decimator<'a> {
                 }
             }
             self.heap.remove(raw);
+            // The first direction the checks allow is collapsed; `EditMesh`'s own
+            // topological checks (the link condition) run once, in the collapse, which
+            // leaves the mesh unchanged when it refuses.
             let mut chosen = None;
             for g in directions.into_iter().flatten() {
-                match self.evaluate(g, placed) {
-                    Ok(c) => {
-                        chosen = Some((g, c));
+                let candidate = match self.evaluate(g, placed) {
+                    Ok(c) => c,
+                    Err(r) => {
+                        self.refuse(g, r);
+                        continue;
+                    }
+                };
+                let v0 = self.mesh.from_vertex(g);
+                if !optimal {
+                    self.support.clear();
+                    self.support.extend(self.mesh.vertices_around_vertex(v0));
+                }
+                // The edge and one other edge of each triangle at it are removed; their
+                // entries leave the heap now (a removal deep in the heap is cheap, one
+                // that surfaces at the top later costs a full sift).
+                let doomed = [
+                    g,
+                    self.mesh.next(g),
+                    self.mesh.prev(g),
+                    self.mesh.next(g.twin()),
+                    self.mesh.prev(g.twin()),
+                ];
+                match self.mesh.collapse_edge(g) {
+                    Ok(v1) => {
+                        chosen = Some((v0, v1, candidate, doomed));
                         break;
                     }
-                    Err(r) => self.refuse(g, r),
+                    Err(_) => self.refuse(g, Refusal::Topology),
                 }
             }
-            let Some((h, candidate)) = chosen else {
+            let Some((v0, v1, candidate, doomed)) = chosen else {
                 continue;
             };
-            let v0 = self.mesh.from_vertex(h);
-            if !optimal {
-                self.support.clear();
-                self.support.extend(self.mesh.vertices_around_vertex(v0));
-            }
-            // The edge and one other edge of each triangle at it are removed; their
-            // entries leave the heap now (a removal deep in the heap is cheap, one that
-            // surfaces at the top later costs a full sift).
-            let doomed = [
-                h,
-                self.mesh.next(h),
-                self.mesh.prev(h),
-                self.mesh.next(h.twin()),
-                self.mesh.prev(h.twin()),
-            ];
-            let v1 = self.mesh.collapse_edge(h)?;
             for g in doomed {
                 if !self.mesh.is_live_halfedge(g) {
                     self.heap.remove(g.raw());
