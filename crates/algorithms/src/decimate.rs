@@ -1250,15 +1250,22 @@ impl<'a> Decimator<'a> {
     /// Queues the collapse of `h` with its current priority, or parks it (removed from
     /// the heap) and counts the refusal.
     fn queue(&mut self, h: HalfedgeId) {
-        let i = h.index();
-        self.parked[i] = false;
         if !self.mesh.is_live_halfedge(h) {
+            self.parked[h.index()] = false;
             self.heap.remove(h.raw());
             return;
         }
+        let bound = self.bound(h).map(|(key, _, _)| key);
+        self.queue_with(h, bound);
+    }
+
+    /// Queues the live halfedge `h` with its [`Decimator::bound`] `bound`, or parks it.
+    fn queue_with(&mut self, h: HalfedgeId, bound: Result<f64, Refusal>) {
+        let i = h.index();
+        self.parked[i] = false;
         self.keyed_at[i] = NOT_KEYED;
-        match self.bound(h) {
-            Ok((key, _, _)) => self.heap.set(h.raw(), key),
+        match bound {
+            Ok(key) => self.heap.set(h.raw(), key),
             Err(r) => {
                 self.heap.remove(h.raw());
                 self.refuse(h, r);
@@ -1290,8 +1297,8 @@ impl<'a> Decimator<'a> {
                 self.heap.set(even.raw(), key);
                 self.heap.remove(odd.raw());
             }
-            _ => {
-                self.queue(h);
+            bound => {
+                self.queue_with(h, bound.map(|(key, _, _)| key));
                 self.queue(h.twin());
             }
         }
