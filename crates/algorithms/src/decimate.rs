@@ -1593,3 +1593,92 @@ pub fn decimate(
     }
     Ok((out, out_positions, report))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator for the tests (64-bit LCG, top bits).
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 33
+        }
+
+        fn unit(&mut self) -> f64 {
+            self.next() as f64 / (1u64 << 31) as f64
+        }
+    }
+
+    #[test]
+    fn the_heap_gives_the_entries_in_key_then_id_order() {
+        let mut rng = Lcg(7);
+        let n = 500u32;
+        // Few distinct keys, so that ties (broken by the id) are common.
+        let mut initial: Vec<(f64, u32)> = Vec::new();
+        for h in 0..n {
+            if rng.next() % 3 != 0 {
+                initial.push(((rng.next() % 20) as f64, h));
+            }
+        }
+        let mut want: std::collections::BTreeMap<u32, f64> =
+            initial.iter().map(|&(k, h)| (h, k)).collect();
+        let mut heap = Heap::new(initial, n as usize);
+        for _ in 0..2000 {
+            let h = (rng.next() % u64::from(n)) as u32;
+            if rng.next() % 4 == 0 {
+                heap.remove(h);
+                want.remove(&h);
+            } else {
+                let key = (rng.next() % 20) as f64 + 0.5 * rng.unit();
+                heap.set(h, key);
+                want.insert(h, key);
+            }
+            assert_eq!(heap.contains(h), want.contains_key(&h));
+        }
+        let mut expected: Vec<(f64, u32)> = want.into_iter().map(|(h, k)| (k, h)).collect();
+        expected.sort_by(|a, b| Heap::order(*a, *b));
+        let mut got = Vec::new();
+        while let Some((key, h)) = heap.peek() {
+            heap.remove(h);
+            got.push((key, h));
+        }
+        assert_eq!(got, expected);
+    }
+
+    #[test]
+    fn the_minimiser_solves_the_quadric_system() {
+        let mut rng = Lcg(11);
+        for _ in 0..200 {
+            // A sum of a few planes through random points, as a vertex's quadric is.
+            let mut q = Quadric::default();
+            for _ in 0..4 {
+                let n =
+                    DVec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5).normalize();
+                let p = DVec3::new(rng.unit(), rng.unit(), rng.unit());
+                q.add(&Quadric::plane(n, -n.dot(p), 0.1 + rng.unit()));
+            }
+            let Some(x) = q.minimiser() else {
+                continue;
+            };
+            // The gradient 2(Ax + b) vanishes at the minimiser ...
+            let residual = q.matrix() * x + q.b;
+            assert!(
+                residual.length() <= 1e-9 * (1.0 + q.b.length()),
+                "{residual}"
+            );
+            // ... and the minimum is no larger than nearby values.
+            for d in [DVec3::X, DVec3::Y, DVec3::Z] {
+                assert!(q.eval(x) <= q.eval(x + 1e-3 * d) + 1e-12);
+                assert!(q.eval(x) <= q.eval(x - 1e-3 * d) + 1e-12);
+            }
+        }
+        // A single plane leaves the system singular: no minimiser.
+        assert!(Quadric::plane(DVec3::Z, 0.0, 1.0).minimiser().is_none());
+    }
+}
