@@ -23,7 +23,7 @@ Tasks and peers (each skipped with a note when it does not install or fails):
                 featuredeg), CGAL Polygon_mesh_processing.isotropic_remeshing,
               gpytoolbox remesh_botsch, MeshLib remesh
   decimate    to 10 % of the vertices
-              beltrami `decimate --ratio 0.1`
+              beltrami `decimate --ratio 0.1 --no-distance`
               PyMeshLab meshing_decimation_quadric_edge_collapse (targetfacenum, normal
                 check), fast-simplification, MeshLib decimateMesh, OpenMesh DecimaterT
                 + ModQuadricT (openmesh_decimate.cpp, built here with g++)
@@ -37,7 +37,9 @@ Every output is measured by beltrami itself: `compare OUT REFERENCE --json`
 surface for fill-holes) and `info OUT --quality --json` (smallest angle, share of
 regular vertices, edge-length coefficient of variation). Times are the algorithm alone
 (peers: the call in this process, input already in memory; beltrami: the `seconds` of
-its `--json` summary, which excludes reading and writing), medians of --reps runs.
+its `--json` summary, which excludes reading, writing and the report's measurements —
+`decimate` runs with `--no-distance`, as its output is measured here anyway), medians of
+--reps runs.
 Prints one Markdown table per task and surface, and writes them to DIR/results.md.
 """
 
@@ -346,7 +348,8 @@ def tasks(args, surfaces, out):
                 runs = [
                     ("beltrami", lambda: beltrami_cmd(
                         args.beltrami, args.reps,
-                        ["decimate", path, o("beltrami"), "--ratio", str(ratio)], o("beltrami"))),
+                        ["decimate", path, o("beltrami"), "--ratio", str(ratio),
+                         "--no-distance"], o("beltrami"))),
                     ("PyMeshLab", lambda: pymeshlab_filter(
                         path, o("pymeshlab"), args.reps, "meshing_decimation_quadric_edge_collapse",
                         targetfacenum=int(round(ratio * len(f))), preservenormal=True,

@@ -18,11 +18,13 @@
 //!    default the cost is divided by a shape penalty when the worst triangle the
 //!    collapse makes is badly shaped ([`DecimateOptions::quality_threshold`], MeshLab's
 //!    quality-weighted priority).
-//! 3. An indexed binary heap holds every halfedge by its cost (the two halfedges of an
-//!    interior edge share one entry when their optimal placement is the same); legality
-//!    is checked only when an entry reaches the top, and a refused halfedge is parked
-//!    until a collapse changes its neighbourhood. Ties go to the smaller halfedge id, so
-//!    the result is a deterministic function of the input.
+//! 3. An indexed binary heap holds every halfedge by its quadric cost (the two halfedges
+//!    of an interior edge share one entry when their optimal placement is the same), a
+//!    lower bound of its penalised cost; the shape penalty and legality are evaluated
+//!    only when an entry reaches the top (an entry whose penalised cost is larger goes
+//!    back with it), and a refused halfedge is parked until a collapse changes its
+//!    neighbourhood. Ties go to the smaller halfedge id, so the result is a
+//!    deterministic function of the input.
 //! 4. After a collapse `v1` gets `Q_v0 + Q_v1`, the edges at `v1` are queued with their
 //!    new cost and the parked halfedges around `v1`'s neighbours are queued again (with
 //!    endpoint placement: the outgoing halfedges of `v0`'s former neighbours, OpenMesh's
@@ -60,6 +62,9 @@ use crate::error::{algorithm_error, check_finite, check_mesh};
 /// The weight of a boundary constraint plane per unit of squared edge length (the face
 /// planes are weighted by area, the same unit).
 const BOUNDARY_WEIGHT: f64 = 1.0;
+
+/// [`Decimator::keyed_at`] of a halfedge whose heap key is a lower bound.
+const NOT_KEYED: u32 = u32::MAX;
 
 /// The seed of the surface samples of the reported Hausdorff distance.
 const HAUSDORFF_SEED: u64 = 0x0dec_1a7e;
@@ -160,6 +165,12 @@ pub struct DecimateOptions {
     /// collapses and never refuses one, so it does not keep the target from being
     /// reached.
     pub quality_threshold: f64,
+    /// Whether [`decimate`] measures the Hausdorff distance between output and input for
+    /// its report (default `true`). The measurement is no part of the decimation and can
+    /// take a third of the time; without it the report's distances are 0 and
+    /// [`DecimateReport::distance_measured`] is `false`, and
+    /// [`DecimateReport::measure_distance`] measures them later.
+    pub measure_distance: bool,
 }
 
 /// The default of [`DecimateOptions::quality_threshold`].
@@ -176,6 +187,7 @@ impl Default for DecimateOptions {
             max_aspect_ratio: None,
             max_distance: None,
             quality_threshold: DEFAULT_QUALITY_THRESHOLD,
+            measure_distance: true,
         }
     }
 }
@@ -254,6 +266,14 @@ impl DecimateOptions {
     #[must_use]
     pub fn quality_threshold(mut self, threshold: f64) -> Self {
         self.quality_threshold = threshold;
+        self
+    }
+
+    /// Measures (`true`, the default) or skips the report's Hausdorff distance (see
+    /// [`DecimateOptions::measure_distance`]).
+    #[must_use]
+    pub fn measure_distance(mut self, measure: bool) -> Self {
+        self.measure_distance = measure;
         self
     }
 
@@ -374,6 +394,9 @@ pub struct DecimateReport {
     /// The largest quadric error of a collapse done, as a distance in the positions'
     /// unit (see [`DecimateOptions::max_error`]); 0 without collapses.
     pub max_quadric_error: f64,
+    /// Whether the three distances below were measured
+    /// ([`DecimateOptions::measure_distance`]); when not, they are 0.
+    pub distance_measured: bool,
     /// The symmetric Hausdorff distance between output and input, in the positions'
     /// unit: the larger of the two one-sided distances below.
     pub hausdorff: f64,
@@ -383,6 +406,38 @@ pub struct DecimateReport {
     /// The largest distance from the input's vertices and surface samples to the output
     /// surface.
     pub hausdorff_from_input: f64,
+}
+
+impl DecimateReport {
+    /// Measures the Hausdorff distance between the decimation's `output` and its
+    /// `input` (each a mesh and its positions) into the report, as [`decimate`] does
+    /// unless [`DecimateOptions::measure_distance`] is off: over the vertices plus one
+    /// surface sample per input face on each side, with a fixed seed, so that the
+    /// result is the same whichever measures it.
+    ///
+    /// # Errors
+    /// [`DecimateError::Metrics`] when a mesh cannot be indexed (a position count that
+    /// does not match, a non-finite position).
+    pub fn measure_distance(
+        &mut self,
+        input: (&HalfedgeMesh, &[DVec3]),
+        output: (&HalfedgeMesh, &[DVec3]),
+    ) -> Result<(), DecimateError> {
+        let samples = HausdorffSampling::VerticesAndSurface {
+            samples: input.0.n_faces(),
+            seed: HAUSDORFF_SEED,
+        };
+        let distance = hausdorff(
+            &SurfaceIndex::new(output.0, output.1)?,
+            &SurfaceIndex::new(input.0, input.1)?,
+            samples,
+        )?;
+        self.distance_measured = true;
+        self.hausdorff = distance.symmetric;
+        self.hausdorff_to_input = distance.forward;
+        self.hausdorff_from_input = distance.backward;
+        Ok(())
+    }
 }
 
 algorithm_error! {
@@ -475,18 +530,31 @@ impl Quadric {
         }
     }
 
-    /// The minimiser of `Q`, `−A⁻¹b`, when `A` is well conditioned.
+    /// The minimiser of `Q`, `−A⁻¹b`, when `A` is well conditioned: the symmetric
+    /// adjugate once, its first column giving the determinant.
     fn minimiser(&self) -> Option<DVec3> {
-        let m = self.matrix();
+        let [xx, xy, xz, yy, yz, zz] = self.a;
         let scale = self.a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
         if scale <= 0.0 {
             return None;
         }
-        let det = m.determinant();
+        // The cofactors of the symmetric matrix (the adjugate is symmetric too).
+        let c_xx = yy * zz - yz * yz;
+        let c_xy = xz * yz - xy * zz;
+        let c_xz = xy * yz - xz * yy;
+        let det = xx * c_xx + xy * c_xy + xz * c_xz;
         if det.abs() <= 1e-10 * scale * scale * scale {
             return None;
         }
-        let x = m.inverse() * (-self.b);
+        let c_yy = xx * zz - xz * xz;
+        let c_yz = xy * xz - xx * yz;
+        let c_zz = xx * yy - xy * xy;
+        let b = -self.b;
+        let x = DVec3::new(
+            c_xx * b.x + c_xy * b.y + c_xz * b.z,
+            c_xy * b.x + c_yy * b.y + c_yz * b.z,
+            c_xz * b.x + c_yz * b.y + c_zz * b.z,
+        ) / det;
         x.is_finite().then_some(x)
     }
 }
@@ -592,14 +660,19 @@ impl Heap {
     const ABSENT: u32 = u32::MAX;
 
     /// A heap of the given `(key, halfedge)` entries, for halfedge ids below `capacity`.
-    fn new(mut entries: Vec<(f64, u32)>, capacity: usize) -> Self {
-        entries.sort_unstable_by(|a, b| Self::order(*a, *b));
+    fn new(entries: Vec<(f64, u32)>, capacity: usize) -> Self {
         let mut place = vec![Self::ABSENT; capacity];
         for (i, &(_, h)) in entries.iter().enumerate() {
             // `entries` holds at most one entry per halfedge id, each below `u32::MAX`.
             place[h as usize] = i as u32;
         }
-        Self { entries, place }
+        let mut heap = Self { entries, place };
+        // Floyd's heap construction, O(n); the order of the entries taken out is the
+        // strict `(key, halfedge)` order whatever the layout.
+        for i in (0..heap.entries.len() / 2).rev() {
+            heap.down(i);
+        }
+        heap
     }
 
     fn order(a: (f64, u32), b: (f64, u32)) -> Ordering {
@@ -616,34 +689,45 @@ impl Heap {
         self.place[self.entries[j].1 as usize] = j as u32;
     }
 
+    /// Moves the entry at `i` towards the root to its place; each entry it passes moves
+    /// down one level (one write of each place, not a swap per level).
     fn up(&mut self, mut i: usize) {
+        let moving = self.entries[i];
         while i > 0 {
             let parent = (i - 1) / 2;
-            if !self.less(i, parent) {
+            let above = self.entries[parent];
+            if Self::order(moving, above) != Ordering::Less {
                 break;
             }
-            self.swap(i, parent);
+            self.entries[i] = above;
+            self.place[above.1 as usize] = i as u32;
             i = parent;
         }
+        self.entries[i] = moving;
+        self.place[moving.1 as usize] = i as u32;
     }
 
+    /// Moves the entry at `i` towards the leaves to its place (as [`Heap::up`]).
     fn down(&mut self, mut i: usize) {
         let n = self.entries.len();
+        let moving = self.entries[i];
         loop {
-            let (l, r) = (2 * i + 1, 2 * i + 2);
-            let mut m = i;
-            if l < n && self.less(l, m) {
-                m = l;
-            }
-            if r < n && self.less(r, m) {
-                m = r;
-            }
-            if m == i {
+            let l = 2 * i + 1;
+            if l >= n {
                 break;
             }
-            self.swap(i, m);
-            i = m;
+            let r = l + 1;
+            let c = if r < n && self.less(r, l) { r } else { l };
+            let child = self.entries[c];
+            if Self::order(child, moving) != Ordering::Less {
+                break;
+            }
+            self.entries[i] = child;
+            self.place[child.1 as usize] = i as u32;
+            i = c;
         }
+        self.entries[i] = moving;
+        self.place[moving.1 as usize] = i as u32;
     }
 
     /// Queues `h` with `key`, or changes its key.
@@ -737,6 +821,13 @@ struct Decimator<'a> {
     /// neighbourhood changes.
     parked: Vec<bool>,
     heap: Heap,
+    /// Per halfedge: the collapse count when its full key was computed, or
+    /// [`NOT_KEYED`] when its heap key is the lower bound.
+    keyed_at: Vec<u32>,
+    /// Per vertex: the collapse count when its one-ring last changed.
+    changed_at: Vec<u32>,
+    /// Collapses done so far.
+    collapses: u32,
     /// Scratch: the outgoing halfedges of the kept vertex of a collapse.
     spokes: Vec<HalfedgeId>,
     /// Scratch: the neighbours of the removed vertex of a collapse.
@@ -763,6 +854,9 @@ impl<'a> Decimator<'a> {
             points: Vec::new(),
             parked: vec![false; nh],
             heap: Heap::new(Vec::new(), nh),
+            keyed_at: vec![NOT_KEYED; nh],
+            changed_at: vec![0; nv],
+            collapses: 0,
             spokes: Vec::new(),
             support: Vec::new(),
             refused: RefusalCounts::default(),
@@ -845,8 +939,9 @@ impl<'a> Decimator<'a> {
         [a, b, c]
     }
 
-    /// The topological checks: `EditMesh`'s collapse rules plus OpenMesh's
-    /// `is_collapse_legal`, and `keep_boundary`.
+    /// The topological checks of OpenMesh's `is_collapse_legal`, and `keep_boundary`;
+    /// `EditMesh`'s collapse rules (the link condition) are checked by the collapse
+    /// itself.
     fn check_topology(&self, h: HalfedgeId) -> Result<(), Refusal> {
         let m = &self.mesh;
         if !m.is_live_halfedge(h) {
@@ -871,9 +966,6 @@ impl<'a> Decimator<'a> {
         {
             return Err(Refusal::Topology);
         }
-        if !m.is_collapse_ok(h) {
-            return Err(Refusal::Topology);
-        }
         Ok(())
     }
 
@@ -887,20 +979,21 @@ impl<'a> Decimator<'a> {
             Placement::Optimal if !m.is_boundary_vertex(v1) => q
                 .minimiser()
                 .filter(|x| (*x - 0.5 * (p0 + p1)).length() <= 2.0 * (p1 - p0).length())
-                .unwrap_or(if q.eval(p0) < q.eval(p1) { p0 } else { p1 }),
+                .unwrap_or_else(|| if q.eval(p0) < q.eval(p1) { p0 } else { p1 }),
             _ => p1,
         };
         (position, q)
     }
 
-    /// The triangles the collapse of `h` changes, as `(face, new corners)`: those around
+    /// The triangles the collapse of `h` changes, as `(face, new corners, old corners)`
+    /// in the face's order: those around
     /// `v0` and, when the kept vertex moves, those around `v1`, without the (one or two)
     /// triangles at the edge, which are removed.
     fn changed_triangles(
         &self,
         h: HalfedgeId,
         position: DVec3,
-        mut visit: impl FnMut(FaceId, [DVec3; 3]) -> bool,
+        mut visit: impl FnMut(FaceId, [DVec3; 3], [DVec3; 3]) -> bool,
     ) -> bool {
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
@@ -924,7 +1017,8 @@ impl<'a> Decimator<'a> {
                         m.position(v)
                     }
                 };
-                if !visit(f, [position, at(a), at(b)]) {
+                let before = [m.position(c), m.position(a), m.position(b)];
+                if !visit(f, [position, at(a), at(b)], before) {
                     return false;
                 }
             }
@@ -932,18 +1026,17 @@ impl<'a> Decimator<'a> {
         true
     }
 
-    /// The heap key of collapsing `h`: its quadric error, divided by the shape penalty
-    /// when the worst new triangle's quality is below the threshold. Refuses what
-    /// depends only on the two vertices' quadrics and positions (`keep_boundary`,
-    /// `max_error`) and degenerate results.
-    fn priority(&self, h: HalfedgeId) -> Result<f64, Refusal> {
-        self.priority_and_symmetry(h).map(|(key, _)| key)
-    }
-
-    /// [`Decimator::priority`], and whether the twin's is bit for bit the same: both
-    /// move the kept vertex to the same minimiser, neither end point on the boundary,
-    /// and change the same triangles.
-    fn priority_and_symmetry(&self, h: HalfedgeId) -> Result<(f64, bool), Refusal> {
+    /// A lower bound of the heap key of collapsing `h` ([`Decimator::full_key`]): its
+    /// quadric error (at least the error floor when the shape penalty is on), whether
+    /// the twin's is bit for bit the same (both move the kept vertex to the same
+    /// minimiser, neither end point is on the boundary, and they change the same
+    /// triangles), and the kept vertex's position. Refuses what depends only on the two
+    /// vertices' quadrics and positions (`keep_boundary`, `max_error`).
+    ///
+    /// The bound needs the two quadrics alone, so it is what a changed neighbourhood
+    /// queues; the shape penalty, which needs every triangle the collapse makes, is
+    /// evaluated when the entry reaches the top of the heap.
+    fn bound(&self, h: HalfedgeId) -> Result<(f64, bool, DVec3), Refusal> {
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
         let b0 = m.is_boundary_vertex(v0);
@@ -960,41 +1053,68 @@ impl<'a> Decimator<'a> {
             && !b0
             && !m.is_boundary_vertex(v1);
         let error = q.eval(position);
+        let key = if self.options.quality_threshold > 0.0 {
+            error.max(self.error_floor)
+        } else {
+            error
+        };
+        Ok((key, symmetric, position))
+    }
+
+    /// The heap key of collapsing `h` to `position`, given its [`Decimator::bound`]: the
+    /// bound divided by the shape penalty when the worst new triangle's quality is
+    /// below the threshold (never smaller than the bound). Refuses a collapse that
+    /// makes a degenerate triangle.
+    fn full_key(&self, h: HalfedgeId, bound: f64, position: DVec3) -> Result<f64, Refusal> {
         let threshold = self.options.quality_threshold;
         if threshold <= 0.0 {
-            return Ok((error, symmetric));
+            return Ok(bound);
         }
         let mut worst = f64::INFINITY;
-        self.changed_triangles(h, position, |_, t| {
+        self.changed_triangles(h, position, |_, t, _| {
             worst = worst.min(shape_quality_squared(t));
             worst > 0.0
         });
         if worst <= 0.0 {
             return Err(Refusal::Flip);
         }
-        let worst = worst.sqrt();
-        Ok((
-            error.max(self.error_floor) / (worst / threshold).min(1.0),
-            symmetric,
-        ))
+        Ok(bound / (worst.sqrt() / threshold).min(1.0))
+    }
+
+    /// Whether the full key of `h` computed last is still its key: no collapse has
+    /// changed the one-ring of either end since.
+    fn fresh(&self, h: HalfedgeId) -> bool {
+        let at = self.keyed_at[h.index()];
+        at != NOT_KEYED
+            && self.changed_at[self.mesh.from_vertex(h).index()] <= at
+            && self.changed_at[self.mesh.to_vertex(h).index()] <= at
     }
 
     /// Everything [`decimate`] checks for the collapse of `h`, and what it would change.
-    fn evaluate(&self, h: HalfedgeId) -> Result<Candidate, Refusal> {
+    ///
+    /// `placed` is the kept vertex's position when the caller has just computed it
+    /// ([`Decimator::bound`]).
+    fn evaluate(&self, h: HalfedgeId, placed: Option<DVec3>) -> Result<Candidate, Refusal> {
         self.check_topology(h)?;
         let m = &self.mesh;
         let (v0, v1) = (m.from_vertex(h), m.to_vertex(h));
-        let (position, q) = self.placement(h);
+        let (position, q) = match placed {
+            Some(p) => (p, self.quadrics[v0.index()].sum(&self.quadrics[v1.index()])),
+            None => self.placement(h),
+        };
         let rms = q.rms(position);
         if self.options.max_error.is_some_and(|e| rms > e) {
             return Err(Refusal::Error);
         }
         let removed = [m.face(h), m.face(h.twin())];
         let is_removed = |f: FaceId| removed.contains(&Some(f));
-        let mut changed: Vec<(FaceId, DVec3)> = Vec::with_capacity(16);
+        // The changed faces and their new normals, for the bounds that need them.
+        let keep_changed =
+            self.options.max_normal_deviation.is_some() || self.options.max_aspect_ratio.is_some();
+        let mut changed: Vec<(FaceId, DVec3)> = Vec::new();
         let mut flipped = false;
-        self.changed_triangles(h, position, |f, t| {
-            let old = cross(self.face_vertices(f).map(|v| m.position(v)));
+        self.changed_triangles(h, position, |f, t, before| {
+            let old = cross(before);
             let Some(new) = cross(t).try_normalize() else {
                 flipped = true;
                 return false;
@@ -1006,7 +1126,9 @@ impl<'a> Decimator<'a> {
                 flipped = true;
                 return false;
             }
-            changed.push((f, new));
+            if keep_changed {
+                changed.push((f, new));
+            }
             true
         });
         if flipped {
@@ -1104,13 +1226,21 @@ impl<'a> Decimator<'a> {
     /// Queues the collapse of `h` with its current priority, or parks it (removed from
     /// the heap) and counts the refusal.
     fn queue(&mut self, h: HalfedgeId) {
-        let i = h.index();
-        self.parked[i] = false;
         if !self.mesh.is_live_halfedge(h) {
+            self.parked[h.index()] = false;
             self.heap.remove(h.raw());
             return;
         }
-        match self.priority(h) {
+        let bound = self.bound(h).map(|(key, _, _)| key);
+        self.queue_with(h, bound);
+    }
+
+    /// Queues the live halfedge `h` with its [`Decimator::bound`] `bound`, or parks it.
+    fn queue_with(&mut self, h: HalfedgeId, bound: Result<f64, Refusal>) {
+        let i = h.index();
+        self.parked[i] = false;
+        self.keyed_at[i] = NOT_KEYED;
+        match bound {
             Ok(key) => self.heap.set(h.raw(), key),
             Err(r) => {
                 self.heap.remove(h.raw());
@@ -1127,8 +1257,8 @@ impl<'a> Decimator<'a> {
             self.queue(h.twin());
             return;
         }
-        match self.priority_and_symmetry(h) {
-            Ok((key, true)) => {
+        match self.bound(h) {
+            Ok((key, true, _)) => {
                 // One entry for the edge, under its even halfedge; both directions are
                 // tried when it comes to the top.
                 let (even, odd) = if h.index() % 2 == 0 {
@@ -1138,11 +1268,13 @@ impl<'a> Decimator<'a> {
                 };
                 self.parked[even.index()] = false;
                 self.parked[odd.index()] = false;
+                self.keyed_at[even.index()] = NOT_KEYED;
+                self.keyed_at[odd.index()] = NOT_KEYED;
                 self.heap.set(even.raw(), key);
                 self.heap.remove(odd.raw());
             }
-            _ => {
-                self.queue(h);
+            bound => {
+                self.queue_with(h, bound.map(|(key, _, _)| key));
                 self.queue(h.twin());
             }
         }
@@ -1159,11 +1291,15 @@ impl<'a> Decimator<'a> {
     /// Collapses until `target` vertices are left or the heap is empty; returns the
     /// largest RMS error of a collapse done.
     ///
-    /// The heap holds halfedges keyed by [`Decimator::priority`]; legality is checked
-    /// when one comes to the top (lazily, as most queued collapses are never done). A
-    /// refused halfedge is parked until a collapse changes its neighbourhood; a key
-    /// that grew since queueing (the shape penalty of a changed neighbourhood) is
-    /// updated in place.
+    /// The heap holds halfedges keyed by a lower bound of their priority
+    /// ([`Decimator::bound`]); the full key with the shape penalty
+    /// ([`Decimator::full_key`]) and legality are evaluated when one comes to the top
+    /// (lazily, as most queued collapses are never done). A full key larger than the
+    /// entry's goes back into the heap; since every other entry's key is at most its
+    /// own full key, the entry collapsed is the one of the smallest full key among those
+    /// whose key is up to date. A full key stays valid until a collapse changes the
+    /// one-ring of either end. A refused halfedge is parked until a collapse changes
+    /// its neighbourhood.
     fn run(&mut self, target: usize) -> Result<f64, DecimateError> {
         let halfedges: Vec<HalfedgeId> = self.mesh.halfedges().collect();
         let mut entries = Vec::with_capacity(halfedges.len());
@@ -1174,8 +1310,8 @@ impl<'a> Decimator<'a> {
             if std::mem::take(&mut skip_twin) {
                 continue;
             }
-            match self.priority_and_symmetry(h) {
-                Ok((key, symmetric)) => {
+            match self.bound(h) {
+                Ok((key, symmetric, _)) => {
                     entries.push((key, h.raw()));
                     skip_twin = symmetric && h.index() % 2 == 0;
                 }
@@ -1183,8 +1319,8 @@ impl<'a> Decimator<'a> {
             }
         }
         self.heap = Heap::new(entries, self.parked.len());
-        let recheck = self.options.quality_threshold > 0.0;
         let optimal = self.options.placement == Placement::Optimal;
+        let recheck = self.options.quality_threshold > 0.0;
         let mut max_rms: f64 = 0.0;
         while self.mesh.n_vertices() > target {
             let Some((key, raw)) = self.heap.peek() else {
@@ -1196,13 +1332,28 @@ impl<'a> Decimator<'a> {
                 continue;
             }
             let mut directions = [Some(h), None];
+            let mut placed = None;
             if optimal || recheck {
-                match self.priority_and_symmetry(h) {
-                    Ok((current, _)) if recheck && current > key => {
-                        self.heap.set(raw, current);
+                let current = self.bound(h).and_then(|(bound, symmetric, position)| {
+                    if recheck && !self.fresh(h) {
+                        let full = self.full_key(h, bound, position)?;
+                        Ok((Some(full), symmetric, position))
+                    } else {
+                        Ok((None, symmetric, position))
+                    }
+                });
+                if let Ok((Some(_), _, _)) = current {
+                    self.keyed_at[h.index()] = self.collapses;
+                }
+                match current {
+                    Ok((Some(full), _, _)) if full > key => {
+                        // The entry's key was a lower bound, or the neighbourhood has
+                        // changed since: it goes back with its full key.
+                        self.heap.set(raw, full);
                         continue;
                     }
-                    Ok((_, symmetric)) => {
+                    Ok((_, symmetric, position)) => {
+                        placed = Some(position);
                         if symmetric && h.index() % 2 == 0 {
                             directions[1] = Some(h.twin());
                         } else if h.index() % 2 == 0 && !self.heap.contains(h.twin().raw()) {
@@ -1218,26 +1369,61 @@ impl<'a> Decimator<'a> {
                 }
             }
             self.heap.remove(raw);
+            // The first direction the checks allow is collapsed; `EditMesh`'s own
+            // topological checks (the link condition) run once, in the collapse, which
+            // leaves the mesh unchanged when it refuses.
             let mut chosen = None;
             for g in directions.into_iter().flatten() {
-                match self.evaluate(g) {
-                    Ok(c) => {
-                        chosen = Some((g, c));
+                let candidate = match self.evaluate(g, placed) {
+                    Ok(c) => c,
+                    Err(r) => {
+                        self.refuse(g, r);
+                        continue;
+                    }
+                };
+                let v0 = self.mesh.from_vertex(g);
+                if !optimal {
+                    self.support.clear();
+                    self.support.extend(self.mesh.vertices_around_vertex(v0));
+                }
+                // The edge and one other edge of each triangle at it are removed; their
+                // entries leave the heap now (a removal deep in the heap is cheap, one
+                // that surfaces at the top later costs a full sift).
+                let doomed = [
+                    g,
+                    self.mesh.next(g),
+                    self.mesh.prev(g),
+                    self.mesh.next(g.twin()),
+                    self.mesh.prev(g.twin()),
+                ];
+                match self.mesh.collapse_edge(g) {
+                    Ok(v1) => {
+                        chosen = Some((v0, v1, candidate, doomed));
                         break;
                     }
-                    Err(r) => self.refuse(g, r),
+                    Err(_) => self.refuse(g, Refusal::Topology),
                 }
             }
-            let Some((h, candidate)) = chosen else {
+            let Some((v0, v1, candidate, doomed)) = chosen else {
                 continue;
             };
-            let v0 = self.mesh.from_vertex(h);
-            if !optimal {
-                self.support.clear();
-                self.support.extend(self.mesh.vertices_around_vertex(v0));
+            for g in doomed {
+                if !self.mesh.is_live_halfedge(g) {
+                    self.heap.remove(g.raw());
+                    self.heap.remove(g.twin().raw());
+                }
             }
-            let v1 = self.mesh.collapse_edge(h)?;
             self.mesh.set_position(v1, candidate.position);
+            self.collapses += 1;
+            // The one-rings of `v1` and its neighbours changed: their full keys are out
+            // of date.
+            self.spokes.clear();
+            self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
+            self.changed_at[v1.index()] = self.collapses;
+            for k in 0..self.spokes.len() {
+                let u = self.mesh.to_vertex(self.spokes[k]);
+                self.changed_at[u.index()] = self.collapses;
+            }
             let q0 = self.quadrics[v0.index()];
             self.quadrics[v1.index()].add(&q0);
             for (f, cone) in candidate.cones {
@@ -1264,8 +1450,6 @@ impl<'a> Decimator<'a> {
                 }
                 continue;
             }
-            self.spokes.clear();
-            self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
             for k in 0..self.spokes.len() {
                 let g = self.spokes[k];
                 self.queue_edge(g);
@@ -1294,9 +1478,11 @@ impl<'a> Decimator<'a> {
 /// The output's vertices keep the input's relative order (garbage collection is a
 /// stable compaction); with [`Placement::Endpoint`] each is an input vertex, bit for
 /// bit. Topology is preserved: the Euler characteristic, the number of boundary loops
-/// and closedness do not change, and the output is a valid [`HalfedgeMesh`]. The
-/// report's Hausdorff distance is measured between the output and the input over their
-/// vertices plus one surface sample per input face on each side, with a fixed seed.
+/// and closedness do not change, and the output is a valid [`HalfedgeMesh`]. Unless
+/// [`DecimateOptions::measure_distance`] is off, the report's Hausdorff distance is
+/// measured between the output and the input over their vertices plus one surface
+/// sample per input face on each side, with a fixed seed
+/// ([`DecimateReport::measure_distance`]).
 ///
 /// # Errors
 /// [`DecimateError::PositionCount`] when `positions` does not match the mesh;
@@ -1307,7 +1493,8 @@ impl<'a> Decimator<'a> {
 /// [`DecimateOptions`]).
 ///
 /// # Complexity
-/// O(n log n) collapses and heap operations for `n` vertices, each evaluation O(valence²);
+/// O(n log n) collapses and heap operations for `n` vertices; a queued cost is O(1), the
+/// shape penalty at the top of the heap O(valence), a legality check O(valence²);
 /// [`DecimateOptions::max_distance`] adds the input vertices of the changed triangles
 /// times their number per evaluation.
 ///
@@ -1351,16 +1538,7 @@ pub fn decimate(
     };
     edit.garbage_collection();
     let (out, out_positions) = edit.into_mesh()?;
-    let samples = HausdorffSampling::VerticesAndSurface {
-        samples: mesh.n_faces(),
-        seed: HAUSDORFF_SEED,
-    };
-    let distance = hausdorff(
-        &SurfaceIndex::new(&out, &out_positions)?,
-        &SurfaceIndex::new(mesh, positions)?,
-        samples,
-    )?;
-    let report = DecimateReport {
+    let mut report = DecimateReport {
         vertices_before: mesh.n_vertices(),
         faces_before: mesh.n_faces(),
         vertices_after: out.n_vertices(),
@@ -1371,9 +1549,99 @@ pub fn decimate(
         stop,
         target_reached: stop == DecimateStop::TargetReached,
         max_quadric_error: max_rms,
-        hausdorff: distance.symmetric,
-        hausdorff_to_input: distance.forward,
-        hausdorff_from_input: distance.backward,
+        ..DecimateReport::default()
     };
+    if options.measure_distance {
+        report.measure_distance((mesh, positions), (&out, &out_positions))?;
+    }
     Ok((out, out_positions, report))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator for the tests (64-bit LCG, top bits).
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 33
+        }
+
+        fn unit(&mut self) -> f64 {
+            self.next() as f64 / (1u64 << 31) as f64
+        }
+    }
+
+    #[test]
+    fn the_heap_gives_the_entries_in_key_then_id_order() {
+        let mut rng = Lcg(7);
+        let n = 500u32;
+        // Few distinct keys, so that ties (broken by the id) are common.
+        let mut initial: Vec<(f64, u32)> = Vec::new();
+        for h in 0..n {
+            if rng.next() % 3 != 0 {
+                initial.push(((rng.next() % 20) as f64, h));
+            }
+        }
+        let mut want: std::collections::BTreeMap<u32, f64> =
+            initial.iter().map(|&(k, h)| (h, k)).collect();
+        let mut heap = Heap::new(initial, n as usize);
+        for _ in 0..2000 {
+            let h = (rng.next() % u64::from(n)) as u32;
+            if rng.next() % 4 == 0 {
+                heap.remove(h);
+                want.remove(&h);
+            } else {
+                let key = (rng.next() % 20) as f64 + 0.5 * rng.unit();
+                heap.set(h, key);
+                want.insert(h, key);
+            }
+            assert_eq!(heap.contains(h), want.contains_key(&h));
+        }
+        let mut expected: Vec<(f64, u32)> = want.into_iter().map(|(h, k)| (k, h)).collect();
+        expected.sort_by(|a, b| Heap::order(*a, *b));
+        let mut got = Vec::new();
+        while let Some((key, h)) = heap.peek() {
+            heap.remove(h);
+            got.push((key, h));
+        }
+        assert_eq!(got, expected);
+    }
+
+    #[test]
+    fn the_minimiser_solves_the_quadric_system() {
+        let mut rng = Lcg(11);
+        for _ in 0..200 {
+            // A sum of a few planes through random points, as a vertex's quadric is.
+            let mut q = Quadric::default();
+            for _ in 0..4 {
+                let n =
+                    DVec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5).normalize();
+                let p = DVec3::new(rng.unit(), rng.unit(), rng.unit());
+                q.add(&Quadric::plane(n, -n.dot(p), 0.1 + rng.unit()));
+            }
+            let Some(x) = q.minimiser() else {
+                continue;
+            };
+            // The gradient 2(Ax + b) vanishes at the minimiser ...
+            let residual = q.matrix() * x + q.b;
+            assert!(
+                residual.length() <= 1e-9 * (1.0 + q.b.length()),
+                "{residual}"
+            );
+            // ... and the minimum is no larger than nearby values.
+            for d in [DVec3::X, DVec3::Y, DVec3::Z] {
+                assert!(q.eval(x) <= q.eval(x + 1e-3 * d) + 1e-12);
+                assert!(q.eval(x) <= q.eval(x - 1e-3 * d) + 1e-12);
+            }
+        }
+        // A single plane leaves the system singular: no minimiser.
+        assert!(Quadric::plane(DVec3::Z, 0.0, 1.0).minimiser().is_none());
+    }
 }

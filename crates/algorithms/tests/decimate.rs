@@ -426,6 +426,40 @@ fn the_aspect_ratio_bound_holds() {
 }
 
 #[test]
+fn the_distance_measured_later_is_the_one_measured_inside() {
+    let p = noisy_flens();
+    let mesh = p.mesh().unwrap();
+    let options = DecimateOptions::default().ratio(0.3);
+    let (out, positions, measured) = decimate(&mesh, &p.positions, &options).unwrap();
+    assert!(measured.distance_measured);
+    assert!(measured.hausdorff > 0.0);
+    assert_eq!(
+        measured.hausdorff,
+        measured
+            .hausdorff_to_input
+            .max(measured.hausdorff_from_input)
+    );
+    let (out2, positions2, mut later) =
+        decimate(&mesh, &p.positions, &options.measure_distance(false)).unwrap();
+    // Skipping the measurement changes nothing of the decimation.
+    assert_eq!(out.to_polygons(), out2.to_polygons());
+    assert_eq!(positions, positions2);
+    assert!(!later.distance_measured);
+    assert_eq!(
+        (
+            later.hausdorff,
+            later.hausdorff_to_input,
+            later.hausdorff_from_input
+        ),
+        (0.0, 0.0, 0.0)
+    );
+    later
+        .measure_distance((&mesh, &p.positions), (&out2, &positions2))
+        .unwrap();
+    assert_eq!(later, measured);
+}
+
+#[test]
 fn decimation_is_deterministic() {
     let p = noisy_flens();
     let options = DecimateOptions::default()

@@ -66,6 +66,11 @@ pub(crate) struct DecimateArgs {
     /// unit) from the output surface.
     #[arg(long, value_name = "D")]
     max_distance: Option<f64>,
+    /// Skip measuring the Hausdorff distance between the result and the input (it is
+    /// only reported, never used by the decimation, and can take about as long as the
+    /// decimation itself).
+    #[arg(long)]
+    no_distance: bool,
     #[command(flatten)]
     outputs: EditOutputArgs,
     #[command(flatten)]
@@ -113,11 +118,16 @@ struct Summary {
     quality_threshold: f64,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
-    /// The symmetric Hausdorff distance output <-> input, in the mesh's unit.
-    hausdorff: f64,
-    hausdorff_to_input: f64,
-    hausdorff_from_input: f64,
+    /// The symmetric Hausdorff distance output <-> input, in the mesh's unit (null
+    /// with `--no-distance`).
+    hausdorff: Option<f64>,
+    hausdorff_to_input: Option<f64>,
+    hausdorff_from_input: Option<f64>,
+    /// The decimation alone (garbage collection included; reading, writing and the
+    /// measurements excluded).
     seconds: f64,
+    /// Measuring the Hausdorff distance (null with `--no-distance`).
+    seconds_measure: Option<f64>,
 }
 
 /// The options, or a usage error naming the bad one.
@@ -226,16 +236,31 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     args.outputs.check(&args.output, &args.input)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "decimate")?;
+    let input_error = |e: DecimateError| CliError::Input {
+        path: args.input.clone(),
+        message: match e {
+            DecimateError::NotTriangle { face, len } => not_triangles("decimate", face, len),
+            e => e.to_string(),
+        },
+    };
     let start = std::time::Instant::now();
-    let (mesh, positions, report) =
-        decimate(&loaded.mesh, &loaded.positions, &options).map_err(|e| CliError::Input {
-            path: args.input.clone(),
-            message: match e {
-                DecimateError::NotTriangle { face, len } => not_triangles("decimate", face, len),
-                e => e.to_string(),
-            },
-        })?;
+    let (mesh, positions, mut report) = decimate(
+        &loaded.mesh,
+        &loaded.positions,
+        &options.measure_distance(false),
+    )
+    .map_err(input_error)?;
     let seconds = start.elapsed().as_secs_f64();
+    let seconds_measure = if args.no_distance {
+        None
+    } else {
+        let start = std::time::Instant::now();
+        report
+            .measure_distance((&loaded.mesh, &loaded.positions), (&mesh, &positions))
+            .map_err(input_error)?;
+        Some(start.elapsed().as_secs_f64())
+    };
+    let measured = |x: f64| report.distance_measured.then_some(x);
     let quality = QualityChange::measure(
         &args.input,
         "decimate",
@@ -276,10 +301,11 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             args.quality_threshold
         },
         max_quadric_error: report.max_quadric_error,
-        hausdorff: report.hausdorff,
-        hausdorff_to_input: report.hausdorff_to_input,
-        hausdorff_from_input: report.hausdorff_from_input,
+        hausdorff: measured(report.hausdorff),
+        hausdorff_to_input: measured(report.hausdorff_to_input),
+        hausdorff_from_input: measured(report.hausdorff_from_input),
         seconds,
+        seconds_measure,
     };
     if args
         .outputs
@@ -299,14 +325,21 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             why_not(&report)
         )
     };
+    let distance = if report.distance_measured {
+        format!(
+            "; Hausdorff distance to the input {}",
+            number(report.hausdorff)
+        )
+    } else {
+        String::new()
+    };
     writeln!(
         out,
-        "decimated {} -> {}: {} -> {} vertices ({target}); Hausdorff distance to the input {}",
+        "decimated {} -> {}: {} -> {} vertices ({target}){distance}",
         args.input.display(),
         args.output.display(),
         report.vertices_before,
         report.vertices_after,
-        number(report.hausdorff),
     )?;
     quality.write_table(out)?;
     Ok(())

@@ -67,6 +67,7 @@ fn decimates_into_the_library_result() {
             "hausdorff_to_input",
             "hausdorff_from_input",
             "seconds",
+            "seconds_measure",
         ] {
             assert!(summary.get(key).is_some(), "{name}: no {key}");
         }
@@ -77,6 +78,50 @@ fn decimates_into_the_library_result() {
         assert_eq!(summary["placement"], "optimal");
         assert_eq!(summary["quality_threshold"], 0.4);
     }
+}
+
+#[test]
+fn no_distance_skips_the_measurement_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["decimate", s(&input), s(out), "--ratio", "0.25"];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        o.stdout
+    };
+    let (measured, skipped) = (dir.path().join("a.ply"), dir.path().join("b.ply"));
+    let with: Value = serde_json::from_slice(&run(&["--json"], &measured)).unwrap();
+    let without: Value =
+        serde_json::from_slice(&run(&["--json", "--no-distance"], &skipped)).unwrap();
+    // The same mesh either way: the measurement is no part of the decimation.
+    assert_eq!(fs::read(&measured).unwrap(), fs::read(&skipped).unwrap());
+    assert!(with["hausdorff"].as_f64().unwrap() > 0.0);
+    assert!(with["seconds_measure"].as_f64().unwrap() >= 0.0);
+    assert!(with["seconds"].as_f64().unwrap() >= 0.0);
+    for key in [
+        "hausdorff",
+        "hausdorff_to_input",
+        "hausdorff_from_input",
+        "seconds_measure",
+    ] {
+        assert!(without[key].is_null(), "{key}: {}", without[key]);
+    }
+    assert!(without["seconds"].as_f64().unwrap() >= 0.0);
+    assert_eq!(with["vertices_after"], without["vertices_after"]);
+    // The sentence leaves the distance out rather than printing a number not measured.
+    let text = String::from_utf8(run(&["--no-distance", "--force"], &skipped)).unwrap();
+    let sentence = text.lines().next().unwrap();
+    assert!(sentence.contains("(target "), "{sentence}");
+    assert!(!sentence.contains("Hausdorff"), "{sentence}");
+    let text = String::from_utf8(run(&["--force"], &skipped)).unwrap();
+    assert!(
+        text.lines()
+            .next()
+            .unwrap()
+            .contains("Hausdorff distance to the input")
+    );
 }
 
 #[test]
