@@ -485,6 +485,28 @@ pub(crate) fn morton_order(points: &[DVec3]) -> Vec<u32> {
 mod tests {
     use super::*;
 
+    /// Asserts that `order` is a permutation of the items.
+    fn assert_permutation(order: &[u32]) {
+        let mut sorted = order.to_vec();
+        sorted.sort_unstable();
+        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+    }
+
+    /// The smallest squared distance from `q` to `points` and its point (the lowest index
+    /// on ties), found through the tree.
+    fn nearest_through(bvh: &Bvh, order: &[u32], points: &[DVec3], q: DVec3) -> (f64, usize) {
+        let mut best = (f64::INFINITY, usize::MAX);
+        bvh.nearest(q, f64::INFINITY, &mut Stack::new(), |k| {
+            let i = order[k] as usize;
+            let d = (points[i] - q).length_squared();
+            if d < best.0 || (d == best.0 && i < best.1) {
+                best = (d, i);
+            }
+            best.0
+        });
+        best
+    }
+
     #[test]
     fn nearest_point_matches_a_scan() {
         // A deterministic scatter of points on a helix.
@@ -496,23 +518,13 @@ mod tests {
             .collect();
         let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
         assert!(bvh.len() < points.len());
-        let mut sorted = order.clone();
-        sorted.sort_unstable();
-        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+        assert_permutation(&order);
         for q in [
             DVec3::ZERO,
             DVec3::new(0.3, -2.0, 1.0),
             DVec3::new(5.0, 5.0, 5.0),
         ] {
-            let mut best = (f64::INFINITY, usize::MAX);
-            bvh.nearest(q, f64::INFINITY, &mut Stack::new(), |k| {
-                let i = order[k] as usize;
-                let d = (points[i] - q).length_squared();
-                if d < best.0 || (d == best.0 && i < best.1) {
-                    best = (d, i);
-                }
-                best.0
-            });
+            let best = nearest_through(&bvh, &order, &points, q);
             let scan = points
                 .iter()
                 .map(|p| (p - q).length_squared())
@@ -537,24 +549,13 @@ mod tests {
             })
             .collect();
         let (bvh, order) = Bvh::build(points.len(), |i| [points[i], points[i]]);
-        let mut sorted = order.clone();
-        sorted.sort_unstable();
-        assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+        assert_permutation(&order);
         for q in [
             DVec3::new(0.5, 0.1, 0.0),
             DVec3::new(0.123_456, 0.0, -0.2),
             DVec3::new(2.0, 1.0, 1.0),
         ] {
-            let mut best = (f64::INFINITY, usize::MAX);
-            let mut stack = Stack::new();
-            bvh.nearest(q, f64::INFINITY, &mut stack, |k| {
-                let i = order[k] as usize;
-                let d = (points[i] - q).length_squared();
-                if d < best.0 || (d == best.0 && i < best.1) {
-                    best = (d, i);
-                }
-                best.0
-            });
+            let best = nearest_through(&bvh, &order, &points, q);
             let scan = points
                 .iter()
                 .enumerate()
