@@ -53,7 +53,7 @@ pub(crate) fn read(
             "weld_tolerance {weld_tolerance} is a fraction of the bounding-box diagonal and at most {MAX_WELD_TOLERANCE}; larger values weld the part's own features together"
         )));
     }
-    let options = ReadOptions::default().with_weld(weld).with_lenient(lenient);
+    let options = ReadOptions::new().weld(weld).lenient(lenient);
     py.detach(|| no_panic(|| read_inner(&path, &options, repair)))
 }
 

@@ -55,9 +55,7 @@ impl ReadArgs {
                 self.weld_tolerance
             )));
         }
-        Ok(ReadOptions::default()
-            .with_weld(weld)
-            .with_lenient(self.lenient))
+        Ok(ReadOptions::default().weld(weld).lenient(self.lenient))
     }
 
     /// The repair options: merging with `--merge-distance`.

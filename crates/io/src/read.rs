@@ -62,7 +62,7 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// let dir = tempfile::tempdir()?;
 /// let path = dir.path().join("cube.stl");
 /// write_mesh(&path, &MeshData::from(beltrami_halfedge::primitives::cube()), &WriteOptions::default())?;
-/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// let exact = ReadOptions::new().weld(Weld::Exact);
 /// let (mesh, report) = read_mesh_with(&path, &exact)?;
 /// assert_eq!(mesh.positions.len(), 8);
 /// assert_eq!((report.weld_distance, report.welded_vertices), (Some(0.0), 0));
@@ -129,7 +129,7 @@ pub fn read_mesh_from<R: BufRead>(reader: R, format: MeshFormat) -> Result<MeshD
 ///     facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
 ///     facet normal 0 0 1\nouter loop\nvertex 1 2.7e-16 0\nvertex 1 1 0\nvertex 0 1.0000001 0\nendloop\nendfacet\n\
 ///     endsolid s\n";
-/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// let exact = ReadOptions::new().weld(Weld::Exact);
 /// let (cracked, _) = read_mesh_from_with(stl.as_bytes(), MeshFormat::Stl, &exact)?;
 /// assert_eq!(cracked.positions.len(), 6);
 /// let (mesh, report) = read_mesh_from_with(stl.as_bytes(), MeshFormat::Stl, &ReadOptions::default())?;

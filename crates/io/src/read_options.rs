@@ -25,7 +25,7 @@ use crate::height_map::{GridStats, LengthUnit};
 /// # Examples
 /// ```
 /// use beltrami_io::{ReadOptions, Weld};
-/// let exact = ReadOptions::default().with_weld(Weld::Exact);
+/// let exact = ReadOptions::new().weld(Weld::Exact);
 /// assert_eq!(ReadOptions::default().weld, Weld::Relative(1e-6));
 /// assert_ne!(exact, ReadOptions::default());
 /// ```
@@ -100,7 +100,7 @@ impl Default for Weld {
 /// ```
 /// use beltrami_io::{ReadOptions, Weld};
 /// // A command-line `--weld-tolerance 0.01` in millimetres:
-/// let options = ReadOptions::default().with_weld(Weld::Absolute(0.01));
+/// let options = ReadOptions::new().weld(Weld::Absolute(0.01));
 /// assert_eq!(options.weld, Weld::Absolute(0.01));
 /// ```
 #[non_exhaustive]
@@ -120,19 +120,38 @@ pub struct ReadOptions {
 }
 
 impl ReadOptions {
-    /// These options with `weld`.
+    /// The defaults: [`Weld::Relative`] with [`Weld::DEFAULT_RELATIVE`], not lenient.
     #[must_use]
-    pub fn with_weld(self, weld: Weld) -> Self {
-        Self { weld, ..self }
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// These options with [`weld`](Self::weld) set to `weld`.
+    #[must_use]
+    pub fn weld(mut self, weld: Weld) -> Self {
+        self.weld = weld;
+        self
     }
 
     /// These options with [`lenient`](Self::lenient) set to `yes`.
     #[must_use]
+    pub fn lenient(mut self, yes: bool) -> Self {
+        self.lenient = yes;
+        self
+    }
+
+    /// The old name of [`weld`](Self::weld).
+    #[deprecated(note = "renamed to `weld`, like the other options types' setters")]
+    #[must_use]
+    pub fn with_weld(self, weld: Weld) -> Self {
+        self.weld(weld)
+    }
+
+    /// The old name of [`lenient`](Self::lenient).
+    #[deprecated(note = "renamed to `lenient`, like the other options types' setters")]
+    #[must_use]
     pub fn with_lenient(self, yes: bool) -> Self {
-        Self {
-            lenient: yes,
-            ..self
-        }
+        self.lenient(yes)
     }
 }
 

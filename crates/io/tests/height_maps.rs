@@ -463,7 +463,7 @@ fn x3p_checksums_are_verified_and_lenient_reads_report_them() {
             && e.ends_with(", but the archive records 0123456789abcdef0123456789abcdef"),
         "{e}"
     );
-    let lenient = ReadOptions::default().with_lenient(true);
+    let lenient = ReadOptions::new().lenient(true);
     let (mesh, report) = read_mesh_from_with(&bytes[..], MeshFormat::X3p, &lenient).unwrap();
     assert_eq!(mesh.positions.len(), 6);
     assert_eq!(report.checksum_mismatches, [e]);

@@ -32,7 +32,7 @@ fn binary_stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
 }
 
 fn read(bytes: &[u8], weld: Weld) -> (MeshData, ReadReport) {
-    let options = ReadOptions::default().with_weld(weld);
+    let options = ReadOptions::new().weld(weld);
     match read_mesh_from_with(bytes, MeshFormat::Stl, &options) {
         Ok(read) => read,
         Err(e) => panic!("{weld:?}: {e}"),
@@ -320,7 +320,7 @@ fn invalid_tolerances_are_refused_for_every_format() {
         Weld::Relative(f64::NAN),
         Weld::Absolute(f64::INFINITY),
     ] {
-        let options = ReadOptions::default().with_weld(weld);
+        let options = ReadOptions::new().weld(weld);
         for (bytes, format) in [(&stl[..], MeshFormat::Stl), (&obj[..], MeshFormat::Obj)] {
             let e = read_mesh_from_with(bytes, format, &options).expect_err("invalid tolerance");
             assert!(matches!(e, IoError::WeldTolerance { .. }), "{e}");
@@ -329,7 +329,7 @@ fn invalid_tolerances_are_refused_for_every_format() {
     let e = read_mesh_from_with(
         &stl[..],
         MeshFormat::Stl,
-        &ReadOptions::default().with_weld(Weld::Relative(-1e-6)),
+        &ReadOptions::new().weld(Weld::Relative(-1e-6)),
     )
     .expect_err("negative");
     assert_eq!(
