@@ -70,8 +70,9 @@ pub(crate) struct GenerateArgs {
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// The sphere's subdivision level, 0 to 10 (the paper's sphere is 6: 40 962
-    /// vertices; 8 gives 655 362 and 10 gives 10 485 762 vertices, for benchmarks).
+    /// The sphere's subdivision level, 0 to 11 (the paper's sphere is 6: 40 962
+    /// vertices; 8 gives 655 362, 10 gives 10 485 762 and 11 gives 41 943 042 vertices,
+    /// for benchmarks).
     /// Only for `sphere`.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=MAX_SPHERE_LEVEL as i64))]
     level: Option<u32>,
@@ -83,9 +84,10 @@ pub(crate) struct GenerateArgs {
     shuffle: Option<u64>,
 }
 
-/// The largest `--level` of `generate sphere`: 10 485 762 vertices, about 0.5 GiB of
-/// positions and faces; level 11 would need four times that.
-const MAX_SPHERE_LEVEL: u32 = 10;
+/// The largest `--level` of `generate sphere`: 41 943 042 vertices and 83 886 080
+/// faces, about 2 GiB of positions and faces (a 2 GB binary PLY); level 12 would need
+/// four times that.
+const MAX_SPHERE_LEVEL: u32 = 11;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum SurfaceArg {

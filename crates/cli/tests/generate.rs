@@ -112,7 +112,7 @@ fn sphere_level_sets_the_subdivisions_and_is_refused_elsewhere() {
             assert!((p.length() - 1.0).abs() < 1e-12, "level {level}: {p}");
         }
     }
-    for (surface, level) in [("flens", "3"), ("sphere", "11")] {
+    for (surface, level) in [("flens", "3"), ("sphere", "12")] {
         let out = beltrami(&["generate", surface, path, "--level", level]);
         assert!(
             !out.status.success(),
