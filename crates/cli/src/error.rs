@@ -9,7 +9,7 @@ use beltrami_metrics::MetricsError;
 use beltrami_smooth::SmoothError;
 use beltrami_weights::WeightError;
 
-use crate::memory::{MemoryEstimate, Size};
+use crate::memory::{Limit, MemoryEstimate, Size};
 
 /// A failed command. Displayed as one line, without the leading `error: `.
 #[derive(Debug)]
@@ -51,11 +51,12 @@ pub(crate) enum CliError {
     /// An output is an existing file without write permission and `--force` was not
     /// given.
     WriteProtected { path: PathBuf },
-    /// The run would need more memory than `--max-memory` allows.
+    /// The run would need more memory than `--max-memory` allows or, without it, than
+    /// the machine has available.
     MemoryLimit {
         path: PathBuf,
         estimate: MemoryEstimate,
-        limit: u64,
+        limit: Limit,
     },
 }
 
@@ -189,12 +190,20 @@ impl fmt::Display for CliError {
                 path,
                 estimate,
                 limit,
-            } => write!(
-                f,
-                "{}: the run needs {estimate}, more than --max-memory {}",
-                path.display(),
-                Size(*limit)
-            ),
+            } => match limit {
+                Limit::Given(limit) => write!(
+                    f,
+                    "{}: the run needs {estimate}, more than --max-memory {}",
+                    path.display(),
+                    Size(*limit)
+                ),
+                Limit::Available(available) => write!(
+                    f,
+                    "{}: the run needs {estimate}, more than the {} of memory this machine has available (pass --max-memory SIZE to run it anyway)",
+                    path.display(),
+                    Size(*available)
+                ),
+            },
         }
     }
 }

@@ -126,7 +126,9 @@ pub(crate) struct SmoothArgs {
     #[arg(long)]
     pub(crate) force: bool,
     /// Fail before building the mesh when the run is estimated to need more memory
-    /// than this: bytes, or with a binary unit K, M, G, T (512M, 2G, 1.5G).
+    /// than this: bytes, or with a binary unit K, M, G, T (512M, 2G, 1.5G). Without
+    /// it, a run stops when its estimate exceeds the memory the machine has available
+    /// (Linux: MemAvailable plus free swap); a size given here overrides that.
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub(crate) max_memory: Option<u64>,
     /// Print the estimated memory and the planned iterations of the run on stderr

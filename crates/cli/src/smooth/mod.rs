@@ -215,14 +215,17 @@ fn check_memory(
     estimate: &MemoryEstimate,
     report: bool,
 ) -> Result<(), CliError> {
-    if let Some(limit) = args.max_memory {
-        if estimate.bytes > limit {
-            return Err(CliError::MemoryLimit {
-                path: args.input.clone(),
-                estimate: *estimate,
-                limit,
-            });
-        }
+    let available = if args.max_memory.is_none() {
+        memory::available_bytes()
+    } else {
+        None
+    };
+    if let Some(limit) = memory::exceeded_limit(estimate.bytes, args.max_memory, available) {
+        return Err(CliError::MemoryLimit {
+            path: args.input.clone(),
+            estimate: *estimate,
+            limit,
+        });
     }
     if report && (args.verbose || estimate.vertices > LARGE_RUN_VERTICES) {
         eprintln!("note: this run needs {estimate} of memory");
