@@ -170,7 +170,16 @@ fn command(registry: &WeightRegistry) -> clap::Command {
 #[must_use]
 pub fn main_with(registry: WeightRegistry) -> ExitCode {
     remove_temporary_files_on_signal();
-    run_with(std::env::args_os(), &registry)
+    // The command runs on a worker of its own thread pool, so that the parallel passes
+    // of a small mesh (one chunk) run on that thread at once instead of being handed to
+    // the pool and waited for: on meshes of a few thousand vertices that hand-over is a
+    // large part of each iteration. The same pool size as rayon's global default
+    // (`RAYON_NUM_THREADS`, else the number of logical cores); results do not depend
+    // on it.
+    match rayon::ThreadPoolBuilder::new().build() {
+        Ok(pool) => pool.install(|| run_with(std::env::args_os(), &registry)),
+        Err(_) => run_with(std::env::args_os(), &registry),
+    }
 }
 
 /// On Ctrl-C, `SIGTERM` or `SIGHUP`, removes the temporary files of outputs being

@@ -207,15 +207,16 @@ fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
     CliError::Usage(format!("{source}; {hint}"))
 }
 
-/// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`; with
-/// `report` (the exact counts), prints the estimate on stderr for a large run or
-/// with `--verbose`.
-fn check_memory(
-    args: &SmoothArgs,
-    estimate: &MemoryEstimate,
-    report: bool,
-) -> Result<(), CliError> {
-    let available = if args.max_memory.is_none() {
+/// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`, or,
+/// without it and on the `exact` counts of the data as read, the memory the machine
+/// has available; with `exact`, prints the estimate on stderr for a large run or with
+/// `--verbose`.
+///
+/// The counts a file declares are checked against `--max-memory` alone: a header that
+/// declares more than its file holds is then reported by the reader as what it is, not
+/// as a run too large for the machine.
+fn check_memory(args: &SmoothArgs, estimate: &MemoryEstimate, exact: bool) -> Result<(), CliError> {
+    let available = if args.max_memory.is_none() && exact {
         memory::available_bytes()
     } else {
         None
@@ -227,7 +228,7 @@ fn check_memory(
             limit,
         });
     }
-    if report && (args.verbose || estimate.vertices > LARGE_RUN_VERTICES) {
+    if exact && (args.verbose || estimate.vertices > LARGE_RUN_VERTICES) {
         eprintln!("note: this run needs {estimate} of memory");
     }
     Ok(())
