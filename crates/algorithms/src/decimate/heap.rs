@@ -17,7 +17,7 @@ pub(super) struct Heap {
 
 /// The bits of a non-negative key, `-0` as `+0`: ordered as the keys are.
 fn bits(key: f64) -> u64 {
-    debug_assert!(!(key < 0.0), "a negative heap key: {key}");
+    debug_assert!(key >= 0.0 || key.is_nan(), "a negative heap key: {key}");
     (key + 0.0).to_bits()
 }
 
