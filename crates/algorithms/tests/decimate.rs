@@ -478,6 +478,33 @@ fn decimation_is_deterministic() {
 }
 
 #[test]
+fn the_result_does_not_depend_on_the_thread_count() {
+    // The initial bounds are computed on rayon's threads: one thread and several give
+    // the same bytes, for the default, a boundary (the F-lens) and the OpenMesh mode.
+    let bits = |v: &[DVec3]| -> Vec<[u64; 3]> {
+        v.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
+    };
+    for (p, options) in [
+        (noisy_icosphere(), DecimateOptions::default().ratio(0.2)),
+        (noisy_flens(), DecimateOptions::default().ratio(0.3)),
+        (noisy_flens(), DecimateOptions::openmesh().ratio(0.3)),
+    ] {
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| run(&p, &options))
+        };
+        let (one, many) = (on(1), on(4));
+        assert!(one.2.collapses > 0);
+        assert_eq!(one.0.to_polygons(), many.0.to_polygons());
+        assert_eq!(bits(&one.1), bits(&many.1));
+        assert_eq!(one.2, many.2);
+    }
+}
+
+#[test]
 fn bad_input_and_options_are_typed_errors() {
     let p = primitives::icosphere(1);
     let mesh = p.mesh().unwrap();

@@ -150,12 +150,18 @@ impl EditMesh {
         let vh = self.to_vertex(h);
         let vo = self.to_vertex(o);
 
-        let incoming: Vec<HalfedgeId> = self
-            .halfedges_around_vertex(vo)
-            .map(HalfedgeId::twin)
-            .collect();
-        for i in incoming {
-            self.set_to(i, vh);
+        // The halfedges into `vo` now point to `vh`. Retargeting changes `to` only, and
+        // the walk around `vo` follows `prev` and twins, so it is done in place (no list
+        // of the incoming halfedges, one allocation fewer per collapse).
+        if let Some(start) = self.outgoing_halfedge(vo) {
+            let mut g = start;
+            loop {
+                self.set_to(g.twin(), vh);
+                g = self.ccw_rotated(g);
+                if g == start {
+                    break;
+                }
+            }
         }
         self.link(hp, hn);
         self.link(op, on);

@@ -1,0 +1,346 @@
+//! The collapse loop: the queue of candidate collapses, cheapest first, and what a
+//! collapse changes.
+
+use beltrami_halfedge::{DVec3, ElementId, HalfedgeId, HalfedgeMesh, VertexId};
+use rayon::prelude::*;
+
+use super::evaluate::{Candidate, Decimator, End, Refusal, bound_between};
+use super::{DecimateError, NOT_KEYED, Placement};
+
+impl Decimator<'_> {
+    /// Queues the collapse of `h` with its current priority, or parks it (removed from
+    /// the heap) and counts the refusal.
+    fn queue(&mut self, h: HalfedgeId) {
+        if !self.mesh.is_live_halfedge(h) {
+            self.parked[h.index()] = false;
+            self.heap.remove(h.raw());
+            return;
+        }
+        let bound = self.bound(h).map(|(key, _, _)| key);
+        self.queue_with(h, bound);
+    }
+
+    /// Queues the live halfedge `h` with its [`Decimator::bound`] `bound`, or parks it.
+    fn queue_with(&mut self, h: HalfedgeId, bound: Result<f64, Refusal>) {
+        let i = h.index();
+        self.parked[i] = false;
+        self.keyed_at[i] = NOT_KEYED;
+        match bound {
+            Ok(key) => self.heap.set(h.raw(), key),
+            Err(r) => {
+                self.heap.remove(h.raw());
+                self.refuse(h, r);
+            }
+        }
+    }
+
+    /// Queues both halfedges of `h`'s edge ([`Decimator::queue`]), as one entry when
+    /// their priorities are the same.
+    fn queue_edge(&mut self, h: HalfedgeId) {
+        if !self.mesh.is_live_halfedge(h) {
+            self.queue(h);
+            self.queue(h.twin());
+            return;
+        }
+        match self.bound(h) {
+            Ok((key, true, _)) => {
+                // One entry for the edge, under its even halfedge; both directions are
+                // tried when it comes to the top.
+                let (even, odd) = if h.index() % 2 == 0 {
+                    (h, h.twin())
+                } else {
+                    (h.twin(), h)
+                };
+                self.parked[even.index()] = false;
+                self.parked[odd.index()] = false;
+                self.keyed_at[even.index()] = NOT_KEYED;
+                self.keyed_at[odd.index()] = NOT_KEYED;
+                self.heap.set(even.raw(), key);
+                self.heap.remove(odd.raw());
+            }
+            bound => {
+                self.queue_with(h, bound.map(|(key, _, _)| key));
+                self.queue(h.twin());
+            }
+        }
+    }
+
+    /// Counts the refusal of `h` and parks it until its neighbourhood changes. The
+    /// boundary and error refusals change only with the two vertices' quadrics and
+    /// positions, and a change of those queues the halfedge again anyway.
+    fn refuse(&mut self, h: HalfedgeId, r: Refusal) {
+        self.refused.count(r);
+        self.parked[h.index()] = !matches!(r, Refusal::Boundary | Refusal::Error);
+    }
+
+    /// Collapses until `target` vertices are left or the heap is empty; returns the
+    /// largest RMS error of a collapse done.
+    ///
+    /// The heap holds halfedges keyed by a lower bound of their priority
+    /// ([`Decimator::bound`]); the full key with the shape penalty
+    /// ([`Decimator::full_key`]) and legality are evaluated when one comes to the top
+    /// (lazily, as most queued collapses are never done). A full key larger than the
+    /// entry's goes back into the heap; since every other entry's key is at most its
+    /// own full key, the entry collapsed is the one of the smallest full key among those
+    /// whose key is up to date. A full key stays valid until a collapse changes the
+    /// one-ring of either end. A refused halfedge is parked until a collapse changes
+    /// its neighbourhood.
+    pub(super) fn run(
+        &mut self,
+        input: &HalfedgeMesh,
+        target: usize,
+    ) -> Result<f64, DecimateError> {
+        self.fill_queue(input);
+        let mut max_rms: f64 = 0.0;
+        while self.mesh.n_vertices() > target {
+            let Some((key, raw)) = self.heap.peek() else {
+                break;
+            };
+            let Some((directions, placed)) = self.take_top(key, raw) else {
+                continue;
+            };
+            let Some(done) = self.collapse_first(directions, placed) else {
+                continue;
+            };
+            max_rms = max_rms.max(done.candidate.rms);
+            self.apply(done);
+        }
+        Ok(max_rms)
+    }
+
+    /// The initial heap: every halfedge by its [`Decimator::bound`], a symmetric pair
+    /// as one entry under its even halfedge; refusals are parked. The bounds are
+    /// computed on rayon's threads from `input`, the mesh the decimator's was copied
+    /// from (the same ids), and taken in id order, so the heap does not depend on the
+    /// thread count.
+    fn fill_queue(&mut self, input: &HalfedgeMesh) {
+        debug_assert_eq!(input.n_halfedges(), 2 * self.mesh.edge_capacity());
+        let (options, floor) = (self.options, self.error_floor);
+        let (positions, quadrics) = (self.input, &self.quadrics);
+        let bound = |h: HalfedgeId| {
+            let (v0, v1) = (input.from_vertex(h), input.to_vertex(h));
+            let end = |v: VertexId| End {
+                position: positions[v.index()],
+                boundary: input.is_boundary_vertex(v),
+                quadric: &quadrics[v.index()],
+            };
+            bound_between(options, floor, end(v0), end(v1))
+        };
+        // Per edge: its even halfedge's bound, and the odd one's unless the pair is
+        // symmetric (one entry).
+        let bounds: Vec<_> = (0..input.n_edges())
+            .into_par_iter()
+            .map(|e| {
+                let even = HalfedgeId::from_index(2 * e);
+                let first = bound(even);
+                let second = match first {
+                    Ok((_, true, _)) => None,
+                    _ => Some(bound(even.twin())),
+                };
+                (first, second)
+            })
+            .collect();
+        let mut entries = Vec::with_capacity(input.n_halfedges());
+        for (e, (first, second)) in bounds.into_iter().enumerate() {
+            let even = HalfedgeId::from_index(2 * e);
+            for (h, b) in [(even, Some(first)), (even.twin(), second)] {
+                match b {
+                    Some(Ok((key, _, _))) => entries.push((key, h.raw())),
+                    Some(Err(r)) => self.refuse(h, r),
+                    None => {}
+                }
+            }
+        }
+        self.heap.fill(&entries);
+    }
+
+    /// Looks at the top entry `(key, raw)`: returns the directions to try and the kept
+    /// vertex's position (when computed) and takes the entry out of the heap; or `None`
+    /// when the entry was dropped (a removed edge, a refusal) or went back with a
+    /// larger full key.
+    fn take_top(&mut self, key: f64, raw: u32) -> Option<([Option<HalfedgeId>; 2], Option<DVec3>)> {
+        let h = HalfedgeId::new(raw);
+        if !self.mesh.is_live_halfedge(h) {
+            self.heap.remove(raw);
+            return None;
+        }
+        let mut directions = [Some(h), None];
+        let mut placed = None;
+        let optimal = self.options.placement == Placement::Optimal;
+        let recheck = self.options.quality_threshold > 0.0;
+        if optimal || recheck {
+            let current = self.bound(h).and_then(|(bound, symmetric, position)| {
+                if recheck && !self.fresh(h) {
+                    let full = self.full_key(h, bound, position)?;
+                    Ok((Some(full), symmetric, position))
+                } else {
+                    Ok((None, symmetric, position))
+                }
+            });
+            if let Ok((Some(_), _, _)) = current {
+                self.keyed_at[h.index()] = self.collapses;
+            }
+            match current {
+                Ok((Some(full), _, _)) if full > key => {
+                    // The entry's key was a lower bound, or the neighbourhood has
+                    // changed since: it goes back with its full key.
+                    self.heap.set(raw, full);
+                    return None;
+                }
+                Ok((_, symmetric, position)) => {
+                    placed = Some(position);
+                    if symmetric && h.index() % 2 == 0 {
+                        directions[1] = Some(h.twin());
+                    } else if h.index() % 2 == 0 && !self.heap.contains(h.twin().raw()) {
+                        // The edge's entry stood for both directions; no longer.
+                        self.queue(h.twin());
+                    }
+                }
+                Err(r) => {
+                    self.heap.remove(raw);
+                    self.refuse(h, r);
+                    return None;
+                }
+            }
+        }
+        self.heap.remove(raw);
+        Some((directions, placed))
+    }
+
+    /// Collapses the first of `directions` the checks allow. `EditMesh`'s own
+    /// topological checks (the link condition) run once, in the collapse, which leaves
+    /// the mesh unchanged when it refuses.
+    fn collapse_first(
+        &mut self,
+        directions: [Option<HalfedgeId>; 2],
+        placed: Option<DVec3>,
+    ) -> Option<Collapsed> {
+        let optimal = self.options.placement == Placement::Optimal;
+        for g in directions.into_iter().flatten() {
+            let candidate = match self.evaluate(g, placed) {
+                Ok(c) => c,
+                Err(r) => {
+                    self.refuse(g, r);
+                    continue;
+                }
+            };
+            let v0 = self.mesh.from_vertex(g);
+            if !optimal {
+                self.support.clear();
+                self.support.extend(self.mesh.vertices_around_vertex(v0));
+            }
+            // The edge and one other edge of each triangle at it are removed; their
+            // entries leave the heap now (a removal deep in the heap is cheap, one that
+            // surfaces at the top later costs a full sift).
+            let doomed = [
+                g,
+                self.mesh.next(g),
+                self.mesh.prev(g),
+                self.mesh.next(g.twin()),
+                self.mesh.prev(g.twin()),
+            ];
+            match self.mesh.collapse_edge(g) {
+                Ok(v1) => {
+                    return Some(Collapsed {
+                        v0,
+                        v1,
+                        candidate,
+                        doomed,
+                    });
+                }
+                Err(_) => self.refuse(g, Refusal::Topology),
+            }
+        }
+        None
+    }
+
+    /// Brings the state up to date after a collapse: the removed edges leave the heap,
+    /// the kept vertex moves and takes the removed one's quadric, the bounds' state
+    /// (normal cones, assigned input vertices) follows, and the changed collapses are
+    /// queued again.
+    fn apply(&mut self, done: Collapsed) {
+        let Collapsed {
+            v0,
+            v1,
+            candidate,
+            doomed,
+        } = done;
+        for g in doomed {
+            if !self.mesh.is_live_halfedge(g) {
+                self.heap.remove(g.raw());
+                self.heap.remove(g.twin().raw());
+            }
+        }
+        self.mesh.set_position(v1, candidate.position);
+        self.collapses += 1;
+        // The one-rings of `v1` and its neighbours changed: their full keys are out of
+        // date.
+        self.spokes.clear();
+        self.spokes.extend(self.mesh.halfedges_around_vertex(v1));
+        self.changed_at[v1.index()] = self.collapses;
+        for k in 0..self.spokes.len() {
+            let u = self.mesh.to_vertex(self.spokes[k]);
+            self.changed_at[u.index()] = self.collapses;
+        }
+        let q0 = self.quadrics[v0.index()];
+        self.quadrics[v1.index()].add(&q0);
+        for (f, cone) in candidate.cones {
+            self.cones[f.index()] = cone;
+        }
+        for f in candidate.cleared {
+            self.points[f.index()].clear();
+        }
+        for (f, list) in candidate.assigned {
+            self.points[f.index()] = list;
+        }
+        if self.options.placement == Placement::Optimal {
+            self.requeue_around();
+        } else {
+            self.requeue_openmesh();
+        }
+    }
+
+    /// Queues the edges at `v1` (the kept vertex, in [`Decimator::spokes`]) with their
+    /// new keys, and the parked edges around its neighbours again.
+    fn requeue_around(&mut self) {
+        for k in 0..self.spokes.len() {
+            let g = self.spokes[k];
+            self.queue_edge(g);
+        }
+        for k in 0..self.spokes.len() {
+            let u = self.mesh.to_vertex(self.spokes[k]);
+            let start = self.mesh.outgoing_halfedge(u);
+            let mut g = start;
+            while let Some(e) = g {
+                if self.parked[e.index()] || self.parked[e.twin().index()] {
+                    self.queue_edge(e);
+                }
+                let next = self.mesh.cw_rotated(e);
+                g = (Some(next) != start).then_some(next);
+            }
+        }
+    }
+
+    /// `DecimaterT`'s update: the outgoing collapses of `v0`'s former neighbours (in
+    /// [`Decimator::support`], `v1` among them) are evaluated again; those of `v1`'s
+    /// other neighbours keep their keys until their own neighbourhood changes.
+    fn requeue_openmesh(&mut self) {
+        for k in 0..self.support.len() {
+            let u = self.support[k];
+            self.spokes.clear();
+            self.spokes.extend(self.mesh.halfedges_around_vertex(u));
+            for j in 0..self.spokes.len() {
+                self.queue(self.spokes[j]);
+            }
+        }
+    }
+}
+
+/// A collapse done: the removed and the kept vertex, what was checked, and the
+/// halfedges of the edges that may have gone with it.
+struct Collapsed {
+    v0: VertexId,
+    v1: VertexId,
+    candidate: Candidate,
+    doomed: [HalfedgeId; 5],
+}
