@@ -136,10 +136,20 @@ def cut_holes(beltrami, path, out):
 
 
 def measure(beltrami, output, reference):
-    c = json.loads(run([beltrami, "compare", output, reference, "--json"]).stdout)
-    q = json.loads(run([beltrami, "info", output, "--json", "--quality"]).stdout)
+    """beltrami's measures of `output` against `reference`. An output that beltrami
+    does not read as a valid mesh (e.g. a non-manifold edge) is measured after
+    `--repair`, and the first line of the refusal is returned as `defect`."""
+    defect, repair = None, []
+    try:
+        c = json.loads(run([beltrami, "compare", output, reference, "--json"]).stdout)
+    except subprocess.CalledProcessError as e:
+        defect = (e.stderr or "").strip().splitlines()[0] if e.stderr else str(e)
+        repair = ["--repair"]
+        c = json.loads(run([beltrami, "compare", output, reference, "--json", *repair]).stdout)
+    q = json.loads(run([beltrami, "info", output, "--json", "--quality", *repair]).stdout)
     quality = q.get("quality") or {}
     return {
+        "defect": defect,
         "vertices": q["vertices"],
         "hausdorff": c["hausdorff"],
         "area_rms": c["area_rms"],
@@ -393,6 +403,7 @@ def main():
         lines += [f"\n### {task}: {name}\n",
                   "| tool | median s | vertices | Hausdorff | area RMS | min angle ° | regular % | edge CV | boundary loops |",
                   "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        defects = []
         for tool, call in runs:
             try:
                 times, output = call()
@@ -401,12 +412,19 @@ def main():
                 print(f"skipped {tool} on {task} {name}: {e}", file=sys.stderr)
                 continue
             fmt = lambda x, spec: "-" if x is None else format(x, spec)
+            label = tool
+            if m["defect"] is not None:
+                label = f"{tool} (repaired)"
+                defects.append(f"- {tool}: its output is not a valid mesh "
+                               f"(`{m['defect']}`); measured after `--repair`.")
             lines.append(
-                f"| {tool} | {statistics.median(times):.3f} | {m['vertices']} | "
+                f"| {label} | {statistics.median(times):.3f} | {m['vertices']} | "
                 f"{m['hausdorff']:.3g} | {m['area_rms']:.3g} | {fmt(m['min_angle'], '.1f')} | "
                 f"{fmt(None if m['regular'] is None else 100 * m['regular'], '.1f')} | "
                 f"{fmt(m['cv'], '.3f')} | {m['boundary_loops']} |")
             print(lines[-1], flush=True)
+        if defects:
+            lines += [""] + defects
     text = "\n".join(lines) + "\n"
     (out / "results.md").write_text(text)
     print(text)
