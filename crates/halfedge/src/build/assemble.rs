@@ -16,196 +16,122 @@ pub(super) fn assemble(
     origin: Origin<'_>,
 ) -> Result<HalfedgeMesh, TopologyError> {
     let corners = Corners::new(list);
+    let n_corners = corners.indices.len();
     let mate = match mates(&corners, n_vertices) {
         Some(mate) => mate,
         None => mates_from_groups(&corners, origin)?,
     };
-    let mut arrays = Arrays::number_edges(&corners, &mate, list, n_vertices)?;
+
+    // Edge `e` is numbered by its first corner in corner order: a corner starts a new
+    // edge unless its mate comes before it.
+    let n_edges = mate
+        .iter()
+        .enumerate()
+        .filter(|&(k, &m)| m == INVALID || k < m as usize)
+        .count();
+    check_count("halfedges", 2 * n_edges)?;
+    let n_halfedges = 2 * n_edges;
+    // Every entry of these four is written below (zeroed memory costs no pass over it);
+    // `h_face` keeps `INVALID` on the boundary.
+    let mut corner_he = vec![0; n_corners];
+    let mut h_to = vec![0; n_halfedges];
+    let mut h_next = vec![0; n_halfedges];
+    let mut h_prev = vec![0; n_halfedges];
+    let mut h_face = vec![INVALID; n_halfedges];
+    let mut v_out = vec![INVALID; n_vertices];
+
+    let mut e = 0u32;
+    for k in 0..n_corners {
+        let m = mate[k];
+        if m != INVALID && (m as usize) < k {
+            // The mate opened the edge and runs the first direction.
+            corner_he[k] = corner_he[m as usize] | 1;
+            continue;
+        }
+        let h = 2 * e;
+        e += 1;
+        corner_he[k] = h;
+        if m == INVALID {
+            // Boundary edge: the twin of the inner halfedge a -> b is b -> a, without face.
+            let t = h | 1;
+            h_to[t as usize] = corners.from(k as u32);
+            let b = corners.to(k as u32) as usize;
+            if v_out[b] != INVALID {
+                let fans = count_fans(list, b as u32).max(2);
+                return Err(TopologyError::NonManifoldVertex {
+                    vertex: b as u32,
+                    fans,
+                });
+            }
+            v_out[b] = t;
+        }
+    }
     drop(mate);
-    arrays.link_faces(&corners);
-    arrays.link_boundary_loops();
-    arrays.interior_outgoing(&corners);
-    let mesh = arrays.into_mesh(list);
-    check_vertex_fans(&mesh, list)?;
-    Ok(mesh)
-}
-
-/// The half-edge arrays while [`assemble`] fills them in.
-struct Arrays {
-    /// Per corner, the halfedge that runs along it.
-    corner_he: Vec<u32>,
-    h_to: Vec<u32>,
-    h_next: Vec<u32>,
-    h_prev: Vec<u32>,
-    /// `INVALID` on the boundary.
-    h_face: Vec<u32>,
-    v_out: Vec<u32>,
-}
-
-impl Arrays {
-    /// Numbers the edges and gives every corner its halfedge; on the boundary also the
-    /// twin's target and the outgoing halfedge of the vertex it leaves.
-    ///
-    /// Edge `e` is numbered by its first corner in corner order: a corner starts a new
-    /// edge unless its mate comes before it.
-    ///
-    /// # Errors
-    /// [`TopologyError::TooManyElements`] when the halfedges do not fit `u32`;
-    /// [`TopologyError::NonManifoldVertex`] when two boundary halfedges leave a vertex.
-    fn number_edges(
-        corners: &Corners<'_>,
-        mate: &[u32],
-        list: &PolygonList,
-        n_vertices: usize,
-    ) -> Result<Self, TopologyError> {
-        let n_corners = corners.indices.len();
-        let n_edges = mate
-            .iter()
-            .enumerate()
-            .filter(|&(k, &m)| m == INVALID || k < m as usize)
-            .count();
-        check_count("halfedges", 2 * n_edges)?;
-        let n_halfedges = 2 * n_edges;
-        // Every entry of these four is written later (zeroed memory costs no pass over
-        // it); `h_face` keeps `INVALID` on the boundary.
-        let mut corner_he = vec![0; n_corners];
-        let mut h_to = vec![0; n_halfedges];
-        let h_next = vec![0; n_halfedges];
-        let h_prev = vec![0; n_halfedges];
-        let h_face = vec![INVALID; n_halfedges];
-        let mut v_out = vec![INVALID; n_vertices];
-
-        let mut e = 0u32;
+    if corners.triangles() {
+        // The same as the general loop below, a triangle at a time.
+        let triangles = corner_he
+            .chunks_exact(3)
+            .zip(corners.indices.chunks_exact(3));
+        for (f, (he, to)) in triangles.enumerate() {
+            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+                let h = he[i] as usize;
+                h_to[h] = to[j];
+                h_face[h] = f as u32;
+                h_next[h] = he[j];
+                h_prev[he[j] as usize] = he[i];
+            }
+        }
+    } else {
         for k in 0..n_corners {
-            let m = mate[k];
-            if m != INVALID && (m as usize) < k {
-                // The mate opened the edge and runs the first direction.
-                corner_he[k] = corner_he[m as usize] | 1;
-                continue;
-            }
-            let h = 2 * e;
-            e += 1;
-            corner_he[k] = h;
-            if m == INVALID {
-                // Boundary edge: the twin of the inner halfedge a -> b is b -> a, without
-                // face.
-                let t = h | 1;
-                h_to[t as usize] = corners.from(k as u32);
-                let b = corners.to(k as u32) as usize;
-                if v_out[b] != INVALID {
-                    let fans = count_fans(list, b as u32).max(2);
-                    return Err(TopologyError::NonManifoldVertex {
-                        vertex: b as u32,
-                        fans,
-                    });
-                }
-                v_out[b] = t;
-            }
-        }
-        Ok(Arrays {
-            corner_he,
-            h_to,
-            h_next,
-            h_prev,
-            h_face,
-            v_out,
-        })
-    }
-
-    /// Links the halfedges of every face: target, face, next and previous.
-    fn link_faces(&mut self, corners: &Corners<'_>) {
-        let (corner_he, h_to, h_face) = (
-            &self.corner_he[..],
-            &mut self.h_to[..],
-            &mut self.h_face[..],
-        );
-        let (h_next, h_prev) = (&mut self.h_next[..], &mut self.h_prev[..]);
-        if corners.triangles() {
-            // The same as the general loop below, a triangle at a time.
-            let triangles = corner_he
-                .chunks_exact(3)
-                .zip(corners.indices.chunks_exact(3));
-            for (f, (he, to)) in triangles.enumerate() {
-                for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                    let h = he[i] as usize;
-                    h_to[h] = to[j];
-                    h_face[h] = f as u32;
-                    h_next[h] = he[j];
-                    h_prev[he[j] as usize] = he[i];
-                }
-            }
-        } else {
-            for k in 0..corners.indices.len() {
-                let h = corner_he[k] as usize;
-                let nk = corners.next(k as u32) as usize;
-                h_to[h] = corners.indices[nk];
-                h_face[h] = corners.face(k as u32) as u32;
-                h_next[h] = corner_he[nk];
-                h_prev[corner_he[nk] as usize] = h as u32;
-            }
+            let h = corner_he[k] as usize;
+            let nk = corners.next(k as u32) as usize;
+            h_to[h] = corners.indices[nk];
+            h_face[h] = corners.face(k as u32) as u32;
+            h_next[h] = corner_he[nk];
+            h_prev[corner_he[nk] as usize] = h as u32;
         }
     }
-
-    /// Links the boundary loops: after b -> a comes the boundary halfedge leaving a.
-    fn link_boundary_loops(&mut self) {
-        let (h_to, h_face, v_out) = (&self.h_to[..], &self.h_face[..], &self.v_out[..]);
-        let (h_next, h_prev) = (&mut self.h_next[..], &mut self.h_prev[..]);
-        for t in (1..h_face.len()).step_by(2) {
-            if h_face[t] == INVALID {
-                let n = v_out[h_to[t] as usize];
-                h_next[t] = n;
-                h_prev[n as usize] = t as u32;
-            }
+    // Link boundary loops: after b -> a comes the boundary halfedge leaving a.
+    for t in (1..n_halfedges).step_by(2) {
+        if h_face[t] == INVALID {
+            let n = v_out[h_to[t] as usize];
+            h_next[t] = n;
+            h_prev[n as usize] = t as u32;
         }
     }
-
-    /// Interior vertices: the halfedge leaving the vertex in its last face (where
-    /// OpenMesh's `add_face` leaves it, so circulators start at the same neighbour).
-    fn interior_outgoing(&mut self, corners: &Corners<'_>) {
-        let on_boundary: Vec<bool> = self.v_out.iter().map(|&h| h != INVALID).collect();
-        for (&v, &h) in corners.indices.iter().zip(&self.corner_he) {
-            if !on_boundary[v as usize] {
-                self.v_out[v as usize] = h;
-            }
+    // Interior vertices: the halfedge leaving the vertex in its last face (where
+    // OpenMesh's `add_face` leaves it, so circulators start at the same neighbour).
+    let on_boundary: Vec<bool> = v_out.iter().map(|&h| h != INVALID).collect();
+    for (&v, &h) in corners.indices.iter().zip(&corner_he) {
+        if !on_boundary[v as usize] {
+            v_out[v as usize] = h;
         }
     }
+    let f_he: Vec<u32> = list.offsets()[1..]
+        .iter()
+        .map(|&end| corner_he[end - 1])
+        .collect();
 
-    /// The mesh, with each face's halfedge the one of its last corner.
-    fn into_mesh(self, list: &PolygonList) -> HalfedgeMesh {
-        let f_he: Vec<u32> = list.offsets()[1..]
-            .iter()
-            .map(|&end| self.corner_he[end - 1])
-            .collect();
-        HalfedgeMesh {
-            v_out: self.v_out,
-            h_to: self.h_to,
-            h_next: self.h_next,
-            h_prev: self.h_prev,
-            h_face: self.h_face,
-            f_he,
-        }
-    }
-}
+    let mesh = HalfedgeMesh {
+        v_out,
+        h_to,
+        h_next,
+        h_prev,
+        h_face,
+        f_he,
+    };
 
-/// Checks that every vertex has a single fan.
-///
-/// A vertex whose fans are all closed (or one open fan plus closed ones) shows up as a
-/// circulation shorter than its degree. Rotating an outgoing halfedge
-/// (`twin(prev(h))`) is a permutation of the halfedges, so every circulation closes;
-/// each one covers a vertex's outgoing halfedges exactly when the circulations of all
-/// vertices together cover every halfedge. That sum is computed in parallel; only when
-/// it falls short are the vertices checked one by one, in order, for the first one at
-/// fault.
-///
-/// # Errors
-/// [`TopologyError::NonManifoldVertex`] naming the first vertex with several fans.
-fn check_vertex_fans(mesh: &HalfedgeMesh, list: &PolygonList) -> Result<(), TopologyError> {
-    let n_vertices = mesh.v_out.len();
-    let n_halfedges = mesh.h_to.len();
+    // A vertex whose fans are all closed (or one open fan plus closed ones) shows up as
+    // a circulation shorter than its degree. Rotating an outgoing halfedge
+    // (`twin(prev(h))`) is a permutation of the halfedges, so every circulation closes;
+    // each one covers a vertex's outgoing halfedges exactly when the circulations of
+    // all vertices together cover every halfedge. That sum is computed in parallel;
+    // only when it falls short are the vertices checked one by one, in order, for the
+    // first one at fault.
     let covered: usize = (0..n_vertices)
         .into_par_iter()
         .with_min_len(PARALLEL_CHUNK)
-        .map(|v| circulation_length(mesh, v, n_halfedges))
+        .map(|v| circulation_length(&mesh, v, n_halfedges))
         .sum();
     if covered != n_halfedges {
         let mut degree = vec![0u32; n_vertices];
@@ -223,7 +149,7 @@ fn check_vertex_fans(mesh: &HalfedgeMesh, list: &PolygonList) -> Result<(), Topo
             }
         }
     }
-    Ok(())
+    Ok(mesh)
 }
 
 /// The corner running the other way along each corner's edge (`INVALID` on the
