@@ -40,6 +40,8 @@ struct Fitted {
     points: usize,
 }
 
+/// Fits `shape` to a `Mesh`'s vertices (area-weighted with `weighted`) or to an (N, 3)
+/// array of points: the dict of `fit --json`.
 fn fit<'py>(
     py: Python<'py>,
     shape: Shape,
@@ -71,76 +73,95 @@ fn fit<'py>(
             let points = input
                 .weights()
                 .map_or(positions.len(), |w| w.iter().filter(|&&w| w > 0.0).count());
-            let options = FitOptions::default();
-            Ok(match shape {
-                Shape::Sphere => {
-                    let f = fits::fit_sphere(&input, &options).map_err(|e| metrics_error(&e))?;
-                    Fitted {
-                        center: f.center,
-                        axis: None,
-                        radius: f.radius,
-                        rms_residual: f.rms_residual,
-                        max_residual: f.max_residual,
-                        plane_rms: None,
-                        iterations: f.iterations,
-                        converged: f.converged,
-                        points,
-                    }
-                }
-                Shape::Circle => {
-                    let f = fits::fit_circle(&input, &options).map_err(|e| metrics_error(&e))?;
-                    Fitted {
-                        center: f.center,
-                        axis: Some(f.axis),
-                        radius: f.radius,
-                        rms_residual: f.rms_residual,
-                        max_residual: f.max_residual,
-                        plane_rms: Some(f.plane_rms),
-                        iterations: f.iterations,
-                        converged: f.converged,
-                        points,
-                    }
-                }
-                Shape::Cylinder => {
-                    let f = fits::fit_cylinder(&input, None, &options)
-                        .map_err(|e| metrics_error(&e))?;
-                    Fitted {
-                        center: f.axis_point,
-                        axis: Some(f.axis),
-                        radius: f.radius,
-                        rms_residual: f.rms_residual,
-                        max_residual: f.max_residual,
-                        plane_rms: None,
-                        iterations: f.iterations,
-                        converged: f.converged,
-                        points,
-                    }
-                }
-            })
+            fit_shape(shape, &input, points)
         })
     })?;
-    let d = PyDict::new(py);
-    d.set_item(
-        "file",
-        mesh.and_then(|m| m.source.as_ref())
-            .map(|(p, _)| p.display().to_string()),
-    )?;
-    d.set_item("shape", shape.name())?;
-    d.set_item("weighted", weighted)?;
-    d.set_item("points", f.points)?;
-    d.set_item("center", f.center.to_array())?;
-    if let Some(axis) = f.axis {
-        d.set_item("axis", axis.to_array())?;
+    let file = mesh
+        .and_then(|m| m.source.as_ref())
+        .map(|(p, _)| p.display().to_string());
+    f.to_dict(py, file, shape, weighted)
+}
+
+/// Fits `shape` to `input` with the default options; `points` is the number of points
+/// of positive weight.
+fn fit_shape(shape: Shape, input: &FitPoints<'_>, points: usize) -> PyResult<Fitted> {
+    let options = FitOptions::default();
+    Ok(match shape {
+        Shape::Sphere => {
+            let f = fits::fit_sphere(input, &options).map_err(|e| metrics_error(&e))?;
+            Fitted {
+                center: f.center,
+                axis: None,
+                radius: f.radius,
+                rms_residual: f.rms_residual,
+                max_residual: f.max_residual,
+                plane_rms: None,
+                iterations: f.iterations,
+                converged: f.converged,
+                points,
+            }
+        }
+        Shape::Circle => {
+            let f = fits::fit_circle(input, &options).map_err(|e| metrics_error(&e))?;
+            Fitted {
+                center: f.center,
+                axis: Some(f.axis),
+                radius: f.radius,
+                rms_residual: f.rms_residual,
+                max_residual: f.max_residual,
+                plane_rms: Some(f.plane_rms),
+                iterations: f.iterations,
+                converged: f.converged,
+                points,
+            }
+        }
+        Shape::Cylinder => {
+            let f = fits::fit_cylinder(input, None, &options).map_err(|e| metrics_error(&e))?;
+            Fitted {
+                center: f.axis_point,
+                axis: Some(f.axis),
+                radius: f.radius,
+                rms_residual: f.rms_residual,
+                max_residual: f.max_residual,
+                plane_rms: None,
+                iterations: f.iterations,
+                converged: f.converged,
+                points,
+            }
+        }
+    })
+}
+
+impl Fitted {
+    /// The dict of `fit --json`: `file` (the mesh's source, if any), `shape`,
+    /// `weighted` and the fit's fields.
+    fn to_dict<'py>(
+        &self,
+        py: Python<'py>,
+        file: Option<String>,
+        shape: Shape,
+        weighted: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let f = self;
+        let d = PyDict::new(py);
+        d.set_item("file", file)?;
+        d.set_item("shape", shape.name())?;
+        d.set_item("weighted", weighted)?;
+        d.set_item("points", f.points)?;
+        d.set_item("center", f.center.to_array())?;
+        if let Some(axis) = f.axis {
+            d.set_item("axis", axis.to_array())?;
+        }
+        d.set_item("radius", f.radius)?;
+        d.set_item("rms_residual", f.rms_residual)?;
+        d.set_item("max_residual", f.max_residual)?;
+        if let Some(plane) = f.plane_rms {
+            d.set_item("plane_rms", plane)?;
+        }
+        d.set_item("iterations", f.iterations)?;
+        d.set_item("converged", f.converged)?;
+        Ok(d)
     }
-    d.set_item("radius", f.radius)?;
-    d.set_item("rms_residual", f.rms_residual)?;
-    d.set_item("max_residual", f.max_residual)?;
-    if let Some(plane) = f.plane_rms {
-        d.set_item("plane_rms", plane)?;
-    }
-    d.set_item("iterations", f.iterations)?;
-    d.set_item("converged", f.converged)?;
-    Ok(d)
 }
 
 /// The least-squares sphere (orthogonal distances) through a mesh's vertices or an

@@ -330,14 +330,7 @@ pub(crate) fn smooth<'py>(
     max_iterations: usize,
     step_stats: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
-    let pin = pin
-        .unwrap_or_default()
-        .into_iter()
-        .map(|v| {
-            u32::try_from(v)
-                .map_err(|_| PyValueError::new_err(format!("pin: {v} is not a vertex index")))
-        })
-        .collect::<PyResult<Vec<u32>>>()?;
+    let pin = pin_indices(pin)?;
     let options = Options {
         weights: weights.to_string(),
         lambda: lam,
@@ -384,24 +377,7 @@ pub(crate) fn smooth<'py>(
         no_panic(|| {
             let smoother = Smoother::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), config)
                 .map_err(|e| smooth_error(&e))?;
-            // A step given directly must be stable; a time chooses its own stable step.
-            if let Some(limit) = smoother.stable_step_limit()
-                && smoother.config().duration.is_none()
-                && smoother.config().lambda > limit
-            {
-                return Err(smooth_error(&Error::UnstableStep {
-                    lambda: smoother.config().lambda,
-                    max_stable: limit,
-                }));
-            }
-            let planned = smoother.config().iterations;
-            if planned > options.max_iterations {
-                return Err(PyValueError::new_err(format!(
-                    "the run would take {planned} iterations of step {}, more than max_iterations={} (is time or cutoff in the mesh's length unit? raise max_iterations to run it anyway)",
-                    smoother.config().lambda,
-                    options.max_iterations
-                )));
-            }
+            let planned = check_planned_run(&smoother, options.max_iterations)?;
             if progress {
                 observer.bar = Python::attach(|py| progress_bar(py, planned))?;
             }
@@ -422,6 +398,42 @@ pub(crate) fn smooth<'py>(
     let smoothed = smoothed?;
     let report = report(py, mesh, &options, &smoothed.report)?;
     Ok((mesh.with_positions(smoothed.positions), report))
+}
+
+/// `pin` as vertex indices.
+fn pin_indices(pin: Option<Vec<i64>>) -> PyResult<Vec<u32>> {
+    pin.unwrap_or_default()
+        .into_iter()
+        .map(|v| {
+            u32::try_from(v)
+                .map_err(|_| PyValueError::new_err(format!("pin: {v} is not a vertex index")))
+        })
+        .collect()
+}
+
+/// Refuses a run whose step given directly is unstable (`SmoothError`; a time chooses
+/// its own stable step) or that plans more than `max_iterations` iterations
+/// (`ValueError`); returns the planned iteration count.
+fn check_planned_run(smoother: &Smoother<'_>, max_iterations: usize) -> PyResult<usize> {
+    // A step given directly must be stable; a time chooses its own stable step.
+    if let Some(limit) = smoother.stable_step_limit()
+        && smoother.config().duration.is_none()
+        && smoother.config().lambda > limit
+    {
+        return Err(smooth_error(&Error::UnstableStep {
+            lambda: smoother.config().lambda,
+            max_stable: limit,
+        }));
+    }
+    let planned = smoother.config().iterations;
+    if planned > max_iterations {
+        return Err(PyValueError::new_err(format!(
+            "the run would take {planned} iterations of step {}, more than max_iterations={} (is time or cutoff in the mesh's length unit? raise max_iterations to run it anyway)",
+            smoother.config().lambda,
+            max_iterations
+        )));
+    }
+    Ok(planned)
 }
 
 /// The report of a run, with the keys of `beltrami smooth --report`.

@@ -154,55 +154,9 @@ pub(crate) fn study<'py>(
     no_remesh: bool,
     no_scan_example: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let negative = match cotangent_negative {
-        "keep" => NegativeWeights::Keep,
-        "clamp" => NegativeWeights::Clamp,
-        "abs" => NegativeWeights::Abs,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "cotangent_negative must be one of 'keep', 'clamp', 'abs', got '{cotangent_negative}'"
-            )));
-        }
-    };
-    let normalization = match (normalize, vertex_area) {
-        ("sum", "mixed" | "barycentric") => Normalization::WeightSum,
-        ("area", "mixed") => Normalization::Area(VertexAreaKind::MixedVoronoi),
-        ("area", "barycentric") => Normalization::Area(VertexAreaKind::Barycentric),
-        ("sum" | "area", _) => {
-            return Err(PyValueError::new_err(format!(
-                "vertex_area must be one of 'mixed', 'barycentric', got '{vertex_area}'"
-            )));
-        }
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "normalize must be one of 'sum', 'area', got '{normalize}'"
-            )));
-        }
-    };
-    let positive = |name: &str, x: f64| {
-        if x.is_finite() && x > 0.0 {
-            Ok(x)
-        } else {
-            Err(PyValueError::new_err(format!(
-                "{name} must be a positive number, got {x}"
-            )))
-        }
-    };
-    let remesh = match (no_remesh, remesh, remesh_relative) {
-        (true, None, None) => None,
-        (true, ..) | (false, Some(_), Some(_)) => {
-            return Err(PyValueError::new_err(
-                "give at most one of remesh, remesh_relative and no_remesh",
-            ));
-        }
-        (false, Some(l), None) => {
-            Some(beltrami_study::default_remesh().edge_length(positive("remesh", l)?))
-        }
-        (false, None, Some(r)) => Some(
-            beltrami_study::default_remesh().relative_edge_length(positive("remesh_relative", r)?),
-        ),
-        (false, None, None) => Some(beltrami_study::default_remesh()),
-    };
+    let negative = negative_weights(cotangent_negative)?;
+    let normalization = normalization_of(normalize, vertex_area)?;
+    let remesh = remesh_options(no_remesh, remesh, remesh_relative)?;
     let surfaces = surfaces
         .iter()
         .map(|s| SurfaceKind::from_name(s).map_err(|e| PyValueError::new_err(e.to_string())))
@@ -211,25 +165,8 @@ pub(crate) fn study<'py>(
         None => all_schemes()?,
         Some(names) => names.iter().map(|w| scheme(w)).collect::<PyResult<_>>()?,
     };
-    let boundary = match boundary {
-        "fixed" => Boundary::Fixed,
-        "free" => Boundary::Free,
-        "curve" => Boundary::Curve,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "boundary must be one of 'fixed', 'free', 'curve', got '{boundary}'"
-            )));
-        }
-    };
-    let update = match update {
-        "every" => WeightUpdate::Every,
-        "once" => WeightUpdate::Once,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "update must be one of 'every', 'once', got '{update}'"
-            )));
-        }
-    };
+    let boundary = boundary_of(boundary)?;
+    let update = weight_update(update)?;
     let config = StudyConfig::default()
         .surfaces(surfaces)
         .size(if small { Size::Small } else { Size::Paper })
@@ -286,10 +223,120 @@ pub(crate) fn study<'py>(
     }
     let (wall_time_s, written) = written?;
 
+    result_dict(py, &out, &config, names, wall_time_s, &written)
+}
+
+/// `cotangent_negative`: `"keep"`, `"clamp"` or `"abs"`.
+fn negative_weights(cotangent_negative: &str) -> PyResult<NegativeWeights> {
+    let value = match cotangent_negative {
+        "keep" => NegativeWeights::Keep,
+        "clamp" => NegativeWeights::Clamp,
+        "abs" => NegativeWeights::Abs,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "cotangent_negative must be one of 'keep', 'clamp', 'abs', got '{cotangent_negative}'"
+            )));
+        }
+    };
+    Ok(value)
+}
+
+/// `normalize` (`"sum"` or `"area"`) with `vertex_area` (`"mixed"` or `"barycentric"`).
+fn normalization_of(normalize: &str, vertex_area: &str) -> PyResult<Normalization> {
+    let value = match (normalize, vertex_area) {
+        ("sum", "mixed" | "barycentric") => Normalization::WeightSum,
+        ("area", "mixed") => Normalization::Area(VertexAreaKind::MixedVoronoi),
+        ("area", "barycentric") => Normalization::Area(VertexAreaKind::Barycentric),
+        ("sum" | "area", _) => {
+            return Err(PyValueError::new_err(format!(
+                "vertex_area must be one of 'mixed', 'barycentric', got '{vertex_area}'"
+            )));
+        }
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "normalize must be one of 'sum', 'area', got '{normalize}'"
+            )));
+        }
+    };
+    Ok(value)
+}
+
+/// The remeshing comparison: at most one of `remesh` (a target edge length),
+/// `remesh_relative` (a multiple of the mean edge length) and `no_remesh`.
+fn remesh_options(
+    no_remesh: bool,
+    remesh: Option<f64>,
+    remesh_relative: Option<f64>,
+) -> PyResult<Option<beltrami_algorithms::RemeshOptions>> {
+    let positive = |name: &str, x: f64| {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(PyValueError::new_err(format!(
+                "{name} must be a positive number, got {x}"
+            )))
+        }
+    };
+    let value = match (no_remesh, remesh, remesh_relative) {
+        (true, None, None) => None,
+        (true, ..) | (false, Some(_), Some(_)) => {
+            return Err(PyValueError::new_err(
+                "give at most one of remesh, remesh_relative and no_remesh",
+            ));
+        }
+        (false, Some(l), None) => {
+            Some(beltrami_study::default_remesh().edge_length(positive("remesh", l)?))
+        }
+        (false, None, Some(r)) => Some(
+            beltrami_study::default_remesh().relative_edge_length(positive("remesh_relative", r)?),
+        ),
+        (false, None, None) => Some(beltrami_study::default_remesh()),
+    };
+    Ok(value)
+}
+
+/// `boundary`: `"fixed"`, `"free"` or `"curve"`.
+fn boundary_of(boundary: &str) -> PyResult<Boundary> {
+    let value = match boundary {
+        "fixed" => Boundary::Fixed,
+        "free" => Boundary::Free,
+        "curve" => Boundary::Curve,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "boundary must be one of 'fixed', 'free', 'curve', got '{boundary}'"
+            )));
+        }
+    };
+    Ok(value)
+}
+
+/// `update`: `"every"` or `"once"`.
+fn weight_update(update: &str) -> PyResult<WeightUpdate> {
+    let value = match update {
+        "every" => WeightUpdate::Every,
+        "once" => WeightUpdate::Once,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "update must be one of 'every', 'once', got '{update}'"
+            )));
+        }
+    };
+    Ok(value)
+}
+
+/// The dict `study` returns (see there).
+fn result_dict<'py>(
+    py: Python<'py>,
+    out: &Path,
+    config: &StudyConfig,
+    names: Vec<String>,
+    wall_time_s: f64,
+    written: &beltrami_study::Written,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("out", &out)?;
+    d.set_item("out", out)?;
     d.set_item("report", out.join("report.md"))?;
-    d.set_item("files", files_under(&out))?;
+    d.set_item("files", files_under(out))?;
     d.set_item(
         "surfaces",
         config

@@ -230,6 +230,26 @@ fn positions_of(mesh: &HalfedgeMesh, positions: &[DVec3], h: HalfedgeId) -> [DVe
 /// ```
 pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQuality, QualityError> {
     check(mesh, positions)?;
+    let (degenerate_faces, shape) = shape_stats(mesh, positions);
+    let edge_length = edge_length_stats(mesh, positions);
+    let (valence_histogram, boundary_valence_histogram, regular_share) = valence_stats(mesh);
+    let (interior_edges, negative_cotangent_edges) = cotangent_signs(mesh, positions);
+    Ok(MeshQuality {
+        faces: mesh.n_faces(),
+        degenerate_faces,
+        shape,
+        edge_length,
+        valence_histogram,
+        boundary_valence_histogram,
+        regular_share,
+        interior_edges,
+        negative_cotangent_edges,
+    })
+}
+
+/// The number of degenerate triangles, and the angle and aspect-ratio statistics of
+/// the others (`None` when there are none).
+fn shape_stats(mesh: &HalfedgeMesh, positions: &[DVec3]) -> (usize, Option<ShapeStats>) {
     let mut degenerate_faces = 0;
     let mut shape: Option<ShapeStats> = None;
     let (mut sum_min_angle, mut sum_aspect, mut measured) = (0.0, 0.0, 0usize);
@@ -263,7 +283,11 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
         s.mean_min_angle = sum_min_angle / measured as f64;
         s.mean_aspect_ratio = sum_aspect / measured as f64;
     }
+    (degenerate_faces, shape)
+}
 
+/// The edge-length statistics (`None` without edges).
+fn edge_length_stats(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<EdgeLengthStats> {
     let lengths: Vec<f64> = mesh
         .edges()
         .map(|e| {
@@ -271,7 +295,7 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
             positions[a.index()].distance(positions[b.index()])
         })
         .collect();
-    let edge_length = (!lengths.is_empty()).then(|| {
+    (!lengths.is_empty()).then(|| {
         let n = lengths.len() as f64;
         let mean = lengths.iter().sum::<f64>() / n;
         let var = lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n;
@@ -281,8 +305,12 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
             max: lengths.iter().copied().fold(0.0f64, f64::max),
             cv: if mean > 0.0 { var.sqrt() / mean } else { 0.0 },
         }
-    });
+    })
+}
 
+/// The valence histograms of the interior and the boundary vertices (isolated ones
+/// left out), and the share of regular vertices (valence 6 inside, 4 on the boundary).
+fn valence_stats(mesh: &HalfedgeMesh) -> (Vec<usize>, Vec<usize>, f64) {
     let mut valence_histogram = Vec::new();
     let mut boundary_valence_histogram = Vec::new();
     let (mut regular, mut connected) = (0usize, 0usize);
@@ -304,7 +332,16 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
         connected += 1;
         regular += usize::from(k == if boundary { 4 } else { 6 });
     }
+    let regular_share = if connected == 0 {
+        0.0
+    } else {
+        regular as f64 / connected as f64
+    };
+    (valence_histogram, boundary_valence_histogram, regular_share)
+}
 
+/// The number of interior edges, and of those whose cotangent weight is negative.
+fn cotangent_signs(mesh: &HalfedgeMesh, positions: &[DVec3]) -> (usize, usize) {
     let (mut interior_edges, mut negative_cotangent_edges) = (0, 0);
     for e in mesh.edges() {
         if mesh.is_boundary_edge(e) {
@@ -321,22 +358,7 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
             .sum();
         negative_cotangent_edges += usize::from(sum < NEGATIVE_COT_TOLERANCE);
     }
-
-    Ok(MeshQuality {
-        faces: mesh.n_faces(),
-        degenerate_faces,
-        shape,
-        edge_length,
-        valence_histogram,
-        boundary_valence_histogram,
-        regular_share: if connected == 0 {
-            0.0
-        } else {
-            regular as f64 / connected as f64
-        },
-        interior_edges,
-        negative_cotangent_edges,
-    })
+    (interior_edges, negative_cotangent_edges)
 }
 
 /// Counts the triangles whose orientation turned against a reference placement of the

@@ -462,6 +462,37 @@ fn geometry(loaded: &LoadedMesh) -> Result<Geometry<'_>, MetricsError> {
 
 fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::Result<()> {
     let n = |x: f64| number(x);
+    for (title, rows) in table_sections(c, notes) {
+        let indent = if title.is_empty() { "" } else { "  " };
+        if !title.is_empty() {
+            writeln!(out, "{title}")?;
+        }
+        for (key, value) in rows {
+            writeln!(out, "{indent}{key:<w$} {value}", w = 21 - indent.len())?;
+        }
+    }
+    if let Some(s) = &c.scalars {
+        writeln!(
+            out,
+            "signed distances -> {} (signed_distance; colours: blue {}, white 0, red {})",
+            s.file,
+            n(-s.color_range),
+            n(s.color_range)
+        )?;
+    }
+    if let Some(png) = &c.png {
+        writeln!(out, "image of the signed distances -> {png}")?;
+    }
+    Ok(())
+}
+
+/// The sections of the table (a title, empty for the unindented first one, and the
+/// rows' keys and values).
+fn table_sections(
+    c: &Comparison,
+    notes: &Notes,
+) -> [(&'static str, Vec<(&'static str, String)>); 4] {
+    let n = |x: f64| number(x);
     let describe = |m: &MeshSummary| {
         format!(
             "{} ({} vertices, {} faces, {})",
@@ -471,12 +502,7 @@ fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::
             if m.closed { "closed" } else { "open" }
         )
     };
-    let hausdorff_points = if c.hausdorff_samples == 0 {
-        "vertices".to_string()
-    } else {
-        format!("vertices and {} surface samples", c.hausdorff_samples)
-    };
-    let sections: [(&str, Vec<(&str, String)>); 4] = [
+    [
         (
             "", // the files, unindented
             vec![
@@ -507,90 +533,77 @@ fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::
                 ("std dev", n(c.signed.std_dev)),
             ],
         ),
+        ("surfaces", surface_rows(c, notes)),
+    ]
+}
+
+/// The rows of the "surfaces" section: Hausdorff distance, displacement, normal
+/// deviation, area and volume (with why one is missing).
+fn surface_rows(c: &Comparison, notes: &Notes) -> Vec<(&'static str, String)> {
+    let n = |x: f64| number(x);
+    let hausdorff_points = if c.hausdorff_samples == 0 {
+        "vertices".to_string()
+    } else {
+        format!("vertices and {} surface samples", c.hausdorff_samples)
+    };
+    vec![
         (
-            "surfaces",
-            vec![
-                (
-                    "hausdorff",
-                    format!(
-                        "{} (mesh -> reference {}, reference -> mesh {}; from {hausdorff_points})",
-                        n(c.hausdorff),
-                        n(c.hausdorff_mesh_to_reference),
-                        n(c.hausdorff_reference_to_mesh),
-                    ),
-                ),
-                (
-                    "displacement",
-                    c.displacement.as_ref().map_or_else(
-                        || format!("- ({})", notes.topology),
-                        |d| {
-                            format!(
-                                "rms {}, mean {}, max {}, area-weighted rms {} (vertex i to vertex i)",
-                                n(d.rms),
-                                n(d.mean),
-                                n(d.max),
-                                n(d.area_rms)
-                            )
-                        },
-                    ),
-                ),
-                (
-                    "normal deviation",
-                    match (&c.normal_deviation_deg, c.normal_area_weighted_error) {
-                        (Some(a), Some(e)) => format!(
-                            "mean {}°, rms {}°, max {}° over {} faces; area-weighted error {}",
-                            n(a.mean),
-                            n(a.rms),
-                            n(a.max),
-                            a.faces,
-                            n(e)
-                        ),
-                        _ => format!("- ({})", notes.normals),
-                    },
-                ),
-                (
-                    "area",
-                    format!("mesh {}, reference {}", n(c.area.mesh), n(c.area.reference)),
-                ),
-                (
-                    "volume",
-                    c.volume.as_ref().map_or_else(
-                        || format!("- ({})", notes.volume),
-                        |v| {
-                            format!(
-                                "mesh {}, reference {}, ratio {}",
-                                n(v.mesh),
-                                n(v.reference),
-                                n(v.ratio)
-                            )
-                        },
-                    ),
-                ),
-            ],
+            "hausdorff",
+            format!(
+                "{} (mesh -> reference {}, reference -> mesh {}; from {hausdorff_points})",
+                n(c.hausdorff),
+                n(c.hausdorff_mesh_to_reference),
+                n(c.hausdorff_reference_to_mesh),
+            ),
         ),
-    ];
-    for (title, rows) in sections {
-        let indent = if title.is_empty() { "" } else { "  " };
-        if !title.is_empty() {
-            writeln!(out, "{title}")?;
-        }
-        for (key, value) in rows {
-            writeln!(out, "{indent}{key:<w$} {value}", w = 21 - indent.len())?;
-        }
-    }
-    if let Some(s) = &c.scalars {
-        writeln!(
-            out,
-            "signed distances -> {} (signed_distance; colours: blue {}, white 0, red {})",
-            s.file,
-            n(-s.color_range),
-            n(s.color_range)
-        )?;
-    }
-    if let Some(png) = &c.png {
-        writeln!(out, "image of the signed distances -> {png}")?;
-    }
-    Ok(())
+        (
+            "displacement",
+            c.displacement.as_ref().map_or_else(
+                || format!("- ({})", notes.topology),
+                |d| {
+                    format!(
+                        "rms {}, mean {}, max {}, area-weighted rms {} (vertex i to vertex i)",
+                        n(d.rms),
+                        n(d.mean),
+                        n(d.max),
+                        n(d.area_rms)
+                    )
+                },
+            ),
+        ),
+        (
+            "normal deviation",
+            match (&c.normal_deviation_deg, c.normal_area_weighted_error) {
+                (Some(a), Some(e)) => format!(
+                    "mean {}°, rms {}°, max {}° over {} faces; area-weighted error {}",
+                    n(a.mean),
+                    n(a.rms),
+                    n(a.max),
+                    a.faces,
+                    n(e)
+                ),
+                _ => format!("- ({})", notes.normals),
+            },
+        ),
+        (
+            "area",
+            format!("mesh {}, reference {}", n(c.area.mesh), n(c.area.reference)),
+        ),
+        (
+            "volume",
+            c.volume.as_ref().map_or_else(
+                || format!("- ({})", notes.volume),
+                |v| {
+                    format!(
+                        "mesh {}, reference {}, ratio {}",
+                        n(v.mesh),
+                        n(v.reference),
+                        n(v.ratio)
+                    )
+                },
+            ),
+        ),
+    ]
 }
 
 /// `"a.ply vs b.ply"`: the subject of an error about a pair of files.

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_algorithms::{FillError, FillOptions, SkipReason, fill_holes};
+use beltrami_algorithms::{FillError, FillOptions, FillReport, SkipReason, fill_holes};
 use serde::Serialize;
 
 use crate::edit_report::{EditOutputArgs, QualityChange};
@@ -134,7 +134,41 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         (&loaded.mesh, &loaded.positions),
         (&mesh, &positions),
     )?;
-    let summary = Summary {
+    let summary = summarise(args, &mesh, &report, options.max_loop_edges, seconds);
+    if args
+        .outputs
+        .write(&args.output, &mesh, positions, &summary, &quality, out)?
+    {
+        return Ok(());
+    }
+    for line in &loaded.repair_lines {
+        writeln!(out, "{line}")?;
+    }
+    let open = open_note(&report, options.max_loop_edges);
+    let area: f64 = report.filled.iter().map(|h| h.area).sum();
+    writeln!(
+        out,
+        "filled {} of {} -> {}: {} and {} added, patch area {}{open}",
+        counted(report.filled.len(), "hole", "holes"),
+        args.input.display(),
+        args.output.display(),
+        counted(report.faces_added, "face", "faces"),
+        counted(report.vertices_added, "vertex", "vertices"),
+        number(area),
+    )?;
+    quality.write_table(out)?;
+    Ok(())
+}
+
+/// The JSON summary of a fill.
+fn summarise(
+    args: &FillHolesArgs,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    report: &FillReport,
+    max_loop_edges: usize,
+    seconds: f64,
+) -> Summary {
+    Summary {
         input: args.input.display().to_string(),
         output: args.output.display().to_string(),
         vertices: mesh.n_vertices(),
@@ -164,18 +198,13 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         faces_added: report.faces_added,
         vertices_added: report.vertices_added,
         boundary_loops_left: mesh.boundary_loops().count(),
-        max_loop_edges: options.max_loop_edges,
+        max_loop_edges,
         seconds,
-    };
-    if args
-        .outputs
-        .write(&args.output, &mesh, positions, &summary, &quality, out)?
-    {
-        return Ok(());
     }
-    for line in &loaded.repair_lines {
-        writeln!(out, "{line}")?;
-    }
+}
+
+/// `; left N loops open: …`: the loops left open, by reason (empty when none).
+fn open_note(report: &FillReport, max_loop_edges: usize) -> String {
     let count = |reason: SkipReason| report.skipped.iter().filter(|s| s.reason == reason).count();
     let mut open = Vec::new();
     if count(SkipReason::OuterBoundary) > 0 {
@@ -185,7 +214,7 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
     if large > 0 {
         open.push(format!(
             "{} with more than {} edges (--max-loop-edges)",
-            large, options.max_loop_edges
+            large, max_loop_edges
         ));
     }
     let pinched = count(SkipReason::NonManifoldVertex);
@@ -198,7 +227,7 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
             "{stuck} with no triangulation that keeps the mesh manifold"
         ));
     }
-    let open = if open.is_empty() {
+    if open.is_empty() {
         String::new()
     } else {
         format!(
@@ -206,18 +235,5 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
             counted(report.skipped.len(), "loop", "loops"),
             open.join(", ")
         )
-    };
-    let area: f64 = report.filled.iter().map(|h| h.area).sum();
-    writeln!(
-        out,
-        "filled {} of {} -> {}: {} and {} added, patch area {}{open}",
-        counted(report.filled.len(), "hole", "holes"),
-        args.input.display(),
-        args.output.display(),
-        counted(report.faces_added, "face", "faces"),
-        counted(report.vertices_added, "vertex", "vertices"),
-        number(area),
-    )?;
-    quality.write_table(out)?;
-    Ok(())
+    }
 }

@@ -124,31 +124,7 @@ fn stage(
 
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
-    if args.noise.is_none() && args.holes.is_none() {
-        if args.seed.is_some() {
-            return Err(CliError::Usage(
-                "--seed needs --noise or --holes (it seeds them)".to_string(),
-            ));
-        }
-        if args.clean.is_some() {
-            return Err(CliError::Usage(
-                "--clean needs --noise or --holes (without them OUTPUT is the clean surface)"
-                    .to_string(),
-            ));
-        }
-    }
-    if args.holes.is_some() && args.shuffle.is_some() {
-        return Err(CliError::Usage(
-            "--holes and --shuffle cannot be combined (cutting holes renumbers the vertices)"
-                .to_string(),
-        ));
-    }
-    if !(args.hole_radius.is_finite() && args.hole_radius > 0.0) {
-        return Err(CliError::Usage(format!(
-            "--hole-radius must be a positive number, got {}",
-            number(args.hole_radius)
-        )));
-    }
+    check_args(args)?;
     let seed = args.seed.unwrap_or(1);
     let mut outputs = Outputs::new();
     outputs
@@ -167,31 +143,7 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
     let mesh = surface
         .mesh()
         .map_err(|e| CliError::Usage(format!("internal: generated surface is invalid: {e}")))?;
-    let mut note = String::new();
-    let positions = match args.noise {
-        None => surface.positions.clone(),
-        Some(level) => {
-            let noise = if args.absolute_noise {
-                NoiseLevel::Absolute(level)
-            } else {
-                NoiseLevel::RelativeToMeanEdge(level)
-            };
-            let (noisy, sigma) = add_normal_noise(&mesh, &surface.positions, noise, seed)
-                .map_err(|e| CliError::Usage(e.to_string()))?;
-            let how = if args.absolute_noise {
-                String::new()
-            } else {
-                format!(", {} x the mean edge length", number(level))
-            };
-            note = format!(
-                ", normal noise sigma = {}{}{how} (seed {})",
-                number(sigma),
-                unit_suffix(surface.unit),
-                seed
-            );
-            noisy
-        }
-    };
+    let (positions, mut note) = noisy_positions(args, &mesh, &surface, seed)?;
     let (surface, positions) = match args.shuffle {
         None => (surface, positions),
         Some(seed) => {
@@ -202,25 +154,18 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
         }
     };
     let mut staged = Staged::new();
-    let mut counts = (mesh.n_vertices(), mesh.n_faces());
-    match args.holes {
-        None => stage(&mut staged, &args.output, &surface, positions, args.ascii)?,
-        Some(count) => {
-            let radius = args.hole_radius * mesh_mean_edge(&mesh, &surface.positions)?;
-            let noisy = MeshData::new(positions, surface.faces.clone());
-            let cut = cut_holes(&noisy, count, radius, seed)
-                .map_err(|e| CliError::Usage(e.to_string()))?;
-            counts = (cut.data.positions.len(), cut.data.faces.len());
-            note.push_str(&format!(
-                ", {} of radius {}{} cut (seed {seed}, {} removed)",
-                counted(count, "hole", "holes"),
-                number(radius),
-                unit_suffix(surface.unit),
-                counted(cut.faces_removed, "face", "faces"),
-            ));
-            staged.push_mesh(&args.output, &cut.data, args.ascii)?;
+    let counts = match args.holes {
+        None => {
+            stage(&mut staged, &args.output, &surface, positions, args.ascii)?;
+            (mesh.n_vertices(), mesh.n_faces())
         }
-    }
+        Some(count) => {
+            let (counts, holes_note) =
+                stage_with_holes(&mut staged, args, &mesh, &surface, positions, count)?;
+            note.push_str(&holes_note);
+            counts
+        }
+    };
     if let Some(clean) = &args.clean {
         stage(
             &mut staged,
@@ -251,6 +196,96 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
         writeln!(out, "clean reference -> {}", clean.display())?;
     }
     Ok(())
+}
+
+/// The usage errors of option combinations: `--seed` and `--clean` need `--noise` or
+/// `--holes`, `--holes` excludes `--shuffle`, `--hole-radius` is positive.
+fn check_args(args: &GenerateArgs) -> Result<(), CliError> {
+    if args.noise.is_none() && args.holes.is_none() {
+        if args.seed.is_some() {
+            return Err(CliError::Usage(
+                "--seed needs --noise or --holes (it seeds them)".to_string(),
+            ));
+        }
+        if args.clean.is_some() {
+            return Err(CliError::Usage(
+                "--clean needs --noise or --holes (without them OUTPUT is the clean surface)"
+                    .to_string(),
+            ));
+        }
+    }
+    if args.holes.is_some() && args.shuffle.is_some() {
+        return Err(CliError::Usage(
+            "--holes and --shuffle cannot be combined (cutting holes renumbers the vertices)"
+                .to_string(),
+        ));
+    }
+    if !(args.hole_radius.is_finite() && args.hole_radius > 0.0) {
+        return Err(CliError::Usage(format!(
+            "--hole-radius must be a positive number, got {}",
+            number(args.hole_radius)
+        )));
+    }
+    Ok(())
+}
+
+/// The positions with `--noise` added along the normals (the clean ones without), and
+/// the note that says how much.
+fn noisy_positions(
+    args: &GenerateArgs,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    surface: &Surface,
+    seed: u64,
+) -> Result<(Vec<beltrami_halfedge::DVec3>, String), CliError> {
+    let Some(level) = args.noise else {
+        return Ok((surface.positions.clone(), String::new()));
+    };
+    let noise = if args.absolute_noise {
+        NoiseLevel::Absolute(level)
+    } else {
+        NoiseLevel::RelativeToMeanEdge(level)
+    };
+    let (noisy, sigma) = add_normal_noise(mesh, &surface.positions, noise, seed)
+        .map_err(|e| CliError::Usage(e.to_string()))?;
+    let how = if args.absolute_noise {
+        String::new()
+    } else {
+        format!(", {} x the mean edge length", number(level))
+    };
+    let note = format!(
+        ", normal noise sigma = {}{}{how} (seed {})",
+        number(sigma),
+        unit_suffix(surface.unit),
+        seed
+    );
+    Ok((noisy, note))
+}
+
+/// Cuts `count` holes (of `--hole-radius` mean edge lengths) into the surface with
+/// `positions` and stages it for OUTPUT; returns its vertex and face counts and the
+/// note that describes the holes.
+fn stage_with_holes(
+    staged: &mut Staged,
+    args: &GenerateArgs,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    surface: &Surface,
+    positions: Vec<beltrami_halfedge::DVec3>,
+    count: usize,
+) -> Result<((usize, usize), String), CliError> {
+    let seed = args.seed.unwrap_or(1);
+    let radius = args.hole_radius * mesh_mean_edge(mesh, &surface.positions)?;
+    let noisy = MeshData::new(positions, surface.faces.clone());
+    let cut = cut_holes(&noisy, count, radius, seed).map_err(|e| CliError::Usage(e.to_string()))?;
+    let counts = (cut.data.positions.len(), cut.data.faces.len());
+    let note = format!(
+        ", {} of radius {}{} cut (seed {seed}, {} removed)",
+        counted(count, "hole", "holes"),
+        number(radius),
+        unit_suffix(surface.unit),
+        counted(cut.faces_removed, "face", "faces"),
+    );
+    staged.push_mesh(&args.output, &cut.data, args.ascii)?;
+    Ok((counts, note))
 }
 
 /// The mean edge length of the clean surface, in its unit (each edge once).

@@ -5,7 +5,9 @@ use std::path::Path;
 use beltrami_halfedge::{
     DVec3, HalfedgeMesh, PolygonList, RepairOptions, RepairReport, TopologyError, repair,
 };
-use beltrami_io::{HeightMapReport, MeshData, MeshFormat, ReadOptions, Weld, read_mesh_with};
+use beltrami_io::{
+    HeightMapReport, MeshData, MeshFormat, ReadOptions, ReadReport, Weld, read_mesh_with,
+};
 
 use crate::error::CliError;
 use crate::text::{counted, number};
@@ -212,22 +214,7 @@ fn load_inner(
     let input_counts = (data.positions.len(), data.faces.len());
     let t1 = std::time::Instant::now();
     let topology = |source, positions: &[DVec3], faces: &PolygonList| {
-        let repairable = !read.repair && is_repairable(&source);
-        let merge_helps = read.merge_distance.is_none()
-            && matches!(
-                source,
-                TopologyError::NonManifoldVertex { .. } | TopologyError::NonManifoldEdge { .. }
-            );
-        CliError::Topology {
-            path: path.to_path_buf(),
-            repairable,
-            near_duplicates: if merge_helps {
-                near_duplicates(positions, faces)
-            } else {
-                None
-            },
-            source,
-        }
+        topology_error(path, read, source, positions, faces)
     };
     // With a repair, the input is kept for the notes about it.
     let (positions, faces, report, input) = match options {
@@ -255,78 +242,11 @@ fn load_inner(
     if let Some(grid) = &read_report.height_map {
         repair_lines.push(height_map_note(path, grid));
     }
-    if read_report.ignored_anything() {
-        let mut parts = Vec::new();
-        if let Some(first) = read_report.checksum_mismatches.first() {
-            parts.push(format!(
-                "{} that {} not match ({first})",
-                counted(
-                    read_report.checksum_mismatches.len(),
-                    "checksum",
-                    "checksums"
-                ),
-                if read_report.checksum_mismatches.len() == 1 {
-                    "does"
-                } else {
-                    "do"
-                }
-            ));
-        }
-        if let Some(first) = read_report.lines_with_extra_values.first() {
-            parts.push(format!(
-                "values beyond the header's properties on {} (the first: line {first})",
-                counted(read_report.lines_with_extra_values.len(), "line", "lines")
-            ));
-        }
-        if read_report.ignored_trailing_lines > 0 {
-            parts.push(format!(
-                "{} after the last element",
-                counted(read_report.ignored_trailing_lines, "line", "lines")
-            ));
-        }
-        if read_report.ignored_trailing_bytes > 0 {
-            parts.push(format!(
-                "{} bytes after the last element",
-                read_report.ignored_trailing_bytes
-            ));
-        }
-        repair_lines.push(format!(
-            "note: read {} leniently, ignoring {}",
-            path.display(),
-            parts.join(", ")
-        ));
-    }
-    if read_report.welded_vertices > 0 || !read_report.dropped_faces.is_empty() {
-        repair_lines.push(format!(
-            "note: welded {} of {} within {} (--weld-tolerance {} of the diagonal; 0 welds identical coordinates only){}",
-            counted(read_report.welded_vertices, "vertex", "vertices"),
-            path.display(),
-            number(read_report.weld_distance.unwrap_or(0.0)),
-            number(read.weld_tolerance),
-            if read_report.dropped_faces.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    "; dropped {} that collapsed",
-                    counted(read_report.dropped_faces.len(), "triangle", "triangles")
-                )
-            }
-        ));
-    }
+    repair_lines.extend(lenient_note(path, &read_report));
+    repair_lines.extend(weld_note(path, read, &read_report));
     if let Some(report) = &report {
         repair_lines.extend(crate::repair::describe(report));
-        // Pinches and cut edges from vertices that should have been one: say so.
-        if read.merge_distance.is_none()
-            && (!report.split_vertices.is_empty() || !report.cut_edges.is_empty())
-            && let Some((n, d)) = near_duplicates(&input.0, &input.1)
-        {
-            repair_lines.push(format!(
-                "note: {} within {} of another; --merge-distance {} joins them instead of cutting the surface apart",
-                counted(n, "vertex lies", "vertices lie"),
-                number(d),
-                number(d)
-            ));
-        }
+        repair_lines.extend(merge_hint(read, report, &input.0, &input.1));
     }
     Ok(LoadedMesh {
         format,
@@ -340,6 +260,125 @@ fn load_inner(
         parse_seconds,
         build_seconds,
     })
+}
+
+/// The error of a mesh that does not build: whether `--repair` would help and, for a
+/// non-manifold element without `--merge-distance`, near-duplicate vertices that
+/// merging would join.
+fn topology_error(
+    path: &Path,
+    read: &ReadArgs,
+    source: TopologyError,
+    positions: &[DVec3],
+    faces: &PolygonList,
+) -> CliError {
+    let repairable = !read.repair && is_repairable(&source);
+    let merge_helps = read.merge_distance.is_none()
+        && matches!(
+            source,
+            TopologyError::NonManifoldVertex { .. } | TopologyError::NonManifoldEdge { .. }
+        );
+    CliError::Topology {
+        path: path.to_path_buf(),
+        repairable,
+        near_duplicates: if merge_helps {
+            near_duplicates(positions, faces)
+        } else {
+            None
+        },
+        source,
+    }
+}
+
+/// `note: read … leniently, ignoring …`: what a lenient read skipped, if anything.
+fn lenient_note(path: &Path, read_report: &ReadReport) -> Option<String> {
+    if !read_report.ignored_anything() {
+        return None;
+    }
+    let mut parts = Vec::new();
+    if let Some(first) = read_report.checksum_mismatches.first() {
+        parts.push(format!(
+            "{} that {} not match ({first})",
+            counted(
+                read_report.checksum_mismatches.len(),
+                "checksum",
+                "checksums"
+            ),
+            if read_report.checksum_mismatches.len() == 1 {
+                "does"
+            } else {
+                "do"
+            }
+        ));
+    }
+    if let Some(first) = read_report.lines_with_extra_values.first() {
+        parts.push(format!(
+            "values beyond the header's properties on {} (the first: line {first})",
+            counted(read_report.lines_with_extra_values.len(), "line", "lines")
+        ));
+    }
+    if read_report.ignored_trailing_lines > 0 {
+        parts.push(format!(
+            "{} after the last element",
+            counted(read_report.ignored_trailing_lines, "line", "lines")
+        ));
+    }
+    if read_report.ignored_trailing_bytes > 0 {
+        parts.push(format!(
+            "{} bytes after the last element",
+            read_report.ignored_trailing_bytes
+        ));
+    }
+    Some(format!(
+        "note: read {} leniently, ignoring {}",
+        path.display(),
+        parts.join(", ")
+    ))
+}
+
+/// `note: welded …`: the STL corners welded and the triangles dropped, if any.
+fn weld_note(path: &Path, read: &ReadArgs, read_report: &ReadReport) -> Option<String> {
+    if read_report.welded_vertices == 0 && read_report.dropped_faces.is_empty() {
+        return None;
+    }
+    Some(format!(
+        "note: welded {} of {} within {} (--weld-tolerance {} of the diagonal; 0 welds identical coordinates only){}",
+        counted(read_report.welded_vertices, "vertex", "vertices"),
+        path.display(),
+        number(read_report.weld_distance.unwrap_or(0.0)),
+        number(read.weld_tolerance),
+        if read_report.dropped_faces.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; dropped {} that collapsed",
+                counted(read_report.dropped_faces.len(), "triangle", "triangles")
+            )
+        }
+    ))
+}
+
+/// After a repair that split vertices or cut edges without `--merge-distance`: the
+/// near-duplicate vertices of the input that merging would join instead.
+fn merge_hint(
+    read: &ReadArgs,
+    report: &RepairReport,
+    positions: &[DVec3],
+    faces: &PolygonList,
+) -> Option<String> {
+    // Pinches and cut edges from vertices that should have been one: say so.
+    if read.merge_distance.is_none()
+        && (!report.split_vertices.is_empty() || !report.cut_edges.is_empty())
+        && let Some((n, d)) = near_duplicates(positions, faces)
+    {
+        return Some(format!(
+            "note: {} within {} of another; --merge-distance {} joins them instead of cutting the surface apart",
+            counted(n, "vertex lies", "vertices lie"),
+            number(d),
+            number(d)
+        ));
+    }
+    None
 }
 
 /// `note: read scan.x3p as a height map of 640 × 480 points 1.5e-6 × 1.5e-6 m apart,

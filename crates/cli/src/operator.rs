@@ -12,13 +12,13 @@ use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_io::stage_bytes;
 use beltrami_weights::{
-    Laplacian, LaplacianOptions, NegativeWeights, Normalization, WeightRegistry,
+    Laplacian, LaplacianOptions, NegativeWeights, Normalization, WeightRegistry, WeightScheme,
 };
 use clap::ValueEnum;
 use serde::Serialize;
 
 use crate::error::{CliError, not_triangles};
-use crate::load::{ReadArgs, load};
+use crate::load::{LoadedMesh, ReadArgs, load};
 use crate::output::{Outputs, Staged};
 
 /// Arguments of `beltrami operator`.
@@ -165,6 +165,32 @@ pub(crate) fn run(
             message: not_triangles("operator", face, len),
         });
     }
+    let matrix = build_matrix(args, scheme.as_deref(), &loaded)?;
+    let input_error = |message: String| CliError::Input {
+        path: args.input.clone(),
+        message,
+    };
+    let bytes = match format {
+        MatrixFormat::MatrixMarket => matrix_market(&matrix),
+        MatrixFormat::Npz => npz(&matrix).map_err(|e| input_error(e.to_string()))?,
+    };
+    let mut staged = Staged::new();
+    staged.push(&args.output, |path| stage_bytes(path, &bytes))?;
+    staged.commit()?;
+
+    write_result(args, &matrix, &loaded.repair_lines, out)
+}
+
+/// The mass matrix (`--mass`) or the Laplacian of `scheme`, with the options of `args`.
+///
+/// # Errors
+/// [`CliError::Input`] when the areas or the Laplacian cannot be computed or an entry
+/// is not finite.
+fn build_matrix(
+    args: &OperatorArgs,
+    scheme: Option<&dyn WeightScheme>,
+    loaded: &LoadedMesh,
+) -> Result<Csr, CliError> {
     let kind = match args.vertex_area {
         AreaArg::Mixed => VertexAreaKind::MixedVoronoi,
         AreaArg::Barycentric => VertexAreaKind::Barycentric,
@@ -173,7 +199,7 @@ pub(crate) fn run(
         path: args.input.clone(),
         message,
     };
-    let matrix = match &scheme {
+    let matrix = match scheme {
         None => {
             let areas = Geometry::new(&loaded.mesh, &loaded.positions)
                 .and_then(|g| g.vertex_areas(kind))
@@ -197,7 +223,7 @@ pub(crate) fn run(
                     NegativeArg::Clamp => NegativeWeights::Clamp,
                     NegativeArg::Abs => NegativeWeights::Abs,
                 });
-            let lap = Laplacian::new(&loaded.mesh, &loaded.positions, scheme.as_ref(), options)
+            let lap = Laplacian::new(&loaded.mesh, &loaded.positions, scheme, options)
                 .map_err(|e| input_error(e.to_string()))?;
             laplacian_csr(&lap, loaded.mesh.n_vertices())
         }
@@ -209,14 +235,17 @@ pub(crate) fn run(
             matrix.indptr.partition_point(|&p| p <= i) - 1
         )));
     }
-    let bytes = match format {
-        MatrixFormat::MatrixMarket => matrix_market(&matrix),
-        MatrixFormat::Npz => npz(&matrix).map_err(|e| input_error(e.to_string()))?,
-    };
-    let mut staged = Staged::new();
-    staged.push(&args.output, |path| stage_bytes(path, &bytes))?;
-    staged.commit()?;
+    Ok(matrix)
+}
 
+/// The summary on standard output: JSON with `--json`, else the load's notes and one
+/// line.
+fn write_result(
+    args: &OperatorArgs,
+    matrix: &Csr,
+    repair_lines: &[String],
+    out: &mut impl Write,
+) -> Result<(), CliError> {
     let zero_rows = matrix.indptr.windows(2).filter(|w| w[0] == w[1]).count();
     let name = if args.mass { "mass" } else { "laplacian" };
     if args.json {
@@ -238,7 +267,7 @@ pub(crate) fn run(
         writeln!(out)?;
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in repair_lines {
         writeln!(out, "{line}")?;
     }
     let zero = if zero_rows > 0 {

@@ -276,6 +276,44 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
     let mut outputs = Outputs::new();
     outputs.add(&args.out, "OUT");
     outputs.check(&inputs, args.force)?;
+    check_render_args(args)?;
+
+    let loaded = load_surface(&args.mesh, &args.read)?;
+    let (values, label, range) = colour_values(args, &loaded)?;
+    let scalars = values.as_deref().map(|values| VertexScalars {
+        label: &label,
+        values,
+        range,
+    });
+    let rendered = render_png(
+        &loaded.mesh,
+        &loaded.positions,
+        scalars,
+        args.view,
+        args.size,
+        &args.out,
+    )?;
+    let mut staged = Staged::new();
+    staged.push(&args.out, |path| stage_bytes(path, &rendered.bytes))?;
+    staged.commit()?;
+
+    let colouring = colouring_text(values.as_deref(), &label, &rendered);
+    writeln!(
+        out,
+        "rendered {} ({} vertices, {} faces) from the {} view, {colouring} -> {} ({})",
+        args.mesh.display(),
+        loaded.mesh.n_vertices(),
+        loaded.mesh.n_faces(),
+        args.view.name(),
+        args.out.display(),
+        args.size,
+    )?;
+    Ok(())
+}
+
+/// The usage errors of `render`'s options: OUT must be a PNG, large enough for a colour
+/// bar when there is one; `--scalar` reads a PLY file.
+fn check_render_args(args: &RenderArgs) -> Result<(), CliError> {
     let is_png = args
         .out
         .extension()
@@ -301,11 +339,18 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
             args.mesh.display()
         )));
     }
+    Ok(())
+}
 
-    let loaded = load_surface(&args.mesh, &args.read)?;
-    let (values, label, range) = match (&args.scalar, &args.distance_to) {
+/// The values to colour the vertices by (from `--scalar` or `--distance-to`; none for
+/// shading alone), their label and their colour range.
+fn colour_values(
+    args: &RenderArgs,
+    loaded: &LoadedMesh,
+) -> Result<(Option<Vec<f64>>, String, ColorRange), CliError> {
+    Ok(match (&args.scalar, &args.distance_to) {
         (Some(name), _) => {
-            let values = vertex_property(&args.mesh, &loaded, name)?;
+            let values = vertex_property(&args.mesh, loaded, name)?;
             // 0 inside the range (or at an end): a signed quantity, white at 0.
             let reaches_zero = values.iter().any(|&s| s <= 0.0) && values.iter().any(|&s| s >= 0.0);
             let range = if reaches_zero {
@@ -316,7 +361,7 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
             (Some(values), name.clone(), range)
         }
         (None, Some(reference)) => {
-            let values = signed_distances(&loaded, &args.mesh, reference, &args.read)?;
+            let values = signed_distances(loaded, &args.mesh, reference, &args.read)?;
             let name = reference.file_name().map_or_else(
                 || reference.display().to_string(),
                 |n| n.to_string_lossy().into_owned(),
@@ -325,25 +370,12 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
             (Some(values), label, ColorRange::Symmetric)
         }
         (None, None) => (None, String::new(), ColorRange::Symmetric),
-    };
-    let scalars = values.as_deref().map(|values| VertexScalars {
-        label: &label,
-        values,
-        range,
-    });
-    let rendered = render_png(
-        &loaded.mesh,
-        &loaded.positions,
-        scalars,
-        args.view,
-        args.size,
-        &args.out,
-    )?;
-    let mut staged = Staged::new();
-    staged.push(&args.out, |path| stage_bytes(path, &rendered.bytes))?;
-    staged.commit()?;
+    })
+}
 
-    let colouring = match (&values, rendered.range, rendered.colors) {
+/// How the image is coloured, for the summary line.
+fn colouring_text(values: Option<&[f64]>, label: &str, rendered: &RenderedPng) -> String {
+    match (values, rendered.range, rendered.colors.as_ref()) {
         (None, ..) => "shaded grey".to_owned(),
         (Some(values), range, Some(colors)) => {
             let values_text = match range {
@@ -364,18 +396,7 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
             format!("coloured by {label} {values_text} (colour bar {map}{grey})")
         }
         (Some(_), _, None) => format!("coloured by {label}"),
-    };
-    writeln!(
-        out,
-        "rendered {} ({} vertices, {} faces) from the {} view, {colouring} -> {} ({})",
-        args.mesh.display(),
-        loaded.mesh.n_vertices(),
-        loaded.mesh.n_faces(),
-        args.view.name(),
-        args.out.display(),
-        args.size,
-    )?;
-    Ok(())
+    }
 }
 
 /// Reads a mesh to draw: it must have vertices and faces.

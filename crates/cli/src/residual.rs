@@ -5,8 +5,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use beltrami_halfedge::DVec3;
 use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, PolygonList};
 use beltrami_io::{MeshData, MeshFormat};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::check_same_topology;
@@ -18,7 +18,7 @@ use serde::Serialize;
 
 use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
 use crate::error::CliError;
-use crate::load::{ReadArgs, height_map_note};
+use crate::load::{LoadedMesh, ReadArgs, height_map_note};
 use crate::output::{Outputs, Staged};
 use crate::text::{number, vector};
 
@@ -240,6 +240,63 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         Some(path) => scalars_target(path, &args.measured)?,
         None => false,
     };
+    check_material_ratio_args(args)?;
+    let mut outputs = Outputs::new();
+    outputs.add_opt(args.scalars.as_ref(), "--scalars");
+    let mut inputs = vec![&args.measured];
+    inputs.extend(args.smoothed.as_ref());
+    outputs.check(&inputs, args.force)?;
+    let measured = load_input(&args.measured, &args.read, Some("residual"))?;
+    let grid = measured.height_map;
+    // The grid's points, for a residual written back as a height map.
+    let grid_points = height_map_out.then(|| (measured.positions.clone(), measured.faces.clone()));
+
+    let Residual {
+        values: residual,
+        reference,
+        form,
+        subject,
+    } = residual_and_reference(args, measured)?;
+    let on_reference = |source: MetricsError| match (&subject, &source) {
+        // The parameters are computed on the smoothed surface.
+        (Subject::Pair(_), MetricsError::Topology(_) | MetricsError::Empty { .. }) => {
+            metrics_error(args.smoothed.as_deref().unwrap_or(&args.measured))(source)
+        }
+        (Subject::Pair(pair), _) => CliError::Metrics {
+            subject: pair.clone(),
+            source,
+        },
+        (Subject::Measured, _) => metrics_error(&args.measured)(source),
+    };
+    let geometry =
+        Geometry::new(&reference.mesh, &reference.positions).map_err(|e| on_reference(e.into()))?;
+    let texture =
+        surface_texture(&geometry, &residual, &texture_options(args)).map_err(&on_reference)?;
+    let written = write_scalars(args, grid_points, &reference, &texture.heights)?;
+    let summary = summarise(
+        args,
+        &reference.mesh,
+        Parts {
+            form,
+            texture: &texture,
+            scalars: written,
+        },
+    );
+    if args.json {
+        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+    } else {
+        write_table(&summary, out)?;
+        // What the reader made of a height map (its grid, its holes).
+        if let Some(grid) = &grid {
+            writeln!(out, "{}", height_map_note(&args.measured, grid))?;
+        }
+    }
+    Ok(())
+}
+
+/// Checks `--smc` (ratios from 0 to 100 %) and `--smr` (finite heights).
+fn check_material_ratio_args(args: &ResidualArgs) -> Result<(), CliError> {
     for &mr in &args.smc {
         if !(0.0..=100.0).contains(&mr) {
             return Err(CliError::Usage(format!(
@@ -252,19 +309,25 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
             "--smr takes a finite height, got {c}"
         )));
     }
-    let mut outputs = Outputs::new();
-    outputs.add_opt(args.scalars.as_ref(), "--scalars");
-    let mut inputs = vec![&args.measured];
-    inputs.extend(args.smoothed.as_ref());
-    outputs.check(&inputs, args.force)?;
-    let measured = load_input(&args.measured, &args.read, Some("residual"))?;
-    let grid = measured.height_map;
-    // The grid's points, for a residual written back as a height map.
-    let grid_points = height_map_out.then(|| (measured.positions.clone(), measured.faces.clone()));
-    let on_measured = metrics_error(&args.measured);
+    Ok(())
+}
 
-    // The residual and the reference surface it lives on.
-    let (residual, reference, form, subject) = match (&args.smoothed, args.form) {
+/// The residual per vertex and the surface it lives on.
+struct Residual {
+    values: Vec<f64>,
+    /// SMOOTHED, or MEASURED laid onto the fitted form.
+    reference: LoadedMesh,
+    /// The fitted form of `--form`.
+    form: Option<FormSummary>,
+    /// Whose error a failure of the parameters is.
+    subject: Subject,
+}
+
+/// The residual of MEASURED against SMOOTHED (same connectivity), or against the form
+/// of `--form` fitted to it.
+fn residual_and_reference(args: &ResidualArgs, measured: LoadedMesh) -> Result<Residual, CliError> {
+    let on_measured = metrics_error(&args.measured);
+    match (&args.smoothed, args.form) {
         (Some(smoothed_path), _) => {
             let smoothed = load_input(smoothed_path, &args.read, Some("residual"))?;
             let pair = pair_subject(&args.measured, smoothed_path);
@@ -286,7 +349,12 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
                         source,
                     }
                 })?;
-            (residual.into_vec(), smoothed, None, Subject::Pair(pair))
+            Ok(Residual {
+                values: residual.into_vec(),
+                reference: smoothed,
+                form: None,
+                subject: Subject::Pair(pair),
+            })
         }
         (None, Some(form)) => {
             let geometry = Geometry::new(&measured.mesh, &measured.positions)
@@ -296,28 +364,23 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
             let residual = fit.residual.into_vec();
             let mut laid = measured;
             laid.positions = fit.foot_points;
-            (residual, laid, Some(summary), Subject::Measured)
+            Ok(Residual {
+                values: residual,
+                reference: laid,
+                form: Some(summary),
+                subject: Subject::Measured,
+            })
         }
-        (None, None) => {
-            return Err(CliError::Usage(
-                "residual needs SMOOTHED or --form".to_string(),
-            ));
-        }
-    };
-    let on_reference = |source: MetricsError| match (&subject, &source) {
-        // The parameters are computed on the smoothed surface.
-        (Subject::Pair(_), MetricsError::Topology(_) | MetricsError::Empty { .. }) => {
-            metrics_error(args.smoothed.as_deref().unwrap_or(&args.measured))(source)
-        }
-        (Subject::Pair(pair), _) => CliError::Metrics {
-            subject: pair.clone(),
-            source,
-        },
-        (Subject::Measured, _) => metrics_error(&args.measured)(source),
-    };
-    let geometry =
-        Geometry::new(&reference.mesh, &reference.positions).map_err(|e| on_reference(e.into()))?;
-    let options = TextureOptions::default()
+        (None, None) => Err(CliError::Usage(
+            "residual needs SMOOTHED or --form".to_string(),
+        )),
+    }
+}
+
+/// The options of the texture parameters: the datum, the quadrature and the material
+/// ratios asked for.
+fn texture_options(args: &ResidualArgs) -> TextureOptions {
+    TextureOptions::default()
         .areal(
             ArealOptions::default()
                 .datum(if args.remove_mean {
@@ -328,10 +391,18 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
                 .quadrature(args.quadrature.quadrature()),
         )
         .smr_heights(args.smr.clone())
-        .smc_ratios(args.smc.clone());
-    let texture = surface_texture(&geometry, &residual, &options).map_err(&on_reference)?;
-    let heights = &texture.heights;
+        .smc_ratios(args.smc.clone())
+}
 
+/// Writes `--scalars`, if given: the heights over MEASURED's grid points for a height
+/// map (`grid_points`), else a PLY of the reference with the residual per vertex.
+/// Returns the file's name.
+fn write_scalars(
+    args: &ResidualArgs,
+    grid_points: Option<(Vec<DVec3>, PolygonList)>,
+    reference: &LoadedMesh,
+    heights: &[f64],
+) -> Result<Option<String>, CliError> {
     let mut staged = Staged::new();
     let written = match (&args.scalars, grid_points) {
         (Some(path), Some((mut positions, faces))) => {
@@ -343,31 +414,12 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
             Some(path.display().to_string())
         }
         (Some(path), None) => {
-            Some(stage_scalar_ply(&mut staged, path, &reference, "residual", heights)?.0)
+            Some(stage_scalar_ply(&mut staged, path, reference, "residual", heights)?.0)
         }
         (None, _) => None,
     };
     staged.commit()?;
-    let summary = summarise(
-        args,
-        &reference.mesh,
-        Parts {
-            form,
-            texture: &texture,
-            scalars: written,
-        },
-    );
-    if args.json {
-        serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
-        writeln!(out)?;
-    } else {
-        write_table(&summary, out)?;
-        // What the reader made of a height map (its grid, its holes).
-        if let Some(grid) = &grid {
-            writeln!(out, "{}", height_map_note(&args.measured, grid))?;
-        }
-    }
-    Ok(())
+    Ok(written)
 }
 
 /// Whether `--scalars PATH` is a height map (.x3p, .sdf) rather than a PLY file; a

@@ -194,8 +194,22 @@ fn vertex_check(
 /// O(H) work (O(H log H) at worst for [`Strictness::Raw`] on vertices of valence above
 /// 16), in parallel.
 pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), TopologyError> {
+    check_lengths(m)?;
+    // Ranges first, so that the structural checks below never index out of bounds.
+    check_ranges(m)?;
+    // Per halfedge. Afterwards `next` is a permutation with inverse `prev` (prev ∘ next
+    // is the identity on a finite set), so every walk below closes.
+    if let Some((h, invariant)) = first_fault(m.n_halfedges(), |h| halfedge_fault(m, h)) {
+        return fail(HalfedgeId::from_index(h), invariant);
+    }
+    check_faces(m, strictness)?;
+    check_vertices(m, strictness)
+}
+
+/// The arrays' lengths: an even number of halfedges, one entry per halfedge in each
+/// halfedge array.
+fn check_lengths(m: &HalfedgeMesh) -> Result<(), TopologyError> {
     let nh = m.n_halfedges();
-    let (nv, nf) = (m.n_vertices(), m.n_faces());
     if nh % 2 != 0 {
         return Err(TopologyError::Integrity {
             element: "mesh".into(),
@@ -208,7 +222,13 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
             invariant: "every halfedge array has one entry per halfedge",
         });
     }
-    // Ranges first, so that the structural checks below never index out of bounds.
+    Ok(())
+}
+
+/// Every link in range: halfedges, then faces, then vertices.
+fn check_ranges(m: &HalfedgeMesh) -> Result<(), TopologyError> {
+    let nh = m.n_halfedges();
+    let (nv, nf) = (m.n_vertices(), m.n_faces());
     let in_range = |i: usize| {
         let ok = (m.h_to[i] as usize) < nv
             && (m.h_next[i] as usize) < nh
@@ -249,12 +269,14 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
         return fail(VertexId::from_index(v), invariant);
     }
 
-    // Per halfedge. Afterwards `next` is a permutation with inverse `prev` (prev ∘ next
-    // is the identity on a finite set), so every walk below closes.
-    if let Some((h, invariant)) = first_fault(nh, |h| halfedge_fault(m, h)) {
-        return fail(HalfedgeId::from_index(h), invariant);
-    }
+    Ok(())
+}
 
+/// Per face (the first fault in order), then with [`Strictness::Raw`] that every
+/// halfedge lies on the cycle of the face it names.
+fn check_faces(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), TopologyError> {
+    let nh = m.n_halfedges();
+    let nf = m.n_faces();
     // Per face, with the total length of the face cycles.
     let (cycles, fault) = sum_or_fault(nf, |f, buf| face_check(m, f, strictness, buf));
     if let Some((f, invariant)) = fault {
@@ -286,6 +308,14 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
         }
     }
 
+    Ok(())
+}
+
+/// Per vertex: the circulations cover every vertex's outgoing halfedges, by the rules
+/// of `strictness`.
+fn check_vertices(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), TopologyError> {
+    let nh = m.n_halfedges();
+    let nv = m.n_vertices();
     // Per vertex. Rotating an outgoing halfedge is a permutation of the halfedges, and
     // distinct vertices have disjoint circulations, so the circulations cover every
     // halfedge exactly when each vertex's covers all its outgoing halfedges.

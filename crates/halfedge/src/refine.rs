@@ -194,171 +194,13 @@ fn split_pieces<'a, T>(mut data: &'a mut [T], lengths: &[usize]) -> Vec<&'a mut 
     pieces
 }
 
+/// The closed-form split of `mesh` (a valid triangle mesh whose result fits `u32`).
 fn refine(mesh: &HalfedgeMesh) -> HalfedgeMesh {
-    let (nv, ne, nf) = (mesh.n_vertices(), mesh.n_edges(), mesh.n_faces());
-    let none = INVALID;
-
-    let position: Vec<u8> = (0..2 * ne)
-        .into_par_iter()
-        .with_min_len(4 * FACE_CHUNK)
-        .map(|h| {
-            let h = HalfedgeId::new(h as u32);
-            mesh.face(h).map_or(3, |f| {
-                let h0 = mesh.face_halfedge(f);
-                if h == h0 {
-                    0
-                } else if h == mesh.next(h0) {
-                    1
-                } else {
-                    2
-                }
-            })
-        })
-        .collect();
-    // A face opens the halves of its halfedges whose twin is on the boundary or in a
-    // later face.
-    let opens: Vec<u8> = (0..nf)
-        .into_par_iter()
-        .with_min_len(FACE_CHUNK)
-        .map(|f| {
-            let h0 = mesh.face_halfedge(FaceId::new(f as u32));
-            let h1 = mesh.next(h0);
-            let mut mask = 0u8;
-            for (j, h) in [h0, h1, mesh.next(h1)].into_iter().enumerate() {
-                if mesh.face(h.twin()).is_none_or(|g| g.index() > f) {
-                    mask |= 1 << j;
-                }
-            }
-            mask
-        })
-        .collect();
-    let mut base = Vec::with_capacity(nf + 1);
-    let mut total = 0u32;
-    for &mask in &opens {
-        base.push(total);
-        total += 3 + 2 * mask.count_ones();
-    }
-    base.push(total);
-    let n_edges = total as usize;
-    debug_assert_eq!(n_edges, 2 * ne + 3 * nf);
-    let coarse = Coarse {
-        mesh,
-        position,
-        opens,
-        base,
-    };
-
-    // The fine halfedge of every corner.
-    let mut corner_he = vec![0u32; 12 * nf];
-    corner_he
-        .par_chunks_mut(12)
-        .with_min_len(FACE_CHUNK)
-        .enumerate()
-        .for_each(|(f, out)| coarse.corner_halfedges(f, out));
-
-    // Outgoing halfedges: at a boundary vertex the boundary halfedge leaving it (the
-    // twin of a half met from the inside); otherwise the halfedge leaving it in its
-    // last face, as `from_polygons` chooses.
-    let v_out: Vec<u32> = (0..nv + ne)
-        .into_par_iter()
-        .with_min_len(FACE_CHUNK)
-        .map(|v| {
-            if v < nv {
-                let Some(out) = mesh.outgoing_halfedge(VertexId::new(v as u32)) else {
-                    return none;
-                };
-                if mesh.is_boundary_halfedge(out) {
-                    // Coarse boundary v → w: the fine boundary v → point is the twin of
-                    // the second half of the inner w → v.
-                    let (g, j) = coarse.locate(out.twin());
-                    return corner_he[12 * g + SECOND[j]] ^ 1;
-                }
-                let last = mesh
-                    .halfedges_around_vertex(VertexId::new(v as u32))
-                    .max_by_key(|&h| mesh.face(h).map_or(0, |f| f.index()))
-                    .unwrap_or(out);
-                let (f, j) = coarse.locate(last);
-                corner_he[12 * f + FIRST[j]]
-            } else {
-                let [h, t] = EdgeId::new((v - nv) as u32).halfedges();
-                match (mesh.face(h), mesh.face(t)) {
-                    // Boundary edge: the fine boundary halfedge leaving the point is the
-                    // twin of the first half of the inner halfedge.
-                    (Some(_), None) => {
-                        let (g, j) = coarse.locate(h);
-                        corner_he[12 * g + FIRST[j]] ^ 1
-                    }
-                    (None, Some(_)) => {
-                        let (g, j) = coarse.locate(t);
-                        corner_he[12 * g + FIRST[j]] ^ 1
-                    }
-                    (fh, ft) => {
-                        let (f, j) = coarse.locate(if fh > ft { h } else { t });
-                        corner_he[12 * f + MIDDLE[j]]
-                    }
-                }
-            }
-        })
-        .collect();
-
-    // The halfedge arrays, by blocks of the edges that a chunk of faces opens.
-    let n_halfedges = 2 * n_edges;
-    let mut h_to = vec![none; n_halfedges];
-    let mut h_next = vec![none; n_halfedges];
-    let mut h_face = vec![none; n_halfedges];
-    let chunk_starts: Vec<usize> = (0..nf).step_by(FACE_CHUNK).chain([nf]).collect();
-    let lengths: Vec<usize> = chunk_starts
-        .windows(2)
-        .map(|w| 2 * (coarse.base[w[1]] - coarse.base[w[0]]) as usize)
-        .collect();
-    let pieces: Vec<_> = split_pieces(&mut h_to, &lengths)
-        .into_iter()
-        .zip(split_pieces(&mut h_next, &lengths))
-        .zip(split_pieces(&mut h_face, &lengths))
-        .zip(chunk_starts.windows(2))
-        .collect();
-    pieces.into_par_iter().for_each(|(((to, next), face), w)| {
-        let first_halfedge = 2 * coarse.base[w[0]];
-        for f in w[0]..w[1] {
-            let mask = coarse.opens[f];
-            let hs = coarse.halfedges(f);
-            let [a, b, c] = hs.map(|h| mesh.to_vertex(h).raw());
-            let point = |h: HalfedgeId| (nv + h.edge().index()) as u32;
-            let (ab, bc, ca) = (point(hs[1]), point(hs[2]), point(hs[0]));
-            let verts = [a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca];
-            let he = &corner_he[12 * f..12 * f + 12];
-            let fine_face = 4 * f as u32;
-            for i in (0..9).filter(|&i| opens_at(mask, i)) {
-                let h = (he[i] - first_halfedge) as usize;
-                let n = next_corner(i);
-                to[h] = verts[n];
-                next[h] = he[n];
-                face[h] = fine_face + (i / 3) as u32;
-                // The twin runs along the mate corner, or on the boundary.
-                to[h + 1] = verts[i];
-                let j = HALF_OF[i];
-                if j == 3 {
-                    let mate = match i {
-                        1 => 11,
-                        4 => 9,
-                        _ => 10,
-                    };
-                    next[h + 1] = he[next_corner(mate)];
-                    face[h + 1] = fine_face + 3;
-                } else if mesh.is_boundary_halfedge(hs[j].twin()) {
-                    // After a boundary halfedge comes the boundary halfedge leaving its
-                    // target.
-                    next[h + 1] = v_out[verts[i] as usize];
-                } else {
-                    let (g, jg) = coarse.locate(hs[j].twin());
-                    let mate = across(i, j, jg);
-                    next[h + 1] = corner_he[12 * g + next_corner(mate)];
-                    face[h + 1] = (4 * g + mate / 3) as u32;
-                }
-            }
-        }
-    });
-    let f_he: Vec<u32> = (0..4 * nf)
+    let coarse = Coarse::new(mesh);
+    let corner_he = coarse.all_corner_halfedges();
+    let v_out = coarse.outgoing_halfedges(&corner_he);
+    let [h_to, h_next, h_face] = coarse.halfedge_arrays(&corner_he, &v_out);
+    let f_he: Vec<u32> = (0..4 * mesh.n_faces())
         .into_par_iter()
         .with_min_len(4 * FACE_CHUNK)
         .map(|t| corner_he[3 * t + 2])
@@ -372,5 +214,202 @@ fn refine(mesh: &HalfedgeMesh) -> HalfedgeMesh {
         h_prev,
         h_face,
         f_he,
+    }
+}
+
+impl<'a> Coarse<'a> {
+    /// Reads the halfedge positions, the opening masks and the first fine edge of every
+    /// face of `mesh`.
+    fn new(mesh: &'a HalfedgeMesh) -> Self {
+        let (ne, nf) = (mesh.n_edges(), mesh.n_faces());
+        let position: Vec<u8> = (0..2 * ne)
+            .into_par_iter()
+            .with_min_len(4 * FACE_CHUNK)
+            .map(|h| {
+                let h = HalfedgeId::new(h as u32);
+                mesh.face(h).map_or(3, |f| {
+                    let h0 = mesh.face_halfedge(f);
+                    if h == h0 {
+                        0
+                    } else if h == mesh.next(h0) {
+                        1
+                    } else {
+                        2
+                    }
+                })
+            })
+            .collect();
+        // A face opens the halves of its halfedges whose twin is on the boundary or in a
+        // later face.
+        let opens: Vec<u8> = (0..nf)
+            .into_par_iter()
+            .with_min_len(FACE_CHUNK)
+            .map(|f| {
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                let mut mask = 0u8;
+                for (j, h) in [h0, h1, mesh.next(h1)].into_iter().enumerate() {
+                    if mesh.face(h.twin()).is_none_or(|g| g.index() > f) {
+                        mask |= 1 << j;
+                    }
+                }
+                mask
+            })
+            .collect();
+        let mut base = Vec::with_capacity(nf + 1);
+        let mut total = 0u32;
+        for &mask in &opens {
+            base.push(total);
+            total += 3 + 2 * mask.count_ones();
+        }
+        base.push(total);
+        debug_assert_eq!(total as usize, 2 * ne + 3 * nf);
+        Coarse {
+            mesh,
+            position,
+            opens,
+            base,
+        }
+    }
+
+    /// The fine halfedge of every corner: twelve per coarse face.
+    fn all_corner_halfedges(&self) -> Vec<u32> {
+        let mut corner_he = vec![0u32; 12 * self.mesh.n_faces()];
+        corner_he
+            .par_chunks_mut(12)
+            .with_min_len(FACE_CHUNK)
+            .enumerate()
+            .for_each(|(f, out)| self.corner_halfedges(f, out));
+        corner_he
+    }
+
+    /// Outgoing halfedges of the fine vertices (coarse vertices, then edge points): at a
+    /// boundary vertex the boundary halfedge leaving it (the twin of a half met from the
+    /// inside); otherwise the halfedge leaving it in its last face, as `from_polygons`
+    /// chooses.
+    fn outgoing_halfedges(&self, corner_he: &[u32]) -> Vec<u32> {
+        let mesh = self.mesh;
+        let nv = mesh.n_vertices();
+        (0..nv + mesh.n_edges())
+            .into_par_iter()
+            .with_min_len(FACE_CHUNK)
+            .map(|v| {
+                if v < nv {
+                    let Some(out) = mesh.outgoing_halfedge(VertexId::new(v as u32)) else {
+                        return INVALID;
+                    };
+                    if mesh.is_boundary_halfedge(out) {
+                        // Coarse boundary v → w: the fine boundary v → point is the twin
+                        // of the second half of the inner w → v.
+                        let (g, j) = self.locate(out.twin());
+                        return corner_he[12 * g + SECOND[j]] ^ 1;
+                    }
+                    let last = mesh
+                        .halfedges_around_vertex(VertexId::new(v as u32))
+                        .max_by_key(|&h| mesh.face(h).map_or(0, |f| f.index()))
+                        .unwrap_or(out);
+                    let (f, j) = self.locate(last);
+                    corner_he[12 * f + FIRST[j]]
+                } else {
+                    let [h, t] = EdgeId::new((v - nv) as u32).halfedges();
+                    match (mesh.face(h), mesh.face(t)) {
+                        // Boundary edge: the fine boundary halfedge leaving the point is
+                        // the twin of the first half of the inner halfedge.
+                        (Some(_), None) => {
+                            let (g, j) = self.locate(h);
+                            corner_he[12 * g + FIRST[j]] ^ 1
+                        }
+                        (None, Some(_)) => {
+                            let (g, j) = self.locate(t);
+                            corner_he[12 * g + FIRST[j]] ^ 1
+                        }
+                        (fh, ft) => {
+                            let (f, j) = self.locate(if fh > ft { h } else { t });
+                            corner_he[12 * f + MIDDLE[j]]
+                        }
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// The fine `[to, next, face]` arrays, filled in parallel by blocks of the edges
+    /// that a chunk of faces opens.
+    fn halfedge_arrays(&self, corner_he: &[u32], v_out: &[u32]) -> [Vec<u32>; 3] {
+        let nf = self.mesh.n_faces();
+        let n_halfedges = 2 * self.base[nf] as usize;
+        let mut h_to = vec![INVALID; n_halfedges];
+        let mut h_next = vec![INVALID; n_halfedges];
+        let mut h_face = vec![INVALID; n_halfedges];
+        let chunk_starts: Vec<usize> = (0..nf).step_by(FACE_CHUNK).chain([nf]).collect();
+        let lengths: Vec<usize> = chunk_starts
+            .windows(2)
+            .map(|w| 2 * (self.base[w[1]] - self.base[w[0]]) as usize)
+            .collect();
+        let pieces: Vec<_> = split_pieces(&mut h_to, &lengths)
+            .into_iter()
+            .zip(split_pieces(&mut h_next, &lengths))
+            .zip(split_pieces(&mut h_face, &lengths))
+            .zip(chunk_starts.windows(2))
+            .collect();
+        pieces.into_par_iter().for_each(|(((to, next), face), w)| {
+            let first_halfedge = 2 * self.base[w[0]];
+            for f in w[0]..w[1] {
+                let arrays = [&mut *to, &mut *next, &mut *face];
+                self.fill_face(f, corner_he, v_out, first_halfedge, arrays);
+            }
+        });
+        [h_to, h_next, h_face]
+    }
+
+    /// Writes `to`, `next` and `face` of both halfedges of every fine edge that face `f`
+    /// opens, into arrays starting at fine halfedge `first_halfedge`.
+    #[inline]
+    fn fill_face(
+        &self,
+        f: usize,
+        corner_he: &[u32],
+        v_out: &[u32],
+        first_halfedge: u32,
+        [to, next, face]: [&mut [u32]; 3],
+    ) {
+        let mesh = self.mesh;
+        let nv = mesh.n_vertices();
+        let mask = self.opens[f];
+        let hs = self.halfedges(f);
+        let [a, b, c] = hs.map(|h| mesh.to_vertex(h).raw());
+        let point = |h: HalfedgeId| (nv + h.edge().index()) as u32;
+        let (ab, bc, ca) = (point(hs[1]), point(hs[2]), point(hs[0]));
+        let verts = [a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca];
+        let he = &corner_he[12 * f..12 * f + 12];
+        let fine_face = 4 * f as u32;
+        for i in (0..9).filter(|&i| opens_at(mask, i)) {
+            let h = (he[i] - first_halfedge) as usize;
+            let n = next_corner(i);
+            to[h] = verts[n];
+            next[h] = he[n];
+            face[h] = fine_face + (i / 3) as u32;
+            // The twin runs along the mate corner, or on the boundary.
+            to[h + 1] = verts[i];
+            let j = HALF_OF[i];
+            if j == 3 {
+                let mate = match i {
+                    1 => 11,
+                    4 => 9,
+                    _ => 10,
+                };
+                next[h + 1] = he[next_corner(mate)];
+                face[h + 1] = fine_face + 3;
+            } else if mesh.is_boundary_halfedge(hs[j].twin()) {
+                // After a boundary halfedge comes the boundary halfedge leaving its
+                // target.
+                next[h + 1] = v_out[verts[i] as usize];
+            } else {
+                let (g, jg) = self.locate(hs[j].twin());
+                let mate = across(i, j, jg);
+                next[h + 1] = corner_he[12 * g + next_corner(mate)];
+                face[h + 1] = (4 * g + mate / 3) as u32;
+            }
+        }
     }
 }

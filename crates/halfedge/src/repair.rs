@@ -395,6 +395,62 @@ pub fn repair(
     faces: &PolygonList,
     options: &RepairOptions,
 ) -> Result<Repaired, TopologyError> {
+    check_input(positions, faces)?;
+    let n = positions.len();
+    let mut report = RepairReport::default();
+
+    // 1. Merge.
+    let target = merge_step(positions, options.merge_distance, &mut report);
+
+    // 2. Shorten and drop degenerate faces.
+    let (list, origin) = clean_faces(faces, &target, &mut report);
+
+    // 3. Drop duplicates.
+    let (list, origin) = drop_duplicates(&list, &origin, &mut report);
+
+    // 4. Pair the faces of each edge.
+    let corners = Corners::new(&list);
+    let mut mate = pair_corners(&corners, &mut report);
+
+    // 5. Orient.
+    let mut flip = orient(
+        &corners,
+        list.offsets(),
+        &mut mate,
+        &origin,
+        options.cut_non_orientable,
+        &mut report,
+    )?;
+
+    // 6. Split, detaching tangled sheets until each vertex pair has one edge.
+    let classes = split_vertices(&corners, &mut mate, n, &mut report)?;
+
+    // 7. Number the output vertices and write the faces.
+    let numbering = Numbering::new(
+        positions,
+        &target,
+        &classes,
+        options.drop_unreferenced,
+        &mut report,
+    );
+    let mut out_faces = numbering.write_faces(&list, &classes.out, &flip);
+
+    // 8. Turn every closed component that encloses a negative volume inside out, so
+    // that its faces are counter-clockwise seen from outside.
+    if options.orient_outward && flip_inward_components(&numbering.positions, &out_faces, &mut flip)
+    {
+        out_faces = numbering.write_faces(&list, &classes.out, &flip);
+    }
+    finish_report(&mut report, &flip, origin, &target, &numbering.final_id);
+    Ok(Repaired {
+        positions: numbering.positions,
+        faces: out_faces,
+        report,
+    })
+}
+
+/// Checks that the counts fit `u32` handles and that every face's vertices exist.
+fn check_input(positions: &[DVec3], faces: &PolygonList) -> Result<(), TopologyError> {
     let n = positions.len();
     check_count("vertices", n)?;
     check_count("faces", faces.len())?;
@@ -408,12 +464,15 @@ pub fn repair(
             });
         }
     }
-    let mut report = RepairReport::default();
+    Ok(())
+}
 
-    // 1. Merge.
-    let target = match options.merge_distance {
+/// Step 1: the vertex each input vertex merges into (itself when none), recorded in
+/// the report.
+fn merge_step(positions: &[DVec3], distance: Option<f64>, report: &mut RepairReport) -> Vec<u32> {
+    let target = match distance {
         Some(distance) => merge_targets(positions, distance),
-        None => (0..n as u32).collect(),
+        None => (0..positions.len() as u32).collect(),
     };
     report.merged_vertices = target
         .iter()
@@ -421,19 +480,15 @@ pub fn repair(
         .filter(|&(v, &t)| t as usize != v)
         .map(|(v, &t)| (v as u32, t))
         .collect();
+    target
+}
 
-    // 2. Shorten and drop degenerate faces.
-    let (list, origin) = clean_faces(faces, &target, &mut report);
-
-    // 3. Drop duplicates.
-    let (list, origin) = drop_duplicates(&list, &origin, &mut report);
-
-    // 4. Pair the faces of each edge: `mate[k]` is the corner glued to corner `k`
-    // along their common edge (`INVALID` on the boundary).
-    let corners = Corners::new(&list);
-    let n_corners = corners.indices.len();
+/// Step 4: pairs the faces of each edge. `mate[k]` is the corner glued to corner `k`
+/// along their common edge (`INVALID` on the boundary); an edge of more than two faces
+/// is cut into sheets and recorded in the report.
+fn pair_corners(corners: &Corners<'_>, report: &mut RepairReport) -> Vec<u32> {
     let (sorted, starts) = corners.edge_groups();
-    let mut mate = vec![INVALID; n_corners];
+    let mut mate = vec![INVALID; corners.indices.len()];
     for g in starts.windows(2) {
         let group = &sorted[g[0]..g[1]];
         match *group {
@@ -443,70 +498,104 @@ pub fn repair(
                 mate[k2 as usize] = k1;
             }
             _ => {
-                pair_sheets(&corners, group, &mut mate);
-                report.cut_edges.push(edge_of(&corners, group[0]));
+                pair_sheets(corners, group, &mut mate);
+                report.cut_edges.push(edge_of(corners, group[0]));
             }
         }
     }
-    drop(sorted);
-    drop(starts);
+    mate
+}
 
-    // 5. Orient.
-    let flip = orient(
-        &corners,
-        list.offsets(),
-        &mut mate,
-        &origin,
-        options.cut_non_orientable,
-        &mut report,
-    )?;
-
-    // 6. Split, detaching tangled sheets until each vertex pair has one edge.
-    let prev = previous_corners(&corners);
-    let classes = loop {
-        let classes = vertex_classes(&corners, &mate, n)?;
-        if !detach_tangled_sheets(&corners, &prev, &classes.out, &mut mate, &mut report) {
-            break classes;
-        }
-    };
-
-    // 7. Number the output vertices and write the faces.
-    let mut referenced = vec![false; n];
-    for &o in &classes.out {
-        if let Some(r) = referenced.get_mut(o as usize) {
-            *r = true;
+/// Step 6: the fans of the vertices, after detaching tangled sheets until each vertex
+/// pair has one edge.
+fn split_vertices(
+    corners: &Corners<'_>,
+    mate: &mut [u32],
+    n: usize,
+    report: &mut RepairReport,
+) -> Result<VertexClasses, TopologyError> {
+    let prev = previous_corners(corners);
+    loop {
+        let classes = vertex_classes(corners, mate, n)?;
+        if !detach_tangled_sheets(corners, &prev, &classes.out, mate, report) {
+            return Ok(classes);
         }
     }
-    let mut final_id = vec![INVALID; n];
-    let mut out_positions = Vec::with_capacity(n + classes.copies.len());
-    for v in 0..n {
-        if target[v] as usize == v && (referenced[v] || !options.drop_unreferenced) {
-            final_id[v] = out_positions.len() as u32;
-            out_positions.push(positions[v]);
+}
+
+/// Step 7: the output numbering of the vertices: the kept input vertices in input
+/// order, then the copies of split vertices.
+struct Numbering {
+    /// Per input vertex, its output id (`INVALID` when merged away or dropped).
+    final_id: Vec<u32>,
+    /// How many input vertices are kept; the copies follow them.
+    n_kept: u32,
+    /// The output positions.
+    positions: Vec<DVec3>,
+}
+
+impl Numbering {
+    /// Numbers the vertices that stay (merge targets that a face references, or all of
+    /// them when unreferenced ones are kept) and the copies, recording the copies in
+    /// the report.
+    fn new(
+        positions: &[DVec3],
+        target: &[u32],
+        classes: &VertexClasses,
+        drop_unreferenced: bool,
+        report: &mut RepairReport,
+    ) -> Self {
+        let n = positions.len();
+        let mut referenced = vec![false; n];
+        for &o in &classes.out {
+            if let Some(r) = referenced.get_mut(o as usize) {
+                *r = true;
+            }
+        }
+        let mut final_id = vec![INVALID; n];
+        let mut out_positions = Vec::with_capacity(n + classes.copies.len());
+        for v in 0..n {
+            if target[v] as usize == v && (referenced[v] || !drop_unreferenced) {
+                final_id[v] = out_positions.len() as u32;
+                out_positions.push(positions[v]);
+            }
+        }
+        let n_kept = out_positions.len() as u32;
+        for (i, &original) in classes.copies.iter().enumerate() {
+            out_positions.push(positions[original as usize]);
+            report.split_vertices.push((original, n_kept + i as u32));
+        }
+        Numbering {
+            final_id,
+            n_kept,
+            positions: out_positions,
         }
     }
-    let n_kept = out_positions.len() as u32;
-    for (i, &original) in classes.copies.iter().enumerate() {
-        out_positions.push(positions[original as usize]);
-        report.split_vertices.push((original, n_kept + i as u32));
-    }
-    let renumber = |o: u32| {
+
+    /// The output id of vertex `o` of the corner classes (an input vertex, or `n + i`
+    /// for the `i`-th copy).
+    #[inline]
+    fn renumber(&self, o: u32) -> u32 {
+        let n = self.final_id.len();
         if (o as usize) < n {
-            final_id[o as usize]
+            self.final_id[o as usize]
         } else {
-            n_kept + (o - n as u32)
+            self.n_kept + (o - n as u32)
         }
-    };
-    let offsets = list.offsets();
-    let write_faces = |flip: &[bool]| {
+    }
+
+    /// The output faces: face `f` of `list` with its corners' output vertices from
+    /// `out`, reversed after its first corner when `flip[f]`.
+    fn write_faces(&self, list: &PolygonList, out: &[u32], flip: &[bool]) -> PolygonList {
+        let offsets = list.offsets();
         let mut out_faces = PolygonList::with_capacity(list.len(), list.n_corners());
         let mut buf = Vec::new();
         for f in 0..list.len() {
             buf.clear();
             buf.extend(
-                classes.out[offsets[f]..offsets[f + 1]]
+                out[offsets[f]..offsets[f + 1]]
                     .iter()
-                    .map(|&o| renumber(o)),
+                    .map(|&o| self.renumber(o)),
             );
             if flip[f] {
                 buf[1..].reverse();
@@ -514,27 +603,39 @@ pub fn repair(
             out_faces.push(&buf);
         }
         out_faces
-    };
-    let mut flip = flip;
-    let mut out_faces = write_faces(&flip);
+    }
+}
 
-    // 8. Turn every closed component that encloses a negative volume inside out, so
-    // that its faces are counter-clockwise seen from outside.
-    if options.orient_outward
-        && let Ok(mesh) = HalfedgeMesh::from_polygons(out_positions.len(), out_faces.iter())
-    {
-        let inward = inward_components(&mesh, &out_positions);
-        if inward.iter().any(|&i| i) {
-            let components = mesh.connected_components();
-            for (f, flip) in flip.iter_mut().enumerate() {
-                let c = components.face_component[crate::FaceId::new(f as u32)] as usize;
-                if inward[c] {
-                    *flip = !*flip;
-                }
-            }
-            out_faces = write_faces(&flip);
+/// Step 8: toggles `flip` on every face of a closed component that encloses a negative
+/// volume, when the faces build. Returns whether any face changed.
+fn flip_inward_components(positions: &[DVec3], faces: &PolygonList, flip: &mut [bool]) -> bool {
+    let Ok(mesh) = HalfedgeMesh::from_polygons(positions.len(), faces.iter()) else {
+        return false;
+    };
+    let inward = inward_components(&mesh, positions);
+    if !inward.iter().any(|&i| i) {
+        return false;
+    }
+    let components = mesh.connected_components();
+    for (f, flip) in flip.iter_mut().enumerate() {
+        let c = components.face_component[crate::FaceId::new(f as u32)] as usize;
+        if inward[c] {
+            *flip = !*flip;
         }
     }
+    true
+}
+
+/// Fills the report's lists that follow from the final faces and numbering: flipped
+/// faces and face origins (input face ids), the vertex map and the removed vertices;
+/// sorts the opened edges.
+fn finish_report(
+    report: &mut RepairReport,
+    flip: &[bool],
+    origin: Vec<usize>,
+    target: &[u32],
+    final_id: &[u32],
+) {
     report.flipped_faces = flip
         .iter()
         .enumerate()
@@ -546,17 +647,12 @@ pub fn repair(
         .iter()
         .map(|&t| Some(final_id[t as usize]).filter(|&id| id != INVALID))
         .collect();
-    report.removed_vertices = (0..n as u32)
+    report.removed_vertices = (0..target.len() as u32)
         .filter(|&v| report.vertex_map[v as usize].is_none())
         .collect();
     report.opened_edges.sort_unstable();
     report.opened_edges.dedup();
     report.face_origin = origin;
-    Ok(Repaired {
-        positions: out_positions,
-        faces: out_faces,
-        report,
-    })
 }
 
 /// For each connected component of `mesh`, whether it is closed and encloses a negative

@@ -783,38 +783,58 @@ fn golf_closeup(
     figures: &mut Vec<Figure>,
 ) -> Result<(), StudyError> {
     let name = result.case.clean.name;
-    let mesh = &result.case.mesh;
-    let clean = &result.case.clean.positions;
-    let Some(v) = valence5_vertex(mesh) else {
+    let Some(closeup) = Closeup::new(dir, result)? else {
         return Ok(());
     };
-    let metrics_error = |source| StudyError::Metrics {
+    let (labels, positions) = closeup_panels(result, shown);
+    let (residuals, largest) = closeup.residuals(&positions)?;
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Ok(());
+    }
+    let unit = unit_label(result.case.clean.unit);
+    let u = result.case.clean.unit;
+    let across = sig(2.0 * closeup.half);
+    let rel = closeup.render(
+        &positions,
+        &residuals,
+        &labels,
+        &ColorMap::symmetric(largest),
+        [
+            &format!("{name}: residual near a valence-5 vertex"),
+            &format!("signed distance − its mean{unit}"),
+            &format!("{name}_valence5"),
+        ],
+    )?;
+    figures.push(Figure {
+        path: rel,
+        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}", sig(largest)),
         surface: name.to_string(),
-        scheme: "close-up".into(),
-        source,
-    };
-    let reference = Reference::new(&result.case).map_err(metrics_error)?;
-    let centre = clean.iter().copied().sum::<DVec3>() / clean.len().max(1) as f64;
-    let p = clean[v];
-    let normal = (p - centre).normalize_or_zero();
-    if normal == DVec3::ZERO {
-        return Ok(());
+    });
+    // Each scheme against the schemes' mean: where one departs from the others.
+    if let Some((departures, spread)) = scheme_departures(&residuals, &closeup.near) {
+        let rel = closeup.render(
+            &positions[1..],
+            &departures,
+            &labels[1..],
+            &ColorMap::symmetric(spread),
+            [
+                &format!("{name}: each scheme minus the schemes' mean near a valence-5 vertex"),
+                &format!("signed distance − the schemes' mean{unit}"),
+                &format!("{name}_valence5_schemes"),
+            ],
+        )?;
+        figures.push(Figure {
+            path: rel,
+            caption: format!("The same close-up, each scheme's signed distance minus the mean over the schemes after {shown} iterations: where one scheme departs from the others near the irregular vertex (colour scale ±{} {u}, the largest departure there)", sig(spread)),
+            surface: name.to_string(),
+        });
     }
-    let mean_edge = beltrami_algorithms::mesh_quality(mesh, clean)
-        .ok()
-        .and_then(|q| q.edge_length)
-        .map_or(0.0, |e| e.mean);
-    let half = CLOSEUP_EDGES * mean_edge;
-    if half.is_nan() || half <= 0.0 {
-        return Ok(());
-    }
-    let frame = Some((p - DVec3::splat(half), p + DVec3::splat(half)));
-    let up = if normal.cross(DVec3::Z).length() > 0.1 {
-        DVec3::Z
-    } else {
-        DVec3::Y
-    };
-    let view = View::new(-normal, up);
+    Ok(())
+}
+
+/// The panels of the close-up: the noisy input, then each scheme that has a snapshot
+/// at iteration `shown`; their labels and positions.
+fn closeup_panels(result: &SurfaceResult, shown: usize) -> (Vec<String>, Vec<&[DVec3]>) {
     let mut labels = vec!["input".to_string()];
     let mut positions: Vec<&[DVec3]> = vec![&result.case.noisy];
     for run in &result.runs {
@@ -823,38 +843,145 @@ fn golf_closeup(
             positions.push(&s.positions);
         }
     }
-    let near: Vec<usize> = clean
-        .iter()
-        .enumerate()
-        .filter(|(_, q)| q.distance(p) <= half)
-        .map(|(i, _)| i)
+    (labels, positions)
+}
+
+/// Each scheme's residual minus the schemes' mean (`residuals[0]` is the input's), and
+/// the largest departure near the vertex; `None` with fewer than two schemes or no
+/// finite positive departure.
+fn scheme_departures(residuals: &[Vec<f64>], near: &[usize]) -> Option<(Vec<Vec<f64>>, f64)> {
+    if residuals.len() <= 2 {
+        return None;
+    }
+    let k = (residuals.len() - 1) as f64;
+    let mean: Vec<f64> = (0..residuals[0].len())
+        .map(|i| residuals[1..].iter().map(|r| r[i]).sum::<f64>() / k)
         .collect();
-    let mut residuals = Vec::with_capacity(positions.len());
-    let mut largest: f64 = 0.0;
-    for (k, pos) in positions.iter().enumerate() {
-        let signed = reference.signed_distances(pos).map_err(metrics_error)?;
-        let mean = signed.iter().sum::<f64>() / signed.len().max(1) as f64;
-        let r: Vec<f64> = signed.iter().map(|d| d - mean).collect();
-        // The colour scale follows the smoothed panels; the input's noise would swamp it.
-        if k > 0 {
-            largest = near.iter().map(|&i| r[i].abs()).fold(largest, f64::max);
+    let departures: Vec<Vec<f64>> = residuals[1..]
+        .iter()
+        .map(|r| r.iter().zip(&mean).map(|(a, m)| a - m).collect())
+        .collect();
+    let spread = departures
+        .iter()
+        .flat_map(|d| near.iter().map(move |&i| d[i].abs()))
+        .fold(0.0, f64::max);
+    (spread > 0.0 && spread.is_finite()).then_some((departures, spread))
+}
+
+/// The view of a close-up around a valence-5 vertex of a surface.
+struct Closeup<'a> {
+    /// The study's output directory.
+    dir: &'a Path,
+    /// The surface's connectivity.
+    mesh: &'a beltrami_halfedge::HalfedgeMesh,
+    /// The surface's name, for errors.
+    name: &'static str,
+    /// The distance to the clean surface.
+    reference: Reference<'a>,
+    /// Looking along the vertex's inward normal.
+    view: View,
+    /// The box shown: `half` around the vertex on each axis.
+    frame: Option<(DVec3, DVec3)>,
+    /// Half the width shown, in the surface's unit.
+    half: f64,
+    /// The clean vertices within `half` of the vertex.
+    near: Vec<usize>,
+}
+
+impl<'a> Closeup<'a> {
+    /// The close-up of `result`'s surface, or `None` when it has no valence-5 vertex or
+    /// no usable normal or edge length.
+    ///
+    /// # Errors
+    /// [`StudyError::Metrics`] when the reference surface cannot be indexed.
+    fn new(dir: &'a Path, result: &'a SurfaceResult) -> Result<Option<Self>, StudyError> {
+        let name = result.case.clean.name;
+        let mesh = &result.case.mesh;
+        let clean = &result.case.clean.positions;
+        let Some(v) = valence5_vertex(mesh) else {
+            return Ok(None);
+        };
+        let reference = Reference::new(&result.case).map_err(closeup_error(name))?;
+        let centre = clean.iter().copied().sum::<DVec3>() / clean.len().max(1) as f64;
+        let p = clean[v];
+        let normal = (p - centre).normalize_or_zero();
+        if normal == DVec3::ZERO {
+            return Ok(None);
         }
-        residuals.push(r);
+        let mean_edge = beltrami_algorithms::mesh_quality(mesh, clean)
+            .ok()
+            .and_then(|q| q.edge_length)
+            .map_or(0.0, |e| e.mean);
+        let half = CLOSEUP_EDGES * mean_edge;
+        if half.is_nan() || half <= 0.0 {
+            return Ok(None);
+        }
+        let frame = Some((p - DVec3::splat(half), p + DVec3::splat(half)));
+        let up = if normal.cross(DVec3::Z).length() > 0.1 {
+            DVec3::Z
+        } else {
+            DVec3::Y
+        };
+        let near: Vec<usize> = clean
+            .iter()
+            .enumerate()
+            .filter(|(_, q)| q.distance(p) <= half)
+            .map(|(i, _)| i)
+            .collect();
+        Ok(Some(Closeup {
+            dir,
+            mesh,
+            name,
+            reference,
+            view: View::new(-normal, up),
+            frame,
+            half,
+            near,
+        }))
     }
-    if !(largest > 0.0 && largest.is_finite()) {
-        return Ok(());
+
+    /// Each panel's signed distance to the clean surface minus its mean, and the
+    /// largest of them near the vertex over the smoothed panels (the input's noise
+    /// would swamp the colour scale).
+    ///
+    /// # Errors
+    /// [`StudyError::Metrics`] when a distance cannot be measured.
+    fn residuals(&self, positions: &[&[DVec3]]) -> Result<(Vec<Vec<f64>>, f64), StudyError> {
+        let mut residuals = Vec::with_capacity(positions.len());
+        let mut largest: f64 = 0.0;
+        for (k, pos) in positions.iter().enumerate() {
+            let signed = self
+                .reference
+                .signed_distances(pos)
+                .map_err(closeup_error(self.name))?;
+            let mean = signed.iter().sum::<f64>() / signed.len().max(1) as f64;
+            let r: Vec<f64> = signed.iter().map(|d| d - mean).collect();
+            if k > 0 {
+                largest = self
+                    .near
+                    .iter()
+                    .map(|&i| r[i].abs())
+                    .fold(largest, f64::max);
+            }
+            residuals.push(r);
+        }
+        Ok((residuals, largest))
     }
-    let unit = unit_label(result.case.clean.unit);
-    let u = result.case.clean.unit;
-    let across = sig(2.0 * half);
-    let render = |positions: &[&[DVec3]],
-                  values: &[Vec<f64>],
-                  labels: &[String],
-                  colors: &ColorMap,
-                  title: &str,
-                  bar: &str,
-                  stem: &str|
-     -> Result<String, StudyError> {
+
+    /// Renders one row of panels (positions coloured by `values`) with a colour bar and
+    /// writes it to `renders/{stem}.png`; `[title, bar, stem]` name the image, its
+    /// colour bar and its file. Returns the path relative to the output directory.
+    ///
+    /// # Errors
+    /// [`StudyError::Image`] when rendering or writing fails.
+    fn render(
+        &self,
+        positions: &[&[DVec3]],
+        values: &[Vec<f64>],
+        labels: &[String],
+        colors: &ColorMap,
+        [title, bar, stem]: [&str; 3],
+    ) -> Result<String, StudyError> {
         let image_error = |e: beltrami_viz::VizError| StudyError::Image {
             name: format!("renders/{stem}"),
             reason: e.to_string(),
@@ -862,7 +989,18 @@ fn golf_closeup(
         let panels = positions
             .iter()
             .zip(values)
-            .map(|(pos, r)| render_mesh(mesh, pos, Some(r), colors, &view, frame, 360, 360))
+            .map(|(pos, r)| {
+                render_mesh(
+                    self.mesh,
+                    pos,
+                    Some(r),
+                    colors,
+                    &self.view,
+                    self.frame,
+                    360,
+                    360,
+                )
+            })
             .collect::<Result<Vec<_>, _>>()
             .map_err(image_error)?;
         let image = grid(
@@ -875,55 +1013,18 @@ fn golf_closeup(
         )
         .map_err(image_error)?;
         let rel = format!("renders/{stem}.png");
-        image.write_png(&dir.join(&rel)).map_err(image_error)?;
+        image.write_png(&self.dir.join(&rel)).map_err(image_error)?;
         Ok(rel)
-    };
-    let rel = render(
-        &positions,
-        &residuals,
-        &labels,
-        &ColorMap::symmetric(largest),
-        &format!("{name}: residual near a valence-5 vertex"),
-        &format!("signed distance − its mean{unit}"),
-        &format!("{name}_valence5"),
-    )?;
-    figures.push(Figure {
-        path: rel,
-        caption: format!("Close-up of the {name} around a valence-5 vertex (an icosahedron corner; {across} {u} across), seen along its normal: the noisy input and each scheme after {shown} iterations, coloured by the signed distance to the clean surface minus its mean over the whole ball (the overall shrink removed); the colour scale spans the smoothed panels' largest residual there, {} {u}", sig(largest)),
-        surface: name.to_string(),
-    });
-    // Each scheme against the schemes' mean: where one departs from the others.
-    if residuals.len() > 2 {
-        let k = (residuals.len() - 1) as f64;
-        let mean: Vec<f64> = (0..residuals[0].len())
-            .map(|i| residuals[1..].iter().map(|r| r[i]).sum::<f64>() / k)
-            .collect();
-        let departures: Vec<Vec<f64>> = residuals[1..]
-            .iter()
-            .map(|r| r.iter().zip(&mean).map(|(a, m)| a - m).collect())
-            .collect();
-        let spread = departures
-            .iter()
-            .flat_map(|d| near.iter().map(move |&i| d[i].abs()))
-            .fold(0.0, f64::max);
-        if spread > 0.0 && spread.is_finite() {
-            let rel = render(
-                &positions[1..],
-                &departures,
-                &labels[1..],
-                &ColorMap::symmetric(spread),
-                &format!("{name}: each scheme minus the schemes' mean near a valence-5 vertex"),
-                &format!("signed distance − the schemes' mean{unit}"),
-                &format!("{name}_valence5_schemes"),
-            )?;
-            figures.push(Figure {
-                path: rel,
-                caption: format!("The same close-up, each scheme's signed distance minus the mean over the schemes after {shown} iterations: where one scheme departs from the others near the irregular vertex (colour scale ±{} {u}, the largest departure there)", sig(spread)),
-                surface: name.to_string(),
-            });
-        }
     }
-    Ok(())
+}
+
+/// The error of a metric that the close-up of surface `name` needs.
+fn closeup_error(name: &str) -> impl Fn(beltrami_metrics::MetricsError) -> StudyError + '_ {
+    move |source| StudyError::Metrics {
+        surface: name.to_string(),
+        scheme: "close-up".into(),
+        source,
+    }
 }
 
 #[cfg(test)]

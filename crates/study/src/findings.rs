@@ -437,8 +437,20 @@ pub fn findings(rows: &[Row]) -> Vec<Finding> {
 /// and range.
 #[must_use]
 pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
+    let mut out = flens_findings(rows);
+    out.extend(sphere_findings(rows, context));
+    out.extend(block_findings(rows));
+    out.extend(golfball_findings(rows));
+    out.extend(general_findings(rows, context));
+    let compromise = compromise_finding(&out);
+    out.push(compromise);
+    out
+}
+
+/// The F-lens findings (Sec. 4.1): RMS ranking and closeness, the growing gap, boundary displacement.
+fn flens_findings(rows: &[Row]) -> Vec<Finding> {
     let rms: fn(&Row) -> Option<f64> = |r| Some(r.rms);
-    let mut out = vec![
+    vec![
         ranking_finding(
             rows,
             Ranking {
@@ -502,6 +514,13 @@ pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
                 at_max: true,
             },
         ),
+    ]
+}
+
+/// The sphere findings (Sec. 4.2): RMS ranking and the fitted radius.
+fn sphere_findings(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
+    let rms: fn(&Row) -> Option<f64> = |r| Some(r.rms);
+    vec![
         ranking_finding(
             rows,
             Ranking {
@@ -517,6 +536,12 @@ pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
             },
         ),
         sphere_radius_finding(rows, context),
+    ]
+}
+
+/// The block findings (Sec. 4.3): RMS overlap and volume loss.
+fn block_findings(rows: &[Row]) -> Vec<Finding> {
+    vec![
         closeness_finding(
             rows,
             "block_rms_distance_overlaps_cotangent",
@@ -537,6 +562,12 @@ pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
                 at_max: false,
             },
         ),
+    ]
+}
+
+/// The golf-ball findings (Sec. 4.4): the fitted radius, with a note where it is not reproduced.
+fn golfball_findings(rows: &[Row]) -> Vec<Finding> {
+    let mut out = vec![
         ranking_finding(
             rows,
             Ranking {
@@ -565,10 +596,6 @@ pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
                 at_max: false,
             },
         ),
-        timing_finding(rows, context),
-        distance_speed_finding(rows, context),
-        edge_blur_finding(rows),
-        stability_finding(rows),
     ];
     let golf_note = "On the golf ball the schemes' fitted radii differ by far less than the shrink of the radius: once the dimples are smoothed away every scheme converges to nearly the same sphere. The paper measured a real ball (78 721 vertices, unknown noise); ours is a synthetic regulation ball (see crates/surfaces).";
     for f in &mut out {
@@ -576,9 +603,17 @@ pub fn findings_with(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
             f.note = golf_note.to_string();
         }
     }
-    let compromise = compromise_finding(&out);
-    out.push(compromise);
     out
+}
+
+/// The findings across surfaces: timing, the distance weight's speed, edge blur, stability.
+fn general_findings(rows: &[Row], context: &FindingsContext) -> Vec<Finding> {
+    vec![
+        timing_finding(rows, context),
+        distance_speed_finding(rows, context),
+        edge_blur_finding(rows),
+        stability_finding(rows),
+    ]
 }
 
 /// "Distance is close to cotangent": reproduced when distance is closer to cotangent than

@@ -312,6 +312,14 @@ fn angle(x: Option<f64>) -> String {
 
 /// The "Remeshing before smoothing" section of the report.
 pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, config: &StudyConfig) {
+    remesh_intro(s, comparison, config);
+    mesh_table(s, comparison);
+    rms_table(s, comparison);
+    remesh_summary(s, comparison);
+}
+
+/// The section's heading and how the comparison was made.
+fn remesh_intro(s: &mut String, comparison: &RemeshComparison, config: &StudyConfig) {
     use std::fmt::Write as _;
     let tol = crate::findings::REL_TOL;
     let _ = writeln!(s, "## Remeshing before smoothing\n");
@@ -328,6 +336,11 @@ pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, conf
         config.lambda,
         100.0 * tol
     );
+}
+
+/// The meshes before and after remeshing: size, edge length, angles, negative weights.
+fn mesh_table(s: &mut String, comparison: &RemeshComparison) {
+    use std::fmt::Write as _;
     let _ = writeln!(
         s,
         "| surface | vertices | mean edge length | smallest angle (°) | negative cotangent weights, clean mesh | negative cotangent weights, noisy input |\n|---|---|---|---|---|---|"
@@ -350,6 +363,11 @@ pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, conf
             pct(r.after.negative_share_noisy),
         );
     }
+}
+
+/// The cotangent scheme's RMS on the original and the remeshed input.
+fn rms_table(s: &mut String, comparison: &RemeshComparison) {
+    use std::fmt::Write as _;
     let _ = writeln!(
         s,
         "\nCotangent smoothing, original → remeshed input (RMS distance to the clean surface, in the surface's unit; the optimum is the smallest RMS over iterations 1 to {EARLY_ITERATIONS}):\n"
@@ -380,6 +398,12 @@ pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, conf
             g(b.at_long),
         );
     }
+}
+
+/// What remeshing changes, per surface, in words generated from the tables.
+fn remesh_summary(s: &mut String, comparison: &RemeshComparison) {
+    use std::fmt::Write as _;
+    let tol = crate::findings::REL_TOL;
     let _ = writeln!(
         s,
         "\nWhat remeshing does (generated from the tables; RMS compared relative to each input's RMS, because σ follows each mesh's mean edge length):\n"

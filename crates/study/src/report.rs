@@ -448,89 +448,10 @@ fn surface_sections(
     for r in &results.surfaces {
         let name = r.case.clean.name;
         let _ = writeln!(s, "## {name}\n");
-        let seeds = results.config.seeds;
-        let _ = writeln!(
-            s,
-            "After {shown} iterations (input = the noisy surface before smoothing); {}:\n",
-            if seeds > 1 {
-                format!("mean over {seeds} noise seeds, range [min–max] in brackets")
-            } else {
-                "one noise seed".to_string()
-            }
-        );
-        let u = crate::figures::unit_label(r.case.clean.unit);
         let predicted = predicted_radii(results, r, shown);
-        let _ = writeln!(
-            s,
-            "| scheme | RMS{u} | max{u} | normal dev. (°) | volume ratio (1) | sphere radius{u} |{} boundary mean{u} | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|{}---|---|---|",
-            if predicted.is_empty() {
-                ""
-            } else {
-                " predicted radius, closed form (clean radii) |"
-            },
-            if predicted.is_empty() { "" } else { "---|" },
-        );
-        let mut schemes = vec!["input"];
-        schemes.extend(r.runs.iter().map(|x| x.scheme.as_str()));
-        for scheme in schemes {
-            let it = if scheme == "input" { 0 } else { shown };
-            let cell = |f: fn(&Row) -> Option<f64>| {
-                let v: Vec<f64> = rows
-                    .iter()
-                    .filter(|x| x.surface == name && x.scheme == scheme && x.iteration == it)
-                    .filter_map(f)
-                    .collect();
-                Spread::of(&v).map_or_else(|| "–".into(), |sp| sp.text())
-            };
-            let closed = if predicted.is_empty() {
-                String::new()
-            } else {
-                let p = predicted.iter().find(|(n, _)| n == scheme).map(|x| x.1);
-                format!(" {} |", if scheme == "input" { num(1.0) } else { opt(p) })
-            };
-            let _ = writeln!(
-                s,
-                "| {scheme} | {} | {} | {} | {} | {} |{closed} {} | {} | {} |",
-                cell(|x| Some(x.rms)),
-                cell(|x| Some(x.max)),
-                cell(|x| Some(x.normal_mean_deg)),
-                cell(|x| x.volume_ratio),
-                cell(|x| x.sphere_radius),
-                cell(|x| x.boundary_mean),
-                cell(|x| x.feature_dihedral_deg),
-                if it == 0 {
-                    "–".into()
-                } else {
-                    cell(|x| Some(x.time_s))
-                }
-            );
-        }
-        let _ = writeln!(s);
+        metrics_table(s, results, r, rows, &predicted, shown);
         if !predicted.is_empty() {
-            let _ = writeln!(
-                s,
-                "The predicted radius is the closed form r₀ (1 − λ⟨ℓ²⟩_w/2r₀²)ⁿ for the clean unit sphere (r₀ = 1, n = {shown}, λ = {}), with each scheme's weighted mean squared edge length ⟨ℓ²⟩_w = Σⱼ wᵢⱼ ℓᵢⱼ² / Σⱼ wᵢⱼ averaged over the vertices of the clean sphere ({}); the noise is left out. The radius plot shows it dashed in the scheme's colour.\n",
-                results.config.lambda,
-                predicted
-                    .iter()
-                    .map(|(n, _)| {
-                        let l2 = results
-                            .config
-                            .schemes
-                            .iter()
-                            .find(|x| x.name() == n)
-                            .and_then(|x| {
-                                weighted_mean_edge_sq(
-                                    &r.case.mesh,
-                                    &r.case.clean.positions,
-                                    x.as_ref(),
-                                )
-                            });
-                        format!("{n} {}", opt(l2))
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
+            predicted_radius_note(s, results, r, &predicted, shown);
         }
         for f in figures.iter().filter(|f| f.surface == name) {
             let file = if f.path.ends_with(".png") {
@@ -541,6 +462,107 @@ fn surface_sections(
             let _ = writeln!(s, "![{}]({file})\n\n*{}*\n", f.caption, f.caption);
         }
     }
+}
+
+/// The metrics of the input and of every scheme of surface `r` after `shown`
+/// iterations, with the closed-form radius when `predicted` has any.
+fn metrics_table(
+    s: &mut String,
+    results: &StudyResults,
+    r: &crate::run::SurfaceResult,
+    rows: &[Row],
+    predicted: &[(String, f64)],
+    shown: usize,
+) {
+    let name = r.case.clean.name;
+    let seeds = results.config.seeds;
+    let _ = writeln!(
+        s,
+        "After {shown} iterations (input = the noisy surface before smoothing); {}:\n",
+        if seeds > 1 {
+            format!("mean over {seeds} noise seeds, range [min–max] in brackets")
+        } else {
+            "one noise seed".to_string()
+        }
+    );
+    let u = crate::figures::unit_label(r.case.clean.unit);
+    let _ = writeln!(
+        s,
+        "| scheme | RMS{u} | max{u} | normal dev. (°) | volume ratio (1) | sphere radius{u} |{} boundary mean{u} | feature dihedral (°) | time (s) |\n|---|---|---|---|---|---|{}---|---|---|",
+        if predicted.is_empty() {
+            ""
+        } else {
+            " predicted radius, closed form (clean radii) |"
+        },
+        if predicted.is_empty() { "" } else { "---|" },
+    );
+    let mut schemes = vec!["input"];
+    schemes.extend(r.runs.iter().map(|x| x.scheme.as_str()));
+    for scheme in schemes {
+        let it = if scheme == "input" { 0 } else { shown };
+        let cell = |f: fn(&Row) -> Option<f64>| {
+            let v: Vec<f64> = rows
+                .iter()
+                .filter(|x| x.surface == name && x.scheme == scheme && x.iteration == it)
+                .filter_map(f)
+                .collect();
+            Spread::of(&v).map_or_else(|| "–".into(), |sp| sp.text())
+        };
+        let closed = if predicted.is_empty() {
+            String::new()
+        } else {
+            let p = predicted.iter().find(|(n, _)| n == scheme).map(|x| x.1);
+            format!(" {} |", if scheme == "input" { num(1.0) } else { opt(p) })
+        };
+        let _ = writeln!(
+            s,
+            "| {scheme} | {} | {} | {} | {} | {} |{closed} {} | {} | {} |",
+            cell(|x| Some(x.rms)),
+            cell(|x| Some(x.max)),
+            cell(|x| Some(x.normal_mean_deg)),
+            cell(|x| x.volume_ratio),
+            cell(|x| x.sphere_radius),
+            cell(|x| x.boundary_mean),
+            cell(|x| x.feature_dihedral_deg),
+            if it == 0 {
+                "–".into()
+            } else {
+                cell(|x| Some(x.time_s))
+            }
+        );
+    }
+    let _ = writeln!(s);
+}
+
+/// How the predicted radii of the metrics table are computed, with each scheme's
+/// weighted mean squared edge length.
+fn predicted_radius_note(
+    s: &mut String,
+    results: &StudyResults,
+    r: &crate::run::SurfaceResult,
+    predicted: &[(String, f64)],
+    shown: usize,
+) {
+    let _ = writeln!(
+        s,
+        "The predicted radius is the closed form r₀ (1 − λ⟨ℓ²⟩_w/2r₀²)ⁿ for the clean unit sphere (r₀ = 1, n = {shown}, λ = {}), with each scheme's weighted mean squared edge length ⟨ℓ²⟩_w = Σⱼ wᵢⱼ ℓᵢⱼ² / Σⱼ wᵢⱼ averaged over the vertices of the clean sphere ({}); the noise is left out. The radius plot shows it dashed in the scheme's colour.\n",
+        results.config.lambda,
+        predicted
+            .iter()
+            .map(|(n, _)| {
+                let l2 = results
+                    .config
+                    .schemes
+                    .iter()
+                    .find(|x| x.name() == n)
+                    .and_then(|x| {
+                        weighted_mean_edge_sq(&r.case.mesh, &r.case.clean.positions, x.as_ref())
+                    });
+                format!("{n} {}", opt(l2))
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
 }
 
 /// Per scheme of `r`'s runs, the closed-form radius after `shown` iterations on the
@@ -569,14 +591,10 @@ fn predicted_radii(
         .collect()
 }
 
-/// Where the study's set-up departs from the paper's, and where the data are.
-fn differences_section(s: &mut String, results: &StudyResults) {
+/// Under the weight-sum normalisation, the paper's Eq. 6 reading of λ against each
+/// surface's stable area-normalised step (empty otherwise, or without limits).
+fn stability_note(results: &StudyResults) -> String {
     let c = &results.config;
-    let _ = writeln!(s, "## Where this study differs from the paper\n");
-    let _ = writeln!(
-        s,
-        "Each point below is an interpretation of what the paper leaves open or a deliberate departure from it; a verdict above may depend on it.\n"
-    );
     let limits: Vec<(String, f64)> = results
         .surfaces
         .iter()
@@ -593,9 +611,7 @@ fn differences_section(s: &mut String, results: &StudyResults) {
         })
         .collect();
     let unstable: Vec<&(String, f64)> = limits.iter().filter(|(_, l)| c.lambda > *l).collect();
-    let stability = if limits.is_empty()
-        || c.normalization != beltrami_weights::Normalization::WeightSum
-    {
+    if limits.is_empty() || c.normalization != beltrami_weights::Normalization::WeightSum {
         String::new()
     } else {
         let names = unstable
@@ -623,7 +639,18 @@ fn differences_section(s: &mut String, results: &StudyResults) {
                 .collect::<Vec<_>>()
                 .join(", ")
         )
-    };
+    }
+}
+
+/// Where the study's set-up departs from the paper's, and where the data are.
+fn differences_section(s: &mut String, results: &StudyResults) {
+    let c = &results.config;
+    let _ = writeln!(s, "## Where this study differs from the paper\n");
+    let _ = writeln!(
+        s,
+        "Each point below is an interpretation of what the paper leaves open or a deliberate departure from it; a verdict above may depend on it.\n"
+    );
+    let stability = stability_note(results);
     let _ = writeln!(
         s,
         "- **Cotangent normalisation.** {} (the paper's Eq. 2, x ← x + λ Σ w_ij (x_j − x_i) / Σ w_ij), not by 1/(2A_i) as in the paper's Eq. 6; the area normalisation is available in `smooth --normalize area` and `study --normalize area`.{stability}",

@@ -5,7 +5,7 @@ use std::fmt;
 
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::primitives::{self, Primitive};
-use beltrami_halfedge::{DVec3, HalfedgeId};
+use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh};
 use beltrami_smooth::{Boundary, SmoothConfig, smooth};
 use beltrami_weights::{Laplacian, LaplacianOptions, WeightContext, WeightScheme};
 use serde::Serialize;
@@ -167,7 +167,13 @@ pub fn check_scheme(scheme: &dyn WeightScheme, claims: SchemeClaims) -> Conforma
         let mesh = p.mesh().expect("conformance fixtures are valid meshes");
         let geometry = Geometry::new(&mesh, &p.positions).expect("matching positions");
         let ctx = WeightContext::new(geometry);
-        let bulk = weights_of(scheme, &ctx);
+        let weights = FixtureWeights {
+            scheme,
+            mesh: &mesh,
+            positions: &p.positions,
+            bulk: weights_of(scheme, &ctx),
+            single: mesh.halfedges().map(|h| scheme.weight(&ctx, h)).collect(),
+        };
         let mut record = |property: &'static str, detail: Option<String>| {
             checks.push(Check {
                 property,
@@ -176,118 +182,154 @@ pub fn check_scheme(scheme: &dyn WeightScheme, claims: SchemeClaims) -> Conforma
                 detail: detail.unwrap_or_default(),
             });
         };
+        record("finite", weights.not_finite());
+        record("bulk equals single", weights.bulk_differs());
+        if claims.symmetric {
+            record("symmetric", weights.asymmetric());
+        }
+        record("translation invariant", weights.translation_changes());
+        if !scheme.depends_on_positions() {
+            record("position independent", weights.positions_change());
+        }
+        record("assembles and smooths", weights.smoothing_fails());
+    }
+    ConformanceReport {
+        scheme: scheme.name().to_string(),
+        symmetric_claimed: claims.symmetric,
+        checks,
+    }
+}
 
-        // Finite, bulk and single.
-        let single: Vec<f64> = mesh.halfedges().map(|h| scheme.weight(&ctx, h)).collect();
+/// A scheme's weights on one fixture; each check returns the first failure's detail,
+/// or `None` when it passes.
+struct FixtureWeights<'a> {
+    scheme: &'a dyn WeightScheme,
+    mesh: &'a HalfedgeMesh,
+    positions: &'a [DVec3],
+    /// Per halfedge, from `fill_weights`.
+    bulk: Vec<f64>,
+    /// Per halfedge, from `weight`.
+    single: Vec<f64>,
+}
+
+impl FixtureWeights<'_> {
+    /// The first halfedge whose bulk or single weight is not finite.
+    fn not_finite(&self) -> Option<String> {
+        let (mesh, bulk, single) = (self.mesh, &self.bulk, &self.single);
         let bad = mesh
             .halfedges()
             .find(|h| !bulk[h.index()].is_finite() || !single[h.index()].is_finite());
-        record(
-            "finite",
-            bad.map(|h| {
-                format!(
-                    "halfedge {} ({} -> {}): fill_weights {}, weight {}",
-                    h.raw(),
-                    mesh.from_vertex(h).raw(),
-                    mesh.to_vertex(h).raw(),
-                    bulk[h.index()],
-                    single[h.index()]
-                )
-            }),
-        );
-        let mismatch = mesh
+        bad.map(|h| {
+            format!(
+                "halfedge {} ({} -> {}): fill_weights {}, weight {}",
+                h.raw(),
+                mesh.from_vertex(h).raw(),
+                mesh.to_vertex(h).raw(),
+                bulk[h.index()],
+                single[h.index()]
+            )
+        })
+    }
+
+    /// The first halfedge whose bulk and single weights differ beyond
+    /// [`SYMMETRY_TOLERANCE`].
+    fn bulk_differs(&self) -> Option<String> {
+        let (bulk, single) = (&self.bulk, &self.single);
+        let mismatch = self
+            .mesh
             .halfedges()
             .find(|h| !close(bulk[h.index()], single[h.index()], SYMMETRY_TOLERANCE));
-        record(
-            "bulk equals single",
-            mismatch.map(|h| {
-                format!(
-                    "halfedge {}: fill_weights {} but weight {}",
-                    h.raw(),
-                    bulk[h.index()],
-                    single[h.index()]
-                )
-            }),
-        );
+        mismatch.map(|h| {
+            format!(
+                "halfedge {}: fill_weights {} but weight {}",
+                h.raw(),
+                bulk[h.index()],
+                single[h.index()]
+            )
+        })
+    }
 
-        // Symmetry.
-        if claims.symmetric {
-            let asymmetric = mesh
-                .halfedges()
-                .find(|h| !close(bulk[h.index()], bulk[h.twin().index()], SYMMETRY_TOLERANCE));
-            record(
-                "symmetric",
-                asymmetric.map(|h: HalfedgeId| {
-                    format!(
-                        "w({} -> {}) = {} but w({} -> {}) = {}",
-                        mesh.from_vertex(h).raw(),
-                        mesh.to_vertex(h).raw(),
-                        bulk[h.index()],
-                        mesh.to_vertex(h).raw(),
-                        mesh.from_vertex(h).raw(),
-                        bulk[h.twin().index()]
-                    )
-                }),
-            );
-        }
+    /// The first halfedge whose weight differs from its twin's beyond
+    /// [`SYMMETRY_TOLERANCE`].
+    fn asymmetric(&self) -> Option<String> {
+        let (mesh, bulk) = (self.mesh, &self.bulk);
+        let asymmetric = mesh
+            .halfedges()
+            .find(|h| !close(bulk[h.index()], bulk[h.twin().index()], SYMMETRY_TOLERANCE));
+        asymmetric.map(|h: HalfedgeId| {
+            format!(
+                "w({} -> {}) = {} but w({} -> {}) = {}",
+                mesh.from_vertex(h).raw(),
+                mesh.to_vertex(h).raw(),
+                bulk[h.index()],
+                mesh.to_vertex(h).raw(),
+                mesh.from_vertex(h).raw(),
+                bulk[h.twin().index()]
+            )
+        })
+    }
 
-        // Translation invariance.
+    /// The first halfedge whose weight changes, beyond [`TRANSLATION_TOLERANCE`] times
+    /// the largest weight, when every position moves by (3, -5, 7).
+    fn translation_changes(&self) -> Option<String> {
+        let bulk = &self.bulk;
         let offset = DVec3::new(3.0, -5.0, 7.0);
-        let moved: Vec<DVec3> = p.positions.iter().map(|&q| q + offset).collect();
-        let moved_geometry = Geometry::new(&mesh, &moved).expect("matching positions");
-        let translated = weights_of(scheme, &WeightContext::new(moved_geometry));
+        let moved: Vec<DVec3> = self.positions.iter().map(|&q| q + offset).collect();
+        let moved_geometry = Geometry::new(self.mesh, &moved).expect("matching positions");
+        let translated = weights_of(self.scheme, &WeightContext::new(moved_geometry));
         let scale = bulk
             .iter()
             .filter(|w| w.is_finite())
             .fold(0.0f64, |m, w| m.max(w.abs()));
         let tolerance = TRANSLATION_TOLERANCE * scale.max(f64::MIN_POSITIVE);
-        let changed = mesh.halfedges().find(|h| {
+        let changed = self.mesh.halfedges().find(|h| {
             let d = (translated[h.index()] - bulk[h.index()]).abs();
             d.is_nan() || d > tolerance
         });
-        record(
-            "translation invariant",
-            changed.map(|h| {
-                format!(
-                    "halfedge {}: {} before, {} after translating by (3, -5, 7)",
-                    h.raw(),
-                    bulk[h.index()],
-                    translated[h.index()]
-                )
-            }),
-        );
+        changed.map(|h| {
+            format!(
+                "halfedge {}: {} before, {} after translating by (3, -5, 7)",
+                h.raw(),
+                bulk[h.index()],
+                translated[h.index()]
+            )
+        })
+    }
 
-        // Position independence when claimed.
-        if !scheme.depends_on_positions() {
-            let squeezed: Vec<DVec3> = p
-                .positions
-                .iter()
-                .map(|&q| q * DVec3::new(2.0, 0.5, 3.0))
-                .collect();
-            let squeezed_geometry = Geometry::new(&mesh, &squeezed).expect("matching positions");
-            let other = weights_of(scheme, &WeightContext::new(squeezed_geometry));
-            let differs = mesh
-                .halfedges()
-                .find(|h| other[h.index()].to_bits() != bulk[h.index()].to_bits());
-            record(
-                "position independent",
-                differs.map(|h| {
-                    format!(
-                        "depends_on_positions() is false, but halfedge {} changed from {} to {}",
-                        h.raw(),
-                        bulk[h.index()],
-                        other[h.index()]
-                    )
-                }),
-            );
-        }
+    /// The first halfedge whose weight changes at all when the positions are scaled
+    /// unevenly (for a scheme that claims not to depend on positions).
+    fn positions_change(&self) -> Option<String> {
+        let bulk = &self.bulk;
+        let squeezed: Vec<DVec3> = self
+            .positions
+            .iter()
+            .map(|&q| q * DVec3::new(2.0, 0.5, 3.0))
+            .collect();
+        let squeezed_geometry = Geometry::new(self.mesh, &squeezed).expect("matching positions");
+        let other = weights_of(self.scheme, &WeightContext::new(squeezed_geometry));
+        let differs = self
+            .mesh
+            .halfedges()
+            .find(|h| other[h.index()].to_bits() != bulk[h.index()].to_bits());
+        differs.map(|h| {
+            format!(
+                "depends_on_positions() is false, but halfedge {} changed from {} to {}",
+                h.raw(),
+                bulk[h.index()],
+                other[h.index()]
+            )
+        })
+    }
 
-        // The Laplacian and a short smoothing run.
-        let run = Laplacian::new(&mesh, &p.positions, scheme, LaplacianOptions::default())
+    /// Why the Laplacian does not assemble or three free-boundary smoothing steps with
+    /// λ = 0.5 give a non-finite position.
+    fn smoothing_fails(&self) -> Option<String> {
+        let (mesh, positions, scheme) = (self.mesh, self.positions, self.scheme);
+        Laplacian::new(mesh, positions, scheme, LaplacianOptions::default())
             .map_err(|e| format!("the Laplacian does not assemble: {e}"))
             .and_then(|_| {
                 let config = SmoothConfig::new(0.5, 3).boundary(Boundary::Free);
-                smooth(&mesh, &p.positions, scheme, config)
+                smooth(mesh, positions, scheme, config)
                     .map_err(|e| format!("smoothing failed: {e}"))
             })
             .and_then(
@@ -295,13 +337,8 @@ pub fn check_scheme(scheme: &dyn WeightScheme, claims: SchemeClaims) -> Conforma
                     Some(v) => Err(format!("vertex {v} is not finite after smoothing")),
                     None => Ok(()),
                 },
-            );
-        record("assembles and smooths", run.err());
-    }
-    ConformanceReport {
-        scheme: scheme.name().to_string(),
-        symmetric_claimed: claims.symmetric,
-        checks,
+            )
+            .err()
     }
 }
 

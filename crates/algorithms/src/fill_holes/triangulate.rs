@@ -75,18 +75,46 @@ pub(super) fn plan(
 ) -> Result<Vec<[VertexId; 3]>, TriangulateError> {
     let n = hole.len();
     let vertex: Vec<VertexId> = hole.iter().map(|&h| mesh.to_vertex(h)).collect();
-    let mut index_of: HashMap<VertexId, usize> = HashMap::with_capacity(n);
+    let index_of = loop_indices(mesh, &vertex)?;
+    if n < 3 {
+        return Err(TriangulateError::NoTriangulation);
+    }
+    let position: Vec<DVec3> = vertex.iter().map(|&v| mesh.position(v)).collect();
+    let joined = joined_pairs(mesh, &vertex, &index_of);
+    let outside = outside_normals(mesh, hole);
+    let (weight, split) = minimum_weights(&position, &joined, &outside);
+    if !weight[n - 1].is_finite() {
+        return Err(TriangulateError::NoTriangulation);
+    }
+    Ok(read_triangles(&vertex, &split))
+}
+
+/// The loop index of each loop vertex.
+///
+/// # Errors
+/// [`TriangulateError::NonManifold`] when a vertex comes twice in the loop or has more
+/// than one boundary fan.
+fn loop_indices(
+    mesh: &EditMesh,
+    vertex: &[VertexId],
+) -> Result<HashMap<VertexId, usize>, TriangulateError> {
+    let mut index_of: HashMap<VertexId, usize> = HashMap::with_capacity(vertex.len());
     for (i, &v) in vertex.iter().enumerate() {
         if index_of.insert(v, i).is_some() || mesh.boundary_fans(v) > 1 {
             return Err(TriangulateError::NonManifold(v));
         }
     }
-    if n < 3 {
-        return Err(TriangulateError::NoTriangulation);
-    }
-    let position: Vec<DVec3> = vertex.iter().map(|&v| mesh.position(v)).collect();
-    // Existing edges between loop vertices that are not loop edges: a triangle using one
-    // would give that edge a third face.
+    Ok(index_of)
+}
+
+/// `joined[i * n + j]`: loop vertices `i` and `j` share an existing edge that is not a
+/// loop edge; a triangle using it would give that edge a third face.
+fn joined_pairs(
+    mesh: &EditMesh,
+    vertex: &[VertexId],
+    index_of: &HashMap<VertexId, usize>,
+) -> Vec<bool> {
+    let n = vertex.len();
     let mut joined = vec![false; n * n];
     for (i, &v) in vertex.iter().enumerate() {
         for w in mesh.vertices_around_vertex(v) {
@@ -99,10 +127,13 @@ pub(super) fn plan(
             }
         }
     }
-    // The unit normal of the existing face across loop edge (i − 1, i), i.e. across
-    // `hole[i]` (Newell's normal, so any polygon works).
-    let outside: Vec<DVec3> = hole
-        .iter()
+    joined
+}
+
+/// The unit normal of the existing face across loop edge (i − 1, i), i.e. across
+/// `hole[i]` (Newell's normal, so any polygon works); zero where there is none.
+fn outside_normals(mesh: &EditMesh, hole: &[HalfedgeId]) -> Vec<DVec3> {
+    hole.iter()
         .map(|&h| {
             let t = h.twin();
             let mut normal = DVec3::ZERO;
@@ -115,8 +146,18 @@ pub(super) fn plan(
             }
             normal.normalize_or_zero()
         })
-        .collect();
+        .collect()
+}
 
+/// The dynamic programme of the minimum-weight triangulation: per loop range `i..=k`
+/// (entry `i * n + k`), the weight of its best triangulation (infinite when there is
+/// none) and the apex `m` of its triangle on `(i, k)`.
+fn minimum_weights(
+    position: &[DVec3],
+    joined: &[bool],
+    outside: &[DVec3],
+) -> (Vec<Weight>, Vec<usize>) {
+    let n = position.len();
     let mut weight = vec![Weight::INFINITE; n * n];
     let mut split = vec![usize::MAX; n * n];
     for i in 0..n - 1 {
@@ -165,9 +206,13 @@ pub(super) fn plan(
             split[i * n + k] = best_m;
         }
     }
-    if !weight[n - 1].is_finite() {
-        return Err(TriangulateError::NoTriangulation);
-    }
+    (weight, split)
+}
+
+/// The triangles of the whole loop's best triangulation, from the apexes `split`, in
+/// the order they are to be added.
+fn read_triangles(vertex: &[VertexId], split: &[usize]) -> Vec<[VertexId; 3]> {
+    let n = vertex.len();
     let mut triangles = Vec::with_capacity(n - 2);
     let mut todo = vec![(0, n - 1)];
     while let Some((i, k)) = todo.pop() {
@@ -179,5 +224,5 @@ pub(super) fn plan(
         todo.push((i, m));
         todo.push((m, k));
     }
-    Ok(triangles)
+    triangles
 }

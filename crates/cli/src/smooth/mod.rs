@@ -7,12 +7,12 @@ use std::time::Instant;
 use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
-use beltrami_smooth::{SmoothError, Smoothed, Smoother};
+use beltrami_smooth::{SmoothError, SmoothReport, Smoothed, Smoother};
 use beltrami_weights::WeightRegistry;
 use beltrami_weights::WeightScheme;
 
 use crate::error::CliError;
-use crate::load::load_checked;
+use crate::load::{LoadedMesh, load_checked};
 use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
 use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{number, plural};
@@ -43,28 +43,7 @@ pub(crate) fn run(
         .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
-    // A first check on the counts the file declares (PLY header, binary STL count),
-    // before anything is read; then on the exact counts, before the mesh is built.
-    let memory = memory_run(args, scheme.as_ref());
-    if let Ok(Some(declared)) = declared_counts(&args.input) {
-        let faces = declared.faces;
-        let estimate = match declared.vertices {
-            Some(vertices) => {
-                MemoryEstimate::new(&memory, vertices, faces, faces.saturating_mul(3))
-            }
-            None => MemoryEstimate::for_triangle_soup(&memory, faces),
-        };
-        check_memory(args, &estimate, false)?;
-    }
-    let loaded = load_checked(&args.input, &args.read, |data| {
-        let estimate = MemoryEstimate::new(
-            &memory,
-            data.positions.len(),
-            data.faces.len(),
-            data.faces.n_corners(),
-        );
-        check_memory(args, &estimate, true)
-    })?;
+    let loaded = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let smoothed = run_smoother(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
@@ -93,10 +72,63 @@ pub(crate) fn run(
     }
     staged.commit()?;
 
-    for line in &loaded.repair_lines {
+    let lines = &loaded.repair_lines;
+    write_summary(
+        out,
+        args,
+        lines,
+        &loaded.mesh,
+        data.positions.len(),
+        r,
+        &change,
+    )?;
+    Ok(())
+}
+
+/// Loads INPUT after checking the memory the run needs: first on the counts the file
+/// declares (PLY header, binary STL count), before anything is read; then on the exact
+/// counts, before the mesh is built.
+fn load_within_memory(
+    args: &SmoothArgs,
+    scheme: &dyn WeightScheme,
+) -> Result<LoadedMesh, CliError> {
+    let memory = memory_run(args, scheme);
+    if let Ok(Some(declared)) = declared_counts(&args.input) {
+        let faces = declared.faces;
+        let estimate = match declared.vertices {
+            Some(vertices) => {
+                MemoryEstimate::new(&memory, vertices, faces, faces.saturating_mul(3))
+            }
+            None => MemoryEstimate::for_triangle_soup(&memory, faces),
+        };
+        check_memory(args, &estimate, false)?;
+    }
+    load_checked(&args.input, &args.read, |data| {
+        let estimate = MemoryEstimate::new(
+            &memory,
+            data.positions.len(),
+            data.faces.len(),
+            data.faces.n_corners(),
+        );
+        check_memory(args, &estimate, true)
+    })
+}
+
+/// The lines on standard output: the load's notes, what the run did, the diffusion time
+/// and the vertices that could not move.
+fn write_summary(
+    out: &mut impl Write,
+    args: &SmoothArgs,
+    repair_lines: &[String],
+    mesh: &HalfedgeMesh,
+    n_vertices: usize,
+    r: &SmoothReport,
+    change: &Change,
+) -> Result<(), CliError> {
+    for line in repair_lines {
         writeln!(out, "{line}")?;
     }
-    let boundary = if loaded.mesh.is_closed() {
+    let boundary = if mesh.is_closed() {
         "no boundary".to_string()
     } else {
         format!("{} boundary", format!("{:?}", args.boundary).to_lowercase())
@@ -105,7 +137,7 @@ pub(crate) fn run(
         out,
         "smoothed {} ({} vertices) with {} weights, {}: {} {}, lambda {}, {boundary}, {}; mean displacement {}{} -> {}",
         args.input.display(),
-        data.positions.len(),
+        n_vertices,
         r.scheme,
         method_label(args),
         r.iterations,
@@ -133,7 +165,7 @@ pub(crate) fn run(
         )?;
     }
     if r.max_stuck_vertices > 0 {
-        let why = if loaded.mesh.is_triangle_mesh() {
+        let why = if mesh.is_triangle_mesh() {
             "weights summing to <= 0 or zero area".to_string()
         } else {
             format!(

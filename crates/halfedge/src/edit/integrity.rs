@@ -30,9 +30,17 @@ impl EditMesh {
     /// # Complexity
     /// O(V + H + F).
     pub fn check_integrity(&self) -> Result<(), TopologyError> {
+        self.check_counts()?;
+        self.check_links()?;
+        self.check_halfedges()?;
+        self.check_faces()?;
+        self.check_vertices()
+    }
+
+    /// The arrays' lengths and the deletion counters agree with the marks.
+    fn check_counts(&self) -> Result<(), TopologyError> {
         let nv = self.vertex_capacity();
         let nh = 2 * self.edge_capacity();
-        let nf = self.face_capacity();
         let counted = |d: &[bool]| d.iter().filter(|&&x| x).count();
         if counted(&self.v_deleted) != self.deleted_vertices
             || counted(&self.e_deleted) != self.deleted_edges
@@ -48,6 +56,14 @@ impl EditMesh {
                 invariant: "array lengths and deletion counts agree",
             });
         }
+        Ok(())
+    }
+
+    /// Every link of a live element is in range and leads to a live element.
+    fn check_links(&self) -> Result<(), TopologyError> {
+        let nv = self.vertex_capacity();
+        let nh = 2 * self.edge_capacity();
+        let nf = self.face_capacity();
         let live_h = |raw: u32| (raw as usize) < nh && self.is_live_halfedge(HalfedgeId::new(raw));
         for h in self.halfedges() {
             let i = h.index();
@@ -74,6 +90,12 @@ impl EditMesh {
                 return fail(v, "links are in range and lead to live elements");
             }
         }
+        Ok(())
+    }
+
+    /// Per live halfedge: `next` and `prev` are inverse, a halfedge and its successor
+    /// meet at a vertex and share a face, an edge has a face and two different vertices.
+    fn check_halfedges(&self) -> Result<(), TopologyError> {
         for h in self.halfedges() {
             if self.prev(self.next(h)) != h {
                 return fail(h, "prev(next(h)) == h");
@@ -91,6 +113,14 @@ impl EditMesh {
                 return fail(h, "an edge has at least one face");
             }
         }
+        Ok(())
+    }
+
+    /// Per live face: its halfedge belongs to it, and its cycle has at least 3
+    /// halfedges, all that point to it.
+    fn check_faces(&self) -> Result<(), TopologyError> {
+        let nh = 2 * self.edge_capacity();
+        let nf = self.face_capacity();
         let mut face_len = vec![0usize; nf];
         for h in self.halfedges() {
             if let Some(f) = self.face(h) {
@@ -107,6 +137,14 @@ impl EditMesh {
                 return fail(f, "a face is one cycle of at least 3 halfedges");
             }
         }
+        Ok(())
+    }
+
+    /// Per live vertex: its outgoing halfedge starts at it, is a boundary halfedge
+    /// whenever the vertex has one, and circulating from it visits every outgoing
+    /// halfedge once.
+    fn check_vertices(&self) -> Result<(), TopologyError> {
+        let nv = self.vertex_capacity();
         let mut degree = vec![0usize; nv];
         let mut has_boundary_out = vec![false; nv];
         for h in self.halfedges() {

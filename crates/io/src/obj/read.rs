@@ -100,33 +100,7 @@ pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
         }
         let mut words = tokens(statement);
         match words.next() {
-            Some(b"v") => {
-                let mut p = [0.0_f64; 3];
-                for c in &mut p {
-                    *c = match words.next() {
-                        Some(token) => parse_number(token).ok_or_else(|| IoError::Syntax {
-                            line,
-                            expected: "a number",
-                            found: Some(token_text(token)),
-                        })?,
-                        None => {
-                            return Err(IoError::Syntax {
-                                line,
-                                expected: "a number",
-                                found: None,
-                            });
-                        }
-                    };
-                }
-                if let Some(&value) = p.iter().find(|c| !c.is_finite()) {
-                    return Err(IoError::NonFiniteCoordinate {
-                        line: Some(line),
-                        vertex: positions.len(),
-                        value,
-                    });
-                }
-                positions.push(DVec3::from_array(p));
-            }
+            Some(b"v") => positions.push(parse_vertex(words, line, positions.len())?),
             Some(b"f") => {
                 corners.clear();
                 for corner in words {
@@ -163,27 +137,67 @@ pub(crate) fn read_obj(reader: impl BufRead) -> Result<MeshData, IoError> {
         });
     }
     let mesh = MeshData { positions, faces };
-    // Positive indices may refer forward; check them now that all vertices are known.
-    if let Err(error) = check_faces(&mesh, None) {
-        return Err(match error {
-            IoError::FaceIndexOutOfRange {
-                face,
-                index,
-                n_vertices,
-                ..
-            } => IoError::FaceIndexOutOfRange {
-                line: forward
-                    .binary_search_by_key(&face, |&(f, _)| f)
-                    .ok()
-                    .map(|i| forward[i].1),
-                face,
-                index: index + 1,
-                n_vertices,
-            },
-            other => other,
+    check_indices(&mesh, &forward)?;
+    Ok(mesh)
+}
+
+/// The position of a `v` statement of line `line` that defines vertex `vertex`, from
+/// the words after `v`: three finite numbers (any further ones are ignored).
+#[inline]
+fn parse_vertex<'a>(
+    mut words: impl Iterator<Item = &'a [u8]>,
+    line: usize,
+    vertex: usize,
+) -> Result<DVec3, IoError> {
+    let mut p = [0.0_f64; 3];
+    for c in &mut p {
+        *c = match words.next() {
+            Some(token) => parse_number(token).ok_or_else(|| IoError::Syntax {
+                line,
+                expected: "a number",
+                found: Some(token_text(token)),
+            })?,
+            None => {
+                return Err(IoError::Syntax {
+                    line,
+                    expected: "a number",
+                    found: None,
+                });
+            }
+        };
+    }
+    if let Some(&value) = p.iter().find(|c| !c.is_finite()) {
+        return Err(IoError::NonFiniteCoordinate {
+            line: Some(line),
+            vertex,
+            value,
         });
     }
-    Ok(mesh)
+    Ok(DVec3::from_array(p))
+}
+
+/// Checks the face indices now that all vertices are known (positive indices may refer
+/// forward); an index out of range is reported with its 1-based value and the line of
+/// its face, found among the faces with a forward reference (`forward`: face and line,
+/// by face).
+fn check_indices(mesh: &MeshData, forward: &[(usize, usize)]) -> Result<(), IoError> {
+    check_faces(mesh, None).map_err(|error| match error {
+        IoError::FaceIndexOutOfRange {
+            face,
+            index,
+            n_vertices,
+            ..
+        } => IoError::FaceIndexOutOfRange {
+            line: forward
+                .binary_search_by_key(&face, |&(f, _)| f)
+                .ok()
+                .map(|i| forward[i].1),
+            face,
+            index: index + 1,
+            n_vertices,
+        },
+        other => other,
+    })
 }
 
 /// The line before its `#` comment.

@@ -186,7 +186,6 @@ impl PolynomialFit {
 ///   chapter *Areal filtering methods* (J. Seewig: form removal by least-squares
 ///   polynomials before the S- and L-filters).
 pub fn fit_polynomial(input: &FitPoints<'_>, degree: u32) -> Result<PolynomialFit, MetricsError> {
-    const SHAPE: &str = "polynomial";
     if !(1..=MAX_POLYNOMIAL_DEGREE).contains(&degree) {
         return Err(MetricsError::InvalidParameter {
             name: "polynomial degree",
@@ -194,44 +193,16 @@ pub fn fit_polynomial(input: &FitPoints<'_>, degree: u32) -> Result<PolynomialFi
         });
     }
     let n_terms = exponents(degree).count();
-    let weight = |i: usize| input.weights().map_or(1.0, |w| w[i]);
-    let used: Vec<usize> = (0..input.points().len())
-        .filter(|&i| weight(i) > 0.0)
-        .collect();
-    if used.len() < n_terms {
-        return Err(MetricsError::TooFewPoints {
-            shape: SHAPE,
-            needed: n_terms,
-            got: used.len(),
-        });
-    }
-    let plane = fit_plane(input).map_err(|e| match e {
-        MetricsError::TooFewPoints { needed, got, .. } => MetricsError::TooFewPoints {
-            shape: SHAPE,
-            needed,
-            got,
-        },
-        MetricsError::Degenerate { reason, .. } => MetricsError::Degenerate {
-            shape: SHAPE,
-            reason,
-        },
-        e => e,
-    })?;
+    let used = weighted_points(input, n_terms)?;
+    let plane = reference_plane(input)?;
     let (u_axis, v_axis) = plane.in_plane_axes();
-    let frame = |p: DVec3| {
-        let d = p - plane.point;
-        [d.dot(u_axis), d.dot(v_axis), d.dot(plane.normal)]
+    let frame = PlaneFrame {
+        origin: plane.point,
+        u_axis,
+        v_axis,
+        normal: plane.normal,
     };
-    let (mut low, mut high) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for &i in &used {
-        let [u, v, _] = frame(input.points()[i]);
-        for (k, x) in [u, v].into_iter().enumerate() {
-            low[k] = low[k].min(x);
-            high[k] = high[k].max(x);
-        }
-    }
-    let centre = [0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1])];
-    let half_width = [0.5 * (high[0] - low[0]), 0.5 * (high[1] - low[1])];
+    let (centre, half_width) = frame.extent(input, &used);
     let undetermined = MetricsError::Degenerate {
         shape: SHAPE,
         reason: "the points' projections do not determine a polynomial of this degree",
@@ -239,33 +210,7 @@ pub fn fit_polynomial(input: &FitPoints<'_>, degree: u32) -> Result<PolynomialFi
     if !(half_width[0] > 0.0 && half_width[1] > 0.0) {
         return Err(undetermined);
     }
-
-    // Normal equations Σ w φ φᵀ c = Σ w φ w_k, summed in a fixed order.
-    let total = {
-        let mut s = Sum::default();
-        used.iter().for_each(|&i| s.add(weight(i)));
-        s.value()
-    };
-    let mut gram = vec![0.0; n_terms * n_terms];
-    let mut rhs = vec![0.0; n_terms];
-    let mut phi = vec![0.0; n_terms];
-    let n = degree as usize;
-    for &i in &used {
-        let [u, v, w] = frame(input.points()[i]);
-        let (ls, _) = legendre(n, (u - centre[0]) / half_width[0]);
-        let (lt, _) = legendre(n, (v - centre[1]) / half_width[1]);
-        for (slot, (a, b)) in phi.iter_mut().zip(exponents(degree)) {
-            *slot = ls[a] * lt[b];
-        }
-        let wk = weight(i) / total;
-        for r in 0..n_terms {
-            let x = wk * phi[r];
-            rhs[r] += x * w;
-            for c in 0..=r {
-                gram[r * n_terms + c] += x * phi[c];
-            }
-        }
-    }
+    let (gram, rhs) = frame.normal_equations(input, &used, degree, centre, half_width);
     let coefficients = cholesky_solve_dyn(&gram, &rhs).ok_or(undetermined)?;
     let fit = PolynomialFit {
         degree,
@@ -285,6 +230,119 @@ pub fn fit_polynomial(input: &FitPoints<'_>, degree: u32) -> Result<PolynomialFi
         max_residual: max,
         ..fit
     })
+}
+
+/// The shape named in the errors of [`fit_polynomial`].
+const SHAPE: &str = "polynomial";
+
+/// The indices of the points of positive weight.
+///
+/// # Errors
+/// [`MetricsError::TooFewPoints`] when there are fewer than `n_terms`.
+fn weighted_points(input: &FitPoints<'_>, n_terms: usize) -> Result<Vec<usize>, MetricsError> {
+    let weight = |i: usize| input.weights().map_or(1.0, |w| w[i]);
+    let used: Vec<usize> = (0..input.points().len())
+        .filter(|&i| weight(i) > 0.0)
+        .collect();
+    if used.len() < n_terms {
+        return Err(MetricsError::TooFewPoints {
+            shape: SHAPE,
+            needed: n_terms,
+            got: used.len(),
+        });
+    }
+    Ok(used)
+}
+
+/// The best-fit plane, the reference of the polynomial; its errors name the
+/// polynomial.
+fn reference_plane(input: &FitPoints<'_>) -> Result<super::PlaneFit, MetricsError> {
+    fit_plane(input).map_err(|e| match e {
+        MetricsError::TooFewPoints { needed, got, .. } => MetricsError::TooFewPoints {
+            shape: SHAPE,
+            needed,
+            got,
+        },
+        MetricsError::Degenerate { reason, .. } => MetricsError::Degenerate {
+            shape: SHAPE,
+            reason,
+        },
+        e => e,
+    })
+}
+
+/// The frame of the reference plane: a point on it, two in-plane axes and the normal.
+struct PlaneFrame {
+    origin: DVec3,
+    u_axis: DVec3,
+    v_axis: DVec3,
+    normal: DVec3,
+}
+
+impl PlaneFrame {
+    /// `p` in the frame: `[u, v, height above the plane]`.
+    #[inline]
+    fn local(&self, p: DVec3) -> [f64; 3] {
+        let d = p - self.origin;
+        [d.dot(self.u_axis), d.dot(self.v_axis), d.dot(self.normal)]
+    }
+
+    /// The centre and half widths of the `used` points' in-plane bounding box.
+    fn extent(&self, input: &FitPoints<'_>, used: &[usize]) -> ([f64; 2], [f64; 2]) {
+        let (mut low, mut high) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for &i in used {
+            let [u, v, _] = self.local(input.points()[i]);
+            for (k, x) in [u, v].into_iter().enumerate() {
+                low[k] = low[k].min(x);
+                high[k] = high[k].max(x);
+            }
+        }
+        let centre = [0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1])];
+        let half_width = [0.5 * (high[0] - low[0]), 0.5 * (high[1] - low[1])];
+        (centre, half_width)
+    }
+
+    /// The normal equations Σ w φ φᵀ c = Σ w φ w_k of the Legendre products φ of
+    /// `degree` over the box (`centre`, `half_width`), summed over the `used` points in
+    /// order with normalised weights: the lower triangle of the Gram matrix (row-major)
+    /// and the right-hand side.
+    fn normal_equations(
+        &self,
+        input: &FitPoints<'_>,
+        used: &[usize],
+        degree: u32,
+        centre: [f64; 2],
+        half_width: [f64; 2],
+    ) -> (Vec<f64>, Vec<f64>) {
+        let weight = |i: usize| input.weights().map_or(1.0, |w| w[i]);
+        let n_terms = exponents(degree).count();
+        let total = {
+            let mut s = Sum::default();
+            used.iter().for_each(|&i| s.add(weight(i)));
+            s.value()
+        };
+        let mut gram = vec![0.0; n_terms * n_terms];
+        let mut rhs = vec![0.0; n_terms];
+        let mut phi = vec![0.0; n_terms];
+        let n = degree as usize;
+        for &i in used {
+            let [u, v, w] = self.local(input.points()[i]);
+            let (ls, _) = legendre(n, (u - centre[0]) / half_width[0]);
+            let (lt, _) = legendre(n, (v - centre[1]) / half_width[1]);
+            for (slot, (a, b)) in phi.iter_mut().zip(exponents(degree)) {
+                *slot = ls[a] * lt[b];
+            }
+            let wk = weight(i) / total;
+            for r in 0..n_terms {
+                let x = wk * phi[r];
+                rhs[r] += x * w;
+                for c in 0..=r {
+                    gram[r * n_terms + c] += x * phi[c];
+                }
+            }
+        }
+        (gram, rhs)
+    }
 }
 
 #[cfg(test)]

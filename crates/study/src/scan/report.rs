@@ -249,9 +249,21 @@ fn count_text(row: &ScanRow) -> String {
 
 fn markdown(results: &ScanResults) -> String {
     let mut s = String::new();
-    let config = &results.config;
+    intro(&mut s, results);
+    setup_section(&mut s, results);
+    warnings_section(&mut s, results);
+    if let Some(base_rms) = results.baseline().rms {
+        best_sections(&mut s, results, base_rms);
+    }
+    effect_section(&mut s, results);
+    files_section(&mut s, results);
+    timing_section(&mut s, results);
+    s
+}
+
+/// The title and what the study did.
+fn intro(s: &mut String, results: &ScanResults) {
     let input = &results.input;
-    let base = results.baseline();
     let _ = writeln!(s, "# Smoothing study of `{}`\n", input.name);
     let _ = writeln!(
         s,
@@ -262,6 +274,12 @@ fn markdown(results: &ScanResults) -> String {
             " (no reference given: there is no ground truth, so this report shows what smoothing does and does not name a best count)"
         }
     );
+}
+
+/// The input, reference, schemes, methods and observed iterations.
+fn setup_section(s: &mut String, results: &ScanResults) {
+    let config = &results.config;
+    let input = &results.input;
     let _ = writeln!(s, "## Setup\n");
     let _ = writeln!(
         s,
@@ -322,6 +340,10 @@ fn markdown(results: &ScanResults) -> String {
         }
     );
     let _ = writeln!(s);
+}
+
+/// The warnings of the run, when there are any.
+fn warnings_section(s: &mut String, results: &ScanResults) {
     if !results.warnings.is_empty() {
         let _ = writeln!(s, "## Warnings\n");
         for w in &results.warnings {
@@ -329,10 +351,10 @@ fn markdown(results: &ScanResults) -> String {
         }
         let _ = writeln!(s);
     }
-    if let Some(base_rms) = base.rms {
-        best_sections(&mut s, results, base_rms);
-    }
-    effect_section(&mut s, results);
+}
+
+/// The files written beside the report.
+fn files_section(s: &mut String, results: &ScanResults) {
     let _ = writeln!(s, "## Files\n");
     let _ = writeln!(
         s,
@@ -352,6 +374,10 @@ fn markdown(results: &ScanResults) -> String {
         s,
         "- `timings.csv`: smoothing time per run (differs from run to run).\n"
     );
+}
+
+/// The smoothing time of every run (differs from run to run).
+fn timing_section(s: &mut String, results: &ScanResults) {
     let _ = writeln!(s, "{TIME_HEADING}\n");
     let _ = writeln!(
         s,
@@ -364,7 +390,6 @@ fn markdown(results: &ScanResults) -> String {
     for t in &results.timings {
         let _ = writeln!(s, "| {} | {} | {:.3} |", t.scheme, t.method, t.smoothing_s);
     }
-    s
 }
 
 fn best_sections(s: &mut String, results: &ScanResults, base_rms: f64) {

@@ -345,35 +345,7 @@ pub fn run_scan(
         .iter()
         .flat_map(|scheme| config.methods.iter().map(move |&m| (scheme.as_ref(), m)))
         .collect();
-    // The runs go in parallel, each on its own; the main thread reports progress, one
-    // step per finished run. The results are collected in the configured order.
-    progress(Progress::RunStarted(
-        &input.name,
-        "every scheme and method",
-        jobs.len(),
-    ));
-    let (sender, finished) = std::sync::mpsc::channel::<()>();
-    let observer_ref = &observer;
-    let outcomes: Vec<Result<MethodRun, RunError>> = std::thread::scope(|scope| {
-        let jobs = &jobs;
-        let worker = scope.spawn(move || {
-            jobs.par_iter()
-                .map_with(sender, |sender, &(scheme, method)| {
-                    let run = run_method(observer_ref, scheme, method, config);
-                    // The receiver lives until every sender is gone.
-                    let _ = sender.send(());
-                    run
-                })
-                .collect::<Vec<_>>()
-        });
-        for (done, ()) in finished.iter().enumerate() {
-            progress(Progress::Iteration(done + 1));
-        }
-        worker
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-    });
-    progress(Progress::RunFinished);
+    let outcomes = run_jobs(&observer, &jobs, config, progress);
     let mut best = Vec::new();
     let mut best_positions = Vec::new();
     let mut timings = Vec::new();
@@ -388,17 +360,7 @@ pub fn run_scan(
             RunError::Metrics(source) => metrics(&label)(source),
         })?;
         if let Some((row, positions)) = run.best {
-            let last = run.rows.last().map(|r| (r.iteration, r.step));
-            best.push(ScanBest {
-                scheme: scheme.name().to_string(),
-                method: method.label().to_string(),
-                iteration: row.iteration,
-                step: row.step,
-                rms: row.rms.unwrap_or(f64::NAN),
-                max: row.max.unwrap_or(f64::NAN),
-                at_last_observed: last == Some((row.iteration, row.step)),
-                file: format!("best-{}-{}.ply", scheme.name(), method.label()),
-            });
+            best.push(scan_best(scheme, method, &row, &run.rows));
             best_positions.push(positions);
         }
         rows.extend(run.rows);
@@ -420,6 +382,62 @@ pub fn run_scan(
         timings,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Runs the jobs in parallel, each on its own, while the calling thread reports
+/// progress, one step per finished run; the outcomes come in the jobs' order.
+fn run_jobs(
+    observer: &Observer<'_>,
+    jobs: &[(&dyn WeightScheme, ScanMethod)],
+    config: &ScanConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Vec<Result<MethodRun, RunError>> {
+    progress(Progress::RunStarted(
+        &observer.input.name,
+        "every scheme and method",
+        jobs.len(),
+    ));
+    let (sender, finished) = std::sync::mpsc::channel::<()>();
+    let outcomes: Vec<Result<MethodRun, RunError>> = std::thread::scope(|scope| {
+        let worker = scope.spawn(move || {
+            jobs.par_iter()
+                .map_with(sender, |sender, &(scheme, method)| {
+                    let run = run_method(observer, scheme, method, config);
+                    // The receiver lives until every sender is gone.
+                    let _ = sender.send(());
+                    run
+                })
+                .collect::<Vec<_>>()
+        });
+        for (done, ()) in finished.iter().enumerate() {
+            progress(Progress::Iteration(done + 1));
+        }
+        worker
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    });
+    progress(Progress::RunFinished);
+    outcomes
+}
+
+/// The best observation `row` of `scheme` with `method`, among the run's `rows`.
+fn scan_best(
+    scheme: &dyn WeightScheme,
+    method: ScanMethod,
+    row: &ScanRow,
+    rows: &[ScanRow],
+) -> ScanBest {
+    let last = rows.last().map(|r| (r.iteration, r.step));
+    ScanBest {
+        scheme: scheme.name().to_string(),
+        method: method.label().to_string(),
+        iteration: row.iteration,
+        step: row.step,
+        rms: row.rms.unwrap_or(f64::NAN),
+        max: row.max.unwrap_or(f64::NAN),
+        at_last_observed: last == Some((row.iteration, row.step)),
+        file: format!("best-{}-{}.ply", scheme.name(), method.label()),
+    }
 }
 
 enum RunError {
@@ -445,53 +463,85 @@ fn keep_best(best: &mut Option<(ScanRow, Vec<DVec3>)>, row: &ScanRow, positions:
     }
 }
 
+/// Runs `scheme` with `method` on the observer's input and measures its observations.
 fn run_method(
     observer: &Observer<'_>,
     scheme: &dyn WeightScheme,
     method: ScanMethod,
     config: &ScanConfig,
 ) -> Result<MethodRun, RunError> {
-    let input = observer.input;
     let base = SmoothConfig::new(config.lambda, config.max_iterations)
         .boundary(config.boundary)
         .update(config.update)
         .method(method.method())
         .statistics(Statistics::OnDemand);
+    if method == ScanMethod::Implicit {
+        return run_implicit(observer, scheme, method, config, &base);
+    }
+    let step = method.explicit_step(config.lambda);
+    let mut run = run_explicit(observer, scheme, method, config, base, step)?;
+    measure_best_fully(observer, scheme, method, step, &mut run)?;
+    Ok(run)
+}
+
+/// One implicit step from the input per configured time step, each measured in full.
+fn run_implicit(
+    observer: &Observer<'_>,
+    scheme: &dyn WeightScheme,
+    method: ScanMethod,
+    config: &ScanConfig,
+    base: &SmoothConfig,
+) -> Result<MethodRun, RunError> {
+    let input = observer.input;
     let mut rows = Vec::new();
     let mut best = None;
     let mut smoothing_s = 0.0;
-    if method == ScanMethod::Implicit {
-        for &t in &config.implicit_steps {
-            let clock = Instant::now();
-            let smoothed = Smoother::new(
-                &input.mesh,
-                &input.data.positions,
-                scheme,
-                base.clone().lambda(t).iterations(1),
+    for &t in &config.implicit_steps {
+        let clock = Instant::now();
+        let smoothed = Smoother::new(
+            &input.mesh,
+            &input.data.positions,
+            scheme,
+            base.clone().lambda(t).iterations(1),
+        )
+        .and_then(|s| s.run(|_| ControlFlow::Continue(())))
+        .map_err(RunError::Smooth)?;
+        smoothing_s += clock.elapsed().as_secs_f64();
+        let row = observer
+            .measure(
+                scheme.name(),
+                method.label(),
+                1,
+                t,
+                &smoothed.positions,
+                true,
             )
-            .and_then(|s| s.run(|_| ControlFlow::Continue(())))
-            .map_err(RunError::Smooth)?;
-            smoothing_s += clock.elapsed().as_secs_f64();
-            let row = observer
-                .measure(
-                    scheme.name(),
-                    method.label(),
-                    1,
-                    t,
-                    &smoothed.positions,
-                    true,
-                )
-                .map_err(RunError::Metrics)?;
-            keep_best(&mut best, &row, &smoothed.positions);
-            rows.push(row);
-        }
-        return Ok(MethodRun {
-            rows,
-            best,
-            smoothing_s,
-        });
+            .map_err(RunError::Metrics)?;
+        keep_best(&mut best, &row, &smoothed.positions);
+        rows.push(row);
     }
-    let step = method.explicit_step(config.lambda);
+    Ok(MethodRun {
+        rows,
+        best,
+        smoothing_s,
+    })
+}
+
+/// One explicit run of `config.max_iterations` iterations of step `step` with `base`'s
+/// other settings, measured at the observed iterations (in detail at the detailed
+/// ones); the smoothing time leaves the measurements out.
+fn run_explicit(
+    observer: &Observer<'_>,
+    scheme: &dyn WeightScheme,
+    method: ScanMethod,
+    config: &ScanConfig,
+    base: SmoothConfig,
+    step: f64,
+) -> Result<MethodRun, RunError> {
+    let input = observer.input;
+    let mut rows = Vec::new();
+    let mut best = None;
+    let mut smoothing_s = 0.0;
     let observed = config.observed_iterations();
     let detailed = config.detailed_iterations();
     let mut wanted = observed.iter().copied().peekable();
@@ -534,7 +584,23 @@ fn run_method(
     if let Some(e) = failed {
         return Err(RunError::Metrics(e));
     }
-    if let Some((row, positions)) = &mut best
+    Ok(MethodRun {
+        rows,
+        best,
+        smoothing_s,
+    })
+}
+
+/// Measures the best observation in full when it was measured without the details,
+/// replacing its row.
+fn measure_best_fully(
+    observer: &Observer<'_>,
+    scheme: &dyn WeightScheme,
+    method: ScanMethod,
+    step: f64,
+    run: &mut MethodRun,
+) -> Result<(), RunError> {
+    if let Some((row, positions)) = &mut run.best
         && row.removed_sq.is_none()
     {
         let full = observer
@@ -547,14 +613,10 @@ fn run_method(
                 true,
             )
             .map_err(RunError::Metrics)?;
-        if let Some(r) = rows.iter_mut().find(|r| r.iteration == full.iteration) {
+        if let Some(r) = run.rows.iter_mut().find(|r| r.iteration == full.iteration) {
             *r = full.clone();
         }
         *row = full;
     }
-    Ok(MethodRun {
-        rows,
-        best,
-        smoothing_s,
-    })
+    Ok(())
 }

@@ -63,115 +63,21 @@ pub(crate) fn read_x3p<R: Read + Seek>(
 ) -> Result<(HeightMap, ChecksumNotes), IoError> {
     let mut archive = ZipArchive::new(reader).map_err(|e| archive_error(&e))?;
     let mut notes = Vec::new();
-    let xml_bytes =
-        read_entry(&mut archive, MAIN_XML, MAX_XML_BYTES)?.ok_or_else(|| IoError::X3pArchive {
-            reason: format!("the archive has no {MAIN_XML}"),
-        })?;
-    if let Some(sums) = read_entry(&mut archive, CHECKSUM_FILE, 4096)? {
-        // `<32 hex digits> *main.xml`, or the digits alone.
-        let text = String::from_utf8_lossy(&sums);
-        let expected = text.split_whitespace().next().unwrap_or("");
-        verify(MAIN_XML, expected, &xml_bytes, lenient, &mut notes)?;
-    }
-    let xml = std::str::from_utf8(&xml_bytes).map_err(|e| IoError::X3pXml {
-        line: None,
-        field: MAIN_XML.into(),
-        reason: format!("not UTF-8 text ({e})"),
-    })?;
-    let doc = Document::parse(xml).map_err(|e| IoError::X3pXml {
-        line: Some(e.pos().row as usize),
-        field: MAIN_XML.into(),
-        reason: e.to_string(),
-    })?;
+    let xml_bytes = read_main_xml(&mut archive, lenient, &mut notes)?;
+    let doc = parse_main_xml(&xml_bytes)?;
     let description = Description::parse(&doc)?;
-    let n = description.points;
     let raw = match &description.data {
         Data::Inline(node) => inline_values(&doc, *node, &description)?,
         Data::Linked { entry, md5 } => {
-            let size = description.z_type.bytes() as u64 * n as u64;
-            let bytes = read_entry(&mut archive, entry, size)?.ok_or_else(|| IoError::X3pData {
-                entry: entry.clone(),
-                reason: "the archive has no such entry (named by Record3/DataLink/PointDataLink)"
-                    .into(),
-            })?;
+            let bytes = read_point_data(&mut archive, entry, &description)?;
             if let Some(expected) = md5 {
                 verify(entry, expected, &bytes, lenient, &mut notes)?;
             }
-            if (bytes.len() as u64) < size {
-                return Err(IoError::X3pData {
-                    entry: entry.clone(),
-                    reason: format!(
-                        "{} bytes, but SizeX·SizeY·SizeZ = {n} values of type {} need {size}",
-                        bytes.len(),
-                        description.z_type_name
-                    ),
-                });
-            }
-            if bytes.len() as u64 > size {
-                return Err(IoError::X3pData {
-                    entry: entry.clone(),
-                    reason: format!(
-                        "{} bytes, more than the {size} of SizeX·SizeY·SizeZ = {n} values of type {}",
-                        bytes.len(),
-                        description.z_type_name
-                    ),
-                });
-            }
-            bytes
-                .chunks_exact(description.z_type.bytes())
-                .map(|b| Some(description.z_type.decode(b)))
-                .collect()
+            linked_values(&bytes, entry, &description)?
         }
     };
-    // Without an increment or offset the values are the heights, bit for bit (-0 too).
-    let scale = |v: f64| match (description.z_increment, description.z_offset) {
-        (None, None) => v,
-        (increment, offset) => offset.unwrap_or(0.0) + increment.unwrap_or(1.0) * v,
-    };
-    let mut z: Vec<f64> = raw
-        .into_iter()
-        .map(|value| value.map_or(f64::NAN, scale))
-        .collect();
-    if let Some(k) = z.iter().position(|z| z.is_infinite()) {
-        return Err(IoError::X3pData {
-            entry: description.data_name(),
-            reason: format!("point {k} has the infinite height {}", z[k]),
-        });
-    }
-    let (valid_entry, valid_md5) = match &description.valid_link {
-        Some((entry, md5)) => (Some(entry.clone()), md5.clone()),
-        None if archive.file_names().any(|name| name == VALID_BIN) => {
-            (Some(VALID_BIN.to_owned()), None)
-        }
-        None => (None, None),
-    };
-    if let Some(entry) = valid_entry {
-        let size = n.div_ceil(8) as u64;
-        // A mask may be padded; more than a few bytes beyond is not a mask of this grid.
-        let mask =
-            read_entry(&mut archive, &entry, size + 64)?.ok_or_else(|| IoError::X3pData {
-                entry: entry.clone(),
-                reason: "the archive has no such entry (named by Record3/DataLink/ValidPointsLink)"
-                    .into(),
-            })?;
-        if let Some(expected) = valid_md5 {
-            verify(&entry, &expected, &mask, lenient, &mut notes)?;
-        }
-        if (mask.len() as u64) < size {
-            return Err(IoError::X3pData {
-                entry,
-                reason: format!(
-                    "{} bytes, but a mask of {n} points needs {size}",
-                    mask.len()
-                ),
-            });
-        }
-        for (k, z) in z.iter_mut().enumerate() {
-            if mask[k / 8] & (1 << (k % 8)) == 0 {
-                *z = f64::NAN;
-            }
-        }
-    }
+    let mut z = heights(raw, &description)?;
+    mask_invalid_points(&mut archive, &description, &mut z, lenient, &mut notes)?;
     let map = HeightMap::new(
         description.nx,
         description.ny,
@@ -181,6 +87,149 @@ pub(crate) fn read_x3p<R: Read + Seek>(
         LengthUnit::Metre,
     )?;
     Ok((map, notes))
+}
+
+/// The bytes of `main.xml`, checked against `md5checksum.hex` when the archive has one.
+fn read_main_xml<R: Read + Seek>(
+    archive: &mut ZipArchive<R>,
+    lenient: bool,
+    notes: &mut ChecksumNotes,
+) -> Result<Vec<u8>, IoError> {
+    let xml_bytes =
+        read_entry(archive, MAIN_XML, MAX_XML_BYTES)?.ok_or_else(|| IoError::X3pArchive {
+            reason: format!("the archive has no {MAIN_XML}"),
+        })?;
+    if let Some(sums) = read_entry(archive, CHECKSUM_FILE, 4096)? {
+        // `<32 hex digits> *main.xml`, or the digits alone.
+        let text = String::from_utf8_lossy(&sums);
+        let expected = text.split_whitespace().next().unwrap_or("");
+        verify(MAIN_XML, expected, &xml_bytes, lenient, notes)?;
+    }
+    Ok(xml_bytes)
+}
+
+/// `main.xml` parsed as an XML document.
+fn parse_main_xml(xml_bytes: &[u8]) -> Result<Document<'_>, IoError> {
+    let xml = std::str::from_utf8(xml_bytes).map_err(|e| IoError::X3pXml {
+        line: None,
+        field: MAIN_XML.into(),
+        reason: format!("not UTF-8 text ({e})"),
+    })?;
+    Document::parse(xml).map_err(|e| IoError::X3pXml {
+        line: Some(e.pos().row as usize),
+        field: MAIN_XML.into(),
+        reason: e.to_string(),
+    })
+}
+
+/// The bytes of the linked point data `entry`, at most the size the description gives.
+fn read_point_data<R: Read + Seek>(
+    archive: &mut ZipArchive<R>,
+    entry: &str,
+    description: &Description<'_, '_>,
+) -> Result<Vec<u8>, IoError> {
+    let size = description.z_type.bytes() as u64 * description.points as u64;
+    read_entry(archive, entry, size)?.ok_or_else(|| IoError::X3pData {
+        entry: entry.to_owned(),
+        reason: "the archive has no such entry (named by Record3/DataLink/PointDataLink)".into(),
+    })
+}
+
+/// The raw values of linked point data: exactly one value of the description's type
+/// per point.
+fn linked_values(
+    bytes: &[u8],
+    entry: &str,
+    description: &Description<'_, '_>,
+) -> Result<Vec<Option<f64>>, IoError> {
+    let n = description.points;
+    let size = description.z_type.bytes() as u64 * n as u64;
+    if (bytes.len() as u64) < size {
+        return Err(IoError::X3pData {
+            entry: entry.to_owned(),
+            reason: format!(
+                "{} bytes, but SizeX·SizeY·SizeZ = {n} values of type {} need {size}",
+                bytes.len(),
+                description.z_type_name
+            ),
+        });
+    }
+    if bytes.len() as u64 > size {
+        return Err(IoError::X3pData {
+            entry: entry.to_owned(),
+            reason: format!(
+                "{} bytes, more than the {size} of SizeX·SizeY·SizeZ = {n} values of type {}",
+                bytes.len(),
+                description.z_type_name
+            ),
+        });
+    }
+    Ok(bytes
+        .chunks_exact(description.z_type.bytes())
+        .map(|b| Some(description.z_type.decode(b)))
+        .collect())
+}
+
+/// The heights: the raw values scaled by the z axis's increment and offset, NaN for
+/// invalid points; an infinite height is an error.
+fn heights(raw: Vec<Option<f64>>, description: &Description<'_, '_>) -> Result<Vec<f64>, IoError> {
+    // Without an increment or offset the values are the heights, bit for bit (-0 too).
+    let scale = |v: f64| match (description.z_increment, description.z_offset) {
+        (None, None) => v,
+        (increment, offset) => offset.unwrap_or(0.0) + increment.unwrap_or(1.0) * v,
+    };
+    let z: Vec<f64> = raw
+        .into_iter()
+        .map(|value| value.map_or(f64::NAN, scale))
+        .collect();
+    if let Some(k) = z.iter().position(|z| z.is_infinite()) {
+        return Err(IoError::X3pData {
+            entry: description.data_name(),
+            reason: format!("point {k} has the infinite height {}", z[k]),
+        });
+    }
+    Ok(z)
+}
+
+/// Sets the heights of the points that the valid-points mask clears to NaN: the mask
+/// the description links, or `bindata/valid.bin` when the archive has one.
+fn mask_invalid_points<R: Read + Seek>(
+    archive: &mut ZipArchive<R>,
+    description: &Description<'_, '_>,
+    z: &mut [f64],
+    lenient: bool,
+    notes: &mut ChecksumNotes,
+) -> Result<(), IoError> {
+    let (entry, valid_md5) = match &description.valid_link {
+        Some((entry, md5)) => (entry.clone(), md5.clone()),
+        None if archive.file_names().any(|name| name == VALID_BIN) => (VALID_BIN.to_owned(), None),
+        None => return Ok(()),
+    };
+    let n = description.points;
+    let size = n.div_ceil(8) as u64;
+    // A mask may be padded; more than a few bytes beyond is not a mask of this grid.
+    let mask = read_entry(archive, &entry, size + 64)?.ok_or_else(|| IoError::X3pData {
+        entry: entry.clone(),
+        reason: "the archive has no such entry (named by Record3/DataLink/ValidPointsLink)".into(),
+    })?;
+    if let Some(expected) = valid_md5 {
+        verify(&entry, &expected, &mask, lenient, notes)?;
+    }
+    if (mask.len() as u64) < size {
+        return Err(IoError::X3pData {
+            entry,
+            reason: format!(
+                "{} bytes, but a mask of {n} points needs {size}",
+                mask.len()
+            ),
+        });
+    }
+    for (k, z) in z.iter_mut().enumerate() {
+        if mask[k / 8] & (1 << (k % 8)) == 0 {
+            *z = f64::NAN;
+        }
+    }
+    Ok(())
 }
 
 fn archive_error(e: &ZipError) -> IoError {
@@ -292,97 +341,19 @@ impl<'a, 'input> Description<'a, 'input> {
     fn parse(doc: &'a Document<'input>) -> Result<Self, IoError> {
         let xml = Xml { doc };
         let root = doc.root_element();
-        if root.tag_name().name() != "ISO5436_2" {
-            return Err(xml.error(
-                root,
-                root.tag_name().name(),
-                "expected the root element ISO5436_2".into(),
-            ));
-        }
-        let record1 = xml.child(root, "Record1", "Record1")?;
-        let feature = xml.child(record1, "FeatureType", "Record1/FeatureType")?;
-        let feature_type = xml.text(feature);
-        if feature_type != "SUR" {
-            return Err(xml.error(
-                feature,
-                "Record1/FeatureType",
-                format!("{feature_type:?}: only SUR (an areal surface on a grid) is a height map"),
-            ));
-        }
+        let record1 = xml.surface_record(root)?;
         let axes = xml.child(record1, "Axes", "Record1/Axes")?;
         let dx = xml.increment(axes, "CX")?;
         let dy = xml.increment(axes, "CY")?;
-        let cz = xml.child(axes, "CZ", "Record1/Axes/CZ")?;
-        let type_node = xml.child(cz, "DataType", "Record1/Axes/CZ/DataType")?;
-        let z_type_name = xml.text(type_node).to_owned();
-        let z_type = match z_type_name.as_str() {
-            "I" => DataType::I16,
-            "L" => DataType::I32,
-            "F" => DataType::F32,
-            "D" => DataType::F64,
-            other => {
-                return Err(xml.error(
-                    type_node,
-                    "Record1/Axes/CZ/DataType",
-                    format!("{other:?}: expected I, L, F or D"),
-                ));
-            }
-        };
-        let z_increment = xml.optional_number(cz, "Increment", "Record1/Axes/CZ/Increment")?;
-        if z_increment == Some(0.0) {
-            return Err(xml.error(
-                cz,
-                "Record1/Axes/CZ/Increment",
-                "0: heights would all be the offset".into(),
-            ));
-        }
-        let z_offset = xml.optional_number(cz, "Offset", "Record1/Axes/CZ/Offset")?;
+        let ZAxis {
+            z_type,
+            z_type_name,
+            z_increment,
+            z_offset,
+        } = xml.z_axis(axes)?;
         let record3 = xml.child(root, "Record3", "Record3")?;
-        let dimension = xml.child(record3, "MatrixDimension", "Record3/MatrixDimension")?;
-        let nx = xml.size(dimension, "SizeX")?;
-        let ny = xml.size(dimension, "SizeY")?;
-        let nz_node = xml.child(dimension, "SizeZ", "Record3/MatrixDimension/SizeZ")?;
-        let nz = xml.size(dimension, "SizeZ")?;
-        if nz != 1 {
-            return Err(xml.error(
-                nz_node,
-                "Record3/MatrixDimension/SizeZ",
-                format!("{nz}: a height map has one layer (SizeZ 1)"),
-            ));
-        }
-        let points = nx
-            .checked_mul(ny)
-            .filter(|&n| n <= MAX_ELEMENTS)
-            .ok_or_else(|| {
-                xml.error(
-                    dimension,
-                    "Record3/MatrixDimension",
-                    format!("SizeX·SizeY = {nx}·{ny} points, more than the {MAX_ELEMENTS} a mesh can index"),
-                )
-            })?;
-        let (data, valid_link) = if let Some(link) = xml.find(record3, "DataLink") {
-            let entry_node = xml.child(link, "PointDataLink", "Record3/DataLink/PointDataLink")?;
-            let entry = xml.text(entry_node).to_owned();
-            let md5 = xml
-                .find(link, "MD5ChecksumPointData")
-                .map(|n| xml.text(n).to_owned());
-            let valid = xml.find(link, "ValidPointsLink").map(|n| {
-                (
-                    xml.text(n).to_owned(),
-                    xml.find(link, "MD5ChecksumValidPoints")
-                        .map(|m| xml.text(m).to_owned()),
-                )
-            });
-            (Data::Linked { entry, md5 }, valid)
-        } else if let Some(list) = xml.find(record3, "DataList") {
-            (Data::Inline(list), None)
-        } else {
-            return Err(xml.error(
-                record3,
-                "Record3",
-                "neither DataLink nor DataList: no point data".into(),
-            ));
-        };
+        let (nx, ny, points) = xml.grid_size(record3)?;
+        let (data, valid_link) = xml.data_location(record3)?;
         Ok(Self {
             nx,
             ny,
@@ -576,5 +547,137 @@ impl<'a, 'input> Xml<'a, 'input> {
                     format!("{text:?} is not a count of 1 or more"),
                 )
             })
+    }
+}
+
+/// What `Record1/Axes/CZ` says about the heights.
+struct ZAxis {
+    z_type: DataType,
+    /// The type as written (`I`, `L`, `F` or `D`).
+    z_type_name: String,
+    /// `Increment`, when given (never 0).
+    z_increment: Option<f64>,
+    /// `Offset`, when given.
+    z_offset: Option<f64>,
+}
+
+/// The steps of [`Description::parse`].
+impl<'a, 'input> Xml<'a, 'input> {
+    /// `Record1`, after checking that the root is `ISO5436_2` and the feature type is
+    /// `SUR`.
+    fn surface_record(&self, root: Node<'a, 'input>) -> Result<Node<'a, 'input>, IoError> {
+        if root.tag_name().name() != "ISO5436_2" {
+            return Err(self.error(
+                root,
+                root.tag_name().name(),
+                "expected the root element ISO5436_2".into(),
+            ));
+        }
+        let record1 = self.child(root, "Record1", "Record1")?;
+        let feature = self.child(record1, "FeatureType", "Record1/FeatureType")?;
+        let feature_type = self.text(feature);
+        if feature_type != "SUR" {
+            return Err(self.error(
+                feature,
+                "Record1/FeatureType",
+                format!("{feature_type:?}: only SUR (an areal surface on a grid) is a height map"),
+            ));
+        }
+        Ok(record1)
+    }
+
+    /// The z axis of `Record1/Axes`: its data type, increment and offset.
+    fn z_axis(&self, axes: Node<'a, 'input>) -> Result<ZAxis, IoError> {
+        let cz = self.child(axes, "CZ", "Record1/Axes/CZ")?;
+        let type_node = self.child(cz, "DataType", "Record1/Axes/CZ/DataType")?;
+        let z_type_name = self.text(type_node).to_owned();
+        let z_type = match z_type_name.as_str() {
+            "I" => DataType::I16,
+            "L" => DataType::I32,
+            "F" => DataType::F32,
+            "D" => DataType::F64,
+            other => {
+                return Err(self.error(
+                    type_node,
+                    "Record1/Axes/CZ/DataType",
+                    format!("{other:?}: expected I, L, F or D"),
+                ));
+            }
+        };
+        let z_increment = self.optional_number(cz, "Increment", "Record1/Axes/CZ/Increment")?;
+        if z_increment == Some(0.0) {
+            return Err(self.error(
+                cz,
+                "Record1/Axes/CZ/Increment",
+                "0: heights would all be the offset".into(),
+            ));
+        }
+        let z_offset = self.optional_number(cz, "Offset", "Record1/Axes/CZ/Offset")?;
+        Ok(ZAxis {
+            z_type,
+            z_type_name,
+            z_increment,
+            z_offset,
+        })
+    }
+
+    /// `SizeX`, `SizeY` and their product, the number of points, from
+    /// `Record3/MatrixDimension` (one layer, indexable by a mesh).
+    fn grid_size(&self, record3: Node<'a, 'input>) -> Result<(usize, usize, usize), IoError> {
+        let dimension = self.child(record3, "MatrixDimension", "Record3/MatrixDimension")?;
+        let nx = self.size(dimension, "SizeX")?;
+        let ny = self.size(dimension, "SizeY")?;
+        let nz_node = self.child(dimension, "SizeZ", "Record3/MatrixDimension/SizeZ")?;
+        let nz = self.size(dimension, "SizeZ")?;
+        if nz != 1 {
+            return Err(self.error(
+                nz_node,
+                "Record3/MatrixDimension/SizeZ",
+                format!("{nz}: a height map has one layer (SizeZ 1)"),
+            ));
+        }
+        let points = nx
+            .checked_mul(ny)
+            .filter(|&n| n <= MAX_ELEMENTS)
+            .ok_or_else(|| {
+                self.error(
+                    dimension,
+                    "Record3/MatrixDimension",
+                    format!("SizeX·SizeY = {nx}·{ny} points, more than the {MAX_ELEMENTS} a mesh can index"),
+                )
+            })?;
+        Ok((nx, ny, points))
+    }
+
+    /// Where `Record3` keeps the point data, and the valid-points link with its
+    /// checksum when it links one.
+    #[allow(clippy::type_complexity)]
+    fn data_location(
+        &self,
+        record3: Node<'a, 'input>,
+    ) -> Result<(Data<'a, 'input>, Option<(String, Option<String>)>), IoError> {
+        if let Some(link) = self.find(record3, "DataLink") {
+            let entry_node = self.child(link, "PointDataLink", "Record3/DataLink/PointDataLink")?;
+            let entry = self.text(entry_node).to_owned();
+            let md5 = self
+                .find(link, "MD5ChecksumPointData")
+                .map(|n| self.text(n).to_owned());
+            let valid = self.find(link, "ValidPointsLink").map(|n| {
+                (
+                    self.text(n).to_owned(),
+                    self.find(link, "MD5ChecksumValidPoints")
+                        .map(|m| self.text(m).to_owned()),
+                )
+            });
+            Ok((Data::Linked { entry, md5 }, valid))
+        } else if let Some(list) = self.find(record3, "DataList") {
+            Ok((Data::Inline(list), None))
+        } else {
+            Err(self.error(
+                record3,
+                "Record3",
+                "neither DataLink nor DataList: no point data".into(),
+            ))
+        }
     }
 }
