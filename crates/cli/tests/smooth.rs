@@ -1,7 +1,8 @@
 //! `beltrami smooth` as a user runs it.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use beltrami_halfedge::primitives;
 use beltrami_io::{MeshData, WriteOptions, read_mesh, write_mesh};
@@ -10,16 +11,7 @@ use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 use insta::assert_snapshot;
 use serde_json::Value;
 
-fn beltrami(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beltrami"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{beltrami, error_line, s};
 
 /// A noisy icosphere written as binary PLY; returns its path and data.
 fn noisy_sphere(dir: &Path) -> (PathBuf, MeshData) {
@@ -43,25 +35,6 @@ fn noisy_sphere(dir: &Path) -> (PathBuf, MeshData) {
     let path = dir.join("noisy.ply");
     write_mesh(&path, &data, &WriteOptions::default()).unwrap();
     (path, data)
-}
-
-/// The error of a failed run: one line, or the argument parser's whole usage message
-/// (exit code 2).
-fn error_line(out: &Output, dir: &Path) -> String {
-    let stderr = String::from_utf8(out.stderr.clone()).unwrap();
-    if stderr.lines().count() > 1 {
-        assert!(
-            stderr
-                .trim_end()
-                .ends_with("For more information, try '--help'."),
-            "{stderr:?}"
-        );
-        assert_eq!(out.status.code(), Some(2), "{stderr:?}");
-    }
-    assert!(stderr.starts_with("error: "), "{stderr:?}");
-    stderr
-        .trim_end()
-        .replace(&format!("{}/", dir.display()), "")
 }
 
 #[test]
