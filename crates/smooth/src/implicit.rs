@@ -15,7 +15,7 @@ mod system;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightError, WeightScheme};
 use rayon::prelude::*;
 
@@ -31,6 +31,44 @@ use system::System;
 /// Vertices per parallel work unit. Fixed, so that sums (and hence results) do not
 /// depend on the number of threads.
 const CHUNK: usize = 4096;
+
+/// The vertices that never move: isolated ones, boundary vertices with a fixed
+/// boundary, and the pinned ones (computed per vertex in parallel).
+fn fixed_vertices(mesh: &HalfedgeMesh, config: &SmoothConfig) -> Vec<bool> {
+    let fixed_boundary = config.boundary == Boundary::Fixed;
+    let mut fixed: Vec<bool> = (0..mesh.n_vertices())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .map(|i| {
+            let v = VertexId::new(i as u32);
+            mesh.is_isolated(v) || (fixed_boundary && mesh.is_boundary_vertex(v))
+        })
+        .collect();
+    for v in &config.pinned {
+        fixed[v.index()] = true;
+    }
+    fixed
+}
+
+/// The solver state before the first assembly: conjugate gradient as asked, or a
+/// placeholder for Cholesky, which is analysed once the matrix is assembled.
+fn initial_solver_state(solver: ImplicitSolver) -> SolverState {
+    match solver {
+        ImplicitSolver::ConjugateGradient {
+            tolerance,
+            max_iterations,
+        } => SolverState::ConjugateGradient {
+            cg: Cg::default(),
+            tolerance,
+            max_iterations,
+        },
+        ImplicitSolver::Cholesky => SolverState::ConjugateGradient {
+            cg: Cg::default(),
+            tolerance: 0.0,
+            max_iterations: 0,
+        },
+    }
+}
 
 /// The solver state.
 #[derive(Debug)]
@@ -104,16 +142,7 @@ impl<'a> Implicit<'a> {
         let mut config = config;
         let start = Instant::now();
         let laplacian = Laplacian::new(mesh, positions, scheme, config.laplacian)?;
-        let mut fixed: Vec<bool> = mesh
-            .vertices()
-            .map(|v| {
-                mesh.is_isolated(v)
-                    || (mesh.is_boundary_vertex(v) && config.boundary == Boundary::Fixed)
-            })
-            .collect();
-        for v in &config.pinned {
-            fixed[v.index()] = true;
-        }
+        let fixed = fixed_vertices(mesh, &config);
         if let Some(duration) = config.duration {
             let moves: Vec<bool> = fixed.iter().map(|f| !f).collect();
             let plan = Plan {
@@ -128,28 +157,13 @@ impl<'a> Implicit<'a> {
             config.lambda = lambda;
             config.iterations = iterations;
         }
-        let system = System::new(mesh, &laplacian, fixed, config.lambda);
+        let system = System::new(&laplacian, fixed, config.lambda);
         let mut smoother = Self {
             mesh,
             scheme,
             laplacian,
             system,
-            solver: match solver {
-                ImplicitSolver::ConjugateGradient {
-                    tolerance,
-                    max_iterations,
-                } => SolverState::ConjugateGradient {
-                    cg: Cg::default(),
-                    tolerance,
-                    max_iterations,
-                },
-                // Analysed below, once the matrix is assembled.
-                ImplicitSolver::Cholesky => SolverState::ConjugateGradient {
-                    cg: Cg::default(),
-                    tolerance: 0.0,
-                    max_iterations: 0,
-                },
-            },
+            solver: initial_solver_state(solver),
             positions: positions.to_vec(),
             next: vec![DVec3::ZERO; positions.len()],
             distances: Vec::new(),
@@ -169,18 +183,25 @@ impl<'a> Implicit<'a> {
         smoother.assemble()?;
         smoother.assembly_time += start.elapsed();
         if solver == ImplicitSolver::Cholesky {
-            let start = Instant::now();
-            let direct = Direct::analyse(&smoother.system).map_err(|e| match e {
+            smoother.analyse()?;
+        }
+        Ok(smoother)
+    }
+
+    /// The symbolic analysis of the direct solver, once the matrix is assembled.
+    fn analyse(&mut self) -> Result<(), SmoothError> {
+        let start = Instant::now();
+        let direct =
+            Direct::analyse(&self.system.matrix(&self.laplacian)).map_err(|e| match e {
                 FactorError::NotPositiveDefinite => {
                     SmoothError::NotPositiveDefinite { iteration: 1 }
                 }
                 FactorError::Other(reason) => SmoothError::Factorization { reason },
             })?;
-            smoother.solver = SolverState::Cholesky(Box::new(direct));
-            smoother.symbolic_factorizations += 1;
-            smoother.analysis_time += start.elapsed();
-        }
-        Ok(smoother)
+        self.solver = SolverState::Cholesky(Box::new(direct));
+        self.symbolic_factorizations += 1;
+        self.analysis_time += start.elapsed();
+        Ok(())
     }
 
     /// Fills the matrix from the operator at the current positions (vertex areas for
@@ -270,7 +291,7 @@ impl<'a> Implicit<'a> {
         if let SolverState::Cholesky(direct) = &mut self.solver {
             if !direct.is_factored() {
                 let start = Instant::now();
-                let result = direct.factorize(&self.system);
+                let result = direct.factorize(&self.system.matrix(&self.laplacian));
                 self.factorization_time += start.elapsed();
                 self.numeric_factorizations += 1;
                 stats.factorized = true;
@@ -289,7 +310,8 @@ impl<'a> Implicit<'a> {
     fn solve(&mut self, iteration: usize, stats: &mut SolveStats) -> Result<(), SmoothError> {
         match &mut self.solver {
             SolverState::Cholesky(direct) => {
-                self.system.rhs(&self.positions, &mut self.next);
+                let matrix = self.system.matrix(&self.laplacian);
+                matrix.rhs(&self.positions, &mut self.next);
                 direct.solve(&mut self.next);
             }
             SolverState::ConjugateGradient {
@@ -298,7 +320,7 @@ impl<'a> Implicit<'a> {
                 max_iterations,
             } => {
                 let outcome = cg.solve_coordinates(
-                    &self.system,
+                    &self.system.matrix(&self.laplacian),
                     &self.positions,
                     &mut self.next,
                     *tolerance,

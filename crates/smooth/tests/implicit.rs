@@ -800,3 +800,76 @@ fn implicit_runs_share_the_explicit_settings_and_report() {
         SmoothError::VolumeNotImplicit
     );
 }
+
+#[test]
+fn dirichlet_couplings_give_the_same_bits_on_any_thread_count_and_match_cholesky() {
+    // An open 80 × 80 grid (6 561 vertices, two chunks of 4096 rows) with a fixed
+    // boundary and a pinned interior vertex: free rows next to them take those columns
+    // to the right-hand side, in both chunks.
+    let mut prim = primitives::grid(80, 80);
+    jitter(&mut prim.positions, 0.2, 5);
+    let mesh = prim.mesh().unwrap();
+    let pinned = VertexId::new(5000);
+    assert!(!mesh.is_boundary_vertex(pinned));
+    // In the unit square, edge length ℓ = 1/80.
+    let x: Vec<DVec3> = prim.positions.iter().map(|&p| p / 80.0).collect();
+    for normalization in [
+        Normalization::WeightSum,
+        Normalization::Area(VertexAreaKind::MixedVoronoi),
+    ] {
+        // The command line's default step; half an edge length squared.
+        let t = if normalization == Normalization::WeightSum {
+            0.8
+        } else {
+            0.5 / 6400.0
+        };
+        let config = implicit(t, 2)
+            .laplacian(options(normalization))
+            .boundary(Boundary::Fixed)
+            .pinned(vec![pinned]);
+        let direct = smooth(&mesh, &x, &Cotangent, config.clone()).unwrap();
+        let cg = config.method(Method::implicit(ImplicitSolver::conjugate_gradient()));
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| smooth(&mesh, &x, &Cotangent, cg.clone()).unwrap())
+        };
+        let (one, two) = (run(1), run(2));
+        let bits = |p: &[DVec3]| -> Vec<u64> {
+            p.iter()
+                .flat_map(|v| v.to_array().map(f64::to_bits))
+                .collect()
+        };
+        assert_eq!(
+            bits(&one.positions),
+            bits(&two.positions),
+            "{normalization:?}"
+        );
+        assert_eq!(one.report.steps, two.report.steps);
+        // The fixed rows keep their bits; the free ones move as the exact solve says.
+        for v in mesh.vertices() {
+            if mesh.is_boundary_vertex(v) || v == pinned {
+                assert_eq!(bits(&[one.positions[v.index()]]), bits(&[x[v.index()]]));
+            }
+        }
+        // CG stops at `‖b − A x‖ ≤ 1e-10 ‖b‖`, and `‖b‖` includes the Dirichlet rows
+        // (identity rows, `b_i = x_i`, about 1 here): with area normalisation the free
+        // rows' scale is the mass, about ℓ² = 1.6e-4, so the tolerance allows position
+        // errors up to about 1e-10 · ‖b‖ / ℓ² ≈ 7e-6 (3e-7 measured); with weight-sum
+        // normalisation the two scales agree and the sphere's 1e-7 holds.
+        let allowed = if normalization == Normalization::WeightSum {
+            1e-7
+        } else {
+            1e-5
+        };
+        let err = max_diff(&one.positions, &direct.positions);
+        assert!(err <= allowed, "{normalization:?}: {err:e}");
+        let moved = max_diff(&one.positions, &x);
+        assert!(
+            moved > 1e-4,
+            "{normalization:?}: the grid did not move ({moved:e})"
+        );
+    }
+}

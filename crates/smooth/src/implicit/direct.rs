@@ -12,7 +12,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
 
-use super::system::System;
+use super::system::Matrix;
 
 /// Why a factorisation failed.
 #[derive(Clone, Debug)]
@@ -60,7 +60,7 @@ impl Direct {
     /// The sparsity pattern of `system` (every neighbour pair, whatever the current
     /// Dirichlet rows, so that the analysis stays valid when they change) and its
     /// symbolic analysis.
-    pub(super) fn analyse(system: &System) -> Result<Self, FactorError> {
+    pub(super) fn analyse(system: &Matrix<'_>) -> Result<Self, FactorError> {
         let n = system.n();
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(system.neighbours.len() / 2 + n);
@@ -126,13 +126,13 @@ impl Direct {
     }
 
     /// Factorises the current matrix of `system` numerically, reusing the analysis.
-    pub(super) fn factorize(&mut self, system: &System) -> Result<(), FactorError> {
+    pub(super) fn factorize(&mut self, system: &Matrix<'_>) -> Result<(), FactorError> {
         self.factored = false;
         self.values.fill(0.0);
-        for (i, &d) in system.diagonal.iter().enumerate() {
+        for (i, &d) in system.diagonal().iter().enumerate() {
             self.values[self.diagonal_entry[i]] = d;
         }
-        for (&entry, &a) in self.slot_entry.iter().zip(&system.off_diagonal) {
+        for (&entry, &a) in self.slot_entry.iter().zip(system.off_diagonal()) {
             if entry != usize::MAX {
                 self.values[entry] += a;
             }

@@ -1,9 +1,12 @@
-//! The linear system of one backward-Euler step, `(M − t L) x' = M x`, in the row layout
-//! of the [`Laplacian`]: one slot per halfedge `i → j`, rows in one-ring order.
+//! The linear system of one backward-Euler step, `(M − t L) x' = M x`, on the row layout
+//! of the [`Laplacian`]: one slot per halfedge `i → j`, rows in one-ring order. The
+//! layout (row offsets, neighbours) and the operator's weights are the operator's own,
+//! borrowed through a [`Matrix`]; the system stores only what it adds per slot (the
+//! twin slot and the matrix entry) and per row.
 
 use std::ops::Range;
 
-use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_halfedge::{DVec3, VertexId};
 use beltrami_weights::Laplacian;
 use rayon::prelude::*;
 
@@ -12,31 +15,27 @@ use super::CHUNK;
 /// The matrix `A = M + t K` (`K = −L`, the symmetric stiffness) and what the right-hand
 /// side needs, with Dirichlet rows (fixed, pinned, isolated and stuck vertices) replaced
 /// by identity rows and their columns moved to the right-hand side, so that `A` stays
-/// symmetric.
+/// symmetric. Read it through [`matrix`](Self::matrix), with the operator it was
+/// assembled from.
 #[derive(Clone, Debug)]
 pub(super) struct System {
-    /// Row `i` is `offsets[i]..offsets[i + 1]` (see [`slots`](Self::slots)); `u32`
-    /// like the halfedge handles, half the bytes the matrix passes stream.
-    offsets: Vec<u32>,
-    /// The neighbour `j` of each slot.
-    pub(super) neighbours: Vec<u32>,
-    /// The slot of the twin halfedge `j → i`.
+    /// The slot of the twin halfedge `j → i` of each slot `i → j`.
     twins: Vec<u32>,
     /// Vertices that never move (fixed boundary, pinned, isolated).
     fixed: Vec<bool>,
     /// The time step `t`.
     time_step: f64,
-    /// Symmetrised weights `½ (w_ij + w_ji)` per slot.
-    weights: Vec<f64>,
     /// The lumped mass `M_ii` (vertex area or weight sum).
     mass: Vec<f64>,
     /// Whether row `i` is an unknown (not Dirichlet) in the current assembly.
     pub(super) free: Vec<bool>,
+    /// Whether free row `i` has a Dirichlet neighbour (a column moved to the
+    /// right-hand side) in the current assembly.
+    coupled: Vec<bool>,
     /// The diagonal of `A` (1 for a Dirichlet row).
-    pub(super) diagonal: Vec<f64>,
-    /// The off-diagonal `A_ij` per slot (0 when `i` or `j` is Dirichlet); during
-    /// [`assemble`](Self::assemble) first the operator's weights per slot.
-    pub(super) off_diagonal: Vec<f64>,
+    diagonal: Vec<f64>,
+    /// The off-diagonal `A_ij` per slot (0 when `i` or `j` is Dirichlet).
+    off_diagonal: Vec<f64>,
     /// Vertices that should move but cannot (see [`assemble`](Self::assemble)).
     pub(super) stuck: usize,
 }
@@ -46,6 +45,27 @@ pub(super) struct System {
 pub(super) struct NonFiniteEntry {
     /// The row.
     pub(super) vertex: u32,
+}
+
+/// The assembled [`System`] on the row layout of its operator, as plain slices: what
+/// the solvers read.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Matrix<'a> {
+    /// Row `i` is `offsets[i]..offsets[i + 1]` (the operator's offsets, `u32` like the
+    /// halfedge handles).
+    offsets: &'a [u32],
+    /// The neighbour `j` of each slot.
+    pub(super) neighbours: &'a [u32],
+    /// The operator's weight `w_ij` of each slot (before symmetrisation).
+    raw: &'a [f64],
+    /// See [`System`].
+    twins: &'a [u32],
+    time_step: f64,
+    mass: &'a [f64],
+    free: &'a [bool],
+    coupled: &'a [bool],
+    diagonal: &'a [f64],
+    off_diagonal: &'a [f64],
 }
 
 /// Splits `data` (one entry per slot) into the slots of consecutive chunks of
@@ -63,70 +83,93 @@ fn row_chunks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<(usize, &'a 
     out
 }
 
-impl System {
-    /// The layout of `laplacian` (assembled on `mesh`) with `fixed` vertices as
-    /// permanent Dirichlet rows.
-    pub(super) fn new(
-        mesh: &HalfedgeMesh,
-        laplacian: &Laplacian,
-        fixed: Vec<bool>,
-        time_step: f64,
-    ) -> Self {
-        let n = laplacian.n_rows();
-        let mut offsets = Vec::with_capacity(n + 1);
-        offsets.push(0u32);
-        let mut total = 0usize;
-        for i in 0..n {
-            total += laplacian.row_halfedges(VertexId::new(i as u32)).len();
-            // At most one slot per halfedge, and halfedge handles are `u32`.
-            offsets.push(total as u32);
+/// The symmetrised weight `½ w_ij + ½ w_ji` of slot `s` (`raw` the operator's weights
+/// per slot). `½ w + ½ w` is `w` exactly, so symmetric schemes keep their bits.
+#[inline(always)]
+fn symmetrised(raw: &[f64], twins: &[u32], s: usize) -> f64 {
+    0.5 * raw[s] + 0.5 * raw[twins[s] as usize]
+}
+
+/// The slot of the twin `j → i` of slot `s` (`i → j`, in row `i`): the slot of row `j`
+/// whose neighbour is `i`, or, when `i` and `j` are joined by more than one edge, the
+/// slot of the twin halfedge.
+fn twin_slot(
+    laplacian: &Laplacian,
+    offsets: &[u32],
+    neighbours: &[u32],
+    i: usize,
+    s: usize,
+) -> u32 {
+    let j = neighbours[s] as usize;
+    let row = offsets[j] as usize..offsets[j + 1] as usize;
+    let mut hits = row.clone().filter(|&k| neighbours[k] as usize == i);
+    match (hits.next(), hits.next()) {
+        (Some(k), None) => k as u32,
+        _ => {
+            // Several edges between `i` and `j`: find the twin halfedge itself.
+            let v = VertexId::new(i as u32);
+            let h = laplacian
+                .row_halfedges(v)
+                .nth(s - offsets[i] as usize)
+                .expect("the slot lies in its row");
+            let k = laplacian
+                .row_halfedges(VertexId::new(j as u32))
+                .position(|g| g == h.twin())
+                .expect("every halfedge lies in the row of the vertex it leaves");
+            (row.start + k) as u32
         }
-        let mut neighbours = vec![0u32; total];
+    }
+}
+
+impl System {
+    /// The system on the layout of `laplacian` with `fixed` vertices as permanent
+    /// Dirichlet rows; [`assemble`](Self::assemble) fills it.
+    pub(super) fn new(laplacian: &Laplacian, fixed: Vec<bool>, time_step: f64) -> Self {
+        let n = laplacian.n_rows();
+        let rows = laplacian.rows();
+        let (offsets, neighbours) = (rows.offsets, rows.neighbours);
+        let total = neighbours.len();
         let mut twins = vec![0u32; total];
-        row_chunks(&offsets, &mut neighbours)
+        row_chunks(offsets, &mut twins)
             .into_par_iter()
-            .zip(row_chunks(&offsets, &mut twins))
-            .for_each(|((first, nb), (_, tw))| {
+            .for_each(|(first, tw)| {
                 let base = offsets[first] as usize;
-                let last = (first + CHUNK).min(n);
-                for i in first..last {
-                    let v = VertexId::new(i as u32);
-                    let slots = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                    for ((h, (j, _)), (nb, tw)) in laplacian
-                        .row_halfedges(v)
-                        .zip(laplacian.row(v))
-                        .zip(nb[slots.clone()].iter_mut().zip(&mut tw[slots]))
-                    {
-                        *nb = j.raw();
-                        // The twin `j → i` leaves `j`, so it lies in row `j`.
-                        let k = laplacian
-                            .row_halfedges(j)
-                            .position(|g| g == h.twin())
-                            .expect("every halfedge lies in the row of the vertex it leaves");
-                        *tw = offsets[j.index()] + k as u32;
+                for i in first..(first + CHUNK).min(n) {
+                    for s in offsets[i] as usize..offsets[i + 1] as usize {
+                        tw[s - base] = twin_slot(laplacian, offsets, neighbours, i, s);
                     }
                 }
             });
-        debug_assert!(total <= mesh.n_halfedges());
         Self {
-            offsets,
-            neighbours,
             twins,
             fixed,
             time_step,
-            weights: vec![0.0; total],
             mass: vec![0.0; n],
             free: vec![false; n],
+            coupled: vec![false; n],
             diagonal: vec![1.0; n],
             off_diagonal: vec![0.0; total],
             stuck: 0,
         }
     }
 
-    /// The slots of row `i`.
-    #[inline]
-    pub(super) fn slots(&self, i: usize) -> Range<usize> {
-        self.offsets[i] as usize..self.offsets[i + 1] as usize
+    /// The matrix as last assembled from `laplacian` (the operator the system was made
+    /// and assembled with).
+    pub(super) fn matrix<'a>(&'a self, laplacian: &'a Laplacian) -> Matrix<'a> {
+        let rows = laplacian.rows();
+        debug_assert_eq!(rows.neighbours.len(), self.twins.len());
+        Matrix {
+            offsets: rows.offsets,
+            neighbours: rows.neighbours,
+            raw: rows.weights,
+            twins: &self.twins,
+            time_step: self.time_step,
+            mass: &self.mass,
+            free: &self.free,
+            coupled: &self.coupled,
+            diagonal: &self.diagonal,
+            off_diagonal: &self.off_diagonal,
+        }
     }
 
     /// The number of unknowns (vertices).
@@ -143,54 +186,46 @@ impl System {
     /// move it either ([`Laplacian::scale`] is `None`), or when its symmetrised weights
     /// do not sum to a positive finite value, or its mass is not positive and finite.
     ///
-    /// Three parallel passes over fixed chunks of rows (the weights of each row, then
-    /// the symmetrised weights, mass and diagonal, then the off-diagonal entries); the
-    /// first non-finite entry in row order is the error, whatever the thread count.
+    /// Two parallel passes over fixed chunks of rows (the mass and diagonal, then the
+    /// off-diagonal entries, which need the neighbours' Dirichlet flags); the first
+    /// non-finite entry in row order is the error, whatever the thread count.
     pub(super) fn assemble(
         &mut self,
         laplacian: &Laplacian,
         areas: Option<&[f64]>,
     ) -> Result<(), NonFiniteEntry> {
-        let n = self.n();
-        let offsets = &self.offsets;
-        // The operator's weights per slot, in `off_diagonal` until the last pass.
-        row_chunks(offsets, &mut self.off_diagonal)
-            .into_par_iter()
-            .for_each(|(first, raw)| {
-                let base = offsets[first] as usize;
-                for i in first..(first + CHUNK).min(n) {
-                    let slots = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                    for (slot, (_, w)) in raw[slots]
-                        .iter_mut()
-                        .zip(laplacian.row(VertexId::new(i as u32)))
-                    {
-                        *slot = w;
-                    }
-                }
-            });
+        let diagonal_bad = self.assemble_diagonal(laplacian, areas);
+        let off_bad = self.assemble_off_diagonal(laplacian);
+        // The first bad row, as a sequential pass would find it: a diagonal is checked
+        // before the off-diagonal entries of any row.
+        match diagonal_bad.or(off_bad) {
+            Some(vertex) => Err(NonFiniteEntry { vertex }),
+            None => Ok(()),
+        }
+    }
+
+    /// The first pass of [`assemble`](Self::assemble): per row the symmetrised weight
+    /// sum, the mass, whether the row is free, and the diagonal; counts the stuck rows
+    /// and returns the first row whose diagonal is not finite.
+    fn assemble_diagonal(&mut self, laplacian: &Laplacian, areas: Option<&[f64]>) -> Option<u32> {
+        let rows = laplacian.rows();
+        let (offsets, raw) = (rows.offsets, rows.weights);
         let t = self.time_step;
-        let (raw, twins, fixed) = (&self.off_diagonal, &self.twins, &self.fixed);
-        let rows = self
+        let (twins, fixed) = (&self.twins, &self.fixed);
+        let tallies: Vec<(usize, Option<u32>)> = self
             .mass
             .par_chunks_mut(CHUNK)
             .zip(self.free.par_chunks_mut(CHUNK))
-            .zip(self.diagonal.par_chunks_mut(CHUNK));
-        let tallies: Vec<(usize, Option<u32>)> = row_chunks(offsets, &mut self.weights)
-            .into_par_iter()
-            .zip(rows)
-            .map(|((first, weights), ((mass, free), diagonal))| {
-                let base = offsets[first] as usize;
+            .zip(self.diagonal.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, ((mass, free), diagonal))| {
                 let mut stuck = 0;
                 let mut bad = None;
                 for k in 0..mass.len() {
-                    let i = first + k;
-                    let slots = offsets[i] as usize..offsets[i + 1] as usize;
-                    let row = &mut weights[slots.start - base..slots.end - base];
-                    // ½ w + ½ w is w exactly, so symmetric schemes keep their bits.
-                    for (w, s) in row.iter_mut().zip(slots) {
-                        *w = 0.5 * raw[s] + 0.5 * raw[twins[s] as usize];
-                    }
-                    let sum: f64 = row.iter().sum();
+                    let i = c * CHUNK + k;
+                    let sum: f64 = (offsets[i] as usize..offsets[i + 1] as usize)
+                        .map(|s| symmetrised(raw, twins, s))
+                        .sum();
                     let m = areas.map_or(sum, |a| a[i]);
                     mass[k] = m;
                     let movable = laplacian.scale(VertexId::new(i as u32)).is_some()
@@ -209,18 +244,33 @@ impl System {
             })
             .collect();
         self.stuck = tallies.iter().map(|&(s, _)| s).sum();
-        let diagonal_bad = tallies.iter().find_map(|&(_, b)| b);
-        let (neighbours, weights, free) = (&self.neighbours, &self.weights, &self.free);
-        let off_bad: Vec<Option<u32>> = row_chunks(offsets, &mut self.off_diagonal)
+        tallies.iter().find_map(|&(_, b)| b)
+    }
+
+    /// The second pass of [`assemble`](Self::assemble): `A_ij = −t (½ w_ij + ½ w_ji)`
+    /// between free rows, 0 otherwise, and whether a free row has a Dirichlet
+    /// neighbour; returns the first row with a non-finite entry.
+    fn assemble_off_diagonal(&mut self, laplacian: &Laplacian) -> Option<u32> {
+        let rows = laplacian.rows();
+        let (offsets, neighbours, raw) = (rows.offsets, rows.neighbours, rows.weights);
+        let n = self.n();
+        let t = self.time_step;
+        let (twins, free) = (&self.twins, &self.free);
+        let bad: Vec<Option<u32>> = row_chunks(offsets, &mut self.off_diagonal)
             .into_par_iter()
-            .map(|(first, off)| {
+            .zip(self.coupled.par_chunks_mut(CHUNK))
+            .map(|((first, off), coupled)| {
                 let base = offsets[first] as usize;
                 let mut bad = None;
                 for i in first..(first + CHUNK).min(n) {
+                    coupled[i - first] = free[i]
+                        && neighbours[offsets[i] as usize..offsets[i + 1] as usize]
+                            .iter()
+                            .any(|&j| !free[j as usize]);
                     for s in offsets[i] as usize..offsets[i + 1] as usize {
                         let j = neighbours[s] as usize;
                         let a = if free[i] && free[j] {
-                            -t * weights[s]
+                            -t * symmetrised(raw, twins, s)
                         } else {
                             0.0
                         };
@@ -233,12 +283,30 @@ impl System {
                 bad
             })
             .collect();
-        // The first bad row, as a sequential pass would find it: a diagonal is checked
-        // before the off-diagonal entries of any row.
-        match diagonal_bad.or_else(|| off_bad.into_iter().flatten().next()) {
-            Some(vertex) => Err(NonFiniteEntry { vertex }),
-            None => Ok(()),
-        }
+        bad.into_iter().flatten().next()
+    }
+}
+
+impl Matrix<'_> {
+    /// The number of unknowns (vertices).
+    pub(super) fn n(&self) -> usize {
+        self.diagonal.len()
+    }
+
+    /// The slots of row `i`.
+    #[inline]
+    pub(super) fn slots(&self, i: usize) -> Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
+    }
+
+    /// The diagonal of `A` (1 for a Dirichlet row).
+    pub(super) fn diagonal(&self) -> &[f64] {
+        self.diagonal
+    }
+
+    /// The off-diagonal `A_ij` per slot (0 when `i` or `j` is Dirichlet).
+    pub(super) fn off_diagonal(&self) -> &[f64] {
+        self.off_diagonal
     }
 
     /// The right-hand side `b` of the current assembly for positions `x`: `M_ii x_i`
@@ -256,32 +324,72 @@ impl System {
     /// Row `i` of [`rhs`](Self::rhs).
     #[inline]
     pub(super) fn rhs_row(&self, x: &[DVec3], i: usize) -> DVec3 {
-        if self.free[i] {
+        if !self.free[i] {
+            return x[i];
+        }
+        let mut s = x[i] * self.mass[i];
+        if self.coupled[i] {
             let t = self.time_step;
-            let mut s = x[i] * self.mass[i];
             for slot in self.slots(i) {
                 let j = self.neighbours[slot] as usize;
                 if !self.free[j] {
-                    s += x[j] * (t * self.weights[slot]);
+                    s += x[j] * (t * symmetrised(self.raw, self.twins, slot));
                 }
             }
-            s
-        } else {
-            x[i]
         }
+        s
     }
 
-    /// `(A x)_i` for row `i`.
+    /// `q = A p` for the rows `first..first + q.len()`; returns `Σ p_i q_i` over them,
+    /// in row order. Each row sums its diagonal term, then its slots in order, as
+    /// [`row_product`](Self::row_product).
+    pub(super) fn product_rows(&self, p: &[DVec3], q: &mut [DVec3], first: usize) -> DVec3 {
+        product_chunk(
+            &self.offsets[first..=first + q.len()],
+            self.neighbours,
+            self.off_diagonal,
+            &self.diagonal[first..first + q.len()],
+            p,
+            (q, first),
+        )
+    }
+
+    /// `(A x)_i` for row `i`: the diagonal term, then the slots in order.
     #[inline(always)]
     pub(super) fn row_product(&self, x: &[DVec3], i: usize) -> DVec3 {
         let slots = self.slots(i);
         let mut s = x[i] * self.diagonal[i];
-        for (&a, &j) in self.off_diagonal[slots.clone()]
+        for (&w, &j) in self.off_diagonal[slots.clone()]
             .iter()
             .zip(&self.neighbours[slots])
         {
-            s += x[j as usize] * a;
+            s += x[j as usize] * w;
         }
         s
     }
+}
+
+/// [`Matrix::product_rows`] on plain slices (`offsets` and `diagonal` those of the
+/// chunk's rows), so that the compiler keeps them in registers across the row loop.
+#[inline(never)]
+fn product_chunk(
+    offsets: &[u32],
+    neighbours: &[u32],
+    entries: &[f64],
+    diagonal: &[f64],
+    p: &[DVec3],
+    (q, first): (&mut [DVec3], usize),
+) -> DVec3 {
+    let mut pq = DVec3::ZERO;
+    for (k, (q, &d)) in q.iter_mut().zip(diagonal).enumerate() {
+        let i = first + k;
+        let slots = offsets[k] as usize..offsets[k + 1] as usize;
+        let mut s = p[i] * d;
+        for (&w, &j) in entries[slots.clone()].iter().zip(&neighbours[slots]) {
+            s += p[j as usize] * w;
+        }
+        *q = s;
+        pq += p[i] * s;
+    }
+    pq
 }
