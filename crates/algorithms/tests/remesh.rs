@@ -10,27 +10,8 @@ use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, VertexId, primitives};
 use beltrami_metrics::distance::SurfaceIndex;
 use beltrami_surfaces::{FLensParams, Size, SurfaceKind, flens};
 use beltrami_testkit::SplitMix64;
+use beltrami_testkit::fixtures::jittered_grid;
 use proptest::prelude::*;
-
-/// A grid of `nx × ny` unit squares with its interior vertices moved about in the plane.
-fn jittered_grid(nx: u32, ny: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
-    let grid = primitives::grid(nx, ny);
-    let mesh = grid.mesh().unwrap();
-    let mut rng = SplitMix64::new(seed);
-    let x = grid
-        .positions
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
-                p
-            } else {
-                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * amount
-            }
-        })
-        .collect();
-    (mesh, x)
-}
 
 fn edge_lengths(mesh: &HalfedgeMesh, x: &[DVec3]) -> Vec<f64> {
     mesh.edges()

@@ -186,6 +186,36 @@ pub fn with_bench_noise(surface: &Surface) -> (HalfedgeMesh, Vec<DVec3>) {
     (mesh, positions)
 }
 
+/// A grid of `nx × ny` unit squares (`primitives::grid`) with each interior vertex
+/// moved in the plane by up to `amount` of a cell along x and y (two
+/// [`SplitMix64::next_symmetric`] draws from `seed` per interior vertex, in vertex
+/// order); boundary vertices stay. Beside its mesh.
+///
+/// # Panics
+/// Never for `nx, ny ≥ 1` (the grid is a valid mesh).
+#[must_use]
+pub fn jittered_grid(nx: u32, ny: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
+    let grid = primitives::grid(nx, ny);
+    let mesh = grid.mesh().expect("a grid is a valid mesh");
+    let mut rng = SplitMix64::new(seed);
+    let positions = grid
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let boundary = mesh.is_boundary_vertex(beltrami_halfedge::VertexId::new(
+                u32::try_from(i).expect("grid vertex ids fit u32"),
+            ));
+            if boundary {
+                p
+            } else {
+                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * amount
+            }
+        })
+        .collect();
+    (mesh, positions)
+}
+
 /// A torus (genus 1) with tube-centre radius 2 and tube radius 0.6 on a 36 × 12 grid
 /// (432 vertices, 864 triangles), every coordinate moved by up to ±0.03.
 #[must_use]

@@ -4,30 +4,11 @@ use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_testkit::SplitMix64;
+use beltrami_testkit::fixtures::jittered_grid;
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightError, WeightRegistry, WeightScheme,
 };
-
-/// A grid whose interior vertices are moved in-plane by up to `amount` of a cell.
-fn jittered_grid(n: u32, amount: f64, seed: u64) -> (HalfedgeMesh, Vec<DVec3>) {
-    let g = primitives::grid(n, n);
-    let mesh = g.mesh().unwrap();
-    let mut rng = SplitMix64::new(seed);
-    let positions = g
-        .positions
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            if mesh.is_boundary_vertex(VertexId::new(i as u32)) {
-                p
-            } else {
-                p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * amount
-            }
-        })
-        .collect();
-    (mesh, positions)
-}
 
 fn schemes() -> Vec<Box<dyn WeightScheme>> {
     vec![
@@ -57,7 +38,7 @@ fn uniform_weights_sum_to_the_valence() {
 
 #[test]
 fn cotangent_and_distance_weights_are_symmetric() {
-    let (mesh, x) = jittered_grid(6, 0.3, 7);
+    let (mesh, x) = jittered_grid(6, 6, 0.3, 7);
     for scheme in [&Cotangent as &dyn WeightScheme, &InverseDistance] {
         let lap = Laplacian::new(&mesh, &x, scheme, LaplacianOptions::default()).unwrap();
         for v in mesh.vertices() {
@@ -96,7 +77,7 @@ fn bulk_weights_equal_the_simple_form_bit_for_bit() {
 
 #[test]
 fn cotangent_laplacian_of_a_linear_function_vanishes_on_an_irregular_plane() {
-    let (mesh, x) = jittered_grid(8, 0.35, 11);
+    let (mesh, x) = jittered_grid(8, 8, 0.35, 11);
     let cot = Laplacian::new(&mesh, &x, &Cotangent, LaplacianOptions::default()).unwrap();
     let uni = Laplacian::new(&mesh, &x, &Uniform, LaplacianOptions::default()).unwrap();
     let mut uniform_drift: f64 = 0.0;
@@ -111,7 +92,7 @@ fn cotangent_laplacian_of_a_linear_function_vanishes_on_an_irregular_plane() {
 
 #[test]
 fn irregular_planes_have_negative_cotangent_weights_and_policies_treat_them() {
-    let (mesh, x) = jittered_grid(8, 0.45, 5);
+    let (mesh, x) = jittered_grid(8, 8, 0.45, 5);
     let keep = Laplacian::new(&mesh, &x, &Cotangent, LaplacianOptions::default()).unwrap();
     let negatives = mesh
         .vertices()
@@ -178,7 +159,7 @@ fn area_normalised_cotangent_laplacian_is_the_mean_curvature_normal_on_a_sphere(
 
 #[test]
 fn laplacian_is_equivariant_under_rigid_motions() {
-    let (mesh, x) = jittered_grid(5, 0.3, 2);
+    let (mesh, x) = jittered_grid(5, 5, 0.3, 2);
     // Lift the grid out of the plane so that the test is three-dimensional.
     let x: Vec<DVec3> = x
         .iter()
