@@ -119,13 +119,9 @@ fn fresh_weights_in_the_sweep_are_the_refreshed_operator_bit_for_bit() {
                         assert!(boundary == Boundary::Curve && lambda < 0.1, "{label}");
                         continue;
                     };
-                    let mut reordered = Smoother::new(
-                        mesh,
-                        x0,
-                        scheme,
-                        config.clone().reorder(Reorder::Always),
-                    )
-                    .unwrap();
+                    let mut reordered =
+                        Smoother::new(mesh, x0, scheme, config.clone().reorder(Reorder::Always))
+                            .unwrap();
                     let mut lap = Laplacian::new(mesh, x0, scheme, options).unwrap();
                     let mut x = x0.clone();
                     for k in 0..iterations {

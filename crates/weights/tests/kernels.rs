@@ -81,7 +81,8 @@ fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, labe
 /// gives every row's weights and scale with the bits of `assembled` (the operator
 /// assembled at `x`, `None` when that failed): a row whose weights do not sum to a
 /// finite value is refused (`None`), which `update` handles (with an error, or through
-/// the generic path when only the sum overflows).
+/// the generic path when only the sum overflows); and `FreshRows::block` over blocks
+/// that split the rows anywhere gives the same bits.
 fn assert_fresh_rows(
     mesh: &HalfedgeMesh,
     x: &[DVec3],
@@ -108,14 +109,52 @@ fn assert_fresh_rows(
             let refused = mesh
                 .vertices()
                 .any(|v| fresh.row(v.index(), x, &mut w).is_none());
-            assert!(refused, "{label} {}: an error, but fresh rows", scheme.name());
+            assert!(
+                refused,
+                "{label} {}: an error, but fresh rows",
+                scheme.name()
+            );
         }
         return;
     };
     let fresh = fresh.unwrap_or_else(|| panic!("{label} {}: no fresh rows", scheme.name()));
+    // Blocks of rows (split anywhere) have the bits of the rows one at a time.
+    let n = mesh.n_vertices();
+    let offsets = fresh.offsets();
+    let mut weights = vec![f64::NAN; offsets[n] as usize];
+    let mut scales = vec![f64::NAN; n];
+    let mut finite = true;
+    for range in [0..n / 3, n / 3..n / 3, n / 3..n] {
+        let slots = offsets[range.start] as usize..offsets[range.end] as usize;
+        finite &= fresh.block(range.start, x, &mut weights[slots], &mut scales[range]);
+    }
+    let sums_finite = mesh.vertices().all(|v| assembled.weight_sum(v).is_finite());
+    assert_eq!(finite, sums_finite, "{label} {}", scheme.name());
+    if finite {
+        let want: Vec<u64> = assembled
+            .rows()
+            .weights
+            .iter()
+            .map(|w| w.to_bits())
+            .collect();
+        let got: Vec<u64> = weights.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{label} {} blocks", scheme.name());
+        let want: Vec<u64> = assembled
+            .rows()
+            .scales
+            .iter()
+            .map(|w| w.to_bits())
+            .collect();
+        let got: Vec<u64> = scales.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{label} {} block scales", scheme.name());
+    }
     assert_eq!(fresh.offsets(), assembled.rows().offsets, "{label}");
     assert_eq!(fresh.neighbours(), assembled.rows().neighbours, "{label}");
-    assert_eq!(fresh.unit_weights(), assembled.rows().unit_weights, "{label}");
+    assert_eq!(
+        fresh.unit_weights(),
+        assembled.rows().unit_weights,
+        "{label}"
+    );
     for v in mesh.vertices() {
         let mut w = vec![f64::NAN; assembled.row(v).len()];
         let Some(scale) = fresh.row(v.index(), x, &mut w) else {

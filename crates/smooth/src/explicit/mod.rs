@@ -474,7 +474,14 @@ impl<'a> Explicit<'a> {
             lambda,
         };
         let (disp, record) = (&mut self.disp[..], self.perm.is_some());
-        sweep_chunks(&input, want, record, &mut self.next, disp, &mut self.partials);
+        sweep_chunks(
+            &input,
+            want,
+            record,
+            &mut self.next,
+            disp,
+            &mut self.partials,
+        );
         self.update_time += start.elapsed();
     }
 
@@ -506,7 +513,14 @@ impl<'a> Explicit<'a> {
             lambda,
         };
         let (disp, record) = (&mut self.disp[..], self.perm.is_some());
-        sweep_chunks(&input, want, record, &mut self.next, disp, &mut self.partials);
+        sweep_chunks(
+            &input,
+            want,
+            record,
+            &mut self.next,
+            disp,
+            &mut self.partials,
+        );
         self.update_time += swept.elapsed();
         if self.partials.iter().any(|p| p.redo) {
             return false;

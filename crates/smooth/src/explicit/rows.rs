@@ -59,19 +59,56 @@ fn sweep_rows_as<const AREA: bool, const UNIT: bool>(
 ) -> RowSweep {
     let n = out.len();
     let bounds = &rows.offsets[first..=first + n];
-    let base = bounds[0] as usize;
-    let slots = base..bounds[n] as usize;
-    let neighbours = &rows.neighbours[slots.clone()];
-    let weights = if UNIT { &[][..] } else { &rows.weights[slots] };
-    let scales = &rows.scales[first..first + n];
-    let xs = &positions[first..first + n];
+    let slots = bounds[0] as usize..bounds[n] as usize;
+    let block = Block {
+        bounds,
+        neighbours: &rows.neighbours[slots.clone()],
+        weights: if UNIT { &[][..] } else { &rows.weights[slots] },
+        scales: &rows.scales[first..first + n],
+        first,
+    };
+    let mut swept = RowSweep::default();
+    sweep_block::<AREA, UNIT>(&block, positions, lambda, out, &mut swept);
+    swept
+}
+
+/// Consecutive rows with their weights and scales: `bounds` are the rows' offsets
+/// (`n + 1` of them, the first at `neighbours[0]` and `weights[0]`; `weights` is empty
+/// for unit weights), the first row is `first`.
+struct Block<'b> {
+    bounds: &'b [u32],
+    neighbours: &'b [u32],
+    weights: &'b [f64],
+    scales: &'b [f64],
+    first: usize,
+}
+
+/// The loop of [`sweep_rows_as`] over one [`Block`], adding its stuck rows and new
+/// positions to `swept`. Few values live across the row loop, so that they stay in
+/// registers; the row's slots are one running offset.
+#[inline(always)]
+fn sweep_block<const AREA: bool, const UNIT: bool>(
+    block: &Block<'_>,
+    positions: &[DVec3],
+    lambda: f64,
+    out: &mut [DVec3],
+    swept: &mut RowSweep,
+) {
+    let n = out.len();
+    let base = block.bounds[0] as usize;
+    let xs = &positions[block.first..block.first + n];
     let mut stuck = 0;
-    let mut sum = Xy::ZERO;
+    let mut sum = Xy::from(swept.sum);
     let mut a = 0;
-    for (((o, &xi), &scale), &end) in out.iter_mut().zip(xs).zip(scales).zip(&bounds[1..]) {
+    for (((o, &xi), &scale), &end) in out
+        .iter_mut()
+        .zip(xs)
+        .zip(block.scales)
+        .zip(&block.bounds[1..])
+    {
         let b = end as usize - base;
-        let nb = &neighbours[a..b];
-        let ws = if UNIT { &[][..] } else { &weights[a..b] };
+        let nb = &block.neighbours[a..b];
+        let ws = if UNIT { &[][..] } else { &block.weights[a..b] };
         a = b;
         let x = Xy::from(xi);
         let new = if scale > 0.0 {
@@ -85,17 +122,19 @@ fn sweep_rows_as<const AREA: bool, const UNIT: bool>(
         sum = sum + new;
         *o = new.to_dvec3();
     }
-    RowSweep {
-        stuck,
-        sum: sum.to_dvec3(),
-    }
+    swept.stuck += stuck;
+    swept.sum = sum.to_dvec3();
 }
 
-/// Rows of up to this valence keep their fresh weights on the stack.
-const ROW_BUFFER: usize = 16;
+/// Rows per block of a fresh sweep: their weights are computed together
+/// ([`FreshRows::block`]) and applied while they are in L1.
+const BLOCK_ROWS: usize = 64;
 
-/// [`sweep_rows`] with the weights computed as each row is swept
-/// ([`FreshRows::row`]) instead of read from a stored operator: the same bits as
+/// Slots of a block kept on the stack (a block with more uses a heap buffer).
+const BLOCK_SLOTS: usize = 1024;
+
+/// [`sweep_rows`] with the weights computed as the sweep goes
+/// ([`FreshRows::block`]) instead of read from a stored operator: the same bits as
 /// [`Laplacian::update`](beltrami_weights::Laplacian::update) at `positions` followed
 /// by [`sweep_rows`], without writing or reading a weight array. `positions` must be
 /// those the rows were made for.
@@ -122,8 +161,8 @@ pub(super) fn sweep_fresh_rows(
 }
 
 /// [`sweep_fresh_rows`] for one normalisation and weight kind (as
-/// [`sweep_rows_as`]): each row's weights go to a buffer on the stack (a heap buffer for
-/// a row of more than [`ROW_BUFFER`] neighbours) and are summed at once.
+/// [`sweep_rows_as`]): blocks of [`BLOCK_ROWS`] rows get their weights and scales in
+/// buffers on the stack, then the loop of the stored sweep runs over them.
 #[inline(always)]
 fn sweep_fresh_rows_as<const AREA: bool, const UNIT: bool>(
     rows: &FreshRows<'_>,
@@ -132,39 +171,35 @@ fn sweep_fresh_rows_as<const AREA: bool, const UNIT: bool>(
     lambda: f64,
     out: &mut [DVec3],
 ) -> Option<RowSweep> {
-    let n = out.len();
-    let bounds = &rows.offsets()[first..=first + n];
-    let neighbours = rows.neighbours();
-    let xs = &positions[first..first + n];
-    let mut small = [0.0; ROW_BUFFER];
+    let offsets = rows.offsets();
+    let mut small = [0.0; BLOCK_SLOTS];
     let mut large = Vec::new();
-    let mut stuck = 0;
-    let mut sum = Xy::ZERO;
-    for (k, ((o, &xi), ends)) in out.iter_mut().zip(xs).zip(bounds.windows(2)).enumerate() {
-        let (a, b) = (ends[0] as usize, ends[1] as usize);
-        let ws = if b - a <= ROW_BUFFER {
-            &mut small[..b - a]
+    let mut scales = [0.0; BLOCK_ROWS];
+    let mut swept = RowSweep::default();
+    for (k, out) in out.chunks_mut(BLOCK_ROWS).enumerate() {
+        let f = first + k * BLOCK_ROWS;
+        let m = out.len();
+        let bounds = &offsets[f..=f + m];
+        let slots = bounds[0] as usize..bounds[m] as usize;
+        let weights = if slots.len() <= BLOCK_SLOTS {
+            &mut small[..slots.len()]
         } else {
-            large.resize(b - a, 0.0);
+            large.resize(slots.len(), 0.0);
             &mut large[..]
         };
-        let scale = rows.row(first + k, positions, ws)?;
-        let x = Xy::from(xi);
-        let new = if scale > 0.0 {
-            let s = gather_sum::<AREA, UNIT>(&neighbours[a..b], ws, positions, x);
-            let l = if AREA { s * scale } else { s * scale - x };
-            x + l * lambda
-        } else {
-            stuck += 1;
-            x
+        if !rows.block(f, positions, weights, &mut scales[..m]) {
+            return None;
+        }
+        let block = Block {
+            bounds,
+            neighbours: &rows.neighbours()[slots],
+            weights: if UNIT { &[][..] } else { weights },
+            scales: &scales[..m],
+            first: f,
         };
-        sum = sum + new;
-        *o = new.to_dvec3();
+        sweep_block::<AREA, UNIT>(&block, positions, lambda, out, &mut swept);
     }
-    Some(RowSweep {
-        stuck,
-        sum: sum.to_dvec3(),
-    })
+    Some(swept)
 }
 
 /// The row sum of [`sweep_rows`], from zero in row order: `Σ_j w_j x_j`, or

@@ -6,9 +6,9 @@ use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::Laplacian;
-use super::assembly::{RowKernel, row_scale};
+use super::assembly::{RowKernel, fill_cotangent, fill_inverse_distance, fill_uniform, row_scale};
 use super::cotangent_plan::CotangentPlan;
-use super::options::Normalization;
+use super::options::{NegativeWeights, Normalization};
 use crate::scheme::{BuiltIn, WeightScheme};
 
 /// The rows of a [`Laplacian`] at new positions, computed one row at a time and not
@@ -138,6 +138,83 @@ impl FreshRows<'_> {
         }
         let area = self.areas.as_ref().map(|a| a[i]);
         Some(row_scale(sum, area, weights.is_empty()))
+    }
+
+    /// The rows `first..first + scales.len()` at once: their weights into `weights`
+    /// (the rows' slots one after the other, `offsets[first + n] − offsets[first]` of
+    /// them) and their scales into `scales`, with the bits of [`row`](Self::row). One
+    /// loop per kernel (the kernel is chosen once per block, not per row), for an
+    /// integrator that applies small blocks of rows while their weights are in cache.
+    ///
+    /// `false` when a row's weights do not sum to a finite value (see
+    /// [`row`](Self::row)); `weights` and `scales` are then unspecified.
+    ///
+    /// # Panics
+    /// If the rows reach past the last row, `weights` is shorter than their slots or
+    /// `positions` is shorter than the mesh's vertex count.
+    pub fn block(
+        &self,
+        first: usize,
+        positions: &[DVec3],
+        weights: &mut [f64],
+        scales: &mut [f64],
+    ) -> bool {
+        match self.kernel {
+            RowKernel::Uniform { negative } => {
+                self.block_as(first, weights, scales, |_, _, w| fill_uniform(negative, w))
+            }
+            RowKernel::InverseDistance { negative } => {
+                self.inverse_distance_block(negative, first, positions, weights, scales)
+            }
+            RowKernel::Cotangent {
+                negative,
+                slot_cots,
+                face_cots,
+            } => self.block_as(first, weights, scales, |_, s, w| {
+                fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+            }),
+        }
+    }
+
+    /// [`block`](Self::block) of inverse-distance rows: a function of its own, small
+    /// enough for the distance kernel to be inlined into its loop.
+    #[inline(never)]
+    fn inverse_distance_block(
+        &self,
+        negative: NegativeWeights,
+        first: usize,
+        positions: &[DVec3],
+        weights: &mut [f64],
+        scales: &mut [f64],
+    ) -> bool {
+        let nb = self.neighbours;
+        self.block_as(first, weights, scales, |i, s, w| {
+            fill_inverse_distance::<2>(negative, positions, i, &nb[s..], w)
+        })
+    }
+
+    /// [`block`](Self::block) with the kernel's fill `fill(i, first_slot, weights)`.
+    #[inline(always)]
+    fn block_as<F>(&self, first: usize, weights: &mut [f64], scales: &mut [f64], fill: F) -> bool
+    where
+        F: Fn(usize, usize, &mut [f64]) -> f64,
+    {
+        let n = scales.len();
+        let bounds = &self.offsets[first..=first + n];
+        let base = bounds[0] as usize;
+        let mut a = 0;
+        let mut finite = true;
+        for (k, (&end, scale)) in bounds[1..].iter().zip(scales.iter_mut()).enumerate() {
+            let b = end as usize - base;
+            let w = &mut weights[a..b];
+            let i = first + k;
+            let sum = fill(i, base + a, w);
+            finite &= sum.is_finite();
+            let area = self.areas.as_ref().map(|areas| areas[i]);
+            *scale = row_scale(sum, area, w.is_empty());
+            a = b;
+        }
+        finite
     }
 
     /// Row `i`'s scale alone (0 for a stuck row), or `None` as [`row`](Self::row).
