@@ -39,7 +39,9 @@ const PAR_CHUNK: usize = 8192;
 pub use cotangent::Cotangent;
 pub use error::WeightError;
 pub use inverse_distance::{DISTANCE_EPSILON, InverseDistance};
-pub use laplacian::{Laplacian, LaplacianOptions, LaplacianRows, NegativeWeights, Normalization};
+pub use laplacian::{
+    FreshRows, Laplacian, LaplacianOptions, LaplacianRows, NegativeWeights, Normalization,
+};
 pub use openmesh::OpenMeshCotangent;
 pub use registry::WeightRegistry;
 pub use scheme::{WeightContext, WeightScheme};

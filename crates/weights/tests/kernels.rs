@@ -1,7 +1,9 @@
 //! The built-in schemes' kernels (recognised by type) give the same bits as the
 //! generic path (`fill_weights`, gathered into rows) on meshes that exercise every branch:
 //! irregular planes with negative cotangents, noisy spheres, degenerate and coincident
-//! triangles, coordinates far outside the plain range, boundaries, quads, every option.
+//! triangles, coordinates far outside the plain range, boundaries, quads, every option;
+//! and the rows computed one at a time (`Laplacian::fresh_rows`) give the bits that
+//! `Laplacian::update` stores.
 
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
@@ -35,6 +37,7 @@ fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, labe
         &Cotangent,
     ] {
         let fast = Laplacian::new(mesh, x, scheme, options);
+        assert_fresh_rows(mesh, x, scheme, options, fast.as_ref().ok(), label);
         let slow = Laplacian::new(mesh, x, &Generic(scheme), options);
         let (fast, slow) = match (fast, slow) {
             (Ok(f), Ok(s)) => (f, s),
@@ -71,6 +74,100 @@ fn assert_same(mesh: &HalfedgeMesh, x: &[DVec3], options: LaplacianOptions, labe
                 .map(|l| l.to_array().map(f64::to_bits));
             assert_eq!(la, lb, "{label} {v}");
         }
+    }
+}
+
+/// [`Laplacian::fresh_rows`] at `x`, from an operator assembled at other positions,
+/// gives every row's weights and scale with the bits of `assembled` (the operator
+/// assembled at `x`, `None` when that failed): a row whose weights do not sum to a
+/// finite value is refused (`None`), which `update` handles (with an error, or through
+/// the generic path when only the sum overflows); and `FreshRows::block` over blocks
+/// that split the rows anywhere gives the same bits.
+fn assert_fresh_rows(
+    mesh: &HalfedgeMesh,
+    x: &[DVec3],
+    scheme: &dyn WeightScheme,
+    options: LaplacianOptions,
+    assembled: Option<&Laplacian>,
+    label: &str,
+) {
+    let elsewhere: Vec<DVec3> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let p = if p.is_finite() { p } else { DVec3::ONE };
+            DVec3::new(0.5 * p.y + 1.0, p.x, p.z + 0.01 * i as f64)
+        })
+        .collect();
+    let Ok(mut stale) = Laplacian::new(mesh, &elsewhere, scheme, options) else {
+        return;
+    };
+    let fresh = stale.fresh_rows(mesh, x, scheme);
+    let Some(assembled) = assembled else {
+        if let Some(fresh) = fresh {
+            let mut w = vec![0.0; 64];
+            let refused = mesh
+                .vertices()
+                .any(|v| fresh.row(v.index(), x, &mut w).is_none());
+            assert!(
+                refused,
+                "{label} {}: an error, but fresh rows",
+                scheme.name()
+            );
+        }
+        return;
+    };
+    let fresh = fresh.unwrap_or_else(|| panic!("{label} {}: no fresh rows", scheme.name()));
+    // Blocks of rows (split anywhere) have the bits of the rows one at a time.
+    let n = mesh.n_vertices();
+    let offsets = fresh.offsets();
+    let mut weights = vec![f64::NAN; offsets[n] as usize];
+    let mut scales = vec![f64::NAN; n];
+    let mut finite = true;
+    for range in [0..n / 3, n / 3..n / 3, n / 3..n] {
+        let slots = offsets[range.start] as usize..offsets[range.end] as usize;
+        finite &= fresh.block(range.start, x, &mut weights[slots], &mut scales[range]);
+    }
+    let sums_finite = mesh.vertices().all(|v| assembled.weight_sum(v).is_finite());
+    assert_eq!(finite, sums_finite, "{label} {}", scheme.name());
+    if finite {
+        let want: Vec<u64> = assembled
+            .rows()
+            .weights
+            .iter()
+            .map(|w| w.to_bits())
+            .collect();
+        let got: Vec<u64> = weights.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{label} {} blocks", scheme.name());
+        let want: Vec<u64> = assembled
+            .rows()
+            .scales
+            .iter()
+            .map(|w| w.to_bits())
+            .collect();
+        let got: Vec<u64> = scales.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{label} {} block scales", scheme.name());
+    }
+    assert_eq!(fresh.offsets(), assembled.rows().offsets, "{label}");
+    assert_eq!(fresh.neighbours(), assembled.rows().neighbours, "{label}");
+    assert_eq!(
+        fresh.unit_weights(),
+        assembled.rows().unit_weights,
+        "{label}"
+    );
+    for v in mesh.vertices() {
+        let mut w = vec![f64::NAN; assembled.row(v).len()];
+        let Some(scale) = fresh.row(v.index(), x, &mut w) else {
+            assert!(!assembled.weight_sum(v).is_finite(), "{label} {v}: refused");
+            continue;
+        };
+        let want: Vec<u64> = assembled.row(v).map(|(_, w)| w.to_bits()).collect();
+        let got: Vec<u64> = w.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{label} {} row {v}", scheme.name());
+        let want = assembled.scale(v).map_or(0, f64::to_bits);
+        assert_eq!(scale.to_bits(), want, "{label} {} row {v}", scheme.name());
+        let alone = fresh.scale(v.index(), x).map(f64::to_bits);
+        assert_eq!(alone, Some(want), "{label} {v}");
     }
 }
 

@@ -6,6 +6,7 @@ mod rows;
 mod sweep;
 
 use std::borrow::Cow;
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::Geometry;
@@ -21,7 +22,7 @@ use crate::numbering::{CHUNK, error_to_caller, permute_par, restore_par};
 use crate::report::StepStats;
 
 pub(crate) use sweep::Want;
-use sweep::{FULL, MAX, NOTHING, Partial, SweepInput};
+use sweep::{FULL, MAX, NOTHING, Partial, RowSource, SweepInput};
 
 /// How one vertex moves (one byte per vertex, so the sweep streams little).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,6 +84,12 @@ pub(crate) struct Explicit<'a> {
     volume: f64,
     iteration: usize,
     weights_fresh: bool,
+    /// The last sweep computed its weights itself (see [`sweep_fresh`](Self::sweep_fresh)):
+    /// the stored operator's weights are older than that sweep's.
+    operator_behind: bool,
+    /// The operator of the last sweep when `operator_behind`, computed when first asked
+    /// for (see [`laplacian`](Self::laplacian)).
+    current: OnceLock<Laplacian>,
     weight_time: Duration,
     update_time: Duration,
 }
@@ -163,6 +170,87 @@ fn input_volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<f64, SmoothE
     Ok(volume)
 }
 
+/// `config` with its [`duration`](SmoothConfig::duration), if any, turned into a step
+/// and an iteration count on the first operator.
+///
+/// # Errors
+/// [`SmoothError::InvalidDuration`] when the time cannot be turned into steps.
+fn with_duration_resolved(
+    mut config: SmoothConfig,
+    perm: Option<&VertexPermutation>,
+    positions: &[DVec3],
+    laplacian: &Laplacian,
+    roles: &[Role],
+) -> Result<SmoothConfig, SmoothError> {
+    if let Some(duration) = config.duration {
+        let moves: Vec<bool> = roles.iter().map(|r| *r == Role::Row).collect();
+        let plan = Plan {
+            perm,
+            positions,
+            laplacian,
+            moves: &moves,
+            max_lambda: config.lambda,
+            explicit: true,
+        };
+        let (lambda, iterations) = resolve_duration(&plan, duration.time())?;
+        config.lambda = lambda;
+        config.iterations = iterations;
+    }
+    Ok(config)
+}
+
+/// The compound methods' buffers: the positions at the start of a step (any compound
+/// step), the input positions and the push-back (HC); empty when not needed.
+fn compound_buffers(
+    config: &SmoothConfig,
+    positions: &[DVec3],
+) -> (Vec<DVec3>, Vec<DVec3>, Vec<DVec3>) {
+    let compound = config.method != Method::Laplacian || config.preserve_volume;
+    let hc = matches!(config.method, Method::Hc { .. });
+    let copy = |wanted: bool| {
+        if wanted {
+            positions.to_vec()
+        } else {
+            Vec::new()
+        }
+    };
+    let push_back = if hc {
+        vec![DVec3::ZERO; positions.len()]
+    } else {
+        Vec::new()
+    };
+    (copy(compound), copy(hc), push_back)
+}
+
+/// Runs `input`'s sweep over fixed chunks of [`CHUNK`] rows in parallel, into `next`,
+/// one [`Partial`] per chunk into `partials` (and, with full statistics and `record`,
+/// each displacement into `disp`, as long as `next`).
+fn sweep_chunks(
+    input: &SweepInput<'_>,
+    want: Want,
+    record: bool,
+    next: &mut [DVec3],
+    disp: &mut [f64],
+    partials: &mut Vec<Partial>,
+) {
+    let chunks = next.par_chunks_mut(CHUNK).enumerate();
+    match (want, record) {
+        (Want::Nothing, _) => chunks
+            .map(|(c, out)| input.chunk::<NOTHING, false>(c * CHUNK, out, &mut []))
+            .collect_into_vec(partials),
+        (Want::Max, _) => chunks
+            .map(|(c, out)| input.chunk::<MAX, false>(c * CHUNK, out, &mut []))
+            .collect_into_vec(partials),
+        (Want::Full, false) => chunks
+            .map(|(c, out)| input.chunk::<FULL, false>(c * CHUNK, out, &mut []))
+            .collect_into_vec(partials),
+        (Want::Full, true) => chunks
+            .zip(disp.par_chunks_mut(CHUNK))
+            .map(|((c, out), disp)| input.chunk::<FULL, true>(c * CHUNK, out, disp))
+            .collect_into_vec(partials),
+    }
+}
+
 impl<'a> Explicit<'a> {
     /// Prepares a run on `positions` (copied) and computes the first weights; `config`
     /// has been validated (see [`Smoother::new`](crate::Smoother::new)).
@@ -198,28 +286,13 @@ impl<'a> Explicit<'a> {
             .map_err(|e| to_caller(e.into()))?;
         let roles = vertex_roles(&mesh, &config, perm.as_ref());
         let curve = curve_rows(&mesh, &roles);
-        let compound = config.method != Method::Laplacian || config.preserve_volume;
         // The input volume in the caller's numbering (the same bits either way).
         let volume = if config.preserve_volume {
             input_volume(caller_mesh, caller_positions)?
         } else {
             0.0
         };
-        let mut config = config;
-        if let Some(duration) = config.duration {
-            let moves: Vec<bool> = roles.iter().map(|r| *r == Role::Row).collect();
-            let plan = Plan {
-                perm: perm.as_ref(),
-                positions: &positions,
-                laplacian: &laplacian,
-                moves: &moves,
-                max_lambda: config.lambda,
-                explicit: true,
-            };
-            let (lambda, iterations) = resolve_duration(&plan, duration.time())?;
-            config.lambda = lambda;
-            config.iterations = iterations;
-        }
+        let config = with_duration_resolved(config, perm.as_ref(), &positions, &laplacian, &roles)?;
         let n = positions.len();
         let eager_stats = config.statistics == Statistics::EveryIteration;
         let disp = if perm.is_some() && eager_stats {
@@ -228,16 +301,7 @@ impl<'a> Explicit<'a> {
             Vec::new()
         };
         let next = positions.to_vec();
-        let compound_start = if compound {
-            positions.to_vec()
-        } else {
-            Vec::new()
-        };
-        let original = if matches!(config.method, Method::Hc { .. }) {
-            positions.to_vec()
-        } else {
-            Vec::new()
-        };
+        let (compound_start, original, push_back) = compound_buffers(&config, &positions);
         // A reordered copy is the smoother's own already: moved, not copied again.
         let positions = positions.into_owned();
         let mut smoother = Self {
@@ -257,15 +321,13 @@ impl<'a> Explicit<'a> {
             next,
             start: compound_start,
             original,
-            push_back: if matches!(config.method, Method::Hc { .. }) {
-                vec![DVec3::ZERO; n]
-            } else {
-                Vec::new()
-            },
+            push_back,
             volume,
             config,
             iteration: 0,
             weights_fresh: true,
+            operator_behind: false,
+            current: OnceLock::new(),
             weight_time: Duration::ZERO,
             update_time: Duration::ZERO,
         };
@@ -355,76 +417,128 @@ impl<'a> Explicit<'a> {
     /// One Jacobi sweep `x ← x + step · L x` over the moving vertices, refreshing the
     /// weights first when they are stale, with the statistics `want` asks for. On error
     /// the positions are unchanged.
+    ///
+    /// A plain run whose weights are recomputed every iteration computes each row's
+    /// weights as the sweep reaches it ([`sweep_fresh`](Self::sweep_fresh)): the same
+    /// bits as refreshing the operator first, without storing the weights.
     fn sweep(&mut self, lambda: f64, want: Want) -> Result<StepStats, SmoothError> {
-        if self.weights_stale() {
-            let start = Instant::now();
-            let refreshed = match self
-                .laplacian
-                .update(&self.mesh, &self.positions, self.scheme)
-            {
-                Ok(()) => self.refresh_curve_weights(),
-                Err(e) => Err(e.into()),
-            };
-            if let Err(e) = refreshed {
-                return Err(self.to_caller(e));
-            }
-            self.weight_time += start.elapsed();
-        }
-        self.weights_fresh = false;
-
         if want == Want::Full && self.perm.is_some() {
             // Once per run at most: with on-demand statistics only a `step()` needs it.
             self.disp.resize(self.positions.len(), 0.0);
         }
+        let stale = self.weights_stale();
+        let fused = stale && self.fuses() && self.sweep_fresh(lambda, want);
+        if !fused {
+            if stale {
+                self.refresh_weights()?;
+            }
+            self.sweep_stored(lambda, want);
+        }
+        self.weights_fresh = false;
+        self.sweep_result(want)
+    }
+
+    /// Whether stale weights are computed inside the sweep: plain diffusion only (a
+    /// compound step reads the operator between its sweeps).
+    fn fuses(&self) -> bool {
+        self.config.method == Method::Laplacian && !self.config.preserve_volume
+    }
+
+    /// Refreshes the operator and the curve weights at the current positions.
+    fn refresh_weights(&mut self) -> Result<(), SmoothError> {
         let start = Instant::now();
-        let sweep = SweepInput {
-            laplacian: &self.laplacian,
+        let refreshed = match self
+            .laplacian
+            .update(&self.mesh, &self.positions, self.scheme)
+        {
+            Ok(()) => self.refresh_curve_weights(),
+            Err(e) => Err(e.into()),
+        };
+        if let Err(e) = refreshed {
+            return Err(self.to_caller(e));
+        }
+        self.operator_behind = false;
+        self.weight_time += start.elapsed();
+        Ok(())
+    }
+
+    /// A sweep of the stored operator into `next` and `partials`.
+    fn sweep_stored(&mut self, lambda: f64, want: Want) {
+        let start = Instant::now();
+        let input = SweepInput {
+            rows: RowSource::Stored(&self.laplacian),
             roles: &self.roles,
             exceptions: &self.exceptions,
             curve: &self.curve,
             old: &self.positions,
             lambda,
         };
-        let chunks = self.next.par_chunks_mut(CHUNK).enumerate();
-        match (want, self.perm.is_some()) {
-            (Want::Nothing, _) => chunks
-                .map(|(c, out)| sweep.chunk::<NOTHING, false>(c * CHUNK, out, &mut []))
-                .collect_into_vec(&mut self.partials),
-            (Want::Max, _) => chunks
-                .map(|(c, out)| sweep.chunk::<MAX, false>(c * CHUNK, out, &mut []))
-                .collect_into_vec(&mut self.partials),
-            (Want::Full, false) => chunks
-                .map(|(c, out)| sweep.chunk::<FULL, false>(c * CHUNK, out, &mut []))
-                .collect_into_vec(&mut self.partials),
-            (Want::Full, true) => chunks
-                .zip(self.disp.par_chunks_mut(CHUNK))
-                .map(|((c, out), disp)| sweep.chunk::<FULL, true>(c * CHUNK, out, disp))
-                .collect_into_vec(&mut self.partials),
-        }
+        let (disp, record) = (&mut self.disp[..], self.perm.is_some());
+        sweep_chunks(
+            &input,
+            want,
+            record,
+            &mut self.next,
+            disp,
+            &mut self.partials,
+        );
         self.update_time += start.elapsed();
+    }
 
+    /// A sweep into `next` and `partials` whose rows compute their weights at the
+    /// current positions as it goes ([`Laplacian::fresh_rows`]); the stored operator is
+    /// then behind (see [`laplacian`](Self::laplacian)). `false` when the rows cannot be
+    /// computed that way or a row's weights are not finite: the caller refreshes the
+    /// operator (which reports any error) and sweeps it instead.
+    fn sweep_fresh(&mut self, lambda: f64, want: Want) -> bool {
+        let start = Instant::now();
+        // On error the stored path reports it, after the operator's own errors.
+        if self.refresh_curve_weights().is_err() {
+            return false;
+        }
+        let Some(rows) = self
+            .laplacian
+            .fresh_rows(&self.mesh, &self.positions, self.scheme)
+        else {
+            return false;
+        };
+        let swept = Instant::now();
+        self.weight_time += swept - start;
+        let input = SweepInput {
+            rows: RowSource::Fresh(&rows),
+            roles: &self.roles,
+            exceptions: &self.exceptions,
+            curve: &self.curve,
+            old: &self.positions,
+            lambda,
+        };
+        let (disp, record) = (&mut self.disp[..], self.perm.is_some());
+        sweep_chunks(
+            &input,
+            want,
+            record,
+            &mut self.next,
+            disp,
+            &mut self.partials,
+        );
+        self.update_time += swept.elapsed();
+        if self.partials.iter().any(|p| p.redo) {
+            return false;
+        }
+        self.operator_behind = true;
+        self.current = OnceLock::new();
+        true
+    }
+
+    /// The statistics of the sweep in `partials` (or its error, with the positions
+    /// unchanged); the new positions become the current ones.
+    fn sweep_result(&mut self, want: Want) -> Result<StepStats, SmoothError> {
         let mut stats = StepStats::default();
         let mut sum = 0.0;
         let mut squared: f64 = 0.0;
         for p in &self.partials {
             if let Some(vertex) = p.bad {
-                // The smallest vertex in the caller's numbering, as without reordering.
-                let vertex = match &self.perm {
-                    Some(perm) => self
-                        .next
-                        .par_iter()
-                        .zip(perm.new_to_old().par_iter())
-                        .filter(|(x, _)| !x.is_finite())
-                        .map(|(_, &old)| old)
-                        .min()
-                        .unwrap_or(vertex),
-                    None => vertex,
-                };
-                self.next.copy_from_slice(&self.positions);
-                return Err(SmoothError::NonFinite {
-                    vertex,
-                    iteration: self.iteration,
-                });
+                return Err(self.non_finite(vertex));
             }
             sum += p.sum;
             stats.max_displacement = stats.max_displacement.max(p.max);
@@ -434,32 +548,61 @@ impl<'a> Explicit<'a> {
         // Every plain displacement is the square root of its squared length, and the
         // square root is monotonic: the largest of them is the root of the largest square.
         stats.max_displacement = stats.max_displacement.max(squared.sqrt());
-        if want == Want::Full
-            && let Some(perm) = &self.perm
-        {
-            // The same chunks and order as without reordering: the same bits.
-            let start = Instant::now();
-            let disp = &self.disp;
-            perm.old_to_new()
-                .par_chunks(CHUNK)
-                .map(|ids| {
-                    let mut sum = 0.0;
-                    for &i in ids {
-                        sum += disp[i as usize];
-                    }
-                    sum
-                })
-                .collect_into_vec(&mut self.mean_partials);
-            sum = 0.0;
-            for s in &self.mean_partials {
-                sum += s;
-            }
-            self.update_time += start.elapsed();
+        if want == Want::Full && self.perm.is_some() {
+            sum = self.displacement_sum_in_caller_order();
         }
         let n = self.positions.len();
         stats.mean_displacement = if n == 0 { 0.0 } else { sum / n as f64 };
         std::mem::swap(&mut self.positions, &mut self.next);
         Ok(stats)
+    }
+
+    /// The error of a sweep whose new position of `vertex` (internal numbering, the
+    /// first bad one) is not finite; the sweep is undone.
+    fn non_finite(&mut self, vertex: u32) -> SmoothError {
+        // The smallest vertex in the caller's numbering, as without reordering.
+        let vertex = match &self.perm {
+            Some(perm) => self
+                .next
+                .par_iter()
+                .zip(perm.new_to_old().par_iter())
+                .filter(|(x, _)| !x.is_finite())
+                .map(|(_, &old)| old)
+                .min()
+                .unwrap_or(vertex),
+            None => vertex,
+        };
+        self.next.copy_from_slice(&self.positions);
+        SmoothError::NonFinite {
+            vertex,
+            iteration: self.iteration,
+        }
+    }
+
+    /// The sum of the last sweep's displacements in the caller's vertex order: the
+    /// same chunks and order as without reordering, so the same bits.
+    fn displacement_sum_in_caller_order(&mut self) -> f64 {
+        let Some(perm) = &self.perm else {
+            return 0.0;
+        };
+        let start = Instant::now();
+        let disp = &self.disp;
+        perm.old_to_new()
+            .par_chunks(CHUNK)
+            .map(|ids| {
+                let mut sum = 0.0;
+                for &i in ids {
+                    sum += disp[i as usize];
+                }
+                sum
+            })
+            .collect_into_vec(&mut self.mean_partials);
+        let mut sum = 0.0;
+        for s in &self.mean_partials {
+            sum += s;
+        }
+        self.update_time += start.elapsed();
+        sum
     }
 
     /// The positions before the last iteration (internal numbering): `next` after a
@@ -490,7 +633,7 @@ impl<'a> Explicit<'a> {
             return None;
         }
         let moves: Vec<bool> = self.roles.iter().map(|r| *r == Role::Row).collect();
-        let rate = area_rate(&self.laplacian, &moves);
+        let rate = area_rate(self.laplacian(), &moves);
         (rate > 0.0).then(|| 1.0 / rate)
     }
 
@@ -566,7 +709,20 @@ impl<'a> Explicit<'a> {
     /// neighbour ids are internal vertex ids (the caller's when
     /// [`permutation`](Self::permutation) is `None`; map them with it otherwise).
     #[must_use]
+    ///
+    /// When the last sweep computed its weights itself, the operator of that sweep is
+    /// computed on the first call (at its input positions, which a plain sweep keeps in
+    /// `next`), so that this is always the operator the last sweep used.
     pub(crate) fn laplacian(&self) -> &Laplacian {
-        &self.laplacian
+        if !self.operator_behind {
+            return &self.laplacian;
+        }
+        self.current.get_or_init(|| {
+            let mut laplacian = self.laplacian.clone();
+            // The sweep computed every row of these positions, so this succeeds; on
+            // error the operator is only older.
+            let _ = laplacian.update(&self.mesh, &self.next, self.scheme);
+            laplacian
+        })
     }
 }

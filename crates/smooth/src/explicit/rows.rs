@@ -2,7 +2,7 @@
 //! compressed rows: one tight pass per normalisation and weight kind.
 
 use beltrami_halfedge::DVec3;
-use beltrami_weights::{LaplacianRows, Normalization};
+use beltrami_weights::{FreshRows, LaplacianRows, Normalization};
 use wide::f64x2;
 
 /// What [`sweep_rows`] found besides the new positions.
@@ -59,19 +59,56 @@ fn sweep_rows_as<const AREA: bool, const UNIT: bool>(
 ) -> RowSweep {
     let n = out.len();
     let bounds = &rows.offsets[first..=first + n];
-    let base = bounds[0] as usize;
-    let slots = base..bounds[n] as usize;
-    let neighbours = &rows.neighbours[slots.clone()];
-    let weights = if UNIT { &[][..] } else { &rows.weights[slots] };
-    let scales = &rows.scales[first..first + n];
-    let xs = &positions[first..first + n];
+    let slots = bounds[0] as usize..bounds[n] as usize;
+    let block = Block {
+        bounds,
+        neighbours: &rows.neighbours[slots.clone()],
+        weights: if UNIT { &[][..] } else { &rows.weights[slots] },
+        scales: &rows.scales[first..first + n],
+        first,
+    };
+    let mut swept = RowSweep::default();
+    sweep_block::<AREA, UNIT>(&block, positions, lambda, out, &mut swept);
+    swept
+}
+
+/// Consecutive rows with their weights and scales: `bounds` are the rows' offsets
+/// (`n + 1` of them, the first at `neighbours[0]` and `weights[0]`; `weights` is empty
+/// for unit weights), the first row is `first`.
+struct Block<'b> {
+    bounds: &'b [u32],
+    neighbours: &'b [u32],
+    weights: &'b [f64],
+    scales: &'b [f64],
+    first: usize,
+}
+
+/// The loop of [`sweep_rows_as`] over one [`Block`], adding its stuck rows and new
+/// positions to `swept`. Few values live across the row loop, so that they stay in
+/// registers; the row's slots are one running offset.
+#[inline(always)]
+fn sweep_block<const AREA: bool, const UNIT: bool>(
+    block: &Block<'_>,
+    positions: &[DVec3],
+    lambda: f64,
+    out: &mut [DVec3],
+    swept: &mut RowSweep,
+) {
+    let n = out.len();
+    let base = block.bounds[0] as usize;
+    let xs = &positions[block.first..block.first + n];
     let mut stuck = 0;
-    let mut sum = Xy::ZERO;
+    let mut sum = Xy::from(swept.sum);
     let mut a = 0;
-    for (((o, &xi), &scale), &end) in out.iter_mut().zip(xs).zip(scales).zip(&bounds[1..]) {
+    for (((o, &xi), &scale), &end) in out
+        .iter_mut()
+        .zip(xs)
+        .zip(block.scales)
+        .zip(&block.bounds[1..])
+    {
         let b = end as usize - base;
-        let nb = &neighbours[a..b];
-        let ws = if UNIT { &[][..] } else { &weights[a..b] };
+        let nb = &block.neighbours[a..b];
+        let ws = if UNIT { &[][..] } else { &block.weights[a..b] };
         a = b;
         let x = Xy::from(xi);
         let new = if scale > 0.0 {
@@ -85,10 +122,84 @@ fn sweep_rows_as<const AREA: bool, const UNIT: bool>(
         sum = sum + new;
         *o = new.to_dvec3();
     }
-    RowSweep {
-        stuck,
-        sum: sum.to_dvec3(),
+    swept.stuck += stuck;
+    swept.sum = sum.to_dvec3();
+}
+
+/// Rows per block of a fresh sweep: their weights are computed together
+/// ([`FreshRows::block`]) and applied while they are in L1.
+const BLOCK_ROWS: usize = 64;
+
+/// Slots of a block kept on the stack (a block with more uses a heap buffer).
+const BLOCK_SLOTS: usize = 1024;
+
+/// [`sweep_rows`] with the weights computed as the sweep goes
+/// ([`FreshRows::block`]) instead of read from a stored operator: the same bits as
+/// [`Laplacian::update`](beltrami_weights::Laplacian::update) at `positions` followed
+/// by [`sweep_rows`], without writing or reading a weight array. `positions` must be
+/// those the rows were made for.
+///
+/// `None` when a row's weights do not sum to a finite value (the caller falls back to
+/// `update`, which reports a non-finite weight).
+///
+/// # Panics
+/// As [`sweep_rows`].
+pub(super) fn sweep_fresh_rows(
+    rows: &FreshRows<'_>,
+    first: usize,
+    positions: &[DVec3],
+    lambda: f64,
+    out: &mut [DVec3],
+) -> Option<RowSweep> {
+    let area = matches!(rows.normalization(), Normalization::Area(_));
+    match (area, rows.unit_weights()) {
+        (false, true) => sweep_fresh_rows_as::<false, true>(rows, first, positions, lambda, out),
+        (false, false) => sweep_fresh_rows_as::<false, false>(rows, first, positions, lambda, out),
+        (true, true) => sweep_fresh_rows_as::<true, true>(rows, first, positions, lambda, out),
+        (true, false) => sweep_fresh_rows_as::<true, false>(rows, first, positions, lambda, out),
     }
+}
+
+/// [`sweep_fresh_rows`] for one normalisation and weight kind (as
+/// [`sweep_rows_as`]): blocks of [`BLOCK_ROWS`] rows get their weights and scales in
+/// buffers on the stack, then the loop of the stored sweep runs over them.
+#[inline(always)]
+fn sweep_fresh_rows_as<const AREA: bool, const UNIT: bool>(
+    rows: &FreshRows<'_>,
+    first: usize,
+    positions: &[DVec3],
+    lambda: f64,
+    out: &mut [DVec3],
+) -> Option<RowSweep> {
+    let offsets = rows.offsets();
+    let mut small = [0.0; BLOCK_SLOTS];
+    let mut large = Vec::new();
+    let mut scales = [0.0; BLOCK_ROWS];
+    let mut swept = RowSweep::default();
+    for (k, out) in out.chunks_mut(BLOCK_ROWS).enumerate() {
+        let f = first + k * BLOCK_ROWS;
+        let m = out.len();
+        let bounds = &offsets[f..=f + m];
+        let slots = bounds[0] as usize..bounds[m] as usize;
+        let weights = if slots.len() <= BLOCK_SLOTS {
+            &mut small[..slots.len()]
+        } else {
+            large.resize(slots.len(), 0.0);
+            &mut large[..]
+        };
+        if !rows.block(f, positions, weights, &mut scales[..m]) {
+            return None;
+        }
+        let block = Block {
+            bounds,
+            neighbours: &rows.neighbours()[slots],
+            weights: if UNIT { &[][..] } else { weights },
+            scales: &scales[..m],
+            first: f,
+        };
+        sweep_block::<AREA, UNIT>(&block, positions, lambda, out, &mut swept);
+    }
+    Some(swept)
 }
 
 /// The row sum of [`sweep_rows`], from zero in row order: `Σ_j w_j x_j`, or
@@ -207,7 +318,70 @@ mod tests {
         Uniform, WeightScheme,
     };
 
-    use super::sweep_rows;
+    use super::{sweep_fresh_rows, sweep_rows};
+
+    /// The ranges a test sweeps, splitting the rows anywhere (an empty one too).
+    fn ranges(n: usize) -> [std::ops::Range<usize>; 4] {
+        [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n]
+    }
+
+    /// The fresh-weight sweep at `x`, with the rows of an operator assembled at other
+    /// positions, gives `want` (the stored sweep at `x`) bit for bit, and its stuck count.
+    fn assert_fresh_sweep_is_the_same(
+        mesh: &HalfedgeMesh,
+        x: &[DVec3],
+        scheme: &dyn WeightScheme,
+        options: LaplacianOptions,
+        want: &[DVec3],
+        want_stuck: usize,
+    ) {
+        let elsewhere: Vec<DVec3> = x.iter().map(|&p| p * 0.7 + DVec3::X).collect();
+        let mut stale = Laplacian::new(mesh, &elsewhere, scheme, options).unwrap();
+        let fresh = stale.fresh_rows(mesh, x, scheme).unwrap();
+        let n = mesh.n_vertices();
+        let mut out = vec![DVec3::splat(f64::NAN); n];
+        let mut stuck = 0;
+        for range in ranges(n) {
+            let r = sweep_fresh_rows(&fresh, range.start, x, 0.8, &mut out[range]).unwrap();
+            stuck += r.stuck;
+        }
+        assert_eq!(stuck, want_stuck, "{options:?} {}", scheme.name());
+        let bits = |p: &[DVec3]| -> Vec<[u64; 3]> {
+            p.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
+        };
+        assert_eq!(bits(&out), bits(want), "{options:?} {}", scheme.name());
+    }
+
+    /// A row whose fresh weights do not sum to a finite value stops the fresh sweep
+    /// exactly when the refreshed operator has such a row or reports an error (the
+    /// smoother then refreshes the operator, which reports the weight): a NaN position
+    /// makes inverse-distance weights NaN (cotangents of a NaN triangle are 0, uniform
+    /// weights do not read positions); nearly coincident vertices give large but finite
+    /// weights.
+    #[test]
+    fn a_fresh_sweep_refuses_non_finite_weights() {
+        let grid = primitives::grid(6, 5);
+        let mesh = grid.mesh().unwrap();
+        let mut nan = grid.positions.clone();
+        nan[8].y = f64::NAN;
+        let mut close = grid.positions.clone();
+        close[8] = close[9] + DVec3::new(1e-320, 0.0, 0.0);
+        let mut refusals = 0;
+        for x in [&nan, &close] {
+            for scheme in [&Uniform as &dyn WeightScheme, &InverseDistance, &Cotangent] {
+                let options = LaplacianOptions::default();
+                let mut lap = Laplacian::new(&mesh, &grid.positions, scheme, options).unwrap();
+                let mut out = vec![DVec3::ZERO; x.len()];
+                let fresh = lap.fresh_rows(&mesh, x, scheme).unwrap();
+                let refused = sweep_fresh_rows(&fresh, 0, x, 0.8, &mut out).is_none();
+                let failed = lap.update(&mesh, x, scheme).is_err()
+                    || mesh.vertices().any(|v| !lap.weight_sum(v).is_finite());
+                assert_eq!(refused, failed, "{}", scheme.name());
+                refusals += usize::from(refused);
+            }
+        }
+        assert!(refusals >= 1, "{refusals}");
+    }
 
     /// Noisy positions: a fixed, cheap perturbation (no generator needed).
     fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
@@ -247,7 +421,11 @@ mod tests {
                 Normalization::Area(VertexAreaKind::MixedVoronoi),
                 Normalization::Area(VertexAreaKind::Barycentric),
             ] {
-                for negative in [NegativeWeights::Keep, NegativeWeights::Clamp] {
+                for negative in [
+                    NegativeWeights::Keep,
+                    NegativeWeights::Clamp,
+                    NegativeWeights::Abs,
+                ] {
                     let options = LaplacianOptions::new()
                         .normalization(normalization)
                         .negative(negative);
@@ -258,13 +436,14 @@ mod tests {
                         let n = mesh.n_vertices();
                         let mut out = vec![DVec3::splat(f64::NAN); n];
                         let (mut stuck, mut sum) = (0, DVec3::ZERO);
-                        for range in [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n] {
+                        for range in ranges(n) {
                             let r =
                                 sweep_rows(&lap.rows(), range.start, x, lambda, &mut out[range]);
                             stuck += r.stuck;
                             sum += r.sum;
                         }
                         assert_eq!(stuck, lap.stuck_rows(), "{options:?} {}", scheme.name());
+                        assert_fresh_sweep_is_the_same(mesh, x, scheme, options, &out, stuck);
                         if out.iter().any(|p| !p.is_finite()) {
                             assert!(!sum.is_finite());
                         }

@@ -1,9 +1,9 @@
 //! One chunk of a Jacobi sweep, with the statistics a run asks for.
 
 use beltrami_halfedge::{DVec3, VertexId};
-use beltrami_weights::Laplacian;
+use beltrami_weights::{FreshRows, Laplacian};
 
-use super::rows::{RowSweep, sweep_rows};
+use super::rows::{RowSweep, sweep_fresh_rows, sweep_rows};
 
 use super::{CurveRow, Role};
 
@@ -36,11 +36,51 @@ pub(super) struct Partial {
     pub(super) stuck: usize,
     /// The first vertex whose new position is not finite.
     pub(super) bad: Option<u32>,
+    /// A row's fresh weights did not sum to a finite value: the sweep is to be redone
+    /// through [`Laplacian::update`] (which reports the weight), and the rest of this
+    /// chunk was not computed.
+    pub(super) redo: bool,
+}
+
+/// Where a sweep's rows come from.
+#[derive(Clone, Copy)]
+pub(super) enum RowSource<'s> {
+    /// The operator's stored weights and scales.
+    Stored(&'s Laplacian),
+    /// Weights computed row by row as the sweep goes (at the sweep's `old` positions).
+    Fresh(&'s FreshRows<'s>),
+}
+
+impl RowSource<'_> {
+    /// [`sweep_rows`] or [`sweep_fresh_rows`]; `None` when a fresh row sum is not finite.
+    #[inline]
+    fn sweep(
+        self,
+        first: usize,
+        positions: &[DVec3],
+        lambda: f64,
+        out: &mut [DVec3],
+    ) -> Option<RowSweep> {
+        match self {
+            Self::Stored(laplacian) => {
+                Some(sweep_rows(&laplacian.rows(), first, positions, lambda, out))
+            }
+            Self::Fresh(rows) => sweep_fresh_rows(rows, first, positions, lambda, out),
+        }
+    }
+
+    /// Whether row `v` is stuck (found finite by the sweep already).
+    fn is_stuck(self, v: u32, positions: &[DVec3]) -> bool {
+        match self {
+            Self::Stored(laplacian) => laplacian.scale(VertexId::new(v)).is_none(),
+            Self::Fresh(rows) => !matches!(rows.scale(v as usize, positions), Some(s) if s > 0.0),
+        }
+    }
 }
 
 /// What a sweep reads.
 pub(super) struct SweepInput<'s> {
-    pub(super) laplacian: &'s Laplacian,
+    pub(super) rows: RowSource<'s>,
     pub(super) roles: &'s [Role],
     pub(super) exceptions: &'s [u32],
     pub(super) curve: &'s [CurveRow],
@@ -60,7 +100,7 @@ impl SweepInput<'_> {
         disp: &mut [f64],
     ) -> Partial {
         let Self {
-            laplacian,
+            rows: source,
             roles,
             exceptions,
             curve,
@@ -69,10 +109,16 @@ impl SweepInput<'_> {
         } = *self;
         let rows = first..first + out.len();
         // Every row moves by its Laplacian row...
-        let RowSweep {
+        let Some(RowSweep {
             mut stuck,
             sum: mut probe,
-        } = sweep_rows(&laplacian.rows(), first, old, lambda, out);
+        }) = source.sweep(first, old, lambda, out)
+        else {
+            return Partial {
+                redo: true,
+                ..Partial::default()
+            };
+        };
         // ...then the vertices that do not move that way are put right. `probe` keeps
         // the value a row gave them: a spurious non-finite sum only costs a scan.
         let lo = exceptions.partition_point(|&v| (v as usize) < rows.start);
@@ -80,7 +126,7 @@ impl SweepInput<'_> {
         let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
         for &v in &exceptions[lo..hi] {
             let i = v as usize;
-            if laplacian.scale(VertexId::new(v)).is_none() {
+            if source.is_stuck(v, old) {
                 // Counted by the row sweep, but this vertex is not a row.
                 stuck -= 1;
             }
@@ -141,6 +187,7 @@ impl SweepInput<'_> {
             max_squared,
             stuck,
             bad,
+            redo: false,
         }
     }
 }

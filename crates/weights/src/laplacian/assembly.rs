@@ -44,6 +44,128 @@ fn row_sum_of(w: &[f64]) -> f64 {
     w.iter().fold(-0.0, |s, &w| s + w)
 }
 
+/// The scale of a row whose weights sum to `sum`: `1/W_i`, or `1/A_i` with the vertex
+/// area `area` (area normalisation); 0 when the row is stuck. A row moves only when it
+/// has weights (`!empty`), they sum to a positive finite value (for either
+/// normalisation: a non-positive sum would push the vertex away from its neighbours)
+/// and its scale is positive and finite.
+#[inline(always)]
+pub(super) fn row_scale(sum: f64, area: Option<f64>, empty: bool) -> f64 {
+    let scale = match area {
+        None => 1.0 / sum,
+        Some(a) => 1.0 / a,
+    };
+    let movable = !empty && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
+    if movable { scale } else { 0.0 }
+}
+
+/// The arithmetic of one row of a built-in kernel, shared by
+/// [`Laplacian::update`] and [`FreshRows`](super::FreshRows) (so that both give the
+/// same bits by construction).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum RowKernel<'a> {
+    /// Every weight `negative.apply(1)`.
+    Uniform { negative: NegativeWeights },
+    /// `negative.apply(1 / (|x_j − x_i| + ε))`.
+    InverseDistance { negative: NegativeWeights },
+    /// `negative.apply(½ (cot α + cot β))` from the cotangent plan's refreshed
+    /// `face_cots`.
+    Cotangent {
+        negative: NegativeWeights,
+        slot_cots: &'a [[u32; 2]],
+        face_cots: &'a [f64],
+    },
+}
+
+impl RowKernel<'_> {
+    /// Every weight is exactly 1.
+    pub(super) fn unit_weights(&self) -> bool {
+        matches!(self, Self::Uniform { negative } if negative.apply(1.0) == 1.0)
+    }
+
+    /// Writes row `i`'s weights into `w` (its valence long; its first slot is `s` and
+    /// `neighbours` starts there) and returns their sum in row order.
+    #[inline(always)]
+    pub(super) fn fill(
+        &self,
+        i: usize,
+        s: usize,
+        positions: &[DVec3],
+        neighbours: &[u32],
+        w: &mut [f64],
+    ) -> f64 {
+        match *self {
+            Self::Uniform { negative } => fill_uniform(negative, w),
+            Self::InverseDistance { negative } => {
+                fill_inverse_distance::<0>(negative, positions, i, neighbours, w)
+            }
+            Self::Cotangent {
+                negative,
+                slot_cots,
+                face_cots,
+            } => fill_cotangent(negative, &slot_cots[s..], face_cots, w),
+        }
+    }
+}
+
+/// A uniform row: every weight `negative.apply(1)`; returns the sum.
+#[inline(always)]
+pub(super) fn fill_uniform(negative: NegativeWeights, w: &mut [f64]) -> f64 {
+    w.fill(negative.apply(1.0));
+    row_sum_of(w)
+}
+
+/// An inverse-distance row `i` whose neighbours start `neighbours`: `negative.apply(1
+/// / (|x_j − x_i| + ε))` (the geometry's distance); returns the sum. `CALLER` gives
+/// each caller its own instance of the distance kernel (a closure of a generic
+/// function is a type of its own), which the compiler then inlines into that caller's
+/// loop: one instance with two callers was not inlined (40 instructions per row more).
+#[inline(always)]
+pub(super) fn fill_inverse_distance<const CALLER: u8>(
+    negative: NegativeWeights,
+    positions: &[DVec3],
+    i: usize,
+    neighbours: &[u32],
+    w: &mut [f64],
+) -> f64 {
+    let eps = crate::DISTANCE_EPSILON;
+    let nb = &neighbours[..w.len()];
+    distances_with(positions[i], positions, nb, w, |d| {
+        negative.apply(1.0 / (d + eps))
+    });
+    row_sum_of(w)
+}
+
+/// A cotangent row whose slots' cotangent pairs start `pairs`: `negative.apply(½ (a +
+/// b))`; returns the sum (`row_sum_of`'s fold, in the same loop). The policy is chosen
+/// once per row, not per slot.
+#[inline(always)]
+pub(super) fn fill_cotangent(
+    negative: NegativeWeights,
+    pairs: &[[u32; 2]],
+    face_cots: &[f64],
+    w: &mut [f64],
+) -> f64 {
+    let pairs = &pairs[..w.len()];
+    let cot = |[a, b]: [u32; 2]| 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
+    let mut sum = -0.0;
+    match negative {
+        NegativeWeights::Keep => {
+            for (w, &p) in w.iter_mut().zip(pairs) {
+                *w = cot(p);
+                sum += *w;
+            }
+        }
+        _ => {
+            for (w, &p) in w.iter_mut().zip(pairs) {
+                *w = negative.apply(cot(p));
+                sum += *w;
+            }
+        }
+    }
+    sum
+}
+
 /// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
 /// `rayon::join`, no allocation), and in each row `fill(i, first_slot, weights)` writes
 /// the row's weights and returns their sum `W_i` in row order (from `-0.0`, as
@@ -102,17 +224,9 @@ where
         a = b;
         *sum_out = sum;
         tally.non_finite |= !sum.is_finite();
-        let scale = match areas {
-            None => 1.0 / sum,
-            Some(a) => 1.0 / a[i],
-        };
-        // A row moves only when its weights sum to a positive finite value (for either
-        // normalisation: a non-positive sum would push the vertex away from its
-        // neighbours) and its scale is positive and finite.
-        let movable =
-            !row.is_empty() && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
-        *scale_out = if movable { scale } else { 0.0 };
-        tally.stuck += usize::from(!movable);
+        let scale = row_scale(sum, areas.map(|a| a[i]), row.is_empty());
+        *scale_out = scale;
+        tally.stuck += usize::from(scale == 0.0);
     }
     tally
 }
@@ -165,59 +279,29 @@ impl Laplacian {
         self.unit_weights = false;
         let tally = match kernel {
             Some(BuiltIn::Uniform) => {
-                let tally = row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
-                    w.fill(negative.apply(1.0));
-                    row_sum_of(w)
-                });
-                self.unit_weights = negative.apply(1.0) == 1.0;
-                Some(tally)
+                let kernel = RowKernel::Uniform { negative };
+                self.unit_weights = kernel.unit_weights();
+                Some(row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
+                    fill_uniform(negative, w)
+                }))
             }
             Some(BuiltIn::InverseDistance) => {
                 let neighbours = &self.neighbours;
-                let eps = crate::DISTANCE_EPSILON;
                 Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
-                    let nb = &neighbours[s..s + w.len()];
-                    distances_with(positions[i], positions, nb, w, |d| {
-                        negative.apply(1.0 / (d + eps))
-                    });
-                    row_sum_of(w)
+                    fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
                 }))
             }
             Some(BuiltIn::Cotangent) => {
                 if self.cotangent.is_none() {
                     self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
                 }
-                match &mut self.cotangent {
-                    Some(plan) => {
-                        plan.refresh(&geometry);
-                        let (slot_cots, face_cots) = (&plan.slot_cots[..], &plan.face_cots[..]);
-                        Some(row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
-                            let pairs = &slot_cots[s..s + w.len()];
-                            let cot = |[a, b]: [u32; 2]| {
-                                0.5 * (face_cots[a as usize] + face_cots[b as usize])
-                            };
-                            // The policy is chosen once per row, not per slot; the sum is
-                            // `row_sum_of`'s fold, in the same loop.
-                            let mut sum = -0.0;
-                            match negative {
-                                NegativeWeights::Keep => {
-                                    for (w, &p) in w.iter_mut().zip(pairs) {
-                                        *w = cot(p);
-                                        sum += *w;
-                                    }
-                                }
-                                _ => {
-                                    for (w, &p) in w.iter_mut().zip(pairs) {
-                                        *w = negative.apply(cot(p));
-                                        sum += *w;
-                                    }
-                                }
-                            }
-                            sum
-                        }))
-                    }
-                    None => None,
-                }
+                self.cotangent.as_mut().map(|plan| {
+                    plan.refresh(&geometry);
+                    let (slot_cots, face_cots) = (&plan.slot_cots[..], &plan.face_cots[..]);
+                    row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                        fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+                    })
+                })
             }
             _ => None,
         };

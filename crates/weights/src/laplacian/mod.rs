@@ -1,11 +1,12 @@
 //! The assembled Laplace–Beltrami operator: one row per vertex, in one-ring order.
 //!
 //! `options` (normalisation, negative weights), `cotangent_plan` (the cotangent
-//! kernel's per-face data), `assembly` (filling the rows) and this file (the rows and
-//! their arithmetic).
+//! kernel's per-face data), `assembly` (filling the rows), `fresh` (rows computed one
+//! at a time and not stored) and this file (the rows and their arithmetic).
 
 mod assembly;
 mod cotangent_plan;
+mod fresh;
 mod options;
 
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
@@ -15,6 +16,7 @@ use crate::PAR_CHUNK;
 use crate::error::WeightError;
 use crate::scheme::WeightScheme;
 use cotangent_plan::CotangentPlan;
+pub use fresh::FreshRows;
 pub use options::{LaplacianOptions, NegativeWeights, Normalization};
 
 /// The Laplace–Beltrami operator of a mesh for one weight scheme, stored row by row:

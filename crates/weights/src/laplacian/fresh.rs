@@ -1,0 +1,229 @@
+//! Weights computed where they are used: the rows of the built-in kernels at new
+//! positions, one row at a time, for an integrator that applies each row as soon as it
+//! has it instead of storing every weight (see [`FreshRows`]).
+
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+
+use super::Laplacian;
+use super::assembly::{RowKernel, fill_cotangent, fill_inverse_distance, fill_uniform, row_scale};
+use super::cotangent_plan::CotangentPlan;
+use super::options::{NegativeWeights, Normalization};
+use crate::scheme::{BuiltIn, WeightScheme};
+
+/// The rows of a [`Laplacian`] at new positions, computed one row at a time and not
+/// stored: what [`Laplacian::update`] would write, row by row, for an integrator that
+/// uses each row at once (an explicit step that recomputes the weights every
+/// iteration, say). Made by [`Laplacian::fresh_rows`].
+///
+/// [`row`](Self::row) gives row `i`'s weights and scale with the bits that
+/// [`Laplacian::update`] at the same positions stores in
+/// [`rows`](Laplacian::rows)`().weights` and `.scales` (the same functions compute
+/// both). The operator itself is not changed: its stored weights stay those of its
+/// last assembly or update.
+#[derive(Debug)]
+pub struct FreshRows<'a> {
+    offsets: &'a [u32],
+    neighbours: &'a [u32],
+    kernel: RowKernel<'a>,
+    /// The vertex areas of area normalisation (`None` for weight-sum normalisation).
+    areas: Option<Vec<f64>>,
+    normalization: Normalization,
+}
+
+impl Laplacian {
+    /// The rows at `positions`, to be computed one at a time by [`FreshRows::row`]:
+    /// the per-vertex and per-face parts (vertex areas for area normalisation, the
+    /// cotangents of every triangle) are computed here, in parallel; the per-row
+    /// weights, sums and scales are left to [`FreshRows::row`].
+    ///
+    /// `None` when the rows cannot be computed that way: `scheme` is not one of the
+    /// built-in [`Uniform`](crate::Uniform), [`InverseDistance`](crate::InverseDistance)
+    /// and [`Cotangent`](crate::Cotangent), the positions do not match the mesh, or the
+    /// vertex areas cannot be computed. [`update`](Self::update) handles every such case
+    /// (and reports its error).
+    ///
+    /// # Panics
+    /// If `mesh` has a different number of vertices or halfedges than at assembly.
+    pub fn fresh_rows(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        positions: &'_ [DVec3],
+        scheme: &dyn WeightScheme,
+    ) -> Option<FreshRows<'_>> {
+        assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
+        assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
+        let geometry = Geometry::new(mesh, positions).ok()?;
+        let areas = match self.options.normalization {
+            Normalization::WeightSum => None,
+            Normalization::Area(kind) => Some(geometry.vertex_areas(kind).ok()?.into_vec()),
+        };
+        let negative = self.options.negative;
+        let kernel = match BuiltIn::of(scheme)? {
+            BuiltIn::Uniform => RowKernel::Uniform { negative },
+            BuiltIn::InverseDistance => RowKernel::InverseDistance { negative },
+            BuiltIn::Cotangent => {
+                if self.cotangent.is_none() {
+                    self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
+                }
+                let plan = self.cotangent.as_mut()?;
+                plan.refresh(&geometry);
+                RowKernel::Cotangent {
+                    negative,
+                    slot_cots: &plan.slot_cots,
+                    face_cots: &plan.face_cots,
+                }
+            }
+        };
+        Some(FreshRows {
+            offsets: &self.offsets,
+            neighbours: &self.neighbours,
+            kernel,
+            areas,
+            normalization: self.options.normalization,
+        })
+    }
+}
+
+impl FreshRows<'_> {
+    /// Row offsets into the slots, `n_rows + 1` entries from 0 (as
+    /// [`LaplacianRows::offsets`](crate::LaplacianRows::offsets)).
+    #[must_use]
+    pub fn offsets(&self) -> &[u32] {
+        self.offsets
+    }
+
+    /// The neighbour vertex index of each slot (as
+    /// [`LaplacianRows::neighbours`](crate::LaplacianRows::neighbours)).
+    #[must_use]
+    pub fn neighbours(&self) -> &[u32] {
+        self.neighbours
+    }
+
+    /// How the rows are normalised.
+    #[must_use]
+    pub fn normalization(&self) -> Normalization {
+        self.normalization
+    }
+
+    /// Every weight is exactly 1 (uniform weights), so an integrator need not read them
+    /// (as [`LaplacianRows::unit_weights`](crate::LaplacianRows::unit_weights)).
+    #[must_use]
+    pub fn unit_weights(&self) -> bool {
+        self.kernel.unit_weights()
+    }
+
+    /// Row `i`'s weights at the positions, written to `weights` (one per slot, after
+    /// the negative-weight policy; `weights.len()` must be the row's valence), and its
+    /// scale (`1/W_i` or `1/A_i`; 0 for a stuck row): the bits
+    /// [`Laplacian::update`] would store. `positions` must be those given to
+    /// [`Laplacian::fresh_rows`] (the cotangents are theirs).
+    ///
+    /// `None` when the row's weights do not sum to a finite value: a weight may be
+    /// NaN or infinite, which [`Laplacian::update`] reports as an error (with the
+    /// vertices of the first such halfedge), so a caller falls back to it.
+    ///
+    /// # Panics
+    /// If `i` is not a row, `weights` is shorter than the row, or `positions` is
+    /// shorter than the mesh's vertex count.
+    #[inline(always)]
+    pub fn row(&self, i: usize, positions: &[DVec3], weights: &mut [f64]) -> Option<f64> {
+        let s = self.offsets[i] as usize;
+        let weights = &mut weights[..self.offsets[i + 1] as usize - s];
+        let sum = self
+            .kernel
+            .fill(i, s, positions, &self.neighbours[s..], weights);
+        if !sum.is_finite() {
+            return None;
+        }
+        let area = self.areas.as_ref().map(|a| a[i]);
+        Some(row_scale(sum, area, weights.is_empty()))
+    }
+
+    /// The rows `first..first + scales.len()` at once: their weights into `weights`
+    /// (the rows' slots one after the other, `offsets[first + n] − offsets[first]` of
+    /// them) and their scales into `scales`, with the bits of [`row`](Self::row). One
+    /// loop per kernel (the kernel is chosen once per block, not per row), for an
+    /// integrator that applies small blocks of rows while their weights are in cache.
+    ///
+    /// `false` when a row's weights do not sum to a finite value (see
+    /// [`row`](Self::row)); `weights` and `scales` are then unspecified.
+    ///
+    /// # Panics
+    /// If the rows reach past the last row, `weights` is shorter than their slots or
+    /// `positions` is shorter than the mesh's vertex count.
+    pub fn block(
+        &self,
+        first: usize,
+        positions: &[DVec3],
+        weights: &mut [f64],
+        scales: &mut [f64],
+    ) -> bool {
+        match self.kernel {
+            RowKernel::Uniform { negative } => {
+                self.block_as(first, weights, scales, |_, _, w| fill_uniform(negative, w))
+            }
+            RowKernel::InverseDistance { negative } => {
+                self.inverse_distance_block(negative, first, positions, weights, scales)
+            }
+            RowKernel::Cotangent {
+                negative,
+                slot_cots,
+                face_cots,
+            } => self.block_as(first, weights, scales, |_, s, w| {
+                fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+            }),
+        }
+    }
+
+    /// [`block`](Self::block) of inverse-distance rows: a function of its own, small
+    /// enough for the distance kernel to be inlined into its loop.
+    #[inline(never)]
+    fn inverse_distance_block(
+        &self,
+        negative: NegativeWeights,
+        first: usize,
+        positions: &[DVec3],
+        weights: &mut [f64],
+        scales: &mut [f64],
+    ) -> bool {
+        let nb = self.neighbours;
+        self.block_as(first, weights, scales, |i, s, w| {
+            fill_inverse_distance::<2>(negative, positions, i, &nb[s..], w)
+        })
+    }
+
+    /// [`block`](Self::block) with the kernel's fill `fill(i, first_slot, weights)`.
+    #[inline(always)]
+    fn block_as<F>(&self, first: usize, weights: &mut [f64], scales: &mut [f64], fill: F) -> bool
+    where
+        F: Fn(usize, usize, &mut [f64]) -> f64,
+    {
+        let n = scales.len();
+        let bounds = &self.offsets[first..=first + n];
+        let base = bounds[0] as usize;
+        let mut a = 0;
+        let mut finite = true;
+        for (k, (&end, scale)) in bounds[1..].iter().zip(scales.iter_mut()).enumerate() {
+            let b = end as usize - base;
+            let w = &mut weights[a..b];
+            let i = first + k;
+            let sum = fill(i, base + a, w);
+            finite &= sum.is_finite();
+            let area = self.areas.as_ref().map(|areas| areas[i]);
+            *scale = row_scale(sum, area, w.is_empty());
+            a = b;
+        }
+        finite
+    }
+
+    /// Row `i`'s scale alone (0 for a stuck row), or `None` as [`row`](Self::row).
+    ///
+    /// # Panics
+    /// As [`row`](Self::row).
+    #[must_use]
+    pub fn scale(&self, i: usize, positions: &[DVec3]) -> Option<f64> {
+        let len = (self.offsets[i + 1] - self.offsets[i]) as usize;
+        self.row(i, positions, &mut vec![0.0; len])
+    }
+}
