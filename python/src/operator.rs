@@ -3,7 +3,7 @@
 
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
-use beltrami_weights::{Laplacian, LaplacianOptions, NegativeWeights, Normalization};
+use beltrami_weights::{Laplacian, LaplacianOptions, Normalization};
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -70,16 +70,7 @@ pub(crate) fn laplacian<'py>(
             )));
         }
     };
-    let negative = match cotangent_negative {
-        "keep" => NegativeWeights::Keep,
-        "clamp" => NegativeWeights::Clamp,
-        "abs" => NegativeWeights::Abs,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "cotangent_negative must be one of 'keep', 'clamp', 'abs', got '{cotangent_negative}'"
-            )));
-        }
-    };
+    let negative = crate::study::negative_weights(cotangent_negative)?;
     let scheme = scheme(weights)?;
     let n = mesh.mesh.n_vertices();
     let csr = py.detach(|| {

@@ -227,7 +227,7 @@ pub(crate) fn study<'py>(
 }
 
 /// `cotangent_negative`: `"keep"`, `"clamp"` or `"abs"`.
-fn negative_weights(cotangent_negative: &str) -> PyResult<NegativeWeights> {
+pub(crate) fn negative_weights(cotangent_negative: &str) -> PyResult<NegativeWeights> {
     let value = match cotangent_negative {
         "keep" => NegativeWeights::Keep,
         "clamp" => NegativeWeights::Clamp,
