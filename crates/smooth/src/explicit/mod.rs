@@ -222,6 +222,13 @@ fn compound_buffers(
     (copy(compound), copy(hc), push_back)
 }
 
+/// The rows per work unit of a sweep that sums nothing: [`CHUNK`], or for a mesh of
+/// fewer than `8 · CHUNK` vertices an eighth of it (at least 256), so that a small
+/// mesh's sweep is shared by the cores. A function of the vertex count alone.
+fn small_chunk(n: usize) -> usize {
+    n.div_ceil(8).clamp(256, CHUNK)
+}
+
 /// Runs `input`'s sweep over fixed chunks of [`CHUNK`] rows in parallel, into `next`,
 /// one [`Partial`] per chunk into `partials` (and, with full statistics and `record`,
 /// each displacement into `disp`, as long as `next`).
@@ -233,18 +240,28 @@ fn sweep_chunks(
     disp: &mut [f64],
     partials: &mut Vec<Partial>,
 ) {
-    let chunks = next.par_chunks_mut(CHUNK).enumerate();
+    // Without sums the chunking changes no result (maxima, counts and the first bad
+    // vertex do not depend on it), so a small mesh is cut finer and both cores work.
+    let fine = small_chunk(next.len());
     match (want, record) {
-        (Want::Nothing, _) => chunks
-            .map(|(c, out)| input.chunk::<NOTHING, false>(c * CHUNK, out, &mut []))
+        (Want::Nothing, _) => next
+            .par_chunks_mut(fine)
+            .enumerate()
+            .map(|(c, out)| input.chunk::<NOTHING, false>(c * fine, out, &mut []))
             .collect_into_vec(partials),
-        (Want::Max, _) => chunks
-            .map(|(c, out)| input.chunk::<MAX, false>(c * CHUNK, out, &mut []))
+        (Want::Max, _) => next
+            .par_chunks_mut(fine)
+            .enumerate()
+            .map(|(c, out)| input.chunk::<MAX, false>(c * fine, out, &mut []))
             .collect_into_vec(partials),
-        (Want::Full, false) => chunks
+        (Want::Full, false) => next
+            .par_chunks_mut(CHUNK)
+            .enumerate()
             .map(|(c, out)| input.chunk::<FULL, false>(c * CHUNK, out, &mut []))
             .collect_into_vec(partials),
-        (Want::Full, true) => chunks
+        (Want::Full, true) => next
+            .par_chunks_mut(CHUNK)
+            .enumerate()
             .zip(disp.par_chunks_mut(CHUNK))
             .map(|((c, out), disp)| input.chunk::<FULL, true>(c * CHUNK, out, disp))
             .collect_into_vec(partials),
