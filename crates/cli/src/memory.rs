@@ -73,15 +73,17 @@ impl PerElement {
     }
 }
 
-/// The mesh as read, kept for the output: positions (24 per vertex), the face list's
-/// vertex indices (4 per corner) and offsets (8 per face).
-const INPUT: PerElement = PerElement::new(24, 4, 8);
+/// The input positions, kept for the mean displacement of the summary (24 per
+/// vertex). The face list as read is dropped once the half-edge mesh is built: the
+/// output's faces are taken from the mesh after the run.
+const INPUT: PerElement = PerElement::new(24, 0, 0);
 /// The half-edge mesh: outgoing halfedge per vertex (4), target, next, previous and
 /// face per halfedge (16), one halfedge per face (4).
 const MESH: PerElement = PerElement::new(4, 16, 4);
-/// An explicit smoother on 50 000 vertices or more renumbers them for locality: a copy
-/// of the mesh, the permutation both ways (8) and the positions (24).
-const REORDERED: PerElement = PerElement::new(4 + 8 + 24, 16, 4);
+/// An explicit smoother on 50 000 vertices or more renumbers them for locality: the
+/// permutation both ways (8). The mesh it is given is renumbered in place, and the
+/// positions' renumbered copy replaces them.
+const REORDERED: PerElement = PerElement::new(8, 0, 0);
 /// The operator: row offsets and valences (8), weight sums and scales (16) per vertex;
 /// neighbour and halfedge ids (8) and the weight (8) per row slot (halfedge).
 const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
@@ -100,20 +102,22 @@ const NORMALS: PerElement = PerElement::new(24, 0, 80);
 /// Area normalisation: the vertex areas of each assembly (8), and the implicit
 /// smoother's copy (8).
 const AREAS: PerElement = PerElement::new(16, 0, 0);
-/// The explicit smoother's second position buffer.
-const EXPLICIT: PerElement = PerElement::new(24, 0, 0);
+/// The explicit smoother's positions (given to it) and its second position buffer.
+const EXPLICIT: PerElement = PerElement::new(48, 0, 0);
 /// The positions at the start of a compound step (Taubin, HC, `--preserve-volume`).
 const COMPOUND: PerElement = PerElement::new(24, 0, 0);
 /// HC: the input positions and the push-back vectors.
 const HC: PerElement = PerElement::new(48, 0, 0);
 /// Per-vertex displacements of a reordered run that keeps every iteration's statistics.
 const DISPLACEMENTS: PerElement = PerElement::new(8, 0, 0);
-/// The implicit smoother: positions, next positions (48) and displacements (8); the
-/// system's offsets, Dirichlet flags, mass, free flags and diagonal (22) per vertex,
-/// neighbour, twin, symmetrised weight and off-diagonal entry (24) per slot.
-const IMPLICIT: PerElement = PerElement::new(48 + 8 + 22, 24, 0);
-/// Conjugate gradient: four vectors of three coordinates.
-const CG: PerElement = PerElement::new(96, 0, 0);
+/// The implicit smoother: positions (given to it), next positions (48) and
+/// displacements (8); the system's Dirichlet, free and coupled flags (3), mass and
+/// diagonal (16) per vertex, twin slot (4) and off-diagonal entry (8) per slot. The
+/// system reads the operator's own offsets, neighbours and weights.
+const IMPLICIT: PerElement = PerElement::new(48 + 8 + 19, 12, 0);
+/// Conjugate gradient: three vectors of three coordinates (residual, direction,
+/// matrix product).
+const CG: PerElement = PerElement::new(72, 0, 0);
 /// Sparse Cholesky besides the factor: the upper triangle's column pointers, diagonal
 /// positions (16), row indices and values (16 per vertex, 8 per slot), the slot map (8
 /// per slot), the right-hand sides (24), faer's symbolic structure and work space (at
