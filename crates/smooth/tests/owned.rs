@@ -272,6 +272,7 @@ fn owning_the_mesh_changes_no_bit() {
 
 #[test]
 fn errors_are_the_same_when_the_mesh_is_given() {
+    let mut blow_ups = 0;
     for m in meshes() {
         // Non-finite weights: in assembly or during the run.
         for nan_beyond in [0.2, 0.97] {
@@ -280,14 +281,29 @@ fn errors_are_the_same_when_the_mesh_is_given() {
                 same(&m, &custom, SmoothConfig::new(0.5, 5).boundary(boundary));
             }
         }
-        // A blow-up.
-        let config = SmoothConfig::new(1e30, 60)
-            .boundary(Boundary::Free)
-            .laplacian(
-                LaplacianOptions::new()
-                    .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi)),
-            );
-        assert!(!same(&m, &Cotangent, config));
+        // Blow-ups.
+        for method in [
+            Method::Laplacian,
+            Method::Taubin { mu: -2e30 },
+            Method::hc(),
+        ] {
+            for volume in [false, true] {
+                if volume && !m.closed {
+                    continue;
+                }
+                for scheme in [&Cotangent as &dyn WeightScheme, &Uniform] {
+                    let config = SmoothConfig::new(1e30, 60)
+                        .method(method)
+                        .preserve_volume(volume)
+                        .boundary(Boundary::Free)
+                        .laplacian(
+                            LaplacianOptions::new()
+                                .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi)),
+                        );
+                    blow_ups += usize::from(!same(&m, scheme, config));
+                }
+            }
+        }
         // Bad settings and bad input are refused before any work.
         let mut bad = m.positions.clone();
         bad[m.positions.len() / 2].y = f64::NAN;
@@ -312,6 +328,7 @@ fn errors_are_the_same_when_the_mesh_is_given() {
             }
         }
     }
+    assert!(blow_ups >= 5, "only {blow_ups} runs failed");
 }
 
 #[test]
