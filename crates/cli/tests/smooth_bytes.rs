@@ -56,7 +56,12 @@ fn library_bytes(
     } else {
         Encoding::BinaryLittleEndian
     };
-    write_mesh(output, &written, &WriteOptions::default().encoding(encoding)).unwrap();
+    write_mesh(
+        output,
+        &written,
+        &WriteOptions::default().encoding(encoding),
+    )
+    .unwrap();
     std::fs::read(output).unwrap()
 }
 
@@ -100,7 +105,15 @@ fn small_meshes_write_the_same_bytes_as_the_library() {
     let dir = tempfile::tempdir().unwrap();
     let want = dir.path().join("want");
     std::fs::create_dir(&want).unwrap();
-    let cases: [(&str, &str, &[&str], &dyn WeightScheme, SmoothConfig, bool, bool); 6] = [
+    let cases: [(
+        &str,
+        &str,
+        &[&str],
+        &dyn WeightScheme,
+        SmoothConfig,
+        bool,
+        bool,
+    ); 6] = [
         (
             "noisy_torus_36x12.ply",
             "out.ply",
@@ -129,7 +142,14 @@ fn small_meshes_write_the_same_bytes_as_the_library() {
         (
             "cube_quads.obj",
             "out.obj",
-            &["--weights", "uniform", "--boundary", "free", "--iterations", "3"],
+            &[
+                "--weights",
+                "uniform",
+                "--boundary",
+                "free",
+                "--iterations",
+                "3",
+            ],
             &Uniform,
             SmoothConfig::new(0.8, 3).boundary(Boundary::Free),
             false,
@@ -140,16 +160,27 @@ fn small_meshes_write_the_same_bytes_as_the_library() {
             "out.stl",
             &["--method", "implicit", "--lambda", "2", "--iterations", "2"],
             &Cotangent,
-            SmoothConfig::new(2.0, 2).method(Method::implicit(ImplicitSolver::conjugate_gradient())),
+            SmoothConfig::new(2.0, 2)
+                .method(Method::implicit(ImplicitSolver::conjugate_gradient())),
             false,
             false,
         ),
         (
             "flens_68x33.ply",
             "ascii.ply",
-            &["--method", "taubin", "--iterations", "3", "--ascii"],
+            &[
+                "--method",
+                "taubin",
+                "--lambda",
+                "0.5",
+                "--mu",
+                "-0.53",
+                "--iterations",
+                "3",
+                "--ascii",
+            ],
             &Cotangent,
-            SmoothConfig::new(0.8, 3).method(Method::taubin_or_pass_band(0.8, None)),
+            SmoothConfig::new(0.5, 3).method(Method::Taubin { mu: -0.53 }),
             false,
             true,
         ),
@@ -166,14 +197,7 @@ fn small_meshes_write_the_same_bytes_as_the_library() {
     for (input, output, options, scheme, config, repaired, ascii) in cases {
         let input = fixture(input);
         let got = cli_bytes(&input, &dir.path().join(output), options);
-        let expected = library_bytes(
-            &input,
-            &want.join(output),
-            scheme,
-            config,
-            repaired,
-            ascii,
-        );
+        let expected = library_bytes(&input, &want.join(output), scheme, config, repaired, ascii);
         assert!(got == expected, "{input:?} -> {output}: the bytes differ");
     }
 }
@@ -185,16 +209,32 @@ fn a_renumbered_mesh_writes_the_same_bytes_as_the_library() {
     let input = noisy_torus(dir.path(), 320, 160);
     assert!(Reorder::Auto.applies(320 * 160));
     let cases: [(&str, &[&str], SmoothConfig); 3] = [
-        ("plain.ply", &["--iterations", "3"], SmoothConfig::new(0.8, 3)),
+        (
+            "plain.ply",
+            &["--iterations", "3"],
+            SmoothConfig::new(0.8, 3),
+        ),
         (
             "taubin.ply",
-            &["--method", "taubin", "--iterations", "2", "--report", "r.json"],
-            SmoothConfig::new(0.8, 2).method(Method::taubin_or_pass_band(0.8, None)),
+            &[
+                "--method",
+                "taubin",
+                "--lambda",
+                "0.5",
+                "--mu",
+                "-0.53",
+                "--iterations",
+                "2",
+                "--report",
+                "r.json",
+            ],
+            SmoothConfig::new(0.5, 2).method(Method::Taubin { mu: -0.53 }),
         ),
         (
             "implicit.ply",
             &["--method", "implicit", "--lambda", "1", "--iterations", "1"],
-            SmoothConfig::new(1.0, 1).method(Method::implicit(ImplicitSolver::conjugate_gradient())),
+            SmoothConfig::new(1.0, 1)
+                .method(Method::implicit(ImplicitSolver::conjugate_gradient())),
         ),
     ];
     for (output, options, config) in cases {

@@ -243,18 +243,13 @@ impl VertexPermutation {
 /// `new_to_old[i]`, old vertex `o` becomes `old_to_new[o]`.
 fn renumber_in_place(mesh: &mut HalfedgeMesh, new_to_old: &[u32], old_to_new: &[u32]) {
     assert_eq!(mesh.n_vertices(), new_to_old.len(), "one entry per vertex");
-    let v_out: Vec<u32> = new_to_old
-        .iter()
-        .map(|&o| mesh.v_out[o as usize])
-        .collect();
+    let v_out: Vec<u32> = new_to_old.iter().map(|&o| mesh.v_out[o as usize]).collect();
     mesh.v_out = v_out;
-    mesh.h_to
-        .par_chunks_mut(RENUMBER_CHUNK)
-        .for_each(|chunk| {
-            for v in chunk {
-                *v = old_to_new[*v as usize];
-            }
-        });
+    mesh.h_to.par_chunks_mut(RENUMBER_CHUNK).for_each(|chunk| {
+        for v in chunk {
+            *v = old_to_new[*v as usize];
+        }
+    });
 }
 
 /// Halfedges per parallel work unit of [`renumber_in_place`].

@@ -29,6 +29,11 @@ use crate::report::{IterationView, SmoothReport, Smoothed, SolverReport, StepSta
 /// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
 /// numbering and bit-identical to a run without reordering.
 ///
+/// [`Smoother::new`] borrows the mesh and copies the positions (and, when it renumbers,
+/// copies the mesh too); [`Smoother::from_owned`] takes both by value, renumbers the
+/// mesh in place and gives it back from [`Smoother::run_owned`]: the way to smooth a
+/// large mesh with one copy of its connectivity and two position buffers in memory.
+///
 /// # Examples
 /// ```
 /// use beltrami_halfedge::primitives;
@@ -103,7 +108,12 @@ impl<'a> Smoother<'a> {
         config: SmoothConfig,
     ) -> Result<Self, SmoothError> {
         validate(&config, mesh, positions)?;
-        Self::with_engine(Cow::Borrowed(mesh), Cow::Borrowed(positions), scheme, config)
+        Self::with_engine(
+            Cow::Borrowed(mesh),
+            Cow::Borrowed(positions),
+            scheme,
+            config,
+        )
     }
 
     /// [`new`](Self::new) for a mesh and positions given by value: the smoother keeps

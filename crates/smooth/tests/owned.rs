@@ -10,8 +10,8 @@ use std::ops::ControlFlow;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId, primitives};
 use beltrami_smooth::{
-    Boundary, DiffusionTime, ImplicitSolver, Method, Reorder, SmoothConfig, SmoothError,
-    Smoother, StepStats, WeightUpdate,
+    Boundary, DiffusionTime, ImplicitSolver, Method, Reorder, SmoothConfig, SmoothError, Smoother,
+    StepStats, WeightUpdate,
 };
 use beltrami_testkit::Lcg64;
 use beltrami_weights::{
@@ -160,7 +160,12 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig, owned:
         })
         .map(|(out, mesh)| {
             if owned {
-                assert_eq!(mesh.as_ref(), Some(&m.mesh), "{}: the mesh handed back", m.name);
+                assert_eq!(
+                    mesh.as_ref(),
+                    Some(&m.mesh),
+                    "{}: the mesh handed back",
+                    m.name
+                );
             } else {
                 assert!(mesh.is_none(), "a borrowed mesh is not handed back");
             }
@@ -215,7 +220,10 @@ fn owning_the_mesh_changes_no_bit() {
     let schemes: [&dyn WeightScheme; 4] = [&Uniform, &InverseDistance, &Cotangent, &custom];
     let (mut runs, mut ok) = (0, 0);
     for m in meshes() {
-        let pinned = vec![VertexId::new(1), VertexId::new(m.positions.len() as u32 / 3)];
+        let pinned = vec![
+            VertexId::new(1),
+            VertexId::new(m.positions.len() as u32 / 3),
+        ];
         for scheme in schemes {
             for method in [
                 Method::Laplacian,
@@ -312,7 +320,7 @@ fn errors_are_the_same_when_the_mesh_is_given() {
             (bad, SmoothConfig::new(0.5, 2)),
             (
                 m.positions.clone(),
-                SmoothConfig::new(0.5, 2).pinned(vec![VertexId::new(1 <<30)]),
+                SmoothConfig::new(0.5, 2).pinned(vec![VertexId::new(1 << 30)]),
             ),
             (m.positions[1..].to_vec(), SmoothConfig::new(0.5, 2)),
         ];
@@ -321,8 +329,9 @@ fn errors_are_the_same_when_the_mesh_is_given() {
                 let config = config.clone().reorder(reorder);
                 let borrowed = Smoother::new(&m.mesh, &positions, &Uniform, config.clone())
                     .map(|s| bits(&s.positions()));
-                let owned = Smoother::from_owned(m.mesh.clone(), positions.clone(), &Uniform, config)
-                    .map(|s| bits(&s.positions()));
+                let owned =
+                    Smoother::from_owned(m.mesh.clone(), positions.clone(), &Uniform, config)
+                        .map(|s| bits(&s.positions()));
                 assert!(borrowed.is_err(), "{}", m.name);
                 assert_eq!(format!("{borrowed:?}"), format!("{owned:?}"), "{}", m.name);
             }

@@ -257,11 +257,9 @@ impl Before {
             .sum::<f64>()
             / n as f64;
         drop(self.positions);
-        let volume = self.volume.and_then(|before| {
-            before
-                .zip(volume(mesh, after))
-                .filter(|(b, _)| *b != 0.0)
-        });
+        let volume = self
+            .volume
+            .and_then(|before| before.zip(volume(mesh, after)).filter(|(b, _)| *b != 0.0));
         Change {
             mean_displacement,
             volume,
