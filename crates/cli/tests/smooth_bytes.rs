@@ -100,20 +100,25 @@ fn noisy_torus(dir: &Path, n: u32, m: u32) -> std::path::PathBuf {
     path
 }
 
+/// A run on a fixture: its name, the output's name, the command's options, the
+/// library's scheme and configuration for them, whether the input is repaired, whether
+/// the output is ascii.
+type Case<'a> = (
+    &'a str,
+    &'a str,
+    &'a [&'a str],
+    &'a dyn WeightScheme,
+    SmoothConfig,
+    bool,
+    bool,
+);
+
 #[test]
 fn small_meshes_write_the_same_bytes_as_the_library() {
     let dir = tempfile::tempdir().unwrap();
     let want = dir.path().join("want");
     std::fs::create_dir(&want).unwrap();
-    let cases: [(
-        &str,
-        &str,
-        &[&str],
-        &dyn WeightScheme,
-        SmoothConfig,
-        bool,
-        bool,
-    ); 6] = [
+    let cases: [Case<'_>; 6] = [
         (
             "noisy_torus_36x12.ply",
             "out.ply",
