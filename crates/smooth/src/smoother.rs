@@ -120,9 +120,10 @@ impl<'a> Smoother<'a> {
     /// them instead of copying them. When it renumbers the vertices for locality (see
     /// [`Reorder`](crate::Reorder)) it renumbers this mesh in place instead of building
     /// a renumbered copy, and replaces the positions by their renumbered copy: a large
-    /// run holds one half-edge mesh and two position buffers instead of two meshes and
-    /// three buffers beside the caller's. [`run_owned`](Self::run_owned) hands the mesh
-    /// back, in the caller's numbering.
+    /// run holds one half-edge mesh and two position buffers, where with
+    /// [`new`](Self::new) the caller and the smoother together hold two meshes and
+    /// three position buffers. [`run_owned`](Self::run_owned) hands the mesh back, in
+    /// the caller's numbering.
     ///
     /// Every result is the same bits as with [`new`](Self::new).
     ///
