@@ -5,8 +5,9 @@
 //! cache; when they are scattered (the vertex order of a subdivided or scanned mesh, or
 //! a shuffled one) every row waits on memory. A [`VertexPermutation`] renumbers the
 //! vertices so that neighbours lie close together, [`apply_to_mesh`] builds the
-//! renumbered connectivity, and [`permute`]/[`restore`] move per-vertex data between the
-//! two numberings, so that an algorithm can work internally in the good order and give
+//! renumbered connectivity ([`apply_to_mesh_in_place`] renumbers a mesh where it is, and
+//! [`restore_mesh_in_place`] numbers it back), and [`permute`]/[`restore`] move
+//! per-vertex data between the two numberings, so that an algorithm can work internally in the good order and give
 //! its results back in the caller's.
 //!
 //! Renumbering the vertices changes nothing else: halfedge, edge and face ids, each
@@ -23,6 +24,8 @@
 //!   positions' bounding box. Needs only the positions.
 //!
 //! [`apply_to_mesh`]: VertexPermutation::apply_to_mesh
+//! [`apply_to_mesh_in_place`]: VertexPermutation::apply_to_mesh_in_place
+//! [`restore_mesh_in_place`]: VertexPermutation::restore_mesh_in_place
 //! [`permute`]: VertexPermutation::permute
 //! [`restore`]: VertexPermutation::restore
 //!
