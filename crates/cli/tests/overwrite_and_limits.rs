@@ -107,7 +107,7 @@ fn max_memory_stops_the_run_before_the_mesh_is_built() {
     // 642 vertices, 1280 triangles: 16 MiB + 642 * 128 B + 3840 * 96 B.
     let out = beltrami(&["smooth", s(&input), s(&output), "--max-memory", "16M"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: scan.ply: the run needs about 16.4 MiB (642 vertices, 1280 faces), more than --max-memory 16.0 MiB");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: scan.ply: the run needs about 16.3 MiB (642 vertices, 1280 faces), more than --max-memory 16.0 MiB");
     assert_eq!(
         names(dir.path()),
         ["scan.ply"],
@@ -119,7 +119,7 @@ fn max_memory_stops_the_run_before_the_mesh_is_built() {
     write_mesh(&obj, &read_mesh(&input).unwrap(), &WriteOptions::default()).unwrap();
     let out = beltrami(&["smooth", s(&obj), s(&output), "--max-memory", "16777216"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: scan.obj: the run needs about 16.4 MiB (642 vertices, 1280 faces), more than --max-memory 16.0 MiB");
+    assert_snapshot!(error_line(&out, dir.path()), @"error: scan.obj: the run needs about 16.3 MiB (642 vertices, 1280 faces), more than --max-memory 16.0 MiB");
     assert!(!output.exists());
 
     // Under the limit the run goes through; --verbose prints the estimate.
@@ -138,7 +138,7 @@ fn max_memory_stops_the_run_before_the_mesh_is_built() {
     );
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "note: this run needs about 16.4 MiB (642 vertices, 1280 faces) of memory\nnote: planned 10 iterations of step 0.8\n"
+        "note: this run needs about 16.3 MiB (642 vertices, 1280 faces) of memory\nnote: planned 10 iterations of step 0.8\n"
     );
     assert!(output.exists());
     // Small runs print nothing without --verbose.

@@ -5,8 +5,9 @@
 //! cache; when they are scattered (the vertex order of a subdivided or scanned mesh, or
 //! a shuffled one) every row waits on memory. A [`VertexPermutation`] renumbers the
 //! vertices so that neighbours lie close together, [`apply_to_mesh`] builds the
-//! renumbered connectivity, and [`permute`]/[`restore`] move per-vertex data between the
-//! two numberings, so that an algorithm can work internally in the good order and give
+//! renumbered connectivity ([`apply_to_mesh_in_place`] renumbers a mesh where it is, and
+//! [`restore_mesh_in_place`] numbers it back), and [`permute`]/[`restore`] move
+//! per-vertex data between the two numberings, so that an algorithm can work internally in the good order and give
 //! its results back in the caller's.
 //!
 //! Renumbering the vertices changes nothing else: halfedge, edge and face ids, each
@@ -23,6 +24,8 @@
 //!   positions' bounding box. Needs only the positions.
 //!
 //! [`apply_to_mesh`]: VertexPermutation::apply_to_mesh
+//! [`apply_to_mesh_in_place`]: VertexPermutation::apply_to_mesh_in_place
+//! [`restore_mesh_in_place`]: VertexPermutation::restore_mesh_in_place
 //! [`permute`]: VertexPermutation::permute
 //! [`restore`]: VertexPermutation::restore
 //!
@@ -44,6 +47,7 @@
 use std::collections::VecDeque;
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::ids::VertexId;
 use crate::mesh::{HalfedgeMesh, INVALID};
@@ -199,7 +203,60 @@ impl VertexPermutation {
             f_he: mesh.f_he.clone(),
         }
     }
+
+    /// [`apply_to_mesh`](Self::apply_to_mesh) without a second mesh: renumbers the
+    /// vertices of `mesh` where it is, and gives the same mesh as `apply_to_mesh`. Only
+    /// the outgoing halfedge per vertex is gathered into a new array (4 bytes per
+    /// vertex, freed on return); the halfedges' target vertices are mapped in place and
+    /// everything else is untouched.
+    ///
+    /// # Panics
+    /// If the permutation does not have one entry per vertex of `mesh`.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::{primitives, reorder};
+    ///
+    /// let sphere = primitives::icosphere(2);
+    /// let mesh = sphere.mesh().unwrap();
+    /// let perm = reorder::rcm_order(&mesh);
+    /// let mut renumbered = mesh.clone();
+    /// perm.apply_to_mesh_in_place(&mut renumbered);
+    /// assert_eq!(renumbered, perm.apply_to_mesh(&mesh));
+    /// // And back.
+    /// perm.restore_mesh_in_place(&mut renumbered);
+    /// assert_eq!(renumbered, mesh);
+    /// ```
+    pub fn apply_to_mesh_in_place(&self, mesh: &mut HalfedgeMesh) {
+        renumber_in_place(mesh, &self.new_to_old, &self.old_to_new);
+    }
+
+    /// The inverse of [`apply_to_mesh_in_place`](Self::apply_to_mesh_in_place): gives a
+    /// mesh renumbered by this permutation its original vertex numbering back, where it
+    /// is (4 bytes per vertex of temporary memory).
+    ///
+    /// # Panics
+    /// If the permutation does not have one entry per vertex of `mesh`.
+    pub fn restore_mesh_in_place(&self, mesh: &mut HalfedgeMesh) {
+        renumber_in_place(mesh, &self.old_to_new, &self.new_to_old);
+    }
 }
+
+/// Renumbers the vertices of `mesh` where it is: new vertex `i` is old vertex
+/// `new_to_old[i]`, old vertex `o` becomes `old_to_new[o]`.
+fn renumber_in_place(mesh: &mut HalfedgeMesh, new_to_old: &[u32], old_to_new: &[u32]) {
+    assert_eq!(mesh.n_vertices(), new_to_old.len(), "one entry per vertex");
+    let v_out: Vec<u32> = new_to_old.iter().map(|&o| mesh.v_out[o as usize]).collect();
+    mesh.v_out = v_out;
+    mesh.h_to.par_chunks_mut(RENUMBER_CHUNK).for_each(|chunk| {
+        for v in chunk {
+            *v = old_to_new[*v as usize];
+        }
+    });
+}
+
+/// Halfedges per parallel work unit of [`renumber_in_place`].
+const RENUMBER_CHUNK: usize = 1 << 16;
 
 /// Reverse Cuthill–McKee order of the vertex graph: each connected component is
 /// traversed breadth-first from a pseudo-peripheral vertex (the last vertex reached by a
@@ -396,6 +453,34 @@ mod tests {
         let grid = primitives::grid(5, 4);
         let mesh = grid.mesh().unwrap();
         check(&mesh, &rcm_order(&mesh));
+    }
+
+    #[test]
+    fn renumbering_in_place_equals_the_copy_and_restores() {
+        let torus = primitives::torus(2.0, 0.5, 24, 12);
+        let grid = primitives::grid(7, 5);
+        let sphere = primitives::icosphere(3);
+        let meshes = [
+            torus.mesh().unwrap(),
+            grid.mesh().unwrap(),
+            sphere.mesh().unwrap(),
+            // Vertex 4 is isolated.
+            HalfedgeMesh::from_polygons(5, [[0u32, 1, 2], [0, 2, 3]]).unwrap(),
+        ];
+        for mesh in meshes {
+            let n = mesh.n_vertices() as u32;
+            // RCM and a reversal: neither is the identity.
+            let reversed = VertexPermutation::from_new_to_old((0..n).rev().collect()).unwrap();
+            for perm in [rcm_order(&mesh), reversed] {
+                assert_ne!(perm, VertexPermutation::identity(mesh.n_vertices()));
+                let mut m = mesh.clone();
+                perm.apply_to_mesh_in_place(&mut m);
+                assert_eq!(m, perm.apply_to_mesh(&mesh));
+                assert_ne!(m, mesh);
+                perm.restore_mesh_in_place(&mut m);
+                assert_eq!(m, mesh);
+            }
+        }
     }
 
     #[test]

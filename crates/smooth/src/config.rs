@@ -38,13 +38,16 @@ pub enum WeightUpdate {
 ///
 /// A Jacobi sweep reads every vertex's neighbours; when their indices are scattered (a
 /// subdivided, scanned or shuffled mesh) each row waits on memory. With reordering the
-/// [`Smoother`](crate::Smoother) works on a copy of the mesh renumbered in reverse
+/// [`Smoother`](crate::Smoother) works on the mesh renumbered in reverse
 /// Cuthill–McKee order
 /// ([`rcm_order`](beltrami_halfedge::reorder::rcm_order)) and gives everything back in
 /// the caller's numbering: positions, observer positions, statistics, error indices and
 /// the chosen step are bit-identical to a run without reordering. It costs the
 /// renumbering (O(V + E), sequential; about the time of 5–10 frozen-weight iterations
-/// on a large mesh) and one copy of the connectivity. Per iteration it costs nothing
+/// on a large mesh), the permutation both ways (8 bytes per vertex) and, for a mesh
+/// lent to [`Smoother::new`](crate::Smoother::new), one copy of the connectivity; a
+/// mesh given by value to [`Smoother::from_owned`](crate::Smoother::from_owned) is
+/// renumbered in place instead (and numbered back at the end). Per iteration it costs nothing
 /// more unless something is asked in the caller's numbering: a gather of the
 /// displacements for the mean of [`StepStats`](crate::StepStats) (with
 /// [`Statistics::EveryIteration`], or when asked), and a gather of the positions when

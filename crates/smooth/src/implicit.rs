@@ -12,6 +12,7 @@ mod cg;
 mod direct;
 mod system;
 
+use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::Geometry;
@@ -85,7 +86,9 @@ enum SolverState {
 /// each step solves `(M − t L) x' = M x` for the three coordinates (see
 /// [`Method::Implicit`] for the matrix, the Dirichlet rows and determinism).
 pub(crate) struct Implicit<'a> {
-    mesh: &'a HalfedgeMesh,
+    /// The mesh: borrowed, or given by value (then handed back by
+    /// [`finish`](Self::finish)).
+    mesh: Cow<'a, HalfedgeMesh>,
     scheme: &'a dyn WeightScheme,
     config: SmoothConfig,
     laplacian: Laplacian,
@@ -120,8 +123,8 @@ impl std::fmt::Debug for Implicit<'_> {
 }
 
 impl<'a> Implicit<'a> {
-    /// Prepares a run on `positions` (copied): computes the first weights, assembles
-    /// the matrix and, for Cholesky, its symbolic analysis (the numeric factorisation
+    /// Prepares a run on `positions` (copied when borrowed): computes the first
+    /// weights, assembles the matrix and, for Cholesky, its symbolic analysis (the numeric factorisation
     /// happens in the first [`step`](Self::step)); `config` has been validated (see
     /// [`Smoother::new`](crate::Smoother::new)).
     ///
@@ -131,8 +134,8 @@ impl<'a> Implicit<'a> {
     /// be turned into steps; [`SmoothError::Factorization`] when the analysis cannot be
     /// done (out of memory).
     pub(crate) fn new(
-        mesh: &'a HalfedgeMesh,
-        positions: &[DVec3],
+        mesh: Cow<'a, HalfedgeMesh>,
+        positions: Cow<'_, [DVec3]>,
         scheme: &'a dyn WeightScheme,
         config: SmoothConfig,
     ) -> Result<Self, SmoothError> {
@@ -141,13 +144,13 @@ impl<'a> Implicit<'a> {
         };
         let mut config = config;
         let start = Instant::now();
-        let laplacian = Laplacian::new(mesh, positions, scheme, config.laplacian)?;
-        let fixed = fixed_vertices(mesh, &config);
+        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)?;
+        let fixed = fixed_vertices(&mesh, &config);
         if let Some(duration) = config.duration {
             let moves: Vec<bool> = fixed.iter().map(|f| !f).collect();
             let plan = Plan {
                 perm: None,
-                positions,
+                positions: &positions,
                 laplacian: &laplacian,
                 moves: &moves,
                 max_lambda: config.lambda,
@@ -164,8 +167,9 @@ impl<'a> Implicit<'a> {
             laplacian,
             system,
             solver: initial_solver_state(solver),
-            positions: positions.to_vec(),
             next: vec![DVec3::ZERO; positions.len()],
+            // Positions given by value become the smoother's own; borrowed ones are copied.
+            positions: positions.into_owned(),
             distances: Vec::new(),
             areas: Vec::new(),
             iteration: 0,
@@ -211,7 +215,7 @@ impl<'a> Implicit<'a> {
         let areas = match self.config.laplacian.normalization {
             Normalization::Area(kind) => {
                 let geometry =
-                    Geometry::new(self.mesh, &self.positions).map_err(WeightError::from)?;
+                    Geometry::new(&self.mesh, &self.positions).map_err(WeightError::from)?;
                 self.areas.resize(self.positions.len(), 0.0);
                 geometry
                     .vertex_areas_into(kind, &mut self.areas)
@@ -253,7 +257,7 @@ impl<'a> Implicit<'a> {
         if self.weights_stale() {
             let start = Instant::now();
             self.laplacian
-                .update(self.mesh, &self.positions, self.scheme)?;
+                .update(&self.mesh, &self.positions, self.scheme)?;
             self.assemble()?;
             self.assembly_time += start.elapsed();
         }
@@ -410,6 +414,10 @@ impl<'a> Implicit<'a> {
         };
         crate::smoother::Finished {
             positions: self.positions,
+            mesh: match self.mesh {
+                Cow::Owned(mesh) => Some(mesh),
+                Cow::Borrowed(_) => None,
+            },
             config: self.config,
             weight_time: self.assembly_time,
             update_time: self.solve_time,

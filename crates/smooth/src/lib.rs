@@ -19,7 +19,9 @@
 //! `FnMut(&IterationView) -> ControlFlow<()>` (metrics, progress, early stop). The observer's
 //! positions and statistics are computed when it asks for them, so an observer that only
 //! counts iterations costs nothing; [`Statistics::OnDemand`] also drops the per-iteration
-//! statistics of the report.
+//! statistics of the report. A caller that no longer needs its mesh and positions gives
+//! them to [`Smoother::from_owned`], which keeps them instead of copying them and hands
+//! the mesh back from [`Smoother::run_owned`].
 //!
 //! ## Quick start
 //!

@@ -29,6 +29,11 @@ use crate::report::{IterationView, SmoothReport, Smoothed, SolverReport, StepSta
 /// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
 /// numbering and bit-identical to a run without reordering.
 ///
+/// [`Smoother::new`] borrows the mesh and copies the positions (and, when it renumbers,
+/// copies the mesh too); [`Smoother::from_owned`] takes both by value, renumbers the
+/// mesh in place and gives it back from [`Smoother::run_owned`]: the way to smooth a
+/// large mesh with one copy of its connectivity and two position buffers in memory.
+///
 /// # Examples
 /// ```
 /// use beltrami_halfedge::primitives;
@@ -69,6 +74,8 @@ enum Engine<'a> {
 pub(crate) struct Finished {
     /// The positions, in the caller's numbering.
     pub(crate) positions: Vec<DVec3>,
+    /// The mesh in the caller's numbering, when the caller gave it by value.
+    pub(crate) mesh: Option<HalfedgeMesh>,
     /// The configuration, with the step and count chosen for a duration.
     pub(crate) config: SmoothConfig,
     pub(crate) weight_time: Duration,
@@ -101,6 +108,65 @@ impl<'a> Smoother<'a> {
         config: SmoothConfig,
     ) -> Result<Self, SmoothError> {
         validate(&config, mesh, positions)?;
+        Self::with_engine(
+            Cow::Borrowed(mesh),
+            Cow::Borrowed(positions),
+            scheme,
+            config,
+        )
+    }
+
+    /// [`new`](Self::new) for a mesh and positions given by value: the smoother keeps
+    /// them instead of copying them. When it renumbers the vertices for locality (see
+    /// [`Reorder`](crate::Reorder)) it renumbers this mesh in place instead of building
+    /// a renumbered copy, and replaces the positions by their renumbered copy: a large
+    /// run holds one half-edge mesh and two position buffers, where with
+    /// [`new`](Self::new) the caller and the smoother together hold two meshes and
+    /// three position buffers. [`run_owned`](Self::run_owned) hands the mesh back, in
+    /// the caller's numbering.
+    ///
+    /// Every result is the same bits as with [`new`](Self::new).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); the mesh and the positions are then dropped.
+    ///
+    /// # Examples
+    /// ```
+    /// use std::ops::ControlFlow;
+    /// use beltrami_halfedge::primitives;
+    /// use beltrami_smooth::{smooth, Reorder, SmoothConfig, Smoother};
+    /// use beltrami_weights::Cotangent;
+    ///
+    /// let sphere = primitives::icosphere(3);
+    /// let mesh = sphere.mesh().unwrap();
+    /// // Renumbered for locality (by default from 50 000 vertices on): in place here.
+    /// let config = SmoothConfig::new(0.5, 4).reorder(Reorder::Always);
+    /// let borrowed = smooth(&mesh, &sphere.positions, &Cotangent, config.clone())?;
+    ///
+    /// let smoother =
+    ///     Smoother::from_owned(mesh.clone(), sphere.positions.clone(), &Cotangent, config)?;
+    /// let (owned, given_back) = smoother.run_owned(|_| ControlFlow::Continue(()))?;
+    /// assert_eq!(owned.positions, borrowed.positions);
+    /// assert_eq!(given_back, Some(mesh));
+    /// # Ok::<(), beltrami_smooth::SmoothError>(())
+    /// ```
+    pub fn from_owned(
+        mesh: HalfedgeMesh,
+        positions: Vec<DVec3>,
+        scheme: &'a dyn WeightScheme,
+        config: SmoothConfig,
+    ) -> Result<Self, SmoothError> {
+        validate(&config, &mesh, &positions)?;
+        Self::with_engine(Cow::Owned(mesh), Cow::Owned(positions), scheme, config)
+    }
+
+    /// The engine `config.method` asks for, on a validated `config`.
+    fn with_engine(
+        mesh: Cow<'a, HalfedgeMesh>,
+        positions: Cow<'_, [DVec3]>,
+        scheme: &'a dyn WeightScheme,
+        config: SmoothConfig,
+    ) -> Result<Self, SmoothError> {
         let engine = match config.method {
             Method::Implicit { .. } => {
                 Engine::Implicit(Box::new(Implicit::new(mesh, positions, scheme, config)?))
@@ -156,7 +222,24 @@ impl<'a> Smoother<'a> {
     ///
     /// # Errors
     /// As [`step`](Self::step).
-    pub fn run<F>(mut self, mut observer: F) -> Result<Smoothed, SmoothError>
+    pub fn run<F>(self, observer: F) -> Result<Smoothed, SmoothError>
+    where
+        F: FnMut(&IterationView<'_>) -> ControlFlow<()>,
+    {
+        self.run_owned(observer).map(|(smoothed, _)| smoothed)
+    }
+
+    /// [`run`](Self::run), handing back the mesh of a smoother made by
+    /// [`from_owned`](Self::from_owned), in the caller's numbering (the mesh as given:
+    /// a renumbered mesh is numbered back in place); `None` for a smoother that
+    /// borrows its mesh.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step); the mesh is then dropped.
+    pub fn run_owned<F>(
+        mut self,
+        mut observer: F,
+    ) -> Result<(Smoothed, Option<HalfedgeMesh>), SmoothError>
     where
         F: FnMut(&IterationView<'_>) -> ControlFlow<()>,
     {
@@ -223,10 +306,11 @@ impl<'a> Smoother<'a> {
             update_time: finished.update_time,
             solver: finished.solver,
         };
-        Ok(Smoothed {
+        let smoothed = Smoothed {
             positions: finished.positions,
             report,
-        })
+        };
+        Ok((smoothed, finished.mesh))
     }
 
     fn scheme_name(&self) -> String {

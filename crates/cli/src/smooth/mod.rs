@@ -46,13 +46,30 @@ pub(crate) fn run(
     let loaded = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
-    let smoothed = run_smoother(args, &loaded.mesh, &loaded.positions, scheme.as_ref())?;
+    let LoadedMesh {
+        mesh,
+        positions,
+        faces,
+        repair_lines,
+        parse_seconds,
+        build_seconds,
+        ..
+    } = loaded;
+    // The output is written with the mesh's own faces (`to_polygons` gives the list
+    // the mesh was built from back exactly), so the list as read is not kept through
+    // the run.
+    drop(faces);
+    let shape = Shape::of(&mesh);
+    let before = Before::of(&mesh, &positions);
+    let (smoothed, mesh) = run_smoother(args, mesh, positions, scheme.as_ref())?;
 
     let t1 = Instant::now();
-    let change = Change::between(&loaded.mesh, &loaded.positions, &smoothed.positions);
+    let change = before.change(&mesh, &smoothed.positions);
+    let faces = mesh.to_polygons();
+    drop(mesh);
     let data = MeshData {
         positions: smoothed.positions,
-        faces: loaded.faces,
+        faces,
     };
     let mut staged = Staged::new();
     staged.push_mesh(&args.output, &data, args.ascii)?;
@@ -62,8 +79,8 @@ pub(crate) fn run(
     if let Some(path) = &args.report {
         let read = ReadSeconds {
             total: read_seconds,
-            parse: loaded.parse_seconds,
-            build: loaded.build_seconds,
+            parse: parse_seconds,
+            build: build_seconds,
         };
         let report = build_report(args, &data, r, read, write_seconds);
         let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
@@ -72,17 +89,32 @@ pub(crate) fn run(
     }
     staged.commit()?;
 
-    let lines = &loaded.repair_lines;
     write_summary(
         out,
         args,
-        lines,
-        &loaded.mesh,
+        &repair_lines,
+        shape,
         data.positions.len(),
         r,
         &change,
     )?;
     Ok(())
+}
+
+/// What the summary says about the mesh's shape, taken before the smoother owns it.
+#[derive(Clone, Copy, Debug)]
+struct Shape {
+    closed: bool,
+    triangles: bool,
+}
+
+impl Shape {
+    fn of(mesh: &HalfedgeMesh) -> Self {
+        Self {
+            closed: mesh.is_closed(),
+            triangles: mesh.is_triangle_mesh(),
+        }
+    }
 }
 
 /// Loads INPUT after checking the memory the run needs: first on the counts the file
@@ -120,7 +152,7 @@ fn write_summary(
     out: &mut impl Write,
     args: &SmoothArgs,
     repair_lines: &[String],
-    mesh: &HalfedgeMesh,
+    shape: Shape,
     n_vertices: usize,
     r: &SmoothReport,
     change: &Change,
@@ -128,7 +160,7 @@ fn write_summary(
     for line in repair_lines {
         writeln!(out, "{line}")?;
     }
-    let boundary = if mesh.is_closed() {
+    let boundary = if shape.closed {
         "no boundary".to_string()
     } else {
         format!("{} boundary", format!("{:?}", args.boundary).to_lowercase())
@@ -165,7 +197,7 @@ fn write_summary(
         )?;
     }
     if r.max_stuck_vertices > 0 {
-        let why = if mesh.is_triangle_mesh() {
+        let why = if shape.triangles {
             "weights summing to <= 0 or zero area".to_string()
         } else {
             format!(
@@ -190,26 +222,45 @@ struct Change {
     volume: Option<(f64, f64)>,
 }
 
-impl Change {
-    fn between(mesh: &HalfedgeMesh, before: &[DVec3], after: &[DVec3]) -> Self {
-        let n = before.len().max(1);
-        let mean_displacement = before
+/// What [`Change`] needs of the input, taken before the run: its positions (for the
+/// displacements) and, for a closed mesh, its volume.
+struct Before {
+    positions: Vec<DVec3>,
+    /// `None` for a mesh with a boundary; `Some(None)` when the volume cannot be
+    /// computed.
+    volume: Option<Option<f64>>,
+}
+
+/// The enclosed volume of a closed mesh, or `None` when it cannot be computed.
+fn volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<f64> {
+    Geometry::new(mesh, positions)
+        .ok()
+        .and_then(|g| g.volume().ok())
+}
+
+impl Before {
+    fn of(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Self {
+        Self {
+            positions: positions.to_vec(),
+            volume: mesh.is_closed().then(|| volume(mesh, positions)),
+        }
+    }
+
+    /// The change from the input to `after` on `mesh` (the input's connectivity).
+    fn change(self, mesh: &HalfedgeMesh, after: &[DVec3]) -> Change {
+        let n = self.positions.len().max(1);
+        let mean_displacement = self
+            .positions
             .iter()
             .zip(after)
             .map(|(a, b)| a.distance(*b))
             .sum::<f64>()
             / n as f64;
-        let volume = |positions| {
-            Geometry::new(mesh, positions)
-                .ok()
-                .and_then(|g| g.volume().ok())
-        };
-        let volume = if mesh.is_closed() {
-            volume(before).zip(volume(after)).filter(|(b, _)| *b != 0.0)
-        } else {
-            None
-        };
-        Self {
+        drop(self.positions);
+        let volume = self
+            .volume
+            .and_then(|before| before.zip(volume(mesh, after)).filter(|(b, _)| *b != 0.0));
+        Change {
             mean_displacement,
             volume,
         }
@@ -304,13 +355,15 @@ fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
     })
 }
 
-/// Every method (plain, Taubin, HC, implicit) through [`Smoother`].
+/// Every method (plain, Taubin, HC, implicit) through [`Smoother`], which takes the
+/// mesh and the positions by value (no copy of either, the mesh renumbered in place)
+/// and hands the mesh back.
 fn run_smoother(
     args: &SmoothArgs,
-    mesh: &HalfedgeMesh,
-    positions: &[DVec3],
+    mesh: HalfedgeMesh,
+    positions: Vec<DVec3>,
     scheme: &dyn WeightScheme,
-) -> Result<Smoothed, CliError> {
+) -> Result<(Smoothed, HalfedgeMesh), CliError> {
     let smooth_error = |source| {
         taubin_hint(
             args,
@@ -320,7 +373,8 @@ fn run_smoother(
             },
         )
     };
-    let smoother = Smoother::new(mesh, positions, scheme, args.config()).map_err(smooth_error)?;
+    let smoother =
+        Smoother::from_owned(mesh, positions, scheme, args.config()).map_err(smooth_error)?;
     // A step given directly must be stable; a time chooses its own stable step.
     if let Some(limit) = smoother.stable_step_limit()
         && smoother.config().duration.is_none()
@@ -333,8 +387,8 @@ fn run_smoother(
     }
     check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
     let progress = progress_bar(smoother.config().iterations);
-    let smoothed = smoother
-        .run(|it| {
+    let (smoothed, mesh) = smoother
+        .run_owned(|it| {
             if let Some(bar) = &progress {
                 bar.set_position(it.index as u64);
             }
@@ -344,7 +398,8 @@ fn run_smoother(
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
-    Ok(smoothed)
+    let mesh = mesh.expect("a mesh given by value is handed back");
+    Ok((smoothed, mesh))
 }
 
 /// Refuses a run planning more than `--max-iterations` iterations, and prints the

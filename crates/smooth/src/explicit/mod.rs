@@ -51,8 +51,12 @@ struct CurveRow {
 /// `x_i ← x_i + λ L x_i`, compound methods (Taubin, HC, volume rescale) built from
 /// them, and the internal renumbering of large meshes.
 pub(crate) struct Explicit<'a> {
-    /// The mesh, renumbered when `perm` is set.
+    /// The mesh, renumbered when `perm` is set: the caller's own when given by value
+    /// (renumbered in place), else borrowed or a renumbered copy.
     mesh: Cow<'a, HalfedgeMesh>,
+    /// Whether the caller gave the mesh by value (it is then handed back by
+    /// [`finish`](Self::finish), in the caller's numbering).
+    mesh_given: bool,
     /// The internal numbering (new = internal, old = the caller's), when reordering.
     perm: Option<VertexPermutation>,
     /// Per-vertex displacements of the last sweep, internal numbering (reordering with
@@ -269,31 +273,48 @@ fn sweep_chunks(
 }
 
 impl<'a> Explicit<'a> {
-    /// Prepares a run on `positions` (copied) and computes the first weights; `config`
-    /// has been validated (see [`Smoother::new`](crate::Smoother::new)).
+    /// Prepares a run on `positions` and computes the first weights; `config` has been
+    /// validated (see [`Smoother::new`](crate::Smoother::new)). A borrowed mesh is
+    /// copied when it is renumbered, a mesh given by value is renumbered in place;
+    /// borrowed positions are copied, positions given by value become the smoother's
+    /// own (replaced by their renumbered copy when reordering).
     ///
     /// # Errors
     /// [`SmoothError::Weights`] when the positions do not match the mesh or the scheme
     /// gives a non-finite weight; [`SmoothError::DegenerateVolume`];
     /// [`SmoothError::InvalidDuration`] when a time cannot be turned into steps.
     pub(crate) fn new(
-        mesh: &'a HalfedgeMesh,
-        positions: &[DVec3],
+        mesh: Cow<'a, HalfedgeMesh>,
+        positions: Cow<'_, [DVec3]>,
         scheme: &'a dyn WeightScheme,
         config: SmoothConfig,
     ) -> Result<Self, SmoothError> {
         let start = Instant::now();
+        let mesh_given = matches!(mesh, Cow::Owned(_));
         // With a mismatched position count the operator reports the error unreordered.
         let perm = (config.reorder.applies(mesh.n_vertices())
             && positions.len() == mesh.n_vertices())
-        .then(|| rcm_order(mesh));
-        let (caller_mesh, caller_positions) = (mesh, positions);
+        .then(|| rcm_order(&mesh));
+        // The input volume in the caller's numbering (the same bits either way), taken
+        // before renumbering and reported after the operator's own errors.
+        let volume = config
+            .preserve_volume
+            .then(|| input_volume(&mesh, &positions));
         let (mesh, positions): (Cow<'a, HalfedgeMesh>, Cow<'_, [DVec3]>) = match &perm {
-            Some(p) => (
-                Cow::Owned(p.apply_to_mesh(mesh)),
-                Cow::Owned(permute_par(p, positions)),
-            ),
-            None => (Cow::Borrowed(mesh), Cow::Borrowed(positions)),
+            Some(p) => {
+                let mesh = match mesh {
+                    Cow::Borrowed(mesh) => Cow::Owned(p.apply_to_mesh(mesh)),
+                    Cow::Owned(mut mesh) => {
+                        p.apply_to_mesh_in_place(&mut mesh);
+                        Cow::Owned(mesh)
+                    }
+                };
+                let permuted = permute_par(p, &positions);
+                // The caller's order is not needed any more.
+                drop(positions);
+                (mesh, Cow::Owned(permuted))
+            }
+            None => (mesh, positions),
         };
         let to_caller = |e: SmoothError| match &perm {
             Some(p) => error_to_caller(e, p),
@@ -303,12 +324,7 @@ impl<'a> Explicit<'a> {
             .map_err(|e| to_caller(e.into()))?;
         let roles = vertex_roles(&mesh, &config, perm.as_ref());
         let curve = curve_rows(&mesh, &roles);
-        // The input volume in the caller's numbering (the same bits either way).
-        let volume = if config.preserve_volume {
-            input_volume(caller_mesh, caller_positions)?
-        } else {
-            0.0
-        };
+        let volume = volume.transpose()?.unwrap_or(0.0);
         let config = with_duration_resolved(config, perm.as_ref(), &positions, &laplacian, &roles)?;
         let n = positions.len();
         let eager_stats = config.statistics == Statistics::EveryIteration;
@@ -323,6 +339,7 @@ impl<'a> Explicit<'a> {
         let positions = positions.into_owned();
         let mut smoother = Self {
             mesh,
+            mesh_given,
             disp,
             perm,
             partials: Vec::with_capacity(n.div_ceil(CHUNK)),
@@ -686,8 +703,9 @@ impl<'a> Explicit<'a> {
         &self.positions
     }
 
-    /// Ends the run: the positions in the caller's numbering, the configuration and
-    /// the wall times.
+    /// Ends the run: the positions in the caller's numbering, the configuration, the
+    /// wall times and, when the caller gave it by value, the mesh in the caller's
+    /// numbering.
     pub(crate) fn finish(mut self) -> crate::smoother::Finished {
         let positions = match &self.perm {
             Some(perm) => {
@@ -699,8 +717,18 @@ impl<'a> Explicit<'a> {
             }
             None => self.positions,
         };
+        let mesh = match self.mesh {
+            Cow::Owned(mut mesh) if self.mesh_given => {
+                if let Some(perm) = &self.perm {
+                    perm.restore_mesh_in_place(&mut mesh);
+                }
+                Some(mesh)
+            }
+            _ => None,
+        };
         crate::smoother::Finished {
             positions,
+            mesh,
             config: self.config,
             weight_time: self.weight_time,
             update_time: self.update_time,
