@@ -78,8 +78,28 @@ impl EditMesh {
         {
             return Err(EditError::CollapseDuplicateEdge { halfedge: h });
         }
+        // `v1`'s neighbours are gathered once (on the stack for the usual valences)
+        // rather than walked again for each neighbour of `v0`.
+        let mut ring = [VertexId::new(0); 24];
+        let mut len = 0;
+        for m in self.vertices_around_vertex(v1) {
+            if len == ring.len() {
+                len = usize::MAX;
+                break;
+            }
+            ring[len] = m;
+            len += 1;
+        }
         for n in self.vertices_around_vertex(v0) {
-            if Some(n) != vl && Some(n) != vr && self.vertices_around_vertex(v1).any(|m| m == n) {
+            if Some(n) == vl || Some(n) == vr {
+                continue;
+            }
+            let common = if len <= ring.len() {
+                ring[..len].contains(&n)
+            } else {
+                self.vertices_around_vertex(v1).any(|m| m == n)
+            };
+            if common {
                 return Err(EditError::CollapseLinkCondition {
                     halfedge: h,
                     vertex: n,
@@ -211,5 +231,57 @@ impl EditMesh {
             self.mark_face_deleted(fh);
         }
         self.mark_edge_deleted(h0.edge());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{DVec3, EditError, EditMesh, FaceId, HalfedgeMesh, VertexId};
+
+    /// A disc of `n` triangles around vertex 0, the triangle `(0, 1, 2)` split at a
+    /// new vertex: vertex 2 is then a common neighbour of 0 and 1 that is not opposite
+    /// their edge.
+    fn split_fan(n: u32) -> EditMesh {
+        let faces: Vec<[u32; 3]> = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+        let mesh = HalfedgeMesh::from_polygons(n as usize + 1, &faces).unwrap();
+        let mut positions = vec![DVec3::ZERO];
+        positions.extend((0..n).map(|i| {
+            let t = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            DVec3::new(t.cos(), t.sin(), 0.0)
+        }));
+        let mut fan = EditMesh::from_mesh(&mesh, &positions).unwrap();
+        let first = fan
+            .faces()
+            .find(|&f| {
+                let c: Vec<VertexId> = fan.vertices_around_face(f).collect();
+                c.contains(&VertexId::new(1)) && c.contains(&VertexId::new(2))
+            })
+            .unwrap_or(FaceId::new(0));
+        fan.split_face(first, DVec3::new(0.3, 0.1, 0.0)).unwrap();
+        fan
+    }
+
+    #[test]
+    fn the_link_condition_holds_for_small_and_large_valences() {
+        // Valence 7 and 31 at the centre: the gathered ring and the walked one.
+        for n in [6, 30] {
+            let fan = split_fan(n);
+            let (centre, rim) = (VertexId::new(0), VertexId::new(1));
+            assert!(fan.valence(centre) > n as usize);
+            for (from, to) in [(centre, rim), (rim, centre)] {
+                let h = fan.find_halfedge(from, to).unwrap();
+                assert_eq!(
+                    fan.check_collapse(h),
+                    Err(EditError::CollapseLinkCondition {
+                        halfedge: h,
+                        vertex: VertexId::new(2),
+                    }),
+                    "valence {n}: {from:?} -> {to:?}"
+                );
+            }
+            // An edge of the disc away from the split collapses.
+            let far = fan.find_halfedge(VertexId::new(1 + n / 2), centre).unwrap();
+            assert!(fan.is_collapse_ok(far), "valence {n}");
+        }
     }
 }
