@@ -4,7 +4,7 @@
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeId, VertexId};
 use beltrami_metrics::distance::closest_point_on_triangle;
 
-use super::geometry::{NormalCone, Quadric, aspect_ratio, cross, shape_quality_squared};
+use super::geometry::{NormalCone, Quadric, aspect_ratio, cross, shape_quality_squared, smaller};
 use super::heap::Heap;
 use super::{BOUNDARY_WEIGHT, DecimateOptions, NOT_KEYED, Placement, RefusalCounts};
 
@@ -343,7 +343,7 @@ impl<'a> Decimator<'a> {
         }
         let mut worst = f64::INFINITY;
         self.changed_triangles(h, position, |_, t, _| {
-            worst = worst.min(shape_quality_squared(t));
+            worst = smaller(worst, shape_quality_squared(t));
             worst > 0.0
         });
         if worst <= 0.0 {
