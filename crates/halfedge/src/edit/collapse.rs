@@ -146,20 +146,31 @@ impl EditMesh {
         let o = h.twin();
         let o1 = self.next(o);
         let kept = self.to_vertex(h);
-        self.collapse_halfedge(h);
+        // Only a vertex on the boundary needs its outgoing halfedge pointed at a boundary
+        // one again, and only the two ends and the (one or two) opposite vertices can
+        // be on it afterwards if they were not before (the removed vertex's boundary
+        // passes to the kept one). Without a boundary among them, that walk around
+        // each of their rings is skipped (it would find nothing).
+        let boundary = [h, o].into_iter().any(|g| {
+            self.is_boundary_vertex(self.to_vertex(g))
+                || (!self.is_boundary_halfedge(g)
+                    && self.is_boundary_vertex(self.to_vertex(self.next(g))))
+        });
+        self.collapse_halfedge(h, boundary);
         if self.next(self.next(h1)) == h1 {
             let loop_start = self.next(h1);
-            self.collapse_loop(loop_start);
+            self.collapse_loop(loop_start, boundary);
         }
         if self.next(self.next(o1)) == o1 {
-            self.collapse_loop(o1);
+            self.collapse_loop(o1, boundary);
         }
         Ok(kept)
     }
 
     /// Removes the edge of `h` and its start vertex, leaving two-halfedge loops where
-    /// the triangles were.
-    fn collapse_halfedge(&mut self, h: HalfedgeId) {
+    /// the triangles were; `boundary`: a vertex involved is on the boundary (see
+    /// [`collapse_edge`](Self::collapse_edge)).
+    fn collapse_halfedge(&mut self, h: HalfedgeId, boundary: bool) {
         let hn = self.next(h);
         let hp = self.prev(h);
         let o = h.twin();
@@ -194,14 +205,17 @@ impl EditMesh {
         if self.outgoing_halfedge(vh) == Some(o) {
             self.set_outgoing(vh, Some(hn));
         }
-        self.adjust_outgoing(vh);
+        if boundary {
+            self.adjust_outgoing(vh);
+        }
         self.mark_edge_deleted(h.edge());
         self.mark_vertex_deleted(vo);
     }
 
     /// Removes a two-halfedge face loop `h0, h1 = next(h0)`: the edge of `h0` goes, and
-    /// `h1` takes the place of `twin(h0)` in the face beyond.
-    fn collapse_loop(&mut self, h0: HalfedgeId) {
+    /// `h1` takes the place of `twin(h0)` in the face beyond; `boundary` as for
+    /// [`collapse_halfedge`](Self::collapse_halfedge).
+    fn collapse_loop(&mut self, h0: HalfedgeId, boundary: bool) {
         let h1 = self.next(h0);
         let o0 = h0.twin();
         let o1 = h1.twin();
@@ -218,9 +232,13 @@ impl EditMesh {
         self.props.halfedge().copy(o0.index(), h1.index());
 
         self.set_outgoing(v0, Some(h1));
-        self.adjust_outgoing(v0);
+        if boundary {
+            self.adjust_outgoing(v0);
+        }
         self.set_outgoing(v1, Some(o1));
-        self.adjust_outgoing(v1);
+        if boundary {
+            self.adjust_outgoing(v1);
+        }
 
         if let Some(fo) = fo {
             if self.face_halfedge(fo) == o0 {
