@@ -12,7 +12,7 @@ impl Decimator<'_> {
     /// the heap) and counts the refusal.
     fn queue(&mut self, h: HalfedgeId) {
         if !self.mesh.is_live_halfedge(h) {
-            self.parked[h.index()] = false;
+            self.park(h, false);
             self.heap.remove(h.raw());
             return;
         }
@@ -22,9 +22,8 @@ impl Decimator<'_> {
 
     /// Queues the live halfedge `h` with its [`Decimator::bound`] `bound`, or parks it.
     fn queue_with(&mut self, h: HalfedgeId, bound: Result<f64, Refusal>) {
-        let i = h.index();
-        self.parked[i] = false;
-        self.keyed_at[i] = NOT_KEYED;
+        self.park(h, false);
+        self.keyed_at[h.index()] = NOT_KEYED;
         match bound {
             Ok(key) => self.heap.set(h.raw(), key),
             Err(r) => {
@@ -51,8 +50,8 @@ impl Decimator<'_> {
                 } else {
                     (h.twin(), h)
                 };
-                self.parked[even.index()] = false;
-                self.parked[odd.index()] = false;
+                self.park(even, false);
+                self.park(odd, false);
                 self.keyed_at[even.index()] = NOT_KEYED;
                 self.keyed_at[odd.index()] = NOT_KEYED;
                 self.heap.set(even.raw(), key);
@@ -70,7 +69,17 @@ impl Decimator<'_> {
     /// positions, and a change of those queues the halfedge again anyway.
     fn refuse(&mut self, h: HalfedgeId, r: Refusal) {
         self.refused.count(r);
-        self.parked[h.index()] = !matches!(r, Refusal::Boundary | Refusal::Error);
+        self.park(h, !matches!(r, Refusal::Boundary | Refusal::Error));
+    }
+
+    /// Sets whether `h` is parked, keeping [`Decimator::n_parked`].
+    fn park(&mut self, h: HalfedgeId, parked: bool) {
+        let was = std::mem::replace(&mut self.parked[h.index()], parked);
+        match (was, parked) {
+            (false, true) => self.n_parked += 1,
+            (true, false) => self.n_parked -= 1,
+            _ => {}
+        }
     }
 
     /// Collapses until `target` vertices are left or the heap is empty; returns the
@@ -269,6 +278,8 @@ impl Decimator<'_> {
             if !self.mesh.is_live_halfedge(g) {
                 self.heap.remove(g.raw());
                 self.heap.remove(g.twin().raw());
+                self.park(g, false);
+                self.park(g.twin(), false);
             }
         }
         self.mesh.set_position(v1, candidate.position);
@@ -301,11 +312,15 @@ impl Decimator<'_> {
     }
 
     /// Queues the edges at `v1` (the kept vertex, in [`Decimator::spokes`]) with their
-    /// new keys, and the parked edges around its neighbours again.
+    /// new keys, and the parked edges around its neighbours again (when any halfedge is
+    /// parked at all: on most surfaces none ever is, and the walk is skipped).
     fn requeue_around(&mut self) {
         for k in 0..self.spokes.len() {
             let g = self.spokes[k];
             self.queue_edge(g);
+        }
+        if self.n_parked == 0 {
+            return;
         }
         for k in 0..self.spokes.len() {
             let u = self.mesh.to_vertex(self.spokes[k]);

@@ -4,7 +4,7 @@
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeId, VertexId};
 use beltrami_metrics::distance::closest_point_on_triangle;
 
-use super::geometry::{NormalCone, Quadric, aspect_ratio, cross, shape_quality_squared};
+use super::geometry::{NormalCone, Quadric, aspect_ratio, cross, shape_quality_squared, smaller};
 use super::heap::Heap;
 use super::{BOUNDARY_WEIGHT, DecimateOptions, NOT_KEYED, Placement, RefusalCounts};
 
@@ -61,6 +61,9 @@ pub(super) struct Decimator<'a> {
     /// Per halfedge: refused when last looked at, to be queued again when its
     /// neighbourhood changes.
     pub(super) parked: Vec<bool>,
+    /// How many halfedges are parked (live ones; a removed edge's halfedges are
+    /// unparked).
+    pub(super) n_parked: usize,
     pub(super) heap: Heap,
     /// Per halfedge: the collapse count when its full key was computed, or
     /// [`NOT_KEYED`] when its heap key is the lower bound.
@@ -94,6 +97,7 @@ impl<'a> Decimator<'a> {
             cones: Vec::new(),
             points: Vec::new(),
             parked: vec![false; nh],
+            n_parked: 0,
             heap: Heap::with_capacity(nh),
             keyed_at: vec![NOT_KEYED; nh],
             changed_at: vec![0; nv],
@@ -226,9 +230,11 @@ impl<'a> Decimator<'a> {
         if m.cw_rotated(m.cw_rotated(h)) == h {
             return Err(Refusal::Topology);
         }
+        // Valence 3 tested by counting at most four spokes.
+        let valence_3 = |v: VertexId| m.halfedges_around_vertex(v).take(4).count() == 3;
         if let (Some(l), Some(r)) = (vl, vr)
-            && m.valence(l) == 3
-            && m.valence(r) == 3
+            && valence_3(l)
+            && valence_3(r)
             && m.find_halfedge(l, r).is_some()
         {
             return Err(Refusal::Topology);
@@ -337,7 +343,7 @@ impl<'a> Decimator<'a> {
         }
         let mut worst = f64::INFINITY;
         self.changed_triangles(h, position, |_, t, _| {
-            worst = worst.min(shape_quality_squared(t));
+            worst = smaller(worst, shape_quality_squared(t));
             worst > 0.0
         });
         if worst <= 0.0 {

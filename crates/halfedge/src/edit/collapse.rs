@@ -78,8 +78,28 @@ impl EditMesh {
         {
             return Err(EditError::CollapseDuplicateEdge { halfedge: h });
         }
+        // `v1`'s neighbours are gathered once (on the stack for the usual valences)
+        // rather than walked again for each neighbour of `v0`.
+        let mut ring = [VertexId::new(0); 24];
+        let mut len = 0;
+        for m in self.vertices_around_vertex(v1) {
+            if len == ring.len() {
+                len = usize::MAX;
+                break;
+            }
+            ring[len] = m;
+            len += 1;
+        }
         for n in self.vertices_around_vertex(v0) {
-            if Some(n) != vl && Some(n) != vr && self.vertices_around_vertex(v1).any(|m| m == n) {
+            if Some(n) == vl || Some(n) == vr {
+                continue;
+            }
+            let common = if len <= ring.len() {
+                ring[..len].contains(&n)
+            } else {
+                self.vertices_around_vertex(v1).any(|m| m == n)
+            };
+            if common {
                 return Err(EditError::CollapseLinkCondition {
                     halfedge: h,
                     vertex: n,
@@ -126,20 +146,31 @@ impl EditMesh {
         let o = h.twin();
         let o1 = self.next(o);
         let kept = self.to_vertex(h);
-        self.collapse_halfedge(h);
+        // Only a vertex on the boundary needs its outgoing halfedge pointed at a boundary
+        // one again, and only the two ends and the (one or two) opposite vertices can
+        // be on it afterwards if they were not before (the removed vertex's boundary
+        // passes to the kept one). Without a boundary among them, that walk around
+        // each of their rings is skipped (it would find nothing).
+        let boundary = [h, o].into_iter().any(|g| {
+            self.is_boundary_vertex(self.to_vertex(g))
+                || (!self.is_boundary_halfedge(g)
+                    && self.is_boundary_vertex(self.to_vertex(self.next(g))))
+        });
+        self.collapse_halfedge(h, boundary);
         if self.next(self.next(h1)) == h1 {
             let loop_start = self.next(h1);
-            self.collapse_loop(loop_start);
+            self.collapse_loop(loop_start, boundary);
         }
         if self.next(self.next(o1)) == o1 {
-            self.collapse_loop(o1);
+            self.collapse_loop(o1, boundary);
         }
         Ok(kept)
     }
 
     /// Removes the edge of `h` and its start vertex, leaving two-halfedge loops where
-    /// the triangles were.
-    fn collapse_halfedge(&mut self, h: HalfedgeId) {
+    /// the triangles were; `boundary`: a vertex involved is on the boundary (see
+    /// [`collapse_edge`](Self::collapse_edge)).
+    fn collapse_halfedge(&mut self, h: HalfedgeId, boundary: bool) {
         let hn = self.next(h);
         let hp = self.prev(h);
         let o = h.twin();
@@ -174,14 +205,17 @@ impl EditMesh {
         if self.outgoing_halfedge(vh) == Some(o) {
             self.set_outgoing(vh, Some(hn));
         }
-        self.adjust_outgoing(vh);
+        if boundary {
+            self.adjust_outgoing(vh);
+        }
         self.mark_edge_deleted(h.edge());
         self.mark_vertex_deleted(vo);
     }
 
     /// Removes a two-halfedge face loop `h0, h1 = next(h0)`: the edge of `h0` goes, and
-    /// `h1` takes the place of `twin(h0)` in the face beyond.
-    fn collapse_loop(&mut self, h0: HalfedgeId) {
+    /// `h1` takes the place of `twin(h0)` in the face beyond; `boundary` as for
+    /// [`collapse_halfedge`](Self::collapse_halfedge).
+    fn collapse_loop(&mut self, h0: HalfedgeId, boundary: bool) {
         let h1 = self.next(h0);
         let o0 = h0.twin();
         let o1 = h1.twin();
@@ -198,9 +232,13 @@ impl EditMesh {
         self.props.halfedge().copy(o0.index(), h1.index());
 
         self.set_outgoing(v0, Some(h1));
-        self.adjust_outgoing(v0);
+        if boundary {
+            self.adjust_outgoing(v0);
+        }
         self.set_outgoing(v1, Some(o1));
-        self.adjust_outgoing(v1);
+        if boundary {
+            self.adjust_outgoing(v1);
+        }
 
         if let Some(fo) = fo {
             if self.face_halfedge(fo) == o0 {
@@ -211,5 +249,57 @@ impl EditMesh {
             self.mark_face_deleted(fh);
         }
         self.mark_edge_deleted(h0.edge());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{DVec3, EditError, EditMesh, FaceId, HalfedgeMesh, VertexId};
+
+    /// A disc of `n` triangles around vertex 0, the triangle `(0, 1, 2)` split at a
+    /// new vertex: vertex 2 is then a common neighbour of 0 and 1 that is not opposite
+    /// their edge.
+    fn split_fan(n: u32) -> EditMesh {
+        let faces: Vec<[u32; 3]> = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+        let mesh = HalfedgeMesh::from_polygons(n as usize + 1, &faces).unwrap();
+        let mut positions = vec![DVec3::ZERO];
+        positions.extend((0..n).map(|i| {
+            let t = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            DVec3::new(t.cos(), t.sin(), 0.0)
+        }));
+        let mut fan = EditMesh::from_mesh(&mesh, &positions).unwrap();
+        let first = fan
+            .faces()
+            .find(|&f| {
+                let c: Vec<VertexId> = fan.vertices_around_face(f).collect();
+                c.contains(&VertexId::new(1)) && c.contains(&VertexId::new(2))
+            })
+            .unwrap_or(FaceId::new(0));
+        fan.split_face(first, DVec3::new(0.3, 0.1, 0.0)).unwrap();
+        fan
+    }
+
+    #[test]
+    fn the_link_condition_holds_for_small_and_large_valences() {
+        // Valence 7 and 31 at the centre: the gathered ring and the walked one.
+        for n in [6, 30] {
+            let fan = split_fan(n);
+            let (centre, rim) = (VertexId::new(0), VertexId::new(1));
+            assert!(fan.valence(centre) > n as usize);
+            for (from, to) in [(centre, rim), (rim, centre)] {
+                let h = fan.find_halfedge(from, to).unwrap();
+                assert_eq!(
+                    fan.check_collapse(h),
+                    Err(EditError::CollapseLinkCondition {
+                        halfedge: h,
+                        vertex: VertexId::new(2),
+                    }),
+                    "valence {n}: {from:?} -> {to:?}"
+                );
+            }
+            // An edge of the disc away from the split collapses.
+            let far = fan.find_halfedge(VertexId::new(1 + n / 2), centre).unwrap();
+            assert!(fan.is_collapse_ok(far), "valence {n}");
+        }
     }
 }
