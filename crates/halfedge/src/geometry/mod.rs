@@ -109,7 +109,7 @@ pub use kernel::CompensatedSum;
 pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
     kernel::distance(p, q)
 }
-pub use batch::{distances_into, distances_with};
+pub use batch::{distances_into, distances_with, ring_cotangents_with};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
 

@@ -1,11 +1,13 @@
 //! Filling the rows: the built-in kernels row by row, other schemes through their
 //! per-halfedge weights; the row sums and scales in the same pass.
 
-use beltrami_halfedge::geometry::{Geometry, distances_with};
-use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError};
+use std::sync::OnceLock;
+
+use beltrami_halfedge::geometry::{Geometry, distances_with, ring_cotangents_with};
+use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
-use super::cotangent_plan::CotangentPlan;
+use super::layout::{bit, ring_triangles};
 use super::{Laplacian, NegativeWeights, Normalization};
 use crate::PAR_CHUNK;
 use crate::error::WeightError;
@@ -68,12 +70,11 @@ pub(super) enum RowKernel<'a> {
     Uniform { negative: NegativeWeights },
     /// `negative.apply(1 / (|x_j − x_i| + ε))`.
     InverseDistance { negative: NegativeWeights },
-    /// `negative.apply(½ (cot α + cot β))` from the cotangent plan's refreshed
-    /// `face_cots`.
+    /// `negative.apply(½ (cot α + cot β))`, the cotangents from the row's one-ring
+    /// (`triangles`: the operator's bits of the slots whose left face is a triangle).
     Cotangent {
         negative: NegativeWeights,
-        slot_cots: &'a [[u32; 2]],
-        face_cots: &'a [f64],
+        triangles: &'a [u64],
     },
 }
 
@@ -101,9 +102,8 @@ impl RowKernel<'_> {
             }
             Self::Cotangent {
                 negative,
-                slot_cots,
-                face_cots,
-            } => fill_cotangent(negative, &slot_cots[s..], face_cots, w),
+                triangles,
+            } => fill_cotangent::<0>(negative, positions, i, s, neighbours, triangles, w),
         }
     }
 }
@@ -136,34 +136,33 @@ pub(super) fn fill_inverse_distance<const CALLER: u8>(
     row_sum_of(w)
 }
 
-/// A cotangent row whose slots' cotangent pairs start `pairs`: `negative.apply(½ (a +
-/// b))`; returns the sum (`row_sum_of`'s fold, in the same loop). The policy is chosen
-/// once per row, not per slot.
+/// A cotangent row `i` whose first slot is `s` and whose neighbours start
+/// `neighbours`: `negative.apply(½ (cot α + cot β))` from the one-ring
+/// ([`ring_cotangents_with`]; `triangles` marks the slots whose left face is a
+/// triangle); returns the sum. The policy is chosen once per row, not per slot;
+/// `CALLER` gives each caller its own instance (see [`fill_inverse_distance`]).
 #[inline(always)]
-pub(super) fn fill_cotangent(
+pub(super) fn fill_cotangent<const CALLER: u8>(
     negative: NegativeWeights,
-    pairs: &[[u32; 2]],
-    face_cots: &[f64],
+    positions: &[DVec3],
+    i: usize,
+    s: usize,
+    neighbours: &[u32],
+    triangles: &[u64],
     w: &mut [f64],
 ) -> f64 {
-    let pairs = &pairs[..w.len()];
-    let cot = |[a, b]: [u32; 2]| 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
-    let mut sum = -0.0;
+    let nb = &neighbours[..w.len()];
+    let is_triangle = |k: usize| bit(triangles, s + k);
+    let xi = positions[i];
     match negative {
         NegativeWeights::Keep => {
-            for (w, &p) in w.iter_mut().zip(pairs) {
-                *w = cot(p);
-                sum += *w;
-            }
+            ring_cotangents_with(xi, positions, nb, is_triangle, w, |c| 0.5 * c);
         }
-        _ => {
-            for (w, &p) in w.iter_mut().zip(pairs) {
-                *w = negative.apply(cot(p));
-                sum += *w;
-            }
-        }
+        _ => ring_cotangents_with(xi, positions, nb, is_triangle, w, |c| {
+            negative.apply(0.5 * c)
+        }),
     }
-    sum
+    row_sum_of(w)
 }
 
 /// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
@@ -231,17 +230,65 @@ where
     tally
 }
 
+/// Runs the row pass of unit weights (every weight `negative.apply(1)`, which is 1):
+/// the sums and scales of [`row_pass`] with [`fill_uniform`], without writing weights.
+fn unit_pass(
+    offsets: &[u32],
+    areas: Option<&[f64]>,
+    negative: NegativeWeights,
+    sums: &mut [f64],
+    scales: &mut [f64],
+) -> RowTally {
+    let one = negative.apply(1.0);
+    sums.par_chunks_mut(PAR_CHUNK)
+        .zip(scales.par_chunks_mut(PAR_CHUNK))
+        .enumerate()
+        .map(|(c, (sums, scales))| {
+            let mut tally = RowTally::default();
+            let first = c * PAR_CHUNK;
+            for (k, (sum_out, scale_out)) in sums.iter_mut().zip(scales).enumerate() {
+                let i = first + k;
+                let len = offsets[i + 1] - offsets[i];
+                // `row_sum_of` over `len` copies of `one`.
+                let sum = (0..len).fold(-0.0, |s, _| s + one);
+                *sum_out = sum;
+                tally.non_finite |= !sum.is_finite();
+                let scale = row_scale(sum, areas.map(|a| a[i]), len == 0);
+                *scale_out = scale;
+                tally.stuck += usize::from(scale == 0.0);
+            }
+            tally
+        })
+        .reduce(RowTally::default, RowTally::join)
+}
+
 impl Laplacian {
+    /// The cotangent kernel's triangle bits, built from `mesh` on first use.
+    pub(super) fn ring_triangles(&mut self, mesh: &HalfedgeMesh) -> &[u64] {
+        let offsets = &self.offsets;
+        self.ring_triangles
+            .get_or_insert_with(|| ring_triangles(mesh, offsets))
+    }
+
+    /// The weight array to write, one per slot (the stored one's buffer when there is
+    /// one); put it back with `self.weights = OnceLock::from(weights)`.
+    fn weight_buffer(&mut self) -> Vec<f64> {
+        let mut w = self.weights.take().unwrap_or_default();
+        w.resize(self.neighbours.len(), 0.0);
+        w
+    }
+
     /// Recomputes the weights and scales from new positions, reusing the buffers. The
     /// mesh must be the one the operator was assembled on.
     ///
     /// The built-in schemes ([`Uniform`](crate::Uniform),
     /// [`InverseDistance`](crate::InverseDistance), [`Cotangent`](crate::Cotangent)) are
-    /// computed row by row:
-    /// inverse-distance weights from the two positions of each row slot, cotangents
-    /// once per triangle and gathered into the slots; the row sums and scales in the
-    /// same pass. Other schemes go through [`WeightScheme::fill_weights`]. The numbers
-    /// are the same either way.
+    /// computed row by row: inverse-distance weights from the two positions of each row
+    /// slot, cotangents from the row's one-ring (each corner of a triangle in the rows of
+    /// both ends of its opposite edge, nothing stored per triangle); the row sums and
+    /// scales in the same pass. Uniform weights are not stored (they are all 1). Other
+    /// schemes go through [`WeightScheme::fill_weights`]. The numbers are the same
+    /// either way.
     ///
     /// # Errors
     /// As [`new`](Self::new). After an error the operator's weights are unspecified
@@ -268,43 +315,56 @@ impl Laplacian {
         };
         let areas = areas.as_ref().map(|a| a.as_slice());
         let negative = self.options.negative;
+        let kernel = BuiltIn::of(scheme);
+        self.unit_weights = false;
+        if kernel == Some(BuiltIn::Uniform) {
+            let tally = unit_pass(
+                &self.offsets,
+                areas,
+                negative,
+                &mut self.weight_sums,
+                &mut self.scales,
+            );
+            // Uniform weights are all 1, hence their sums finite: no error to report.
+            self.stuck = tally.stuck;
+            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
+            self.weights = OnceLock::new();
+            if self.unit_weights {
+                return Ok(());
+            }
+            // Unreachable with the policies there are (each keeps 1); stored like any
+            // other kernel's weights should one ever change it.
+            let mut weights = self.weight_buffer();
+            weights.fill(negative.apply(1.0));
+            self.weights = OnceLock::from(weights);
+            return Ok(());
+        }
+        if matches!(kernel, Some(BuiltIn::Cotangent)) {
+            self.ring_triangles(mesh);
+        }
+        let mut weights = self.weight_buffer();
         let rows = Rows {
             first: 0,
-            weights: &mut self.weights,
+            weights: &mut weights,
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
-        let offsets = &self.offsets;
-        let kernel = BuiltIn::of(scheme);
-        self.unit_weights = false;
+        let (offsets, neighbours) = (&self.offsets, &self.neighbours);
         let tally = match kernel {
-            Some(BuiltIn::Uniform) => {
-                let kernel = RowKernel::Uniform { negative };
-                self.unit_weights = kernel.unit_weights();
-                Some(row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
-                    fill_uniform(negative, w)
-                }))
-            }
             Some(BuiltIn::InverseDistance) => {
-                let neighbours = &self.neighbours;
                 Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
                     fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
                 }))
             }
             Some(BuiltIn::Cotangent) => {
-                if self.cotangent.is_none() {
-                    self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
-                }
-                self.cotangent.as_mut().map(|plan| {
-                    plan.refresh(&geometry);
-                    let (slot_cots, face_cots) = (&plan.slot_cots[..], &plan.face_cots[..]);
-                    row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
-                        fill_cotangent(negative, &slot_cots[s..], face_cots, w)
-                    })
-                })
+                let triangles = self.ring_triangles.as_deref().unwrap_or_default();
+                Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                    fill_cotangent::<1>(negative, positions, i, s, &neighbours[s..], triangles, w)
+                }))
             }
             _ => None,
         };
+        self.weights = OnceLock::from(weights);
         match tally {
             // A kernel found only finite row sums, hence only finite weights.
             Some(tally) if !tally.non_finite => {
@@ -317,7 +377,8 @@ impl Laplacian {
         }
     }
 
-    /// [`update`](Self::update) through [`WeightScheme::fill_weights`].
+    /// [`update`](Self::update) through [`WeightScheme::fill_weights`]; each row's
+    /// slots take their halfedges' weights in the mesh's circulation order.
     fn update_generic(
         &mut self,
         mesh: &HalfedgeMesh,
@@ -349,19 +410,22 @@ impl Laplacian {
         }
         let areas = areas?;
         let negative = self.options.negative;
-        let (halfedges, halfedge_weights) = (&self.halfedges, &self.halfedge_weights);
+        let mut weights = self.weight_buffer();
+        let halfedge_weights = &self.halfedge_weights;
         let rows = Rows {
             first: 0,
-            weights: &mut self.weights,
+            weights: &mut weights,
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
-        let tally = row_pass(&self.offsets, areas, rows, &|_, s, w: &mut [f64]| {
-            for (w, &h) in w.iter_mut().zip(&halfedges[s..]) {
-                *w = negative.apply(halfedge_weights[h as usize]);
+        let tally = row_pass(&self.offsets, areas, rows, &|i, _, w: &mut [f64]| {
+            let ring = mesh.halfedges_around_vertex(VertexId::new(i as u32));
+            for (w, h) in w.iter_mut().zip(ring) {
+                *w = negative.apply(halfedge_weights[h.index()]);
             }
             row_sum_of(w)
         });
+        self.weights = OnceLock::from(weights);
         self.stuck = tally.stuck;
         Ok(())
     }
