@@ -3,15 +3,16 @@
 //! irregular planes with negative cotangents, noisy spheres, degenerate and coincident
 //! triangles, coordinates far outside the plain range, boundaries, quads, every option;
 //! and the rows computed one at a time (`Laplacian::fresh_rows`) give the bits that
-//! `Laplacian::update` stores.
+//! `Laplacian::update` stores — with either cotangent kernel (per triangle, or from the
+//! rows' one-rings), so the two kernels give the same bits too.
 
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
-    Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
-    Uniform, WeightContext, WeightScheme,
+    Cotangent, CotangentKernel, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights,
+    Normalization, Uniform, WeightContext, WeightScheme,
 };
 
 /// The same weights without a kernel: the generic path (a type of its own, so the
@@ -183,11 +184,14 @@ fn all_options() -> Vec<LaplacianOptions> {
             NegativeWeights::Clamp,
             NegativeWeights::Abs,
         ] {
-            out.push(
-                LaplacianOptions::new()
-                    .normalization(normalization)
-                    .negative(negative),
-            );
+            for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+                out.push(
+                    LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(negative)
+                        .cotangent_kernel(kernel),
+                );
+            }
         }
     }
     out
@@ -276,12 +280,18 @@ fn non_finite_positions_give_the_generic_error() {
     for bad in [f64::NAN, f64::INFINITY] {
         let mut x = g.positions.clone();
         x[12].y = bad;
-        assert_same(&mesh, &x, LaplacianOptions::default(), "non-finite");
+        for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+            let options = LaplacianOptions::default().cotangent_kernel(kernel);
+            assert_same(&mesh, &x, options, "non-finite");
+        }
     }
     // Finite weights whose row sum overflows.
     let mut x = g.positions.clone();
     x[12] = x[13] + DVec3::new(1e-320, 0.0, 0.0);
-    assert_same(&mesh, &x, LaplacianOptions::default(), "huge weights");
+    for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+        let options = LaplacianOptions::default().cotangent_kernel(kernel);
+        assert_same(&mesh, &x, options, "huge weights");
+    }
 }
 
 #[test]

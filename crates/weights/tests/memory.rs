@@ -6,7 +6,8 @@ use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
-    Cotangent, InverseDistance, Laplacian, LaplacianOptions, Uniform, WeightScheme,
+    Cotangent, CotangentKernel, InverseDistance, Laplacian, LaplacianOptions, Uniform,
+    WeightScheme,
 };
 
 fn noisy_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
@@ -34,9 +35,20 @@ fn heap_bytes_follow_what_is_stored() {
     let weights = 8 * h;
     let bits = 8 * h.div_ceil(64);
     let options = LaplacianOptions::default();
+    let ring = options.cotangent_kernel(CotangentKernel::Ring);
 
-    // Cotangent: the rows, the weights and one bit per slot; nothing per triangle.
+    // Cotangent, per-triangle kernel (the default): the rows, the weights and the
+    // plan (each triangle's vertices and three cotangents, each slot's two indices).
+    let f = mesh.n_faces();
+    let plan = 12 * f + 8 * (3 * f + 1) + 8 * h;
     let mut lap = Laplacian::new(&mesh, &x, &Cotangent, options).unwrap();
+    assert_eq!(lap.heap_bytes(), rows + weights + plan);
+    lap.fresh_rows(&mesh, &x, &Cotangent).unwrap();
+    assert_eq!(lap.heap_bytes(), rows + plan);
+
+    // Cotangent, ring kernel: the rows, the weights and one bit per slot; nothing per
+    // triangle.
+    let mut lap = Laplacian::new(&mesh, &x, &Cotangent, ring).unwrap();
     assert_eq!(lap.heap_bytes(), rows + weights + bits);
     assert!(lap.weights_stored());
     // Computed in the sweep: the stored weights are released...
@@ -48,7 +60,7 @@ fn heap_bytes_follow_what_is_stored() {
     lap.update(&mesh, &x, &Cotangent).unwrap();
     assert!(lap.weights_stored());
     assert_eq!(lap.heap_bytes(), rows + weights + bits);
-    let again = Laplacian::new(&mesh, &x, &Cotangent, options).unwrap();
+    let again = Laplacian::new(&mesh, &x, &Cotangent, ring).unwrap();
     let bits_of = |l: &Laplacian| -> Vec<u64> {
         l.rows().weights.iter().map(|w| w.to_bits()).collect()
     };
@@ -61,7 +73,7 @@ fn heap_bytes_follow_what_is_stored() {
     assert_eq!(lap.heap_bytes(), rows);
 
     // Uniform: no weights until they are asked for, then ones.
-    let mut lap = Laplacian::new(&mesh, &x, &Uniform, options).unwrap();
+    let mut lap = Laplacian::new(&mesh, &x, &Uniform, ring).unwrap();
     assert_eq!(lap.heap_bytes(), rows);
     assert!(lap.weights_stored());
     let rows_view = lap.rows();
@@ -88,7 +100,8 @@ fn heap_bytes_follow_what_is_stored() {
 #[should_panic(expected = "released by `fresh_rows`")]
 fn released_weights_are_not_read() {
     let (mesh, x) = noisy_sphere();
-    let mut lap = Laplacian::new(&mesh, &x, &Cotangent, LaplacianOptions::default()).unwrap();
+    let ring = LaplacianOptions::default().cotangent_kernel(CotangentKernel::Ring);
+    let mut lap = Laplacian::new(&mesh, &x, &Cotangent, ring).unwrap();
     lap.fresh_rows(&mesh, &x, &Cotangent).unwrap();
     let _ = lap.rows();
 }

@@ -7,8 +7,9 @@ use beltrami_halfedge::geometry::{Geometry, distances_with, ring_cotangents_with
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
+use super::cotangent_plan::CotangentPlan;
 use super::layout::{bit, ring_triangles};
-use super::{Laplacian, NegativeWeights, Normalization};
+use super::{CotangentKernel, Laplacian, NegativeWeights, Normalization};
 use crate::PAR_CHUNK;
 use crate::error::WeightError;
 use crate::scheme::{BuiltIn, WeightContext, WeightScheme};
@@ -70,9 +71,17 @@ pub(super) enum RowKernel<'a> {
     Uniform { negative: NegativeWeights },
     /// `negative.apply(1 / (|x_j − x_i| + ε))`.
     InverseDistance { negative: NegativeWeights },
-    /// `negative.apply(½ (cot α + cot β))`, the cotangents from the row's one-ring
-    /// (`triangles`: the operator's bits of the slots whose left face is a triangle).
+    /// `negative.apply(½ (cot α + cot β))` from the cotangent plan's refreshed
+    /// `face_cots` ([`CotangentKernel::PerTriangle`]).
     Cotangent {
+        negative: NegativeWeights,
+        slot_cots: &'a [[u32; 2]],
+        face_cots: &'a [f64],
+    },
+    /// `negative.apply(½ (cot α + cot β))`, the cotangents from the row's one-ring
+    /// (`triangles`: the operator's bits of the slots whose left face is a triangle;
+    /// [`CotangentKernel::Ring`]).
+    CotangentRing {
         negative: NegativeWeights,
         triangles: &'a [u64],
     },
@@ -102,8 +111,13 @@ impl RowKernel<'_> {
             }
             Self::Cotangent {
                 negative,
+                slot_cots,
+                face_cots,
+            } => fill_cotangent(negative, &slot_cots[s..], face_cots, w),
+            Self::CotangentRing {
+                negative,
                 triangles,
-            } => fill_cotangent::<0>(negative, positions, i, s, neighbours, triangles, w),
+            } => fill_cotangent_ring::<0>(negative, positions, i, s, neighbours, triangles, w),
         }
     }
 }
@@ -136,13 +150,43 @@ pub(super) fn fill_inverse_distance<const CALLER: u8>(
     row_sum_of(w)
 }
 
+/// A cotangent row whose slots' cotangent pairs start `pairs`: `negative.apply(½ (a +
+/// b))`; returns the sum (`row_sum_of`'s fold, in the same loop). The policy is chosen
+/// once per row, not per slot.
+#[inline(always)]
+pub(super) fn fill_cotangent(
+    negative: NegativeWeights,
+    pairs: &[[u32; 2]],
+    face_cots: &[f64],
+    w: &mut [f64],
+) -> f64 {
+    let pairs = &pairs[..w.len()];
+    let cot = |[a, b]: [u32; 2]| 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
+    let mut sum = -0.0;
+    match negative {
+        NegativeWeights::Keep => {
+            for (w, &p) in w.iter_mut().zip(pairs) {
+                *w = cot(p);
+                sum += *w;
+            }
+        }
+        _ => {
+            for (w, &p) in w.iter_mut().zip(pairs) {
+                *w = negative.apply(cot(p));
+                sum += *w;
+            }
+        }
+    }
+    sum
+}
+
 /// A cotangent row `i` whose first slot is `s` and whose neighbours start
 /// `neighbours`: `negative.apply(½ (cot α + cot β))` from the one-ring
 /// ([`ring_cotangents_with`]; `triangles` marks the slots whose left face is a
 /// triangle); returns the sum. The policy is chosen once per row, not per slot;
 /// `CALLER` gives each caller its own instance (see [`fill_inverse_distance`]).
 #[inline(always)]
-pub(super) fn fill_cotangent<const CALLER: u8>(
+pub(super) fn fill_cotangent_ring<const CALLER: u8>(
     negative: NegativeWeights,
     positions: &[DVec3],
     i: usize,
@@ -263,12 +307,57 @@ fn unit_pass(
 }
 
 impl Laplacian {
-    /// The cotangent kernel's triangle bits, built from `mesh` on first use.
-    pub(super) fn ring_triangles(&mut self, mesh: &HalfedgeMesh) -> &[u64] {
+    /// Makes the chosen cotangent kernel's data ready for positions `geometry`: the
+    /// ring kernel's triangle bits (built once), or the per-triangle plan (built once)
+    /// with its cotangents refreshed. `false` when the plan cannot be built (more
+    /// corners than `u32` indices).
+    pub(super) fn prepare_cotangents(&mut self, geometry: &Geometry<'_>) -> bool {
+        let mesh = geometry.mesh();
         let offsets = &self.offsets;
-        self.ring_triangles
-            .get_or_insert_with(|| ring_triangles(mesh, offsets))
+        match self.options.cotangent_kernel {
+            CotangentKernel::Ring => {
+                self.cotangent = None;
+                self.ring_triangles
+                    .get_or_insert_with(|| ring_triangles(mesh, offsets));
+                true
+            }
+            _ => {
+                self.ring_triangles = None;
+                if self.cotangent.is_none() {
+                    self.cotangent = CotangentPlan::new(mesh, offsets);
+                }
+                let Some(plan) = self.cotangent.as_mut() else {
+                    return false;
+                };
+                plan.refresh(geometry);
+                true
+            }
+        }
     }
+
+}
+
+/// The row kernel of the cotangent scheme from the operator's kernel data, after
+/// [`Laplacian::prepare_cotangents`].
+pub(super) fn cotangent_row_kernel<'a>(
+    negative: NegativeWeights,
+    plan: Option<&'a CotangentPlan>,
+    ring_triangles: Option<&'a [u64]>,
+) -> RowKernel<'a> {
+    match (plan, ring_triangles) {
+        (Some(plan), None) => RowKernel::Cotangent {
+            negative,
+            slot_cots: &plan.slot_cots,
+            face_cots: &plan.face_cots,
+        },
+        _ => RowKernel::CotangentRing {
+            negative,
+            triangles: ring_triangles.unwrap_or_default(),
+        },
+    }
+}
+
+impl Laplacian {
 
     /// The weight array to write, one per slot (the stored one's buffer when there is
     /// one); put it back with `self.weights = OnceLock::from(weights)`.
@@ -339,10 +428,15 @@ impl Laplacian {
             self.weights = OnceLock::from(weights);
             return Ok(());
         }
-        if matches!(kernel, Some(BuiltIn::Cotangent)) {
-            self.ring_triangles(mesh);
-        }
+        let ready = kernel == Some(BuiltIn::Cotangent) && self.prepare_cotangents(&geometry);
         let mut weights = self.weight_buffer();
+        let cotangent = ready.then(|| {
+            cotangent_row_kernel(
+                negative,
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            )
+        });
         let rows = Rows {
             first: 0,
             weights: &mut weights,
@@ -356,12 +450,29 @@ impl Laplacian {
                     fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
                 }))
             }
-            Some(BuiltIn::Cotangent) => {
-                let triangles = self.ring_triangles.as_deref().unwrap_or_default();
-                Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
-                    fill_cotangent::<1>(negative, positions, i, s, &neighbours[s..], triangles, w)
-                }))
-            }
+            Some(BuiltIn::Cotangent) => match cotangent {
+                Some(RowKernel::Cotangent {
+                    slot_cots,
+                    face_cots,
+                    ..
+                }) => Some(row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                    fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+                })),
+                Some(RowKernel::CotangentRing { triangles, .. }) => {
+                    Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                        fill_cotangent_ring::<1>(
+                            negative,
+                            positions,
+                            i,
+                            s,
+                            &neighbours[s..],
+                            triangles,
+                            w,
+                        )
+                    }))
+                }
+                _ => None,
+            },
             _ => None,
         };
         self.weights = OnceLock::from(weights);

@@ -8,7 +8,10 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use super::Laplacian;
 use std::sync::OnceLock;
 
-use super::assembly::{RowKernel, fill_cotangent, fill_inverse_distance, fill_uniform, row_scale};
+use super::assembly::{
+    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
+    fill_inverse_distance, fill_uniform, row_scale,
+};
 use super::options::{NegativeWeights, Normalization};
 use crate::scheme::{BuiltIn, WeightScheme};
 
@@ -34,9 +37,12 @@ pub struct FreshRows<'a> {
 
 impl Laplacian {
     /// The rows at `positions`, to be computed one at a time by [`FreshRows::row`]:
-    /// the per-vertex part (vertex areas for area normalisation) is computed here, in
-    /// parallel; the per-row weights, sums and scales are left to [`FreshRows::row`]
-    /// (cotangents from the row's one-ring: nothing per triangle is computed or stored).
+    /// the per-vertex and per-face parts (vertex areas for area normalisation; with
+    /// [`CotangentKernel::PerTriangle`](crate::CotangentKernel::PerTriangle), the
+    /// cotangents of every triangle) are computed here, in parallel; the per-row
+    /// weights, sums and scales are left to [`FreshRows::row`] (with
+    /// [`CotangentKernel::Ring`](crate::CotangentKernel::Ring), the cotangents too, from
+    /// the row's one-ring).
     ///
     /// The rows replace the operator's stored weights, which are released (unless the
     /// weights are all 1, which are not stored anyway): until the next
@@ -72,16 +78,17 @@ impl Laplacian {
         if !self.unit_weights {
             self.weights = OnceLock::new();
         }
-        if built_in == BuiltIn::Cotangent {
-            self.ring_triangles(mesh);
+        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+            return None;
         }
         let kernel = match built_in {
             BuiltIn::Uniform => RowKernel::Uniform { negative },
             BuiltIn::InverseDistance => RowKernel::InverseDistance { negative },
-            BuiltIn::Cotangent => RowKernel::Cotangent {
+            BuiltIn::Cotangent => cotangent_row_kernel(
                 negative,
-                triangles: self.ring_triangles.as_deref().unwrap_or_default(),
-            },
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            ),
         };
         Some(FreshRows {
             offsets: &self.offsets,
@@ -125,7 +132,7 @@ impl FreshRows<'_> {
     /// the negative-weight policy; `weights.len()` must be the row's valence), and its
     /// scale (`1/W_i` or `1/A_i`; 0 for a stuck row): the bits
     /// [`Laplacian::update`] would store. `positions` must be those given to
-    /// [`Laplacian::fresh_rows`] (the vertex areas are theirs).
+    /// [`Laplacian::fresh_rows`] (the vertex areas and cotangents are theirs).
     ///
     /// `None` when the row's weights do not sum to a finite value: a weight may be
     /// NaN or infinite, which [`Laplacian::update`] reports as an error (with the
@@ -176,6 +183,13 @@ impl FreshRows<'_> {
             }
             RowKernel::Cotangent {
                 negative,
+                slot_cots,
+                face_cots,
+            } => self.block_as(first, weights, scales, |_, s, w| {
+                fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+            }),
+            RowKernel::CotangentRing {
+                negative,
                 triangles,
             } => self.cotangent_block(negative, triangles, first, positions, weights, scales),
         }
@@ -195,7 +209,7 @@ impl FreshRows<'_> {
     ) -> bool {
         let nb = self.neighbours;
         self.block_as(first, weights, scales, |i, s, w| {
-            fill_cotangent::<2>(negative, positions, i, s, &nb[s..], triangles, w)
+            fill_cotangent_ring::<2>(negative, positions, i, s, &nb[s..], triangles, w)
         })
     }
 

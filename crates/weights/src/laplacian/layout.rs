@@ -73,18 +73,27 @@ pub(super) fn rows(mesh: &HalfedgeMesh) -> (Vec<u32>, Vec<u32>) {
 
 /// Every slot's halfedge id, in parallel with fixed chunks.
 pub(super) fn slot_halfedges(mesh: &HalfedgeMesh, offsets: &[u32]) -> Vec<u32> {
+    slot_values(mesh, offsets, |h| h.raw())
+}
+
+/// `value(h)` of every slot's halfedge `h`, in parallel with fixed chunks.
+pub(super) fn slot_values<T, F>(mesh: &HalfedgeMesh, offsets: &[u32], value: F) -> Vec<T>
+where
+    T: Copy + Default + Send,
+    F: Fn(HalfedgeId) -> T + Sync,
+{
     let total = offsets.last().map_or(0, |&t| t as usize);
-    let mut halfedges = vec![0u32; total];
-    halfedges
+    let mut values = vec![T::default(); total];
+    values
         .par_chunks_mut(PAR_CHUNK)
         .enumerate()
         .for_each(|(c, out)| {
             let start = c * PAR_CHUNK;
             for_slots(mesh, offsets, start, start + out.len(), |s, h| {
-                out[s - start] = h.raw();
+                out[s - start] = value(h);
             });
         });
-    halfedges
+    values
 }
 
 /// Whether some row lists a neighbour twice (two vertices joined by more than one

@@ -6,6 +6,7 @@
 //! and their arithmetic).
 
 mod assembly;
+mod cotangent_plan;
 mod fresh;
 mod layout;
 mod options;
@@ -16,8 +17,9 @@ use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 
 use crate::error::WeightError;
 use crate::scheme::WeightScheme;
+use cotangent_plan::CotangentPlan;
 pub use fresh::FreshRows;
-pub use options::{LaplacianOptions, NegativeWeights, Normalization};
+pub use options::{CotangentKernel, LaplacianOptions, NegativeWeights, Normalization};
 
 /// The Laplace–Beltrami operator of a mesh for one weight scheme, stored row by row:
 /// row `i` lists the neighbours of vertex `i` in counter-clockwise one-ring order with
@@ -33,10 +35,12 @@ pub use options::{LaplacianOptions, NegativeWeights, Normalization};
 /// # Memory
 ///
 /// Per row slot (halfedge) the operator holds its neighbour (4 bytes) and, when
-/// stored, its weight (8); per row its offset (4), weight sum (8) and scale (8); with
-/// the cotangent kernel one bit per slot (whether the face beside it is a triangle):
-/// about 93 bytes per vertex of a closed triangle mesh (six slots per vertex) with
-/// stored weights, 45 without. [`heap_bytes`](Self::heap_bytes) gives the exact figure. What is not kept:
+/// stored, its weight (8); per row its offset (4), weight sum (8) and scale (8): about
+/// 92 bytes per vertex of a closed triangle mesh (six slots per vertex) with stored
+/// weights, 44 without. The cotangent scheme adds its kernel's data: about 120 bytes
+/// per vertex for [`CotangentKernel::PerTriangle`] (the default), one bit per slot for
+/// [`CotangentKernel::Ring`]. [`heap_bytes`](Self::heap_bytes) gives the exact figure.
+/// What is not kept:
 ///
 /// - **Weights of uniform rows**: they are all 1; [`rows`](Self::rows) and
 ///   [`row`](Self::row) make an array of ones on first use.
@@ -48,10 +52,11 @@ pub use options::{LaplacianOptions, NegativeWeights, Normalization};
 ///   slots' halfedges from the mesh. They are kept only when two vertices are joined by
 ///   more than one edge, where a row's neighbour does not name its halfedge (see
 ///   [`row_halfedges`](Self::row_halfedges)).
-/// - **Per-triangle data**: the cotangent kernel computes each slot's two cotangents
-///   from the row's neighbours in one-ring order (triangle `k` of a row is the vertex
-///   and its neighbours `k` and `k + 1`), so every corner is computed twice, once in
-///   the row of each end of its opposite edge, and nothing per triangle is stored.
+/// - **Per-triangle data, with [`CotangentKernel::Ring`]**: that kernel computes each
+///   slot's two cotangents from the row's neighbours in one-ring order (triangle `k` of
+///   a row is the vertex and its neighbours `k` and `k + 1`), so every corner is
+///   computed twice, once in the row of each end of its opposite edge, and nothing per
+///   triangle is stored.
 ///
 /// # Examples
 /// ```
@@ -88,8 +93,11 @@ pub struct Laplacian {
     /// Every weight is exactly 1 (the uniform kernel), so sweeps need not read them.
     unit_weights: bool,
     /// Bit `s` (word `s / 64`, bit `s % 64`): the face on the left of slot `s` is a
-    /// triangle — the cotangent kernel's one input besides the rows; built on first use.
+    /// triangle — the ring cotangent kernel's one input besides the rows; built on
+    /// first use.
     ring_triangles: Option<Vec<u64>>,
+    /// The per-triangle cotangent kernel's data, built on first use.
+    cotangent: Option<CotangentPlan>,
 }
 
 /// The rows of a [`Laplacian`] in compressed sparse row form, borrowed: row `i` holds
@@ -155,6 +163,7 @@ impl Laplacian {
             stuck: 0,
             unit_weights: false,
             ring_triangles: None,
+            cotangent: None,
         };
         lap.update(mesh, positions, scheme)?;
         Ok(lap)
@@ -251,7 +260,8 @@ impl Laplacian {
     /// The bytes of heap memory the operator holds: the capacities of its arrays
     /// (offsets, neighbours, halfedge ids when kept, weights when stored or made,
     /// the plug-in schemes' per-halfedge scratch, row sums, scales, the cotangent
-    /// kernel's triangle bits). For a caller that estimates or reports its memory.
+    /// kernel's triangle bits or the per-triangle kernel's table). For a caller that
+    /// estimates or reports its memory.
     #[must_use]
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
@@ -263,6 +273,7 @@ impl Laplacian {
                     + self.weight_sums.capacity()
                     + self.scales.capacity())
             + size_of::<u64>() * self.ring_triangles.as_ref().map_or(0, Vec::capacity)
+            + self.cotangent.as_ref().map_or(0, CotangentPlan::heap_bytes)
     }
 
     /// The rows in compressed sparse row form, read-only: what a solver or an
@@ -394,6 +405,9 @@ mod tests {
             + 8 * l.weight_sums.capacity()
             + 8 * l.scales.capacity()
             + 8 * l.ring_triangles.as_ref().map_or(0, Vec::capacity)
+            + l.cotangent.as_ref().map_or(0, |p| {
+                12 * p.triangles.capacity() + 8 * p.slot_cots.capacity() + 8 * p.face_cots.capacity()
+            })
     }
 
     #[test]

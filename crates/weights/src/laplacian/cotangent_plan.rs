@@ -1,0 +1,110 @@
+//! The cotangent kernel's per-face data: each triangle's cotangents once per refresh,
+//! gathered into the row slots.
+
+use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::{FaceId, HalfedgeMesh, VertexId};
+use rayon::prelude::*;
+
+use super::layout::slot_values;
+use crate::PAR_CHUNK;
+
+/// The cotangent kernel's per-face data: cotangents are computed once per triangle,
+/// in parallel, into `face_cots`, then every row slot gathers its two.
+#[derive(Clone, Debug)]
+pub(super) struct CotangentPlan {
+    /// Vertex ids of each triangle in face order, triangles sorted by their smallest
+    /// vertex id (so that a chunk of triangles reads nearby positions).
+    pub(super) triangles: Vec<[VertexId; 3]>,
+    /// Per row slot (halfedge `h`), the indices in `face_cots` of the cotangents
+    /// opposite `h` and opposite its twin; `3 × triangles.len()` (the trailing 0) for a
+    /// boundary halfedge or a face that is not a triangle.
+    pub(super) slot_cots: Vec<[u32; 2]>,
+    /// The three cotangents of each triangle (opposite the halfedges ending at its
+    /// first, second and third vertex), then one 0.
+    pub(super) face_cots: Vec<f64>,
+}
+
+/// Triangles per parallel work unit of the cotangent kernel (fixed, like `PAR_CHUNK`).
+const FACE_CHUNK: usize = 4096;
+
+impl CotangentPlan {
+    /// The plan for `mesh` with rows at `offsets` (each row's outgoing halfedges
+    /// counter-clockwise), or `None` when the indices do not fit in `u32`.
+    pub(super) fn new(mesh: &HalfedgeMesh, offsets: &[u32]) -> Option<Self> {
+        let n_faces = mesh.n_faces();
+        u32::try_from(3 * n_faces).ok()?;
+        // Each triangle's vertices in face order and its smallest vertex id (the sort
+        // key), in parallel; `None` for a face that is not a triangle.
+        let corners: Vec<Option<[u32; 3]>> = (0..n_faces)
+            .into_par_iter()
+            .with_min_len(PAR_CHUNK)
+            .map(|f| {
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                (mesh.next(h2) == h0).then(|| {
+                    [
+                        mesh.to_vertex(h0).raw(),
+                        mesh.to_vertex(h1).raw(),
+                        mesh.to_vertex(h2).raw(),
+                    ]
+                })
+            })
+            .collect();
+        // Triangles by their smallest vertex id (a counting sort: stable, O(F + V)).
+        let mut counts = vec![0u32; mesh.n_vertices() + 1];
+        for t in corners.iter().flatten() {
+            counts[t[0].min(t[1]).min(t[2]) as usize + 1] += 1;
+        }
+        for i in 1..counts.len() {
+            counts[i] += counts[i - 1];
+        }
+        let n_triangles = counts[mesh.n_vertices()] as usize;
+        let sentinel = u32::try_from(3 * n_triangles).ok()?;
+        let mut triangles = vec![[VertexId::new(0); 3]; n_triangles];
+        // Where the cotangent opposite each halfedge lands in `face_cots` (the sentinel
+        // for a boundary halfedge or a face that is not a triangle): triangle `p`'s
+        // halfedges in face order take `3p`, `3p + 1`, `3p + 2`.
+        let mut cot_of = vec![sentinel; mesh.n_halfedges()];
+        for (f, t) in corners.iter().enumerate() {
+            if let Some(t) = t {
+                let slot = &mut counts[t[0].min(t[1]).min(t[2]) as usize];
+                let p = *slot;
+                *slot += 1;
+                triangles[p as usize] = t.map(VertexId::new);
+                let h0 = mesh.face_halfedge(FaceId::new(f as u32));
+                let h1 = mesh.next(h0);
+                cot_of[h0.index()] = 3 * p;
+                cot_of[h1.index()] = 3 * p + 1;
+                cot_of[mesh.next(h1).index()] = 3 * p + 2;
+            }
+        }
+        drop(corners);
+        let slot_cots: Vec<[u32; 2]> = slot_values(mesh, offsets, |h| {
+            [cot_of[h.index()], cot_of[h.twin().index()]]
+        });
+        Some(Self {
+            triangles,
+            slot_cots,
+            face_cots: vec![0.0; 3 * n_triangles + 1],
+        })
+    }
+
+    /// The bytes of heap memory the plan holds (the capacities of its arrays).
+    pub(super) fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        size_of::<[VertexId; 3]>() * self.triangles.capacity()
+            + size_of::<[u32; 2]>() * self.slot_cots.capacity()
+            + size_of::<f64>() * self.face_cots.capacity()
+    }
+
+    /// Recomputes `face_cots` from the positions (in parallel, fixed chunks; each
+    /// triangle's bits are the geometry's).
+    pub(super) fn refresh(&mut self, geometry: &Geometry<'_>) {
+        let n = self.triangles.len();
+        self.face_cots[..3 * n]
+            .par_chunks_mut(3 * FACE_CHUNK)
+            .zip(self.triangles.par_chunks(FACE_CHUNK))
+            .for_each(|(out, tris)| geometry.triangle_cotangents_into(tris, out));
+    }
+}
