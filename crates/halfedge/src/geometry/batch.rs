@@ -280,10 +280,6 @@ pub fn ring_cotangents_with<P, F>(
         }
         return;
     }
-    if n <= RING_MAX {
-        ring_short(origin, positions, ring, is_triangle, out, f);
-        return;
-    }
     let wrap = |k: usize| if k >= n { k - n } else { k };
     let o = V3 {
         x: Lanes::splat(origin.x),
@@ -330,90 +326,6 @@ pub fn ring_cotangents_with<P, F>(
         k += LANES;
     }
     out[0] = f(first + carry);
-}
-
-/// The longest row [`ring_short`] takes (its buffers hold two more).
-const RING_MAX: usize = 30;
-
-/// [`ring_cotangents_with`] for a row of 2 to [`RING_MAX`] neighbours: their
-/// coordinates gathered once into buffers on the stack (the first two again at the
-/// end), then two triangles per step from contiguous lanes, every corner into two
-/// buffers, the few lanes outside the plain range redone by the kernel, and one pass
-/// that sums and maps them. The same values as the general loop, corner by corner.
-#[inline(always)]
-fn ring_short<P, F>(
-    origin: DVec3,
-    positions: &[DVec3],
-    ring: &[u32],
-    is_triangle: P,
-    out: &mut [f64],
-    f: F,
-) where
-    P: Fn(usize) -> bool,
-    F: Fn(f64) -> f64,
-{
-    let n = ring.len();
-    assert!((2..=RING_MAX).contains(&n), "a short row");
-    let mut xs = [0.0; RING_MAX + 2];
-    let mut ys = [0.0; RING_MAX + 2];
-    let mut zs = [0.0; RING_MAX + 2];
-    for (k, &j) in ring.iter().enumerate() {
-        let p = positions[j as usize];
-        xs[k] = p.x;
-        ys[k] = p.y;
-        zs[k] = p.z;
-    }
-    for k in 0..2 {
-        xs[n + k] = xs[k];
-        ys[n + k] = ys[k];
-        zs[n + k] = zs[k];
-    }
-    let o = V3 {
-        x: Lanes::splat(origin.x),
-        y: Lanes::splat(origin.y),
-        z: Lanes::splat(origin.z),
-    };
-    let lanes = |c: &[f64; RING_MAX + 2], k: usize| Lanes::from([c[k], c[k + 1]]);
-    // `at_b[k]`: the cotangent at ring[k + 1] in triangle k (α of slot k); `at_a[k]`:
-    // at ring[k] (β of slot k + 1).
-    let mut at_b = [0.0; RING_MAX + 2];
-    let mut at_a = [0.0; RING_MAX + 2];
-    let mut unusual = 0u32;
-    let mut k = 0;
-    while k < n {
-        let a = V3 {
-            x: lanes(&xs, k),
-            y: lanes(&ys, k),
-            z: lanes(&zs, k),
-        };
-        let b = V3 {
-            x: lanes(&xs, k + 1),
-            y: lanes(&ys, k + 1),
-            z: lanes(&zs, k + 1),
-        };
-        let (cb, ca, plain) = ring_corners_lanes(o, a, b);
-        at_b[k..k + LANES].copy_from_slice(&cb.to_array());
-        at_a[k..k + LANES].copy_from_slice(&ca.to_array());
-        unusual |= (((!plain.move_mask()) & 0b11) as u32) << k;
-        k += LANES;
-    }
-    // Lanes outside the plain range (rare): the kernel, corner by corner.
-    let mut rest = unusual & ((1u32 << n) - 1);
-    while rest != 0 {
-        let t = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let a = DVec3::new(xs[t], ys[t], zs[t]);
-        let b = DVec3::new(xs[t + 1], ys[t + 1], zs[t + 1]);
-        at_b[t] = kernel::corner_cotangent(b, origin, a);
-        at_a[t] = kernel::corner_cotangent(a, origin, b);
-    }
-    let mut beta = if is_triangle(n - 1) { at_a[n - 1] } else { 0.0 };
-    for (t, o) in out.iter_mut().enumerate().take(n) {
-        let here = is_triangle(t);
-        let alpha = if here { at_b[t] } else { 0.0 };
-        *o = f(alpha + beta);
-        beta = if here { at_a[t] } else { 0.0 };
-    }
 }
 
 /// For [`LANES`] triangles `(o, a, b)`: the cotangents at `b` and at `a` (the kernel's
@@ -769,7 +681,7 @@ mod tests {
         let mut y = x.clone();
         y[20] = DVec3::new(f64::NAN, 0.0, 0.0);
         cases.push((mesh, y));
-        // Fans of every short length, and past the short rows' buffers (30).
+        // Fans of every short length, and long ones.
         for n in (1..=7u32).chain([29, 30, 31, 40]) {
             for closed in [false, true] {
                 let faces: Vec<[u32; 3]> = (1..=n)
@@ -782,7 +694,7 @@ mod tests {
                 let mesh = HalfedgeMesh::from_polygons(n as usize + 1, &faces).unwrap();
                 let mut x: Vec<DVec3> = (0..=n).map(|_| rng.point()).collect();
                 cases.push((mesh.clone(), x.clone()));
-                // A far and a collapsed neighbour: lanes redone by the kernel.
+                // A far and a collapsed neighbour: corners redone by the kernel.
                 x[2] *= 1e260;
                 x[n as usize] = x[n as usize - 1];
                 cases.push((mesh, x));
