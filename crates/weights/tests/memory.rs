@@ -6,8 +6,7 @@ use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
-    Cotangent, CotangentKernel, InverseDistance, Laplacian, LaplacianOptions, Uniform,
-    WeightScheme,
+    Cotangent, CotangentKernel, InverseDistance, Laplacian, LaplacianOptions, Uniform, WeightScheme,
 };
 
 fn noisy_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
@@ -61,9 +60,8 @@ fn heap_bytes_follow_what_is_stored() {
     assert!(lap.weights_stored());
     assert_eq!(lap.heap_bytes(), rows + weights + bits);
     let again = Laplacian::new(&mesh, &x, &Cotangent, ring).unwrap();
-    let bits_of = |l: &Laplacian| -> Vec<u64> {
-        l.rows().weights.iter().map(|w| w.to_bits()).collect()
-    };
+    let bits_of =
+        |l: &Laplacian| -> Vec<u64> { l.rows().weights.iter().map(|w| w.to_bits()).collect() };
     assert_eq!(bits_of(&lap), bits_of(&again));
 
     // Inverse distance: no triangle bits.
@@ -125,8 +123,13 @@ fn row_halfedges_come_from_the_mesh() {
     }
     let grid = primitives::grid(5, 4);
     let mesh = grid.mesh().unwrap();
-    let lap = Laplacian::new(&mesh, &grid.positions, &Directed, LaplacianOptions::default())
-        .unwrap();
+    let lap = Laplacian::new(
+        &mesh,
+        &grid.positions,
+        &Directed,
+        LaplacianOptions::default(),
+    )
+    .unwrap();
     assert!(lap.heap_bytes() >= row_bytes(&mesh) + 16 * mesh.n_halfedges());
     for v in mesh.vertices() {
         let hs: Vec<_> = lap.row_halfedges_in(&mesh, v).collect();
@@ -146,7 +149,12 @@ fn row_halfedges_come_from_the_mesh() {
 fn row_halfedges_are_not_kept_for_a_simple_mesh() {
     let grid = primitives::grid(3, 3);
     let mesh = grid.mesh().unwrap();
-    let lap = Laplacian::new(&mesh, &grid.positions, &Cotangent, LaplacianOptions::default())
-        .unwrap();
+    let lap = Laplacian::new(
+        &mesh,
+        &grid.positions,
+        &Cotangent,
+        LaplacianOptions::default(),
+    )
+    .unwrap();
     let _ = lap.row_halfedges(VertexId::new(4)).count();
 }

@@ -426,8 +426,8 @@ fn cot_lanes(dot: Lanes, cross: Lanes, limit: Lanes) -> Lanes {
 mod tests {
     use super::*;
     use crate::HalfedgeMesh;
-    use crate::geometry::kernel::{Corner, Triangle};
     use crate::geometry::distance;
+    use crate::geometry::kernel::{Corner, Triangle};
     use crate::geometry::kernel::{SAFE_HI, SAFE_LO};
 
     /// A deterministic generator of numbers in [-1, 1) (SplitMix64).
@@ -613,7 +613,9 @@ mod tests {
             let n = rng.point().cross(base).normalize();
             // The apex over the base (the base is the longest edge): ratio h / len.
             let t = 0.5 + 0.45 * rng.next();
-            for delta in [-0.5, -0.1, -0.01, -1e-3, -1e-5, 0.0, 1e-5, 1e-3, 0.01, 0.1, 0.5] {
+            for delta in [
+                -0.5, -0.1, -0.01, -1e-3, -1e-5, 0.0, 1e-5, 1e-3, 0.01, 0.1, 0.5,
+            ] {
                 let h = len * DEGENERACY_RATIO * (1.0 + delta);
                 let c = a + base * t + n * h;
                 for t in [[a, b, c], [b, c, a], [c, a, b]] {
@@ -633,7 +635,10 @@ mod tests {
                             changed += usize::from(new != old(t));
                         }
                     }
-                    assert_eq!(Triangle(t).is_degenerate(), corners.iter().all(|c| c.is_degenerate()));
+                    assert_eq!(
+                        Triangle(t).is_degenerate(),
+                        corners.iter().all(|c| c.is_degenerate())
+                    );
                 }
             }
         }

@@ -334,7 +334,6 @@ impl Laplacian {
             }
         }
     }
-
 }
 
 /// The row kernel of the cotangent scheme from the operator's kernel data, after
@@ -358,7 +357,6 @@ pub(super) fn cotangent_row_kernel<'a>(
 }
 
 impl Laplacian {
-
     /// The weight array to write, one per slot (the stored one's buffer when there is
     /// one); put it back with `self.weights = OnceLock::from(weights)`.
     fn weight_buffer(&mut self) -> Vec<f64> {

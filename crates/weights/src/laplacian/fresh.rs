@@ -9,8 +9,8 @@ use super::Laplacian;
 use std::sync::OnceLock;
 
 use super::assembly::{
-    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
-    fill_inverse_distance, fill_uniform, row_scale,
+    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring, fill_inverse_distance,
+    fill_uniform, row_scale,
 };
 use super::options::{NegativeWeights, Normalization};
 use crate::scheme::{BuiltIn, WeightScheme};

@@ -406,7 +406,9 @@ mod tests {
             + 8 * l.scales.capacity()
             + 8 * l.ring_triangles.as_ref().map_or(0, Vec::capacity)
             + l.cotangent.as_ref().map_or(0, |p| {
-                12 * p.triangles.capacity() + 8 * p.slot_cots.capacity() + 8 * p.face_cots.capacity()
+                12 * p.triangles.capacity()
+                    + 8 * p.slot_cots.capacity()
+                    + 8 * p.face_cots.capacity()
             })
     }
 
