@@ -282,9 +282,9 @@ impl Corner {
     /// edge squared, the corner's own products), or `|u × v|` is NaN.
     #[inline]
     pub(super) fn is_degenerate(&self) -> bool {
-        let longest2 = self.uu.max(self.vv).max(self.ww);
-        // `!(x > y)` is also true when either is NaN.
-        !(self.cross > DEGENERACY_RATIO * longest2)
+        let limit = DEGENERACY_RATIO * self.uu.max(self.vv).max(self.ww);
+        // Not `cross > limit`, NaN included (as the lanes' comparison).
+        self.cross <= limit || self.cross.is_nan() || limit.is_nan()
     }
 
     /// The angle between `u` and `v` in radians, in `[0, π]`: `atan2(|u × v|, u · v)`,
