@@ -392,6 +392,25 @@ fn kernels_match_on_mixed_lanes_and_tails() {
         }
     }
     cases.push(("nearly flat".into(), mesh.clone(), y));
+    // A needle and triangles at the degeneracy threshold: in a closed fan of six,
+    // triangle (0, 1, 2) gets its apex 2 at height h·|p1 − p0| over its longest edge
+    // 0–1, so twice its area over that edge squared is h: 1e-9 (a needle, cotangents
+    // near 1e9), and 1e-12 · (1 ± 1e-3) and 1e-12 (at `DEGENERACY_RATIO`).
+    let faces: Vec<[u32; 3]> = (1..=6).map(|k| [0, k, k % 6 + 1]).collect();
+    let fan = HalfedgeMesh::from_polygons(7, &faces).unwrap();
+    for h in [1e-9, 1.001e-12, 1e-12, 0.999e-12] {
+        let mut y: Vec<DVec3> = (0..=6u32)
+            .map(|k| {
+                let a = f64::from(k) * std::f64::consts::TAU / 6.0;
+                let r = if k == 0 { 0.0 } else { 1.0 };
+                DVec3::new(r * a.cos(), r * a.sin(), 0.1 * rng.next_symmetric())
+            })
+            .collect();
+        let (p0, p1) = (y[0], y[1]);
+        let n = (p1 - p0).cross(DVec3::Z).normalize();
+        y[2] = p0 + (p1 - p0) * 0.6 + n * (h * (p1 - p0).length());
+        cases.push((format!("fan with h = {h:e}"), fan.clone(), y));
+    }
     // Part of the mesh far outside the plain range: plain and fallback triangles in
     // one batch.
     for s in [1e-250, 1e250] {
