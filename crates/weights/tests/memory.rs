@@ -158,3 +158,53 @@ fn row_halfedges_are_not_kept_for_a_simple_mesh() {
     .unwrap();
     let _ = lap.row_halfedges(VertexId::new(4)).count();
 }
+
+/// `new_without_weights` computes and checks what `new` does (sums, scales, stuck rows,
+/// errors) and keeps no weight array; its fresh rows and a later update are `new`'s.
+#[test]
+fn an_operator_without_weights_is_new_without_the_array() {
+    let (mesh, x) = noisy_sphere();
+    let h = mesh.n_halfedges();
+    let ring = LaplacianOptions::default().cotangent_kernel(CotangentKernel::Ring);
+    for (scheme, options, extra) in [
+        (&Uniform as &dyn WeightScheme, ring, 0),
+        (&InverseDistance, ring, 0),
+        (&Cotangent, ring, 8 * h.div_ceil(64)),
+    ] {
+        let full = Laplacian::new(&mesh, &x, scheme, options).unwrap();
+        let mut lean = Laplacian::new_without_weights(&mesh, &x, scheme, options).unwrap();
+        assert_eq!(
+            lean.heap_bytes(),
+            row_bytes(&mesh) + extra,
+            "{}",
+            scheme.name()
+        );
+        assert_eq!(lean.weights_stored(), scheme.name() == "uniform");
+        assert_eq!(lean.stuck_rows(), full.stuck_rows());
+        for v in mesh.vertices() {
+            assert_eq!(lean.weight_sum(v).to_bits(), full.weight_sum(v).to_bits());
+            assert_eq!(
+                lean.scale(v).map(f64::to_bits),
+                full.scale(v).map(f64::to_bits)
+            );
+        }
+        let fresh = lean.fresh_rows(&mesh, &x, scheme).unwrap();
+        let offsets = fresh.offsets().to_vec();
+        let mut w = vec![0.0; offsets[mesh.n_vertices()] as usize];
+        let mut s = vec![0.0; mesh.n_vertices()];
+        assert!(fresh.block(0, &x, &mut w, &mut s));
+        let want: Vec<u64> = full.rows().weights.iter().map(|w| w.to_bits()).collect();
+        let got: Vec<u64> = w.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(got, want, "{}", scheme.name());
+        lean.update(&mesh, &x, scheme).unwrap();
+        let stored: Vec<u64> = lean.rows().weights.iter().map(|w| w.to_bits()).collect();
+        assert_eq!(stored, want);
+    }
+    // The same errors as `new`.
+    let mut bad = x.clone();
+    bad[3].x = f64::NAN;
+    let lean = Laplacian::new_without_weights(&mesh, &bad, &InverseDistance, ring).map(|_| ());
+    let full = Laplacian::new(&mesh, &bad, &InverseDistance, ring).map(|_| ());
+    assert!(lean.is_err());
+    assert_eq!(format!("{lean:?}"), format!("{full:?}"));
+}

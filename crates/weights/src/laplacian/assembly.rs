@@ -15,10 +15,11 @@ use crate::error::WeightError;
 use crate::scheme::{BuiltIn, WeightContext, WeightScheme};
 
 /// What a row pass writes for rows `first..first + sums.len()`: their slots of
-/// `weights` (starting at `offsets[first]`), weight sums and scales.
+/// `weights` (starting at `offsets[first]`; `None`: the weights are not kept, each row
+/// is filled into a scratch buffer), weight sums and scales.
 struct Rows<'a> {
     first: usize,
-    weights: &'a mut [f64],
+    weights: Option<&'a mut [f64]>,
     sums: &'a mut [f64],
     scales: &'a mut [f64],
 }
@@ -223,7 +224,13 @@ where
     if n > PAR_CHUNK {
         let mid = n.div_ceil(2 * PAR_CHUNK) * PAR_CHUNK;
         let split = (offsets[rows.first + mid] - offsets[rows.first]) as usize;
-        let (w0, w1) = rows.weights.split_at_mut(split);
+        let (w0, w1) = match rows.weights {
+            Some(w) => {
+                let (w0, w1) = w.split_at_mut(split);
+                (Some(w0), Some(w1))
+            }
+            None => (None, None),
+        };
         let (s0, s1) = rows.sums.split_at_mut(mid);
         let (c0, c1) = rows.scales.split_at_mut(mid);
         let (a, b) = rayon::join(
@@ -249,7 +256,8 @@ where
         return a.join(b);
     }
     let mut tally = RowTally::default();
-    let weights = rows.weights;
+    let mut weights = rows.weights;
+    let mut scratch = Vec::new();
     let bounds = &offsets[rows.first..=rows.first + n];
     let base = bounds[0] as usize;
     // The row's slots are one running offset: few values live across the loop.
@@ -262,7 +270,13 @@ where
     {
         let i = rows.first + k;
         let b = end as usize - base;
-        let row = &mut weights[a..b];
+        let row: &mut [f64] = match weights.as_deref_mut() {
+            Some(w) => &mut w[a..b],
+            None => {
+                scratch.resize(b - a, 0.0);
+                &mut scratch
+            }
+        };
         let sum = fill(i, base + a, row);
         a = b;
         *sum_out = sum;
@@ -358,11 +372,22 @@ pub(super) fn cotangent_row_kernel<'a>(
 
 impl Laplacian {
     /// The weight array to write, one per slot (the stored one's buffer when there is
-    /// one); put it back with `self.weights = OnceLock::from(weights)`.
-    fn weight_buffer(&mut self) -> Vec<f64> {
+    /// one), or `None` when the weights are not to be kept (the stored ones are then
+    /// released); put it back with [`put_weights`](Self::put_weights).
+    fn weight_buffer(&mut self, store: bool) -> Option<Vec<f64>> {
         let mut w = self.weights.take().unwrap_or_default();
+        if !store {
+            return None;
+        }
         w.resize(self.neighbours.len(), 0.0);
-        w
+        Some(w)
+    }
+
+    /// Stores the weights written into a [`weight_buffer`](Self::weight_buffer).
+    fn put_weights(&mut self, weights: Option<Vec<f64>>) {
+        if let Some(w) = weights {
+            self.weights = OnceLock::from(w);
+        }
     }
 
     /// Recomputes the weights and scales from new positions, reusing the buffers. The
@@ -371,11 +396,10 @@ impl Laplacian {
     /// The built-in schemes ([`Uniform`](crate::Uniform),
     /// [`InverseDistance`](crate::InverseDistance), [`Cotangent`](crate::Cotangent)) are
     /// computed row by row: inverse-distance weights from the two positions of each row
-    /// slot, cotangents from the row's one-ring (each corner of a triangle in the rows of
-    /// both ends of its opposite edge, nothing stored per triangle); the row sums and
-    /// scales in the same pass. Uniform weights are not stored (they are all 1). Other
-    /// schemes go through [`WeightScheme::fill_weights`]. The numbers are the same
-    /// either way.
+    /// slot, cotangents by the chosen [`CotangentKernel`] (each triangle's once and
+    /// gathered into the slots, or from the row's one-ring); the row sums and scales in
+    /// the same pass. Uniform weights are not stored (they are all 1). Other schemes go
+    /// through [`WeightScheme::fill_weights`]. The numbers are the same either way.
     ///
     /// # Errors
     /// As [`new`](Self::new). After an error the operator's weights are unspecified
@@ -389,6 +413,19 @@ impl Laplacian {
         positions: &[DVec3],
         scheme: &dyn WeightScheme,
     ) -> Result<(), WeightError> {
+        self.update_as(mesh, positions, scheme, true)
+    }
+
+    /// [`update`](Self::update), keeping the weights (`store`) or only their sums and
+    /// scales (the stored weights are then released, as by
+    /// [`fresh_rows`](Self::fresh_rows)).
+    pub(super) fn update_as(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+        store: bool,
+    ) -> Result<(), WeightError> {
         assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
         assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
         let geometry = Geometry::new(mesh, positions)?;
@@ -398,7 +435,7 @@ impl Laplacian {
         };
         let Ok(areas) = areas else {
             // The generic path reports a non-finite weight before this error.
-            return self.update_generic(mesh, &geometry, areas.map(|_| None), scheme);
+            return self.update_generic(mesh, &geometry, areas.map(|_| None), scheme, store);
         };
         let areas = areas.as_ref().map(|a| a.as_slice());
         let negative = self.options.negative;
@@ -421,13 +458,15 @@ impl Laplacian {
             }
             // Unreachable with the policies there are (each keeps 1); stored like any
             // other kernel's weights should one ever change it.
-            let mut weights = self.weight_buffer();
-            weights.fill(negative.apply(1.0));
-            self.weights = OnceLock::from(weights);
+            let mut weights = self.weight_buffer(store);
+            if let Some(w) = weights.as_mut() {
+                w.fill(negative.apply(1.0));
+            }
+            self.put_weights(weights);
             return Ok(());
         }
         let ready = kernel == Some(BuiltIn::Cotangent) && self.prepare_cotangents(&geometry);
-        let mut weights = self.weight_buffer();
+        let mut weights = self.weight_buffer(store);
         let cotangent = ready.then(|| {
             cotangent_row_kernel(
                 negative,
@@ -437,7 +476,7 @@ impl Laplacian {
         });
         let rows = Rows {
             first: 0,
-            weights: &mut weights,
+            weights: weights.as_deref_mut(),
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
@@ -473,7 +512,7 @@ impl Laplacian {
             },
             _ => None,
         };
-        self.weights = OnceLock::from(weights);
+        self.put_weights(weights);
         match tally {
             // A kernel found only finite row sums, hence only finite weights.
             Some(tally) if !tally.non_finite => {
@@ -482,7 +521,7 @@ impl Laplacian {
             }
             // No kernel, or a non-finite weight (whose error names the first one in
             // halfedge order, as the generic path does).
-            _ => self.update_generic(mesh, &geometry, Ok(areas), scheme),
+            _ => self.update_generic(mesh, &geometry, Ok(areas), scheme, store),
         }
     }
 
@@ -494,6 +533,7 @@ impl Laplacian {
         geometry: &Geometry<'_>,
         areas: Result<Option<&[f64]>, TopologyError>,
         scheme: &dyn WeightScheme,
+        store: bool,
     ) -> Result<(), WeightError> {
         self.unit_weights = false;
         self.halfedge_weights.resize(self.n_halfedges, 0.0);
@@ -519,11 +559,11 @@ impl Laplacian {
         }
         let areas = areas?;
         let negative = self.options.negative;
-        let mut weights = self.weight_buffer();
+        let mut weights = self.weight_buffer(store);
         let halfedge_weights = &self.halfedge_weights;
         let rows = Rows {
             first: 0,
-            weights: &mut weights,
+            weights: weights.as_deref_mut(),
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
@@ -534,7 +574,7 @@ impl Laplacian {
             }
             row_sum_of(w)
         });
-        self.weights = OnceLock::from(weights);
+        self.put_weights(weights);
         self.stuck = tally.stuck;
         Ok(())
     }

@@ -46,8 +46,10 @@ pub use options::{CotangentKernel, LaplacianOptions, NegativeWeights, Normalizat
 ///   [`row`](Self::row) make an array of ones on first use.
 /// - **Weights after [`fresh_rows`](Self::fresh_rows)**: the rows it computes replace
 ///   them, so it releases the stored ones; [`update`](Self::update) stores them again
-///   ([`weights_stored`](Self::weights_stored) tells). An integrator that recomputes the
-///   weights inside its sweep every iteration thus never holds a weight array.
+///   ([`weights_stored`](Self::weights_stored) tells); an operator built by
+///   [`new_without_weights`](Self::new_without_weights) starts that way. An integrator
+///   that recomputes the weights inside its sweep every iteration thus never needs to
+///   hold a weight array.
 /// - **Halfedge ids**: the built-in kernels need none, and plug-in schemes read their
 ///   slots' halfedges from the mesh. They are kept only when two vertices are joined by
 ///   more than one edge, where a row's neighbour does not name its halfedge (see
@@ -143,6 +145,34 @@ impl Laplacian {
         scheme: &dyn WeightScheme,
         options: LaplacianOptions,
     ) -> Result<Self, WeightError> {
+        let mut lap = Self::layout(mesh, options);
+        lap.update(mesh, positions, scheme)?;
+        Ok(lap)
+    }
+
+    /// [`new`](Self::new) without keeping the weights: the rows' sums, scales and
+    /// stuck count are computed and checked as `new` does (the same errors), each row's
+    /// weights in a scratch buffer; the operator is then as after
+    /// [`fresh_rows`](Self::fresh_rows) ([`weights_stored`](Self::weights_stored) is
+    /// `false` unless the weights are all 1) until [`update`](Self::update) stores them.
+    /// For an integrator that computes every row's weights inside its sweeps
+    /// ([`FreshRows`]) and so never needs a weight array (8 bytes per slot).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn new_without_weights(
+        mesh: &HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+        options: LaplacianOptions,
+    ) -> Result<Self, WeightError> {
+        let mut lap = Self::layout(mesh, options);
+        lap.update_as(mesh, positions, scheme, false)?;
+        Ok(lap)
+    }
+
+    /// The rows' layout on `mesh`, every row empty of weights (sums and scales 0).
+    fn layout(mesh: &HalfedgeMesh, options: LaplacianOptions) -> Self {
         let n = mesh.n_vertices();
         let (offsets, neighbours) = layout::rows(mesh);
         let halfedges = if layout::has_repeated_neighbour(&offsets, &neighbours) {
@@ -150,7 +180,7 @@ impl Laplacian {
         } else {
             Vec::new()
         };
-        let mut lap = Self {
+        Self {
             options,
             offsets,
             weights: OnceLock::new(),
@@ -164,9 +194,7 @@ impl Laplacian {
             unit_weights: false,
             ring_triangles: None,
             cotangent: None,
-        };
-        lap.update(mesh, positions, scheme)?;
-        Ok(lap)
+        }
     }
 
     /// The options the operator was assembled with.
