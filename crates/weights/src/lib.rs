@@ -40,7 +40,8 @@ pub use cotangent::Cotangent;
 pub use error::WeightError;
 pub use inverse_distance::{DISTANCE_EPSILON, InverseDistance};
 pub use laplacian::{
-    FreshRows, Laplacian, LaplacianOptions, LaplacianRows, NegativeWeights, Normalization,
+    CotangentKernel, FreshRows, Laplacian, LaplacianOptions, LaplacianRows, NegativeWeights,
+    Normalization,
 };
 pub use openmesh::OpenMeshCotangent;
 pub use registry::WeightRegistry;

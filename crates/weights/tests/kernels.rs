@@ -3,15 +3,16 @@
 //! irregular planes with negative cotangents, noisy spheres, degenerate and coincident
 //! triangles, coordinates far outside the plain range, boundaries, quads, every option;
 //! and the rows computed one at a time (`Laplacian::fresh_rows`) give the bits that
-//! `Laplacian::update` stores.
+//! `Laplacian::update` stores — with either cotangent kernel (per triangle, or from the
+//! rows' one-rings), so the two kernels give the same bits too.
 
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
-    Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
-    Uniform, WeightContext, WeightScheme,
+    Cotangent, CotangentKernel, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights,
+    Normalization, Uniform, WeightContext, WeightScheme,
 };
 
 /// The same weights without a kernel: the generic path (a type of its own, so the
@@ -183,11 +184,14 @@ fn all_options() -> Vec<LaplacianOptions> {
             NegativeWeights::Clamp,
             NegativeWeights::Abs,
         ] {
-            out.push(
-                LaplacianOptions::new()
-                    .normalization(normalization)
-                    .negative(negative),
-            );
+            for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+                out.push(
+                    LaplacianOptions::new()
+                        .normalization(normalization)
+                        .negative(negative)
+                        .cotangent_kernel(kernel),
+                );
+            }
         }
     }
     out
@@ -276,12 +280,18 @@ fn non_finite_positions_give_the_generic_error() {
     for bad in [f64::NAN, f64::INFINITY] {
         let mut x = g.positions.clone();
         x[12].y = bad;
-        assert_same(&mesh, &x, LaplacianOptions::default(), "non-finite");
+        for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+            let options = LaplacianOptions::default().cotangent_kernel(kernel);
+            assert_same(&mesh, &x, options, "non-finite");
+        }
     }
     // Finite weights whose row sum overflows.
     let mut x = g.positions.clone();
     x[12] = x[13] + DVec3::new(1e-320, 0.0, 0.0);
-    assert_same(&mesh, &x, LaplacianOptions::default(), "huge weights");
+    for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+        let options = LaplacianOptions::default().cotangent_kernel(kernel);
+        assert_same(&mesh, &x, options, "huge weights");
+    }
 }
 
 #[test]
@@ -382,6 +392,25 @@ fn kernels_match_on_mixed_lanes_and_tails() {
         }
     }
     cases.push(("nearly flat".into(), mesh.clone(), y));
+    // A needle and triangles at the degeneracy threshold: in a closed fan of six,
+    // triangle (0, 1, 2) gets its apex 2 at height h·|p1 − p0| over its longest edge
+    // 0–1, so twice its area over that edge squared is h: 1e-9 (a needle, cotangents
+    // near 1e9), and 1e-12 · (1 ± 1e-3) and 1e-12 (at `DEGENERACY_RATIO`).
+    let faces: Vec<[u32; 3]> = (1..=6).map(|k| [0, k, k % 6 + 1]).collect();
+    let fan = HalfedgeMesh::from_polygons(7, &faces).unwrap();
+    for h in [1e-9, 1.001e-12, 1e-12, 0.999e-12] {
+        let mut y: Vec<DVec3> = (0..=6u32)
+            .map(|k| {
+                let a = f64::from(k) * std::f64::consts::TAU / 6.0;
+                let r = if k == 0 { 0.0 } else { 1.0 };
+                DVec3::new(r * a.cos(), r * a.sin(), 0.1 * rng.next_symmetric())
+            })
+            .collect();
+        let (p0, p1) = (y[0], y[1]);
+        let n = (p1 - p0).cross(DVec3::Z).normalize();
+        y[2] = p0 + (p1 - p0) * 0.6 + n * (h * (p1 - p0).length());
+        cases.push((format!("fan with h = {h:e}"), fan.clone(), y));
+    }
     // Part of the mesh far outside the plain range: plain and fallback triangles in
     // one batch.
     for s in [1e-250, 1e250] {

@@ -11,9 +11,9 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
+use wide::{CmpGe, CmpGt, CmpLt};
 
-use super::kernel::{self, SQRT_MIN, Triangle};
+use super::kernel::{self, SQRT_MIN};
 use super::lanes::V3;
 use super::{DEGENERACY_RATIO, Geometry, VertexAreaKind};
 use crate::error::TopologyError;
@@ -228,17 +228,152 @@ where
     }
 }
 
+/// The cotangent weights around one vertex, from its one-ring: the two cotangents
+/// opposite each edge to a neighbour, summed, for a sparse operator whose rows list the
+/// neighbours counter-clockwise and which keeps no per-triangle data.
+///
+/// The vertex is at `origin`; its neighbours are `positions[ring[k]]`, counter-clockwise
+/// (as [`HalfedgeMesh::halfedges_around_vertex`](crate::HalfedgeMesh::halfedges_around_vertex)
+/// visits them); triangle `k` is `(origin, ring[k], ring[k + 1])` (cyclically: `ring[n]`
+/// is `ring[0]`) and is a face of the mesh when `is_triangle(k)` — on a triangle mesh,
+/// every `k` at an interior vertex and every `k` but the boundary gap at a boundary
+/// vertex (its first slot, where the circulator starts). Then
+///
+/// `out[k] = f(α_k + β_k)`
+///
+/// with `α_k` the cotangent at `ring[k + 1]` in triangle `k` and `β_k` the cotangent at
+/// `ring[k − 1]` in triangle `k − 1` (+0 for a triangle that is not a face): the
+/// cotangents opposite the edge to `ring[k]` in the face on its left and on its right,
+/// so `f = |s| 0.5 · s` gives the cotangent weights. Each cotangent has the bits of
+/// [`Geometry::opposite_cotangent`] for that corner (0 where the triangle is degenerate
+/// as seen from the corner), computed two triangles at a time in SIMD lanes where the
+/// edges are in the plain range and by the per-corner kernel elsewhere. Every corner is
+/// its own: nothing depends on where a face starts, so the rows of both ends of an edge
+/// agree bit for bit.
+///
+/// # Panics
+/// If `out` is shorter than `ring` or a neighbour is out of bounds.
+pub fn ring_cotangents_with<P, F>(
+    origin: DVec3,
+    positions: &[DVec3],
+    ring: &[u32],
+    is_triangle: P,
+    out: &mut [f64],
+    f: F,
+) where
+    P: Fn(usize) -> bool,
+    F: Fn(f64) -> f64,
+{
+    let n = ring.len();
+    let out = &mut out[..n];
+    let at = |k: usize| positions[ring[k] as usize];
+    if n < 2 {
+        // No two distinct neighbours: every cotangent is the kernel's (0 for a corner
+        // whose two neighbours coincide).
+        if n == 1 {
+            let c = if is_triangle(0) {
+                kernel::corner_cotangent(at(0), origin, at(0))
+            } else {
+                0.0
+            };
+            out[0] = f(c + c);
+        }
+        return;
+    }
+    let wrap = |k: usize| if k >= n { k - n } else { k };
+    let o = V3 {
+        x: Lanes::splat(origin.x),
+        y: Lanes::splat(origin.y),
+        z: Lanes::splat(origin.z),
+    };
+    // α of slot 0 waits for β of the last triangle; `carry` is β of the next slot.
+    let mut first = 0.0;
+    let mut carry = 0.0;
+    let mut k = 0;
+    while k < n {
+        // Lane 0: triangle k = (ring[k], ring[k + 1]); lane 1: triangle k + 1.
+        let p = [at(k), at(wrap(k + 1)), at(wrap(k + 2))];
+        let v = |a: DVec3, b: DVec3| V3 {
+            x: Lanes::from([a.x, b.x]),
+            y: Lanes::from([a.y, b.y]),
+            z: Lanes::from([a.z, b.z]),
+        };
+        let (at_b, at_a, plain) = ring_corners_lanes(o, v(p[0], p[1]), v(p[1], p[2]));
+        let (at_b, at_a, plain) = (at_b.to_array(), at_a.to_array(), plain.move_mask());
+        for l in 0..LANES {
+            let t = k + l;
+            if t == n {
+                break;
+            }
+            let (alpha, beta) = if !is_triangle(t) {
+                (0.0, 0.0)
+            } else if plain & (1 << l) != 0 {
+                (at_b[l], at_a[l])
+            } else {
+                let (a, b) = (p[l], p[l + 1]);
+                (
+                    kernel::corner_cotangent(b, origin, a),
+                    kernel::corner_cotangent(a, origin, b),
+                )
+            };
+            if t == 0 {
+                first = alpha;
+            } else {
+                out[t] = f(alpha + carry);
+            }
+            carry = beta;
+        }
+        k += LANES;
+    }
+    out[0] = f(first + carry);
+}
+
+/// For [`LANES`] triangles `(o, a, b)`: the cotangents at `b` and at `a` (the kernel's
+/// `Corner::cot`, operation by operation) and a mask of the lanes whose three edges are
+/// all plain (finite, largest component in `[2^-200, 2^200]`); other lanes' values are
+/// meaningless.
+#[inline(always)]
+fn ring_corners_lanes(o: V3<Lanes>, a: V3<Lanes>, b: V3<Lanes>) -> (Lanes, Lanes, Lanes) {
+    let da = a - o;
+    let db = b - o;
+    let e = b - a;
+    let (qa, qb, qe) = (da.dot(da), db.dot(db), e.dot(e));
+    let plain = in_range(qa) & in_range(qb) & in_range(qe);
+    // Plain lanes: finite, not NaN, `fast_max` is `f64::max` (see
+    // `triangle_cotangents_lanes`).
+    let limit = Lanes::splat(DEGENERACY_RATIO) * qa.fast_max(qb).fast_max(qe);
+    // Corner at b: u = o − b = −db, v = a − b = −e, so u · v = db · e and u × v = db × e
+    // bit for bit (each product of two negated factors is the product of the factors).
+    let xb = db.cross(e);
+    let at_b = cot_lanes(db.dot(e), xb.dot(xb).sqrt(), limit);
+    // Corner at a: u = o − a = −da, v = b − a = e: u · v = −(da · e), |u × v| = |da × e|.
+    let xa = da.cross(e);
+    let at_a = cot_lanes(-da.dot(e), xa.dot(xa).sqrt(), limit);
+    (at_b, at_a, plain)
+}
+
+/// Plain squared edge lengths: `|s|² ≥ 2^-398` implies a component of at least 2^-200
+/// (three squares below 2^-400 round to at most 3 · 2^-400), and `|s|² < 2^400` implies
+/// every component below 2^200 (a larger square rounds to at least 2^400). NaN and
+/// infinite components fail the second test.
+#[inline(always)]
+fn in_range(q: Lanes) -> Lanes {
+    q.cmp_ge(Lanes::splat(SQUARED_LO)) & q.cmp_lt(Lanes::splat(SQUARED_HI))
+}
+
 /// The cotangents opposite the three halfedges of triangle `(p0, p1, p2)` (in face
-/// order, the halfedges ending at p0, p1, p2), 0 for a degenerate triangle: the
-/// kernel's, as [`Geometry::face_opposite_cotangents`] computes them.
+/// order, the halfedges ending at p0, p1, p2), each 0 where the triangle is degenerate
+/// as seen from its corner: the kernel's, as [`Geometry::face_opposite_cotangents`]
+/// computes them (which first skips a triangle degenerate at every corner, whose
+/// cotangents are all 0 anyway).
 #[inline]
 fn triangle_cotangents(p0: DVec3, p1: DVec3, p2: DVec3) -> [f64; 3] {
-    let t = Triangle([p0, p1, p2]);
-    if t.is_degenerate() {
-        return [0.0; 3];
-    }
     // h0 ends at p0, so its opposite corner is p1; h1 ↔ p2; h2 ↔ p0.
-    [t.corner(1).cot(), t.corner(2).cot(), t.corner(0).cot()]
+    [
+        kernel::corner_cotangent(p1, p2, p0),
+        kernel::corner_cotangent(p2, p0, p1),
+        kernel::corner_cotangent(p0, p1, p2),
+    ]
 }
 
 /// [`triangle_cotangents`] for [`LANES`] triangles at once, in the plain frames: where
@@ -253,20 +388,16 @@ fn triangle_cotangents_lanes(p0: V3<Lanes>, p1: V3<Lanes>, p2: V3<Lanes>) -> ([L
     let s2 = p2 - p0;
     let e = p2 - p1;
     let (q1, q2, qe) = (s1.dot(s1), s2.dot(s2), e.dot(e));
-    // Plain edges, from the squared lengths: `|s|² ≥ 2^-398` implies a component of at
-    // least 2^-200 (three squares below 2^-400 round to at most 3 · 2^-400), and
-    // `|s|² < 2^400` implies every component below 2^200 (a larger square rounds to at
-    // least 2^400). NaN and infinite components fail the second test.
-    let in_range =
-        |q: Lanes| q.cmp_ge(Lanes::splat(SQUARED_LO)) & q.cmp_lt(Lanes::splat(SQUARED_HI));
+    // Plain edges, from the squared lengths (see `in_range`).
     let plain = in_range(q1) & in_range(q2) & in_range(qe);
-    // Degeneracy, in the frame at p0 (the kernel's `is_degenerate`). The squared
-    // lengths are finite and not NaN in plain lanes, where `fast_max` is `f64::max`.
-    let s3 = s2 - s1;
-    let longest2 = q1.fast_max(q2).fast_max(s3.dot(s3));
+    // Each corner's degeneracy test (`Corner::is_degenerate`) compares its own cross
+    // product with the longest of the same three squared edges, the plain differences
+    // in plain lanes. They are finite and not NaN there, where `fast_max` is `f64::max`
+    // (and the largest of three numbers does not depend on their order).
+    let limit = Lanes::splat(DEGENERACY_RATIO) * q1.fast_max(q2).fast_max(qe);
+    // Corner 0 at p0: u = s1, v = s2.
     let x0 = s1.cross(s2);
-    let two_area = x0.dot(x0).sqrt();
-    let degenerate = two_area.cmp_le(Lanes::splat(DEGENERACY_RATIO) * longest2) | two_area.is_nan();
+    let cross0 = x0.dot(x0).sqrt();
     // Corner 1 at p1: u = p2 − p1 = e, v = p0 − p1 = −s1. Negation is exact, so
     // u · v = −(e · s1) and u × v = −(e × s1) bit for bit; the length ignores the sign.
     let x1 = e.cross(s1);
@@ -275,19 +406,20 @@ fn triangle_cotangents_lanes(p0: V3<Lanes>, p1: V3<Lanes>, p2: V3<Lanes>) -> ([L
     // and e (each product of two negated factors is the product of the factors).
     let x2 = s2.cross(e);
     let cross2 = x2.dot(x2).sqrt();
-    let keep = !degenerate;
-    let c0 = cot_lanes(s1.dot(s2), two_area, keep);
-    let c1 = cot_lanes(-e.dot(s1), cross1, keep);
-    let c2 = cot_lanes(s2.dot(e), cross2, keep);
+    let c0 = cot_lanes(s1.dot(s2), cross0, limit);
+    let c1 = cot_lanes(-e.dot(s1), cross1, limit);
+    let c2 = cot_lanes(s2.dot(e), cross2, limit);
     ([c1, c2, c0], plain)
 }
 
-/// [`cot`] lane by lane, and +0 where the mask `keep` is clear.
+/// `Corner::cot` lane by lane, in plain lanes: `dot / cross` where `cross > limit`
+/// (`DEGENERACY_RATIO` times the longest squared edge; false for NaN) and the quotient
+/// is finite, +0 elsewhere.
 #[inline(always)]
-fn cot_lanes(dot: Lanes, cross: Lanes, keep: Lanes) -> Lanes {
+fn cot_lanes(dot: Lanes, cross: Lanes, limit: Lanes) -> Lanes {
     let c = dot / cross;
     let finite = c.abs().cmp_lt(Lanes::splat(f64::INFINITY));
-    c & (cross.cmp_gt(Lanes::splat(0.0)) & finite & keep)
+    c & (cross.cmp_gt(limit) & finite)
 }
 
 #[cfg(test)]
@@ -295,6 +427,7 @@ mod tests {
     use super::*;
     use crate::HalfedgeMesh;
     use crate::geometry::distance;
+    use crate::geometry::kernel::{Corner, Triangle};
     use crate::geometry::kernel::{SAFE_HI, SAFE_LO};
 
     /// A deterministic generator of numbers in [-1, 1) (SplitMix64).
@@ -432,6 +565,168 @@ mod tests {
         let mut all = vec![[f64::NAN; 3]; mesh.n_faces()];
         geometry.face_cotangents_into(&mut all).unwrap();
         assert_eq!(bits(all.as_flattened()), bits(&want));
+    }
+
+    /// Every corner's cotangent is its own: rotating a triangle's vertex list (so that
+    /// the face starts at another vertex) gives every corner the same bits, in the
+    /// per-face query and in the lanes alike.
+    #[test]
+    fn corner_cotangents_do_not_depend_on_where_the_face_starts() {
+        let tris = triangles();
+        let rotated: Vec<[DVec3; 3]> = tris.iter().map(|&[a, b, c]| [b, c, a]).collect();
+        let (mesh, positions, order) = soup(&tris);
+        let (mesh_r, positions_r, order_r) = soup(&rotated);
+        let g = Geometry::new(&mesh, &positions).unwrap();
+        let gr = Geometry::new(&mesh_r, &positions_r).unwrap();
+        let mut out = vec![0.0; 3 * order.len()];
+        let mut out_r = vec![0.0; 3 * order.len()];
+        g.triangle_cotangents_into(&order, &mut out);
+        gr.triangle_cotangents_into(&order_r, &mut out_r);
+        for (k, (o, r)) in out.chunks(3).zip(out_r.chunks(3)).enumerate() {
+            // Opposite the halfedges ending at a, b, c: corners b, c, a; rotated, the
+            // halfedges end at b, c, a, opposite corners c, a, b.
+            assert_eq!(bits(o), bits(&[r[2], r[0], r[1]]), "triangle {k}");
+        }
+    }
+
+    /// The degeneracy test of the corner (`Corner::is_degenerate`, its own cross product
+    /// against the longest of the three plain edges) against the one it replaced (the
+    /// cross product in the frame at the face's first vertex, the third edge as the
+    /// difference of the other two): on triangles whose exact ratio of twice the area to
+    /// the longest edge squared is known, both give the exact answer unless that ratio
+    /// lies within 1 % of `DEGENERACY_RATIO` — only triangles at the threshold changed.
+    #[test]
+    fn the_corner_test_changes_only_triangles_at_the_threshold() {
+        let old = |[p0, p1, p2]: [DVec3; 3]| {
+            let (s1, s2) = (p1 - p0, p2 - p0);
+            let s3 = s2 - s1;
+            let longest2 = s1.dot(s1).max(s2.dot(s2)).max(s3.dot(s3));
+            let two_area = s1.cross(s2).length();
+            two_area <= DEGENERACY_RATIO * longest2 || two_area.is_nan()
+        };
+        let mut rng = Rng(41);
+        let (mut near, mut changed) = (0, 0);
+        for _ in 0..400 {
+            let (a, b) = (rng.point(), rng.point());
+            let base = b - a;
+            let len = base.length();
+            let n = rng.point().cross(base).normalize();
+            // The apex over the base (the base is the longest edge): ratio h / len.
+            let t = 0.5 + 0.45 * rng.next();
+            for delta in [
+                -0.5, -0.1, -0.01, -1e-3, -1e-5, 0.0, 1e-5, 1e-3, 0.01, 0.1, 0.5,
+            ] {
+                let h = len * DEGENERACY_RATIO * (1.0 + delta);
+                let c = a + base * t + n * h;
+                for t in [[a, b, c], [b, c, a], [c, a, b]] {
+                    let corners = [
+                        Corner::new(t[0], t[1], t[2]),
+                        Corner::new(t[1], t[2], t[0]),
+                        Corner::new(t[2], t[0], t[1]),
+                    ];
+                    let exact = delta <= 0.0;
+                    for corner in corners {
+                        let new = corner.is_degenerate();
+                        if f64::abs(delta) >= 0.01 {
+                            assert_eq!(new, exact, "{delta}");
+                            assert_eq!(old(t), exact, "{delta}");
+                        } else {
+                            near += 1;
+                            changed += usize::from(new != old(t));
+                        }
+                    }
+                    assert_eq!(
+                        Triangle(t).is_degenerate(),
+                        corners.iter().all(|c| c.is_degenerate())
+                    );
+                }
+            }
+        }
+        // At the threshold the two tests do disagree sometimes (rounding).
+        assert!(near > 0 && changed < near, "{changed} of {near}");
+    }
+
+    /// The one-ring kernel gives, for every slot of every row, the bits of the two
+    /// per-halfedge queries summed (`opposite_cotangent` of the slot's halfedge and of
+    /// its twin): closed and open meshes, rows of every length, plain and rescaled and
+    /// degenerate triangles side by side, a quad.
+    #[test]
+    fn ring_cotangents_have_the_bits_of_the_per_halfedge_query() {
+        let mut rng = Rng(7);
+        let mut cases: Vec<(HalfedgeMesh, Vec<DVec3>)> = Vec::new();
+        let sphere = crate::primitives::icosphere(2);
+        let x: Vec<DVec3> = sphere
+            .positions
+            .iter()
+            .map(|&p| p * (1.0 + 0.3 * rng.next()))
+            .collect();
+        cases.push((sphere.mesh().unwrap(), x));
+        let grid = crate::primitives::grid(7, 6);
+        let mesh = grid.mesh().unwrap();
+        let x: Vec<DVec3> = grid
+            .positions
+            .iter()
+            .map(|&p| p + rng.point() * 0.4)
+            .collect();
+        cases.push((mesh.clone(), x.clone()));
+        let mut y = x.clone();
+        for k in (0..y.len() - 1).step_by(3) {
+            y[k] = y[k + 1];
+        }
+        y[10] = (y[11] + y[9]) * 0.5;
+        cases.push((mesh.clone(), y));
+        for s in [1e-250, 1e250, 1e300] {
+            let y = x
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| if k % 4 == 1 { p * s } else { p })
+                .collect();
+            cases.push((mesh.clone(), y));
+        }
+        let mut y = x.clone();
+        y[20] = DVec3::new(f64::NAN, 0.0, 0.0);
+        cases.push((mesh, y));
+        // Fans of every short length, and long ones.
+        for n in (1..=7u32).chain([29, 30, 31, 40]) {
+            for closed in [false, true] {
+                let faces: Vec<[u32; 3]> = (1..=n)
+                    .filter(|&k| closed || k < n)
+                    .map(|k| [0, k, k % n + 1])
+                    .collect();
+                if faces.is_empty() || (closed && n < 3) {
+                    continue;
+                }
+                let mesh = HalfedgeMesh::from_polygons(n as usize + 1, &faces).unwrap();
+                let mut x: Vec<DVec3> = (0..=n).map(|_| rng.point()).collect();
+                cases.push((mesh.clone(), x.clone()));
+                // A far and a collapsed neighbour: corners redone by the kernel.
+                x[2] *= 1e260;
+                x[n as usize] = x[n as usize - 1];
+                cases.push((mesh, x));
+            }
+        }
+        let faces: [&[u32]; 3] = [&[0, 1, 2], &[0, 2, 3, 4], &[0, 4, 5]];
+        let mesh = HalfedgeMesh::from_polygons(6, faces).unwrap();
+        cases.push((mesh, (0..6).map(|_| rng.point()).collect()));
+        for (c, (mesh, x)) in cases.iter().enumerate() {
+            let g = Geometry::new(mesh, x).unwrap();
+            for v in mesh.vertices() {
+                let hs: Vec<_> = mesh.halfedges_around_vertex(v).collect();
+                let ring: Vec<u32> = hs.iter().map(|&h| mesh.to_vertex(h).raw()).collect();
+                let is_triangle = |k: usize| {
+                    let h = hs[k];
+                    mesh.face(h).is_some() && mesh.next(mesh.next(mesh.next(h))) == h
+                };
+                let mut out = vec![f64::NAN; ring.len() + 1];
+                ring_cotangents_with(x[v.index()], x, &ring, is_triangle, &mut out, |c| c);
+                let want: Vec<f64> = hs
+                    .iter()
+                    .map(|&h| g.opposite_cotangent(h) + g.opposite_cotangent(h.twin()))
+                    .chain([f64::NAN])
+                    .collect();
+                assert_eq!(bits(&out), bits(&want), "case {c} vertex {v}");
+            }
+        }
     }
 
     /// The plain-range test on squared lengths accepts only edges whose largest

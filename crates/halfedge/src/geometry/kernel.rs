@@ -163,6 +163,15 @@ impl Frame {
         d / self.divisor
     }
 
+    /// The scaled edge `(b − a) / 2^exponent` between two of the frame's points (with
+    /// the points halved first when the frame halves them): in the common case the
+    /// plain difference `b − a`, not `span(b) − span(a)`.
+    #[inline]
+    pub(super) fn edge(&self, a: DVec3, b: DVec3) -> DVec3 {
+        let d = if self.halve { b * 0.5 - a * 0.5 } else { b - a };
+        d / self.divisor
+    }
+
     /// The origin of the frame.
     #[inline]
     pub(super) fn origin(&self) -> DVec3 {
@@ -226,7 +235,14 @@ pub(super) fn distance(p: DVec3, q: DVec3) -> f64 {
     }
 }
 
-/// Products of the two edge vectors leaving a corner.
+/// Products of the two edge vectors leaving a corner, and the squared length of the
+/// opposite edge.
+///
+/// Every field is the corner's own and symmetric in its two neighbours (a difference
+/// and its negation give the same products' magnitudes bit for bit), so a corner's
+/// [`cot`](Self::cot) and [`is_degenerate`](Self::is_degenerate) depend only on the
+/// corner and its two neighbours — not on where the face starts or in which order its
+/// vertices are listed.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Corner {
     /// `u · v` in span units².
@@ -237,6 +253,9 @@ pub(super) struct Corner {
     pub(super) uu: f64,
     /// `|v|²` in span units².
     pub(super) vv: f64,
+    /// `|w|²` in span units², `w = b − a` the opposite edge ([`Frame::edge`]: the plain
+    /// difference of the two neighbours, not `v − u`).
+    pub(super) ww: f64,
     /// The exponent of one span unit (see [`Frame::exponent`]).
     pub(super) exponent: i32,
 }
@@ -247,14 +266,25 @@ impl Corner {
     #[inline]
     pub(super) fn new(c: DVec3, a: DVec3, b: DVec3) -> Self {
         let frame = Frame::new(c, &[a, b]);
-        let (u, v) = (frame.span(a), frame.span(b));
+        let (u, v, w) = (frame.span(a), frame.span(b), frame.edge(a, b));
         Self {
             dot: u.dot(v),
             cross: u.cross(v).length(),
             uu: u.dot(u),
             vv: v.dot(v),
+            ww: w.dot(w),
             exponent: frame.exponent(),
         }
+    }
+
+    /// Whether the triangle is degenerate as seen from this corner: `|u × v| ≤
+    /// DEGENERACY_RATIO · max(|u|², |v|², |w|²)` (twice the area against the longest
+    /// edge squared, the corner's own products), or `|u × v|` is NaN.
+    #[inline]
+    pub(super) fn is_degenerate(&self) -> bool {
+        let limit = DEGENERACY_RATIO * self.uu.max(self.vv).max(self.ww);
+        // Not `cross > limit`, NaN included (as the lanes' comparison).
+        self.cross <= limit || self.cross.is_nan() || limit.is_nan()
     }
 
     /// The angle between `u` and `v` in radians, in `[0, π]`: `atan2(|u × v|, u · v)`,
@@ -264,17 +294,25 @@ impl Corner {
         self.cross.atan2(self.dot)
     }
 
-    /// The cotangent `(u · v) / |u × v|`, or 0 when `u` and `v` are parallel (including
-    /// zero-length edges). The caller rules out degenerate triangles first.
+    /// The cotangent `(u · v) / |u × v|`, or 0 when the triangle is degenerate as seen
+    /// from this corner ([`is_degenerate`](Self::is_degenerate), which includes parallel
+    /// and zero-length edges) or the quotient is not finite. The one definition of a
+    /// cotangent term: the batched and ring kernels repeat this arithmetic lane by lane.
     #[inline]
     pub(super) fn cot(&self) -> f64 {
-        if self.cross > 0.0 {
-            let c = self.dot / self.cross;
-            if c.is_finite() { c } else { 0.0 }
-        } else {
-            0.0
+        if self.is_degenerate() {
+            return 0.0;
         }
+        let c = self.dot / self.cross;
+        if c.is_finite() { c } else { 0.0 }
     }
+}
+
+/// The cotangent at corner `c` of the triangle `(c, a, b)`, [`Corner::cot`]: symmetric in
+/// `a` and `b`, and the same whichever vertex the face starts at.
+#[inline]
+pub(super) fn corner_cotangent(c: DVec3, a: DVec3, b: DVec3) -> f64 {
+    Corner::new(c, a, b).cot()
 }
 
 /// A triangle's three vertex positions in face order.
@@ -314,16 +352,15 @@ impl Triangle {
     }
 
     /// Whether twice the area is at most [`DEGENERACY_RATIO`] times the squared longest
-    /// edge (true when all edges have zero length).
+    /// edge (true when all edges have zero length), as seen from every corner: the
+    /// triangle is degenerate when each of its three [`Corner::is_degenerate`]. So the
+    /// test does not depend on which vertex the face starts at, and a triangle that is
+    /// not degenerate has a corner that is not, whose [`Corner::cot`] is then the only
+    /// test left (the three corners' tests differ only by rounding, at the threshold).
+    /// An ordinary triangle costs one corner: the first that is not degenerate decides.
     #[inline]
     pub(super) fn is_degenerate(&self) -> bool {
-        let [p0, p1, p2] = self.0;
-        let frame = Frame::new(p0, &[p1, p2]);
-        let (s1, s2) = (frame.span(p1), frame.span(p2));
-        let s3 = s2 - s1;
-        let longest2 = s1.dot(s1).max(s2.dot(s2)).max(s3.dot(s3));
-        let two_area = s1.cross(s2).length();
-        two_area <= DEGENERACY_RATIO * longest2 || two_area.is_nan()
+        (0..3).all(|i| self.corner(i).is_degenerate())
     }
 
     /// The corner products at vertex `i` (0, 1 or 2).

@@ -16,9 +16,15 @@
 //!   volume.
 //! - **Degeneracy.** A face is degenerate when twice its area is at most
 //!   [`DEGENERACY_RATIO`] times its longest edge squared. The test is scale-invariant and
-//!   also holds when all edges have zero length. A degenerate triangle contributes 0 to
-//!   every cotangent and to mixed Voronoi areas, and nothing to area- and angle-weighted
-//!   vertex normals.
+//!   also holds when all edges have zero length. For a triangle it is made at each
+//!   corner, with the corner's own cross product (`|u × v|`, `u` and `v` the edges
+//!   leaving the corner) and the three edges as plain differences of their endpoints;
+//!   a cotangent is 0 when the test fails at its corner, and a triangle is degenerate
+//!   when it fails at all three. So no result depends on which vertex a face starts at
+//!   or in which row a corner is computed: the three corners' tests differ only by
+//!   rounding, for triangles within about 10⁻⁴ (relative) of the threshold. A degenerate
+//!   triangle contributes 0 to every cotangent and to mixed Voronoi areas, and nothing
+//!   to area- and angle-weighted vertex normals.
 //! - **Finite results.** For finite positions no query returns NaN and none panics on
 //!   geometry: degenerate faces, coincident vertices and isolated vertices give 0 or the
 //!   zero vector as documented per query. Lengths, areas and volumes are infinite only
@@ -37,8 +43,8 @@
 //!   compensated (Neumaier), so they are accurate to about one rounding on meshes of any
 //!   size. Per-vertex sums are plain, in circulation order.
 //! - **Bulk queries.** [`Geometry::vertex_areas_into`], [`Geometry::face_cotangents_into`],
-//!   [`Geometry::triangle_cotangents_into`] and [`distances_into`] answer for many
-//!   elements at once — in parallel with fixed chunks, or two at a time in SIMD lanes —
+//!   [`Geometry::triangle_cotangents_into`], [`distances_into`] and
+//!   [`ring_cotangents_with`] answer for many elements at once — in parallel with fixed chunks, or two at a time in SIMD lanes —
 //!   with the bits of the per-element queries, whatever the thread count. The weight
 //!   kernels and the smoothers use them, so "the same bits as the geometry" holds by
 //!   construction.
@@ -109,7 +115,7 @@ pub use kernel::CompensatedSum;
 pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
     kernel::distance(p, q)
 }
-pub use batch::{distances_into, distances_with};
+pub use batch::{distances_into, distances_with, ring_cotangents_with};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
 

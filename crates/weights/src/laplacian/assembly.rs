@@ -1,21 +1,25 @@
 //! Filling the rows: the built-in kernels row by row, other schemes through their
 //! per-halfedge weights; the row sums and scales in the same pass.
 
-use beltrami_halfedge::geometry::{Geometry, distances_with};
-use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError};
+use std::sync::OnceLock;
+
+use beltrami_halfedge::geometry::{Geometry, distances_with, ring_cotangents_with};
+use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
 use super::cotangent_plan::CotangentPlan;
-use super::{Laplacian, NegativeWeights, Normalization};
+use super::layout::{bit, ring_triangles};
+use super::{CotangentKernel, Laplacian, NegativeWeights, Normalization};
 use crate::PAR_CHUNK;
 use crate::error::WeightError;
 use crate::scheme::{BuiltIn, WeightContext, WeightScheme};
 
 /// What a row pass writes for rows `first..first + sums.len()`: their slots of
-/// `weights` (starting at `offsets[first]`), weight sums and scales.
+/// `weights` (starting at `offsets[first]`; `None`: the weights are not kept, each row
+/// is filled into a scratch buffer), weight sums and scales.
 struct Rows<'a> {
     first: usize,
-    weights: &'a mut [f64],
+    weights: Option<&'a mut [f64]>,
     sums: &'a mut [f64],
     scales: &'a mut [f64],
 }
@@ -69,11 +73,18 @@ pub(super) enum RowKernel<'a> {
     /// `negative.apply(1 / (|x_j − x_i| + ε))`.
     InverseDistance { negative: NegativeWeights },
     /// `negative.apply(½ (cot α + cot β))` from the cotangent plan's refreshed
-    /// `face_cots`.
+    /// `face_cots` ([`CotangentKernel::PerTriangle`]).
     Cotangent {
         negative: NegativeWeights,
         slot_cots: &'a [[u32; 2]],
         face_cots: &'a [f64],
+    },
+    /// `negative.apply(½ (cot α + cot β))`, the cotangents from the row's one-ring
+    /// (`triangles`: the operator's bits of the slots whose left face is a triangle;
+    /// [`CotangentKernel::Ring`]).
+    CotangentRing {
+        negative: NegativeWeights,
+        triangles: &'a [u64],
     },
 }
 
@@ -104,6 +115,10 @@ impl RowKernel<'_> {
                 slot_cots,
                 face_cots,
             } => fill_cotangent(negative, &slot_cots[s..], face_cots, w),
+            Self::CotangentRing {
+                negative,
+                triangles,
+            } => fill_cotangent_ring::<0>(negative, positions, i, s, neighbours, triangles, w),
         }
     }
 }
@@ -166,6 +181,35 @@ pub(super) fn fill_cotangent(
     sum
 }
 
+/// A cotangent row `i` whose first slot is `s` and whose neighbours start
+/// `neighbours`: `negative.apply(½ (cot α + cot β))` from the one-ring
+/// ([`ring_cotangents_with`]; `triangles` marks the slots whose left face is a
+/// triangle); returns the sum. The policy is chosen once per row, not per slot;
+/// `CALLER` gives each caller its own instance (see [`fill_inverse_distance`]).
+#[inline(always)]
+pub(super) fn fill_cotangent_ring<const CALLER: u8>(
+    negative: NegativeWeights,
+    positions: &[DVec3],
+    i: usize,
+    s: usize,
+    neighbours: &[u32],
+    triangles: &[u64],
+    w: &mut [f64],
+) -> f64 {
+    let nb = &neighbours[..w.len()];
+    let is_triangle = |k: usize| bit(triangles, s + k);
+    let xi = positions[i];
+    match negative {
+        NegativeWeights::Keep => {
+            ring_cotangents_with(xi, positions, nb, is_triangle, w, |c| 0.5 * c);
+        }
+        _ => ring_cotangents_with(xi, positions, nb, is_triangle, w, |c| {
+            negative.apply(0.5 * c)
+        }),
+    }
+    row_sum_of(w)
+}
+
 /// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
 /// `rayon::join`, no allocation), and in each row `fill(i, first_slot, weights)` writes
 /// the row's weights and returns their sum `W_i` in row order (from `-0.0`, as
@@ -180,7 +224,13 @@ where
     if n > PAR_CHUNK {
         let mid = n.div_ceil(2 * PAR_CHUNK) * PAR_CHUNK;
         let split = (offsets[rows.first + mid] - offsets[rows.first]) as usize;
-        let (w0, w1) = rows.weights.split_at_mut(split);
+        let (w0, w1) = match rows.weights {
+            Some(w) => {
+                let (w0, w1) = w.split_at_mut(split);
+                (Some(w0), Some(w1))
+            }
+            None => (None, None),
+        };
         let (s0, s1) = rows.sums.split_at_mut(mid);
         let (c0, c1) = rows.scales.split_at_mut(mid);
         let (a, b) = rayon::join(
@@ -206,7 +256,8 @@ where
         return a.join(b);
     }
     let mut tally = RowTally::default();
-    let weights = rows.weights;
+    let mut weights = rows.weights;
+    let mut scratch = Vec::new();
     let bounds = &offsets[rows.first..=rows.first + n];
     let base = bounds[0] as usize;
     // The row's slots are one running offset: few values live across the loop.
@@ -219,7 +270,13 @@ where
     {
         let i = rows.first + k;
         let b = end as usize - base;
-        let row = &mut weights[a..b];
+        let row: &mut [f64] = match weights.as_deref_mut() {
+            Some(w) => &mut w[a..b],
+            None => {
+                scratch.resize(b - a, 0.0);
+                &mut scratch
+            }
+        };
         let sum = fill(i, base + a, row);
         a = b;
         *sum_out = sum;
@@ -231,17 +288,118 @@ where
     tally
 }
 
+/// Runs the row pass of unit weights (every weight `negative.apply(1)`, which is 1):
+/// the sums and scales of [`row_pass`] with [`fill_uniform`], without writing weights.
+fn unit_pass(
+    offsets: &[u32],
+    areas: Option<&[f64]>,
+    negative: NegativeWeights,
+    sums: &mut [f64],
+    scales: &mut [f64],
+) -> RowTally {
+    let one = negative.apply(1.0);
+    sums.par_chunks_mut(PAR_CHUNK)
+        .zip(scales.par_chunks_mut(PAR_CHUNK))
+        .enumerate()
+        .map(|(c, (sums, scales))| {
+            let mut tally = RowTally::default();
+            let first = c * PAR_CHUNK;
+            for (k, (sum_out, scale_out)) in sums.iter_mut().zip(scales).enumerate() {
+                let i = first + k;
+                let len = offsets[i + 1] - offsets[i];
+                // `row_sum_of` over `len` copies of `one`.
+                let sum = (0..len).fold(-0.0, |s, _| s + one);
+                *sum_out = sum;
+                tally.non_finite |= !sum.is_finite();
+                let scale = row_scale(sum, areas.map(|a| a[i]), len == 0);
+                *scale_out = scale;
+                tally.stuck += usize::from(scale == 0.0);
+            }
+            tally
+        })
+        .reduce(RowTally::default, RowTally::join)
+}
+
 impl Laplacian {
+    /// Makes the chosen cotangent kernel's data ready for positions `geometry`: the
+    /// ring kernel's triangle bits (built once), or the per-triangle plan (built once)
+    /// with its cotangents refreshed. `false` when the plan cannot be built (more
+    /// corners than `u32` indices).
+    pub(super) fn prepare_cotangents(&mut self, geometry: &Geometry<'_>) -> bool {
+        let mesh = geometry.mesh();
+        let offsets = &self.offsets;
+        match self.options.cotangent_kernel {
+            CotangentKernel::Ring => {
+                self.cotangent = None;
+                self.ring_triangles
+                    .get_or_insert_with(|| ring_triangles(mesh, offsets));
+                true
+            }
+            _ => {
+                self.ring_triangles = None;
+                if self.cotangent.is_none() {
+                    self.cotangent = CotangentPlan::new(mesh, offsets);
+                }
+                let Some(plan) = self.cotangent.as_mut() else {
+                    return false;
+                };
+                plan.refresh(geometry);
+                true
+            }
+        }
+    }
+}
+
+/// The row kernel of the cotangent scheme from the operator's kernel data, after
+/// [`Laplacian::prepare_cotangents`].
+pub(super) fn cotangent_row_kernel<'a>(
+    negative: NegativeWeights,
+    plan: Option<&'a CotangentPlan>,
+    ring_triangles: Option<&'a [u64]>,
+) -> RowKernel<'a> {
+    match (plan, ring_triangles) {
+        (Some(plan), None) => RowKernel::Cotangent {
+            negative,
+            slot_cots: &plan.slot_cots,
+            face_cots: &plan.face_cots,
+        },
+        _ => RowKernel::CotangentRing {
+            negative,
+            triangles: ring_triangles.unwrap_or_default(),
+        },
+    }
+}
+
+impl Laplacian {
+    /// The weight array to write, one per slot (the stored one's buffer when there is
+    /// one), or `None` when the weights are not to be kept (the stored ones are then
+    /// released); put it back with [`put_weights`](Self::put_weights).
+    fn weight_buffer(&mut self, store: bool) -> Option<Vec<f64>> {
+        let mut w = self.weights.take().unwrap_or_default();
+        if !store {
+            return None;
+        }
+        w.resize(self.neighbours.len(), 0.0);
+        Some(w)
+    }
+
+    /// Stores the weights written into a [`weight_buffer`](Self::weight_buffer).
+    fn put_weights(&mut self, weights: Option<Vec<f64>>) {
+        if let Some(w) = weights {
+            self.weights = OnceLock::from(w);
+        }
+    }
+
     /// Recomputes the weights and scales from new positions, reusing the buffers. The
     /// mesh must be the one the operator was assembled on.
     ///
     /// The built-in schemes ([`Uniform`](crate::Uniform),
     /// [`InverseDistance`](crate::InverseDistance), [`Cotangent`](crate::Cotangent)) are
-    /// computed row by row:
-    /// inverse-distance weights from the two positions of each row slot, cotangents
-    /// once per triangle and gathered into the slots; the row sums and scales in the
-    /// same pass. Other schemes go through [`WeightScheme::fill_weights`]. The numbers
-    /// are the same either way.
+    /// computed row by row: inverse-distance weights from the two positions of each row
+    /// slot, cotangents by the chosen [`CotangentKernel`] (each triangle's once and
+    /// gathered into the slots, or from the row's one-ring); the row sums and scales in
+    /// the same pass. Uniform weights are not stored (they are all 1). Other schemes go
+    /// through [`WeightScheme::fill_weights`]. The numbers are the same either way.
     ///
     /// # Errors
     /// As [`new`](Self::new). After an error the operator's weights are unspecified
@@ -255,6 +413,19 @@ impl Laplacian {
         positions: &[DVec3],
         scheme: &dyn WeightScheme,
     ) -> Result<(), WeightError> {
+        self.update_as(mesh, positions, scheme, true)
+    }
+
+    /// [`update`](Self::update), keeping the weights (`store`) or only their sums and
+    /// scales (the stored weights are then released, as by
+    /// [`fresh_rows`](Self::fresh_rows)).
+    pub(super) fn update_as(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+        store: bool,
+    ) -> Result<(), WeightError> {
         assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
         assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
         let geometry = Geometry::new(mesh, positions)?;
@@ -264,47 +435,84 @@ impl Laplacian {
         };
         let Ok(areas) = areas else {
             // The generic path reports a non-finite weight before this error.
-            return self.update_generic(mesh, &geometry, areas.map(|_| None), scheme);
+            return self.update_generic(mesh, &geometry, areas.map(|_| None), scheme, store);
         };
         let areas = areas.as_ref().map(|a| a.as_slice());
         let negative = self.options.negative;
+        let kernel = BuiltIn::of(scheme);
+        self.unit_weights = false;
+        if kernel == Some(BuiltIn::Uniform) {
+            let tally = unit_pass(
+                &self.offsets,
+                areas,
+                negative,
+                &mut self.weight_sums,
+                &mut self.scales,
+            );
+            // Uniform weights are all 1, hence their sums finite: no error to report.
+            self.stuck = tally.stuck;
+            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
+            self.weights = OnceLock::new();
+            if self.unit_weights {
+                return Ok(());
+            }
+            // Unreachable with the policies there are (each keeps 1); stored like any
+            // other kernel's weights should one ever change it.
+            let mut weights = self.weight_buffer(store);
+            if let Some(w) = weights.as_mut() {
+                w.fill(negative.apply(1.0));
+            }
+            self.put_weights(weights);
+            return Ok(());
+        }
+        let ready = kernel == Some(BuiltIn::Cotangent) && self.prepare_cotangents(&geometry);
+        let mut weights = self.weight_buffer(store);
+        let cotangent = ready.then(|| {
+            cotangent_row_kernel(
+                negative,
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            )
+        });
         let rows = Rows {
             first: 0,
-            weights: &mut self.weights,
+            weights: weights.as_deref_mut(),
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
-        let offsets = &self.offsets;
-        let kernel = BuiltIn::of(scheme);
-        self.unit_weights = false;
+        let (offsets, neighbours) = (&self.offsets, &self.neighbours);
         let tally = match kernel {
-            Some(BuiltIn::Uniform) => {
-                let kernel = RowKernel::Uniform { negative };
-                self.unit_weights = kernel.unit_weights();
-                Some(row_pass(offsets, areas, rows, &|_, _, w: &mut [f64]| {
-                    fill_uniform(negative, w)
-                }))
-            }
             Some(BuiltIn::InverseDistance) => {
-                let neighbours = &self.neighbours;
                 Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
                     fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
                 }))
             }
-            Some(BuiltIn::Cotangent) => {
-                if self.cotangent.is_none() {
-                    self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
+            Some(BuiltIn::Cotangent) => match cotangent {
+                Some(RowKernel::Cotangent {
+                    slot_cots,
+                    face_cots,
+                    ..
+                }) => Some(row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                    fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+                })),
+                Some(RowKernel::CotangentRing { triangles, .. }) => {
+                    Some(row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                        fill_cotangent_ring::<1>(
+                            negative,
+                            positions,
+                            i,
+                            s,
+                            &neighbours[s..],
+                            triangles,
+                            w,
+                        )
+                    }))
                 }
-                self.cotangent.as_mut().map(|plan| {
-                    plan.refresh(&geometry);
-                    let (slot_cots, face_cots) = (&plan.slot_cots[..], &plan.face_cots[..]);
-                    row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
-                        fill_cotangent(negative, &slot_cots[s..], face_cots, w)
-                    })
-                })
-            }
+                _ => None,
+            },
             _ => None,
         };
+        self.put_weights(weights);
         match tally {
             // A kernel found only finite row sums, hence only finite weights.
             Some(tally) if !tally.non_finite => {
@@ -313,17 +521,19 @@ impl Laplacian {
             }
             // No kernel, or a non-finite weight (whose error names the first one in
             // halfedge order, as the generic path does).
-            _ => self.update_generic(mesh, &geometry, Ok(areas), scheme),
+            _ => self.update_generic(mesh, &geometry, Ok(areas), scheme, store),
         }
     }
 
-    /// [`update`](Self::update) through [`WeightScheme::fill_weights`].
+    /// [`update`](Self::update) through [`WeightScheme::fill_weights`]; each row's
+    /// slots take their halfedges' weights in the mesh's circulation order.
     fn update_generic(
         &mut self,
         mesh: &HalfedgeMesh,
         geometry: &Geometry<'_>,
         areas: Result<Option<&[f64]>, TopologyError>,
         scheme: &dyn WeightScheme,
+        store: bool,
     ) -> Result<(), WeightError> {
         self.unit_weights = false;
         self.halfedge_weights.resize(self.n_halfedges, 0.0);
@@ -349,19 +559,22 @@ impl Laplacian {
         }
         let areas = areas?;
         let negative = self.options.negative;
-        let (halfedges, halfedge_weights) = (&self.halfedges, &self.halfedge_weights);
+        let mut weights = self.weight_buffer(store);
+        let halfedge_weights = &self.halfedge_weights;
         let rows = Rows {
             first: 0,
-            weights: &mut self.weights,
+            weights: weights.as_deref_mut(),
             sums: &mut self.weight_sums,
             scales: &mut self.scales,
         };
-        let tally = row_pass(&self.offsets, areas, rows, &|_, s, w: &mut [f64]| {
-            for (w, &h) in w.iter_mut().zip(&halfedges[s..]) {
-                *w = negative.apply(halfedge_weights[h as usize]);
+        let tally = row_pass(&self.offsets, areas, rows, &|i, _, w: &mut [f64]| {
+            let ring = mesh.halfedges_around_vertex(VertexId::new(i as u32));
+            for (w, h) in w.iter_mut().zip(ring) {
+                *w = negative.apply(halfedge_weights[h.index()]);
             }
             row_sum_of(w)
         });
+        self.put_weights(weights);
         self.stuck = tally.stuck;
         Ok(())
     }

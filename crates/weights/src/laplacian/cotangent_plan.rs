@@ -2,9 +2,10 @@
 //! gathered into the row slots.
 
 use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{FaceId, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_halfedge::{FaceId, HalfedgeMesh, VertexId};
 use rayon::prelude::*;
 
+use super::layout::slot_values;
 use crate::PAR_CHUNK;
 
 /// The cotangent kernel's per-face data: cotangents are computed once per triangle,
@@ -27,9 +28,9 @@ pub(super) struct CotangentPlan {
 const FACE_CHUNK: usize = 4096;
 
 impl CotangentPlan {
-    /// The plan for `mesh` with rows in `halfedges` order, or `None` when the indices
-    /// do not fit in `u32`.
-    pub(super) fn new(mesh: &HalfedgeMesh, halfedges: &[u32]) -> Option<Self> {
+    /// The plan for `mesh` with rows at `offsets` (each row's outgoing halfedges
+    /// counter-clockwise), or `None` when the indices do not fit in `u32`.
+    pub(super) fn new(mesh: &HalfedgeMesh, offsets: &[u32]) -> Option<Self> {
         let n_faces = mesh.n_faces();
         u32::try_from(3 * n_faces).ok()?;
         // Each triangle's vertices in face order and its smallest vertex id (the sort
@@ -79,19 +80,22 @@ impl CotangentPlan {
             }
         }
         drop(corners);
-        let slot_cots: Vec<[u32; 2]> = halfedges
-            .par_iter()
-            .with_min_len(PAR_CHUNK)
-            .map(|&h| {
-                let h = HalfedgeId::new(h);
-                [cot_of[h.index()], cot_of[h.twin().index()]]
-            })
-            .collect();
+        let slot_cots: Vec<[u32; 2]> = slot_values(mesh, offsets, |h| {
+            [cot_of[h.index()], cot_of[h.twin().index()]]
+        });
         Some(Self {
             triangles,
             slot_cots,
             face_cots: vec![0.0; 3 * n_triangles + 1],
         })
+    }
+
+    /// The bytes of heap memory the plan holds (the capacities of its arrays).
+    pub(super) fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        size_of::<[VertexId; 3]>() * self.triangles.capacity()
+            + size_of::<[u32; 2]>() * self.slot_cots.capacity()
+            + size_of::<f64>() * self.face_cots.capacity()
     }
 
     /// Recomputes `face_cots` from the positions (in parallel, fixed chunks; each

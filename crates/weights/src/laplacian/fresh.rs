@@ -6,8 +6,12 @@ use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::Laplacian;
-use super::assembly::{RowKernel, fill_cotangent, fill_inverse_distance, fill_uniform, row_scale};
-use super::cotangent_plan::CotangentPlan;
+use std::sync::OnceLock;
+
+use super::assembly::{
+    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring, fill_inverse_distance,
+    fill_uniform, row_scale,
+};
 use super::options::{NegativeWeights, Normalization};
 use crate::scheme::{BuiltIn, WeightScheme};
 
@@ -19,8 +23,8 @@ use crate::scheme::{BuiltIn, WeightScheme};
 /// [`row`](Self::row) gives row `i`'s weights and scale with the bits that
 /// [`Laplacian::update`] at the same positions stores in
 /// [`rows`](Laplacian::rows)`().weights` and `.scales` (the same functions compute
-/// both). The operator itself is not changed: its stored weights stay those of its
-/// last assembly or update.
+/// both). The operator's row sums and scales stay those of its last assembly or
+/// update; its stored weights are released (see [`Laplacian::fresh_rows`]).
 #[derive(Debug)]
 pub struct FreshRows<'a> {
     offsets: &'a [u32],
@@ -33,9 +37,20 @@ pub struct FreshRows<'a> {
 
 impl Laplacian {
     /// The rows at `positions`, to be computed one at a time by [`FreshRows::row`]:
-    /// the per-vertex and per-face parts (vertex areas for area normalisation, the
+    /// the per-vertex and per-face parts (vertex areas for area normalisation; with
+    /// [`CotangentKernel::PerTriangle`](crate::CotangentKernel::PerTriangle), the
     /// cotangents of every triangle) are computed here, in parallel; the per-row
-    /// weights, sums and scales are left to [`FreshRows::row`].
+    /// weights, sums and scales are left to [`FreshRows::row`] (with
+    /// [`CotangentKernel::Ring`](crate::CotangentKernel::Ring), the cotangents too, from
+    /// the row's one-ring).
+    ///
+    /// The rows replace the operator's stored weights, which are released (unless the
+    /// weights are all 1, which are not stored anyway): until the next
+    /// [`update`](Self::update), [`weights_stored`](Self::weights_stored) is `false`
+    /// and the accessors that read weights panic. So an integrator that computes the
+    /// weights inside its sweep every iteration holds no weight array; one that needs
+    /// the operator of a sweep calls `update` at that sweep's positions (the same
+    /// bits). The row sums and scales stay those of the last assembly or update.
     ///
     /// `None` when the rows cannot be computed that way: `scheme` is not one of the
     /// built-in [`Uniform`](crate::Uniform), [`InverseDistance`](crate::InverseDistance)
@@ -59,21 +74,21 @@ impl Laplacian {
             Normalization::Area(kind) => Some(geometry.vertex_areas(kind).ok()?.into_vec()),
         };
         let negative = self.options.negative;
-        let kernel = match BuiltIn::of(scheme)? {
+        let built_in = BuiltIn::of(scheme)?;
+        if !self.unit_weights {
+            self.weights = OnceLock::new();
+        }
+        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+            return None;
+        }
+        let kernel = match built_in {
             BuiltIn::Uniform => RowKernel::Uniform { negative },
             BuiltIn::InverseDistance => RowKernel::InverseDistance { negative },
-            BuiltIn::Cotangent => {
-                if self.cotangent.is_none() {
-                    self.cotangent = CotangentPlan::new(mesh, &self.halfedges);
-                }
-                let plan = self.cotangent.as_mut()?;
-                plan.refresh(&geometry);
-                RowKernel::Cotangent {
-                    negative,
-                    slot_cots: &plan.slot_cots,
-                    face_cots: &plan.face_cots,
-                }
-            }
+            BuiltIn::Cotangent => cotangent_row_kernel(
+                negative,
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            ),
         };
         Some(FreshRows {
             offsets: &self.offsets,
@@ -117,7 +132,7 @@ impl FreshRows<'_> {
     /// the negative-weight policy; `weights.len()` must be the row's valence), and its
     /// scale (`1/W_i` or `1/A_i`; 0 for a stuck row): the bits
     /// [`Laplacian::update`] would store. `positions` must be those given to
-    /// [`Laplacian::fresh_rows`] (the cotangents are theirs).
+    /// [`Laplacian::fresh_rows`] (the vertex areas and cotangents are theirs).
     ///
     /// `None` when the row's weights do not sum to a finite value: a weight may be
     /// NaN or infinite, which [`Laplacian::update`] reports as an error (with the
@@ -173,7 +188,29 @@ impl FreshRows<'_> {
             } => self.block_as(first, weights, scales, |_, s, w| {
                 fill_cotangent(negative, &slot_cots[s..], face_cots, w)
             }),
+            RowKernel::CotangentRing {
+                negative,
+                triangles,
+            } => self.cotangent_block(negative, triangles, first, positions, weights, scales),
         }
+    }
+
+    /// [`block`](Self::block) of cotangent rows: a function of its own, so that the ring
+    /// kernel is inlined into its loop (as in `inverse_distance_block`).
+    #[inline(never)]
+    fn cotangent_block(
+        &self,
+        negative: NegativeWeights,
+        triangles: &[u64],
+        first: usize,
+        positions: &[DVec3],
+        weights: &mut [f64],
+        scales: &mut [f64],
+    ) -> bool {
+        let nb = self.neighbours;
+        self.block_as(first, weights, scales, |i, s, w| {
+            fill_cotangent_ring::<2>(negative, positions, i, s, &nb[s..], triangles, w)
+        })
     }
 
     /// [`block`](Self::block) of inverse-distance rows: a function of its own, small
