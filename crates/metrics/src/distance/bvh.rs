@@ -89,6 +89,28 @@ fn larger(a: f64, b: f64) -> f64 {
     if a > b { a } else { b }
 }
 
+/// The smaller of `a` and `b` by a plain comparison (see [`larger`]).
+#[inline]
+fn smaller(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// The squared distance from `p` to the bounding box of a triangle's corners, the same
+/// value as [`box_distance_squared`] of the box `DVec3::min`/`DVec3::max` give, with
+/// plain comparisons (finite inputs: the boxes can differ only in the sign of a zero
+/// bound, which gives the same gap).
+#[inline]
+pub(crate) fn triangle_box_distance_squared(corners: &[DVec3; 3], p: DVec3) -> f64 {
+    let [a, b, c] = corners.map(|c| c.to_array());
+    let q = p.to_array();
+    let g: [f64; 3] = std::array::from_fn(|i| {
+        let lo = smaller(smaller(a[i], b[i]), c[i]);
+        let hi = larger(larger(a[i], b[i]), c[i]);
+        gap(lo, hi, q[i])
+    });
+    g[0] * g[0] + g[1] * g[1] + g[2] * g[2]
+}
+
 /// The distance from `p` to the interval `[lo, hi]` along one axis (0 inside; possibly
 /// `-0.0`, which squares like `0.0`).
 #[inline]
@@ -180,7 +202,7 @@ impl Bvh {
                 root: Some(root),
                 nodes,
             },
-            items.iter().map(|item| item.index).collect(),
+            items.par_iter().map(|item| item.index).collect(),
         )
     }
 
@@ -477,8 +499,43 @@ pub(crate) fn morton_order(points: &[DVec3]) -> Vec<u32> {
         .enumerate()
         .map(|(i, &p)| (morton_code((p - lo) * scale) << 32) | i as u64)
         .collect();
-    keyed.par_sort_unstable();
+    sort_by_code(&mut keyed);
     keyed.into_iter().map(|key| key as u32).collect()
+}
+
+/// Bits of a Morton code sorted per pass of [`sort_by_code`].
+const DIGIT_BITS: u32 = 10;
+
+/// Sorts keys `code << 32 | index` whose indices are in increasing order: a stable
+/// least-significant-digit radix sort by the 30-bit code (three passes of ten bits), so
+/// that equal codes keep their index order and the result is the keys' sorted order.
+fn sort_by_code(keys: &mut Vec<u64>) {
+    const BUCKETS: usize = 1 << DIGIT_BITS;
+    let mut other = vec![0u64; keys.len()];
+    for pass in 0..3 {
+        let shift = 32 + pass * DIGIT_BITS;
+        let digit = |key: u64| ((key >> shift) as usize) & (BUCKETS - 1);
+        let mut start = [0usize; BUCKETS];
+        for &key in keys.iter() {
+            start[digit(key)] += 1;
+        }
+        if start.contains(&keys.len()) {
+            // One digit for every key: this pass would keep the order.
+            continue;
+        }
+        let mut sum = 0;
+        for slot in &mut start {
+            let count = *slot;
+            *slot = sum;
+            sum += count;
+        }
+        for &key in keys.iter() {
+            let slot = &mut start[digit(key)];
+            other[*slot] = key;
+            *slot += 1;
+        }
+        std::mem::swap(keys, &mut other);
+    }
 }
 
 #[cfg(test)]
@@ -505,6 +562,55 @@ mod tests {
             best.0
         });
         best
+    }
+
+    /// The triangle box test with plain comparisons gives the bits of the box test on
+    /// glam's `min`/`max` box, signed zeros and ties included.
+    #[test]
+    fn triangle_box_distances_are_those_of_the_glam_box() {
+        let values = [0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, -3.25, 7.0];
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut pick = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            values[(state >> 33) as usize % values.len()]
+        };
+        for _ in 0..20_000 {
+            let mut point = || DVec3::new(pick(), pick(), pick());
+            let corners = [point(), point(), point()];
+            let p = point();
+            let [a, b, c] = corners;
+            let glam = box_distance_squared(a.min(b).min(c), a.max(b).max(c), p);
+            let plain = triangle_box_distance_squared(&corners, p);
+            assert_eq!(plain.to_bits(), glam.to_bits(), "{corners:?} {p:?}");
+        }
+    }
+
+    /// The radix sort by code gives the sorted order of the keys, with ties in the
+    /// code (few distinct codes, all codes equal, empty input) kept in index order.
+    #[test]
+    fn codes_are_sorted_as_the_keys_are() {
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for (n, mask) in [
+            (0, 0),
+            (1, 0),
+            (5000, 0),
+            (5000, 0x3),
+            (70_000, (1 << 30) - 1),
+        ] {
+            let mut keys: Vec<u64> = (0..n).map(|i| ((next() & mask) << 32) | i).collect();
+            let mut sorted = keys.clone();
+            sorted.sort_unstable();
+            sort_by_code(&mut keys);
+            assert_eq!(keys, sorted, "{n} keys, codes masked by {mask:#x}");
+        }
     }
 
     #[test]
