@@ -89,28 +89,6 @@ fn larger(a: f64, b: f64) -> f64 {
     if a > b { a } else { b }
 }
 
-/// The smaller of `a` and `b` by a plain comparison (see [`larger`]).
-#[inline]
-fn smaller(a: f64, b: f64) -> f64 {
-    if a < b { a } else { b }
-}
-
-/// The squared distance from `p` to the bounding box of a triangle's corners, the same
-/// value as [`box_distance_squared`] of the box `DVec3::min`/`DVec3::max` give, with
-/// plain comparisons (finite inputs: the boxes can differ only in the sign of a zero
-/// bound, which gives the same gap).
-#[inline]
-pub(crate) fn triangle_box_distance_squared(corners: &[DVec3; 3], p: DVec3) -> f64 {
-    let [a, b, c] = corners.map(|c| c.to_array());
-    let q = p.to_array();
-    let g: [f64; 3] = std::array::from_fn(|i| {
-        let lo = smaller(smaller(a[i], b[i]), c[i]);
-        let hi = larger(larger(a[i], b[i]), c[i]);
-        gap(lo, hi, q[i])
-    });
-    g[0] * g[0] + g[1] * g[1] + g[2] * g[2]
-}
-
 /// The distance from `p` to the interval `[lo, hi]` along one axis (0 inside; possibly
 /// `-0.0`, which squares like `0.0`).
 #[inline]
@@ -562,29 +540,6 @@ mod tests {
             best.0
         });
         best
-    }
-
-    /// The triangle box test with plain comparisons gives the bits of the box test on
-    /// glam's `min`/`max` box, signed zeros and ties included.
-    #[test]
-    fn triangle_box_distances_are_those_of_the_glam_box() {
-        let values = [0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, -3.25, 7.0];
-        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
-        let mut pick = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1);
-            values[(state >> 33) as usize % values.len()]
-        };
-        for _ in 0..20_000 {
-            let mut point = || DVec3::new(pick(), pick(), pick());
-            let corners = [point(), point(), point()];
-            let p = point();
-            let [a, b, c] = corners;
-            let glam = box_distance_squared(a.min(b).min(c), a.max(b).max(c), p);
-            let plain = triangle_box_distance_squared(&corners, p);
-            assert_eq!(plain.to_bits(), glam.to_bits(), "{corners:?} {p:?}");
-        }
     }
 
     /// The radix sort by code gives the sorted order of the keys, with ties in the

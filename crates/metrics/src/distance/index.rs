@@ -7,7 +7,7 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, EdgeId, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, Stack, morton_order, triangle_box_distance_squared};
+use super::bvh::{Bvh, Stack, box_distance_squared, morton_order};
 use super::sampling::SplitMix64;
 use super::triangle::{PreparedTriangle, TriangleFeature, TrianglePoint};
 use crate::MetricsError;
@@ -503,7 +503,9 @@ impl SurfaceIndex {
                 // test computes it (a triangle alone in a leaf was already pruned by this very
                 // test), and a box at exactly the bound is not skipped (ties go to the face
                 // order below).
-                if triangle_box_distance_squared(&triangle.corners, p) > best.distance_squared {
+                let [a, b, c] = triangle.corners;
+                if box_distance_squared(a.min(b).min(c), a.max(b).max(c), p) > best.distance_squared
+                {
                     return best.distance_squared;
                 }
                 let candidate = triangle.closest_point(p);
