@@ -249,9 +249,6 @@ fn fill_halfedges(
     [h_to, h_next, h_prev, h_face]
 }
 
-/// A mate that marks an edge defect (no corner id: there are fewer than `2^31` corners).
-const MANY: u32 = INVALID - 1;
-
 /// Whether corner `k` with mate `m` opens its edge: it has no mate, or comes first.
 #[inline]
 fn opens(k: usize, m: u32) -> bool {
@@ -385,33 +382,6 @@ impl Leaving {
             .collect()
     }
 
-    /// The one corner `b -> a` (the mate of a corner `a -> b`), `INVALID` when there is
-    /// none and `a -> b` is the only corner along the pair (a boundary edge), `MANY`
-    /// when the pair is used otherwise (an edge defect, left to [`mates_from_groups`]).
-    #[inline(always)]
-    fn mate(&self, a: u32, b: u32) -> u32 {
-        let mut found = INVALID;
-        for &[to, corner] in self.of(b) {
-            if to == a {
-                if found != INVALID {
-                    return MANY;
-                }
-                found = corner;
-            }
-        }
-        if found == INVALID && !self.once(a, b) {
-            return MANY;
-        }
-        found
-    }
-
-    /// Whether exactly one corner at `a` runs to `b`.
-    #[cold]
-    #[inline(never)]
-    fn once(&self, a: u32, b: u32) -> bool {
-        self.of(a).iter().filter(|&&[to, _]| to == b).count() == 1
-    }
-
     /// The corner running the other way along each corner's edge (`INVALID` on the
     /// boundary) and the number of edges each chunk of corners opens, or `None` when
     /// some edge is used by more than two corners or twice in the same direction.
@@ -430,29 +400,24 @@ impl Leaving {
             .par_chunks_mut(CHUNK)
             .enumerate()
             .map(|(c, mates)| {
-                let first = c * CHUNK;
-                let range = first..first + mates.len();
                 let mut openers = 0;
                 let mut valid = true;
-                let mut pair = |k: usize, a: u32, b: u32| {
-                    let found = self.mate(a, b);
-                    valid &= found != MANY;
-                    mates[k - first] = found;
-                    openers += usize::from(opens(k, found));
-                };
-                if corners.triangles() {
-                    // A triangle at a time (chunks start at multiples of three).
-                    for (t, tri) in corners.indices[range].chunks_exact(3).enumerate() {
-                        let k = first + 3 * t;
-                        pair(k, tri[0], tri[1]);
-                        pair(k + 1, tri[1], tri[2]);
-                        pair(k + 2, tri[2], tri[0]);
+                let first = c * CHUNK;
+                corners.edges_in(first..first + mates.len(), |k, a, b| {
+                    // The corners b -> a: one (an inner edge) or none (the boundary).
+                    let mut found = INVALID;
+                    for &[to, corner] in self.of(b) {
+                        if to == a {
+                            valid &= found == INVALID;
+                            found = corner;
+                        }
                     }
-                } else {
-                    for k in range {
-                        pair(k, corners.from(k as u32), corners.to(k as u32));
+                    if found == INVALID {
+                        valid &= self.of(a).iter().filter(|&&[to, _]| to == b).count() == 1;
                     }
-                }
+                    mates[k as usize - first] = found;
+                    openers += usize::from(opens(k as usize, found));
+                });
                 valid.then_some(openers)
             })
             .collect();
