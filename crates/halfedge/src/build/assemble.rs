@@ -217,12 +217,10 @@ fn fill_halfedges(
             let he = |k: u32| corner_he[k as usize];
             // Both halfedges of an edge at a time: `[2e, 2e + 1]`.
             let halves = to
-                .as_chunks_mut::<2>()
-                .0
-                .iter_mut()
-                .zip(next.as_chunks_mut::<2>().0)
-                .zip(prev.as_chunks_mut::<2>().0)
-                .zip(face.as_chunks_mut::<2>().0)
+                .chunks_exact_mut(2)
+                .zip(next.chunks_exact_mut(2))
+                .zip(prev.chunks_exact_mut(2))
+                .zip(face.chunks_exact_mut(2))
                 .zip(edges);
             for ((((to, next), prev), face), &[k, m]) in halves {
                 let (f, nk, pk) = corners.links(k);

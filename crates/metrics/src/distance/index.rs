@@ -74,6 +74,9 @@ impl Default for Hint {
     }
 }
 
+/// The values of one chunk of points and the points it put off, with what for.
+type Deferred<T, W> = (Vec<T>, Vec<(u32, W)>);
+
 /// Face normals and edge pseudo-normals (not normalised; only their direction is used).
 /// The vertices' angle-weighted pseudo-normals are kept apart: a batch of signed queries
 /// computes only those of the vertices its closest points lie on.
@@ -449,7 +452,7 @@ impl SurfaceIndex {
         f: impl Fn(DVec3, &mut Hint) -> Result<T, W> + Sync,
     ) -> (Vec<T>, Vec<(u32, W)>) {
         let order = morton_order(points);
-        let chunks: Vec<(Vec<T>, Vec<(u32, W)>)> = order
+        let chunks: Vec<Deferred<T, W>> = order
             .par_chunks(CHUNK)
             .map(|chunk| {
                 let mut hint = Hint::default();
