@@ -304,6 +304,10 @@ impl SurfaceIndex {
     /// The signed distance of every point of `points` (see
     /// [`signed_distance`](Self::signed_distance)), in parallel.
     ///
+    /// Unless a single signed query has computed every vertex's pseudo-normal before,
+    /// only those of the vertices that are closest points are computed (the same sums,
+    /// so the same bits).
+    ///
     /// # Errors
     /// As for [`closest_points`](Self::closest_points).
     pub fn signed_distances(&self, points: &[DVec3]) -> Result<Vec<f64>, MetricsError> {
@@ -340,8 +344,11 @@ impl SurfaceIndex {
         Ok(signed)
     }
 
-    /// Computes the pseudo-normals that signed queries need now, rather than on the first
-    /// signed query (so that a caller can time the index build and the queries apart).
+    /// Computes the face normals and edge pseudo-normals that signed queries need now,
+    /// rather than on the first signed query (so that a caller can time the index build
+    /// and the queries apart). The vertices' pseudo-normals are left to the queries: a
+    /// batch ([`signed_distances`](Self::signed_distances)) computes those of the
+    /// vertices its closest points lie on, a single query all of them on first use.
     /// Idempotent and cheap after the first call.
     pub fn prepare_signed(&self) {
         self.pseudo_normals();
