@@ -17,30 +17,48 @@ pub(crate) struct Corners<'a> {
     face: Vec<u32>,
     /// Successor of each corner in its face; empty for a list of triangles only.
     next: Vec<u32>,
+    /// Predecessor of each corner in its face; empty for a list of triangles only.
+    prev: Vec<u32>,
 }
 
 impl<'a> Corners<'a> {
     pub(crate) fn new(list: &'a PolygonList) -> Self {
-        if list.is_triangles() {
+        Self::with_triangles(list, list.is_triangles())
+    }
+
+    /// [`new`](Self::new) for a list whose faces all have three corners or more: it is
+    /// a list of triangles exactly when it has three corners per face, which needs no
+    /// pass over the faces.
+    pub(crate) fn of_valid(list: &'a PolygonList) -> Self {
+        debug_assert!(list.iter().all(|face| face.len() >= 3));
+        Self::with_triangles(list, list.n_corners() == 3 * list.len())
+    }
+
+    fn with_triangles(list: &'a PolygonList, triangles: bool) -> Self {
+        if triangles {
             return Self {
                 indices: list.indices(),
                 face: Vec::new(),
                 next: Vec::new(),
+                prev: Vec::new(),
             };
         }
         let n = list.n_corners();
         let mut face = Vec::with_capacity(n);
         let mut next = Vec::with_capacity(n);
+        let mut prev = Vec::with_capacity(n);
         for (f, w) in list.offsets().windows(2).enumerate() {
             for k in w[0]..w[1] {
                 face.push(f as u32);
                 next.push(if k + 1 == w[1] { w[0] } else { k + 1 } as u32);
+                prev.push(if k == w[0] { w[1] - 1 } else { k - 1 } as u32);
             }
         }
         Self {
             indices: list.indices(),
             face,
             next,
+            prev,
         }
     }
 
@@ -52,6 +70,7 @@ impl<'a> Corners<'a> {
             indices,
             face: self.face.clone(),
             next: self.next.clone(),
+            prev: self.prev.clone(),
         }
     }
 
@@ -68,6 +87,48 @@ impl<'a> Corners<'a> {
             if k % 3 == 2 { k - 2 } else { k + 1 }
         } else {
             self.next[k as usize]
+        }
+    }
+
+    /// The face of corner `k` and the corners after and before it in the face, with
+    /// one division for a list of triangles.
+    #[inline]
+    pub(crate) fn links(&self, k: u32) -> (u32, u32, u32) {
+        if self.triangles() {
+            let f = k / 3;
+            let first = 3 * f;
+            let next = if k == first + 2 { first } else { k + 1 };
+            let prev = if k == first { first + 2 } else { k - 1 };
+            (f, next, prev)
+        } else {
+            let k = k as usize;
+            (self.face[k], self.next[k], self.prev[k])
+        }
+    }
+
+    /// Calls `f(k, from, to)` for every corner `k` of `range`, in order, with its
+    /// directed edge `from -> to`. For a list of triangles whose `range` starts at a
+    /// multiple of three, a triangle at a time.
+    #[inline]
+    pub(crate) fn edges_in(&self, range: std::ops::Range<usize>, mut f: impl FnMut(u32, u32, u32)) {
+        if self.triangles() && range.start % 3 == 0 {
+            let whole = range.start + (range.end - range.start) / 3 * 3;
+            for (t, tri) in self.indices[range.start..whole].chunks_exact(3).enumerate() {
+                let k = (range.start + 3 * t) as u32;
+                // One call site, so that `f` is inlined.
+                for j in 0..3 {
+                    f(k + j as u32, tri[j], tri[if j == 2 { 0 } else { j + 1 }]);
+                }
+            }
+            for k in whole..range.end {
+                let k = k as u32;
+                f(k, self.from(k), self.to(k));
+            }
+        } else {
+            for k in range {
+                let k = k as u32;
+                f(k, self.from(k), self.to(k));
+            }
         }
     }
 

@@ -80,12 +80,14 @@ impl HalfedgeMesh {
         faces: &PolygonList,
     ) -> Result<Self, TopologyError> {
         check_count("vertices", n_vertices)?;
-        let problem = (0..faces.len())
+        // Fixed chunks of faces, each checked by a plain loop; the first problem of the
+        // first chunk that has one is the first in input order.
+        let n_faces = faces.len();
+        let problem = (0..n_faces.div_ceil(FACE_CHUNK))
             .into_par_iter()
-            .with_min_len(corners::PARALLEL_CHUNK / 4)
-            .find_map_first(|fi| {
-                let face = &faces.indices()[faces.offsets()[fi]..faces.offsets()[fi + 1]];
-                out_of_range(fi, face, n_vertices).or_else(|| degenerate(fi, face, &mut Vec::new()))
+            .find_map_first(|c| {
+                let end = ((c + 1) * FACE_CHUNK).min(n_faces);
+                first_bad_face(faces, c * FACE_CHUNK..end, n_vertices)
             });
         if let Some(err) = problem {
             return Err(err);
@@ -174,6 +176,42 @@ pub(crate) fn check_count(kind: &'static str, count: usize) -> Result<(), Topolo
         });
     }
     Ok(())
+}
+
+/// Faces checked by one parallel task of [`HalfedgeMesh::from_polygon_list`].
+const FACE_CHUNK: usize = 1 << 14;
+
+/// The first problem of the faces `range` of `faces` that [`out_of_range`] or
+/// [`degenerate`] finds, in input order.
+fn first_bad_face(
+    faces: &PolygonList,
+    range: std::ops::Range<usize>,
+    n_vertices: usize,
+) -> Option<TopologyError> {
+    let (offsets, indices) = (faces.offsets(), faces.indices());
+    let mut scratch = Vec::new();
+    for fi in range {
+        let face = &indices[offsets[fi]..offsets[fi + 1]];
+        if let &[a, b, c] = face {
+            // The common case in one test: three distinct vertices in range.
+            let n = n_vertices;
+            if (a as usize) < n
+                && (b as usize) < n
+                && (c as usize) < n
+                && a != b
+                && a != c
+                && b != c
+            {
+                continue;
+            }
+        }
+        if let Some(err) =
+            out_of_range(fi, face, n_vertices).or_else(|| degenerate(fi, face, &mut scratch))
+        {
+            return Some(err);
+        }
+    }
+    None
 }
 
 /// [`TopologyError::VertexOutOfRange`] when input face `fi` names a vertex `>= n_vertices`.

@@ -269,6 +269,10 @@ enum FaceProperty {
 #[derive(Debug)]
 pub(super) struct FaceLayout {
     properties: Vec<FaceProperty>,
+    /// For records that are only a `uchar` count and `int` or `uint` indices (what
+    /// most writers produce), the index type: a triangle's record is then the count 3
+    /// and three indices, 13 bytes, decoded without the general loop.
+    plain: Option<Num>,
 }
 
 impl FaceLayout {
@@ -300,8 +304,37 @@ impl FaceLayout {
                 }
             });
         }
-        Some(Self { properties })
+        let plain = match properties[..] {
+            [FaceProperty::Indices(Num::U8, item @ (Num::I32 | Num::U32))] => Some(item),
+            _ => None,
+        };
+        Some(Self { properties, plain })
     }
+}
+
+/// The three indices of a plain triangle record (`3` and three 4-byte indices of type
+/// `item`) at the start of `bytes`, or `None` when the record is anything else (not
+/// whole, not a triangle, a negative index): the general decoding then handles it.
+#[inline(always)]
+fn plain_triangle(bytes: &[u8], item: Num, big: bool) -> Option<[u32; 3]> {
+    let record: &[u8; 13] = bytes.get(..13)?.try_into().ok()?;
+    if record[0] != 3 {
+        return None;
+    }
+    let index = |i: usize| {
+        let b = bytes_at(record, 1 + 4 * i);
+        if big {
+            u32::from_be_bytes(b)
+        } else {
+            u32::from_le_bytes(b)
+        }
+    };
+    let face = [index(0), index(1), index(2)];
+    // An `int` index with the sign bit set is negative.
+    if item == Num::I32 && face.iter().any(|&i| i > i32::MAX as u32) {
+        return None;
+    }
+    Some(face)
 }
 
 /// What is wrong with a face record that was decoded whole.
@@ -416,6 +449,14 @@ pub(super) fn read_faces<R: BufRead>(
         let buffer = reader.fill_buf().map_err(IoError::io("read the file"))?;
         let mut at = 0;
         while index < count {
+            if let Some(item) = layout.plain
+                && let Some(face) = plain_triangle(&buffer[at..], item, big)
+            {
+                faces.push(&face);
+                at += 13;
+                index += 1;
+                continue;
+            }
             scratch.clear();
             let mut negative = None;
             let decoded = decode_face(&buffer[at..], layout, big, &mut scratch, &mut negative)

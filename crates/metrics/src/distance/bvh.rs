@@ -180,7 +180,7 @@ impl Bvh {
                 root: Some(root),
                 nodes,
             },
-            items.iter().map(|item| item.index).collect(),
+            items.par_iter().map(|item| item.index).collect(),
         )
     }
 
@@ -477,8 +477,43 @@ pub(crate) fn morton_order(points: &[DVec3]) -> Vec<u32> {
         .enumerate()
         .map(|(i, &p)| (morton_code((p - lo) * scale) << 32) | i as u64)
         .collect();
-    keyed.par_sort_unstable();
+    sort_by_code(&mut keyed);
     keyed.into_iter().map(|key| key as u32).collect()
+}
+
+/// Bits of a Morton code sorted per pass of [`sort_by_code`].
+const DIGIT_BITS: u32 = 10;
+
+/// Sorts keys `code << 32 | index` whose indices are in increasing order: a stable
+/// least-significant-digit radix sort by the 30-bit code (three passes of ten bits), so
+/// that equal codes keep their index order and the result is the keys' sorted order.
+fn sort_by_code(keys: &mut Vec<u64>) {
+    const BUCKETS: usize = 1 << DIGIT_BITS;
+    let mut other = vec![0u64; keys.len()];
+    for pass in 0..3 {
+        let shift = 32 + pass * DIGIT_BITS;
+        let digit = |key: u64| ((key >> shift) as usize) & (BUCKETS - 1);
+        let mut start = [0usize; BUCKETS];
+        for &key in keys.iter() {
+            start[digit(key)] += 1;
+        }
+        if start.contains(&keys.len()) {
+            // One digit for every key: this pass would keep the order.
+            continue;
+        }
+        let mut sum = 0;
+        for slot in &mut start {
+            let count = *slot;
+            *slot = sum;
+            sum += count;
+        }
+        for &key in keys.iter() {
+            let slot = &mut start[digit(key)];
+            other[*slot] = key;
+            *slot += 1;
+        }
+        std::mem::swap(keys, &mut other);
+    }
 }
 
 #[cfg(test)]
@@ -505,6 +540,32 @@ mod tests {
             best.0
         });
         best
+    }
+
+    /// The radix sort by code gives the sorted order of the keys, with ties in the
+    /// code (few distinct codes, all codes equal, empty input) kept in index order.
+    #[test]
+    fn codes_are_sorted_as_the_keys_are() {
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for (n, mask) in [
+            (0, 0),
+            (1, 0),
+            (5000, 0),
+            (5000, 0x3),
+            (70_000, (1 << 30) - 1),
+        ] {
+            let mut keys: Vec<u64> = (0..n).map(|i| ((next() & mask) << 32) | i).collect();
+            let mut sorted = keys.clone();
+            sorted.sort_unstable();
+            sort_by_code(&mut keys);
+            assert_eq!(keys, sorted, "{n} keys, codes masked by {mask:#x}");
+        }
     }
 
     #[test]

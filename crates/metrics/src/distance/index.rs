@@ -74,12 +74,16 @@ impl Default for Hint {
     }
 }
 
-/// Angle-weighted pseudo-normals (not normalised; only their direction is used).
+/// The values of one chunk of points and the points it put off, with what for.
+type Deferred<T, W> = (Vec<T>, Vec<(u32, W)>);
+
+/// Face normals and edge pseudo-normals (not normalised; only their direction is used).
+/// The vertices' angle-weighted pseudo-normals are kept apart: a batch of signed queries
+/// computes only those of the vertices its closest points lie on.
 #[derive(Debug)]
 struct PseudoNormals {
     face: Vec<DVec3>,
     edge: Vec<DVec3>,
-    vertex: Vec<DVec3>,
 }
 
 /// A reusable search structure over a reference triangle mesh: build it once, then ask for
@@ -123,6 +127,9 @@ pub struct SurfaceIndex {
     positions: Vec<DVec3>,
     n_edges: usize,
     pseudo_normals: OnceLock<PseudoNormals>,
+    /// Every vertex's angle-weighted pseudo-normal, computed when a single signed query
+    /// first needs one.
+    vertex_normals: OnceLock<Vec<DVec3>>,
 }
 
 impl SurfaceIndex {
@@ -194,9 +201,10 @@ impl SurfaceIndex {
             leaf_faces: order,
             face_vertices,
             face_edges,
-            positions: positions.to_vec(),
+            positions: positions.par_iter().copied().collect(),
             n_edges: mesh.n_edges(),
             pseudo_normals: OnceLock::new(),
+            vertex_normals: OnceLock::new(),
         })
     }
 
@@ -296,19 +304,51 @@ impl SurfaceIndex {
     /// The signed distance of every point of `points` (see
     /// [`signed_distance`](Self::signed_distance)), in parallel.
     ///
+    /// Unless a single signed query has computed every vertex's pseudo-normal before,
+    /// only those of the vertices that are closest points are computed (the same sums,
+    /// so the same bits).
+    ///
     /// # Errors
     /// As for [`closest_points`](Self::closest_points).
     pub fn signed_distances(&self, points: &[DVec3]) -> Result<Vec<f64>, MetricsError> {
         check_points(points, "query point")?;
         self.pseudo_normals();
-        Ok(self.map_points(points, |p, hint| {
+        if let Some(vertex) = self.vertex_normals.get() {
+            return Ok(self.map_points(points, |p, hint| {
+                let closest = self.query(p, hint);
+                self.sign_with(p, &closest, |v| vertex[v])
+            }));
+        }
+        // The points whose closest point is a vertex wait for the pseudo-normals of
+        // those vertices, which are then computed alone (the same sums, in the same
+        // order, as for all vertices).
+        let (mut signed, waiting) = self.map_points_deferred(points, |p, hint| {
             let closest = self.query(p, hint);
-            self.sign(p, &closest)
-        }))
+            match closest.feature {
+                Feature::Vertex(_) if closest.distance_squared != 0.0 => Err(closest),
+                _ => Ok(self.sign_with(p, &closest, |_| DVec3::ZERO)),
+            }
+        });
+        if !waiting.is_empty() {
+            let mut needed = vec![false; self.positions.len()];
+            for (_, closest) in &waiting {
+                if let Feature::Vertex(v) = closest.feature {
+                    needed[v.index()] = true;
+                }
+            }
+            let vertex = self.vertex_pseudo_normals(Some(&needed));
+            for (i, closest) in &waiting {
+                signed[*i as usize] = self.sign_with(points[*i as usize], closest, |v| vertex[v]);
+            }
+        }
+        Ok(signed)
     }
 
-    /// Computes the pseudo-normals that signed queries need now, rather than on the first
-    /// signed query (so that a caller can time the index build and the queries apart).
+    /// Computes the face normals and edge pseudo-normals that signed queries need now,
+    /// rather than on the first signed query (so that a caller can time the index build
+    /// and the queries apart). The vertices' pseudo-normals are left to the queries: a
+    /// batch ([`signed_distances`](Self::signed_distances)) computes those of the
+    /// vertices its closest points lie on, a single query all of them on first use.
     /// Idempotent and cheap after the first call.
     pub fn prepare_signed(&self) {
         self.pseudo_normals();
@@ -410,6 +450,45 @@ impl SurfaceIndex {
             .collect()
     }
 
+    /// [`map_points`](Self::map_points) for an `f` that may put a point off: the values
+    /// (`T::default()` for the points put off) and, in the order of the visits, the
+    /// points put off with what `f` gave for them.
+    fn map_points_deferred<T: Send + Default + Clone, W: Send>(
+        &self,
+        points: &[DVec3],
+        f: impl Fn(DVec3, &mut Hint) -> Result<T, W> + Sync,
+    ) -> (Vec<T>, Vec<(u32, W)>) {
+        let order = morton_order(points);
+        let chunks: Vec<Deferred<T, W>> = order
+            .par_chunks(CHUNK)
+            .map(|chunk| {
+                let mut hint = Hint::default();
+                let mut waiting = Vec::new();
+                let values = chunk
+                    .iter()
+                    .map(|&i| match f(points[i as usize], &mut hint) {
+                        Ok(value) => value,
+                        Err(wait) => {
+                            waiting.push((i, wait));
+                            T::default()
+                        }
+                    })
+                    .collect();
+                (values, waiting)
+            })
+            .collect();
+        let mut out = vec![T::default(); points.len()];
+        let mut waiting = Vec::new();
+        let mut at = order.iter();
+        for (values, wait) in chunks {
+            for (value, &i) in values.into_iter().zip(at.by_ref()) {
+                out[i as usize] = value;
+            }
+            waiting.extend(wait);
+        }
+        (out, waiting)
+    }
+
     /// The closest point, starting from the bound given by leaf position `hint`, which is
     /// then set to the answer's leaf position.
     fn query(&self, p: DVec3, hint: &mut Hint) -> ClosestPoint {
@@ -476,6 +555,12 @@ impl SurfaceIndex {
 
     /// `± distance` by the pseudo-normal rule.
     fn sign(&self, p: DVec3, closest: &ClosestPoint) -> f64 {
+        self.sign_with(p, closest, |v| self.vertex_normals()[v])
+    }
+
+    /// `± distance` by the pseudo-normal rule, with `vertex(v)` the pseudo-normal of
+    /// vertex `v` (asked for only when the closest point is that vertex).
+    fn sign_with(&self, p: DVec3, closest: &ClosestPoint, vertex: impl Fn(usize) -> DVec3) -> f64 {
         let d = closest.distance();
         if d == 0.0 {
             return 0.0;
@@ -484,7 +569,7 @@ impl SurfaceIndex {
         let n = match closest.feature {
             Feature::Face => normals.face[closest.face.index()],
             Feature::Edge(e) => normals.edge[e.index()],
-            Feature::Vertex(v) => normals.vertex[v.index()],
+            Feature::Vertex(v) => vertex(v.index()),
         };
         let offset = p - closest.point;
         let mut side = offset.dot(n);
@@ -494,41 +579,90 @@ impl SurfaceIndex {
         if side < 0.0 { -d } else { d }
     }
 
-    /// The pseudo-normals, computed on first use.
+    /// The face normals and edge pseudo-normals, computed on first use.
     fn pseudo_normals(&self) -> &PseudoNormals {
         self.pseudo_normals.get_or_init(|| {
-            // The face normals and corner angles in one parallel pass, then the sums in face
-            // order (the same bits for any thread count).
-            let (face, angles): (Vec<DVec3>, Vec<[f64; 3]>) = self
+            // The face normals in one parallel pass, then the edge sums in face order
+            // (the same bits for any thread count).
+            let face: Vec<DVec3> = self
                 .face_vertices
                 .par_iter()
                 .map(|vs| {
-                    let corners = vs.map(|v| self.positions[v as usize]);
-                    let [a, b, c] = corners;
-                    let angles = std::array::from_fn(|k| {
-                        let at = corners[k];
-                        let u = corners[(k + 1) % 3] - at;
-                        let w = corners[(k + 2) % 3] - at;
-                        u.cross(w).length().atan2(u.dot(w))
-                    });
-                    (unit_normal(a, b, c), angles)
+                    let [a, b, c] = vs.map(|v| self.positions[v as usize]);
+                    unit_normal(a, b, c)
                 })
-                .unzip();
+                .collect();
             let mut edge = vec![DVec3::ZERO; self.n_edges];
-            let mut vertex = vec![DVec3::ZERO; self.positions.len()];
-            for (f, (vs, es)) in self.face_vertices.iter().zip(&self.face_edges).enumerate() {
-                let n = face[f];
+            for (n, es) in face.iter().zip(&self.face_edges) {
+                if *n == DVec3::ZERO {
+                    continue;
+                }
+                for &e in es {
+                    edge[e as usize] += *n;
+                }
+            }
+            PseudoNormals { face, edge }
+        })
+    }
+
+    /// Every vertex's pseudo-normal, computed on first use.
+    fn vertex_normals(&self) -> &[DVec3] {
+        self.vertex_normals
+            .get_or_init(|| self.vertex_pseudo_normals(None))
+    }
+
+    /// The angle-weighted pseudo-normals of the vertices `needed` says (all of them for
+    /// `None`; zero for the others): the sum, in face order, of each face's unit normal
+    /// times its angle at the vertex, degenerate faces left out.
+    ///
+    /// The vertices are split into ranges, one per parallel task; each task reads every
+    /// face and adds to the vertices of its range, in face order, so the sums are the
+    /// same bits for any number of tasks and for any `needed`.
+    fn vertex_pseudo_normals(&self, needed: Option<&[bool]>) -> Vec<DVec3> {
+        let face = &self.pseudo_normals().face;
+        let n_vertices = self.positions.len();
+        let tasks = if self.face_vertices.len() < 1 << 16 {
+            1
+        } else {
+            rayon::current_num_threads().clamp(1, 8)
+        };
+        let mut vertex = vec![DVec3::ZERO; n_vertices];
+        let mut pieces = Vec::with_capacity(tasks);
+        let mut rest = &mut vertex[..];
+        let mut v0 = 0;
+        for t in 1..=tasks {
+            let v1 = t * n_vertices / tasks;
+            let (piece, tail) = rest.split_at_mut(v1 - v0);
+            pieces.push((v0, piece));
+            rest = tail;
+            v0 = v1;
+        }
+        pieces.into_par_iter().for_each(|(v0, piece)| {
+            let range = v0..v0 + piece.len();
+            for (vs, &n) in self.face_vertices.iter().zip(face) {
                 if n == DVec3::ZERO {
                     continue;
                 }
-                for k in 0..3 {
-                    edge[es[k] as usize] += n;
-                    vertex[vs[k] as usize] += n * angles[f][k];
+                for (k, &v) in vs.iter().enumerate() {
+                    let v = v as usize;
+                    if range.contains(&v) && needed.is_none_or(|needed| needed[v]) {
+                        let corners = vs.map(|v| self.positions[v as usize]);
+                        piece[v - v0] += n * corner_angle(corners, k);
+                    }
                 }
             }
-            PseudoNormals { face, edge, vertex }
-        })
+        });
+        vertex
     }
+}
+
+/// The angle of triangle `corners` at corner `k`, in radians.
+#[inline]
+fn corner_angle(corners: [DVec3; 3], k: usize) -> f64 {
+    let at = corners[k];
+    let u = corners[(k + 1) % 3] - at;
+    let w = corners[(k + 2) % 3] - at;
+    u.cross(w).length().atan2(u.dot(w))
 }
 
 /// The unit normal `(b − a) × (c − a) / |…|`, or zero for a degenerate triangle (twice the
