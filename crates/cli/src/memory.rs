@@ -92,6 +92,8 @@ const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
 /// vertices (12), face id (4) and three cotangents (24), as `Option<[u32; 3]>` (16)
 /// while the plan is built.
 const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 40);
+/// The one-ring cotangent kernel's bit per row slot (counted as a byte).
+const RING_BITS: PerElement = PerElement::new(0, 1, 0);
 /// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
 /// per-halfedge weight buffer (8)...
 const HALFEDGE_WEIGHTS: PerElement = PerElement::new(0, 8, 0);
@@ -162,6 +164,8 @@ pub(crate) enum Weights {
     Rows,
     /// The cotangent kernel, with its per-face plan.
     Cotangent,
+    /// The cotangent kernel from each vertex's one-ring: a bit per row slot, no plan.
+    CotangentRing,
     /// A scheme's own `fill_weights` (bilateral, a registered scheme): a per-halfedge
     /// buffer, and what bilateral needs for its normals.
     Halfedges,
@@ -205,6 +209,7 @@ impl Run {
         sum = match self.weights {
             Weights::Rows => sum,
             Weights::Cotangent => sum.plus(COTANGENT_PLAN),
+            Weights::CotangentRing => sum.plus(RING_BITS),
             Weights::Halfedges => sum.plus(HALFEDGE_WEIGHTS).plus(NORMALS),
         };
         if self.area {
@@ -547,6 +552,7 @@ mod tests {
         // docs/reliability.md: (method, weights, small mesh, 50 000 vertices or more).
         let table = [
             (Method::Explicit, Weights::Cotangent, 456, 464),
+            (Method::Explicit, Weights::CotangentRing, 306, 314),
             (Method::Taubin, Weights::Cotangent, 480, 488),
             (Method::Hc, Weights::Cotangent, 528, 536),
             (Method::Explicit, Weights::Rows, 300, 308),

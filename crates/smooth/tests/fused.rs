@@ -175,3 +175,28 @@ fn fresh_sweeps_report_their_statistics() {
         }
     }
 }
+
+/// A run whose weights change every iteration keeps no weight array from the start;
+/// its operator is still there to read before the first step, with the bits of
+/// `Laplacian::new` at the input positions, for both cotangent kernels.
+#[test]
+fn the_operator_of_a_lean_run_can_be_read_before_the_first_step() {
+    use beltrami_weights::CotangentKernel;
+    let (mesh, x) = jittered(&primitives::icosphere(2), 0.02, 7);
+    for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+        let options = LaplacianOptions::new().cotangent_kernel(kernel);
+        let config = SmoothConfig::new(0.5, 3)
+            .update(WeightUpdate::Every)
+            .laplacian(options);
+        let reference = Laplacian::new(&mesh, &x, &Cotangent, options).unwrap();
+        let mut smoother = Smoother::new(&mesh, &x, &Cotangent, config).unwrap();
+        let rows = smoother.laplacian().rows();
+        let want = reference.rows();
+        assert_eq!(rows.neighbours, want.neighbours);
+        let wbits = |w: &[f64]| w.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(wbits(rows.weights), wbits(want.weights), "{kernel:?}");
+        assert_eq!(wbits(rows.scales), wbits(want.scales), "{kernel:?}");
+        smoother.step().unwrap();
+        assert!(smoother.laplacian().weights_stored());
+    }
+}

@@ -57,6 +57,12 @@ pub(crate) struct SmoothArgs {
     /// sum to more than 180°): keep them, clamp them to 0, or take their absolute value.
     #[arg(long, value_enum, default_value_t = NegativeArg::Keep)]
     pub(crate) cotangent_negative: NegativeArg,
+    /// How cotangents are computed (the same results either way): per-triangle (each
+    /// triangle once, a per-face table of about 120 bytes per vertex), ring (from each
+    /// vertex's one-ring: no table, about 1.4 times the time), or auto (per-triangle,
+    /// ring when only that fits the memory available or --max-memory).
+    #[arg(long, value_enum, default_value_t = CotangentKernelArg::Auto)]
+    pub(crate) cotangent_kernel: CotangentKernelArg,
     /// Row normalisation: sum (divide by the weight sum, paper Eq. 2) or area (divide
     /// by the vertex area, paper Eq. 6). Default: sum, for every method (a --time or
     /// --cutoff is converted to steps either way).
@@ -177,6 +183,14 @@ pub(crate) enum MethodArg {
     Taubin,
     Hc,
     Implicit,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum CotangentKernelArg {
+    Auto,
+    PerTriangle,
+    Ring,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]

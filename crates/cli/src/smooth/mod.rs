@@ -9,7 +9,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
 use beltrami_smooth::{SmoothError, SmoothReport, Smoothed, Smoother};
 use beltrami_weights::WeightRegistry;
-use beltrami_weights::WeightScheme;
+use beltrami_weights::{CotangentKernel, WeightScheme};
 
 use crate::error::CliError;
 use crate::load::{LoadedMesh, load_checked};
@@ -21,7 +21,9 @@ mod args;
 mod report;
 
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
-use args::{LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND};
+use args::{
+    CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
+};
 use report::{ReadSeconds, build_report, method_label};
 
 /// Runs `beltrami smooth`.
@@ -43,7 +45,7 @@ pub(crate) fn run(
         .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
-    let loaded = load_within_memory(args, scheme.as_ref())?;
+    let (loaded, kernel) = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let LoadedMesh {
@@ -61,7 +63,7 @@ pub(crate) fn run(
     drop(faces);
     let shape = Shape::of(&mesh);
     let before = Before::of(&mesh, &positions);
-    let (smoothed, mesh) = run_smoother(args, mesh, positions, scheme.as_ref())?;
+    let (smoothed, mesh) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
     let t1 = Instant::now();
     let change = before.change(&mesh, &smoothed.positions);
@@ -123,27 +125,60 @@ impl Shape {
 fn load_within_memory(
     args: &SmoothArgs,
     scheme: &dyn WeightScheme,
-) -> Result<LoadedMesh, CliError> {
-    let memory = memory_run(args, scheme);
+) -> Result<(LoadedMesh, CotangentKernel), CliError> {
+    let mut kernel = CotangentKernel::PerTriangle;
     if let Ok(Some(declared)) = declared_counts(&args.input) {
         let faces = declared.faces;
-        let estimate = match declared.vertices {
-            Some(vertices) => {
-                MemoryEstimate::new(&memory, vertices, faces, faces.saturating_mul(3))
-            }
-            None => MemoryEstimate::for_triangle_soup(&memory, faces),
-        };
-        check_memory(args, &estimate, false)?;
+        kernel = choose_kernel(args, scheme, false, |memory| match declared.vertices {
+            Some(vertices) => MemoryEstimate::new(memory, vertices, faces, faces.saturating_mul(3)),
+            None => MemoryEstimate::for_triangle_soup(memory, faces),
+        })?;
     }
-    load_checked(&args.input, &args.read, |data| {
-        let estimate = MemoryEstimate::new(
-            &memory,
-            data.positions.len(),
-            data.faces.len(),
-            data.faces.n_corners(),
-        );
-        check_memory(args, &estimate, true)
-    })
+    let loaded = load_checked(&args.input, &args.read, |data| {
+        kernel = choose_kernel(args, scheme, true, |memory| {
+            MemoryEstimate::new(
+                memory,
+                data.positions.len(),
+                data.faces.len(),
+                data.faces.n_corners(),
+            )
+        })?;
+        Ok(())
+    })?;
+    Ok((loaded, kernel))
+}
+
+/// The cotangent kernel of the run, after checking that its estimate (`estimate` of
+/// the run's memory profile) fits: `--cotangent-kernel`, or for `auto` the per-triangle
+/// kernel, and the one-ring kernel when only that fits (with a note). A run that fits
+/// with neither fails with the per-triangle kernel's figure.
+fn choose_kernel(
+    args: &SmoothArgs,
+    scheme: &dyn WeightScheme,
+    exact: bool,
+    estimate: impl Fn(&memory::Run) -> MemoryEstimate,
+) -> Result<CotangentKernel, CliError> {
+    let ring = args.cotangent_kernel == CotangentKernelArg::Ring;
+    let first = memory_run(args, scheme, ring);
+    let fits = check_memory(args, &estimate(&first), exact);
+    let auto = args.cotangent_kernel == CotangentKernelArg::Auto;
+    match fits {
+        Ok(()) if ring => Ok(CotangentKernel::Ring),
+        Ok(()) => Ok(CotangentKernel::PerTriangle),
+        Err(e) if auto && first.weights == memory::Weights::Cotangent => {
+            let lean = memory_run(args, scheme, true);
+            if check_memory(args, &estimate(&lean), exact).is_err() {
+                return Err(e);
+            }
+            if exact {
+                eprintln!(
+                    "note: cotangents are computed from each vertex's one-ring (the per-triangle table does not fit the memory available; same results, about 1.4 times the time)"
+                );
+            }
+            Ok(CotangentKernel::Ring)
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// The lines on standard output: the load's notes, what the run did, the diffusion time
@@ -320,7 +355,7 @@ fn check_memory(args: &SmoothArgs, estimate: &MemoryEstimate, exact: bool) -> Re
 /// What the run does, as far as its memory goes: the method and solver, the weights'
 /// path, the options that add buffers, and the iterations whose statistics it keeps
 /// (unknown before the operator is built for an explicit run for a time).
-fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme) -> memory::Run {
+fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme, ring: bool) -> memory::Run {
     let implicit = args.method == MethodArg::Implicit;
     let for_time = args.time.is_some() || args.cutoff.is_some();
     memory::Run {
@@ -331,7 +366,10 @@ fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme) -> memory::Run {
             (MethodArg::Implicit, SolverArg::Cg) => memory::Method::ImplicitCg,
             (MethodArg::Implicit, SolverArg::Cholesky) => memory::Method::ImplicitCholesky,
         },
-        weights: memory::Weights::of(scheme),
+        weights: match memory::Weights::of(scheme) {
+            memory::Weights::Cotangent if ring => memory::Weights::CotangentRing,
+            weights => weights,
+        },
         preserve_volume: args.preserve_volume,
         area: args.normalize() == NormalizeArg::Area,
         iterations: match (implicit, for_time) {
@@ -363,6 +401,7 @@ fn run_smoother(
     mesh: HalfedgeMesh,
     positions: Vec<DVec3>,
     scheme: &dyn WeightScheme,
+    kernel: CotangentKernel,
 ) -> Result<(Smoothed, HalfedgeMesh), CliError> {
     let smooth_error = |source| {
         taubin_hint(
@@ -373,8 +412,9 @@ fn run_smoother(
             },
         )
     };
-    let smoother =
-        Smoother::from_owned(mesh, positions, scheme, args.config()).map_err(smooth_error)?;
+    let mut config = args.config();
+    config.laplacian = config.laplacian.cotangent_kernel(kernel);
+    let smoother = Smoother::from_owned(mesh, positions, scheme, config).map_err(smooth_error)?;
     // A step given directly must be stable; a time chooses its own stable step.
     if let Some(limit) = smoother.stable_step_limit()
         && smoother.config().duration.is_none()

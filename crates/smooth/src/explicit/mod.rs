@@ -226,6 +226,12 @@ fn compound_buffers(
     (copy(compound), copy(hc), push_back)
 }
 
+/// Whether a run's stale weights are computed inside the sweep: plain diffusion only
+/// (a compound step reads the operator between its sweeps).
+fn fuses(config: &SmoothConfig) -> bool {
+    config.method == Method::Laplacian && !config.preserve_volume
+}
+
 /// The rows per work unit of a sweep that sums nothing: [`CHUNK`], or for a mesh of
 /// fewer than `8 · CHUNK` vertices an eighth of it (at least 256), so that a small
 /// mesh's sweep is shared by the cores. A function of the vertex count alone.
@@ -320,8 +326,16 @@ impl<'a> Explicit<'a> {
             Some(p) => error_to_caller(e, p),
             None => e,
         };
-        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)
-            .map_err(|e| to_caller(e.into()))?;
+        // A plain run whose weights change every iteration computes them inside each
+        // sweep from the first on (`sweep_fresh`): the operator keeps no weight array
+        // (8 bytes per slot). A duration is resolved from the weights, so it keeps them.
+        let lean = fuses(&config) && config.operator_changes(scheme) && config.duration.is_none();
+        let laplacian = if lean {
+            Laplacian::new_without_weights(&mesh, &positions, scheme, config.laplacian)
+        } else {
+            Laplacian::new(&mesh, &positions, scheme, config.laplacian)
+        }
+        .map_err(|e| to_caller(e.into()))?;
         let roles = vertex_roles(&mesh, &config, perm.as_ref());
         let curve = curve_rows(&mesh, &roles);
         let volume = volume.transpose()?.unwrap_or(0.0);
@@ -460,7 +474,8 @@ impl<'a> Explicit<'a> {
             // Once per run at most: with on-demand statistics only a `step()` needs it.
             self.disp.resize(self.positions.len(), 0.0);
         }
-        let stale = self.weights_stale();
+        // Weights not kept (a lean operator, or released by a fused sweep) are stale too.
+        let stale = self.weights_stale() || !self.laplacian.weights_stored();
         let fused = stale && self.fuses() && self.sweep_fresh(lambda, want);
         if !fused {
             if stale {
@@ -475,7 +490,7 @@ impl<'a> Explicit<'a> {
     /// Whether stale weights are computed inside the sweep: plain diffusion only (a
     /// compound step reads the operator between its sweeps).
     fn fuses(&self) -> bool {
-        self.config.method == Method::Laplacian && !self.config.preserve_volume
+        fuses(&self.config)
     }
 
     /// Refreshes the operator and the curve weights at the current positions.
@@ -759,14 +774,21 @@ impl<'a> Explicit<'a> {
     /// computed on the first call (at its input positions, which a plain sweep keeps in
     /// `next`), so that this is always the operator the last sweep used.
     pub(crate) fn laplacian(&self) -> &Laplacian {
-        if !self.operator_behind {
+        if !self.operator_behind && self.laplacian.weights_stored() {
             return &self.laplacian;
         }
         self.current.get_or_init(|| {
             let mut laplacian = self.laplacian.clone();
-            // The sweep computed every row of these positions, so this succeeds; on
-            // error the operator is only older.
-            let _ = laplacian.update(&self.mesh, &self.next, self.scheme);
+            // After a fused sweep, that sweep's input positions (a plain sweep keeps
+            // them in `next`): it computed every row of them, so this succeeds; on
+            // error the operator is only older. Before the first sweep of a lean
+            // operator (no weights kept), the current positions, which `new` accepted.
+            let at = if self.operator_behind {
+                &self.next
+            } else {
+                &self.positions
+            };
+            let _ = laplacian.update(&self.mesh, at, self.scheme);
             laplacian
         })
     }

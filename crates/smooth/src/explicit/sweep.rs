@@ -62,9 +62,13 @@ impl RowSource<'_> {
         out: &mut [DVec3],
     ) -> Option<RowSweep> {
         match self {
-            Self::Stored(laplacian) => {
-                Some(sweep_rows(&laplacian.rows(), first, positions, lambda, out))
-            }
+            Self::Stored(laplacian) => Some(sweep_rows(
+                &laplacian.rows_without_unit_weights(),
+                first,
+                positions,
+                lambda,
+                out,
+            )),
             Self::Fresh(rows) => sweep_fresh_rows(rows, first, positions, lambda, out),
         }
     }

@@ -322,6 +322,28 @@ impl Laplacian {
         }
     }
 
+    /// [`rows`](Self::rows) for an integrator that reads no weights when
+    /// [`unit_weights`](LaplacianRows::unit_weights) is set: `weights` is then empty
+    /// (the array of ones that `rows` makes on first use, 8 bytes per slot, is not
+    /// made); otherwise exactly `rows`.
+    ///
+    /// # Panics
+    /// If the weights are not stored and not all 1 (as [`rows`](Self::rows)).
+    #[must_use]
+    pub fn rows_without_unit_weights(&self) -> LaplacianRows<'_> {
+        if !self.unit_weights {
+            return self.rows();
+        }
+        LaplacianRows {
+            offsets: &self.offsets,
+            neighbours: &self.neighbours,
+            weights: &[],
+            scales: &self.scales,
+            unit_weights: true,
+            normalization: self.options.normalization,
+        }
+    }
+
     /// `W_i = Σ_j w_ij` of row `v` (after the negative-weight policy).
     #[must_use]
     pub fn weight_sum(&self, v: VertexId) -> f64 {
