@@ -44,6 +44,9 @@ fn smooth(input: &Path, output: &Path, options: &[&str], extra: &[&str]) -> Outp
     if !options.contains(&"--iterations") {
         args.extend_from_slice(&["--iterations", "1"]);
     }
+    // One cotangent kernel throughout: `auto` would take the one-ring kernel under a
+    // limit only that fits (tests/cotangent_kernel.rs), moving the threshold sought.
+    args.extend_from_slice(&["--cotangent-kernel", "per-triangle"]);
     args.extend_from_slice(options);
     args.extend_from_slice(extra);
     beltrami(&args)
