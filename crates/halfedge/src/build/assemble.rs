@@ -635,34 +635,8 @@ mod tests {
             f_he,
         };
 
-        // A vertex whose fans are all closed (or one open fan plus closed ones) shows up as
-        // a circulation shorter than its degree. Rotating an outgoing halfedge
-        // (`twin(prev(h))`) is a permutation of the halfedges, so every circulation closes;
-        // each one covers a vertex's outgoing halfedges exactly when the circulations of
-        // all vertices together cover every halfedge. That sum is computed in parallel;
-        // only when it falls short are the vertices checked one by one, in order, for the
-        // first one at fault.
-        let covered: usize = (0..n_vertices)
-            .into_par_iter()
-            .with_min_len(PARALLEL_CHUNK)
-            .map(|v| circulation_length(&mesh, v, n_halfedges))
-            .sum();
-        if covered != n_halfedges {
-            let mut degree = vec![0u32; n_vertices];
-            for h in 0..n_halfedges {
-                degree[mesh.h_to[h ^ 1] as usize] += 1;
-            }
-            for v in mesh.vertices() {
-                let d = degree[v.index()] as usize;
-                if d > 0 && mesh.halfedges_around_vertex(v).take(d + 1).count() != d {
-                    let fans = count_fans(list, v.raw()).max(2);
-                    return Err(TopologyError::NonManifoldVertex {
-                        vertex: v.raw(),
-                        fans,
-                    });
-                }
-            }
-        }
+        // Pinched vertices, as the parallel assembly checks them.
+        check_manifold_vertices(&mesh, list)?;
         Ok(mesh)
     }
 
