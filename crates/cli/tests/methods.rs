@@ -471,3 +471,52 @@ fn implicit_output_does_not_depend_on_the_thread_count() {
         );
     }
 }
+
+/// An implicit step so long that conjugate gradient cannot finish it (λ = 0.8 is a
+/// diffusion time of 0.8 length² with area normalisation: the unit sphere shrinks to a
+/// point) stops with exit 1, no output, and a line that says what to change.
+#[test]
+fn an_implicit_step_that_does_not_converge_says_what_to_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.ply");
+    let output = dir.path().join("out.ply");
+    let generated = beltrami(&["generate", "sphere", s(&input), "--level", "3"]);
+    assert!(generated.status.success());
+    let out = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&output),
+        "--method",
+        "implicit",
+        "--normalize",
+        "area",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(!output.exists());
+    let line = error_line(&out, dir.path());
+    assert!(
+        line.starts_with("error: sphere.ply: conjugate gradient did not converge in iteration "),
+        "{line}"
+    );
+    assert!(
+        line.ends_with("; a smaller --lambda (with --normalize area, a diffusion time in length² per iteration) or --solver cholesky"),
+        "{line}"
+    );
+    // The smaller step the line suggests goes through.
+    let out = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&output),
+        "--method",
+        "implicit",
+        "--normalize",
+        "area",
+        "--lambda",
+        "1e-3",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
