@@ -482,15 +482,13 @@ fn an_implicit_step_that_does_not_converge_says_what_to_change() {
     let output = dir.path().join("out.ply");
     let generated = beltrami(&["generate", "sphere", s(&input), "--level", "3"]);
     assert!(generated.status.success());
-    let out = beltrami(&[
-        "smooth",
-        s(&input),
-        s(&output),
-        "--method",
-        "implicit",
-        "--normalize",
-        "area",
-    ]);
+    let implicit_area = |extra: &[&str]| {
+        let mut args = vec!["smooth", s(&input), s(&output), "--method", "implicit"];
+        args.extend_from_slice(&["--normalize", "area"]);
+        args.extend_from_slice(extra);
+        beltrami(&args)
+    };
+    let out = implicit_area(&[]);
     assert_eq!(out.status.code(), Some(1));
     assert!(!output.exists());
     let line = error_line(&out, dir.path());
@@ -503,17 +501,7 @@ fn an_implicit_step_that_does_not_converge_says_what_to_change() {
         "{line}"
     );
     // The smaller step the line suggests goes through.
-    let out = beltrami(&[
-        "smooth",
-        s(&input),
-        s(&output),
-        "--method",
-        "implicit",
-        "--normalize",
-        "area",
-        "--lambda",
-        "1e-3",
-    ]);
+    let out = implicit_area(&["--lambda", "1e-3"]);
     assert!(
         out.status.success(),
         "{}",

@@ -12,20 +12,11 @@ use beltrami_smooth::{
     Boundary, DiffusionTime, Method, Reorder, SmoothConfig, SmoothError, Smoother, Statistics,
     StepStats, WeightUpdate,
 };
-use beltrami_testkit::Lcg64;
+use beltrami_testkit::fixtures::jitter;
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightContext,
     WeightScheme,
 };
-
-/// A deterministic jitter in [-1, 1)³ per vertex, times `amplitude`: the generator starts
-/// at the state `seed ^ 0x9E37_79B9_7F4A_7C15`.
-fn jitter(positions: &mut [DVec3], amplitude: f64, seed: u64) {
-    let mut rng = Lcg64::new(seed ^ 0x9E37_79B9_7F4A_7C15);
-    for p in positions {
-        *p += rng.next_symmetric_vector() * amplitude;
-    }
-}
 
 struct TestMesh {
     name: &'static str,

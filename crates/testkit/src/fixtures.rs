@@ -17,6 +17,16 @@ use beltrami_surfaces::{FLensParams, NoiseLevel, Surface, add_normal_noise, flen
 
 use crate::rng::{Lcg64, SplitMix64};
 
+/// Moves every position by a deterministic jitter in `[-1, 1)³ × amplitude` (length
+/// units of the positions): an [`Lcg64`] started at the state
+/// `seed ^ 0x9E37_79B9_7F4A_7C15`, one `next_symmetric_vector` per position, in order.
+pub fn jitter(positions: &mut [DVec3], amplitude: f64, seed: u64) {
+    let mut rng = Lcg64::new(seed ^ 0x9E37_79B9_7F4A_7C15);
+    for p in positions {
+        *p += rng.next_symmetric_vector() * amplitude;
+    }
+}
+
 /// The fixtures the OpenMesh references are generated for, by name: the file is
 /// `fixtures/<name>.ply` and the references are in `fixtures/openmesh/<name>/`.
 #[must_use]
