@@ -261,6 +261,109 @@ fn keep_boundary_keeps_every_boundary_vertex_bit_for_bit() {
 }
 
 #[test]
+fn uniform_plane_weights_and_the_stabilizer_keep_every_guarantee() {
+    for (name, p) in surfaces() {
+        let mesh = p.mesh().unwrap();
+        for options in [
+            DecimateOptions::default().area_weighted(false),
+            DecimateOptions::default().stabilizer(1e-3),
+            DecimateOptions::default()
+                .area_weighted(false)
+                .stabilizer(1e-3),
+            DecimateOptions::default()
+                .area_weighted(false)
+                .stabilizer(1e-3)
+                .keep_boundary(true),
+        ] {
+            let ratio = if options.keep_boundary { 0.4 } else { 0.25 };
+            let (out, positions, report) =
+                decimate(&mesh, &p.positions, &options.ratio(ratio)).unwrap();
+            out.check_integrity().unwrap();
+            assert!(report.target_reached, "{name} {options:?}: {report:?}");
+            assert_eq!(
+                out.euler_characteristic(),
+                mesh.euler_characteristic(),
+                "{name}"
+            );
+            assert_eq!(boundary_loops(&out), boundary_loops(&mesh), "{name}");
+            assert!(report.max_quadric_error.is_finite());
+            for f in out.faces() {
+                assert!(aspect(&out, &positions, f).is_finite(), "{name}");
+            }
+            if options.keep_boundary {
+                // Boundary vertices never move, whatever the weights.
+                for v in mesh.vertices().filter(|&v| mesh.is_boundary_vertex(v)) {
+                    assert!(positions.contains(&p.positions[v.index()]), "{name}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_stabilizer_places_flat_collapses_between_their_ends() {
+    // On a flat grid every quadric is one plane: without the stabilizer the optimal
+    // position is undefined and an end point is kept (the output's vertices are input
+    // vertices); the pull towards the input positions places the kept vertex between
+    // them, still exactly in the plane and inside the grid.
+    let p = primitives::grid(12, 12);
+    for area_weighted in [true, false] {
+        let options = DecimateOptions::default()
+            .ratio(0.3)
+            .area_weighted(area_weighted);
+        let (_, without, _) = run(&p, &options);
+        assert!(without.iter().all(|q| p.positions.contains(q)));
+        let (out, with, report) = run(&p, &options.stabilizer(1e-3));
+        assert!(report.target_reached);
+        let moved = with.iter().filter(|q| !p.positions.contains(q)).count();
+        assert!(moved > with.len() / 4, "{moved} of {}", with.len());
+        let (lo, hi) = p
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &q| {
+                (lo.min(q), hi.max(q))
+            });
+        for q in &with {
+            assert_eq!(q.z, 0.0);
+            assert!(q.cmpge(lo).all() && q.cmple(hi).all(), "{q}");
+        }
+        assert!(report.hausdorff < 1e-12, "{report:?}");
+        for f in out.faces() {
+            assert!(face_normal(&out, &with, f).z > 0.0);
+        }
+    }
+}
+
+#[test]
+fn decimation_commutes_with_scaling_by_a_power_of_two() {
+    // Scaling by 2^k scales every quantity of the decimation exactly when each weight
+    // has the right unit (with area weights the pull's weight scales with the mean
+    // area, as the plane errors do), so the same collapses are done in the same order.
+    let p = noisy_icosphere();
+    let mut scaled = p.clone();
+    for q in &mut scaled.positions {
+        *q *= 1024.0;
+    }
+    for options in [
+        DecimateOptions::default(),
+        DecimateOptions::default().area_weighted(false),
+        DecimateOptions::default().stabilizer(1e-3),
+        DecimateOptions::default()
+            .area_weighted(false)
+            .stabilizer(1e-3),
+    ] {
+        let options = options.ratio(0.2).measure_distance(false);
+        let (a, pa, ra) = run(&p, &options);
+        let (b, pb, rb) = run(&scaled, &options);
+        assert_eq!(a.to_polygons(), b.to_polygons(), "{options:?}");
+        for (x, y) in pa.iter().zip(&pb) {
+            assert_eq!(*x * 1024.0, *y, "{options:?}");
+        }
+        assert_eq!(ra.max_quadric_error * 1024.0, rb.max_quadric_error);
+    }
+}
+
+#[test]
 fn a_planar_grid_stays_planar_with_zero_error() {
     let p = primitives::grid(12, 12);
     for placement in [Placement::Endpoint, Placement::Optimal] {
@@ -488,6 +591,13 @@ fn the_result_does_not_depend_on_the_thread_count() {
         (noisy_icosphere(), DecimateOptions::default().ratio(0.2)),
         (noisy_flens(), DecimateOptions::default().ratio(0.3)),
         (noisy_flens(), DecimateOptions::openmesh().ratio(0.3)),
+        (
+            noisy_flens(),
+            DecimateOptions::default()
+                .ratio(0.3)
+                .area_weighted(false)
+                .stabilizer(1e-3),
+        ),
     ] {
         let on = |threads: usize| {
             rayon::ThreadPoolBuilder::new()
@@ -524,6 +634,9 @@ fn bad_input_and_options_are_typed_errors() {
         d.quality_threshold(-0.1),
         d.quality_threshold(1.5),
         d.quality_threshold(f64::NAN),
+        d.stabilizer(-1e-3),
+        d.stabilizer(f64::INFINITY),
+        d.stabilizer(f64::NAN),
     ] {
         assert!(
             matches!(bad(options), DecimateError::Options { .. }),

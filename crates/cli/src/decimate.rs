@@ -54,9 +54,18 @@ pub(crate) struct DecimateArgs {
     /// orders collapses and never refuses one. In [0, 1].
     #[arg(long, value_name = "Q", default_value_t = 0.4)]
     quality_threshold: f64,
+    /// How each input triangle's plane counts in the vertex quadrics: by its area
+    /// (Garland and Heckbert's and OpenMesh's choice) or once (uniform, MeshLib's).
+    #[arg(long, value_enum, default_value_t = PlaneWeightsArg::Area)]
+    plane_weights: PlaneWeightsArg,
+    /// The weight of a pull of each vertex towards its input position, relative to one
+    /// triangle plane (MeshLib uses 0.001); it makes the optimal position well defined
+    /// in flat regions. At least 0.
+    #[arg(long, value_name = "W", default_value_t = 0.0)]
+    stabilizer: f64,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
-    /// placement and no shape penalty.
-    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold"])]
+    /// placement, no shape penalty, area-weighted planes and no stabilizer.
+    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold", "plane_weights", "stabilizer"])]
     openmesh: bool,
     /// Refuse a collapse that makes a triangle of a larger aspect ratio (1 for an
     /// equilateral triangle; at least 1) unless it improves on the triangles it replaces.
@@ -84,6 +93,15 @@ enum PlacementArg {
     Optimal,
     /// The kept vertex's own position.
     Endpoint,
+}
+
+/// `--plane-weights`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum PlaneWeightsArg {
+    /// Each plane weighted by its triangle's area.
+    Area,
+    /// Each plane weighted 1.
+    Uniform,
 }
 
 /// Refusal counts of `decimate --json`.
@@ -116,6 +134,10 @@ struct Summary {
     placement: &'static str,
     /// The shape-quality threshold of the penalty (0: none).
     quality_threshold: f64,
+    /// `"area"` or `"uniform"`: how the triangle planes are weighted.
+    plane_weights: &'static str,
+    /// The weight of the pull towards the input positions (0: none).
+    stabilizer: f64,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
     /// The symmetric Hausdorff distance output <-> input, in the mesh's unit (null
@@ -181,6 +203,12 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             number(args.quality_threshold)
         ));
     }
+    if !(args.stabilizer >= 0.0 && args.stabilizer.is_finite()) {
+        return usage(format!(
+            "--stabilizer must be >= 0, got {}",
+            number(args.stabilizer)
+        ));
+    }
     options = if args.openmesh {
         options
             .placement(Placement::Endpoint)
@@ -192,6 +220,8 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
                 PlacementArg::Endpoint => Placement::Endpoint,
             })
             .quality_threshold(args.quality_threshold)
+            .area_weighted(args.plane_weights == PlaneWeightsArg::Area)
+            .stabilizer(args.stabilizer)
     };
     Ok(options.keep_boundary(args.keep_boundary))
 }
@@ -300,6 +330,11 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         } else {
             args.quality_threshold
         },
+        plane_weights: match args.plane_weights {
+            PlaneWeightsArg::Uniform if !args.openmesh => "uniform",
+            _ => "area",
+        },
+        stabilizer: if args.openmesh { 0.0 } else { args.stabilizer },
         max_quadric_error: report.max_quadric_error,
         hausdorff: measured(report.hausdorff),
         hausdorff_to_input: measured(report.hausdorff_to_input),

@@ -171,7 +171,12 @@ fn openmesh_mode_and_endpoint_placement_keep_input_points() {
         &["--quality-threshold", "1.5"][..],
         &["--openmesh", "--placement", "optimal"],
         &["--openmesh", "--quality-threshold", "0.2"],
+        &["--openmesh", "--plane-weights", "uniform"],
+        &["--openmesh", "--stabilizer", "0.001"],
         &["--placement", "middle"],
+        &["--plane-weights", "volume"],
+        &["--stabilizer=-0.001"],
+        &["--stabilizer", "inf"],
     ] {
         let out = dir.path().join("bad.ply");
         let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3"];
@@ -298,4 +303,59 @@ fn bad_input_and_usage_leave_no_output() {
     // The input is not overwritten without --force.
     let o = beltrami(&["decimate", s(&input), s(&input), "--ratio", "0.5"]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn plane_weights_and_the_stabilizer_reach_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let data = read_mesh(&input).unwrap();
+    let mesh = data.mesh().unwrap();
+    let mut outputs = Vec::new();
+    for (extra, options, weights, stabilizer) in [
+        (&[][..], DecimateOptions::default(), "area", 0.0),
+        (
+            &["--plane-weights", "uniform"][..],
+            DecimateOptions::default().area_weighted(false),
+            "uniform",
+            0.0,
+        ),
+        (
+            &["--plane-weights", "uniform", "--stabilizer", "0.001"][..],
+            DecimateOptions::default()
+                .area_weighted(false)
+                .stabilizer(0.001),
+            "uniform",
+            0.001,
+        ),
+    ] {
+        let out = dir.path().join("out.ply");
+        let mut args = vec![
+            "decimate",
+            s(&input),
+            s(&out),
+            "--ratio",
+            "0.3",
+            "--json",
+            "--force",
+            "--no-distance",
+        ];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert!(
+            o.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(summary["plane_weights"], weights, "{extra:?}");
+        assert_eq!(summary["stabilizer"], stabilizer, "{extra:?}");
+        let (_, positions, _) = decimate(&mesh, &data.positions, &options.ratio(0.3)).unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{extra:?}");
+        outputs.push(got.positions);
+    }
+    // Each setting changes where the kept vertices go.
+    assert_ne!(outputs[0], outputs[1]);
+    assert_ne!(outputs[1], outputs[2]);
 }

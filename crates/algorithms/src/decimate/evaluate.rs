@@ -107,10 +107,23 @@ impl<'a> Decimator<'a> {
             refused: RefusalCounts::default(),
             error_floor: 0.0,
         };
-        d.add_face_quadrics();
-        d.error_floor = d
-            .mean_edge_length()
-            .map_or(0.0, |mean| 1e-12 * mean.powi(4));
+        let mean_area = d.add_face_quadrics();
+        // The floor is in the quadric's unit: length⁴ with area weights, length² without.
+        d.error_floor = d.mean_edge_length().map_or(0.0, |mean| {
+            if options.area_weighted {
+                1e-12 * mean.powi(4)
+            } else {
+                1e-12 * mean * mean
+            }
+        });
+        if options.stabilizer > 0.0 {
+            let unit = if options.area_weighted {
+                mean_area
+            } else {
+                1.0
+            };
+            d.add_stabilizer(options.stabilizer * unit);
+        }
         if !options.keep_boundary {
             d.add_boundary_quadrics();
         }
@@ -123,22 +136,41 @@ impl<'a> Decimator<'a> {
         d
     }
 
-    /// Every face's input normal, and its area-weighted plane added to the quadrics of
-    /// its three vertices.
-    fn add_face_quadrics(&mut self) {
+    /// Every face's input normal, and its plane (weighted by area or by 1, see
+    /// [`DecimateOptions::area_weighted`]) added to the quadrics of its three vertices;
+    /// returns the mean triangle area (0 without faces).
+    fn add_face_quadrics(&mut self) -> f64 {
+        let (mut area, mut count) = (0.0, 0usize);
         for f in self.mesh.faces() {
             let vs = self.face_vertices(f);
             let n = cross(vs.map(|v| self.mesh.position(v)));
             let twice = n.length();
             self.input_normals[f.index()] = n.try_normalize().unwrap_or(DVec3::ZERO);
-            // OpenMesh: a triangle of (almost) no area adds (almost) nothing.
+            area += 0.5 * twice;
+            count += 1;
+            // OpenMesh: a triangle of (almost) no area adds (almost) nothing; MeshLib's
+            // unit weights skip it too (it has no plane).
             if twice > f64::from(f32::MIN_POSITIVE) {
                 let n = n / twice;
-                let q = Quadric::plane(n, -n.dot(self.mesh.position(vs[0])), 0.5 * twice);
+                let w = if self.options.area_weighted {
+                    0.5 * twice
+                } else {
+                    1.0
+                };
+                let q = Quadric::plane(n, -n.dot(self.mesh.position(vs[0])), w);
                 for v in vs {
                     self.quadrics[v.index()].add(&q);
                 }
             }
+        }
+        if count > 0 { area / count as f64 } else { 0.0 }
+    }
+
+    /// `w |x − p_v|²` added to every vertex's quadric (its plane weight unchanged).
+    fn add_stabilizer(&mut self, w: f64) {
+        for v in self.mesh.vertices() {
+            let pull = Quadric::point(self.mesh.position(v), w);
+            self.quadrics[v.index()].add(&pull);
         }
     }
 
@@ -169,11 +201,12 @@ impl<'a> Decimator<'a> {
             let normal = cross(self.face_vertices(f).map(|v| self.mesh.position(v)));
             let e = self.mesh.position(b) - self.mesh.position(a);
             if let Some(m) = e.cross(normal).try_normalize() {
-                let q = Quadric::plane(
-                    m,
-                    -m.dot(self.mesh.position(a)),
-                    BOUNDARY_WEIGHT * e.length_squared(),
-                );
+                let w = if self.options.area_weighted {
+                    BOUNDARY_WEIGHT * e.length_squared()
+                } else {
+                    BOUNDARY_WEIGHT
+                };
+                let q = Quadric::plane(m, -m.dot(self.mesh.position(a)), w);
                 self.quadrics[a.index()].add(&q);
                 self.quadrics[b.index()].add(&q);
             }

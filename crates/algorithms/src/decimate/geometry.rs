@@ -34,6 +34,17 @@ impl Quadric {
         }
     }
 
+    /// `w |x − p|²`, of plane weight 0 (a pull, not a plane: it does not count in the
+    /// mean of [`Quadric::rms`]).
+    pub(super) fn point(p: DVec3, w: f64) -> Self {
+        Self {
+            a: [w, 0.0, 0.0, w, 0.0, w],
+            b: -w * p,
+            c: w * p.length_squared(),
+            weight: 0.0,
+        }
+    }
+
     pub(super) fn add(&mut self, o: &Self) {
         for (a, b) in self.a.iter_mut().zip(o.a) {
             *a += b;

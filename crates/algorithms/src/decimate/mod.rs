@@ -166,6 +166,21 @@ pub struct DecimateOptions {
     /// [`DecimateReport::distance_measured`] is `false`, and
     /// [`DecimateReport::measure_distance`] measures them later.
     pub measure_distance: bool,
+    /// Whether each input triangle's plane enters the vertex quadrics weighted by the
+    /// triangle's area (`true`, the default: Garland and Heckbert's and OpenMesh's
+    /// choice) or with weight 1 (`false`: MeshLib's choice, which counts a region by its
+    /// triangles rather than by its area). Boundary constraint planes follow: weighted
+    /// by the squared edge length, or 1.
+    pub area_weighted: bool,
+    /// The weight of a pull towards each input vertex's own position, `w |x − p_v|²`
+    /// added to its quadric, relative to one face plane (≥ 0, finite; default 0). With
+    /// [`DecimateOptions::area_weighted`] `w` is this times the mean triangle area, else
+    /// this. A small value (MeshLib uses 0.001) makes the optimal placement well
+    /// defined in flat and cylindrical regions — there it moves the kept vertex towards
+    /// the middle of the vertices it replaces instead of falling back to an end
+    /// point — and changes it elsewhere by about the weight's share. It is not counted
+    /// in the weight of [`DecimateOptions::max_error`]'s mean.
+    pub stabilizer: f64,
 }
 
 /// The default of [`DecimateOptions::quality_threshold`].
@@ -183,18 +198,23 @@ impl Default for DecimateOptions {
             max_distance: None,
             quality_threshold: DEFAULT_QUALITY_THRESHOLD,
             measure_distance: true,
+            area_weighted: true,
+            stabilizer: 0.0,
         }
     }
 }
 
 impl DecimateOptions {
-    /// OpenMesh's `DecimaterT` with `ModQuadricT` alone: [`Placement::Endpoint`] and no
-    /// shape penalty (`quality_threshold` 0); the other settings are the defaults.
+    /// OpenMesh's `DecimaterT` with `ModQuadricT` alone: [`Placement::Endpoint`], no
+    /// shape penalty (`quality_threshold` 0), area-weighted planes and no stabilizer;
+    /// the other settings are the defaults.
     #[must_use]
     pub fn openmesh() -> Self {
         Self {
             placement: Placement::Endpoint,
             quality_threshold: 0.0,
+            area_weighted: true,
+            stabilizer: 0.0,
             ..Self::default()
         }
     }
@@ -272,6 +292,22 @@ impl DecimateOptions {
         self
     }
 
+    /// Weighs each face plane by its triangle's area (`true`, the default) or with 1
+    /// (see [`DecimateOptions::area_weighted`]).
+    #[must_use]
+    pub fn area_weighted(mut self, area_weighted: bool) -> Self {
+        self.area_weighted = area_weighted;
+        self
+    }
+
+    /// Sets the weight of the pull towards each input vertex (see
+    /// [`DecimateOptions::stabilizer`]).
+    #[must_use]
+    pub fn stabilizer(mut self, weight: f64) -> Self {
+        self.stabilizer = weight;
+        self
+    }
+
     /// Checks every value's range.
     fn validate(&self) -> Result<(), DecimateError> {
         let bad = |reason: String| Err(DecimateError::Options { reason });
@@ -311,6 +347,10 @@ impl DecimateOptions {
             return bad(format!(
                 "the largest distance must be finite and >= 0, got {d}"
             ));
+        }
+        let w = self.stabilizer;
+        if !(w >= 0.0 && w.is_finite()) {
+            return bad(format!("the stabilizer must be finite and >= 0, got {w}"));
         }
         let t = self.quality_threshold;
         if !(0.0..=1.0).contains(&t) {
