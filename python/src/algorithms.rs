@@ -302,12 +302,14 @@ pub(crate) fn remesh<'py>(
 /// `"endpoint"` (it stays: output vertices are input vertices); `quality_threshold`
 /// (default 0.4, in [0, 1]; 0 turns it off) makes collapses that create poorly shaped
 /// triangles cost more; `openmesh=True` is OpenMesh's plain quadric decimation
-/// (endpoint placement, no shape penalty). Returns `(Mesh, report)`, the report with the keys
+/// (endpoint placement, no shape penalty); `plane_weights` is `"area"` (the default) or
+/// `"uniform"` and `stabilizer` (default 0) the weight of a pull towards the input
+/// positions, as `decimate --plane-weights/--stabilizer`. Returns `(Mesh, report)`, the report with the keys
 /// of `decimate --json` (without the file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -322,6 +324,8 @@ pub(crate) fn decimate<'py>(
     openmesh: bool,
     max_aspect_ratio: Option<f64>,
     max_distance: Option<f64>,
+    plane_weights: &str,
+    stabilizer: f64,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let mut options = match (vertices, ratio) {
         (Some(n), None) => DecimateOptions::default().vertices(n),
@@ -346,15 +350,27 @@ pub(crate) fn decimate<'py>(
             "quality_threshold must be in [0, 1], got {quality_threshold}"
         )));
     }
-    let (placement, quality_threshold) = if openmesh {
-        (Placement::Endpoint, 0.0)
-    } else {
-        (placement, quality_threshold)
+    let area_weighted = match plane_weights {
+        "area" => true,
+        "uniform" => false,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "plane_weights must be 'area' or 'uniform', got '{plane_weights}'"
+            )));
+        }
     };
-    options = options
-        .keep_boundary(keep_boundary)
-        .placement(placement)
-        .quality_threshold(quality_threshold);
+    options = if openmesh {
+        options
+            .placement(Placement::Endpoint)
+            .quality_threshold(0.0)
+    } else {
+        options
+            .placement(placement)
+            .quality_threshold(quality_threshold)
+            .area_weighted(area_weighted)
+            .stabilizer(stabilizer)
+    };
+    options = options.keep_boundary(keep_boundary);
     if let Some(e) = max_error {
         options = options.max_error(e);
     }
