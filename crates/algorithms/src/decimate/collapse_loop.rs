@@ -144,9 +144,10 @@ impl Decimator<'_> {
                 let first = bound(even);
                 let second = match first {
                     Ok((_, true, _)) => None,
-                    _ => Some(bound(even.twin())),
+                    _ => Some(bound(even.twin()).map(|(key, _, _)| key)),
                 };
-                (first, second)
+                // Only the keys travel back (a small element for the collection).
+                (first.map(|(key, _, _)| key), second)
             })
             .collect();
         let mut entries = Vec::with_capacity(input.n_halfedges());
@@ -154,7 +155,7 @@ impl Decimator<'_> {
             let even = HalfedgeId::from_index(2 * e);
             for (h, b) in [(even, Some(first)), (even.twin(), second)] {
                 match b {
-                    Some(Ok((key, _, _))) => entries.push((key, h.raw())),
+                    Some(Ok(key)) => entries.push((key, h.raw())),
                     Some(Err(r)) => self.refuse(h, r),
                     None => {}
                 }

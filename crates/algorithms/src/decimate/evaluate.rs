@@ -603,6 +603,7 @@ pub(super) struct End<'q> {
 /// [`Decimator::bound`] of the collapse `from → to` for these `options` and error floor:
 /// a function of the two ends alone, so that the initial queue is computed on several
 /// threads (from the input mesh, which has the same ids).
+#[inline]
 pub(super) fn bound_between(
     options: &DecimateOptions,
     error_floor: f64,
