@@ -114,12 +114,18 @@ impl Heap {
     }
 
     /// Removes `h` if it is queued.
+    #[inline]
     pub(super) fn remove(&mut self, h: u32) {
+        // Most calls find nothing queued (the collapse loop removes every halfedge of a
+        // removed edge): that test is inlined, the removal is not.
         let at = self.place[h as usize];
-        if at == Self::ABSENT {
-            return;
+        if at != Self::ABSENT {
+            self.remove_at(h, at as usize);
         }
-        let i = at as usize;
+    }
+
+    /// Removes `h`, queued at `i`.
+    fn remove_at(&mut self, h: u32, i: usize) {
         self.place[h as usize] = Self::ABSENT;
         let last = self.entries.pop().expect("a queued entry");
         if i < self.entries.len() {
