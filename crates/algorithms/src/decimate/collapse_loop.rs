@@ -16,7 +16,10 @@ impl Decimator<'_> {
             self.heap.remove(h.raw());
             return;
         }
-        let bound = self.bound(h).map(|(key, _, _)| key);
+        let bound = self.bound(h).map(|(key, symmetric, position)| {
+            self.placed[h.index()] = (position, symmetric);
+            key
+        });
         self.queue_with(h, bound);
     }
 
@@ -42,7 +45,7 @@ impl Decimator<'_> {
             return;
         }
         match self.bound(h) {
-            Ok((key, true, _)) => {
+            Ok((key, true, position)) => {
                 // One entry for the edge, under its even halfedge; both directions are
                 // tried when it comes to the top.
                 let (even, odd) = if h.index() % 2 == 0 {
@@ -54,11 +57,17 @@ impl Decimator<'_> {
                 self.park(odd, false);
                 self.keyed_at[even.index()] = NOT_KEYED;
                 self.keyed_at[odd.index()] = NOT_KEYED;
+                // A symmetric bound is the same from either end.
+                self.placed[even.index()] = (position, true);
                 self.heap.set(even.raw(), key);
                 self.heap.remove(odd.raw());
             }
             bound => {
-                self.queue_with(h, bound.map(|(key, _, _)| key));
+                let bound = bound.map(|(key, symmetric, position)| {
+                    self.placed[h.index()] = (position, symmetric);
+                    key
+                });
+                self.queue_with(h, bound);
                 self.queue(h.twin());
             }
         }
@@ -179,14 +188,43 @@ impl Decimator<'_> {
         let optimal = self.options.placement == Placement::Optimal;
         let recheck = self.options.quality_threshold > 0.0;
         if optimal || recheck {
-            let current = self.bound(h).and_then(|(bound, symmetric, position)| {
-                if recheck && !self.fresh(h) {
-                    let full = self.full_key(h, bound, position)?;
-                    Ok((Some(full), symmetric, position))
+            let fresh = self.fresh(h);
+            let (position, symmetric) = self.placed[h.index()];
+            let current = if optimal
+                && !position.is_nan()
+                && (fresh || self.keyed_at[h.index()] == NOT_KEYED)
+            {
+                // The bound the entry was queued with is still its bound; its key is
+                // that bound unless a full key was computed since (then it is fresh,
+                // and the bound is not needed).
+                debug_assert!(
+                    self.bound(h).is_ok_and(|(bound, s, p)| {
+                        s == symmetric && p == position && (fresh || bound == key)
+                    }),
+                    "the queued bound of {h:?} is out of date"
+                );
+                if recheck && !fresh {
+                    self.full_key(h, key, position)
+                        .map(|full| (Some(full), symmetric, position))
                 } else {
                     Ok((None, symmetric, position))
                 }
-            });
+            } else {
+                match self.bound(h) {
+                    Ok((bound, symmetric, position)) => {
+                        if optimal {
+                            self.placed[h.index()] = (position, symmetric);
+                        }
+                        if recheck && !fresh {
+                            self.full_key(h, bound, position)
+                                .map(|full| (Some(full), symmetric, position))
+                        } else {
+                            Ok((None, symmetric, position))
+                        }
+                    }
+                    Err(r) => Err(r),
+                }
+            };
             if let Ok((Some(_), _, _)) = current {
                 self.keyed_at[h.index()] = self.collapses;
             }

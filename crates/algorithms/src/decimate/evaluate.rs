@@ -68,6 +68,13 @@ pub(super) struct Decimator<'a> {
     /// Per halfedge: the collapse count when its full key was computed, or
     /// [`NOT_KEYED`] when its heap key is the lower bound.
     pub(super) keyed_at: Vec<u32>,
+    /// Per halfedge, with [`Placement::Optimal`]: the kept vertex's position and the
+    /// symmetry of the [`Decimator::bound`] it was last queued with (a NaN position:
+    /// not known, as for the initial queue's entries). Every edge at a vertex whose
+    /// quadric or position changes is queued again, so a queued halfedge's bound is
+    /// always the one it was queued with; with endpoint placement the update queues
+    /// fewer, and this is not used.
+    pub(super) placed: Vec<(DVec3, bool)>,
     /// Per vertex: the collapse count when its one-ring last changed.
     pub(super) changed_at: Vec<u32>,
     /// Collapses done so far.
@@ -100,6 +107,7 @@ impl<'a> Decimator<'a> {
             n_parked: 0,
             heap: Heap::with_capacity(nh),
             keyed_at: vec![NOT_KEYED; nh],
+            placed: vec![(DVec3::NAN, false); nh],
             changed_at: vec![0; nv],
             collapses: 0,
             spokes: Vec::new(),
