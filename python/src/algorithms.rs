@@ -419,12 +419,19 @@ pub(crate) fn decimate<'py>(
     d.set_item("refused", refused)?;
     d.set_item(
         "placement",
-        match placement {
+        match options.placement {
             Placement::Optimal => "optimal",
             _ => "endpoint",
         },
     )?;
-    d.set_item("quality_threshold", quality_threshold)?;
+    d.set_item("quality_threshold", options.quality_threshold)?;
+    let weights = if options.area_weighted {
+        "area"
+    } else {
+        "uniform"
+    };
+    d.set_item("plane_weights", weights)?;
+    d.set_item("stabilizer", options.stabilizer)?;
     d.set_item("max_quadric_error", r.max_quadric_error)?;
     d.set_item("hausdorff", r.hausdorff)?;
     d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;
