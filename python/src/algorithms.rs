@@ -359,6 +359,11 @@ pub(crate) fn decimate<'py>(
             )));
         }
     };
+    if openmesh && (!area_weighted || stabilizer != 0.0) {
+        return Err(PyValueError::new_err(
+            "openmesh=True is OpenMesh's plain quadrics: plane_weights and stabilizer cannot be set with it",
+        ));
+    }
     options = if openmesh {
         options
             .placement(Placement::Endpoint)

@@ -150,6 +150,23 @@ def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
         bt.decimate(sphere)
 
 
+def test_decimate_plane_weights_and_stabilizer(sphere):
+    plain, report = bt.decimate(sphere, ratio=0.25)
+    assert report["plane_weights"] == "area" and report["stabilizer"] == 0.0
+    uniform, report = bt.decimate(sphere, ratio=0.25, plane_weights="uniform", stabilizer=0.001)
+    assert report["plane_weights"] == "uniform" and report["stabilizer"] == 0.001
+    assert report["target_reached"] and bt.info(uniform)["euler_characteristic"] == 2
+    # Other quadrics, other positions (the same target count).
+    assert len(uniform.vertices) == len(plain.vertices)
+    assert not np.array_equal(uniform.vertices, plain.vertices)
+    with pytest.raises(ValueError, match="plane_weights"):
+        bt.decimate(sphere, ratio=0.25, plane_weights="volume")
+    with pytest.raises(ValueError, match="stabilizer"):
+        bt.decimate(sphere, ratio=0.25, stabilizer=-1.0)
+    with pytest.raises(ValueError, match="openmesh"):
+        bt.decimate(sphere, ratio=0.25, openmesh=True, stabilizer=0.001)
+
+
 def test_fill_holes_closes_a_cut_sphere():
     whole = bt.generate("sphere", level=3)
     centre = whole.vertices[0]
