@@ -1,8 +1,8 @@
 //! The cotangent kernel's per-face data: each triangle's cotangents once per refresh,
 //! gathered into the row slots.
 
-use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{FaceId, HalfedgeMesh, VertexId};
+use beltrami_halfedge::geometry::triangle_cotangents_into;
+use beltrami_halfedge::{DVec3, FaceId, HalfedgeMesh, VertexId};
 use rayon::prelude::*;
 
 use super::layout::slot_values;
@@ -99,12 +99,12 @@ impl CotangentPlan {
     }
 
     /// Recomputes `face_cots` from the positions (in parallel, fixed chunks; each
-    /// triangle's bits are the geometry's).
-    pub(super) fn refresh(&mut self, geometry: &Geometry<'_>) {
+    /// triangle's bits are the geometry's). Reads no mesh.
+    pub(super) fn refresh(&mut self, positions: &[DVec3]) {
         let n = self.triangles.len();
         self.face_cots[..3 * n]
             .par_chunks_mut(3 * FACE_CHUNK)
             .zip(self.triangles.par_chunks(FACE_CHUNK))
-            .for_each(|(out, tris)| geometry.triangle_cotangents_into(tris, out));
+            .for_each(|(out, tris)| triangle_cotangents_into(positions, tris, out));
     }
 }

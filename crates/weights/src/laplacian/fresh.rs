@@ -2,17 +2,20 @@
 //! positions, one row at a time, for an integrator that applies each row as soon as it
 //! has it instead of storing every weight (see [`FreshRows`]).
 
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::{Geometry, distance, vertex_area_share};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use rayon::prelude::*;
 
 use super::Laplacian;
 use std::sync::OnceLock;
 
 use super::assembly::{
-    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring, fill_inverse_distance,
-    fill_uniform, row_scale,
+    RowKernel, Rows, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
+    fill_inverse_distance, fill_uniform, row_pass, row_scale, unit_pass,
 };
-use super::options::{NegativeWeights, Normalization};
+use super::layout::{NO_TRIANGLE, corner_code, slot_corners};
+use super::options::{CotangentKernel, NegativeWeights, Normalization};
+use crate::PAR_CHUNK;
 use crate::scheme::{BuiltIn, WeightScheme};
 
 /// The rows of a [`Laplacian`] at new positions, computed one row at a time and not
@@ -73,12 +76,24 @@ impl Laplacian {
             Normalization::WeightSum => None,
             Normalization::Area(kind) => Some(geometry.vertex_areas(kind).ok()?.into_vec()),
         };
-        let negative = self.options.negative;
         let built_in = BuiltIn::of(scheme)?;
+        self.fresh_rows_with(areas, built_in, |lap| lap.prepare_cotangents(&geometry))
+    }
+
+    /// The [`FreshRows`] of `built_in` with the vertex `areas` of area normalisation,
+    /// after `prepare` made the cotangent kernel's data ready (cotangent rows only;
+    /// `None` when it could not).
+    fn fresh_rows_with(
+        &mut self,
+        areas: Option<Vec<f64>>,
+        built_in: BuiltIn,
+        prepare: impl FnOnce(&mut Self) -> bool,
+    ) -> Option<FreshRows<'_>> {
+        let negative = self.options.negative;
         if !self.unit_weights {
             self.weights = OnceLock::new();
         }
-        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+        if built_in == BuiltIn::Cotangent && !prepare(self) {
             return None;
         }
         let kernel = match built_in {
@@ -97,6 +112,240 @@ impl Laplacian {
             areas,
             normalization: self.options.normalization,
         })
+    }
+
+    /// Makes the operator able to recompute its rows without the mesh
+    /// ([`fresh_rows_detached`](Self::fresh_rows_detached),
+    /// [`update_detached`](Self::update_detached)): for area normalisation it keeps, per
+    /// row slot, where the row's vertex stands in the triangle on the slot's left (two
+    /// bits per slot, so that each vertex area sums its triangles' shares in the
+    /// mesh's order), and for cotangent weights it builds the chosen kernel's data now
+    /// (the one-ring kernel's triangle bits, or the per-triangle plan, whose refresh
+    /// reads only the positions). The rows' offsets and neighbours are the rest.
+    ///
+    /// `false` (and nothing kept) when the rows cannot be recomputed that way:
+    /// `scheme` is not one of the built-in [`Uniform`](crate::Uniform),
+    /// [`InverseDistance`](crate::InverseDistance) and [`Cotangent`](crate::Cotangent);
+    /// a face is not a triangle; two vertices are joined by more than one edge (a row's
+    /// neighbours then do not name its triangles); the positions do not match the mesh;
+    /// or the per-triangle plan does not fit `u32` indices. Such operators keep
+    /// needing the mesh ([`update`](Self::update), [`fresh_rows`](Self::fresh_rows)).
+    ///
+    /// # Panics
+    /// If `mesh` has a different number of vertices or halfedges than at assembly.
+    pub fn detach(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+    ) -> bool {
+        assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
+        assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
+        let Some(built_in) = BuiltIn::of(scheme) else {
+            return false;
+        };
+        if !self.halfedges.is_empty() || !mesh.is_triangle_mesh() {
+            return false;
+        }
+        let Ok(geometry) = Geometry::new(mesh, positions) else {
+            return false;
+        };
+        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+            return false;
+        }
+        if let Normalization::Area(_) = self.options.normalization {
+            self.slot_corners = slot_corners(mesh, &self.offsets);
+        }
+        self.detached = true;
+        true
+    }
+
+    /// Whether [`detach`](Self::detach) made the operator able to recompute its rows
+    /// without the mesh.
+    #[must_use]
+    pub fn is_detached(&self) -> bool {
+        self.detached
+    }
+
+    /// [`fresh_rows`](Self::fresh_rows) without the mesh, after
+    /// [`detach`](Self::detach): the same rows, bit for bit (each vertex area sums its
+    /// triangles' shares in the mesh's order; the cotangent kernels read the kept
+    /// data). `None` when the operator is not detached, `scheme` is not the built-in
+    /// one it was detached for, or `positions` does not have one entry per row.
+    pub fn fresh_rows_detached(
+        &mut self,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+    ) -> Option<FreshRows<'_>> {
+        if !self.detached || positions.len() != self.scales.len() {
+            return None;
+        }
+        let built_in = BuiltIn::of(scheme)?;
+        let areas = self.detached_areas(positions);
+        self.fresh_rows_with(areas, built_in, |lap| {
+            lap.prepare_cotangents_detached(positions)
+        })
+    }
+
+    /// [`update`](Self::update) without the mesh, after [`detach`](Self::detach): the
+    /// same weights, sums and scales, bit for bit. `false` when they cannot be computed
+    /// without the mesh — the operator is not detached, `scheme` is not the built-in
+    /// one it was detached for, `positions` does not have one entry per row, or a
+    /// weight is not finite (which `update` reports with the halfedge it is on) — and
+    /// the operator's weights are then unspecified until the next successful update.
+    #[must_use]
+    pub fn update_detached(&mut self, positions: &[DVec3], scheme: &dyn WeightScheme) -> bool {
+        if !self.detached || positions.len() != self.scales.len() {
+            return false;
+        }
+        let Some(built_in) = BuiltIn::of(scheme) else {
+            return false;
+        };
+        let areas = self.detached_areas(positions);
+        let areas = areas.as_deref();
+        let negative = self.options.negative;
+        self.unit_weights = false;
+        if built_in == BuiltIn::Uniform {
+            let tally = unit_pass(
+                &self.offsets,
+                areas,
+                negative,
+                &mut self.weight_sums,
+                &mut self.scales,
+            );
+            self.stuck = tally.stuck;
+            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
+            self.weights = OnceLock::new();
+            if !self.unit_weights {
+                // As `update`: unreachable with the policies there are.
+                self.weights = OnceLock::from(vec![negative.apply(1.0); self.neighbours.len()]);
+            }
+            return true;
+        }
+        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents_detached(positions) {
+            return false;
+        }
+        let mut weights = self.weights.take().unwrap_or_default();
+        weights.resize(self.neighbours.len(), 0.0);
+        let rows = Rows {
+            first: 0,
+            weights: Some(&mut weights),
+            sums: &mut self.weight_sums,
+            scales: &mut self.scales,
+        };
+        let (offsets, neighbours) = (&self.offsets, &self.neighbours);
+        let kernel = match built_in {
+            BuiltIn::Cotangent => cotangent_row_kernel(
+                negative,
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            ),
+            _ => RowKernel::InverseDistance { negative },
+        };
+        // The same row functions, instances and order as `update`.
+        let tally = match kernel {
+            RowKernel::Cotangent {
+                slot_cots,
+                face_cots,
+                ..
+            } => row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+            }),
+            RowKernel::CotangentRing { triangles, .. } => {
+                row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                    fill_cotangent_ring::<1>(
+                        negative,
+                        positions,
+                        i,
+                        s,
+                        &neighbours[s..],
+                        triangles,
+                        w,
+                    )
+                })
+            }
+            _ => row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
+            }),
+        };
+        self.weights = OnceLock::from(weights);
+        if tally.non_finite {
+            return false;
+        }
+        self.stuck = tally.stuck;
+        true
+    }
+
+    /// The weight of a curve-boundary neighbour at `to` of a vertex at `from` for a
+    /// built-in scheme, from the two positions alone: the bits of
+    /// [`WeightScheme::curve_weight`] of [`Uniform`](crate::Uniform) (1) and of
+    /// [`InverseDistance`](crate::InverseDistance) and [`Cotangent`](crate::Cotangent)
+    /// (`1 / (|x_to − x_from| + ε)`). `None` for any other scheme, whose curve weight
+    /// may read the mesh.
+    #[must_use]
+    pub fn curve_weight_detached(scheme: &dyn WeightScheme, from: DVec3, to: DVec3) -> Option<f64> {
+        match BuiltIn::of(scheme)? {
+            BuiltIn::Uniform => Some(1.0),
+            BuiltIn::InverseDistance | BuiltIn::Cotangent => {
+                Some(1.0 / (distance(from, to) + crate::DISTANCE_EPSILON))
+            }
+        }
+    }
+
+    /// The vertex areas of area normalisation from the detached slot codes (`None` for
+    /// weight-sum normalisation): each vertex sums its triangles' shares from 0.0 in
+    /// row order, as [`Geometry::vertex_area`] does around the vertex. In parallel with
+    /// fixed chunks.
+    fn detached_areas(&self, positions: &[DVec3]) -> Option<Vec<f64>> {
+        let Normalization::Area(kind) = self.options.normalization else {
+            return None;
+        };
+        let (offsets, neighbours, codes) = (&self.offsets, &self.neighbours, &self.slot_corners);
+        let mut areas = vec![0.0; self.scales.len()];
+        areas
+            .par_chunks_mut(PAR_CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| {
+                for (k, a) in out.iter_mut().enumerate() {
+                    let i = c * PAR_CHUNK + k;
+                    let (first, end) = (offsets[i] as usize, offsets[i + 1] as usize);
+                    let xi = positions[i];
+                    let mut area = 0.0;
+                    for s in first..end {
+                        let code = corner_code(codes, s);
+                        if code == NO_TRIANGLE {
+                            continue;
+                        }
+                        let next = if s + 1 == end { first } else { s + 1 };
+                        let a = positions[neighbours[s] as usize];
+                        let b = positions[neighbours[next] as usize];
+                        let triangle = match code {
+                            0 => [xi, a, b],
+                            1 => [b, xi, a],
+                            _ => [a, b, xi],
+                        };
+                        area += vertex_area_share(triangle, usize::from(code), kind);
+                    }
+                    *a = area;
+                }
+            });
+        Some(areas)
+    }
+
+    /// Makes the cotangent kernel's data ready for `positions` without the mesh: the
+    /// one-ring kernel's bits as kept, or the per-triangle plan refreshed. `false` when
+    /// the chosen kernel's data was not built by [`detach`](Self::detach).
+    fn prepare_cotangents_detached(&mut self, positions: &[DVec3]) -> bool {
+        match self.options.cotangent_kernel {
+            CotangentKernel::Ring => self.ring_triangles.is_some(),
+            _ => match self.cotangent.as_mut() {
+                Some(plan) => {
+                    plan.refresh(positions);
+                    true
+                }
+                None => false,
+            },
+        }
     }
 }
 

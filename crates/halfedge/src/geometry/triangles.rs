@@ -1,0 +1,207 @@
+//! Geometry over a flat triangle list instead of a [`HalfedgeMesh`]: the whole-mesh
+//! measures and per-triangle quantities a smoother needs once the half-edge mesh is no
+//! longer kept, with the bits of the [`Geometry`] queries on the mesh built from the
+//! same list.
+
+use glam::DVec3;
+
+use super::kernel::{Frame, Sum, Triangle, VecSum, ldexp};
+use super::{Geometry, VertexAreaKind};
+use crate::ids::VertexId;
+use crate::mesh::HalfedgeMesh;
+
+/// A mesh without vertices or faces: the connectivity of a [`Geometry`] whose queries
+/// read the positions alone.
+static NO_MESH: HalfedgeMesh = HalfedgeMesh {
+    v_out: Vec::new(),
+    h_to: Vec::new(),
+    h_next: Vec::new(),
+    h_prev: Vec::new(),
+    h_face: Vec::new(),
+    f_he: Vec::new(),
+};
+
+/// A borrowed triangle list (vertex indices, each triangle in face order) with its
+/// vertex positions: the whole-mesh measures of [`Geometry`] without a
+/// [`HalfedgeMesh`].
+///
+/// For a triangle mesh built from the same list (`HalfedgeMesh::from_polygons(n,
+/// triangles)`, or any triangle mesh whose
+/// [`to_polygons`](HalfedgeMesh::to_polygons) is the list), every query gives the bits
+/// of the query of the same name on [`Geometry`]: the faces are visited in list order,
+/// each from its first vertex, and the centred frame is taken over the vertices that
+/// some triangle uses (on a triangle mesh, those that are not isolated).
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::geometry::{Geometry, TriangleGeometry};
+/// use beltrami_halfedge::{primitives, HalfedgeMesh};
+/// let sphere = primitives::icosphere(2);
+/// let mesh = sphere.mesh()?;
+/// let triangles: Vec<[u32; 3]> = mesh
+///     .to_polygons()
+///     .iter()
+///     .map(|f| [f[0], f[1], f[2]])
+///     .collect();
+/// let list = TriangleGeometry::new(&triangles, &sphere.positions)?;
+/// let on_mesh = Geometry::new(&mesh, &sphere.positions)?;
+/// assert_eq!(list.volume().to_bits(), on_mesh.volume()?.to_bits());
+/// # Ok::<(), beltrami_halfedge::TopologyError>(())
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleGeometry<'a> {
+    triangles: &'a [[u32; 3]],
+    positions: &'a [DVec3],
+}
+
+impl<'a> TriangleGeometry<'a> {
+    /// A view of `triangles` with vertex `v` at `positions[v]`.
+    ///
+    /// # Errors
+    /// [`TopologyError::VertexOutOfRange`](crate::TopologyError::VertexOutOfRange) when a
+    /// triangle names a vertex that has no position (the first such triangle).
+    pub fn new(
+        triangles: &'a [[u32; 3]],
+        positions: &'a [DVec3],
+    ) -> Result<Self, crate::TopologyError> {
+        let n = positions.len();
+        if let Some((face, &v)) = triangles
+            .iter()
+            .enumerate()
+            .find_map(|(f, t)| t.iter().find(|&&v| v as usize >= n).map(|v| (f, v)))
+        {
+            return Err(crate::TopologyError::VertexOutOfRange {
+                face,
+                vertex: v,
+                n_vertices: n,
+            });
+        }
+        Ok(Self {
+            triangles,
+            positions,
+        })
+    }
+
+    /// The triangles.
+    #[must_use]
+    pub fn triangles(&self) -> &'a [[u32; 3]] {
+        self.triangles
+    }
+
+    /// The positions, one per vertex.
+    #[must_use]
+    pub fn positions(&self) -> &'a [DVec3] {
+        self.positions
+    }
+
+    /// The signed volume in unit³ enclosed by the triangles, `Σ p0 · (p1 × p2) / 6` in
+    /// list order, relative to the centre of the bounding box of the vertices the
+    /// triangles use, with compensated summation: the bits of [`Geometry::volume`] on a
+    /// closed mesh built from the list. Meaningful for a closed surface only, which is
+    /// not checked here (the mesh's query checks it). 0.0 without triangles.
+    ///
+    /// # Complexity
+    /// O(V + F).
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        let Some(frame) = self.centred_frame() else {
+            return 0.0;
+        };
+        let mut sum = Sum::default();
+        for t in self.triangles {
+            let [q0, q1, q2] = t.map(|v| frame.span(self.positions[v as usize]));
+            sum.add(q0.dot(q1.cross(q2)));
+        }
+        ldexp(sum.value() / 6.0, 3 * frame.exponent())
+    }
+
+    /// The centre of area of the surface: the bits of [`Geometry::surface_centroid`] on
+    /// a mesh built from the list; `None` when the total area is zero.
+    ///
+    /// # Complexity
+    /// O(V + F).
+    #[must_use]
+    pub fn surface_centroid(&self) -> Option<DVec3> {
+        let frame = self.centred_frame()?;
+        let mut weight = Sum::default();
+        let mut moment = VecSum::default();
+        for t in self.triangles {
+            let [q0, q1, q2] = t.map(|v| frame.span(self.positions[v as usize]));
+            let w = (q1 - q0).cross(q2 - q0).length();
+            weight.add(w);
+            moment.add((q0 + q1 + q2) * (w / 3.0));
+        }
+        let w = weight.value();
+        if w.is_nan() || w <= 0.0 {
+            return None;
+        }
+        let offset = moment.value() / w;
+        let e = frame.exponent();
+        Some(
+            frame.origin() + DVec3::new(ldexp(offset.x, e), ldexp(offset.y, e), ldexp(offset.z, e)),
+        )
+    }
+
+    /// The frame of [`Geometry`]'s whole-mesh measures: around the centre of the
+    /// bounding box of the used vertices, folded in vertex order; `None` when no vertex
+    /// is used.
+    fn centred_frame(&self) -> Option<Frame> {
+        let mut used = vec![0u64; self.positions.len().div_ceil(64)];
+        for t in self.triangles {
+            for &v in t {
+                used[v as usize / 64] |= 1 << (v % 64);
+            }
+        }
+        let mut corners = (0..self.positions.len())
+            .filter(|&v| (used[v / 64] >> (v % 64)) & 1 != 0)
+            .map(|v| self.positions[v]);
+        let first = corners.next()?;
+        let (lo, hi) = corners.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        let centre = lo * 0.5 + hi * 0.5;
+        Some(Frame::new(centre, &[lo, hi]))
+    }
+}
+
+/// The share of corner `corner` (0, 1 or 2) of the triangle with vertex positions
+/// `triangle` (in face order, from the face's first vertex) in the area of that corner's
+/// vertex under `kind`, in unit²: a third of the area (barycentric) or Meyer et al.'s
+/// mixed Voronoi share. The term [`Geometry::vertex_area`] adds for that face, bit for
+/// bit, so that a vertex's area can be summed without the mesh: add the shares of its
+/// triangles in counter-clockwise order (the order of its outgoing halfedges) from 0.0.
+///
+/// # Panics
+/// If `corner` is not 0, 1 or 2.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::geometry::{VertexAreaKind, vertex_area_share};
+/// use beltrami_halfedge::DVec3;
+/// let t = [DVec3::ZERO, DVec3::new(4.0, 0.0, 0.0), DVec3::new(2.0, 1.0, 0.0)];
+/// assert_eq!(vertex_area_share(t, 2, VertexAreaKind::MixedVoronoi), 1.0);
+/// assert_eq!(vertex_area_share(t, 0, VertexAreaKind::Barycentric), 2.0 / 3.0);
+/// ```
+#[inline]
+#[must_use]
+pub fn vertex_area_share(triangle: [DVec3; 3], corner: usize, kind: VertexAreaKind) -> f64 {
+    assert!(corner < 3, "a triangle has three corners");
+    let t = Triangle(triangle);
+    match kind {
+        VertexAreaKind::Barycentric => t.area() / 3.0,
+        VertexAreaKind::MixedVoronoi => t.mixed_area(corner),
+    }
+}
+
+/// The cotangents of `triangles` (vertex ids in face order) at `positions` into `out`,
+/// three per triangle (opposite the edges ending at its first, second and third vertex):
+/// the bits of [`Geometry::triangle_cotangents_into`], which reads only the positions,
+/// for a caller that holds a triangle list but no mesh.
+///
+/// # Panics
+/// If `out` is not three times as long as `triangles`, or a vertex has no position.
+pub fn triangle_cotangents_into(positions: &[DVec3], triangles: &[[VertexId; 3]], out: &mut [f64]) {
+    let geometry = Geometry {
+        mesh: &NO_MESH,
+        positions,
+    };
+    geometry.triangle_cotangents_into(triangles, out);
+}
