@@ -21,8 +21,8 @@ static NO_MESH: HalfedgeMesh = HalfedgeMesh {
     f_he: Vec::new(),
 };
 
-/// A borrowed triangle list (vertex indices, each triangle in face order) with its
-/// vertex positions: the whole-mesh measures of [`Geometry`] without a
+/// A borrowed flat triangle list (vertex indices, three per triangle, each triangle in
+/// face order from its first vertex) with its vertex positions: the whole-mesh measures of [`Geometry`] without a
 /// [`HalfedgeMesh`].
 ///
 /// For a triangle mesh built from the same list (`HalfedgeMesh::from_polygons(n,
@@ -38,11 +38,7 @@ static NO_MESH: HalfedgeMesh = HalfedgeMesh {
 /// use beltrami_halfedge::{primitives, HalfedgeMesh};
 /// let sphere = primitives::icosphere(2);
 /// let mesh = sphere.mesh()?;
-/// let triangles: Vec<[u32; 3]> = mesh
-///     .to_polygons()
-///     .iter()
-///     .map(|f| [f[0], f[1], f[2]])
-///     .collect();
+/// let triangles = mesh.to_polygons().indices().to_vec();
 /// let list = TriangleGeometry::new(&triangles, &sphere.positions)?;
 /// let on_mesh = Geometry::new(&mesh, &sphere.positions)?;
 /// assert_eq!(list.volume().to_bits(), on_mesh.volume()?.to_bits());
@@ -50,7 +46,7 @@ static NO_MESH: HalfedgeMesh = HalfedgeMesh {
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleGeometry<'a> {
-    triangles: &'a [[u32; 3]],
+    triangles: &'a [u32],
     positions: &'a [DVec3],
 }
 
@@ -58,21 +54,22 @@ impl<'a> TriangleGeometry<'a> {
     /// A view of `triangles` with vertex `v` at `positions[v]`.
     ///
     /// # Errors
+    /// [`TopologyError::NotTriangle`](crate::TopologyError::NotTriangle) when the length
+    /// of `triangles` is not a multiple of 3 (the last, incomplete face is named);
     /// [`TopologyError::VertexOutOfRange`](crate::TopologyError::VertexOutOfRange) when a
     /// triangle names a vertex that has no position (the first such triangle).
-    pub fn new(
-        triangles: &'a [[u32; 3]],
-        positions: &'a [DVec3],
-    ) -> Result<Self, crate::TopologyError> {
+    pub fn new(triangles: &'a [u32], positions: &'a [DVec3]) -> Result<Self, crate::TopologyError> {
+        if triangles.len() % 3 != 0 {
+            return Err(crate::TopologyError::NotTriangle {
+                face: u32::try_from(triangles.len() / 3).unwrap_or(u32::MAX),
+                len: triangles.len() % 3,
+            });
+        }
         let n = positions.len();
-        if let Some((face, &v)) = triangles
-            .iter()
-            .enumerate()
-            .find_map(|(f, t)| t.iter().find(|&&v| v as usize >= n).map(|v| (f, v)))
-        {
+        if let Some(k) = triangles.iter().position(|&v| v as usize >= n) {
             return Err(crate::TopologyError::VertexOutOfRange {
-                face,
-                vertex: v,
+                face: k / 3,
+                vertex: triangles[k],
                 n_vertices: n,
             });
         }
@@ -82,9 +79,9 @@ impl<'a> TriangleGeometry<'a> {
         })
     }
 
-    /// The triangles.
+    /// The triangles, three indices each.
     #[must_use]
-    pub fn triangles(&self) -> &'a [[u32; 3]] {
+    pub fn triangles(&self) -> &'a [u32] {
         self.triangles
     }
 
@@ -108,8 +105,8 @@ impl<'a> TriangleGeometry<'a> {
             return 0.0;
         };
         let mut sum = Sum::default();
-        for t in self.triangles {
-            let [q0, q1, q2] = t.map(|v| frame.span(self.positions[v as usize]));
+        for t in self.triangles.chunks_exact(3) {
+            let [q0, q1, q2] = [0, 1, 2].map(|k| frame.span(self.positions[t[k] as usize]));
             sum.add(q0.dot(q1.cross(q2)));
         }
         ldexp(sum.value() / 6.0, 3 * frame.exponent())
@@ -125,8 +122,8 @@ impl<'a> TriangleGeometry<'a> {
         let frame = self.centred_frame()?;
         let mut weight = Sum::default();
         let mut moment = VecSum::default();
-        for t in self.triangles {
-            let [q0, q1, q2] = t.map(|v| frame.span(self.positions[v as usize]));
+        for t in self.triangles.chunks_exact(3) {
+            let [q0, q1, q2] = [0, 1, 2].map(|k| frame.span(self.positions[t[k] as usize]));
             let w = (q1 - q0).cross(q2 - q0).length();
             weight.add(w);
             moment.add((q0 + q1 + q2) * (w / 3.0));
@@ -147,10 +144,8 @@ impl<'a> TriangleGeometry<'a> {
     /// is used.
     fn centred_frame(&self) -> Option<Frame> {
         let mut used = vec![0u64; self.positions.len().div_ceil(64)];
-        for t in self.triangles {
-            for &v in t {
-                used[v as usize / 64] |= 1 << (v % 64);
-            }
+        for &v in self.triangles {
+            used[v as usize / 64] |= 1 << (v % 64);
         }
         let mut corners = (0..self.positions.len())
             .filter(|&v| (used[v / 64] >> (v % 64)) & 1 != 0)
