@@ -4,10 +4,10 @@ use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::{Geometry, TriangleGeometry};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
-use beltrami_smooth::{SmoothError, SmoothReport, Smoothed, Smoother};
+use beltrami_smooth::{OwnedFaces, SmoothError, SmoothReport, Smoothed, Smoother};
 use beltrami_weights::WeightRegistry;
 use beltrami_weights::{CotangentKernel, WeightScheme};
 
@@ -18,12 +18,14 @@ use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{number, plural};
 
 mod args;
+mod kept;
 mod report;
 
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
 use args::{
     CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
 };
+use kept::KeptPositions;
 use report::{ReadSeconds, build_report, method_label};
 
 /// Runs `beltrami smooth`.
@@ -58,17 +60,17 @@ pub(crate) fn run(
         ..
     } = loaded;
     // The output is written with the mesh's own faces (`to_polygons` gives the list
-    // the mesh was built from back exactly), so the list as read is not kept through
-    // the run.
+    // the mesh was built from back exactly; a run without the mesh keeps its triangles,
+    // the same list), so the list as read is not kept through the run.
     drop(faces);
     let shape = Shape::of(&mesh);
     let before = Before::of(&mesh, &positions);
-    let (smoothed, mesh) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
+    let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
     let t1 = Instant::now();
-    let change = before.change(&mesh, &smoothed.positions);
-    let faces = mesh.to_polygons();
-    drop(mesh);
+    let change = before.change(&owned, &smoothed.positions)?;
+    let faces = owned.to_polygons();
+    drop(owned);
     let data = MeshData {
         positions: smoothed.positions,
         faces,
@@ -258,9 +260,10 @@ struct Change {
 }
 
 /// What [`Change`] needs of the input, taken before the run: its positions (for the
-/// displacements) and, for a closed mesh, its volume.
+/// displacements; in a temporary file through the run) and, for a closed mesh, its
+/// volume.
 struct Before {
-    positions: Vec<DVec3>,
+    positions: KeptPositions,
     /// `None` for a mesh with a boundary; `Some(None)` when the volume cannot be
     /// computed.
     volume: Option<Option<f64>>,
@@ -273,32 +276,40 @@ fn volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<f64> {
         .and_then(|g| g.volume().ok())
 }
 
+/// The enclosed volume of the closed mesh `faces` (as [`volume`] on the mesh, the same
+/// bits over the triangles of a run without it), or `None` when it cannot be computed.
+fn volume_of(faces: &OwnedFaces, positions: &[DVec3]) -> Option<f64> {
+    match faces {
+        OwnedFaces::Mesh(mesh) => volume(mesh, positions),
+        OwnedFaces::Triangles(t) => TriangleGeometry::new(t, positions)
+            .ok()
+            .map(|g| g.volume()),
+        _ => None,
+    }
+}
+
 impl Before {
     fn of(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Self {
         Self {
-            positions: positions.to_vec(),
+            positions: KeptPositions::keep(positions),
             volume: mesh.is_closed().then(|| volume(mesh, positions)),
         }
     }
 
-    /// The change from the input to `after` on `mesh` (the input's connectivity).
-    fn change(self, mesh: &HalfedgeMesh, after: &[DVec3]) -> Change {
-        let n = self.positions.len().max(1);
-        let mean_displacement = self
-            .positions
-            .iter()
-            .zip(after)
-            .map(|(a, b)| a.distance(*b))
-            .sum::<f64>()
-            / n as f64;
+    /// The change from the input to `after` on `faces` (the input's connectivity).
+    ///
+    /// # Errors
+    /// When the input positions cannot be read back from their temporary file.
+    fn change(mut self, faces: &OwnedFaces, after: &[DVec3]) -> Result<Change, CliError> {
+        let mean_displacement = self.positions.mean_displacement(after)?;
         drop(self.positions);
         let volume = self
             .volume
-            .and_then(|before| before.zip(volume(mesh, after)).filter(|(b, _)| *b != 0.0));
-        Change {
+            .and_then(|before| before.zip(volume_of(faces, after)).filter(|(b, _)| *b != 0.0));
+        Ok(Change {
             mean_displacement,
             volume,
-        }
+        })
     }
 }
 
@@ -395,14 +406,14 @@ fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
 
 /// Every method (plain, Taubin, HC, implicit) through [`Smoother`], which takes the
 /// mesh and the positions by value (no copy of either, the mesh renumbered in place)
-/// and hands the mesh back.
+/// and hands back the mesh, or only its triangles when the run went on without it.
 fn run_smoother(
     args: &SmoothArgs,
     mesh: HalfedgeMesh,
     positions: Vec<DVec3>,
     scheme: &dyn WeightScheme,
     kernel: CotangentKernel,
-) -> Result<(Smoothed, HalfedgeMesh), CliError> {
+) -> Result<(Smoothed, OwnedFaces), CliError> {
     let smooth_error = |source| {
         taubin_hint(
             args,
@@ -427,8 +438,8 @@ fn run_smoother(
     }
     check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
     let progress = progress_bar(smoother.config().iterations);
-    let (smoothed, mesh) = smoother
-        .run_owned(|it| {
+    let (smoothed, faces) = smoother
+        .run_owned_faces(|it| {
             if let Some(bar) = &progress {
                 bar.set_position(it.index as u64);
             }
@@ -438,8 +449,8 @@ fn run_smoother(
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
-    let mesh = mesh.expect("a mesh given by value is handed back");
-    Ok((smoothed, mesh))
+    let faces = faces.expect("a mesh given by value is handed back");
+    Ok((smoothed, faces))
 }
 
 /// Refuses a run planning more than `--max-iterations` iterations, and prints the

@@ -200,3 +200,102 @@ pub fn triangle_cotangents_into(positions: &[DVec3], triangles: &[[VertexId; 3]]
     };
     geometry.triangle_cotangents_into(triangles, out);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives;
+
+    /// Volume and centroid over the list have the bits of the mesh's, far from the
+    /// origin and at a huge scale too (the frame's rescaling), with an isolated vertex far
+    /// away (outside the frame); a bad list is a typed error.
+    #[test]
+    fn measures_over_the_list_have_the_bits_of_the_mesh() {
+        let torus = primitives::torus(2.0, 0.6, 12, 7);
+        for (shift, scale) in [(DVec3::ZERO, 1.0), (DVec3::new(1e6, -3e5, 7.0), 1.0), (DVec3::ONE, 1e250)] {
+            let mut x: Vec<DVec3> = torus
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(i, &p)| (p + DVec3::splat(0.01 * (i as f64).sin())) * scale + shift)
+                .collect();
+            x.push(DVec3::splat(-1e9));
+            let mesh = HalfedgeMesh::from_polygons(x.len(), torus.faces.iter()).unwrap();
+            let flat = mesh.to_polygons().indices().to_vec();
+            let list = TriangleGeometry::new(&flat, &x).unwrap();
+            let on_mesh = Geometry::new(&mesh, &x).unwrap();
+            assert_eq!(list.volume().to_bits(), on_mesh.volume().unwrap().to_bits());
+            let (a, b) = (list.surface_centroid().unwrap(), on_mesh.surface_centroid().unwrap());
+            assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits));
+            assert_eq!(list.triangles().len(), flat.len());
+        }
+        let x = [DVec3::ZERO; 3];
+        assert_eq!(
+            TriangleGeometry::new(&[0, 1, 2, 0], &x).unwrap_err(),
+            crate::TopologyError::NotTriangle { face: 1, len: 1 }
+        );
+        assert_eq!(
+            TriangleGeometry::new(&[0, 1, 3], &x).unwrap_err(),
+            crate::TopologyError::VertexOutOfRange { face: 0, vertex: 3, n_vertices: 3 }
+        );
+        assert_eq!(TriangleGeometry::new(&[], &x).unwrap().volume(), 0.0);
+        assert!(TriangleGeometry::new(&[], &x).unwrap().surface_centroid().is_none());
+    }
+
+    /// The shares of a vertex's triangles summed in its order give `vertex_area`; the
+    /// cotangents without a mesh are the geometry's.
+    #[test]
+    fn shares_and_cotangents_have_the_bits_of_the_mesh() {
+        let sphere = primitives::icosphere(2);
+        let mesh = sphere.mesh().unwrap();
+        let x: Vec<DVec3> = sphere
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| p * (1.0 + 0.1 * (i as f64).sin()))
+            .collect();
+        let geometry = Geometry::new(&mesh, &x).unwrap();
+        for kind in [VertexAreaKind::Barycentric, VertexAreaKind::MixedVoronoi] {
+            for v in mesh.vertices() {
+                let mut area = 0.0;
+                for h in mesh.halfedges_around_vertex(v) {
+                    let Some(f) = mesh.face(h) else { continue };
+                    let corners: Vec<VertexId> = mesh.vertices_around_face(f).collect();
+                    let corner = corners.iter().position(|&c| c == v).unwrap();
+                    let t = [0, 1, 2].map(|k| x[corners[k].index()]);
+                    area += vertex_area_share(t, corner, kind);
+                }
+                assert_eq!(area.to_bits(), geometry.vertex_area(v, kind).to_bits());
+            }
+        }
+        let triangles: Vec<[VertexId; 3]> = mesh
+            .faces()
+            .map(|f| {
+                let c: Vec<VertexId> = mesh.vertices_around_face(f).collect();
+                [c[0], c[1], c[2]]
+            })
+            .collect();
+        let mut a = vec![0.0; 3 * triangles.len()];
+        let mut b = vec![1.0; 3 * triangles.len()];
+        triangle_cotangents_into(&x, &triangles, &mut a);
+        geometry.triangle_cotangents_into(&triangles, &mut b);
+        assert_eq!(
+            a.iter().map(|c| c.to_bits()).collect::<Vec<_>>(),
+            b.iter().map(|c| c.to_bits()).collect::<Vec<_>>()
+        );
+    }
+
+    /// A mesh's triangle list is its `to_polygons` indices, closed or open; a polygon
+    /// mesh is handed back unchanged.
+    #[test]
+    fn a_mesh_becomes_its_triangle_list() {
+        for shape in [primitives::icosphere(2), primitives::grid(6, 4), primitives::tetrahedron()] {
+            let mesh = shape.mesh().unwrap();
+            let polygons = mesh.to_polygons();
+            assert_eq!(mesh.into_triangle_indices().unwrap(), polygons.indices());
+        }
+        let cube = primitives::cube_quads();
+        let mesh = cube.mesh().unwrap();
+        assert_eq!(mesh.clone().into_triangle_indices().unwrap_err(), mesh);
+    }
+}

@@ -513,3 +513,138 @@ impl FreshRows<'_> {
         self.row(i, positions, &mut vec![0.0; len])
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Cotangent, CotangentKernel, InverseDistance, LaplacianOptions, Uniform};
+    use beltrami_halfedge::geometry::VertexAreaKind;
+    use beltrami_halfedge::primitives;
+
+    /// `p` moved by a deterministic wobble (no two vertices alike).
+    fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
+        p.iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let t = i as f64;
+                p + DVec3::new((1.3 * t).sin(), (2.1 * t).cos(), (0.7 * t).sin()) * amount
+            })
+            .collect()
+    }
+
+    fn row_bits(lap: &Laplacian) -> (Vec<u64>, Vec<u64>, Vec<u64>, usize) {
+        let rows = lap.rows();
+        let sums = (0..lap.n_rows())
+            .map(|i| lap.weight_sum(beltrami_halfedge::VertexId::new(i as u32)).to_bits())
+            .collect();
+        (
+            rows.weights.iter().map(|w| w.to_bits()).collect(),
+            rows.scales.iter().map(|s| s.to_bits()).collect(),
+            sums,
+            lap.stuck_rows(),
+        )
+    }
+
+    /// Without the mesh, `update` and `fresh_rows` give the bits they give with it:
+    /// every built-in scheme, both cotangent kernels, every normalisation, on a closed
+    /// sphere and an open grid.
+    #[test]
+    fn rows_without_the_mesh_have_the_bits_of_the_rows_with_it() {
+        let sphere = primitives::icosphere(3);
+        let grid = primitives::grid(9, 7);
+        let schemes: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
+        for shape in [sphere, grid] {
+            let mesh = shape.mesh().unwrap();
+            let x = wobble(&shape.positions, 0.02);
+            let y = wobble(&x, 0.03);
+            for scheme in schemes {
+                for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+                    for normalization in [
+                        Normalization::WeightSum,
+                        Normalization::Area(VertexAreaKind::Barycentric),
+                        Normalization::Area(VertexAreaKind::MixedVoronoi),
+                    ] {
+                        let options = LaplacianOptions::new()
+                            .normalization(normalization)
+                            .cotangent_kernel(kernel);
+                        let mut with = Laplacian::new(&mesh, &x, scheme, options).unwrap();
+                        let mut without = with.clone();
+                        assert!(without.detach(&mesh, &x, scheme));
+                        assert!(without.is_detached());
+                        with.update(&mesh, &y, scheme).unwrap();
+                        assert!(without.update_detached(&y, scheme));
+                        assert_eq!(row_bits(&with), row_bits(&without), "{options:?}");
+                        let n = with.n_rows();
+                        let a = with.fresh_rows(&mesh, &x, scheme).unwrap();
+                        let b = without.fresh_rows_detached(&x, scheme).unwrap();
+                        let (mut wa, mut wb) = (vec![0.0; 64], vec![0.0; 64]);
+                        for i in 0..n {
+                            let sa = a.row(i, &x, &mut wa).map(f64::to_bits);
+                            let sb = b.row(i, &x, &mut wb).map(f64::to_bits);
+                            assert_eq!(sa, sb, "{options:?}, row {i}");
+                            assert_eq!(
+                                wa.iter().map(|w| w.to_bits()).collect::<Vec<_>>(),
+                                wb.iter().map(|w| w.to_bits()).collect::<Vec<_>>()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A mesh with polygon faces, a scheme of the caller's own, and positions that do
+    /// not match are not detached; an operator that is not detached computes nothing
+    /// without the mesh.
+    #[test]
+    fn what_needs_the_mesh_is_not_detached() {
+        let cube = primitives::cube_quads();
+        let mesh = cube.mesh().unwrap();
+        let options = LaplacianOptions::default();
+        let mut lap = Laplacian::new(&mesh, &cube.positions, &Uniform, options).unwrap();
+        assert!(!lap.detach(&mesh, &cube.positions, &Uniform));
+        assert!(!lap.is_detached());
+        assert!(!lap.update_detached(&cube.positions, &Uniform));
+        assert!(lap.fresh_rows_detached(&cube.positions, &Uniform).is_none());
+
+        struct Mine;
+        impl WeightScheme for Mine {
+            fn name(&self) -> &str {
+                "mine"
+            }
+            fn weight(
+                &self,
+                _: &crate::WeightContext<'_>,
+                _: beltrami_halfedge::HalfedgeId,
+            ) -> f64 {
+                2.0
+            }
+        }
+        let sphere = primitives::icosphere(1);
+        let mesh = sphere.mesh().unwrap();
+        let x = &sphere.positions;
+        let mut lap = Laplacian::new(&mesh, x, &Mine, options).unwrap();
+        assert!(!lap.detach(&mesh, x, &Mine));
+        assert!(!lap.detach(&mesh, &x[1..], &Uniform));
+        assert!(lap.detach(&mesh, x, &Uniform));
+        assert!(!lap.update_detached(&x[1..], &Uniform));
+        assert!(!lap.update_detached(x, &Mine));
+        assert!(lap.update_detached(x, &Uniform));
+        assert_eq!(Laplacian::curve_weight_detached(&Mine, x[0], x[1]), None);
+        assert_eq!(Laplacian::curve_weight_detached(&Uniform, x[0], x[1]), Some(1.0));
+    }
+
+    /// A non-finite weight is left to `update` with the mesh, which names its halfedge.
+    #[test]
+    fn a_non_finite_weight_needs_the_mesh() {
+        let sphere = primitives::icosphere(1);
+        let mesh = sphere.mesh().unwrap();
+        let mut x = sphere.positions.clone();
+        let options = LaplacianOptions::default();
+        let mut lap = Laplacian::new(&mesh, &x, &InverseDistance, options).unwrap();
+        assert!(lap.detach(&mesh, &x, &InverseDistance));
+        x[3].x = f64::NAN;
+        assert!(!lap.update_detached(&x, &InverseDistance));
+        assert!(lap.update(&mesh, &x, &InverseDistance).is_err());
+    }
+}
