@@ -52,14 +52,7 @@ impl KeptPositions {
                 let mut error = None;
                 let mut buf = [0u8; 24];
                 let read = (0..*n).map_while(|_| match reader.read_exact(&mut buf) {
-                    Ok(()) => {
-                        let c = |k: usize| {
-                            let mut b = [0u8; 8];
-                            b.copy_from_slice(&buf[8 * k..8 * k + 8]);
-                            f64::from_le_bytes(b)
-                        };
-                        Some(DVec3::new(c(0), c(1), c(2)))
-                    }
+                    Ok(()) => Some(decode(&buf)),
                     Err(e) => {
                         error = Some(e);
                         None
@@ -84,6 +77,28 @@ impl Drop for KeptPositions {
             let _ = std::fs::remove_file(path);
         }
     }
+}
+
+/// The error of positions that could not be read back from their temporary file,
+/// reported with the input file `path` they came from.
+pub(super) fn read_back_error(path: &std::path::Path, source: std::io::Error) -> crate::error::CliError {
+    crate::error::CliError::Io {
+        path: path.to_path_buf(),
+        source: beltrami_io::IoError::Io {
+            operation: "read back the input positions from a temporary file",
+            source,
+        },
+    }
+}
+
+/// The position whose three coordinates are the little-endian bytes of `buf`.
+fn decode(buf: &[u8; 24]) -> DVec3 {
+    let c = |k: usize| {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(&buf[8 * k..8 * k + 8]);
+        f64::from_le_bytes(b)
+    };
+    DVec3::new(c(0), c(1), c(2))
 }
 
 /// `Σ |a_i − b_i| / max(n, 1)` in order, `n` the length of `after`.

@@ -68,7 +68,9 @@ pub(crate) fn run(
     let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
     let t1 = Instant::now();
-    let change = before.change(&owned, &smoothed.positions)?;
+    let change = before
+        .change(&owned, &smoothed.positions)
+        .map_err(|e| kept::read_back_error(&args.input, e))?;
     let faces = owned.to_polygons();
     drop(owned);
     let data = MeshData {
@@ -300,7 +302,7 @@ impl Before {
     ///
     /// # Errors
     /// When the input positions cannot be read back from their temporary file.
-    fn change(mut self, faces: &OwnedFaces, after: &[DVec3]) -> Result<Change, CliError> {
+    fn change(mut self, faces: &OwnedFaces, after: &[DVec3]) -> std::io::Result<Change> {
         let mean_displacement = self.positions.mean_displacement(after)?;
         drop(self.positions);
         let volume = self
