@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use beltrami_halfedge::DVec3;
 
 /// The input positions, kept until the run is over.
-pub(super) enum KeptPositions {
+pub(crate) enum KeptPositions {
     /// In a temporary file, each coordinate's eight bytes (little-endian, the exact
     /// bits); the file is removed when this is dropped (at once where the system lets
     /// an open file be removed).
@@ -26,7 +26,7 @@ pub(super) enum KeptPositions {
 impl KeptPositions {
     /// Keeps a copy of `positions`: written to a new file in the system's temporary
     /// directory, or in memory when that fails.
-    pub(super) fn keep(positions: &[DVec3]) -> Self {
+    pub(crate) fn keep(positions: &[DVec3]) -> Self {
         match spill(positions) {
             Ok((file, path)) => Self::File {
                 file,
@@ -37,13 +37,39 @@ impl KeptPositions {
         }
     }
 
+    /// Whether the positions are in a file (not in memory).
+    pub(crate) fn in_file(&self) -> bool {
+        matches!(self, Self::File { .. })
+    }
+
+    /// The kept positions, read back (or copied from memory).
+    ///
+    /// # Errors
+    /// When the temporary file cannot be read back.
+    pub(crate) fn read_all(&mut self) -> std::io::Result<Vec<DVec3>> {
+        match self {
+            Self::Memory(positions) => Ok(positions.clone()),
+            Self::File { file, n, .. } => {
+                file.seek(SeekFrom::Start(0))?;
+                let mut reader = BufReader::with_capacity(1 << 16, &*file);
+                let mut out = Vec::with_capacity(*n);
+                let mut buf = [0u8; 24];
+                for _ in 0..*n {
+                    reader.read_exact(&mut buf)?;
+                    out.push(decode(&buf));
+                }
+                Ok(out)
+            }
+        }
+    }
+
     /// The mean of `|a_i − b_i|` over the kept positions `a` and `after`, summed in
     /// vertex order (the bits of the same sum over positions kept in memory); 0 for no
     /// vertices.
     ///
     /// # Errors
     /// When the temporary file cannot be read back.
-    pub(super) fn mean_displacement(&mut self, after: &[DVec3]) -> std::io::Result<f64> {
+    pub(crate) fn mean_displacement(&mut self, after: &[DVec3]) -> std::io::Result<f64> {
         match self {
             Self::Memory(positions) => Ok(mean_distance(positions.iter().copied(), after)),
             Self::File { file, n, .. } => {
@@ -81,7 +107,7 @@ impl Drop for KeptPositions {
 
 /// The error of positions that could not be read back from their temporary file,
 /// reported with the input file `path` they came from.
-pub(super) fn read_back_error(path: &std::path::Path, source: std::io::Error) -> crate::error::CliError {
+pub(crate) fn read_back_error(path: &std::path::Path, source: std::io::Error) -> crate::error::CliError {
     crate::error::CliError::Io {
         path: path.to_path_buf(),
         source: beltrami_io::IoError::Io {
@@ -170,6 +196,12 @@ mod tests {
         let a = memory.mean_displacement(&after).unwrap();
         let b = file.mean_displacement(&after).unwrap();
         assert_eq!(a.to_bits(), b.to_bits());
+        let bits = |p: &[DVec3]| -> Vec<[u64; 3]> {
+            p.iter().map(|p| p.to_array().map(f64::to_bits)).collect()
+        };
+        assert_eq!(bits(&file.read_all().unwrap()), bits(&before));
+        assert_eq!(bits(&memory.read_all().unwrap()), bits(&before));
+        assert!(file.in_file() && !memory.in_file());
         let mut empty = KeptPositions::keep(&[]);
         assert_eq!(empty.mean_displacement(&[]).unwrap(), 0.0);
     }

@@ -12,13 +12,13 @@ use beltrami_weights::WeightRegistry;
 use beltrami_weights::{CotangentKernel, WeightScheme};
 
 use crate::error::CliError;
-use crate::load::{LoadedMesh, load_checked};
+use crate::load::{LoadedMesh, load_checked_keeping};
 use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
 use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{number, plural};
 
 mod args;
-mod kept;
+pub(crate) mod kept;
 mod report;
 
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
@@ -47,7 +47,7 @@ pub(crate) fn run(
         .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
-    let (loaded, kernel) = load_within_memory(args, scheme.as_ref())?;
+    let (loaded, kept, kernel) = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let LoadedMesh {
@@ -64,7 +64,7 @@ pub(crate) fn run(
     // the same list), so the list as read is not kept through the run.
     drop(faces);
     let shape = Shape::of(&mesh);
-    let before = Before::of(&mesh, &positions);
+    let before = Before::of(&mesh, &positions, kept);
     let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
     let t1 = Instant::now();
@@ -129,7 +129,7 @@ impl Shape {
 fn load_within_memory(
     args: &SmoothArgs,
     scheme: &dyn WeightScheme,
-) -> Result<(LoadedMesh, CotangentKernel), CliError> {
+) -> Result<(LoadedMesh, KeptPositions, CotangentKernel), CliError> {
     let mut kernel = CotangentKernel::PerTriangle;
     if let Ok(Some(declared)) = declared_counts(&args.input) {
         let faces = declared.faces;
@@ -138,7 +138,7 @@ fn load_within_memory(
             None => MemoryEstimate::for_triangle_soup(memory, faces),
         })?;
     }
-    let loaded = load_checked(&args.input, &args.read, |data| {
+    let (loaded, kept) = load_checked_keeping(&args.input, &args.read, |data| {
         kernel = choose_kernel(args, scheme, true, |memory| {
             MemoryEstimate::new(
                 memory,
@@ -149,7 +149,7 @@ fn load_within_memory(
         })?;
         Ok(())
     })?;
-    Ok((loaded, kernel))
+    Ok((loaded, kept, kernel))
 }
 
 /// The cotangent kernel of the run, after checking that its estimate (`estimate` of
@@ -291,9 +291,9 @@ fn volume_of(faces: &OwnedFaces, positions: &[DVec3]) -> Option<f64> {
 }
 
 impl Before {
-    fn of(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Self {
+    fn of(mesh: &HalfedgeMesh, positions: &[DVec3], kept: KeptPositions) -> Self {
         Self {
-            positions: KeptPositions::keep(positions),
+            positions: kept,
             volume: mesh.is_closed().then(|| volume(mesh, positions)),
         }
     }
