@@ -83,7 +83,11 @@ fn compare(
             "{what}: step statistics"
         );
         assert_eq!(bits(&kept.positions()), bits(&free.positions()), "{what}");
-        assert_eq!(operator_bits(&kept), operator_bits(&free), "{what}: operator");
+        assert_eq!(
+            operator_bits(&kept),
+            operator_bits(&free),
+            "{what}: operator"
+        );
         assert_eq!(
             kept.stable_step_limit().map(f64::to_bits),
             free.stable_step_limit().map(f64::to_bits),
@@ -91,10 +95,12 @@ fn compare(
         );
     }
     let kept = kept.run(|_| ControlFlow::Continue(())).unwrap();
-    let (free, faces) = free
-        .run_owned_faces(|_| ControlFlow::Continue(()))
-        .unwrap();
-    assert_eq!(bits(&kept.positions), bits(&free.positions), "{what}: result");
+    let (free, faces) = free.run_owned_faces(|_| ControlFlow::Continue(())).unwrap();
+    assert_eq!(
+        bits(&kept.positions),
+        bits(&free.positions),
+        "{what}: result"
+    );
     let faces = faces.expect("a mesh given by value");
     assert_eq!(faces.to_polygons(), mesh.to_polygons(), "{what}: faces");
     let without = matches!(faces, OwnedFaces::Triangles(_));

@@ -107,7 +107,10 @@ impl Drop for KeptPositions {
 
 /// The error of positions that could not be read back from their temporary file,
 /// reported with the input file `path` they came from.
-pub(crate) fn read_back_error(path: &std::path::Path, source: std::io::Error) -> crate::error::CliError {
+pub(crate) fn read_back_error(
+    path: &std::path::Path,
+    source: std::io::Error,
+) -> crate::error::CliError {
     crate::error::CliError::Io {
         path: path.to_path_buf(),
         source: beltrami_io::IoError::Io {
@@ -130,11 +133,7 @@ fn decode(buf: &[u8; 24]) -> DVec3 {
 /// `Σ |a_i − b_i| / max(n, 1)` in order, `n` the length of `after`.
 fn mean_distance(before: impl Iterator<Item = DVec3>, after: &[DVec3]) -> f64 {
     let n = after.len().max(1);
-    before
-        .zip(after)
-        .map(|(a, b)| a.distance(*b))
-        .sum::<f64>()
-        / n as f64
+    before.zip(after).map(|(a, b)| a.distance(*b)).sum::<f64>() / n as f64
 }
 
 /// `positions` written to a new temporary file, removed from the directory at once

@@ -283,9 +283,7 @@ fn volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<f64> {
 fn volume_of(faces: &OwnedFaces, positions: &[DVec3]) -> Option<f64> {
     match faces {
         OwnedFaces::Mesh(mesh) => volume(mesh, positions),
-        OwnedFaces::Triangles(t) => TriangleGeometry::new(t, positions)
-            .ok()
-            .map(|g| g.volume()),
+        OwnedFaces::Triangles(t) => TriangleGeometry::new(t, positions).ok().map(|g| g.volume()),
         _ => None,
     }
 }
@@ -305,9 +303,11 @@ impl Before {
     fn change(mut self, faces: &OwnedFaces, after: &[DVec3]) -> std::io::Result<Change> {
         let mean_displacement = self.positions.mean_displacement(after)?;
         drop(self.positions);
-        let volume = self
-            .volume
-            .and_then(|before| before.zip(volume_of(faces, after)).filter(|(b, _)| *b != 0.0));
+        let volume = self.volume.and_then(|before| {
+            before
+                .zip(volume_of(faces, after))
+                .filter(|(b, _)| *b != 0.0)
+        });
         Ok(Change {
             mean_displacement,
             volume,

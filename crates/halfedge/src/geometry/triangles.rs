@@ -212,7 +212,11 @@ mod tests {
     #[test]
     fn measures_over_the_list_have_the_bits_of_the_mesh() {
         let torus = primitives::torus(2.0, 0.6, 12, 7);
-        for (shift, scale) in [(DVec3::ZERO, 1.0), (DVec3::new(1e6, -3e5, 7.0), 1.0), (DVec3::ONE, 1e250)] {
+        for (shift, scale) in [
+            (DVec3::ZERO, 1.0),
+            (DVec3::new(1e6, -3e5, 7.0), 1.0),
+            (DVec3::ONE, 1e250),
+        ] {
             let mut x: Vec<DVec3> = torus
                 .positions
                 .iter()
@@ -225,8 +229,14 @@ mod tests {
             let list = TriangleGeometry::new(&flat, &x).unwrap();
             let on_mesh = Geometry::new(&mesh, &x).unwrap();
             assert_eq!(list.volume().to_bits(), on_mesh.volume().unwrap().to_bits());
-            let (a, b) = (list.surface_centroid().unwrap(), on_mesh.surface_centroid().unwrap());
-            assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits));
+            let (a, b) = (
+                list.surface_centroid().unwrap(),
+                on_mesh.surface_centroid().unwrap(),
+            );
+            assert_eq!(
+                a.to_array().map(f64::to_bits),
+                b.to_array().map(f64::to_bits)
+            );
             assert_eq!(list.triangles().len(), flat.len());
         }
         let x = [DVec3::ZERO; 3];
@@ -236,10 +246,19 @@ mod tests {
         );
         assert_eq!(
             TriangleGeometry::new(&[0, 1, 3], &x).unwrap_err(),
-            crate::TopologyError::VertexOutOfRange { face: 0, vertex: 3, n_vertices: 3 }
+            crate::TopologyError::VertexOutOfRange {
+                face: 0,
+                vertex: 3,
+                n_vertices: 3
+            }
         );
         assert_eq!(TriangleGeometry::new(&[], &x).unwrap().volume(), 0.0);
-        assert!(TriangleGeometry::new(&[], &x).unwrap().surface_centroid().is_none());
+        assert!(
+            TriangleGeometry::new(&[], &x)
+                .unwrap()
+                .surface_centroid()
+                .is_none()
+        );
     }
 
     /// The shares of a vertex's triangles summed in its order give `vertex_area`; the
@@ -289,7 +308,11 @@ mod tests {
     /// mesh is handed back unchanged.
     #[test]
     fn a_mesh_becomes_its_triangle_list() {
-        for shape in [primitives::icosphere(2), primitives::grid(6, 4), primitives::tetrahedron()] {
+        for shape in [
+            primitives::icosphere(2),
+            primitives::grid(6, 4),
+            primitives::tetrahedron(),
+        ] {
             let mesh = shape.mesh().unwrap();
             let polygons = mesh.to_polygons();
             assert_eq!(mesh.into_triangle_indices().unwrap(), polygons.indices());

@@ -216,7 +216,12 @@ pub(super) fn fill_cotangent_ring<const CALLER: u8>(
 /// `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop), then the
 /// sum and the scale are stored.
 /// Every row's bits depend only on that row, so not on the thread count.
-pub(super) fn row_pass<F>(offsets: &[u32], areas: Option<&[f64]>, rows: Rows<'_>, fill: &F) -> RowTally
+pub(super) fn row_pass<F>(
+    offsets: &[u32],
+    areas: Option<&[f64]>,
+    rows: Rows<'_>,
+    fill: &F,
+) -> RowTally
 where
     F: Fn(usize, usize, &mut [f64]) -> f64 + Sync,
 {

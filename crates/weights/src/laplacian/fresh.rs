@@ -535,7 +535,10 @@ mod tests {
     fn row_bits(lap: &Laplacian) -> (Vec<u64>, Vec<u64>, Vec<u64>, usize) {
         let rows = lap.rows();
         let sums = (0..lap.n_rows())
-            .map(|i| lap.weight_sum(beltrami_halfedge::VertexId::new(i as u32)).to_bits())
+            .map(|i| {
+                lap.weight_sum(beltrami_halfedge::VertexId::new(i as u32))
+                    .to_bits()
+            })
             .collect();
         (
             rows.weights.iter().map(|w| w.to_bits()).collect(),
@@ -631,7 +634,10 @@ mod tests {
         assert!(!lap.update_detached(x, &Mine));
         assert!(lap.update_detached(x, &Uniform));
         assert_eq!(Laplacian::curve_weight_detached(&Mine, x[0], x[1]), None);
-        assert_eq!(Laplacian::curve_weight_detached(&Uniform, x[0], x[1]), Some(1.0));
+        assert_eq!(
+            Laplacian::curve_weight_detached(&Uniform, x[0], x[1]),
+            Some(1.0)
+        );
     }
 
     /// A non-finite weight is left to `update` with the mesh, which names its halfedge.
