@@ -148,7 +148,7 @@ impl crate::HalfedgeMesh {
     /// [`from_polygons`](Self::from_polygons) over `chunks_exact(3)`).
     ///
     /// # Errors
-    /// The mesh itself, unchanged, when a face is not a triangle.
+    /// The mesh itself (boxed), unchanged, when a face is not a triangle.
     ///
     /// # Complexity
     /// O(F + H) time, sequential; no allocation beyond the mesh's (the list is shrunk to
@@ -163,9 +163,9 @@ impl crate::HalfedgeMesh {
     /// let flat = mesh.into_triangle_indices().unwrap();
     /// assert_eq!(flat, polygons.indices());
     /// ```
-    pub fn into_triangle_indices(self) -> Result<Vec<u32>, Self> {
+    pub fn into_triangle_indices(self) -> Result<Vec<u32>, Box<Self>> {
         if !self.is_triangle_mesh() {
-            return Err(self);
+            return Err(Box::new(self));
         }
         let Self {
             v_out,

@@ -319,6 +319,6 @@ mod tests {
         }
         let cube = primitives::cube_quads();
         let mesh = cube.mesh().unwrap();
-        assert_eq!(mesh.clone().into_triangle_indices().unwrap_err(), mesh);
+        assert_eq!(*mesh.clone().into_triangle_indices().unwrap_err(), mesh);
     }
 }

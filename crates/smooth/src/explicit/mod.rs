@@ -379,7 +379,7 @@ impl<'a> Explicit<'a> {
                         isolated,
                     },
                 ),
-                Err(mesh) => (Some(Cow::Owned(mesh)), Faces::default()),
+                Err(mesh) => (Some(Cow::Owned(*mesh)), Faces::default()),
             }
         } else {
             (Some(mesh), Faces::default())
