@@ -66,6 +66,14 @@ impl<'a> TriangleGeometry<'a> {
             });
         }
         let n = positions.len();
+        // The largest index first (a plain reduction), the first bad one only then.
+        let largest = triangles.iter().copied().max().unwrap_or(0);
+        if (largest as usize) < n || triangles.is_empty() {
+            return Ok(Self {
+                triangles,
+                positions,
+            });
+        }
         if let Some(k) = triangles.iter().position(|&v| v as usize >= n) {
             return Err(crate::TopologyError::VertexOutOfRange {
                 face: k / 3,

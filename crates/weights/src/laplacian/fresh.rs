@@ -150,7 +150,12 @@ impl Laplacian {
         let Ok(geometry) = Geometry::new(mesh, positions) else {
             return false;
         };
-        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+        // The kernel's data as assembled, or built now (its refresh is then wasted work).
+        let ready = match self.options.cotangent_kernel {
+            CotangentKernel::Ring => self.ring_triangles.is_some(),
+            _ => self.cotangent.is_some(),
+        };
+        if built_in == BuiltIn::Cotangent && !ready && !self.prepare_cotangents(&geometry) {
             return false;
         }
         if let Normalization::Area(_) = self.options.normalization {
