@@ -113,8 +113,11 @@ impl<'a> TriangleGeometry<'a> {
             return 0.0;
         };
         let mut sum = Sum::default();
+        let x = self.positions;
         for t in self.triangles.chunks_exact(3) {
-            let [q0, q1, q2] = [0, 1, 2].map(|k| frame.span(self.positions[t[k] as usize]));
+            let q0 = frame.span(x[t[0] as usize]);
+            let q1 = frame.span(x[t[1] as usize]);
+            let q2 = frame.span(x[t[2] as usize]);
             sum.add(q0.dot(q1.cross(q2)));
         }
         ldexp(sum.value() / 6.0, 3 * frame.exponent())
@@ -130,8 +133,11 @@ impl<'a> TriangleGeometry<'a> {
         let frame = self.centred_frame()?;
         let mut weight = Sum::default();
         let mut moment = VecSum::default();
+        let x = self.positions;
         for t in self.triangles.chunks_exact(3) {
-            let [q0, q1, q2] = [0, 1, 2].map(|k| frame.span(self.positions[t[k] as usize]));
+            let q0 = frame.span(x[t[0] as usize]);
+            let q1 = frame.span(x[t[1] as usize]);
+            let q2 = frame.span(x[t[2] as usize]);
             let w = (q1 - q0).cross(q2 - q0).length();
             weight.add(w);
             moment.add((q0 + q1 + q2) * (w / 3.0));
