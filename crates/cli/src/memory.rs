@@ -90,9 +90,8 @@ const REORDERED: PerElement = PerElement::new(8, 0, 0);
 const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
 /// The cotangent kernel's plan: counting-sort table (4 per vertex), two cotangent
 /// indices per slot (8) and a temporary per-halfedge index (4), per triangle its
-/// vertices (12), face id (4) and three cotangents (24), as `Option<[u32; 3]>` (16)
-/// while the plan is built.
-const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 40);
+/// vertices (12), three cotangents (24) and, while the plan is built, its sort key (4).
+const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 28);
 /// The one-ring cotangent kernel's bit per row slot (counted as a byte).
 const RING_BITS: PerElement = PerElement::new(0, 1, 0);
 /// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
@@ -528,11 +527,11 @@ mod tests {
         // The default run on a small closed mesh: the mesh, the operator, the
         // cotangent plan, the smoother's two position buffers.
         let r = run(Method::Explicit, Weights::Cotangent);
-        assert_eq!(r.per_element(1000), PerElement::new(80, 44, 44));
+        assert_eq!(r.per_element(1000), PerElement::new(80, 44, 32));
         let e = MemoryEstimate::new(&r, 1000, 2000, 6000);
         assert_eq!(
             e.bytes,
-            BASE_BYTES + (80 * 1000 + 44 * 6000 + 44 * 2000) * 5 / 4
+            BASE_BYTES + (80 * 1000 + 44 * 6000 + 32 * 2000) * 5 / 4
         );
         let soup = MemoryEstimate::for_triangle_soup(&r, 2000);
         assert_eq!((soup.vertices, soup.corners), (1002, 6000));
@@ -552,14 +551,14 @@ mod tests {
         // Bytes per vertex of a closed triangle mesh before the margin, as in
         // docs/reliability.md: (method, weights, small mesh, 50 000 vertices or more).
         let table = [
-            (Method::Explicit, Weights::Cotangent, 432, 440),
+            (Method::Explicit, Weights::Cotangent, 408, 416),
             (Method::Explicit, Weights::CotangentRing, 282, 290),
-            (Method::Taubin, Weights::Cotangent, 456, 464),
-            (Method::Hc, Weights::Cotangent, 504, 512),
+            (Method::Taubin, Weights::Cotangent, 432, 440),
+            (Method::Hc, Weights::Cotangent, 480, 488),
             (Method::Explicit, Weights::Rows, 276, 284),
             (Method::Explicit, Weights::Halfedges, 508, 516),
-            (Method::ImplicitCg, Weights::Cotangent, 603, 603),
-            (Method::ImplicitCholesky, Weights::Cotangent, 843, 843),
+            (Method::ImplicitCg, Weights::Cotangent, 579, 579),
+            (Method::ImplicitCholesky, Weights::Cotangent, 819, 819),
         ];
         for (method, weights, small, large) in table {
             let r = run(method, weights);

@@ -85,6 +85,8 @@ impl CotangentPlan {
         let slot_cots: Vec<[u32; 2]> = slot_values(mesh, offsets, |h| {
             [cot_of[h.index()], cot_of[h.twin().index()]]
         });
+        // Freed before the cotangent table is made: the two are never held together.
+        drop(cot_of);
         Some(Self {
             triangles,
             slot_cots,
