@@ -10,6 +10,7 @@ use beltrami_io::{
 };
 
 use crate::error::CliError;
+use crate::smooth::kept::KeptPositions;
 use crate::text::{counted, number};
 
 /// The options of every command that reads a mesh.
@@ -186,13 +187,41 @@ pub(crate) fn load_checked(
             ));
         }
     };
-    load_inner(path, read, options, check)
+    load_inner(path, read, options, check, false).map(|(loaded, _)| loaded)
+}
+
+/// [`load_checked`], also keeping a copy of the positions (for a summary after a run
+/// that changes them) in a temporary file ([`KeptPositions`]): written before the
+/// connectivity is built, so that the build (the step of the load that needs most
+/// memory) does not hold the positions, which are read back after it. With a repair
+/// (which keeps the input for its notes) or where no temporary file can be written, the
+/// positions stay in memory through the build.
+pub(crate) fn load_checked_keeping(
+    path: &Path,
+    read: &ReadArgs,
+    check: impl FnOnce(&MeshData) -> Result<(), CliError>,
+) -> Result<(LoadedMesh, KeptPositions), CliError> {
+    let options = match (read.repair, read.merge_distance) {
+        (true, _) => Some(read.repair_options()?),
+        (false, None) => None,
+        (false, Some(_)) => {
+            return Err(CliError::Usage(
+                "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
+            ));
+        }
+    };
+    let (loaded, kept) = load_inner(path, read, options, check, true)?;
+    let kept = match kept {
+        Some(kept) => kept,
+        None => KeptPositions::keep(&loaded.positions),
+    };
+    Ok((loaded, kept))
 }
 
 /// [`load`], always repairing (with `--merge-distance` when given).
 pub(crate) fn load_repaired(path: &Path, read: &ReadArgs) -> Result<LoadedMesh, CliError> {
     let options = read.repair_options()?;
-    load_inner(path, read, Some(options), |_| Ok(()))
+    load_inner(path, read, Some(options), |_| Ok(()), false).map(|(loaded, _)| loaded)
 }
 
 fn load_inner(
@@ -200,7 +229,8 @@ fn load_inner(
     read: &ReadArgs,
     options: Option<RepairOptions>,
     check: impl FnOnce(&MeshData) -> Result<(), CliError>,
-) -> Result<LoadedMesh, CliError> {
+    keep: bool,
+) -> Result<(LoadedMesh, Option<KeptPositions>), CliError> {
     let io = |source| CliError::Io {
         path: path.to_path_buf(),
         source,
@@ -235,8 +265,22 @@ fn load_inner(
             )
         }
     };
-    let mesh = HalfedgeMesh::from_polygon_list(positions.len(), &faces)
-        .map_err(|e| topology(e, &positions, &faces))?;
+    // Positions kept in a file are not held while the connectivity is built.
+    let n_positions = positions.len();
+    let mut positions = positions;
+    let kept = (keep && report.is_none()).then(|| KeptPositions::keep(&positions));
+    let spilled = kept.as_ref().is_some_and(KeptPositions::in_file);
+    if spilled {
+        release(&mut positions);
+    }
+    let built = HalfedgeMesh::from_polygon_list(n_positions, &faces);
+    let mut kept = kept;
+    if let Some(kept) = kept.as_mut().filter(|_| spilled) {
+        positions = kept
+            .read_all()
+            .map_err(|e| crate::smooth::kept::read_back_error(path, e))?;
+    }
+    let mesh = built.map_err(|e| topology(e, &positions, &faces))?;
     let build_seconds = t1.elapsed().as_secs_f64();
     let mut repair_lines = Vec::new();
     if let Some(grid) = &read_report.height_map {
@@ -248,7 +292,7 @@ fn load_inner(
         repair_lines.extend(crate::repair::describe(report));
         repair_lines.extend(merge_hint(read, report, &input.0, &input.1));
     }
-    Ok(LoadedMesh {
+    let loaded = LoadedMesh {
         format,
         mesh,
         positions,
@@ -259,7 +303,21 @@ fn load_inner(
         height_map: read_report.height_map,
         parse_seconds,
         build_seconds,
-    })
+    };
+    Ok((loaded, kept))
+}
+
+/// Frees `positions`' buffer by shrinking it to one element before dropping it. The
+/// result is the same as dropping it; the difference is for glibc's allocator, which
+/// serves a large block from its own mapping and, when such a block is freed, raises
+/// its mapping threshold to the block's size, so that the half-edge build's arrays of
+/// about the same size (4 bytes per halfedge, 24 per vertex) would come from its heap,
+/// whose freed blocks stay resident. Shrinking a mapped block remaps it smaller and
+/// leaves the threshold as it is.
+fn release(positions: &mut Vec<DVec3>) {
+    positions.truncate(1);
+    positions.shrink_to_fit();
+    *positions = Vec::new();
 }
 
 /// The error of a mesh that does not build: whether `--repair` would help and, for a

@@ -73,12 +73,13 @@ impl PerElement {
     }
 }
 
-/// The input positions, kept for the mean displacement of the summary (24 per
-/// vertex). The face list as read is dropped once the half-edge mesh is built: the
-/// output's faces are taken from the mesh after the run.
-const INPUT: PerElement = PerElement::new(24, 0, 0);
 /// The half-edge mesh: outgoing halfedge per vertex (4), target, next, previous and
-/// face per halfedge (16), one halfedge per face (4).
+/// face per halfedge (16), one halfedge per face (4). The face list as read is dropped
+/// once it is built, and the input positions that the summary's mean displacement
+/// needs wait in a temporary file (in memory only when none can be written, within the
+/// margin). An explicit run with a built-in scheme on a triangle mesh replaces the mesh
+/// by its triangle list (12 per face) once the operator is built, before its second
+/// position buffer is made: the mesh stands for both.
 const MESH: PerElement = PerElement::new(4, 16, 4);
 /// An explicit smoother on 50 000 vertices or more renumbers them for locality: the
 /// permutation both ways (8). The mesh it is given is renumbered in place, and the
@@ -89,9 +90,8 @@ const REORDERED: PerElement = PerElement::new(8, 0, 0);
 const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
 /// The cotangent kernel's plan: counting-sort table (4 per vertex), two cotangent
 /// indices per slot (8) and a temporary per-halfedge index (4), per triangle its
-/// vertices (12), face id (4) and three cotangents (24), as `Option<[u32; 3]>` (16)
-/// while the plan is built.
-const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 40);
+/// vertices (12), three cotangents (24) and, while the plan is built, its sort key (4).
+const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 28);
 /// The one-ring cotangent kernel's bit per row slot (counted as a byte).
 const RING_BITS: PerElement = PerElement::new(0, 1, 0);
 /// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
@@ -205,7 +205,7 @@ pub(crate) struct Run {
 impl Run {
     /// The buffers of this run on `vertices` vertices, per element, before the margin.
     pub(crate) fn per_element(&self, vertices: usize) -> PerElement {
-        let mut sum = INPUT.plus(MESH).plus(LAPLACIAN);
+        let mut sum = MESH.plus(LAPLACIAN);
         sum = match self.weights {
             Weights::Rows => sum,
             Weights::Cotangent => sum.plus(COTANGENT_PLAN),
@@ -524,14 +524,14 @@ mod tests {
 
     #[test]
     fn the_estimate_is_the_counted_bytes_with_a_quarter_more() {
-        // The default run on a small closed mesh: the input positions, the mesh, the
-        // operator, the cotangent plan, the smoother's two position buffers.
+        // The default run on a small closed mesh: the mesh, the operator, the
+        // cotangent plan, the smoother's two position buffers.
         let r = run(Method::Explicit, Weights::Cotangent);
-        assert_eq!(r.per_element(1000), PerElement::new(104, 44, 44));
+        assert_eq!(r.per_element(1000), PerElement::new(80, 44, 32));
         let e = MemoryEstimate::new(&r, 1000, 2000, 6000);
         assert_eq!(
             e.bytes,
-            BASE_BYTES + (104 * 1000 + 44 * 6000 + 44 * 2000) * 5 / 4
+            BASE_BYTES + (80 * 1000 + 44 * 6000 + 32 * 2000) * 5 / 4
         );
         let soup = MemoryEstimate::for_triangle_soup(&r, 2000);
         assert_eq!((soup.vertices, soup.corners), (1002, 6000));
@@ -551,14 +551,14 @@ mod tests {
         // Bytes per vertex of a closed triangle mesh before the margin, as in
         // docs/reliability.md: (method, weights, small mesh, 50 000 vertices or more).
         let table = [
-            (Method::Explicit, Weights::Cotangent, 456, 464),
-            (Method::Explicit, Weights::CotangentRing, 306, 314),
-            (Method::Taubin, Weights::Cotangent, 480, 488),
-            (Method::Hc, Weights::Cotangent, 528, 536),
-            (Method::Explicit, Weights::Rows, 300, 308),
-            (Method::Explicit, Weights::Halfedges, 532, 540),
-            (Method::ImplicitCg, Weights::Cotangent, 627, 627),
-            (Method::ImplicitCholesky, Weights::Cotangent, 867, 867),
+            (Method::Explicit, Weights::Cotangent, 408, 416),
+            (Method::Explicit, Weights::CotangentRing, 282, 290),
+            (Method::Taubin, Weights::Cotangent, 432, 440),
+            (Method::Hc, Weights::Cotangent, 480, 488),
+            (Method::Explicit, Weights::Rows, 276, 284),
+            (Method::Explicit, Weights::Halfedges, 508, 516),
+            (Method::ImplicitCg, Weights::Cotangent, 579, 579),
+            (Method::ImplicitCholesky, Weights::Cotangent, 819, 819),
         ];
         for (method, weights, small, large) in table {
             let r = run(method, weights);

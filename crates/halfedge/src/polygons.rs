@@ -136,3 +136,59 @@ impl<'a> FromIterator<&'a [u32]> for PolygonList {
         list
     }
 }
+
+impl crate::HalfedgeMesh {
+    /// The faces of a triangle mesh as one flat index list, three per face in face
+    /// order, each from the face's first vertex: the indices of
+    /// [`to_polygons`](Self::to_polygons), without its offsets (12 bytes per face
+    /// instead of 20). The mesh is consumed and its buffers are reused: the list is
+    /// written into one of them as the others are freed, so that no more memory than
+    /// the mesh's is ever held. For a caller that needs only the faces of a large mesh
+    /// (to write them, or to rebuild the mesh with
+    /// [`from_polygons`](Self::from_polygons) over `chunks_exact(3)`).
+    ///
+    /// # Errors
+    /// The mesh itself (boxed), unchanged, when a face is not a triangle.
+    ///
+    /// # Complexity
+    /// O(F + H) time, sequential; no allocation beyond the mesh's (the list is shrunk to
+    /// its length, which on a mesh with a boundary may move it).
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::primitives;
+    /// let sphere = primitives::icosphere(1);
+    /// let mesh = sphere.mesh().unwrap();
+    /// let polygons = mesh.to_polygons();
+    /// let flat = mesh.into_triangle_indices().unwrap();
+    /// assert_eq!(flat, polygons.indices());
+    /// ```
+    pub fn into_triangle_indices(self) -> Result<Vec<u32>, Box<Self>> {
+        if !self.is_triangle_mesh() {
+            return Err(Box::new(self));
+        }
+        let Self {
+            v_out,
+            h_to,
+            h_next,
+            h_prev,
+            h_face,
+            f_he,
+        } = self;
+        drop(v_out);
+        drop(h_face);
+        // Three indices per face fit in the halfedges' buffer (3F ≤ H).
+        let mut out = h_prev;
+        for (f, &h0) in f_he.iter().enumerate() {
+            let h1 = h_next[h0 as usize];
+            let h2 = h_next[h1 as usize];
+            out[3 * f] = h_to[h0 as usize];
+            out[3 * f + 1] = h_to[h1 as usize];
+            out[3 * f + 2] = h_to[h2 as usize];
+        }
+        out.truncate(3 * f_he.len());
+        drop((h_to, h_next, f_he));
+        out.shrink_to_fit();
+        Ok(out)
+    }
+}

@@ -62,4 +62,4 @@ pub use error::SmoothError;
 pub use report::{
     IterationView, SmoothReport, Smoothed, SolveStats, SolverReport, StepStats, StopReason,
 };
-pub use smoother::{Smoother, smooth};
+pub use smoother::{OwnedFaces, Smoother, smooth};

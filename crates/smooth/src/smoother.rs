@@ -6,7 +6,7 @@ use std::ops::ControlFlow;
 use std::time::Duration;
 
 use beltrami_halfedge::reorder::VertexPermutation;
-use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, TopologyError};
 use beltrami_weights::{Laplacian, Normalization, WeightScheme};
 
 use crate::config::{Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, Statistics};
@@ -71,6 +71,44 @@ enum Engine<'a> {
 }
 
 /// What an engine hands back at the end of a run.
+/// The connectivity a smoother made by [`Smoother::from_owned`] hands back from
+/// [`Smoother::run_owned_faces`], in the caller's numbering.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum OwnedFaces {
+    /// The half-edge mesh as given (a renumbered mesh numbered back in place).
+    Mesh(HalfedgeMesh),
+    /// The triangles of a run that went on without the mesh: three vertex indices per
+    /// face, in the mesh's face order, each face from its first vertex — the indices
+    /// of [`HalfedgeMesh::to_polygons`] (12 bytes per face).
+    Triangles(Vec<u32>),
+}
+
+impl OwnedFaces {
+    /// The faces as a [`PolygonList`]: [`HalfedgeMesh::to_polygons`] of the mesh, or
+    /// the triangles with their offsets; the same list either way.
+    #[must_use]
+    pub fn to_polygons(&self) -> PolygonList {
+        match self {
+            Self::Mesh(mesh) => mesh.to_polygons(),
+            Self::Triangles(t) => t.chunks_exact(3).collect(),
+        }
+    }
+
+    /// The half-edge mesh: as given, or rebuilt from the triangles with
+    /// [`HalfedgeMesh::from_polygons`] on `n_vertices` vertices.
+    ///
+    /// # Errors
+    /// Those of [`HalfedgeMesh::from_polygons`] (none for the triangles of a mesh on
+    /// `n_vertices` vertices).
+    pub fn into_mesh(self, n_vertices: usize) -> Result<HalfedgeMesh, TopologyError> {
+        match self {
+            Self::Mesh(mesh) => Ok(mesh),
+            Self::Triangles(t) => HalfedgeMesh::from_polygons(n_vertices, t.chunks_exact(3)),
+        }
+    }
+}
+
 pub(crate) struct Finished {
     /// The positions, in the caller's numbering.
     pub(crate) positions: Vec<DVec3>,
@@ -234,12 +272,68 @@ impl<'a> Smoother<'a> {
     /// a renumbered mesh is numbered back in place); `None` for a smoother that
     /// borrows its mesh.
     ///
+    /// A run that went on without the mesh ([`OwnedFaces::Triangles`], see
+    /// [`run_owned_faces`](Self::run_owned_faces)) rebuilds it from its triangles with
+    /// [`HalfedgeMesh::from_polygons`]: the mesh as given when it was built from its
+    /// faces that way (as every mesh read from a file is), the same faces and vertices
+    /// otherwise.
+    ///
     /// # Errors
     /// As [`step`](Self::step); the mesh is then dropped.
-    pub fn run_owned<F>(
+    pub fn run_owned<F>(self, observer: F) -> Result<(Smoothed, Option<HalfedgeMesh>), SmoothError>
+    where
+        F: FnMut(&IterationView<'_>) -> ControlFlow<()>,
+    {
+        let (smoothed, faces) = self.run_owned_faces(observer)?;
+        let n = smoothed.positions.len();
+        let mesh = faces
+            .map(|faces| faces.into_mesh(n))
+            .transpose()
+            .map_err(|e| SmoothError::from(beltrami_weights::WeightError::from(e)))?;
+        Ok((smoothed, mesh))
+    }
+
+    /// [`run_owned`](Self::run_owned) without rebuilding a mesh the run did not keep:
+    /// the connectivity of a smoother made by [`from_owned`](Self::from_owned) as the
+    /// run held it at the end — the mesh as given ([`OwnedFaces::Mesh`]), or, when the
+    /// explicit engine went on without it, its triangles ([`OwnedFaces::Triangles`]);
+    /// `None` for a smoother that borrows its mesh. For a caller that only writes the
+    /// faces out, so that no half-edge mesh is held after the run.
+    ///
+    /// The explicit engine goes on without the mesh once the operator is built when
+    /// the mesh was given by value, every face is a triangle, no two vertices are
+    /// joined by more than one edge, and the scheme is a built-in one
+    /// ([`Uniform`](beltrami_weights::Uniform),
+    /// [`InverseDistance`](beltrami_weights::InverseDistance),
+    /// [`Cotangent`](beltrami_weights::Cotangent)): it keeps the triangle list (24
+    /// bytes per vertex) instead of the mesh (104), with the same results bit for bit.
+    /// Other runs (polygon faces, multiple edges, a scheme of your own, the implicit
+    /// method) keep the mesh.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step); the mesh or faces are then dropped.
+    ///
+    /// # Examples
+    /// ```
+    /// use std::ops::ControlFlow;
+    /// use beltrami_halfedge::primitives;
+    /// use beltrami_smooth::{OwnedFaces, SmoothConfig, Smoother};
+    /// use beltrami_weights::Cotangent;
+    ///
+    /// let sphere = primitives::icosphere(2);
+    /// let mesh = sphere.mesh().unwrap();
+    /// let polygons = mesh.to_polygons();
+    /// let smoother =
+    ///     Smoother::from_owned(mesh, sphere.positions.clone(), &Cotangent, SmoothConfig::new(0.5, 3))?;
+    /// let (smoothed, faces) = smoother.run_owned_faces(|_| ControlFlow::Continue(()))?;
+    /// assert_eq!(smoothed.positions.len(), sphere.positions.len());
+    /// assert_eq!(faces.unwrap().to_polygons(), polygons);
+    /// # Ok::<(), beltrami_smooth::SmoothError>(())
+    /// ```
+    pub fn run_owned_faces<F>(
         mut self,
         mut observer: F,
-    ) -> Result<(Smoothed, Option<HalfedgeMesh>), SmoothError>
+    ) -> Result<(Smoothed, Option<OwnedFaces>), SmoothError>
     where
         F: FnMut(&IterationView<'_>) -> ControlFlow<()>,
     {
@@ -291,9 +385,9 @@ impl<'a> Smoother<'a> {
         }
         let iterations = self.iteration();
         let scheme = self.scheme_name();
-        let finished = match self.engine {
+        let (finished, triangles) = match self.engine {
             Engine::Explicit(e) => e.finish(),
-            Engine::Implicit(e) => e.finish(),
+            Engine::Implicit(e) => (e.finish(), None),
         };
         let report = SmoothReport {
             scheme,
@@ -310,7 +404,12 @@ impl<'a> Smoother<'a> {
             positions: finished.positions,
             report,
         };
-        Ok((smoothed, finished.mesh))
+        let faces = match (finished.mesh, triangles) {
+            (Some(mesh), _) => Some(OwnedFaces::Mesh(mesh)),
+            (None, Some(triangles)) => Some(OwnedFaces::Triangles(triangles)),
+            (None, None) => None,
+        };
+        Ok((smoothed, faces))
     }
 
     fn scheme_name(&self) -> String {

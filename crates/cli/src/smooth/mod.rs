@@ -4,26 +4,28 @@ use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::{Geometry, TriangleGeometry};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
-use beltrami_smooth::{SmoothError, SmoothReport, Smoothed, Smoother};
+use beltrami_smooth::{OwnedFaces, SmoothError, SmoothReport, Smoothed, Smoother};
 use beltrami_weights::WeightRegistry;
 use beltrami_weights::{CotangentKernel, WeightScheme};
 
 use crate::error::CliError;
-use crate::load::{LoadedMesh, load_checked};
+use crate::load::{LoadedMesh, load_checked_keeping};
 use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
 use crate::output::{Outputs, Staged, refuse_height_map_output};
 use crate::text::{number, plural};
 
 mod args;
+pub(crate) mod kept;
 mod report;
 
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
 use args::{
     CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
 };
+use kept::KeptPositions;
 use report::{ReadSeconds, build_report, method_label};
 
 /// Runs `beltrami smooth`.
@@ -45,7 +47,7 @@ pub(crate) fn run(
         .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
-    let (loaded, kernel) = load_within_memory(args, scheme.as_ref())?;
+    let (loaded, kept, kernel) = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let LoadedMesh {
@@ -58,17 +60,19 @@ pub(crate) fn run(
         ..
     } = loaded;
     // The output is written with the mesh's own faces (`to_polygons` gives the list
-    // the mesh was built from back exactly), so the list as read is not kept through
-    // the run.
+    // the mesh was built from back exactly; a run without the mesh keeps its triangles,
+    // the same list), so the list as read is not kept through the run.
     drop(faces);
     let shape = Shape::of(&mesh);
-    let before = Before::of(&mesh, &positions);
-    let (smoothed, mesh) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
+    let before = Before::of(&mesh, &positions, kept);
+    let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
     let t1 = Instant::now();
-    let change = before.change(&mesh, &smoothed.positions);
-    let faces = mesh.to_polygons();
-    drop(mesh);
+    let change = before
+        .change(&owned, &smoothed.positions)
+        .map_err(|e| kept::read_back_error(&args.input, e))?;
+    let faces = owned.to_polygons();
+    drop(owned);
     let data = MeshData {
         positions: smoothed.positions,
         faces,
@@ -125,7 +129,7 @@ impl Shape {
 fn load_within_memory(
     args: &SmoothArgs,
     scheme: &dyn WeightScheme,
-) -> Result<(LoadedMesh, CotangentKernel), CliError> {
+) -> Result<(LoadedMesh, KeptPositions, CotangentKernel), CliError> {
     let mut kernel = CotangentKernel::PerTriangle;
     if let Ok(Some(declared)) = declared_counts(&args.input) {
         let faces = declared.faces;
@@ -134,7 +138,7 @@ fn load_within_memory(
             None => MemoryEstimate::for_triangle_soup(memory, faces),
         })?;
     }
-    let loaded = load_checked(&args.input, &args.read, |data| {
+    let (loaded, kept) = load_checked_keeping(&args.input, &args.read, |data| {
         kernel = choose_kernel(args, scheme, true, |memory| {
             MemoryEstimate::new(
                 memory,
@@ -145,7 +149,7 @@ fn load_within_memory(
         })?;
         Ok(())
     })?;
-    Ok((loaded, kernel))
+    Ok((loaded, kept, kernel))
 }
 
 /// The cotangent kernel of the run, after checking that its estimate (`estimate` of
@@ -258,9 +262,10 @@ struct Change {
 }
 
 /// What [`Change`] needs of the input, taken before the run: its positions (for the
-/// displacements) and, for a closed mesh, its volume.
+/// displacements; in a temporary file through the run) and, for a closed mesh, its
+/// volume.
 struct Before {
-    positions: Vec<DVec3>,
+    positions: KeptPositions,
     /// `None` for a mesh with a boundary; `Some(None)` when the volume cannot be
     /// computed.
     volume: Option<Option<f64>>,
@@ -273,32 +278,40 @@ fn volume(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<f64> {
         .and_then(|g| g.volume().ok())
 }
 
+/// The enclosed volume of the closed mesh `faces` (as [`volume`] on the mesh, the same
+/// bits over the triangles of a run without it), or `None` when it cannot be computed.
+fn volume_of(faces: &OwnedFaces, positions: &[DVec3]) -> Option<f64> {
+    match faces {
+        OwnedFaces::Mesh(mesh) => volume(mesh, positions),
+        OwnedFaces::Triangles(t) => TriangleGeometry::new(t, positions).ok().map(|g| g.volume()),
+        _ => None,
+    }
+}
+
 impl Before {
-    fn of(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Self {
+    fn of(mesh: &HalfedgeMesh, positions: &[DVec3], kept: KeptPositions) -> Self {
         Self {
-            positions: positions.to_vec(),
+            positions: kept,
             volume: mesh.is_closed().then(|| volume(mesh, positions)),
         }
     }
 
-    /// The change from the input to `after` on `mesh` (the input's connectivity).
-    fn change(self, mesh: &HalfedgeMesh, after: &[DVec3]) -> Change {
-        let n = self.positions.len().max(1);
-        let mean_displacement = self
-            .positions
-            .iter()
-            .zip(after)
-            .map(|(a, b)| a.distance(*b))
-            .sum::<f64>()
-            / n as f64;
+    /// The change from the input to `after` on `faces` (the input's connectivity).
+    ///
+    /// # Errors
+    /// When the input positions cannot be read back from their temporary file.
+    fn change(mut self, faces: &OwnedFaces, after: &[DVec3]) -> std::io::Result<Change> {
+        let mean_displacement = self.positions.mean_displacement(after)?;
         drop(self.positions);
-        let volume = self
-            .volume
-            .and_then(|before| before.zip(volume(mesh, after)).filter(|(b, _)| *b != 0.0));
-        Change {
+        let volume = self.volume.and_then(|before| {
+            before
+                .zip(volume_of(faces, after))
+                .filter(|(b, _)| *b != 0.0)
+        });
+        Ok(Change {
             mean_displacement,
             volume,
-        }
+        })
     }
 }
 
@@ -395,14 +408,14 @@ fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
 
 /// Every method (plain, Taubin, HC, implicit) through [`Smoother`], which takes the
 /// mesh and the positions by value (no copy of either, the mesh renumbered in place)
-/// and hands the mesh back.
+/// and hands back the mesh, or only its triangles when the run went on without it.
 fn run_smoother(
     args: &SmoothArgs,
     mesh: HalfedgeMesh,
     positions: Vec<DVec3>,
     scheme: &dyn WeightScheme,
     kernel: CotangentKernel,
-) -> Result<(Smoothed, HalfedgeMesh), CliError> {
+) -> Result<(Smoothed, OwnedFaces), CliError> {
     let smooth_error = |source| {
         taubin_hint(
             args,
@@ -427,8 +440,8 @@ fn run_smoother(
     }
     check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
     let progress = progress_bar(smoother.config().iterations);
-    let (smoothed, mesh) = smoother
-        .run_owned(|it| {
+    let (smoothed, faces) = smoother
+        .run_owned_faces(|it| {
             if let Some(bar) = &progress {
                 bar.set_position(it.index as u64);
             }
@@ -438,8 +451,8 @@ fn run_smoother(
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
-    let mesh = mesh.expect("a mesh given by value is handed back");
-    Ok((smoothed, mesh))
+    let faces = faces.expect("a mesh given by value is handed back");
+    Ok((smoothed, faces))
 }
 
 /// Refuses a run planning more than `--max-iterations` iterations, and prints the

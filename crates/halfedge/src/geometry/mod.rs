@@ -95,6 +95,7 @@ mod lanes;
 mod measures;
 mod normals;
 mod summary;
+mod triangles;
 
 use glam::DVec3;
 
@@ -118,6 +119,7 @@ pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
 pub use batch::{distances_into, distances_with, ring_cotangents_with};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
+pub use triangles::{TriangleGeometry, triangle_cotangents_into, vertex_area_share};
 
 use crate::error::TopologyError;
 use crate::ids::{FaceId, VertexId};

@@ -3,8 +3,8 @@
 
 use std::time::Instant;
 
-use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
+use beltrami_halfedge::geometry::{Geometry, TriangleGeometry};
+use beltrami_halfedge::{DVec3, VertexId};
 use rayon::prelude::*;
 
 use super::{Explicit, Role, Want};
@@ -143,12 +143,23 @@ impl Explicit<'_> {
     /// Rescales about the surface centroid so that the volume is the input's.
     fn rescale_volume(&mut self) -> Result<(), SmoothError> {
         let start = Instant::now();
-        let geometry = Geometry::new(&self.mesh, &self.positions)
-            .map_err(beltrami_weights::WeightError::from)?;
-        let volume = geometry
-            .volume()
-            .map_err(beltrami_weights::WeightError::from)?;
-        let centre = geometry.surface_centroid().unwrap_or(DVec3::ZERO);
+        let (volume, centre) = match &self.mesh {
+            Some(mesh) => {
+                let geometry = Geometry::new(mesh, &self.positions)
+                    .map_err(beltrami_weights::WeightError::from)?;
+                let volume = geometry
+                    .volume()
+                    .map_err(beltrami_weights::WeightError::from)?;
+                (volume, geometry.surface_centroid())
+            }
+            None => {
+                // Without the mesh: the same sums over its triangles (a closed mesh).
+                let geometry = TriangleGeometry::new(&self.faces.triangles, &self.positions)
+                    .map_err(beltrami_weights::WeightError::from)?;
+                (geometry.volume(), geometry.surface_centroid())
+            }
+        };
+        let centre = centre.unwrap_or(DVec3::ZERO);
         let beta = (self.volume / volume).cbrt();
         if !(volume > 0.0 && beta.is_finite()) {
             return Err(SmoothError::DegenerateVolume {
@@ -156,12 +167,16 @@ impl Explicit<'_> {
                 iteration: self.iteration,
             });
         }
-        let mesh: &HalfedgeMesh = &self.mesh;
+        let (mesh, faces) = (self.mesh.as_deref(), &self.faces);
         self.positions
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, x)| {
-                if !mesh.is_isolated(VertexId::new(i as u32)) {
+                let isolated = match mesh {
+                    Some(mesh) => mesh.is_isolated(VertexId::new(i as u32)),
+                    None => faces.is_isolated(i),
+                };
+                if !isolated {
                     *x = centre + (*x - centre) * beta;
                 }
             });

@@ -52,10 +52,13 @@ struct CurveRow {
 /// them, and the internal renumbering of large meshes.
 pub(crate) struct Explicit<'a> {
     /// The mesh, renumbered when `perm` is set: the caller's own when given by value
-    /// (renumbered in place), else borrowed or a renumbered copy.
-    mesh: Cow<'a, HalfedgeMesh>,
+    /// (renumbered in place), else borrowed or a renumbered copy. `None` when the run
+    /// goes on without it ([`Faces`]).
+    mesh: Option<Cow<'a, HalfedgeMesh>>,
+    /// The connectivity a run without the mesh keeps instead (empty with the mesh).
+    faces: Faces,
     /// Whether the caller gave the mesh by value (it is then handed back by
-    /// [`finish`](Self::finish), in the caller's numbering).
+    /// [`finish`](Self::finish), in the caller's numbering, or its faces).
     mesh_given: bool,
     /// The internal numbering (new = internal, old = the caller's), when reordering.
     perm: Option<VertexPermutation>,
@@ -105,6 +108,25 @@ impl std::fmt::Debug for Explicit<'_> {
             .field("config", &self.config)
             .field("iteration", &self.iteration)
             .finish_non_exhaustive()
+    }
+}
+
+/// What a run without the half-edge mesh keeps of it (internal numbering): the
+/// triangles in face order, three indices each (the volume, the surface centroid and the
+/// output's faces; the operator keeps its own rows), and the isolated vertices (which a
+/// volume rescale leaves in place), one bit each. Made when the caller gave the mesh by
+/// value, every face is a triangle and the scheme is a built-in one
+/// ([`Laplacian::detach`]); the 104 bytes per vertex of the mesh become 24.
+#[derive(Debug, Default)]
+struct Faces {
+    triangles: Vec<u32>,
+    isolated: Vec<u64>,
+}
+
+impl Faces {
+    /// Whether vertex `i` is isolated.
+    fn is_isolated(&self, i: usize) -> bool {
+        (self.isolated[i / 64] >> (i % 64)) & 1 != 0
     }
 }
 
@@ -340,6 +362,28 @@ impl<'a> Explicit<'a> {
         let curve = curve_rows(&mesh, &roles);
         let volume = volume.transpose()?.unwrap_or(0.0);
         let config = with_duration_resolved(config, perm.as_ref(), &positions, &laplacian, &roles)?;
+        // A mesh given by value is not needed past this point when the operator can
+        // recompute its rows without it: it becomes its triangle list (in its own
+        // buffers), before the second position buffer is made.
+        let mut laplacian = laplacian;
+        let (mesh, faces) = if mesh_given && laplacian.detach(&mesh, &positions, scheme) {
+            let mut isolated = vec![0u64; mesh.n_vertices().div_ceil(64)];
+            for v in mesh.vertices().filter(|&v| mesh.is_isolated(v)) {
+                isolated[v.index() / 64] |= 1 << (v.index() % 64);
+            }
+            match mesh.into_owned().into_triangle_indices() {
+                Ok(triangles) => (
+                    None,
+                    Faces {
+                        triangles,
+                        isolated,
+                    },
+                ),
+                Err(mesh) => (Some(Cow::Owned(*mesh)), Faces::default()),
+            }
+        } else {
+            (Some(mesh), Faces::default())
+        };
         let n = positions.len();
         let eager_stats = config.statistics == Statistics::EveryIteration;
         let disp = if perm.is_some() && eager_stats {
@@ -353,6 +397,7 @@ impl<'a> Explicit<'a> {
         let positions = positions.into_owned();
         let mut smoother = Self {
             mesh,
+            faces,
             mesh_given,
             disp,
             perm,
@@ -391,29 +436,38 @@ impl<'a> Explicit<'a> {
         if self.config.boundary != Boundary::Curve {
             return Ok(());
         }
-        let mesh: &HalfedgeMesh = &self.mesh;
-        let geometry =
-            Geometry::new(mesh, &self.positions).map_err(beltrami_weights::WeightError::from)?;
-        let ctx = WeightContext::new(geometry);
+        let (scheme, x) = (self.scheme, &self.positions);
+        // The weight of the curve neighbour `to` of `v`: the scheme's, on the mesh; a
+        // built-in scheme's from the two positions without it (the same bits).
+        let ctx = match &self.mesh {
+            Some(mesh) => Some(WeightContext::new(
+                Geometry::new(mesh, x).map_err(beltrami_weights::WeightError::from)?,
+            )),
+            None => None,
+        };
+        let weight = |v: u32, to: u32| match &ctx {
+            Some(ctx) => {
+                let mesh = ctx.geometry().mesh();
+                let h = mesh
+                    .find_halfedge(VertexId::new(v), VertexId::new(to))
+                    .expect("boundary neighbour");
+                scheme.curve_weight(ctx, h)
+            }
+            None => Laplacian::curve_weight_detached(scheme, x[v as usize], x[to as usize])
+                .expect("a run without the mesh has a built-in scheme"),
+        };
         let perm = self.perm.as_ref();
         let caller = |v: u32| perm.map_or(v, |p| p.new_to_old()[v as usize]);
         // The first bad row in the caller's numbering: (its vertex there, the error).
         let mut first_bad: Option<(u32, beltrami_weights::WeightError)> = None;
         for row in &mut self.curve {
-            let v = VertexId::new(row.v);
-            let ha = mesh
-                .find_halfedge(v, VertexId::new(row.a))
-                .expect("boundary neighbour");
-            let hb = mesh
-                .find_halfedge(v, VertexId::new(row.b))
-                .expect("boundary neighbour");
-            row.wa = self.scheme.curve_weight(&ctx, ha);
-            row.wb = self.scheme.curve_weight(&ctx, hb);
+            row.wa = weight(row.v, row.a);
+            row.wb = weight(row.v, row.b);
             let key = caller(row.v);
             if first_bad.as_ref().is_some_and(|(k, _)| *k < key) {
                 continue;
             }
-            if let Some((w, h)) = [(row.wa, ha), (row.wb, hb)]
+            if let Some((w, to)) = [(row.wa, row.a), (row.wb, row.b)]
                 .into_iter()
                 .find(|(w, _)| !w.is_finite())
             {
@@ -421,7 +475,7 @@ impl<'a> Explicit<'a> {
                 let error = beltrami_weights::WeightError::NonFiniteWeight {
                     scheme: self.scheme.name().to_string(),
                     from: row.v,
-                    to: mesh.to_vertex(h).raw(),
+                    to,
                     value: w,
                 };
                 first_bad = Some((key, error));
@@ -431,6 +485,31 @@ impl<'a> Explicit<'a> {
             Some((_, error)) => Err(error.into()),
             None => Ok(()),
         }
+    }
+
+    /// The mesh of a run without it, rebuilt from its triangles in the caller's
+    /// numbering and renumbered as the run's (the halfedges of the mesh given, when it
+    /// was built from its faces as [`HalfedgeMesh::from_polygons`] builds it): for the
+    /// errors that name a halfedge, once.
+    fn rebuilt_mesh(&self) -> HalfedgeMesh {
+        let n = self.positions.len();
+        let mesh = match &self.perm {
+            Some(perm) => {
+                let old = perm.new_to_old();
+                let caller: Vec<u32> = self
+                    .faces
+                    .triangles
+                    .iter()
+                    .map(|&v| old[v as usize])
+                    .collect();
+                HalfedgeMesh::from_polygons(n, caller.chunks_exact(3)).map(|mut mesh| {
+                    perm.apply_to_mesh_in_place(&mut mesh);
+                    mesh
+                })
+            }
+            None => HalfedgeMesh::from_polygons(n, self.faces.triangles.chunks_exact(3)),
+        };
+        mesh.expect("the faces of a valid mesh")
     }
 
     /// `e` with its vertex indices in the caller's numbering.
@@ -496,10 +575,16 @@ impl<'a> Explicit<'a> {
     /// Refreshes the operator and the curve weights at the current positions.
     fn refresh_weights(&mut self) -> Result<(), SmoothError> {
         let start = Instant::now();
-        let refreshed = match self
-            .laplacian
-            .update(&self.mesh, &self.positions, self.scheme)
-        {
+        let updated = match &self.mesh {
+            Some(mesh) => self.laplacian.update(mesh, &self.positions, self.scheme),
+            None if self.laplacian.update_detached(&self.positions, self.scheme) => Ok(()),
+            // A weight the rows cannot hold: the mesh, rebuilt, names its halfedge.
+            None => {
+                let mesh = self.rebuilt_mesh();
+                self.laplacian.update(&mesh, &self.positions, self.scheme)
+            }
+        };
+        let refreshed = match updated {
             Ok(()) => self.refresh_curve_weights(),
             Err(e) => Err(e.into()),
         };
@@ -545,10 +630,15 @@ impl<'a> Explicit<'a> {
         if self.refresh_curve_weights().is_err() {
             return false;
         }
-        let Some(rows) = self
-            .laplacian
-            .fresh_rows(&self.mesh, &self.positions, self.scheme)
-        else {
+        let rows = match &self.mesh {
+            Some(mesh) => self
+                .laplacian
+                .fresh_rows(mesh, &self.positions, self.scheme),
+            None => self
+                .laplacian
+                .fresh_rows_detached(&self.positions, self.scheme),
+        };
+        let Some(rows) = rows else {
             return false;
         };
         let swept = Instant::now();
@@ -720,8 +810,9 @@ impl<'a> Explicit<'a> {
 
     /// Ends the run: the positions in the caller's numbering, the configuration, the
     /// wall times and, when the caller gave it by value, the mesh in the caller's
-    /// numbering.
-    pub(crate) fn finish(mut self) -> crate::smoother::Finished {
+    /// numbering — or, for a run that went on without it, its triangles (three indices
+    /// each, face order, the caller's numbering).
+    pub(crate) fn finish(mut self) -> (crate::smoother::Finished, Option<Vec<u32>>) {
         let positions = match &self.perm {
             Some(perm) => {
                 // `next` is not needed any more: it takes the caller's order.
@@ -733,7 +824,7 @@ impl<'a> Explicit<'a> {
             None => self.positions,
         };
         let mesh = match self.mesh {
-            Cow::Owned(mut mesh) if self.mesh_given => {
+            Some(Cow::Owned(mut mesh)) if self.mesh_given => {
                 if let Some(perm) = &self.perm {
                     perm.restore_mesh_in_place(&mut mesh);
                 }
@@ -741,14 +832,21 @@ impl<'a> Explicit<'a> {
             }
             _ => None,
         };
-        crate::smoother::Finished {
+        let mut triangles = self.faces.triangles;
+        if let Some(perm) = &self.perm {
+            let old = perm.new_to_old();
+            triangles.par_iter_mut().for_each(|v| *v = old[*v as usize]);
+        }
+        let triangles = (self.mesh_given && mesh.is_none()).then_some(triangles);
+        let finished = crate::smoother::Finished {
             positions,
             mesh,
             config: self.config,
             weight_time: self.weight_time,
             update_time: self.update_time,
             solver: None,
-        }
+        };
+        (finished, triangles)
     }
 
     /// The internal vertex numbering, when the smoother reorders: internal vertex `i`
@@ -788,7 +886,14 @@ impl<'a> Explicit<'a> {
             } else {
                 &self.positions
             };
-            let _ = laplacian.update(&self.mesh, at, self.scheme);
+            match &self.mesh {
+                Some(mesh) => {
+                    let _ = laplacian.update(mesh, at, self.scheme);
+                }
+                None => {
+                    let _ = laplacian.update_detached(at, self.scheme);
+                }
+            }
             laplacian
         })
     }

@@ -17,18 +17,18 @@ use crate::scheme::{BuiltIn, WeightContext, WeightScheme};
 /// What a row pass writes for rows `first..first + sums.len()`: their slots of
 /// `weights` (starting at `offsets[first]`; `None`: the weights are not kept, each row
 /// is filled into a scratch buffer), weight sums and scales.
-struct Rows<'a> {
-    first: usize,
-    weights: Option<&'a mut [f64]>,
-    sums: &'a mut [f64],
-    scales: &'a mut [f64],
+pub(super) struct Rows<'a> {
+    pub(super) first: usize,
+    pub(super) weights: Option<&'a mut [f64]>,
+    pub(super) sums: &'a mut [f64],
+    pub(super) scales: &'a mut [f64],
 }
 
 /// How many rows were stuck, and whether a row sum was not finite.
 #[derive(Clone, Copy, Default)]
-struct RowTally {
-    stuck: usize,
-    non_finite: bool,
+pub(super) struct RowTally {
+    pub(super) stuck: usize,
+    pub(super) non_finite: bool,
 }
 
 impl RowTally {
@@ -216,7 +216,12 @@ pub(super) fn fill_cotangent_ring<const CALLER: u8>(
 /// `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop), then the
 /// sum and the scale are stored.
 /// Every row's bits depend only on that row, so not on the thread count.
-fn row_pass<F>(offsets: &[u32], areas: Option<&[f64]>, rows: Rows<'_>, fill: &F) -> RowTally
+pub(super) fn row_pass<F>(
+    offsets: &[u32],
+    areas: Option<&[f64]>,
+    rows: Rows<'_>,
+    fill: &F,
+) -> RowTally
 where
     F: Fn(usize, usize, &mut [f64]) -> f64 + Sync,
 {
@@ -290,7 +295,7 @@ where
 
 /// Runs the row pass of unit weights (every weight `negative.apply(1)`, which is 1):
 /// the sums and scales of [`row_pass`] with [`fill_uniform`], without writing weights.
-fn unit_pass(
+pub(super) fn unit_pass(
     offsets: &[u32],
     areas: Option<&[f64]>,
     negative: NegativeWeights,
@@ -343,7 +348,7 @@ impl Laplacian {
                 let Some(plan) = self.cotangent.as_mut() else {
                     return false;
                 };
-                plan.refresh(geometry);
+                plan.refresh(geometry.positions());
                 true
             }
         }

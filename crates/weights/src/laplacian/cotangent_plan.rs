@@ -1,8 +1,8 @@
 //! The cotangent kernel's per-face data: each triangle's cotangents once per refresh,
 //! gathered into the row slots.
 
-use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::{FaceId, HalfedgeMesh, VertexId};
+use beltrami_halfedge::geometry::triangle_cotangents_into;
+use beltrami_halfedge::{DVec3, FaceId, HalfedgeMesh, VertexId};
 use rayon::prelude::*;
 
 use super::layout::slot_values;
@@ -33,28 +33,29 @@ impl CotangentPlan {
     pub(super) fn new(mesh: &HalfedgeMesh, offsets: &[u32]) -> Option<Self> {
         let n_faces = mesh.n_faces();
         u32::try_from(3 * n_faces).ok()?;
-        // Each triangle's vertices in face order and its smallest vertex id (the sort
-        // key), in parallel; `None` for a face that is not a triangle.
-        let corners: Vec<Option<[u32; 3]>> = (0..n_faces)
+        // Each triangle's smallest vertex id (the sort key), in parallel; `u32::MAX` for
+        // a face that is not a triangle. (A key per face, 4 bytes, rather than its three
+        // vertices: the vertices are read again from the mesh when the triangle is
+        // placed, which keeps the mesh's own memory the largest thing held.)
+        let keys: Vec<u32> = (0..n_faces)
             .into_par_iter()
             .with_min_len(PAR_CHUNK)
             .map(|f| {
                 let h0 = mesh.face_halfedge(FaceId::new(f as u32));
                 let h1 = mesh.next(h0);
                 let h2 = mesh.next(h1);
-                (mesh.next(h2) == h0).then(|| {
-                    [
-                        mesh.to_vertex(h0).raw(),
-                        mesh.to_vertex(h1).raw(),
-                        mesh.to_vertex(h2).raw(),
-                    ]
-                })
+                if mesh.next(h2) == h0 {
+                    let [a, b, c] = [h0, h1, h2].map(|h| mesh.to_vertex(h).raw());
+                    a.min(b).min(c)
+                } else {
+                    u32::MAX
+                }
             })
             .collect();
         // Triangles by their smallest vertex id (a counting sort: stable, O(F + V)).
         let mut counts = vec![0u32; mesh.n_vertices() + 1];
-        for t in corners.iter().flatten() {
-            counts[t[0].min(t[1]).min(t[2]) as usize + 1] += 1;
+        for &k in keys.iter().filter(|&&k| k != u32::MAX) {
+            counts[k as usize + 1] += 1;
         }
         for i in 1..counts.len() {
             counts[i] += counts[i - 1];
@@ -66,23 +67,26 @@ impl CotangentPlan {
         // for a boundary halfedge or a face that is not a triangle): triangle `p`'s
         // halfedges in face order take `3p`, `3p + 1`, `3p + 2`.
         let mut cot_of = vec![sentinel; mesh.n_halfedges()];
-        for (f, t) in corners.iter().enumerate() {
-            if let Some(t) = t {
-                let slot = &mut counts[t[0].min(t[1]).min(t[2]) as usize];
+        for (f, &k) in keys.iter().enumerate() {
+            if k != u32::MAX {
+                let slot = &mut counts[k as usize];
                 let p = *slot;
                 *slot += 1;
-                triangles[p as usize] = t.map(VertexId::new);
                 let h0 = mesh.face_halfedge(FaceId::new(f as u32));
                 let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                triangles[p as usize] = [h0, h1, h2].map(|h| mesh.to_vertex(h));
                 cot_of[h0.index()] = 3 * p;
                 cot_of[h1.index()] = 3 * p + 1;
-                cot_of[mesh.next(h1).index()] = 3 * p + 2;
+                cot_of[h2.index()] = 3 * p + 2;
             }
         }
-        drop(corners);
+        drop(keys);
         let slot_cots: Vec<[u32; 2]> = slot_values(mesh, offsets, |h| {
             [cot_of[h.index()], cot_of[h.twin().index()]]
         });
+        // Freed before the cotangent table is made: the two are never held together.
+        drop(cot_of);
         Some(Self {
             triangles,
             slot_cots,
@@ -99,12 +103,12 @@ impl CotangentPlan {
     }
 
     /// Recomputes `face_cots` from the positions (in parallel, fixed chunks; each
-    /// triangle's bits are the geometry's).
-    pub(super) fn refresh(&mut self, geometry: &Geometry<'_>) {
+    /// triangle's bits are the geometry's). Reads no mesh.
+    pub(super) fn refresh(&mut self, positions: &[DVec3]) {
         let n = self.triangles.len();
         self.face_cots[..3 * n]
             .par_chunks_mut(3 * FACE_CHUNK)
             .zip(self.triangles.par_chunks(FACE_CHUNK))
-            .for_each(|(out, tris)| geometry.triangle_cotangents_into(tris, out));
+            .for_each(|(out, tris)| triangle_cotangents_into(positions, tris, out));
     }
 }

@@ -2,17 +2,20 @@
 //! positions, one row at a time, for an integrator that applies each row as soon as it
 //! has it instead of storing every weight (see [`FreshRows`]).
 
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::{Geometry, distance, vertex_area_share};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
+use rayon::prelude::*;
 
 use super::Laplacian;
 use std::sync::OnceLock;
 
 use super::assembly::{
-    RowKernel, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring, fill_inverse_distance,
-    fill_uniform, row_scale,
+    RowKernel, Rows, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
+    fill_inverse_distance, fill_uniform, row_pass, row_scale, unit_pass,
 };
-use super::options::{NegativeWeights, Normalization};
+use super::layout::{NO_TRIANGLE, corner_code, slot_corners};
+use super::options::{CotangentKernel, NegativeWeights, Normalization};
+use crate::PAR_CHUNK;
 use crate::scheme::{BuiltIn, WeightScheme};
 
 /// The rows of a [`Laplacian`] at new positions, computed one row at a time and not
@@ -73,12 +76,24 @@ impl Laplacian {
             Normalization::WeightSum => None,
             Normalization::Area(kind) => Some(geometry.vertex_areas(kind).ok()?.into_vec()),
         };
-        let negative = self.options.negative;
         let built_in = BuiltIn::of(scheme)?;
+        self.fresh_rows_with(areas, built_in, |lap| lap.prepare_cotangents(&geometry))
+    }
+
+    /// The [`FreshRows`] of `built_in` with the vertex `areas` of area normalisation,
+    /// after `prepare` made the cotangent kernel's data ready (cotangent rows only;
+    /// `None` when it could not).
+    fn fresh_rows_with(
+        &mut self,
+        areas: Option<Vec<f64>>,
+        built_in: BuiltIn,
+        prepare: impl FnOnce(&mut Self) -> bool,
+    ) -> Option<FreshRows<'_>> {
+        let negative = self.options.negative;
         if !self.unit_weights {
             self.weights = OnceLock::new();
         }
-        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents(&geometry) {
+        if built_in == BuiltIn::Cotangent && !prepare(self) {
             return None;
         }
         let kernel = match built_in {
@@ -97,6 +112,245 @@ impl Laplacian {
             areas,
             normalization: self.options.normalization,
         })
+    }
+
+    /// Makes the operator able to recompute its rows without the mesh
+    /// ([`fresh_rows_detached`](Self::fresh_rows_detached),
+    /// [`update_detached`](Self::update_detached)): for area normalisation it keeps, per
+    /// row slot, where the row's vertex stands in the triangle on the slot's left (two
+    /// bits per slot, so that each vertex area sums its triangles' shares in the
+    /// mesh's order), and for cotangent weights it builds the chosen kernel's data now
+    /// (the one-ring kernel's triangle bits, or the per-triangle plan, whose refresh
+    /// reads only the positions). The rows' offsets and neighbours are the rest.
+    ///
+    /// `false` (and nothing kept) when the rows cannot be recomputed that way:
+    /// `scheme` is not one of the built-in [`Uniform`](crate::Uniform),
+    /// [`InverseDistance`](crate::InverseDistance) and [`Cotangent`](crate::Cotangent);
+    /// a face is not a triangle; two vertices are joined by more than one edge (a row's
+    /// neighbours then do not name its triangles); the positions do not match the mesh;
+    /// or the per-triangle plan does not fit `u32` indices. Such operators keep
+    /// needing the mesh ([`update`](Self::update), [`fresh_rows`](Self::fresh_rows)).
+    ///
+    /// # Panics
+    /// If `mesh` has a different number of vertices or halfedges than at assembly.
+    pub fn detach(
+        &mut self,
+        mesh: &HalfedgeMesh,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+    ) -> bool {
+        assert_eq!(mesh.n_halfedges(), self.n_halfedges, "a different mesh");
+        assert_eq!(mesh.n_vertices(), self.scales.len(), "a different mesh");
+        let Some(built_in) = BuiltIn::of(scheme) else {
+            return false;
+        };
+        if !self.halfedges.is_empty() || !mesh.is_triangle_mesh() {
+            return false;
+        }
+        let Ok(geometry) = Geometry::new(mesh, positions) else {
+            return false;
+        };
+        // The kernel's data as assembled, or built now (its refresh is then wasted work).
+        let ready = match self.options.cotangent_kernel {
+            CotangentKernel::Ring => self.ring_triangles.is_some(),
+            _ => self.cotangent.is_some(),
+        };
+        if built_in == BuiltIn::Cotangent && !ready && !self.prepare_cotangents(&geometry) {
+            return false;
+        }
+        if let Normalization::Area(_) = self.options.normalization {
+            self.slot_corners = slot_corners(mesh, &self.offsets);
+        }
+        self.detached = true;
+        true
+    }
+
+    /// Whether [`detach`](Self::detach) made the operator able to recompute its rows
+    /// without the mesh.
+    #[must_use]
+    pub fn is_detached(&self) -> bool {
+        self.detached
+    }
+
+    /// [`fresh_rows`](Self::fresh_rows) without the mesh, after
+    /// [`detach`](Self::detach): the same rows, bit for bit (each vertex area sums its
+    /// triangles' shares in the mesh's order; the cotangent kernels read the kept
+    /// data). `None` when the operator is not detached, `scheme` is not the built-in
+    /// one it was detached for, or `positions` does not have one entry per row.
+    pub fn fresh_rows_detached(
+        &mut self,
+        positions: &[DVec3],
+        scheme: &dyn WeightScheme,
+    ) -> Option<FreshRows<'_>> {
+        if !self.detached || positions.len() != self.scales.len() {
+            return None;
+        }
+        let built_in = BuiltIn::of(scheme)?;
+        let areas = self.detached_areas(positions);
+        self.fresh_rows_with(areas, built_in, |lap| {
+            lap.prepare_cotangents_detached(positions)
+        })
+    }
+
+    /// [`update`](Self::update) without the mesh, after [`detach`](Self::detach): the
+    /// same weights, sums and scales, bit for bit. `false` when they cannot be computed
+    /// without the mesh — the operator is not detached, `scheme` is not the built-in
+    /// one it was detached for, `positions` does not have one entry per row, or a
+    /// weight is not finite (which `update` reports with the halfedge it is on) — and
+    /// the operator's weights are then unspecified until the next successful update.
+    #[must_use]
+    pub fn update_detached(&mut self, positions: &[DVec3], scheme: &dyn WeightScheme) -> bool {
+        if !self.detached || positions.len() != self.scales.len() {
+            return false;
+        }
+        let Some(built_in) = BuiltIn::of(scheme) else {
+            return false;
+        };
+        let areas = self.detached_areas(positions);
+        let areas = areas.as_deref();
+        let negative = self.options.negative;
+        self.unit_weights = false;
+        if built_in == BuiltIn::Uniform {
+            let tally = unit_pass(
+                &self.offsets,
+                areas,
+                negative,
+                &mut self.weight_sums,
+                &mut self.scales,
+            );
+            self.stuck = tally.stuck;
+            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
+            self.weights = OnceLock::new();
+            if !self.unit_weights {
+                // As `update`: unreachable with the policies there are.
+                self.weights = OnceLock::from(vec![negative.apply(1.0); self.neighbours.len()]);
+            }
+            return true;
+        }
+        if built_in == BuiltIn::Cotangent && !self.prepare_cotangents_detached(positions) {
+            return false;
+        }
+        let mut weights = self.weights.take().unwrap_or_default();
+        weights.resize(self.neighbours.len(), 0.0);
+        let rows = Rows {
+            first: 0,
+            weights: Some(&mut weights),
+            sums: &mut self.weight_sums,
+            scales: &mut self.scales,
+        };
+        let (offsets, neighbours) = (&self.offsets, &self.neighbours);
+        let kernel = match built_in {
+            BuiltIn::Cotangent => cotangent_row_kernel(
+                negative,
+                self.cotangent.as_ref(),
+                self.ring_triangles.as_deref(),
+            ),
+            _ => RowKernel::InverseDistance { negative },
+        };
+        // The same row functions, instances and order as `update`.
+        let tally = match kernel {
+            RowKernel::Cotangent {
+                slot_cots,
+                face_cots,
+                ..
+            } => row_pass(offsets, areas, rows, &|_, s, w: &mut [f64]| {
+                fill_cotangent(negative, &slot_cots[s..], face_cots, w)
+            }),
+            RowKernel::CotangentRing { triangles, .. } => {
+                row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                    fill_cotangent_ring::<1>(
+                        negative,
+                        positions,
+                        i,
+                        s,
+                        &neighbours[s..],
+                        triangles,
+                        w,
+                    )
+                })
+            }
+            _ => row_pass(offsets, areas, rows, &|i, s, w: &mut [f64]| {
+                fill_inverse_distance::<1>(negative, positions, i, &neighbours[s..], w)
+            }),
+        };
+        self.weights = OnceLock::from(weights);
+        if tally.non_finite {
+            return false;
+        }
+        self.stuck = tally.stuck;
+        true
+    }
+
+    /// The weight of a curve-boundary neighbour at `to` of a vertex at `from` for a
+    /// built-in scheme, from the two positions alone: the bits of
+    /// [`WeightScheme::curve_weight`] of [`Uniform`](crate::Uniform) (1) and of
+    /// [`InverseDistance`](crate::InverseDistance) and [`Cotangent`](crate::Cotangent)
+    /// (`1 / (|x_to − x_from| + ε)`). `None` for any other scheme, whose curve weight
+    /// may read the mesh.
+    #[must_use]
+    pub fn curve_weight_detached(scheme: &dyn WeightScheme, from: DVec3, to: DVec3) -> Option<f64> {
+        match BuiltIn::of(scheme)? {
+            BuiltIn::Uniform => Some(1.0),
+            BuiltIn::InverseDistance | BuiltIn::Cotangent => {
+                Some(1.0 / (distance(from, to) + crate::DISTANCE_EPSILON))
+            }
+        }
+    }
+
+    /// The vertex areas of area normalisation from the detached slot codes (`None` for
+    /// weight-sum normalisation): each vertex sums its triangles' shares from 0.0 in
+    /// row order, as [`Geometry::vertex_area`] does around the vertex. In parallel with
+    /// fixed chunks.
+    fn detached_areas(&self, positions: &[DVec3]) -> Option<Vec<f64>> {
+        let Normalization::Area(kind) = self.options.normalization else {
+            return None;
+        };
+        let (offsets, neighbours, codes) = (&self.offsets, &self.neighbours, &self.slot_corners);
+        let mut areas = vec![0.0; self.scales.len()];
+        areas
+            .par_chunks_mut(PAR_CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| {
+                for (k, a) in out.iter_mut().enumerate() {
+                    let i = c * PAR_CHUNK + k;
+                    let (first, end) = (offsets[i] as usize, offsets[i + 1] as usize);
+                    let xi = positions[i];
+                    let mut area = 0.0;
+                    for s in first..end {
+                        let code = corner_code(codes, s);
+                        if code == NO_TRIANGLE {
+                            continue;
+                        }
+                        let next = if s + 1 == end { first } else { s + 1 };
+                        let a = positions[neighbours[s] as usize];
+                        let b = positions[neighbours[next] as usize];
+                        let triangle = match code {
+                            0 => [xi, a, b],
+                            1 => [b, xi, a],
+                            _ => [a, b, xi],
+                        };
+                        area += vertex_area_share(triangle, usize::from(code), kind);
+                    }
+                    *a = area;
+                }
+            });
+        Some(areas)
+    }
+
+    /// Makes the cotangent kernel's data ready for `positions` without the mesh: the
+    /// one-ring kernel's bits as kept, or the per-triangle plan refreshed. `false` when
+    /// the chosen kernel's data was not built by [`detach`](Self::detach).
+    fn prepare_cotangents_detached(&mut self, positions: &[DVec3]) -> bool {
+        match self.options.cotangent_kernel {
+            CotangentKernel::Ring => self.ring_triangles.is_some(),
+            _ => match self.cotangent.as_mut() {
+                Some(plan) => {
+                    plan.refresh(positions);
+                    true
+                }
+                None => false,
+            },
+        }
     }
 }
 
@@ -262,5 +516,146 @@ impl FreshRows<'_> {
     pub fn scale(&self, i: usize, positions: &[DVec3]) -> Option<f64> {
         let len = (self.offsets[i + 1] - self.offsets[i]) as usize;
         self.row(i, positions, &mut vec![0.0; len])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Cotangent, CotangentKernel, InverseDistance, LaplacianOptions, Uniform};
+    use beltrami_halfedge::geometry::VertexAreaKind;
+    use beltrami_halfedge::primitives;
+
+    /// `p` moved by a deterministic wobble (no two vertices alike).
+    fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
+        p.iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let t = i as f64;
+                p + DVec3::new((1.3 * t).sin(), (2.1 * t).cos(), (0.7 * t).sin()) * amount
+            })
+            .collect()
+    }
+
+    fn row_bits(lap: &Laplacian) -> (Vec<u64>, Vec<u64>, Vec<u64>, usize) {
+        let rows = lap.rows();
+        let sums = (0..lap.n_rows())
+            .map(|i| {
+                lap.weight_sum(beltrami_halfedge::VertexId::new(i as u32))
+                    .to_bits()
+            })
+            .collect();
+        (
+            rows.weights.iter().map(|w| w.to_bits()).collect(),
+            rows.scales.iter().map(|s| s.to_bits()).collect(),
+            sums,
+            lap.stuck_rows(),
+        )
+    }
+
+    /// Without the mesh, `update` and `fresh_rows` give the bits they give with it:
+    /// every built-in scheme, both cotangent kernels, every normalisation, on a closed
+    /// sphere and an open grid.
+    #[test]
+    fn rows_without_the_mesh_have_the_bits_of_the_rows_with_it() {
+        let sphere = primitives::icosphere(3);
+        let grid = primitives::grid(9, 7);
+        let schemes: [&dyn WeightScheme; 3] = [&Uniform, &InverseDistance, &Cotangent];
+        for shape in [sphere, grid] {
+            let mesh = shape.mesh().unwrap();
+            let x = wobble(&shape.positions, 0.02);
+            let y = wobble(&x, 0.03);
+            for scheme in schemes {
+                for kernel in [CotangentKernel::PerTriangle, CotangentKernel::Ring] {
+                    for normalization in [
+                        Normalization::WeightSum,
+                        Normalization::Area(VertexAreaKind::Barycentric),
+                        Normalization::Area(VertexAreaKind::MixedVoronoi),
+                    ] {
+                        let options = LaplacianOptions::new()
+                            .normalization(normalization)
+                            .cotangent_kernel(kernel);
+                        let mut with = Laplacian::new(&mesh, &x, scheme, options).unwrap();
+                        let mut without = with.clone();
+                        assert!(without.detach(&mesh, &x, scheme));
+                        assert!(without.is_detached());
+                        with.update(&mesh, &y, scheme).unwrap();
+                        assert!(without.update_detached(&y, scheme));
+                        assert_eq!(row_bits(&with), row_bits(&without), "{options:?}");
+                        let n = with.n_rows();
+                        let a = with.fresh_rows(&mesh, &x, scheme).unwrap();
+                        let b = without.fresh_rows_detached(&x, scheme).unwrap();
+                        let (mut wa, mut wb) = (vec![0.0; 64], vec![0.0; 64]);
+                        for i in 0..n {
+                            let sa = a.row(i, &x, &mut wa).map(f64::to_bits);
+                            let sb = b.row(i, &x, &mut wb).map(f64::to_bits);
+                            assert_eq!(sa, sb, "{options:?}, row {i}");
+                            assert_eq!(
+                                wa.iter().map(|w| w.to_bits()).collect::<Vec<_>>(),
+                                wb.iter().map(|w| w.to_bits()).collect::<Vec<_>>()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A mesh with polygon faces, a scheme of the caller's own, and positions that do
+    /// not match are not detached; an operator that is not detached computes nothing
+    /// without the mesh.
+    #[test]
+    fn what_needs_the_mesh_is_not_detached() {
+        let cube = primitives::cube_quads();
+        let mesh = cube.mesh().unwrap();
+        let options = LaplacianOptions::default();
+        let mut lap = Laplacian::new(&mesh, &cube.positions, &Uniform, options).unwrap();
+        assert!(!lap.detach(&mesh, &cube.positions, &Uniform));
+        assert!(!lap.is_detached());
+        assert!(!lap.update_detached(&cube.positions, &Uniform));
+        assert!(lap.fresh_rows_detached(&cube.positions, &Uniform).is_none());
+
+        struct Mine;
+        impl WeightScheme for Mine {
+            fn name(&self) -> &str {
+                "mine"
+            }
+            fn weight(
+                &self,
+                _: &crate::WeightContext<'_>,
+                _: beltrami_halfedge::HalfedgeId,
+            ) -> f64 {
+                2.0
+            }
+        }
+        let sphere = primitives::icosphere(1);
+        let mesh = sphere.mesh().unwrap();
+        let x = &sphere.positions;
+        let mut lap = Laplacian::new(&mesh, x, &Mine, options).unwrap();
+        assert!(!lap.detach(&mesh, x, &Mine));
+        assert!(!lap.detach(&mesh, &x[1..], &Uniform));
+        assert!(lap.detach(&mesh, x, &Uniform));
+        assert!(!lap.update_detached(&x[1..], &Uniform));
+        assert!(!lap.update_detached(x, &Mine));
+        assert!(lap.update_detached(x, &Uniform));
+        assert_eq!(Laplacian::curve_weight_detached(&Mine, x[0], x[1]), None);
+        assert_eq!(
+            Laplacian::curve_weight_detached(&Uniform, x[0], x[1]),
+            Some(1.0)
+        );
+    }
+
+    /// A non-finite weight is left to `update` with the mesh, which names its halfedge.
+    #[test]
+    fn a_non_finite_weight_needs_the_mesh() {
+        let sphere = primitives::icosphere(1);
+        let mesh = sphere.mesh().unwrap();
+        let mut x = sphere.positions.clone();
+        let options = LaplacianOptions::default();
+        let mut lap = Laplacian::new(&mesh, &x, &InverseDistance, options).unwrap();
+        assert!(lap.detach(&mesh, &x, &InverseDistance));
+        x[3].x = f64::NAN;
+        assert!(!lap.update_detached(&x, &InverseDistance));
+        assert!(lap.update(&mesh, &x, &InverseDistance).is_err());
     }
 }

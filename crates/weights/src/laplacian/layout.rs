@@ -146,6 +146,52 @@ pub(super) fn bit(bits: &[u64], s: usize) -> bool {
     (bits[s / 64] >> (s % 64)) & 1 != 0
 }
 
+/// The code of a slot whose left face is not a triangle (see [`slot_corners`]).
+pub(super) const NO_TRIANGLE: u8 = 3;
+
+/// Two bits per slot `s` (word `s / 32`, bits `2 (s % 32)` and up): where the row's
+/// vertex `i` stands in the face on the left of slot `s` — the triangle `i`, `n_k`,
+/// `n_{k+1}` (its neighbours `k` and `k + 1`, cyclically; see [`ring_triangles`]) —
+/// counted in face order from the face's first vertex: 0 (the face is `i, n_k,
+/// n_{k+1}`), 1 (`n_{k+1}, i, n_k`) or 2 (`n_k, n_{k+1}, i`); [`NO_TRIANGLE`] when the
+/// face is not a triangle or there is none. With the rows this gives every triangle
+/// around a vertex in face order, which is what a vertex area needs without the mesh.
+/// In parallel with fixed chunks (of whole words).
+pub(super) fn slot_corners(mesh: &HalfedgeMesh, offsets: &[u32]) -> Vec<u64> {
+    const WORDS: usize = PAR_CHUNK / 32;
+    let total = offsets.last().map_or(0, |&t| t as usize);
+    let mut bits = vec![0u64; total.div_ceil(32)];
+    bits.par_chunks_mut(WORDS)
+        .enumerate()
+        .for_each(|(c, words)| {
+            let start = c * WORDS * 32;
+            let end = (start + 32 * words.len()).min(total);
+            for_slots(mesh, offsets, start, end, |s, h| {
+                let code = match mesh.face(h) {
+                    Some(f) if mesh.next(mesh.next(mesh.next(h))) == h => {
+                        let first = mesh.face_halfedge(f);
+                        if first == mesh.prev(h) {
+                            0
+                        } else if first == mesh.next(h) {
+                            1
+                        } else {
+                            2
+                        }
+                    }
+                    _ => NO_TRIANGLE,
+                };
+                words[(s - start) / 32] |= u64::from(code) << (2 * ((s - start) % 32));
+            });
+        });
+    bits
+}
+
+/// The two-bit code of slot `s` (see [`slot_corners`]).
+#[inline(always)]
+pub(super) fn corner_code(codes: &[u64], s: usize) -> u8 {
+    ((codes[s / 32] >> (2 * (s % 32))) & 3) as u8
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -100,6 +100,12 @@ pub struct Laplacian {
     ring_triangles: Option<Vec<u64>>,
     /// The per-triangle cotangent kernel's data, built on first use.
     cotangent: Option<CotangentPlan>,
+    /// Two bits per slot: where the row's vertex stands in the triangle on the slot's
+    /// left (see `layout::slot_corners`); kept by [`detach`](Self::detach) for area
+    /// normalisation, empty otherwise.
+    slot_corners: Vec<u64>,
+    /// [`detach`](Self::detach) succeeded: the rows can be recomputed without the mesh.
+    detached: bool,
 }
 
 /// The rows of a [`Laplacian`] in compressed sparse row form, borrowed: row `i` holds
@@ -194,6 +200,8 @@ impl Laplacian {
             unit_weights: false,
             ring_triangles: None,
             cotangent: None,
+            slot_corners: Vec::new(),
+            detached: false,
         }
     }
 
@@ -288,7 +296,7 @@ impl Laplacian {
     /// The bytes of heap memory the operator holds: the capacities of its arrays
     /// (offsets, neighbours, halfedge ids when kept, weights when stored or made,
     /// the plug-in schemes' per-halfedge scratch, row sums, scales, the cotangent
-    /// kernel's triangle bits or the per-triangle kernel's table). For a caller that
+    /// kernel's triangle bits or the per-triangle kernel's table, the detached slot codes). For a caller that
     /// estimates or reports its memory.
     #[must_use]
     pub fn heap_bytes(&self) -> usize {
@@ -300,7 +308,9 @@ impl Laplacian {
                     + self.halfedge_weights.capacity()
                     + self.weight_sums.capacity()
                     + self.scales.capacity())
-            + size_of::<u64>() * self.ring_triangles.as_ref().map_or(0, Vec::capacity)
+            + size_of::<u64>()
+                * (self.ring_triangles.as_ref().map_or(0, Vec::capacity)
+                    + self.slot_corners.capacity())
             + self.cotangent.as_ref().map_or(0, CotangentPlan::heap_bytes)
     }
 
@@ -455,6 +465,7 @@ mod tests {
             + 8 * l.weight_sums.capacity()
             + 8 * l.scales.capacity()
             + 8 * l.ring_triangles.as_ref().map_or(0, Vec::capacity)
+            + 8 * l.slot_corners.capacity()
             + l.cotangent.as_ref().map_or(0, |p| {
                 12 * p.triangles.capacity()
                     + 8 * p.slot_cots.capacity()
