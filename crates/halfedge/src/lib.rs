@@ -80,6 +80,7 @@ mod polygons;
 pub mod primitives;
 mod raw;
 mod refine;
+mod release;
 pub mod reorder;
 mod repair;
 
@@ -99,4 +100,5 @@ pub use mesh::HalfedgeMesh;
 pub use mesh_data::MeshData;
 pub use polygons::PolygonList;
 pub use raw::RawConnectivity;
+pub use release::release;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};

@@ -415,7 +415,7 @@ pub fn repair(
     // 5. Orient.
     let mut flip = orient(
         &corners,
-        list.offsets(),
+        &list.offsets(),
         &mut mate,
         &origin,
         options.cut_non_orientable,

@@ -62,7 +62,7 @@ pub(crate) fn run(
     // The output is written with the mesh's own faces (`to_polygons` gives the list
     // the mesh was built from back exactly; a run without the mesh keeps its triangles,
     // the same list), so the list as read is not kept through the run.
-    drop(faces);
+    faces.release();
     let shape = Shape::of(&mesh);
     let before = Before::of(&mesh, &positions, kept);
     let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;

@@ -63,10 +63,12 @@ pub(super) fn assemble(
 
     // The vertex's last corner (in corner order), while the lists are at hand.
     let mut v_out: Vec<u32> = leaving.last_corners();
-    drop(leaving);
+    let Leaving { start, out } = leaving;
+    crate::release(start);
+    crate::release(out);
 
     let (edge_corners, corner_he, boundary) = number_edges(&mate, &openers, &base);
-    drop(mate);
+    crate::release(mate);
 
     // Interior vertices: the halfedge leaving the vertex in its last face (where
     // OpenMesh's `add_face` leaves it, so circulators start at the same neighbour).
@@ -97,18 +99,18 @@ pub(super) fn assemble(
 
     let [h_to, h_next, mut h_prev, h_face] =
         fill_halfedges(&corners, &edge_corners, &corner_he, &v_out);
-    drop(edge_corners);
+    crate::release(edge_corners);
     // Link boundary loops: the boundary halfedge after `t` has `t` before it.
     for &k in &boundary {
         let t = corner_he[k as usize] | 1;
         h_prev[h_next[t as usize] as usize] = t;
     }
-    let f_he: Vec<u32> = list.offsets()[1..]
-        .par_iter()
+    let f_he: Vec<u32> = (0..list.len())
+        .into_par_iter()
         .with_min_len(CHUNK)
-        .map(|&end| corner_he[end - 1])
+        .map(|f| corner_he[list.face_range(f).end - 1])
         .collect();
-    drop(corner_he);
+    crate::release(corner_he);
 
     let mesh = HalfedgeMesh {
         v_out,
@@ -621,9 +623,8 @@ mod tests {
                 v_out[v as usize] = h;
             }
         }
-        let f_he: Vec<u32> = list.offsets()[1..]
-            .iter()
-            .map(|&end| corner_he[end - 1])
+        let f_he: Vec<u32> = (0..list.len())
+            .map(|f| corner_he[list.face_range(f).end - 1])
             .collect();
 
         let mesh = HalfedgeMesh {

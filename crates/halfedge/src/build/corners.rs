@@ -47,11 +47,12 @@ impl<'a> Corners<'a> {
         let mut face = Vec::with_capacity(n);
         let mut next = Vec::with_capacity(n);
         let mut prev = Vec::with_capacity(n);
-        for (f, w) in list.offsets().windows(2).enumerate() {
-            for k in w[0]..w[1] {
+        for f in 0..list.len() {
+            let w = list.face_range(f);
+            for k in w.clone() {
                 face.push(f as u32);
-                next.push(if k + 1 == w[1] { w[0] } else { k + 1 } as u32);
-                prev.push(if k == w[0] { w[1] - 1 } else { k - 1 } as u32);
+                next.push(if k + 1 == w.end { w.start } else { k + 1 } as u32);
+                prev.push(if k == w.start { w.end - 1 } else { k - 1 } as u32);
             }
         }
         Self {

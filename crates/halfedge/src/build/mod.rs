@@ -188,10 +188,10 @@ fn first_bad_face(
     range: std::ops::Range<usize>,
     n_vertices: usize,
 ) -> Option<TopologyError> {
-    let (offsets, indices) = (faces.offsets(), faces.indices());
+    let indices = faces.indices();
     let mut scratch = Vec::new();
     for fi in range {
-        let face = &indices[offsets[fi]..offsets[fi + 1]];
+        let face = &indices[faces.face_range(fi)];
         if let &[a, b, c] = face {
             // The common case in one test: three distinct vertices in range.
             let n = n_vertices;

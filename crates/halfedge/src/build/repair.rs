@@ -114,10 +114,9 @@ pub(super) fn split_nonmanifold_vertices(
     if report.split_vertices.is_empty() {
         return Ok(());
     }
-    let offsets = list.offsets();
     let mut fixed = PolygonList::with_capacity(list.len(), rewritten.len());
-    for w in offsets.windows(2) {
-        fixed.push(&rewritten[w[0]..w[1]]);
+    for f in 0..list.len() {
+        fixed.push(&rewritten[list.face_range(f)]);
     }
     *list = fixed;
     Ok(())
