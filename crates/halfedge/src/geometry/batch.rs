@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use wide::{CmpGe, CmpGt, CmpLt};
+use wide::{CmpEq, CmpGe, CmpGt, CmpLt};
 
 use super::kernel::{self, SQRT_MIN};
 use super::lanes::V3;
@@ -185,6 +185,15 @@ pub fn distances_into(origin: DVec3, positions: &[DVec3], targets: &[u32], out: 
 /// f(distance(origin, positions[targets[k]]))`. One pass for a caller that stores a
 /// function of the distance (an inverse-distance weight, say).
 ///
+/// The distances are computed two at a time in SIMD lanes, and `f` is applied to both
+/// lanes of a pair in one expression, so a branch-free `f` (such as `|d| 1.0 / (d +
+/// eps)`) is compiled to packed instructions as well: one packed division per pair
+/// instead of two scalar ones, the same bits (IEEE operations are correctly rounded in
+/// every lane). Whether every pair was in the plain range (where the plain length is
+/// the distance) is tested once for the whole row; if one was not, the row's pairs are
+/// redone with the per-element distance, so `f` may be called more than once for a
+/// slot (it should be a pure function).
+///
 /// # Panics
 /// If `out` is shorter than `targets` or a target is out of bounds.
 #[inline]
@@ -193,39 +202,59 @@ where
     F: Fn(f64) -> f64,
 {
     let out = &mut out[..targets.len()];
-    let pairs = targets.chunks_exact(LANES);
-    let tail = pairs.remainder();
-    let mut outs = out.chunks_exact_mut(LANES);
     let o = V3 {
         x: Lanes::splat(origin.x),
         y: Lanes::splat(origin.y),
         z: Lanes::splat(origin.z),
     };
-    for (js, d) in pairs.zip(&mut outs) {
-        let xj: [DVec3; LANES] = std::array::from_fn(|l| positions[js[l] as usize]);
+    let (lo, hi) = (Lanes::splat(SQRT_MIN), Lanes::splat(f64::INFINITY));
+    // `f` of the plain lengths from `origin` to the targets `a` and `b`, and whether
+    // both lengths are plain: at least sqrt(MIN_POSITIVE) and finite (NaN fails both
+    // comparisons), where the plain length is the distance.
+    let pair = |a: u32, b: u32| {
+        let [a, b] = [positions[a as usize], positions[b as usize]];
         let v = V3 {
-            x: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].x)),
-            y: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].y)),
-            z: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].z)),
+            x: Lanes::from([a.x, b.x]),
+            y: Lanes::from([a.y, b.y]),
+            z: Lanes::from([a.z, b.z]),
         } - o;
         let len = v.dot(v).sqrt();
-        // The plain length is the distance when it is at least sqrt(MIN_POSITIVE) and
-        // finite (NaN fails both comparisons).
-        let plain = len.cmp_ge(Lanes::splat(SQRT_MIN)) & len.cmp_lt(Lanes::splat(f64::INFINITY));
-        if plain.all() {
-            let len = len.to_array();
-            for (d, len) in d.iter_mut().zip(len) {
-                *d = f(len);
-            }
-        } else {
-            for (d, xj) in d.iter_mut().zip(xj) {
-                *d = f(kernel::distance(origin, xj));
-            }
+        let [l0, l1] = len.to_array();
+        ([f(l0), f(l1)], len.cmp_ge(lo) & len.cmp_lt(hi))
+    };
+    let exact = |d: &mut [f64], targets: &[u32]| {
+        for (d, &j) in d.iter_mut().zip(targets) {
+            *d = f(kernel::distance(origin, positions[j as usize]));
         }
+    };
+    // Six neighbours, the most common row of a triangle mesh: no loop.
+    if let (Ok(js), Ok(d)) = (
+        <&[u32; 6]>::try_from(targets),
+        <&mut [f64; 6]>::try_from(&mut *out),
+    ) {
+        let (d01, p01) = pair(js[0], js[1]);
+        let (d23, p23) = pair(js[2], js[3]);
+        let (d45, p45) = pair(js[4], js[5]);
+        *d = [d01[0], d01[1], d23[0], d23[1], d45[0], d45[1]];
+        if !(p01 & p23 & p45).all() {
+            exact(d, js);
+        }
+        return;
     }
-    for (d, &j) in outs.into_remainder().iter_mut().zip(tail) {
-        *d = f(kernel::distance(origin, positions[j as usize]));
+    let pairs = targets.chunks_exact(LANES);
+    let tail = pairs.remainder();
+    let (paired, rest) = out.split_at_mut(targets.len() - tail.len());
+    // All lanes true: every pair so far was plain.
+    let mut plain = lo.cmp_eq(lo);
+    for (js, d) in pairs.zip(paired.chunks_exact_mut(LANES)) {
+        let (w, p) = pair(js[0], js[1]);
+        plain = plain & p;
+        d.copy_from_slice(&w);
     }
+    if !plain.all() {
+        exact(paired, targets);
+    }
+    exact(rest, tail);
 }
 
 /// The cotangent weights around one vertex, from its one-ring: the two cotangents

@@ -59,7 +59,10 @@ pub(super) fn row_scale(sum: f64, area: Option<f64>, empty: bool) -> f64 {
         None => 1.0 / sum,
         Some(a) => 1.0 / a,
     };
-    let movable = !empty && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
+    // `sum.is_finite() && sum > 0.0` (NaN fails both comparisons), and the same for
+    // the scale, without branches.
+    let positive_finite = |x: f64| (x > 0.0) & (x < f64::INFINITY);
+    let movable = !empty & positive_finite(sum) & positive_finite(scale);
     if movable { scale } else { 0.0 }
 }
 
@@ -145,9 +148,16 @@ pub(super) fn fill_inverse_distance<const CALLER: u8>(
 ) -> f64 {
     let eps = crate::DISTANCE_EPSILON;
     let nb = &neighbours[..w.len()];
-    distances_with(positions[i], positions, nb, w, |d| {
-        negative.apply(1.0 / (d + eps))
-    });
+    let xi = positions[i];
+    // One branch-free function per policy (`negative.apply`, written out), so that the
+    // kernel applies it to a pair of distances in packed instructions.
+    match negative {
+        NegativeWeights::Keep => distances_with(xi, positions, nb, w, |d| 1.0 / (d + eps)),
+        NegativeWeights::Clamp => {
+            distances_with(xi, positions, nb, w, |d| (1.0 / (d + eps)).max(0.0));
+        }
+        NegativeWeights::Abs => distances_with(xi, positions, nb, w, |d| (1.0 / (d + eps)).abs()),
+    }
     row_sum_of(w)
 }
 
