@@ -43,8 +43,13 @@ impl RowTally {
 /// The sum of a row's weights in row order: `Iterator::sum`, a fold from `-0.0` (so
 /// that an empty row or one of negative zeros sums to `-0.0`, as before the fold was
 /// written out in the fills).
+/// A row of six, the most common on a triangle mesh, is summed without a loop (the same
+/// additions in the same order).
 #[inline(always)]
 fn row_sum_of(w: &[f64]) -> f64 {
+    if let Ok(six) = <&[f64; 6]>::try_from(w) {
+        return six.iter().fold(-0.0, |s, &w| s + w);
+    }
     w.iter().fold(-0.0, |s, &w| s + w)
 }
 
@@ -59,10 +64,7 @@ pub(super) fn row_scale(sum: f64, area: Option<f64>, empty: bool) -> f64 {
         None => 1.0 / sum,
         Some(a) => 1.0 / a,
     };
-    // `sum.is_finite() && sum > 0.0` (NaN fails both comparisons), and the same for
-    // the scale, without branches.
-    let positive_finite = |x: f64| (x > 0.0) & (x < f64::INFINITY);
-    let movable = !empty & positive_finite(sum) & positive_finite(scale);
+    let movable = !empty && sum.is_finite() && sum > 0.0 && scale.is_finite() && scale > 0.0;
     if movable { scale } else { 0.0 }
 }
 
@@ -174,6 +176,28 @@ pub(super) fn fill_cotangent(
     let pairs = &pairs[..w.len()];
     let cot = |[a, b]: [u32; 2]| 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
     let mut sum = -0.0;
+    // Six slots, the most common row of a triangle mesh: no loop (the same operations
+    // in the same order).
+    if let (Ok(pairs), Ok(w)) = (
+        <&[[u32; 2]; 6]>::try_from(pairs),
+        <&mut [f64; 6]>::try_from(&mut *w),
+    ) {
+        match negative {
+            NegativeWeights::Keep => {
+                for k in 0..6 {
+                    w[k] = cot(pairs[k]);
+                    sum += w[k];
+                }
+            }
+            _ => {
+                for k in 0..6 {
+                    w[k] = negative.apply(cot(pairs[k]));
+                    sum += w[k];
+                }
+            }
+        }
+        return sum;
+    }
     match negative {
         NegativeWeights::Keep => {
             for (w, &p) in w.iter_mut().zip(pairs) {
