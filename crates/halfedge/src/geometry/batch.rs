@@ -222,11 +222,12 @@ where
         let [l0, l1] = len.to_array();
         ([f(l0), f(l1)], len.cmp_ge(lo) & len.cmp_lt(hi))
     };
-    let exact = |d: &mut [f64], targets: &[u32]| {
-        for (d, &j) in d.iter_mut().zip(targets) {
-            *d = f(kernel::distance(origin, positions[j as usize]));
-        }
-    };
+    // The origin goes to the per-element fallback as three numbers: a `DVec3` passed
+    // there would live on the stack, and the lanes above would then load its `y` and
+    // `z` as one 16-byte read across two smaller stores, which the processor cannot
+    // forward (a stall at the start of every row).
+    let (ox, oy, oz) = (origin.x, origin.y, origin.z);
+    let exact = |d: &mut [f64], targets: &[u32]| exact_distances(ox, oy, oz, positions, targets, d, &f);
     // Six neighbours, the most common row of a triangle mesh: no loop.
     if let (Ok(js), Ok(d)) = (
         <&[u32; 6]>::try_from(targets),
@@ -254,7 +255,31 @@ where
     if !plain.all() {
         exact(paired, targets);
     }
-    exact(rest, tail);
+    if !tail.is_empty() {
+        exact(rest, tail);
+    }
+}
+
+/// `out[k] = f(distance(origin, positions[targets[k]]))` with the per-element
+/// distance, the origin `(ox, oy, oz)`: the fallback of [`distances_with`], out of its
+/// loop.
+#[cold]
+#[inline(never)]
+fn exact_distances<F>(
+    ox: f64,
+    oy: f64,
+    oz: f64,
+    positions: &[DVec3],
+    targets: &[u32],
+    out: &mut [f64],
+    f: &F,
+) where
+    F: Fn(f64) -> f64,
+{
+    let origin = DVec3::new(ox, oy, oz);
+    for (d, &j) in out.iter_mut().zip(targets) {
+        *d = f(kernel::distance(origin, positions[j as usize]));
+    }
 }
 
 /// The cotangent weights around one vertex, from its one-ring: the two cotangents
