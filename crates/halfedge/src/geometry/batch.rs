@@ -227,7 +227,8 @@ where
     // `z` as one 16-byte read across two smaller stores, which the processor cannot
     // forward (a stall at the start of every row).
     let (ox, oy, oz) = (origin.x, origin.y, origin.z);
-    let exact = |d: &mut [f64], targets: &[u32]| exact_distances(ox, oy, oz, positions, targets, d, &f);
+    let exact =
+        |d: &mut [f64], targets: &[u32]| exact_distances(ox, oy, oz, positions, targets, d, &f);
     // Six neighbours, the most common row of a triangle mesh: no loop.
     if let (Ok(js), Ok(d)) = (
         <&[u32; 6]>::try_from(targets),
@@ -249,7 +250,7 @@ where
     let mut plain = lo.cmp_eq(lo);
     for (js, d) in pairs.zip(paired.chunks_exact_mut(LANES)) {
         let (w, p) = pair(js[0], js[1]);
-        plain = plain & p;
+        plain &= p;
         d.copy_from_slice(&w);
     }
     if !plain.all() {
