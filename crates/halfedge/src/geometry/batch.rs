@@ -308,6 +308,7 @@ fn exact_distances<F>(
 ///
 /// # Panics
 /// If `out` is shorter than `ring` or a neighbour is out of bounds.
+#[inline(always)]
 pub fn ring_cotangents_with<P, F>(
     origin: DVec3,
     positions: &[DVec3],
