@@ -844,6 +844,56 @@ mod tests {
         }
     }
 
+    /// `distances_with` applies its function to the bits of `distance` for every slot:
+    /// the inverse-distance weight and its clamped and absolute forms (which the lanes
+    /// compute two at a time), on every row length, with rows of six (the unrolled
+    /// path) that mix plain slots with coincident, tiny, huge, NaN and infinite ones.
+    #[test]
+    fn distances_with_applies_f_to_every_distance() {
+        let mut rng = Rng(29);
+        let mut positions: Vec<DVec3> = (0..30).map(|_| rng.point()).collect();
+        let xi = positions[0];
+        positions.extend([
+            xi,
+            xi + DVec3::new(0.0, 1e-160, 0.0),
+            DVec3::splat(1e300),
+            DVec3::splat(-1e308),
+            DVec3::new(0.0, 0.0, f64::NAN),
+            DVec3::new(f64::NEG_INFINITY, 0.0, 0.0),
+        ]);
+        let n = positions.len() as u32;
+        let special = |j: u32| j == 0 || j >= 30;
+        let targets: Vec<u32> = (0..4 * n).map(|k| (k * 5 + 1) % n).collect();
+        let fs: [fn(f64) -> f64; 3] = [
+            |d| 1.0 / (d + 1e-12),
+            |d| (1.0 / (d + 1e-12)).max(0.0),
+            |d| (1.0 / (d + 1e-12)).abs(),
+        ];
+        let mut mixed_sixes = 0;
+        for (c, f) in fs.iter().enumerate() {
+            for start in 0..targets.len() {
+                for len in 0..=9 {
+                    let Some(nb) = targets.get(start..start + len) else {
+                        continue;
+                    };
+                    if len == 6 && nb.iter().any(|&j| special(j)) && !nb.iter().all(|&j| special(j))
+                    {
+                        mixed_sixes += 1;
+                    }
+                    let mut out = vec![-7.0; len + 1];
+                    distances_with(xi, &positions, nb, &mut out, f);
+                    let want: Vec<f64> = nb
+                        .iter()
+                        .map(|&j| f(distance(xi, positions[j as usize])))
+                        .chain([-7.0])
+                        .collect();
+                    assert_eq!(bits(&out), bits(&want), "function {c}, {start}+{len}");
+                }
+            }
+        }
+        assert!(mixed_sixes > 0);
+    }
+
     /// The parallel vertex areas are the per-vertex query's, for both kinds.
     #[test]
     fn vertex_areas_into_has_the_bits_of_the_per_vertex_query() {
