@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use wide::{CmpGe, CmpGt, CmpLt};
+use wide::{CmpEq, CmpGe, CmpGt, CmpLt};
 
 use super::kernel::{self, SQRT_MIN};
 use super::lanes::V3;
@@ -185,6 +185,15 @@ pub fn distances_into(origin: DVec3, positions: &[DVec3], targets: &[u32], out: 
 /// f(distance(origin, positions[targets[k]]))`. One pass for a caller that stores a
 /// function of the distance (an inverse-distance weight, say).
 ///
+/// The distances are computed two at a time in SIMD lanes, and `f` is applied to both
+/// lanes of a pair in one expression, so a branch-free `f` (such as `|d| 1.0 / (d +
+/// eps)`) is compiled to packed instructions as well: one packed division per pair
+/// instead of two scalar ones, the same bits (IEEE operations are correctly rounded in
+/// every lane). Whether every pair was in the plain range (where the plain length is
+/// the distance) is tested once for the whole row; if one was not, the row's pairs are
+/// redone with the per-element distance, so `f` may be called more than once for a
+/// slot (it should be a pure function).
+///
 /// # Panics
 /// If `out` is shorter than `targets` or a target is out of bounds.
 #[inline]
@@ -193,37 +202,83 @@ where
     F: Fn(f64) -> f64,
 {
     let out = &mut out[..targets.len()];
-    let pairs = targets.chunks_exact(LANES);
-    let tail = pairs.remainder();
-    let mut outs = out.chunks_exact_mut(LANES);
     let o = V3 {
         x: Lanes::splat(origin.x),
         y: Lanes::splat(origin.y),
         z: Lanes::splat(origin.z),
     };
-    for (js, d) in pairs.zip(&mut outs) {
-        let xj: [DVec3; LANES] = std::array::from_fn(|l| positions[js[l] as usize]);
+    let (lo, hi) = (Lanes::splat(SQRT_MIN), Lanes::splat(f64::INFINITY));
+    // `f` of the plain lengths from `origin` to the targets `a` and `b`, and whether
+    // both lengths are plain: at least sqrt(MIN_POSITIVE) and finite (NaN fails both
+    // comparisons), where the plain length is the distance.
+    let pair = |a: u32, b: u32| {
+        let [a, b] = [positions[a as usize], positions[b as usize]];
         let v = V3 {
-            x: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].x)),
-            y: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].y)),
-            z: Lanes::from(std::array::from_fn::<_, LANES, _>(|l| xj[l].z)),
+            x: Lanes::from([a.x, b.x]),
+            y: Lanes::from([a.y, b.y]),
+            z: Lanes::from([a.z, b.z]),
         } - o;
         let len = v.dot(v).sqrt();
-        // The plain length is the distance when it is at least sqrt(MIN_POSITIVE) and
-        // finite (NaN fails both comparisons).
-        let plain = len.cmp_ge(Lanes::splat(SQRT_MIN)) & len.cmp_lt(Lanes::splat(f64::INFINITY));
-        if plain.all() {
-            let len = len.to_array();
-            for (d, len) in d.iter_mut().zip(len) {
-                *d = f(len);
-            }
-        } else {
-            for (d, xj) in d.iter_mut().zip(xj) {
-                *d = f(kernel::distance(origin, xj));
-            }
+        let [l0, l1] = len.to_array();
+        ([f(l0), f(l1)], len.cmp_ge(lo) & len.cmp_lt(hi))
+    };
+    // The origin goes to the per-element fallback as three numbers: a `DVec3` passed
+    // there would live on the stack, and the lanes above would then load its `y` and
+    // `z` as one 16-byte read across two smaller stores, which the processor cannot
+    // forward (a stall at the start of every row).
+    let (ox, oy, oz) = (origin.x, origin.y, origin.z);
+    let exact =
+        |d: &mut [f64], targets: &[u32]| exact_distances(ox, oy, oz, positions, targets, d, &f);
+    // Six neighbours, the most common row of a triangle mesh: no loop.
+    if let (Ok(js), Ok(d)) = (
+        <&[u32; 6]>::try_from(targets),
+        <&mut [f64; 6]>::try_from(&mut *out),
+    ) {
+        let (d01, p01) = pair(js[0], js[1]);
+        let (d23, p23) = pair(js[2], js[3]);
+        let (d45, p45) = pair(js[4], js[5]);
+        *d = [d01[0], d01[1], d23[0], d23[1], d45[0], d45[1]];
+        if !(p01 & p23 & p45).all() {
+            exact(d, js);
         }
+        return;
     }
-    for (d, &j) in outs.into_remainder().iter_mut().zip(tail) {
+    let pairs = targets.chunks_exact(LANES);
+    let tail = pairs.remainder();
+    let (paired, rest) = out.split_at_mut(targets.len() - tail.len());
+    // All lanes true: every pair so far was plain.
+    let mut plain = lo.cmp_eq(lo);
+    for (js, d) in pairs.zip(paired.chunks_exact_mut(LANES)) {
+        let (w, p) = pair(js[0], js[1]);
+        plain &= p;
+        d.copy_from_slice(&w);
+    }
+    if !plain.all() {
+        exact(paired, targets);
+    }
+    if !tail.is_empty() {
+        exact(rest, tail);
+    }
+}
+
+/// `out[k] = f(distance(origin, positions[targets[k]]))` with the per-element
+/// distance, the origin `(ox, oy, oz)`: the fallback of [`distances_with`], out of its
+/// loop.
+#[cold]
+#[inline(never)]
+fn exact_distances<F>(
+    ox: f64,
+    oy: f64,
+    oz: f64,
+    positions: &[DVec3],
+    targets: &[u32],
+    out: &mut [f64],
+    f: &F,
+) where
+    F: Fn(f64) -> f64,
+{
+    let origin = DVec3::new(ox, oy, oz);
+    for (d, &j) in out.iter_mut().zip(targets) {
         *d = f(kernel::distance(origin, positions[j as usize]));
     }
 }
@@ -253,6 +308,7 @@ where
 ///
 /// # Panics
 /// If `out` is shorter than `ring` or a neighbour is out of bounds.
+#[inline(always)]
 pub fn ring_cotangents_with<P, F>(
     origin: DVec3,
     positions: &[DVec3],
@@ -786,6 +842,56 @@ mod tests {
                 assert_eq!(bits(&out), bits(&want), "{start}+{len}");
             }
         }
+    }
+
+    /// `distances_with` applies its function to the bits of `distance` for every slot:
+    /// the inverse-distance weight and its clamped and absolute forms (which the lanes
+    /// compute two at a time), on every row length, with rows of six (the unrolled
+    /// path) that mix plain slots with coincident, tiny, huge, NaN and infinite ones.
+    #[test]
+    fn distances_with_applies_f_to_every_distance() {
+        let mut rng = Rng(29);
+        let mut positions: Vec<DVec3> = (0..30).map(|_| rng.point()).collect();
+        let xi = positions[0];
+        positions.extend([
+            xi,
+            xi + DVec3::new(0.0, 1e-160, 0.0),
+            DVec3::splat(1e300),
+            DVec3::splat(-1e308),
+            DVec3::new(0.0, 0.0, f64::NAN),
+            DVec3::new(f64::NEG_INFINITY, 0.0, 0.0),
+        ]);
+        let n = positions.len() as u32;
+        let special = |j: u32| j == 0 || j >= 30;
+        let targets: Vec<u32> = (0..4 * n).map(|k| (k * 5 + 1) % n).collect();
+        let fs: [fn(f64) -> f64; 3] = [
+            |d| 1.0 / (d + 1e-12),
+            |d| (1.0 / (d + 1e-12)).max(0.0),
+            |d| (1.0 / (d + 1e-12)).abs(),
+        ];
+        let mut mixed_sixes = 0;
+        for (c, f) in fs.iter().enumerate() {
+            for start in 0..targets.len() {
+                for len in 0..=9 {
+                    let Some(nb) = targets.get(start..start + len) else {
+                        continue;
+                    };
+                    if len == 6 && nb.iter().any(|&j| special(j)) && !nb.iter().all(|&j| special(j))
+                    {
+                        mixed_sixes += 1;
+                    }
+                    let mut out = vec![-7.0; len + 1];
+                    distances_with(xi, &positions, nb, &mut out, f);
+                    let want: Vec<f64> = nb
+                        .iter()
+                        .map(|&j| f(distance(xi, positions[j as usize])))
+                        .chain([-7.0])
+                        .collect();
+                    assert_eq!(bits(&out), bits(&want), "function {c}, {start}+{len}");
+                }
+            }
+        }
+        assert!(mixed_sixes > 0);
     }
 
     /// The parallel vertex areas are the per-vertex query's, for both kinds.

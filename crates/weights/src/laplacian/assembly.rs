@@ -43,8 +43,13 @@ impl RowTally {
 /// The sum of a row's weights in row order: `Iterator::sum`, a fold from `-0.0` (so
 /// that an empty row or one of negative zeros sums to `-0.0`, as before the fold was
 /// written out in the fills).
+/// A row of six, the most common on a triangle mesh, is summed without a loop (the same
+/// additions in the same order).
 #[inline(always)]
 fn row_sum_of(w: &[f64]) -> f64 {
+    if let Ok(six) = <&[f64; 6]>::try_from(w) {
+        return six.iter().fold(-0.0, |s, &w| s + w);
+    }
     w.iter().fold(-0.0, |s, &w| s + w)
 }
 
@@ -145,9 +150,16 @@ pub(super) fn fill_inverse_distance<const CALLER: u8>(
 ) -> f64 {
     let eps = crate::DISTANCE_EPSILON;
     let nb = &neighbours[..w.len()];
-    distances_with(positions[i], positions, nb, w, |d| {
-        negative.apply(1.0 / (d + eps))
-    });
+    let xi = positions[i];
+    // One branch-free function per policy (`negative.apply`, written out), so that the
+    // kernel applies it to a pair of distances in packed instructions.
+    match negative {
+        NegativeWeights::Keep => distances_with(xi, positions, nb, w, |d| 1.0 / (d + eps)),
+        NegativeWeights::Clamp => {
+            distances_with(xi, positions, nb, w, |d| (1.0 / (d + eps)).max(0.0));
+        }
+        NegativeWeights::Abs => distances_with(xi, positions, nb, w, |d| (1.0 / (d + eps)).abs()),
+    }
     row_sum_of(w)
 }
 
@@ -164,6 +176,28 @@ pub(super) fn fill_cotangent(
     let pairs = &pairs[..w.len()];
     let cot = |[a, b]: [u32; 2]| 0.5 * (face_cots[a as usize] + face_cots[b as usize]);
     let mut sum = -0.0;
+    // Six slots, the most common row of a triangle mesh: no loop (the same operations
+    // in the same order).
+    if let (Ok(pairs), Ok(w)) = (
+        <&[[u32; 2]; 6]>::try_from(pairs),
+        <&mut [f64; 6]>::try_from(&mut *w),
+    ) {
+        match negative {
+            NegativeWeights::Keep => {
+                for k in 0..6 {
+                    w[k] = cot(pairs[k]);
+                    sum += w[k];
+                }
+            }
+            _ => {
+                for k in 0..6 {
+                    w[k] = negative.apply(cot(pairs[k]));
+                    sum += w[k];
+                }
+            }
+        }
+        return sum;
+    }
     match negative {
         NegativeWeights::Keep => {
             for (w, &p) in w.iter_mut().zip(pairs) {
