@@ -247,7 +247,7 @@ impl VertexPermutation {
 fn renumber_in_place(mesh: &mut HalfedgeMesh, new_to_old: &[u32], old_to_new: &[u32]) {
     assert_eq!(mesh.n_vertices(), new_to_old.len(), "one entry per vertex");
     let v_out: Vec<u32> = new_to_old.iter().map(|&o| mesh.v_out[o as usize]).collect();
-    mesh.v_out = v_out;
+    crate::release(std::mem::replace(&mut mesh.v_out, v_out));
     mesh.h_to.par_chunks_mut(RENUMBER_CHUNK).for_each(|chunk| {
         for v in chunk {
             *v = old_to_new[*v as usize];
@@ -285,9 +285,13 @@ pub fn rcm_order(mesh: &HalfedgeMesh) -> VertexPermutation {
         let mut last = start;
         queue.push_back(start);
         mark[start.index()] = true;
+        // The component's vertices, for the check below (debug builds only: a buffer
+        // of 4 bytes per vertex).
+        #[cfg(debug_assertions)]
         let mut component = Vec::new();
         while let Some(v) = queue.pop_front() {
             last = v;
+            #[cfg(debug_assertions)]
             component.push(v);
             for w in mesh.vertices_around_vertex(v) {
                 if !mark[w.index()] {
@@ -316,8 +320,11 @@ pub fn rcm_order(mesh: &HalfedgeMesh) -> VertexPermutation {
                 }
             }
         }
+        #[cfg(debug_assertions)]
         debug_assert!(component.iter().all(|v| seen[v.index()]));
     }
+    crate::release(seen);
+    crate::release(mark);
     order.reverse();
     VertexPermutation::from_new_to_old(order).expect("every vertex once")
 }

@@ -338,8 +338,11 @@ impl<'a> Explicit<'a> {
                     }
                 };
                 let permuted = permute_par(p, &positions);
-                // The caller's order is not needed any more.
-                drop(positions);
+                // The caller's order is not needed any more (a large buffer of its own
+                // goes back to the system: see `release`).
+                if let Cow::Owned(given) = positions {
+                    beltrami_halfedge::release(given);
+                }
                 (mesh, Cow::Owned(permuted))
             }
             None => (mesh, positions),
