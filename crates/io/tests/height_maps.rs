@@ -678,3 +678,29 @@ fn the_lumped_rule_on_the_grid_mesh_is_the_trapezoid_rule_but_at_the_corners() {
         }
     }
 }
+
+#[test]
+fn a_grid_whose_extent_overflows_is_refused() {
+    // 20 points 1.2e307 apart: the last one would be at x = inf.
+    let err = HeightMap::new(20, 2, 1.2e307, 1.0, vec![0.0; 40], LengthUnit::Metre)
+        .expect_err("the extent is not finite");
+    let message = err.to_string();
+    assert!(
+        message.contains("extent along x") && message.contains("1.2e307"),
+        "{message}"
+    );
+    // A spacing whose extent is finite, however large, is taken.
+    assert!(
+        HeightMap::new(
+            20,
+            2,
+            f64::MAX / 20.0,
+            1.0,
+            vec![0.0; 40],
+            LengthUnit::Metre
+        )
+        .is_ok()
+    );
+    // One point along an axis has no extent, whatever its spacing.
+    assert!(HeightMap::new(1, 2, f64::MAX, 1.0, vec![0.0; 2], LengthUnit::Metre).is_ok());
+}

@@ -102,8 +102,8 @@ impl HeightMap {
     ///
     /// # Errors
     /// [`IoError::InvalidHeightMap`] when `z` does not hold `nx·ny` values, a spacing
-    /// is not finite and positive, or a height is infinite (NaN is allowed: an
-    /// invalid point).
+    /// is not finite and positive, the grid's extent (`(nx − 1)·dx` or `(ny − 1)·dy`)
+    /// is not finite, or a height is infinite (NaN is allowed: an invalid point).
     pub fn new(
         nx: usize,
         ny: usize,
@@ -143,6 +143,15 @@ impl HeightMap {
             if !(value.is_finite() && value > 0.0) {
                 return invalid(format!(
                     "the spacing {name} is {value}, expected a finite positive number"
+                ));
+            }
+        }
+        // The points' coordinates are `i·dx` and `j·dy`: the largest must be finite.
+        for (name, n, d) in [("x", self.nx, self.dx), ("y", self.ny, self.dy)] {
+            let extent = n.saturating_sub(1) as f64 * d;
+            if !extent.is_finite() {
+                return invalid(format!(
+                    "the grid's extent along {name}, ({n} − 1) × {d:e}, is not a finite number"
                 ));
             }
         }
