@@ -70,7 +70,6 @@ enum Engine<'a> {
     Implicit(Box<Implicit<'a>>),
 }
 
-/// What an engine hands back at the end of a run.
 /// The connectivity a smoother made by [`Smoother::from_owned`] hands back from
 /// [`Smoother::run_owned_faces`], in the caller's numbering.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -109,6 +108,7 @@ impl OwnedFaces {
     }
 }
 
+/// What an engine hands back at the end of a run.
 pub(crate) struct Finished {
     /// The positions, in the caller's numbering.
     pub(crate) positions: Vec<DVec3>,
