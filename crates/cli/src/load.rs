@@ -61,6 +61,18 @@ impl ReadArgs {
         Ok(ReadOptions::default().weld(weld).lenient(self.lenient))
     }
 
+    /// The repair a load applies: `None` without `--repair`; a usage error for
+    /// `--merge-distance` without it.
+    fn load_repair_options(&self) -> Result<Option<RepairOptions>, CliError> {
+        match (self.repair, self.merge_distance) {
+            (true, _) => Ok(Some(self.repair_options()?)),
+            (false, None) => Ok(None),
+            (false, Some(_)) => Err(CliError::Usage(
+                "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
+            )),
+        }
+    }
+
     /// The repair options: merging with `--merge-distance`.
     fn repair_options(&self) -> Result<RepairOptions, CliError> {
         if let Some(d) = self.merge_distance
@@ -178,15 +190,7 @@ pub(crate) fn load_checked(
     read: &ReadArgs,
     check: impl FnOnce(&MeshData) -> Result<(), CliError>,
 ) -> Result<LoadedMesh, CliError> {
-    let options = match (read.repair, read.merge_distance) {
-        (true, _) => Some(read.repair_options()?),
-        (false, None) => None,
-        (false, Some(_)) => {
-            return Err(CliError::Usage(
-                "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
-            ));
-        }
-    };
+    let options = read.load_repair_options()?;
     load_inner(path, read, options, check, false).map(|(loaded, _)| loaded)
 }
 
@@ -201,15 +205,7 @@ pub(crate) fn load_checked_keeping(
     read: &ReadArgs,
     check: impl FnOnce(&MeshData) -> Result<(), CliError>,
 ) -> Result<(LoadedMesh, KeptPositions), CliError> {
-    let options = match (read.repair, read.merge_distance) {
-        (true, _) => Some(read.repair_options()?),
-        (false, None) => None,
-        (false, Some(_)) => {
-            return Err(CliError::Usage(
-                "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
-            ));
-        }
-    };
+    let options = read.load_repair_options()?;
     let (loaded, kept) = load_inner(path, read, options, check, true)?;
     let kept = match kept {
         Some(kept) => kept,
@@ -271,7 +267,8 @@ fn load_inner(
     let kept = (keep && report.is_none()).then(|| KeptPositions::keep(&positions));
     let spilled = kept.as_ref().is_some_and(KeptPositions::in_file);
     if spilled {
-        release(&mut positions);
+        // Freed so that glibc gives the memory back (see `release`).
+        beltrami_halfedge::release(std::mem::take(&mut positions));
     }
     let built = HalfedgeMesh::from_polygon_list(n_positions, &faces);
     let mut kept = kept;
@@ -305,19 +302,6 @@ fn load_inner(
         build_seconds,
     };
     Ok((loaded, kept))
-}
-
-/// Frees `positions`' buffer by shrinking it to one element before dropping it. The
-/// result is the same as dropping it; the difference is for glibc's allocator, which
-/// serves a large block from its own mapping and, when such a block is freed, raises
-/// its mapping threshold to the block's size, so that the half-edge build's arrays of
-/// about the same size (4 bytes per halfedge, 24 per vertex) would come from its heap,
-/// whose freed blocks stay resident. Shrinking a mapped block remaps it smaller and
-/// leaves the threshold as it is.
-fn release(positions: &mut Vec<DVec3>) {
-    positions.truncate(1);
-    positions.shrink_to_fit();
-    *positions = Vec::new();
 }
 
 /// The error of a mesh that does not build: whether `--repair` would help and, for a
