@@ -422,6 +422,32 @@ impl Laplacian {
         Some(w)
     }
 
+    /// Uniform rows: their sums, scales and stuck count, and no weights (all 1, not
+    /// stored) — or, should a negative-weight policy ever change 1, those weights when
+    /// `store`, like any other kernel's.
+    pub(super) fn set_uniform_rows(&mut self, areas: Option<&[f64]>, store: bool) {
+        let negative = self.options.negative;
+        let tally = unit_pass(
+            &self.offsets,
+            areas,
+            negative,
+            &mut self.weight_sums,
+            &mut self.scales,
+        );
+        self.stuck = tally.stuck;
+        self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
+        self.weights = OnceLock::new();
+        if self.unit_weights {
+            return;
+        }
+        // Unreachable with the policies there are (each keeps 1).
+        let mut weights = self.weight_buffer(store);
+        if let Some(w) = weights.as_mut() {
+            w.fill(negative.apply(1.0));
+        }
+        self.put_weights(weights);
+    }
+
     /// Stores the weights written into a [`weight_buffer`](Self::weight_buffer).
     fn put_weights(&mut self, weights: Option<Vec<f64>>) {
         if let Some(w) = weights {
@@ -481,27 +507,8 @@ impl Laplacian {
         let kernel = BuiltIn::of(scheme);
         self.unit_weights = false;
         if kernel == Some(BuiltIn::Uniform) {
-            let tally = unit_pass(
-                &self.offsets,
-                areas,
-                negative,
-                &mut self.weight_sums,
-                &mut self.scales,
-            );
             // Uniform weights are all 1, hence their sums finite: no error to report.
-            self.stuck = tally.stuck;
-            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
-            self.weights = OnceLock::new();
-            if self.unit_weights {
-                return Ok(());
-            }
-            // Unreachable with the policies there are (each keeps 1); stored like any
-            // other kernel's weights should one ever change it.
-            let mut weights = self.weight_buffer(store);
-            if let Some(w) = weights.as_mut() {
-                w.fill(negative.apply(1.0));
-            }
-            self.put_weights(weights);
+            self.set_uniform_rows(areas, store);
             return Ok(());
         }
         let ready = kernel == Some(BuiltIn::Cotangent) && self.prepare_cotangents(&geometry);

@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use super::assembly::{
     RowKernel, Rows, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
-    fill_inverse_distance, fill_uniform, row_pass, row_scale, unit_pass,
+    fill_inverse_distance, fill_uniform, row_pass, row_scale,
 };
 use super::layout::{NO_TRIANGLE, corner_code, slot_corners};
 use super::options::{CotangentKernel, NegativeWeights, Normalization};
@@ -211,20 +211,7 @@ impl Laplacian {
         let negative = self.options.negative;
         self.unit_weights = false;
         if built_in == BuiltIn::Uniform {
-            let tally = unit_pass(
-                &self.offsets,
-                areas,
-                negative,
-                &mut self.weight_sums,
-                &mut self.scales,
-            );
-            self.stuck = tally.stuck;
-            self.unit_weights = RowKernel::Uniform { negative }.unit_weights();
-            self.weights = OnceLock::new();
-            if !self.unit_weights {
-                // As `update`: unreachable with the policies there are.
-                self.weights = OnceLock::from(vec![negative.apply(1.0); self.neighbours.len()]);
-            }
+            self.set_uniform_rows(areas, true);
             return true;
         }
         if built_in == BuiltIn::Cotangent && !self.prepare_cotangents_detached(positions) {
