@@ -30,10 +30,47 @@ use crate::format::{MeshFormat, VertexAttributes, WriteOptions};
 use crate::write::{write_mesh_to, write_ply_to};
 use beltrami_halfedge::MeshData;
 
-/// The temporary files of staged writes that are neither committed nor dropped yet.
-static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The temporary files of staged writes that are neither committed nor dropped yet,
+/// and whether [`remove_staged_files`] has run.
+///
+/// Every step that creates, renames or removes a temporary file holds this lock, so
+/// that a signal handler running on another thread sees each file either not yet
+/// created or listed, never created and not yet listed; and once the handler has
+/// closed the registry, no new temporary file is created before the process exits.
+static LIVE: Mutex<Registry> = Mutex::new(Registry {
+    closed: false,
+    paths: Vec::new(),
+});
 
-fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+struct Registry {
+    /// Set by [`remove_staged_files`]: later writes fail instead of creating files.
+    closed: bool,
+    paths: Vec<PathBuf>,
+}
+
+impl Registry {
+    /// Takes `path` off the list of live temporary files.
+    fn forget(&mut self, path: &Path) {
+        self.paths.retain(|p| p != path);
+    }
+
+    /// The error of a write attempted after [`remove_staged_files`].
+    fn check_open(&self) -> Result<(), IoError> {
+        if self.closed {
+            Err(IoError::Io {
+                operation: "create a file in the output's directory",
+                source: std::io::Error::new(
+                    std::io::ErrorKind::Interrupted,
+                    "the process is being interrupted",
+                ),
+            })
+        } else {
+            Ok(())
+        }
+    }
+}
+
+fn live() -> MutexGuard<'static, Registry> {
     // A panic while the list was held leaves it consistent (push/retain only).
     LIVE.lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -42,12 +79,18 @@ fn live() -> MutexGuard<'static, Vec<PathBuf>> {
 /// Removes every temporary file of a staged or in-progress atomic write of this
 /// process, and returns how many were removed. Meant for a signal handler that is
 /// about to end the process (Ctrl-C, `SIGTERM`): the targets stay untouched, and no
-/// `.beltrami-*.tmp` file is left behind. Staged files whose temporary file is gone
-/// fail to commit afterwards.
+/// `.beltrami-*.tmp` file is left behind.
+///
+/// Afterwards the process writes no more files through this module: staged files
+/// whose temporary file is gone fail to commit, and new writes (and
+/// [`check_writable`]) fail with [`IoError::Io`] of kind `Interrupted`. A write that
+/// another thread is committing at the moment of the call finishes first (the
+/// target is then the whole new file).
 pub fn remove_staged_files() -> usize {
-    let mut list = live();
+    let mut registry = live();
+    registry.closed = true;
     let mut removed = 0;
-    for path in list.drain(..) {
+    for path in registry.paths.drain(..) {
         let done = if path.is_dir() {
             fs::remove_dir_all(&path)
         } else {
@@ -110,8 +153,10 @@ impl StagedFile {
             unreachable!("a staged file holds its temporary file until commit or drop")
         };
         let temp_path = temp.to_path_buf();
+        let mut registry = live();
         let result = temp.persist(&self.target);
-        forget(&temp_path);
+        registry.forget(&temp_path);
+        drop(registry);
         // On failure the returned `PathPersistError` owns the temporary path, and
         // dropping it removes the file.
         result.map_err(|e| IoError::Io {
@@ -125,15 +170,11 @@ impl StagedFile {
 impl Drop for StagedFile {
     fn drop(&mut self) {
         if let Some(temp) = self.temp.take() {
-            forget(&temp);
+            let mut registry = live();
+            registry.forget(&temp);
             drop(temp);
         }
     }
-}
-
-/// Takes `path` off the list of live temporary files.
-fn forget(path: &Path) {
-    live().retain(|p| p != path);
 }
 
 /// An `std::io::Error` of the same kind and OS code, without the temporary file's
@@ -220,7 +261,10 @@ pub fn check_writable(path: impl AsRef<Path>) -> Result<(), IoError> {
             source: std::io::Error::other("it is a directory"),
         });
     }
-    // The probe file is removed when it is dropped.
+    // The probe file is removed when it is dropped, before the lock is released: a
+    // signal handler cannot run between its creation and its removal.
+    let registry = live();
+    registry.check_open()?;
     temp_builder()
         .tempfile_in(&dir)
         .map(drop)
@@ -258,11 +302,14 @@ pub fn stage_with(
     let path = path.as_ref();
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
+    let mut registry = live();
+    registry.check_open()?;
     let mut file: NamedTempFile = temp_builder().tempfile_in(&dir).map_err(|e| IoError::Io {
         operation: "create a file in the output's directory",
         source: without_path(&e),
     })?;
-    live().push(file.path().to_path_buf());
+    registry.paths.push(file.path().to_path_buf());
+    drop(registry);
     let result = (|| {
         if let Ok(existing) = fs::metadata(&target) {
             if existing.is_file() {
@@ -284,7 +331,8 @@ pub fn stage_with(
             dir,
         }),
         Err(e) => {
-            forget(&temp);
+            let mut registry = live();
+            registry.forget(&temp);
             drop(temp);
             Err(e)
         }
@@ -327,6 +375,8 @@ pub struct StagedDir {
 pub fn stage_dir(path: impl AsRef<Path>) -> Result<StagedDir, IoError> {
     let path = path.as_ref();
     let parent = directory_of(path);
+    let mut registry = live();
+    registry.check_open()?;
     let temp = tempfile::Builder::new()
         .prefix(".beltrami-")
         .suffix(".tmp")
@@ -335,7 +385,8 @@ pub fn stage_dir(path: impl AsRef<Path>) -> Result<StagedDir, IoError> {
             operation: "create a directory beside the output directory",
             source: without_path(&e),
         })?;
-    live().push(temp.path().to_path_buf());
+    registry.paths.push(temp.path().to_path_buf());
+    drop(registry);
     Ok(StagedDir {
         temp: Some(temp),
         target: path.to_path_buf(),
@@ -360,8 +411,12 @@ impl StagedDir {
         let Some(temp) = self.temp.take() else {
             unreachable!("a staged directory holds its directory until commit or drop")
         };
+        // The renames run under the registry's lock: a signal handler waits for them,
+        // so that neither the new directory nor the old one is left under a temporary
+        // name.
+        let mut registry = live();
         let new = temp.keep();
-        forget(&new);
+        registry.forget(&new);
         let parent = directory_of(&self.target);
         let old = if self.target.exists() {
             let aside = tempfile::Builder::new()
@@ -398,6 +453,7 @@ impl StagedDir {
                 IoError::io("remove the earlier output directory")(without_path(&e))
             })?;
         }
+        drop(registry);
         sync_directory(&parent)
     }
 }
@@ -405,7 +461,8 @@ impl StagedDir {
 impl Drop for StagedDir {
     fn drop(&mut self) {
         if let Some(temp) = self.temp.take() {
-            forget(temp.path());
+            let mut registry = live();
+            registry.forget(temp.path());
             drop(temp);
         }
     }
@@ -523,16 +580,8 @@ mod tests {
         assert!(temporaries(dir.path()).is_empty());
     }
 
-    #[test]
-    fn remove_staged_files_clears_the_temporaries_and_commit_then_fails() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("out.json");
-        let staged = stage_bytes(&path, b"new").unwrap();
-        assert!(remove_staged_files() >= 1);
-        assert!(temporaries(dir.path()).is_empty());
-        assert!(staged.commit().is_err());
-        assert!(!path.exists());
-    }
+    // `remove_staged_files` closes the process-wide registry, so its test runs in a
+    // process of its own: tests/interrupt.rs.
 
     #[cfg(unix)]
     #[test]
