@@ -183,19 +183,31 @@ impl HeightMap {
 
     /// This height map in `unit`: spacings and heights multiplied by the ratio of the
     /// units (exact only when it is 1).
-    #[must_use]
-    pub fn to_unit(&self, unit: LengthUnit) -> Self {
+    ///
+    /// # Errors
+    /// [`IoError::InvalidHeightMap`] when the converted map is not valid (see
+    /// [`HeightMap::check`]): a conversion to a smaller unit can take a spacing, the
+    /// grid's extent or a height beyond the largest `f64`, one to a larger unit can
+    /// take a spacing to zero.
+    pub fn to_unit(&self, unit: LengthUnit) -> Result<Self, IoError> {
         if unit == self.unit {
-            return self.clone();
+            return Ok(self.clone());
         }
         let scale = self.unit.metres() / unit.metres();
-        Self {
+        let map = Self {
             dx: self.dx * scale,
             dy: self.dy * scale,
             z: self.z.iter().map(|z| z * scale).collect(),
             unit,
             ..*self
-        }
+        };
+        map.check().map_err(|e| match e {
+            IoError::InvalidHeightMap { reason } => IoError::InvalidHeightMap {
+                reason: format!("in {}: {reason}", unit.symbol()),
+            },
+            other => other,
+        })?;
+        Ok(map)
     }
 }
 

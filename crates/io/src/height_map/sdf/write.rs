@@ -15,7 +15,7 @@ use crate::height_map::{HeightMap, LengthUnit};
 /// The counts of the binary variant are `u16`; ascii has no such limit.
 pub(crate) fn write_sdf_to<W: Write>(writer: W, map: &HeightMap) -> Result<(), IoError> {
     map.check()?;
-    let map = map.to_unit(LengthUnit::Metre);
+    let map = map.to_unit(LengthUnit::Metre)?;
     let now = date(SystemTime::now());
     let mut out = BufWriter::new(writer);
     (|| {

@@ -21,7 +21,7 @@ use crate::height_map::{HeightMap, LengthUnit};
 /// same bytes.
 pub(crate) fn write_x3p_to<W: Write>(mut writer: W, map: &HeightMap) -> Result<(), IoError> {
     map.check()?;
-    let map = map.to_unit(LengthUnit::Metre);
+    let map = map.to_unit(LengthUnit::Metre)?;
     let n = map.z.len();
     let data: Vec<u8> = map.z.iter().flat_map(|z| z.to_le_bytes()).collect();
     let invalid = map.z.iter().any(|z| z.is_nan());
