@@ -328,14 +328,23 @@ fn the_flens_boundary_is_kept() {
 }
 
 #[test]
-fn two_runs_give_the_same_bits() {
+fn two_runs_give_the_same_bits_on_one_thread_or_several() {
+    // The relaxation and the projection run on rayon's threads: the result must not
+    // depend on how many there are.
     let block = SurfaceKind::Block.generate_sized(Size::Small);
     let mesh = block.mesh().unwrap();
     let options = RemeshOptions::default()
         .relative_edge_length(1.3)
         .feature_angle(40f64.to_radians());
-    let (a, x, ra) = remesh(&mesh, &block.positions, &options).unwrap();
-    let (b, y, rb) = remesh(&mesh, &block.positions, &options).unwrap();
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| remesh(&mesh, &block.positions, &options).unwrap())
+    };
+    let (a, x, ra) = on(1);
+    let (b, y, rb) = on(4);
     assert_eq!(a.to_polygons(), b.to_polygons());
     let bits = |p: &[DVec3]| -> Vec<[u64; 3]> {
         p.iter()

@@ -713,11 +713,16 @@ fn a_unit_conversion_that_leaves_the_range_of_f64_is_refused() {
         .to_unit(LengthUnit::Nanometre)
         .expect_err("the heights overflow");
     let message = err.to_string();
-    assert!(message.contains("in nm") && message.contains("inf"), "{message}");
+    assert!(
+        message.contains("in nm") && message.contains("inf"),
+        "{message}"
+    );
     // A spacing of 1e-320 µm is 1e-326 m, which rounds to zero: refused, and so is
     // writing the map to a file in metres (X3P, SDF), which leaves no file.
     let tiny = HeightMap::new(2, 2, 1e-320, 1.0, vec![0.0; 4], LengthUnit::Micrometre).unwrap();
-    let err = tiny.to_unit(LengthUnit::Metre).expect_err("dx rounds to zero");
+    let err = tiny
+        .to_unit(LengthUnit::Metre)
+        .expect_err("dx rounds to zero");
     assert!(err.to_string().contains("dx"), "{err}");
     let dir = tempfile::tempdir().unwrap();
     for name in ["tiny.x3p", "tiny.sdf"] {
@@ -727,5 +732,8 @@ fn a_unit_conversion_that_leaves_the_range_of_f64_is_refused() {
     }
     // A conversion that stays in range gives the scaled map.
     let mm = map.to_unit(LengthUnit::Millimetre).unwrap();
-    assert_eq!((mm.dx, mm.z[0], mm.unit), (1e3, 1e303, LengthUnit::Millimetre));
+    assert_eq!(
+        (mm.dx, mm.z[0], mm.unit),
+        (1e3, 1e303, LengthUnit::Millimetre)
+    );
 }

@@ -28,8 +28,10 @@ pub(super) fn triangle_normal(mesh: &EditMesh, h: HalfedgeId) -> DVec3 {
 
 /// The number of feature edges at `v`.
 pub(super) fn feature_count(mesh: &EditMesh, feature: EdgeProperty<bool>, v: VertexId) -> usize {
+    // The column once, not a typed look-up per edge.
+    let feature = mesh.values(feature);
     mesh.halfedges_around_vertex(v)
-        .filter(|h| *mesh.get(feature, h.edge()))
+        .filter(|h| feature[h.edge().index()])
         .count()
 }
 

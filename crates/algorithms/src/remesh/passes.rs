@@ -4,6 +4,7 @@
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
 use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
+use rayon::prelude::*;
 
 use super::RemeshError;
 use super::curves::{CurveIndex, feature_count, triangle_normal};
@@ -61,31 +62,47 @@ impl Remesher<'_> {
     /// else onto the surface (when projection is on). Corners and isolated vertices
     /// stay.
     fn project(&mut self, v: VertexId) -> Result<(), RemeshError> {
+        let projected = self.projection(v)?;
+        self.apply_projection(v, projected);
+        Ok(())
+    }
+
+    /// Where [`project`](Self::project) puts `v`, and its new target length when the
+    /// sizing follows the input's: `None` when `v` stays.
+    fn projection(&self, v: VertexId) -> Result<Option<(DVec3, Option<f64>)>, RemeshError> {
         if self.is_corner(v) || self.mesh.is_isolated(v) {
-            return Ok(());
+            return Ok(None);
         }
         let p = self.mesh.position(v);
         if self.features_at(v) > 0 {
-            let q = self.curves.closest_point(p);
+            return Ok(Some((self.curves.closest_point(p), None)));
+        }
+        let Some(surface) = self.surface else {
+            return Ok(None);
+        };
+        let closest = surface.closest_point(p)?;
+        let size = self.reference.as_ref().and_then(|(input, sizing)| {
+            let corners = input.triangle_vertices(closest.face);
+            let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
+            let weights = barycentric(closest.point, a, b, c);
+            let size: f64 = corners
+                .iter()
+                .zip(weights)
+                .map(|(w, t)| t * sizing[w.index()])
+                .sum();
+            (size.is_finite() && size > 0.0).then_some(size)
+        });
+        Ok(Some((closest.point, size)))
+    }
+
+    /// Moves `v` where [`projection`](Self::projection) said.
+    fn apply_projection(&mut self, v: VertexId, projected: Option<(DVec3, Option<f64>)>) {
+        if let Some((q, size)) = projected {
             self.mesh.set_position(v, q);
-        } else if let Some(surface) = self.surface {
-            let closest = surface.closest_point(p)?;
-            self.mesh.set_position(v, closest.point);
-            if let Some((input, sizing)) = &self.reference {
-                let corners = input.triangle_vertices(closest.face);
-                let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
-                let weights = barycentric(closest.point, a, b, c);
-                let size: f64 = corners
-                    .iter()
-                    .zip(weights)
-                    .map(|(w, t)| t * sizing[w.index()])
-                    .sum();
-                if size.is_finite() && size > 0.0 {
-                    self.mesh.set(self.sizing, v, size);
-                }
+            if let Some(size) = size {
+                self.mesh.set(self.sizing, v, size);
             }
         }
-        Ok(())
     }
 
     /// Splits every edge longer than 4/3 L at its midpoint, repeatedly; the halves of a
@@ -310,16 +327,6 @@ impl Remesher<'_> {
         Ok(flips)
     }
 
-    /// The unit area-weighted normal at `v` (zero when its triangles are degenerate).
-    fn vertex_normal(&self, v: VertexId) -> DVec3 {
-        let n: DVec3 = self
-            .mesh
-            .halfedges_around_vertex(v)
-            .map(|h| triangle_normal(&self.mesh, h))
-            .sum();
-        n.normalize_or_zero()
-    }
-
     /// The move of `v` in one relaxation sweep: a vertex on a feature curve moves along
     /// the curve's tangent towards the length-weighted mean of its two feature edges'
     /// midpoints; any other vertex to the area-weighted centroid of its triangles,
@@ -329,39 +336,56 @@ impl Remesher<'_> {
             return DVec3::ZERO;
         }
         let p = self.mesh.position(v);
-        let s = |w: VertexId| *self.mesh.get(self.sizing, w);
-        let ends: Vec<(DVec3, f64)> = self
-            .mesh
-            .halfedges_around_vertex(v)
-            .filter(|h| self.is_feature(h.edge()))
-            .map(|h| {
-                let w = self.mesh.to_vertex(h);
-                (self.mesh.position(w), s(w))
-            })
-            .collect();
-        let u = match ends.as_slice() {
-            [] => {
+        // The columns once, not a typed look-up per neighbour.
+        let (sizing, feature) = (
+            self.mesh.values(self.sizing),
+            self.mesh.values(self.feature),
+        );
+        let s = |w: VertexId| sizing[w.index()];
+        // The first two feature edges' far ends, and how many there are.
+        let mut ends = [(DVec3::ZERO, 0.0); 2];
+        let mut n_ends = 0;
+        for h in self.mesh.halfedges_around_vertex(v) {
+            if feature[h.edge().index()] {
+                if let Some(end) = ends.get_mut(n_ends) {
+                    let w = self.mesh.to_vertex(h);
+                    *end = (self.mesh.position(w), s(w));
+                }
+                n_ends += 1;
+            }
+        }
+        let u = match n_ends {
+            0 => {
                 let mut centroid = DVec3::ZERO;
                 let mut weight = 0.0;
+                // The vertex normal in the same walk: the sum of the triangles'
+                // unnormalised normals (`curves::triangle_normal`), in circulation
+                // order, a zero added for the boundary gap (so a zero keeps its sign as
+                // a plain sum of all of them would leave it).
+                let mut normal = DVec3::ZERO;
                 for h in self.mesh.halfedges_around_vertex(v) {
                     let Some(o) = self.mesh.opposite_vertex(h) else {
+                        normal += DVec3::ZERO;
                         continue;
                     };
                     let w = self.mesh.to_vertex(h);
                     let (b, c) = (self.mesh.position(w), self.mesh.position(o));
+                    let cross = (b - p).cross(c - p);
+                    normal += cross;
                     let size = (s(v) + s(w) + s(o)) / 3.0;
-                    let area = (b - p).cross(c - p).length() / (size * size);
+                    let area = cross.length() / (size * size);
                     centroid += area * (p + b + c) / 3.0;
                     weight += area;
                 }
                 if weight <= 0.0 {
                     return DVec3::ZERO;
                 }
-                let n = self.vertex_normal(v);
+                let n = normal.normalize_or_zero();
                 let u = centroid / weight - p;
                 u - n * u.dot(n)
             }
-            [(a, sa), (b, sb)] => {
+            2 => {
+                let [(a, sa), (b, sb)] = &ends;
                 let wa = a.distance(p) / (0.5 * (s(v) + sa));
                 let wb = b.distance(p) / (0.5 * (s(v) + sb));
                 if wa + wb <= 0.0 {
@@ -380,25 +404,56 @@ impl Remesher<'_> {
     /// Tangential relaxation: [`RELAX_SWEEPS`] Jacobi sweeps (all moves computed, then
     /// applied), each followed by the projection of feature vertices onto the input's
     /// curves; then every other vertex is projected onto the input surface.
+    ///
+    /// The moves and the final projections are computed on rayon's threads (each
+    /// depends only on the mesh before the pass) and applied in vertex order, so the
+    /// result does not depend on the thread count.
     pub(super) fn relax(&mut self) -> Result<(), RemeshError> {
         let vertices: Vec<VertexId> = self.mesh.vertices().collect();
+        // Relaxation moves no edge: whether a vertex is on a feature is fixed here.
+        let on_feature: Vec<bool> = {
+            let this = &*self;
+            vertices
+                .par_iter()
+                .map(|&v| this.features_at(v) > 0)
+                .collect()
+        };
         for _ in 0..RELAX_SWEEPS {
-            let moves: Vec<DVec3> = vertices.iter().map(|&v| self.relaxation_move(v)).collect();
-            for (&v, u) in vertices.iter().zip(moves) {
+            let moves: Vec<DVec3> = {
+                let this = &*self;
+                vertices
+                    .par_iter()
+                    .map(|&v| this.relaxation_move(v))
+                    .collect()
+            };
+            for ((&v, u), &feature) in vertices.iter().zip(moves).zip(&on_feature) {
                 if u != DVec3::ZERO {
                     let p = self.mesh.position(v);
                     self.mesh.set_position(v, p + u);
-                    if self.features_at(v) > 0 {
+                    if feature {
                         self.project(v)?;
                     }
                 }
             }
         }
         if self.surface.is_some() {
-            for &v in &vertices {
-                if self.features_at(v) == 0 {
-                    self.project(v)?;
-                }
+            let projected: Vec<_> = {
+                let this = &*self;
+                vertices
+                    .par_iter()
+                    .zip(&on_feature)
+                    .map(|(&v, &feature)| {
+                        if feature {
+                            Ok(None)
+                        } else {
+                            this.projection(v)
+                        }
+                    })
+                    .collect()
+            };
+            // The first error in vertex order, as a sequential pass would report it.
+            for (&v, projected) in vertices.iter().zip(projected) {
+                self.apply_projection(v, projected?);
             }
         }
         Ok(())

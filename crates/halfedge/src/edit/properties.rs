@@ -19,6 +19,9 @@ use crate::ids::{EdgeId, ElementId, FaceId, HalfedgeId, VertexId};
 /// that have a meaningful linear blend (`f64`, `f32`, [`DVec2`], [`DVec3`]) implement it;
 /// flags, labels and integers keep the default.
 ///
+/// Values are `Send + Sync`, so that a mesh with properties can be read from several
+/// threads at once (an algorithm's per-vertex pass on rayon's threads, say).
+///
 /// # Examples
 /// A user type that is not interpolated (a feature label):
 /// ```
@@ -27,7 +30,7 @@ use crate::ids::{EdgeId, ElementId, FaceId, HalfedgeId, VertexId};
 /// struct Label(u8);
 /// impl PropertyValue for Label {}
 /// ```
-pub trait PropertyValue: Clone + 'static {
+pub trait PropertyValue: Clone + Send + Sync + 'static {
     /// The value at parameter `t ∈ [0, 1]` between `a` (`t = 0`) and `b` (`t = 1`), or
     /// `None` when the type has no meaningful blend.
     #[must_use]
@@ -123,7 +126,7 @@ pub type EdgeProperty<T> = Property<EdgeId, T>;
 pub type FaceProperty<T> = Property<FaceId, T>;
 
 /// One property column, type-erased so that operators can update all of them.
-trait Column: Any {
+trait Column: Any + Send + Sync {
     fn name(&self) -> &str;
     fn len(&self) -> usize;
     fn push_default(&mut self);
