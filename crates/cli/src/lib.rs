@@ -36,6 +36,7 @@ mod load;
 mod memory;
 mod operator;
 mod output;
+mod progress;
 mod remesh;
 mod render;
 mod repair;

@@ -154,15 +154,15 @@ impl StagedFile {
         };
         let temp_path = temp.to_path_buf();
         let mut registry = live();
-        let result = temp.persist(&self.target);
-        registry.forget(&temp_path);
-        drop(registry);
         // On failure the returned `PathPersistError` owns the temporary path, and
-        // dropping it removes the file.
-        result.map_err(|e| IoError::Io {
+        // dropping it (in `map_err`, under the lock) removes the file.
+        let result = temp.persist(&self.target).map_err(|e| IoError::Io {
             operation: "replace the target file",
             source: without_path(&e.error),
-        })?;
+        });
+        registry.forget(&temp_path);
+        drop(registry);
+        result?;
         sync_directory(&self.dir)
     }
 }

@@ -419,6 +419,37 @@ pub fn remesh(
     positions: &[DVec3],
     options: &RemeshOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
+    remesh_with_progress(mesh, positions, options, |_, _| {})
+}
+
+/// [`remesh`], calling `progress(done, total)` after each of the `total` iterations
+/// (`done` counts from 1), for a progress bar on large meshes: an iteration of a
+/// million-vertex mesh takes about a second on two cores. The result is [`remesh`]'s.
+///
+/// # Errors
+/// As for [`remesh`].
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{remesh_with_progress, RemeshOptions};
+/// use beltrami_halfedge::primitives;
+///
+/// let sphere = primitives::icosphere(2);
+/// let mesh = sphere.mesh()?;
+/// let mut seen = Vec::new();
+/// let options = RemeshOptions::default().iterations(3);
+/// remesh_with_progress(&mesh, &sphere.positions, &options, |done, total| {
+///     seen.push((done, total))
+/// })?;
+/// assert_eq!(seen, [(1, 3), (2, 3), (3, 3)]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn remesh_with_progress(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &RemeshOptions,
+    progress: impl FnMut(usize, usize),
+) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
@@ -478,7 +509,7 @@ pub fn remesh(
         corners: found.corners,
         ..RemeshReport::default()
     };
-    run_passes(&mut remesher, options.iterations, &mut report)?;
+    run_passes(&mut remesher, options.iterations, &mut report, progress)?;
     let mut edit = remesher.mesh;
     edit.remove_property(feature);
     edit.remove_property(corner);
@@ -529,8 +560,9 @@ fn run_passes(
     remesher: &mut Remesher<'_>,
     iterations: usize,
     report: &mut RemeshReport,
+    mut progress: impl FnMut(usize, usize),
 ) -> Result<(), RemeshError> {
-    for _ in 0..iterations {
+    for done in 1..=iterations {
         let splits = remesher.split_long_edges()?;
         let collapses = remesher.collapse_short_edges()?;
         let flips = remesher.flip_edges()?;
@@ -543,6 +575,7 @@ fn run_passes(
         report.splits += splits;
         report.collapses += collapses;
         report.flips += flips;
+        progress(done, iterations);
     }
     if !report.iterations.is_empty() {
         let caps = remesher.remove_caps()?;

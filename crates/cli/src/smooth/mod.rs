@@ -1,6 +1,6 @@
 //! `beltrami smooth`: Laplacian diffusion smoothing of a mesh file.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -394,18 +394,6 @@ fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme, ring: bool) -> memor
     }
 }
 
-/// A progress bar on a terminal for runs of 20 iterations or more.
-fn progress_bar(planned: usize) -> Option<indicatif::ProgressBar> {
-    (std::io::stderr().is_terminal() && planned >= 20).then(|| {
-        let bar = indicatif::ProgressBar::new(planned as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} iterations {elapsed}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    })
-}
-
 /// Every method (plain, Taubin, HC, implicit) through [`Smoother`], which takes the
 /// mesh and the positions by value (no copy of either, the mesh renumbered in place)
 /// and hands back the mesh, or only its triangles when the run went on without it.
@@ -439,7 +427,9 @@ fn run_smoother(
         }));
     }
     check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
-    let progress = progress_bar(smoother.config().iterations);
+    // A bar on a terminal for runs of 20 iterations or more.
+    let planned = smoother.config().iterations;
+    let progress = crate::progress::bar(planned, "iterations", planned >= 20);
     let (smoothed, faces) = smoother
         .run_owned_faces(|it| {
             if let Some(bar) = &progress {
