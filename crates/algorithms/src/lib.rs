@@ -57,7 +57,7 @@ pub mod subdivision;
 
 pub use decimate::{
     DecimateError, DecimateOptions, DecimateReport, DecimateStop, DecimateTarget, Placement,
-    RefusalCounts, decimate,
+    RefusalCounts, decimate, decimate_with_progress,
 };
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};

@@ -7,6 +7,9 @@ use rayon::prelude::*;
 use super::evaluate::{Candidate, Decimator, End, Refusal, bound_between};
 use super::{DecimateError, NOT_KEYED, Placement};
 
+/// Collapses between two calls of the progress closure of [`Decimator::run`].
+const PROGRESS_EVERY: u32 = 4096;
+
 impl Decimator<'_> {
     /// Queues the collapse of `h` with its current priority, or parks it (removed from
     /// the heap) and counts the refusal.
@@ -103,12 +106,17 @@ impl Decimator<'_> {
     /// whose key is up to date. A full key stays valid until a collapse changes the
     /// one-ring of either end. A refused halfedge is parked until a collapse changes
     /// its neighbourhood.
+    ///
+    /// `progress(done, planned)` is called every [`PROGRESS_EVERY`] collapses and once
+    /// at the end, with the collapses done and those planned (down to `target`).
     pub(super) fn run(
         &mut self,
         input: &HalfedgeMesh,
         target: usize,
+        mut progress: impl FnMut(usize, usize),
     ) -> Result<f64, DecimateError> {
         self.fill_queue(input);
+        let planned = self.mesh.n_vertices().saturating_sub(target);
         let mut max_rms: f64 = 0.0;
         while self.mesh.n_vertices() > target {
             let Some((key, raw)) = self.heap.peek() else {
@@ -122,7 +130,11 @@ impl Decimator<'_> {
             };
             max_rms = max_rms.max(done.candidate.rms);
             self.apply(done);
+            if self.collapses % PROGRESS_EVERY == 0 {
+                progress(self.collapses as usize, planned);
+            }
         }
+        progress(self.collapses as usize, planned);
         Ok(max_rms)
     }
 

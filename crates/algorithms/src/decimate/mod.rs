@@ -552,6 +552,39 @@ pub fn decimate(
     positions: &[DVec3],
     options: &DecimateOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
+    decimate_with_progress(mesh, positions, options, |_, _| {})
+}
+
+/// [`decimate`], calling `progress(done, planned)` every few thousand collapses and
+/// once at the end: the collapses done so far and those needed to reach the target
+/// (`done` stops short of `planned` when no allowed collapse is left). For a progress
+/// bar on large meshes; the result is [`decimate`]'s.
+///
+/// # Errors
+/// As for [`decimate`].
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{decimate_with_progress, DecimateOptions};
+/// use beltrami_halfedge::primitives;
+///
+/// let sphere = primitives::icosphere(5); // 10 242 vertices
+/// let mesh = sphere.mesh()?;
+/// let mut last = (0, 0);
+/// let options = DecimateOptions::default().vertices(1000);
+/// decimate_with_progress(&mesh, &sphere.positions, &options, |done, planned| {
+///     assert!(done >= last.0);
+///     last = (done, planned);
+/// })?;
+/// assert_eq!(last, (9242, 9242));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn decimate_with_progress(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &DecimateOptions,
+    progress: impl FnMut(usize, usize),
+) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
     check_mesh(mesh, positions)?;
     if mesh.n_faces() == 0 {
         return Err(DecimateError::NoFaces);
@@ -561,7 +594,7 @@ pub fn decimate(
     let target = options.target_count(mesh.n_vertices());
     let edit = EditMesh::from_mesh(mesh, positions)?;
     let mut decimator = Decimator::new(edit, options, positions);
-    let max_rms = decimator.run(mesh, target)?;
+    let max_rms = decimator.run(mesh, target, progress)?;
     let refused = decimator.refused;
     let edit = decimator.mesh;
     let stop = if edit.n_vertices() <= target {
