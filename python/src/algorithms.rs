@@ -201,6 +201,60 @@ pub(crate) fn delaunay<'py>(
     Ok((result_mesh(m, p), d))
 }
 
+/// A tqdm bar that a long algorithm moves from outside the GIL (see
+/// `remesh_with_progress`, `decimate_with_progress`): nothing when not asked for or
+/// when tqdm is not installed. The first error of the bar is kept for after the run.
+struct Progress {
+    bar: Option<Py<PyAny>>,
+    shown: usize,
+    failure: Option<PyErr>,
+}
+
+impl Progress {
+    fn new(py: Python<'_>, wanted: bool, total: usize, desc: &str) -> PyResult<Self> {
+        let bar = if wanted {
+            crate::smooth::progress_bar(py, total, desc)?
+        } else {
+            None
+        };
+        Ok(Self {
+            bar,
+            shown: 0,
+            failure: None,
+        })
+    }
+
+    /// Moves the bar to `done` of `total` (called without the GIL).
+    fn show(&mut self, done: usize, total: usize) {
+        let Some(bar) = &self.bar else {
+            return;
+        };
+        if self.failure.is_some() || done <= self.shown {
+            return;
+        }
+        let step = done - self.shown;
+        self.shown = done;
+        Python::attach(|py| {
+            let result = bar
+                .setattr(py, "total", total)
+                .and_then(|()| bar.call_method1(py, "update", (step,)));
+            if let Err(e) = result {
+                self.failure = Some(e);
+            }
+        });
+    }
+
+    /// Closes the bar; the bar's first error, if any.
+    fn finish(mut self, py: Python<'_>) -> PyResult<()> {
+        if let Some(bar) = self.bar.take() {
+            if let Err(e) = bar.call_method0(py, "close") {
+                self.failure.get_or_insert(e);
+            }
+        }
+        self.failure.map_or(Ok(()), Err)
+    }
+}
+
 fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(format!("{what}: {e}"))
 }
@@ -211,13 +265,14 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
 /// `edge_length_relative` (a multiple of the input's mean edge length; default 1), or
 /// `adaptive=(min_edge, max_edge, error)` for curvature-adaptive sizing;
 /// `features` (degrees) keeps edges sharper than that as curves; the boundary is always
-/// kept. Returns `(Mesh, report)`, the report with the keys of `remesh --json`
-/// (without the file names and `seconds`).
+/// kept; `progress=True` shows a tqdm bar of the iterations when tqdm is installed.
+/// Returns `(Mesh, report)`, the report with the keys of `remesh --json` (without the
+/// file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh or a target too
 /// small for the surface.
 #[pyfunction]
-#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true))]
+#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn remesh<'py>(
     py: Python<'py>,
@@ -228,6 +283,7 @@ pub(crate) fn remesh<'py>(
     iterations: usize,
     features: Option<f64>,
     projection: bool,
+    progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let given = [
         edge_length.is_some(),
@@ -259,16 +315,23 @@ pub(crate) fn remesh<'py>(
         }
         options = options.feature_angle(deg.to_radians());
     }
-    let (m, p, r) = py.detach(|| {
+    let mut bar = Progress::new(py, progress, iterations, "remesh")?;
+    let result = py.detach(|| {
         no_panic(|| {
-            beltrami_algorithms::remesh(&mesh.mesh, &mesh.positions, &options).map_err(
-                |e| match e {
-                    RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
-                    e => algorithm_error("remesh", e),
-                },
+            beltrami_algorithms::remesh_with_progress(
+                &mesh.mesh,
+                &mesh.positions,
+                &options,
+                |done, total| bar.show(done, total),
             )
+            .map_err(|e| match e {
+                RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
+                e => algorithm_error("remesh", e),
+            })
         })
-    })?;
+    });
+    bar.finish(py)?;
+    let (m, p, r) = result?;
     let d = PyDict::new(py);
     d.set_item("target_edge_length", r.target_edge_length)?;
     d.set_item("adaptive", adaptive.is_some())?;
@@ -304,12 +367,13 @@ pub(crate) fn remesh<'py>(
 /// triangles cost more; `openmesh=True` is OpenMesh's plain quadric decimation
 /// (endpoint placement, no shape penalty); `plane_weights` is `"area"` (the default) or
 /// `"uniform"` and `stabilizer` (default 0) the weight of a pull towards the input
-/// positions, as `decimate --plane-weights/--stabilizer`. Returns `(Mesh, report)`, the report with the keys
-/// of `decimate --json` (without the file names and `seconds`).
+/// positions, as `decimate --plane-weights/--stabilizer`; `progress=True` shows a tqdm
+/// bar of the collapses when tqdm is installed. Returns `(Mesh, report)`, the report
+/// with the keys of `decimate --json` (without the file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -326,6 +390,7 @@ pub(crate) fn decimate<'py>(
     max_distance: Option<f64>,
     plane_weights: &str,
     stabilizer: f64,
+    progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let mut options = match (vertices, ratio) {
         (Some(n), None) => DecimateOptions::default().vertices(n),
@@ -388,16 +453,24 @@ pub(crate) fn decimate<'py>(
     if let Some(d) = max_distance {
         options = options.max_distance(d);
     }
-    let (m, p, r) = py.detach(|| {
+    // The bar's total is the planned collapses, which the first call gives.
+    let mut bar = Progress::new(py, progress, 0, "decimate")?;
+    let result = py.detach(|| {
         no_panic(|| {
-            beltrami_algorithms::decimate(&mesh.mesh, &mesh.positions, &options).map_err(
-                |e| match e {
-                    DecimateError::Options { .. } => PyValueError::new_err(e.to_string()),
-                    e => algorithm_error("decimate", e),
-                },
+            beltrami_algorithms::decimate_with_progress(
+                &mesh.mesh,
+                &mesh.positions,
+                &options,
+                |done, planned| bar.show(done, planned),
             )
+            .map_err(|e| match e {
+                DecimateError::Options { .. } => PyValueError::new_err(e.to_string()),
+                e => algorithm_error("decimate", e),
+            })
         })
-    })?;
+    });
+    bar.finish(py)?;
+    let (m, p, r) = result?;
     let d = PyDict::new(py);
     d.set_item("vertices_before", r.vertices_before)?;
     d.set_item("vertices_after", r.vertices_after)?;

@@ -230,15 +230,20 @@ impl Observer {
     }
 }
 
-/// A tqdm progress bar over `total` iterations, or None when tqdm is not installed.
-fn progress_bar(py: Python<'_>, total: usize) -> PyResult<Option<Py<PyAny>>> {
+/// A tqdm progress bar over `total` steps named `desc`, or None when tqdm is not
+/// installed.
+pub(crate) fn progress_bar(
+    py: Python<'_>,
+    total: usize,
+    desc: &str,
+) -> PyResult<Option<Py<PyAny>>> {
     let Ok(tqdm) = py.import("tqdm.auto").or_else(|_| py.import("tqdm")) else {
         return Ok(None);
     };
     let kwargs = PyDict::new(py);
     kwargs.set_item("total", total)?;
     kwargs.set_item("unit", "it")?;
-    kwargs.set_item("desc", "smooth")?;
+    kwargs.set_item("desc", desc)?;
     Ok(Some(
         tqdm.getattr("tqdm")?.call((), Some(&kwargs))?.unbind(),
     ))
@@ -379,7 +384,7 @@ pub(crate) fn smooth<'py>(
                 .map_err(|e| smooth_error(&e))?;
             let planned = check_planned_run(&smoother, options.max_iterations)?;
             if progress {
-                observer.bar = Python::attach(|py| progress_bar(py, planned))?;
+                observer.bar = Python::attach(|py| progress_bar(py, planned, "smooth"))?;
             }
             let result = smoother.run(|it| {
                 let stats = wants_stats.then(|| it.stats());

@@ -199,3 +199,23 @@ def test_the_editing_commands_match_the_cli(cli, tmp_path):
         np.testing.assert_array_equal(got.faces, from_cli.faces)
         for key, value in report.items():
             assert summary[key] == value, (command, key)
+
+
+def test_remesh_and_decimate_progress_bars_change_nothing(sphere, capsys):
+    # With or without tqdm installed, progress=True gives the same result.
+    plain, plain_report = bt.remesh(sphere, edge_length_relative=1.5, iterations=3)
+    shown, shown_report = bt.remesh(sphere, edge_length_relative=1.5, iterations=3, progress=True)
+    np.testing.assert_array_equal(plain.vertices, shown.vertices)
+    np.testing.assert_array_equal(plain.faces, shown.faces)
+    assert plain_report == shown_report
+    light, light_report = bt.decimate(sphere, ratio=0.25)
+    shown, shown_report = bt.decimate(sphere, ratio=0.25, progress=True)
+    np.testing.assert_array_equal(light.vertices, shown.vertices)
+    assert light_report == shown_report
+    try:
+        import tqdm  # noqa: F401
+    except ImportError:
+        return
+    err = capsys.readouterr().err
+    assert "remesh" in err and "3/3" in err
+    assert "decimate" in err

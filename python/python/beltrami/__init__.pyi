@@ -159,6 +159,7 @@ def remesh(
     iterations: int = 10,
     features: Optional[float] = None,
     projection: bool = True,
+    progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Isotropic remeshing, as `beltrami remesh --json`."""
 
@@ -175,6 +176,9 @@ def decimate(
     openmesh: bool = False,
     max_aspect_ratio: Optional[float] = None,
     max_distance: Optional[float] = None,
+    plane_weights: Literal["area", "uniform"] = "area",
+    stabilizer: float = 0.0,
+    progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Quadric-error decimation, as `beltrami decimate --json`."""
 
