@@ -12,9 +12,12 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::ops::ControlFlow;
+use std::time::Instant;
 
 use crate::errors::{MeshError, no_panic, topology_error};
 use crate::mesh::Mesh;
+use crate::smooth::SIGNAL_INTERVAL;
 
 fn quality_error(e: &QualityError) -> PyErr {
     match e {
@@ -201,13 +204,15 @@ pub(crate) fn delaunay<'py>(
     Ok((result_mesh(m, p), d))
 }
 
-/// A tqdm bar that a long algorithm moves from outside the GIL (see
-/// `remesh_with_progress`, `decimate_with_progress`): nothing when not asked for or
-/// when tqdm is not installed. The first error of the bar is kept for after the run.
+/// What a long algorithm calls back into Python from outside the GIL (see
+/// `remesh_with_progress`, `decimate_with_progress`): a tqdm bar when asked for and
+/// installed, and a look for Ctrl-C at most every [`SIGNAL_INTERVAL`]. The first
+/// exception (the bar's, or `KeyboardInterrupt`) stops the run and is raised after it.
 struct Progress {
     bar: Option<Py<PyAny>>,
     shown: usize,
     failure: Option<PyErr>,
+    last_signal_check: Instant,
 }
 
 impl Progress {
@@ -221,35 +226,51 @@ impl Progress {
             bar,
             shown: 0,
             failure: None,
+            last_signal_check: Instant::now(),
         })
     }
 
-    /// Moves the bar to `done` of `total` (called without the GIL).
-    fn show(&mut self, done: usize, total: usize) {
-        let Some(bar) = &self.bar else {
-            return;
-        };
-        if self.failure.is_some() || done <= self.shown {
-            return;
+    /// Moves the bar to `done` of `total` and looks for Ctrl-C (called without the
+    /// GIL); `Break` once an exception is waiting.
+    fn show(&mut self, done: usize, total: usize) -> ControlFlow<()> {
+        let due = self.last_signal_check.elapsed() >= SIGNAL_INTERVAL;
+        if self.failure.is_none() && (due || (self.bar.is_some() && done > self.shown)) {
+            Python::attach(|py| {
+                if let Err(e) = self.call(py, done, total, due) {
+                    self.failure = Some(e);
+                }
+            });
         }
-        let step = done - self.shown;
-        self.shown = done;
-        Python::attach(|py| {
-            let result = bar
-                .setattr(py, "total", total)
-                .and_then(|()| bar.call_method1(py, "update", (step,)));
-            if let Err(e) = result {
-                self.failure = Some(e);
-            }
-        });
+        if self.failure.is_some() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
     }
 
-    /// Closes the bar; the bar's first error, if any.
+    fn call(&mut self, py: Python<'_>, done: usize, total: usize, due: bool) -> PyResult<()> {
+        if due {
+            self.last_signal_check = Instant::now();
+            py.check_signals()?;
+        }
+        if let Some(bar) = &self.bar
+            && done > self.shown
+        {
+            let step = done - self.shown;
+            self.shown = done;
+            bar.setattr(py, "total", total)?;
+            bar.call_method1(py, "update", (step,))?;
+        }
+        Ok(())
+    }
+
+    /// Closes the bar; the first exception, if any (raised instead of the run's
+    /// `Stopped` error).
     fn finish(mut self, py: Python<'_>) -> PyResult<()> {
-        if let Some(bar) = self.bar.take() {
-            if let Err(e) = bar.call_method0(py, "close") {
-                self.failure.get_or_insert(e);
-            }
+        if let Some(bar) = self.bar.take()
+            && let Err(e) = bar.call_method0(py, "close")
+        {
+            self.failure.get_or_insert(e);
         }
         self.failure.map_or(Ok(()), Err)
     }

@@ -23,7 +23,7 @@ use crate::weights::scheme;
 const DEFAULT_ITERATIONS: usize = 10;
 
 /// How often a run without observer looks for Ctrl-C.
-const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
+pub(crate) const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 
 /// One of `choices`, or a `ValueError` listing them.
 fn choice<'a>(option: &str, value: &str, choices: &[&'a str]) -> PyResult<&'a str> {

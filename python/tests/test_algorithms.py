@@ -219,3 +219,18 @@ def test_remesh_and_decimate_progress_bars_change_nothing(sphere, capsys):
     err = capsys.readouterr().err
     assert "remesh" in err and "3/3" in err
     assert "decimate" in err
+
+
+def test_ctrl_c_stops_a_long_remesh():
+    # A pending Ctrl-C (as the terminal sends it) is seen within about a tenth of a
+    # second: the run stops long before its 5000 iterations (about 10 s), with
+    # KeyboardInterrupt.
+    import _thread
+    import time
+
+    mesh = bt.generate("sphere", level=4)
+    start = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        _thread.interrupt_main()
+        bt.remesh(mesh, iterations=5000)
+    assert time.perf_counter() - start < 3.0

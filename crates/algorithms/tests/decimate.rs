@@ -822,3 +822,38 @@ proptest! {
         prop_assert!(report.hausdorff.is_finite());
     }
 }
+
+#[test]
+fn a_progress_closure_can_stop_the_decimation() {
+    use std::ops::ControlFlow;
+    let sphere = primitives::icosphere(5); // 10 242 vertices
+    let mesh = sphere.mesh().unwrap();
+    let options = beltrami_algorithms::DecimateOptions::default().vertices(1000);
+    let mut calls = 0;
+    let err = beltrami_algorithms::decimate_with_progress(
+        &mesh,
+        &sphere.positions,
+        &options,
+        |done, planned| {
+            calls += 1;
+            assert_eq!(planned, 9242);
+            if done >= 4096 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
+    .unwrap_err();
+    assert_eq!(calls, 1);
+    assert!(
+        matches!(
+            err,
+            beltrami_algorithms::DecimateError::Stopped {
+                done: 4096,
+                planned: 9242
+            }
+        ),
+        "{err:?}"
+    );
+}

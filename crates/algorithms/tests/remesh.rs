@@ -633,3 +633,32 @@ fn print_the_documentation_table() {
         );
     }
 }
+
+#[test]
+fn a_progress_closure_can_stop_the_remeshing() {
+    use std::ops::ControlFlow;
+    let sphere = primitives::icosphere(3);
+    let mesh = sphere.mesh().unwrap();
+    let options = RemeshOptions::default().iterations(5);
+    let mut seen = Vec::new();
+    let err = beltrami_algorithms::remesh_with_progress(
+        &mesh,
+        &sphere.positions,
+        &options,
+        |done, total| {
+            seen.push((done, total));
+            if done == 2 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
+    .unwrap_err();
+    assert_eq!(seen, [(1, 5), (2, 5)]);
+    assert_eq!(err, RemeshError::Stopped { done: 2, total: 5 });
+    assert_eq!(
+        err.to_string(),
+        "remeshing was stopped after 2 of 5 iterations"
+    );
+}

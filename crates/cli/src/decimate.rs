@@ -287,6 +287,8 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
                 bar.set_length(planned as u64);
                 bar.set_position(done as u64);
             }
+            // Ctrl-C ends the process from the signal handler.
+            std::ops::ControlFlow::Continue(())
         },
     );
     if let Some(bar) = progress {

@@ -164,6 +164,8 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         if let Some(bar) = &progress {
             bar.set_position(done as u64);
         }
+        // Ctrl-C ends the process from the signal handler.
+        std::ops::ControlFlow::Continue(())
     });
     if let Some(bar) = progress {
         bar.finish_and_clear();

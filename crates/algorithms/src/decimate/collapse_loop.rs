@@ -1,6 +1,8 @@
 //! The collapse loop: the queue of candidate collapses, cheapest first, and what a
 //! collapse changes.
 
+use std::ops::ControlFlow;
+
 use beltrami_halfedge::{DVec3, ElementId, HalfedgeId, HalfedgeMesh, VertexId};
 use rayon::prelude::*;
 
@@ -108,12 +110,14 @@ impl Decimator<'_> {
     /// its neighbourhood.
     ///
     /// `progress(done, planned)` is called every [`PROGRESS_EVERY`] collapses and once
-    /// at the end, with the collapses done and those planned (down to `target`).
+    /// at the end, with the collapses done and those planned (down to `target`); a
+    /// [`ControlFlow::Break`] before the end stops the run with
+    /// [`DecimateError::Stopped`].
     pub(super) fn run(
         &mut self,
         input: &HalfedgeMesh,
         target: usize,
-        mut progress: impl FnMut(usize, usize),
+        mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
     ) -> Result<f64, DecimateError> {
         self.fill_queue(input);
         let planned = self.mesh.n_vertices().saturating_sub(target);
@@ -130,11 +134,17 @@ impl Decimator<'_> {
             };
             max_rms = max_rms.max(done.candidate.rms);
             self.apply(done);
-            if self.collapses % PROGRESS_EVERY == 0 {
-                progress(self.collapses as usize, planned);
+            if self.collapses % PROGRESS_EVERY == 0
+                && progress(self.collapses as usize, planned).is_break()
+            {
+                return Err(DecimateError::Stopped {
+                    done: self.collapses as usize,
+                    planned,
+                });
             }
         }
-        progress(self.collapses as usize, planned);
+        // The last call reports where the run ended; stopping there changes nothing.
+        let _ = progress(self.collapses as usize, planned);
         Ok(max_rms)
     }
 

@@ -46,6 +46,8 @@
 //! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
 //!   AK Peters 2010, chapter 7 (normal cones, the Hausdorff constraint).
 
+use std::ops::ControlFlow;
+
 use std::f64::consts::PI;
 
 use beltrami_halfedge::{DVec3, EditError, EditMesh, HalfedgeMesh, TopologyError};
@@ -494,6 +496,14 @@ algorithm_error! {
         /// Measuring the Hausdorff distance failed (a defect: the positions are finite).
         #[error("measuring the Hausdorff distance: {0}")]
         Metrics(#[from] MetricsError),
+        /// The progress closure of [`decimate_with_progress`] asked to stop.
+        #[error("decimation was stopped after {done} of {planned} collapses")]
+        Stopped {
+            /// The collapses done.
+            done: usize,
+            /// The collapses planned.
+            planned: usize,
+        },
     }
 }
 
@@ -552,16 +562,17 @@ pub fn decimate(
     positions: &[DVec3],
     options: &DecimateOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
-    decimate_with_progress(mesh, positions, options, |_, _| {})
+    decimate_with_progress(mesh, positions, options, |_, _| ControlFlow::Continue(()))
 }
 
 /// [`decimate`], calling `progress(done, planned)` every few thousand collapses and
 /// once at the end: the collapses done so far and those needed to reach the target
 /// (`done` stops short of `planned` when no allowed collapse is left). For a progress
-/// bar on large meshes; the result is [`decimate`]'s.
+/// bar on large meshes; the result is [`decimate`]'s. `progress` returns
+/// [`ControlFlow::Break`] to stop (a user's interrupt, say).
 ///
 /// # Errors
-/// As for [`decimate`].
+/// As for [`decimate`], and [`DecimateError::Stopped`] when `progress` stopped the run.
 ///
 /// # Examples
 /// ```
@@ -575,6 +586,7 @@ pub fn decimate(
 /// decimate_with_progress(&mesh, &sphere.positions, &options, |done, planned| {
 ///     assert!(done >= last.0);
 ///     last = (done, planned);
+///     std::ops::ControlFlow::Continue(())
 /// })?;
 /// assert_eq!(last, (9242, 9242));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -583,7 +595,7 @@ pub fn decimate_with_progress(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     options: &DecimateOptions,
-    progress: impl FnMut(usize, usize),
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
     check_mesh(mesh, positions)?;
     if mesh.n_faces() == 0 {

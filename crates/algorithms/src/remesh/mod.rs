@@ -64,6 +64,8 @@ mod curves;
 mod passes;
 mod sizing;
 
+use std::ops::ControlFlow;
+
 use beltrami_halfedge::edit::VertexProperty;
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
@@ -288,6 +290,14 @@ algorithm_error! {
         /// A closest-point query failed (a defect: the positions are finite).
         #[error("projecting onto the input: {0}")]
         Metrics(#[from] beltrami_metrics::MetricsError),
+        /// The progress closure of [`remesh_with_progress`] asked to stop.
+        #[error("remeshing was stopped after {done} of {total} iterations")]
+        Stopped {
+            /// The iterations done.
+            done: usize,
+            /// The iterations asked for.
+            total: usize,
+        },
     }
 }
 
@@ -419,15 +429,16 @@ pub fn remesh(
     positions: &[DVec3],
     options: &RemeshOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    remesh_with_progress(mesh, positions, options, |_, _| {})
+    remesh_with_progress(mesh, positions, options, |_, _| ControlFlow::Continue(()))
 }
 
 /// [`remesh`], calling `progress(done, total)` after each of the `total` iterations
 /// (`done` counts from 1), for a progress bar on large meshes: an iteration of a
 /// million-vertex mesh takes about a second on two cores. The result is [`remesh`]'s.
+/// `progress` returns [`ControlFlow::Break`] to stop (a user's interrupt, say).
 ///
 /// # Errors
-/// As for [`remesh`].
+/// As for [`remesh`], and [`RemeshError::Stopped`] when `progress` stopped the run.
 ///
 /// # Examples
 /// ```
@@ -439,7 +450,8 @@ pub fn remesh(
 /// let mut seen = Vec::new();
 /// let options = RemeshOptions::default().iterations(3);
 /// remesh_with_progress(&mesh, &sphere.positions, &options, |done, total| {
-///     seen.push((done, total))
+///     seen.push((done, total));
+///     std::ops::ControlFlow::Continue(())
 /// })?;
 /// assert_eq!(seen, [(1, 3), (2, 3), (3, 3)]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -448,7 +460,7 @@ pub fn remesh_with_progress(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     options: &RemeshOptions,
-    progress: impl FnMut(usize, usize),
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
@@ -560,7 +572,7 @@ fn run_passes(
     remesher: &mut Remesher<'_>,
     iterations: usize,
     report: &mut RemeshReport,
-    mut progress: impl FnMut(usize, usize),
+    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(), RemeshError> {
     for done in 1..=iterations {
         let splits = remesher.split_long_edges()?;
@@ -575,7 +587,12 @@ fn run_passes(
         report.splits += splits;
         report.collapses += collapses;
         report.flips += flips;
-        progress(done, iterations);
+        if progress(done, iterations).is_break() {
+            return Err(RemeshError::Stopped {
+                done,
+                total: iterations,
+            });
+        }
     }
     if !report.iterations.is_empty() {
         let caps = remesher.remove_caps()?;
