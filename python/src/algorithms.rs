@@ -12,12 +12,10 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::ops::ControlFlow;
-use std::time::Instant;
 
 use crate::errors::{MeshError, no_panic, topology_error};
 use crate::mesh::Mesh;
-use crate::smooth::SIGNAL_INTERVAL;
+use crate::progress::Progress;
 
 fn quality_error(e: &QualityError) -> PyErr {
     match e {
@@ -204,78 +202,6 @@ pub(crate) fn delaunay<'py>(
     Ok((result_mesh(m, p), d))
 }
 
-/// What a long algorithm calls back into Python from outside the GIL (see
-/// `remesh_with_progress`, `decimate_with_progress`): a tqdm bar when asked for and
-/// installed, and a look for Ctrl-C at most every [`SIGNAL_INTERVAL`]. The first
-/// exception (the bar's, or `KeyboardInterrupt`) stops the run and is raised after it.
-struct Progress {
-    bar: Option<Py<PyAny>>,
-    shown: usize,
-    failure: Option<PyErr>,
-    last_signal_check: Instant,
-}
-
-impl Progress {
-    fn new(py: Python<'_>, wanted: bool, total: usize, desc: &str) -> PyResult<Self> {
-        let bar = if wanted {
-            crate::smooth::progress_bar(py, total, desc)?
-        } else {
-            None
-        };
-        Ok(Self {
-            bar,
-            shown: 0,
-            failure: None,
-            last_signal_check: Instant::now(),
-        })
-    }
-
-    /// Moves the bar to `done` of `total` and looks for Ctrl-C (called without the
-    /// GIL); `Break` once an exception is waiting.
-    fn show(&mut self, done: usize, total: usize) -> ControlFlow<()> {
-        let due = self.last_signal_check.elapsed() >= SIGNAL_INTERVAL;
-        if self.failure.is_none() && (due || (self.bar.is_some() && done > self.shown)) {
-            Python::attach(|py| {
-                if let Err(e) = self.call(py, done, total, due) {
-                    self.failure = Some(e);
-                }
-            });
-        }
-        if self.failure.is_some() {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    }
-
-    fn call(&mut self, py: Python<'_>, done: usize, total: usize, due: bool) -> PyResult<()> {
-        if due {
-            self.last_signal_check = Instant::now();
-            py.check_signals()?;
-        }
-        if let Some(bar) = &self.bar
-            && done > self.shown
-        {
-            let step = done - self.shown;
-            self.shown = done;
-            bar.setattr(py, "total", total)?;
-            bar.call_method1(py, "update", (step,))?;
-        }
-        Ok(())
-    }
-
-    /// Closes the bar; the first exception, if any (raised instead of the run's
-    /// `Stopped` error).
-    fn finish(mut self, py: Python<'_>) -> PyResult<()> {
-        if let Some(bar) = self.bar.take()
-            && let Err(e) = bar.call_method0(py, "close")
-        {
-            self.failure.get_or_insert(e);
-        }
-        self.failure.map_or(Ok(()), Err)
-    }
-}
-
 fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(format!("{what}: {e}"))
 }
@@ -336,7 +262,8 @@ pub(crate) fn remesh<'py>(
         }
         options = options.feature_angle(deg.to_radians());
     }
-    let mut bar = Progress::new(py, progress, iterations, "remesh")?;
+    let mut bar = Progress::new();
+    bar.open_bar(py, progress, iterations, "remesh")?;
     let result = py.detach(|| {
         no_panic(|| {
             beltrami_algorithms::remesh_with_progress(
@@ -475,7 +402,8 @@ pub(crate) fn decimate<'py>(
         options = options.max_distance(d);
     }
     // The bar's total is the planned collapses, which the first call gives.
-    let mut bar = Progress::new(py, progress, 0, "decimate")?;
+    let mut bar = Progress::new();
+    bar.open_bar(py, progress, 0, "decimate")?;
     let result = py.detach(|| {
         no_panic(|| {
             beltrami_algorithms::decimate_with_progress(

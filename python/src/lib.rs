@@ -16,6 +16,7 @@ mod info;
 mod io;
 mod mesh;
 mod operator;
+mod progress;
 mod residual;
 mod scheme;
 mod smooth;

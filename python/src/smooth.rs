@@ -1,7 +1,7 @@
 //! `beltrami.smooth`: the options of `beltrami smooth`, with its words and defaults.
 
 use std::ops::ControlFlow;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
@@ -17,13 +17,11 @@ use pyo3::types::{PyBool, PyDict};
 
 use crate::errors::{no_panic, smooth_error};
 use crate::mesh::Mesh;
+use crate::progress::Progress;
 use crate::weights::scheme;
 
 /// The default iteration count, as on the command line.
 const DEFAULT_ITERATIONS: usize = 10;
-
-/// How often a run without observer looks for Ctrl-C.
-pub(crate) const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 
 /// One of `choices`, or a `ValueError` listing them.
 fn choice<'a>(option: &str, value: &str, choices: &[&'a str]) -> PyResult<&'a str> {
@@ -168,87 +166,6 @@ impl Options {
     }
 }
 
-/// What the observer of a run calls back into Python: the callback and the progress
-/// bar, and the first exception raised in them.
-struct Observer {
-    callback: Option<Py<PyAny>>,
-    bar: Option<Py<PyAny>>,
-    failure: Option<PyErr>,
-    last_signal_check: Instant,
-}
-
-impl Observer {
-    /// Called after every iteration, without the GIL; takes it only when there is
-    /// something to call, or every [`SIGNAL_INTERVAL`] to look for Ctrl-C.
-    fn iteration(&mut self, index: usize, stats: Option<StepStats>) -> ControlFlow<()> {
-        let due = self.last_signal_check.elapsed() >= SIGNAL_INTERVAL;
-        if self.callback.is_none() && self.bar.is_none() && !due {
-            return ControlFlow::Continue(());
-        }
-        Python::attach(|py| {
-            let outcome = self.call(py, index, stats, due);
-            outcome.unwrap_or_else(|e| {
-                self.failure = Some(e);
-                ControlFlow::Break(())
-            })
-        })
-    }
-
-    fn call(
-        &mut self,
-        py: Python<'_>,
-        index: usize,
-        stats: Option<StepStats>,
-        due: bool,
-    ) -> PyResult<ControlFlow<()>> {
-        if due {
-            self.last_signal_check = Instant::now();
-            py.check_signals()?;
-        }
-        if let Some(bar) = &self.bar {
-            bar.call_method1(py, "update", (1,))?;
-        }
-        if let (Some(callback), Some(stats)) = (&self.callback, stats) {
-            let answer = callback.call1(py, (index, step_dict(py, index, &stats)?))?;
-            let answer = answer.bind(py);
-            if answer.downcast::<PyBool>().is_ok_and(|b| !b.is_true()) {
-                return Ok(ControlFlow::Break(()));
-            }
-        }
-        Ok(ControlFlow::Continue(()))
-    }
-
-    /// Closes the progress bar.
-    fn finish(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            Python::attach(|py| {
-                if let Err(e) = bar.call_method0(py, "close") {
-                    self.failure.get_or_insert(e);
-                }
-            });
-        }
-    }
-}
-
-/// A tqdm progress bar over `total` steps named `desc`, or None when tqdm is not
-/// installed.
-pub(crate) fn progress_bar(
-    py: Python<'_>,
-    total: usize,
-    desc: &str,
-) -> PyResult<Option<Py<PyAny>>> {
-    let Ok(tqdm) = py.import("tqdm.auto").or_else(|_| py.import("tqdm")) else {
-        return Ok(None);
-    };
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("total", total)?;
-    kwargs.set_item("unit", "it")?;
-    kwargs.set_item("desc", desc)?;
-    Ok(Some(
-        tqdm.getattr("tqdm")?.call((), Some(&kwargs))?.unbind(),
-    ))
-}
-
 /// One iteration's statistics, with the keys of a step of the `--report` JSON.
 fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -371,32 +288,35 @@ pub(crate) fn smooth<'py>(
         )));
     }
     let config = options.config();
-    let mut observer = Observer {
-        callback: on_iteration,
-        bar: None,
-        failure: None,
-        last_signal_check: Instant::now(),
-    };
-    let wants_stats = observer.callback.is_some();
+    let mut observer = Progress::new();
     let smoothed = py.detach(|| {
         no_panic(|| {
             let smoother = Smoother::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), config)
                 .map_err(|e| smooth_error(&e))?;
             let planned = check_planned_run(&smoother, options.max_iterations)?;
-            if progress {
-                observer.bar = Python::attach(|py| progress_bar(py, planned, "smooth"))?;
-            }
+            Python::attach(|py| observer.open_bar(py, progress, planned, "smooth"))?;
             let result = smoother.run(|it| {
-                let stats = wants_stats.then(|| it.stats());
-                observer.iteration(it.index, stats)
+                let callback = on_iteration.as_ref().map(|callback| {
+                    let (index, stats) = (it.index, it.stats());
+                    move |py: Python<'_>| {
+                        let answer = callback.call1(py, (index, step_dict(py, index, &stats)?))?;
+                        let stop = answer
+                            .bind(py)
+                            .downcast::<PyBool>()
+                            .is_ok_and(|b| !b.is_true());
+                        Ok(if stop {
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        })
+                    }
+                });
+                observer.show_and_call(it.index, planned, callback)
             });
-            observer.finish();
             result.map_err(|e| smooth_error(&e))
         })
     });
-    if let Some(e) = observer.failure {
-        return Err(e);
-    }
+    observer.finish(py)?;
     if let Some(e) = crate::scheme::take_failure(&options.weights) {
         return Err(e);
     }
