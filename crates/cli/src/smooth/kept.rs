@@ -4,21 +4,16 @@
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
-use std::path::PathBuf;
 
 use beltrami_halfedge::DVec3;
 
 /// The input positions, kept until the run is over.
 pub(crate) enum KeptPositions {
-    /// In a temporary file, each coordinate's eight bytes (little-endian, the exact
-    /// bits); the file is removed when this is dropped (at once where the system lets
-    /// an open file be removed).
-    File {
-        file: File,
-        n: usize,
-        /// The path still to remove, where it could not be removed while open.
-        path: Option<PathBuf>,
-    },
+    /// In an unnamed temporary file, each coordinate's eight bytes (little-endian, the
+    /// exact bits): it has no name in any directory (Linux's `O_TMPFILE`, or removed at
+    /// once where that is missing; deleted on close on Windows), so nothing is left
+    /// behind however the process ends.
+    File { file: File, n: usize },
     /// In memory, when no temporary file could be written.
     Memory(Vec<DVec3>),
 }
@@ -28,10 +23,9 @@ impl KeptPositions {
     /// directory, or in memory when that fails.
     pub(crate) fn keep(positions: &[DVec3]) -> Self {
         match spill(positions) {
-            Ok((file, path)) => Self::File {
+            Ok(file) => Self::File {
                 file,
                 n: positions.len(),
-                path,
             },
             Err(_) => Self::Memory(positions.to_vec()),
         }
@@ -94,17 +88,6 @@ impl KeptPositions {
     }
 }
 
-impl Drop for KeptPositions {
-    fn drop(&mut self) {
-        if let Self::File {
-            path: Some(path), ..
-        } = self
-        {
-            let _ = std::fs::remove_file(path);
-        }
-    }
-}
-
 /// The error of positions that could not be read back from their temporary file,
 /// reported with the input file `path` they came from.
 pub(crate) fn read_back_error(
@@ -136,40 +119,20 @@ fn mean_distance(before: impl Iterator<Item = DVec3>, after: &[DVec3]) -> f64 {
     before.zip(after).map(|(a, b)| a.distance(*b)).sum::<f64>() / n as f64
 }
 
-/// `positions` written to a new temporary file, removed from the directory at once
-/// where the system allows (the path is returned where it did not).
-fn spill(positions: &[DVec3]) -> std::io::Result<(File, Option<PathBuf>)> {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    let path = std::env::temp_dir().join(format!(
-        "beltrami-smooth-{}-{nanos}.positions",
-        std::process::id()
-    ));
-    let file = File::options()
-        .read(true)
-        .write(true)
-        .create_new(true)
-        .open(&path)?;
-    let path = std::fs::remove_file(&path).err().map(|_| path);
-    let written = (|| {
-        let mut writer = BufWriter::with_capacity(1 << 16, &file);
-        for p in positions {
-            for c in [p.x, p.y, p.z] {
-                writer.write_all(&c.to_le_bytes())?;
-            }
-        }
-        writer.flush()
-    })();
-    match written {
-        Ok(()) => Ok((file, path)),
-        Err(e) => {
-            if let Some(path) = path {
-                let _ = std::fs::remove_file(path);
-            }
-            Err(e)
+/// `positions` written to a new unnamed temporary file in the system's temporary
+/// directory (`tempfile::tempfile`, which never gives the file a name that a killed
+/// process could leave behind where the system supports it).
+fn spill(positions: &[DVec3]) -> std::io::Result<File> {
+    let file = tempfile::tempfile()?;
+    let mut writer = BufWriter::with_capacity(1 << 16, &file);
+    for p in positions {
+        for c in [p.x, p.y, p.z] {
+            writer.write_all(&c.to_le_bytes())?;
         }
     }
+    writer.flush()?;
+    drop(writer);
+    Ok(file)
 }
 
 #[cfg(test)]
