@@ -149,6 +149,69 @@ fn topology_is_kept_on_closed_open_and_higher_genus_surfaces() {
     }
 }
 
+/// A target edge length as large as the surface or larger never gives a flat result:
+/// either a solid (no face of zero area, no two faces on the same three vertices, at
+/// least a tetrahedron for a closed surface) or [`RemeshError::Degenerate`], which names
+/// the length. A closed surface coarsened to a few vertices is drawn together by the
+/// tangential relaxation, so the level-3 icosphere with a length of 5 is refused.
+#[test]
+fn a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error() {
+    let cases = [
+        ("icosphere", primitives::icosphere(3), 4),
+        ("torus", primitives::torus(1.0, 0.4, 24, 12), 7),
+        ("grid", primitives::grid(12, 8), 3),
+    ];
+    let mut refused = 0;
+    for (name, data, fewest) in cases {
+        let mesh = data.mesh().unwrap();
+        for length in [1.0, 1.5, 5.0, 1e9] {
+            let options = RemeshOptions::default().edge_length(length);
+            let what = format!("{name}, edge length {length}");
+            let (out, y, _) = match remesh(&mesh, &data.positions, &options) {
+                Ok(result) => result,
+                Err(RemeshError::Degenerate {
+                    faces,
+                    input_faces,
+                    edge_length,
+                    diagonal,
+                }) => {
+                    assert!(faces > input_faces, "{what}");
+                    assert_eq!(edge_length, length, "{what}");
+                    assert!(diagonal > 1.0, "{what}: {diagonal}");
+                    refused += 1;
+                    continue;
+                }
+                Err(e) => panic!("{what}: {e}"),
+            };
+            assert_same_topology(&mesh, &out, &y, &what);
+            assert!(
+                out.n_vertices() >= fewest,
+                "{what}: {} vertices",
+                out.n_vertices()
+            );
+            let mut seen = std::collections::BTreeSet::new();
+            for f in out.faces() {
+                let mut t: Vec<u32> = out.vertices_around_face(f).map(|v| v.raw()).collect();
+                let area = (y[t[1] as usize] - y[t[0] as usize])
+                    .cross(y[t[2] as usize] - y[t[0] as usize])
+                    .length();
+                assert!(area > 1e-9, "{what}: face {f:?} is flat ({area})");
+                t.sort_unstable();
+                assert!(seen.insert(t), "{what}: two faces on the same vertices");
+            }
+        }
+    }
+    let sphere = primitives::icosphere(3);
+    let err = remesh(
+        &sphere.mesh().unwrap(),
+        &sphere.positions,
+        &RemeshOptions::default().edge_length(5.0),
+    )
+    .unwrap_err();
+    assert!(matches!(err, RemeshError::Degenerate { .. }), "{err}");
+    assert!(refused >= 1);
+}
+
 #[test]
 fn edges_approach_the_target_and_vary_far_less_than_the_input() {
     let (mesh, x) = jittered_grid(24, 24, 0.3, 7);

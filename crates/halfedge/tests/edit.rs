@@ -183,7 +183,36 @@ fn collapse_refusals_follow_openmesh() {
     let t = edit(&primitives::tetrahedron());
     for h in t.halfedges() {
         assert!(t.is_collapse_ok(h), "{h:?}");
+        // ...which decimation and remeshing refuse, to keep the solid.
+        assert!(t.collapse_flattens_tetrahedron(h), "{h:?}");
     }
+    let ico = edit(&primitives::icosphere(0));
+    assert!(
+        ico.halfedges()
+            .all(|h| !ico.collapse_flattens_tetrahedron(h))
+    );
+    // Once an icosahedron is collapsed down to a tetrahedron, its edges flatten it.
+    let mut solid = edit(&primitives::icosphere(0));
+    while solid.n_vertices() > 4 {
+        let h = solid
+            .halfedges()
+            .find(|&h| solid.is_collapse_ok(h) && !solid.collapse_flattens_tetrahedron(h))
+            .unwrap();
+        solid.collapse_edge(h).unwrap();
+        solid.check_integrity().unwrap();
+    }
+    assert!(
+        solid
+            .halfedges()
+            .all(|h| solid.collapse_flattens_tetrahedron(h))
+    );
+    let h = solid.halfedges().next().unwrap();
+    solid.collapse_edge(h).unwrap();
+    assert!(
+        solid
+            .halfedges()
+            .all(|h| !solid.collapse_flattens_tetrahedron(h))
+    );
 
     // A lone triangle: both other edges of the face are boundary edges.
     let tri = edit(&primitives::triangle());

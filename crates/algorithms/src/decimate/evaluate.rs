@@ -271,13 +271,7 @@ impl<'a> Decimator<'a> {
         if m.cw_rotated(m.cw_rotated(h)) == h {
             return Err(Refusal::Topology);
         }
-        // Valence 3 tested by counting at most four spokes.
-        let valence_3 = |v: VertexId| m.halfedges_around_vertex(v).take(4).count() == 3;
-        if let (Some(l), Some(r)) = (vl, vr)
-            && valence_3(l)
-            && valence_3(r)
-            && m.find_halfedge(l, r).is_some()
-        {
+        if m.collapse_flattens_tetrahedron(h) {
             return Err(Refusal::Topology);
         }
         Ok(())

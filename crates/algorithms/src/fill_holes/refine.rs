@@ -123,7 +123,11 @@ fn collapse_short(
             let too_long = mesh
                 .vertices_around_vertex(from)
                 .any(|w| w != to && mesh.position(w).distance(target) > high);
-            if too_long || folds(mesh, from, to) || !mesh.is_collapse_ok(h) {
+            if too_long
+                || folds(mesh, from, to)
+                || !mesh.is_collapse_ok(h)
+                || mesh.collapse_flattens_tetrahedron(h)
+            {
                 continue;
             }
             mesh.collapse_edge(h)?;

@@ -67,6 +67,7 @@ mod sizing;
 use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
+use beltrami_halfedge::geometry::Geometry;
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
 
@@ -290,6 +291,23 @@ algorithm_error! {
         /// A closest-point query failed (a defect: the positions are finite).
         #[error("projecting onto the input: {0}")]
         Metrics(#[from] beltrami_metrics::MetricsError),
+        /// The result has faces of no area that the input did not have: the target edge
+        /// length is too long for the surface (a closed surface coarsened to a few
+        /// vertices, whose tangential relaxation then draws them together). No mesh is
+        /// returned.
+        #[error(
+            "the result would have {faces} degenerate faces (the input has {input_faces}): a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
+        )]
+        Degenerate {
+            /// Degenerate faces of the result.
+            faces: usize,
+            /// Degenerate faces of the input.
+            input_faces: usize,
+            /// The (mean) target edge length.
+            edge_length: f64,
+            /// The diagonal of the input's bounding box.
+            diagonal: f64,
+        },
         /// The progress closure of [`remesh_with_progress`] asked to stop.
         #[error("remeshing was stopped after {done} of {total} iterations")]
         Stopped {
@@ -529,8 +547,52 @@ pub fn remesh_with_progress(
     edit.garbage_collection();
     (report.mean_edge_length, report.edge_length_cv) = edge_length_stats(&edit);
     let (out, out_positions) = edit.into_mesh()?;
+    check_degenerate((mesh, positions), (&out, &out_positions), target)?;
     measure_result(&out, &out_positions, &index, &mut report)?;
     Ok((out, out_positions, report))
+}
+
+/// Refuses a result with more degenerate faces than the input has
+/// ([`RemeshError::Degenerate`]): faces flat for their size
+/// ([`Geometry::is_degenerate_face`]) or drawn into a point (every edge shorter than
+/// `10⁻⁹` times the input's bounding box diagonal, which the relative test alone lets
+/// pass as a well-shaped tiny triangle).
+fn check_degenerate(
+    (mesh, positions): (&HalfedgeMesh, &[DVec3]),
+    (out, out_positions): (&HalfedgeMesh, &[DVec3]),
+    target: f64,
+) -> Result<(), RemeshError> {
+    let (lo, hi) = positions.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let diagonal = lo.distance(hi);
+    let point = 1e-9 * diagonal;
+    let count = |m: &HalfedgeMesh, x: &[DVec3]| -> Result<usize, TopologyError> {
+        let g = Geometry::new(m, x)?;
+        let collapsed = |f: FaceId| {
+            let corners: Vec<DVec3> = m.vertices_around_face(f).map(|v| x[v.index()]).collect();
+            (0..corners.len())
+                .all(|k| corners[k].distance(corners[(k + 1) % corners.len()]) < point)
+        };
+        Ok(m.faces()
+            .filter(|&f| g.is_degenerate_face(f) || collapsed(f))
+            .count())
+    };
+    let faces = count(out, out_positions)?;
+    if faces == 0 {
+        return Ok(());
+    }
+    let input_faces = count(mesh, positions)?;
+    if faces <= input_faces {
+        return Ok(());
+    }
+    Err(RemeshError::Degenerate {
+        faces,
+        input_faces,
+        edge_length: target,
+        diagonal,
+    })
 }
 
 /// Refuses a target so small for the surface's area that the result would have more

@@ -205,8 +205,10 @@ impl Remesher<'_> {
                 } else if f1 {
                     ok10 = false;
                 }
-                ok01 = ok01 && self.mesh.is_collapse_ok(h01);
-                ok10 = ok10 && self.mesh.is_collapse_ok(h10);
+                // A closed component stays a solid: a tetrahedron is the coarsest.
+                let flat = self.mesh.collapse_flattens_tetrahedron(h01);
+                ok01 = ok01 && !flat && self.mesh.is_collapse_ok(h01);
+                ok10 = ok10 && !flat && self.mesh.is_collapse_ok(h10);
                 // Both possible: remove the vertex of lower valence first.
                 let order = if self.mesh.valence(v0) < self.mesh.valence(v1) {
                     [(ok01, h01), (ok10, h10)]

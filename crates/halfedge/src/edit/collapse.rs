@@ -127,6 +127,42 @@ impl EditMesh {
         self.check_collapse(h).is_ok()
     }
 
+    /// Whether collapsing `h` would flatten a tetrahedron: the vertices opposite the
+    /// edge on its two sides are joined by an edge and both have valence 3, so the
+    /// edge's component is a closed tetrahedron, and the collapse would leave two
+    /// triangles on the same three vertices (a closed but flat surface, which any later
+    /// smoothing or projection draws into one point).
+    ///
+    /// [`check_collapse`](Self::check_collapse) allows that collapse, as OpenMesh's
+    /// `TriConnectivity::is_collapse_ok` does; an algorithm that must keep every closed
+    /// component a solid (decimation, as OpenMesh's `DecimaterT` does, and remeshing)
+    /// refuses it with this test. `false` for a boundary edge and for a halfedge that
+    /// is not live.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::{primitives, EditMesh};
+    ///
+    /// let t = primitives::tetrahedron();
+    /// let mesh = EditMesh::from_mesh(&t.mesh().unwrap(), &t.positions).unwrap();
+    /// let h = mesh.halfedges().next().unwrap();
+    /// assert!(mesh.is_collapse_ok(h) && mesh.collapse_flattens_tetrahedron(h));
+    /// ```
+    #[must_use]
+    pub fn collapse_flattens_tetrahedron(&self, h: HalfedgeId) -> bool {
+        if !self.is_live_halfedge(h) {
+            return false;
+        }
+        // Valence 3, tested by counting at most four spokes.
+        let valence_3 = |v: VertexId| self.halfedges_around_vertex(v).take(4).count() == 3;
+        match (self.opposite_vertex(h), self.opposite_vertex(h.twin())) {
+            (Some(l), Some(r)) => {
+                valence_3(l) && valence_3(r) && self.find_halfedge(l, r).is_some()
+            }
+            _ => false,
+        }
+    }
+
     /// Collapses halfedge `h = v0 → v1`: `v0` is removed and its edges are moved to
     /// `v1`, which keeps its position and property values (move it afterwards for a
     /// midpoint collapse). Each triangle at the edge degenerates and is removed with one
