@@ -216,8 +216,9 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
 /// Returns `(Mesh, report)`, the report with the keys of `remesh --json` (without the
 /// file names and `seconds`).
 ///
-/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh or a target too
-/// small for the surface.
+/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh, a target too
+/// small for the surface (too many triangles) or as long as the surface itself (the
+/// result would have faces of no area).
 #[pyfunction]
 #[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true, progress = false))]
 #[allow(clippy::too_many_arguments)]

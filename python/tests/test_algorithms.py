@@ -126,6 +126,22 @@ def test_remesh_evens_out_the_edges(sphere):
         bt.remesh(sphere, edge_length=0.1, edge_length_relative=1.0)
     with pytest.raises(ValueError):
         bt.remesh(sphere, edge_length=-1.0)
+    # A length as long as the sphere: a solid (a tetrahedron at least) or refused,
+    # never a flat mesh. On this sphere 2.0 is refused and the others give the regular
+    # tetrahedron.
+    outcomes = []
+    for length in (1.5, 2.0, 5.0):
+        try:
+            coarse, _ = bt.remesh(sphere, edge_length=length)
+        except bt.MeshError as e:
+            assert "too long for this surface" in str(e)
+            outcomes.append("refused")
+            continue
+        i = bt.info(coarse)
+        assert i["closed"] and i["degenerate_faces"] == 0
+        assert len(coarse.vertices) >= 4
+        outcomes.append("solid")
+    assert outcomes == ["solid", "refused", "solid"]
 
 
 def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
