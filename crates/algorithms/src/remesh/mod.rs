@@ -67,9 +67,10 @@ mod sizing;
 use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
-use beltrami_halfedge::geometry::Geometry;
+use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
+use rayon::prelude::*;
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
 
@@ -291,18 +292,21 @@ algorithm_error! {
         /// A closest-point query failed (a defect: the positions are finite).
         #[error("projecting onto the input: {0}")]
         Metrics(#[from] beltrami_metrics::MetricsError),
-        /// The result has faces of no area that the input did not have: the target edge
-        /// length is too long for the surface (a closed surface coarsened to a few
-        /// vertices, whose tangential relaxation then draws them together). No mesh is
-        /// returned.
+        /// An iteration left more than a tenth of the faces with no area (flat for their
+        /// size, or shrunk to a point) beyond those of the input: the target edge length
+        /// is too long for the surface (a closed surface coarsened to a few vertices,
+        /// whose tangential relaxation then draws them together). The run stops there;
+        /// no mesh is returned.
         #[error(
-            "the result would have {faces} degenerate faces (the input has {input_faces}): a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
+            "the result would have {faces} degenerate faces (the input has {input_faces}) of {total}: a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
         )]
         Degenerate {
             /// Degenerate faces of the result.
             faces: usize,
             /// Degenerate faces of the input.
             input_faces: usize,
+            /// Faces of the result at that iteration.
+            total: usize,
             /// The (mean) target edge length.
             edge_length: f64,
             /// The diagonal of the input's bounding box.
@@ -518,6 +522,7 @@ pub fn remesh_with_progress(
         reference = Some((mesh, field));
     }
     check_result_size(&edit, sizing)?;
+    let guard = DegeneracyGuard::new(&edit, positions, target);
 
     let mut remesher = Remesher {
         mesh: edit,
@@ -539,7 +544,13 @@ pub fn remesh_with_progress(
         corners: found.corners,
         ..RemeshReport::default()
     };
-    run_passes(&mut remesher, options.iterations, &mut report, progress)?;
+    run_passes(
+        &mut remesher,
+        options.iterations,
+        &guard,
+        &mut report,
+        progress,
+    )?;
     let mut edit = remesher.mesh;
     edit.remove_property(feature);
     edit.remove_property(corner);
@@ -547,52 +558,90 @@ pub fn remesh_with_progress(
     edit.garbage_collection();
     (report.mean_edge_length, report.edge_length_cv) = edge_length_stats(&edit);
     let (out, out_positions) = edit.into_mesh()?;
-    check_degenerate((mesh, positions), (&out, &out_positions), target)?;
     measure_result(&out, &out_positions, &index, &mut report)?;
     Ok((out, out_positions, report))
 }
 
-/// Refuses a result with more degenerate faces than the input has
-/// ([`RemeshError::Degenerate`]): faces flat for their size
-/// ([`Geometry::is_degenerate_face`]) or drawn into a point (every edge shorter than
-/// `10⁻⁹` times the input's bounding box diagonal, which the relative test alone lets
-/// pass as a well-shaped tiny triangle).
-fn check_degenerate(
-    (mesh, positions): (&HalfedgeMesh, &[DVec3]),
-    (out, out_positions): (&HalfedgeMesh, &[DVec3]),
-    target: f64,
-) -> Result<(), RemeshError> {
-    let (lo, hi) = positions.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
-    let diagonal = lo.distance(hi);
-    let point = 1e-9 * diagonal;
-    let count = |m: &HalfedgeMesh, x: &[DVec3]| -> Result<usize, TopologyError> {
-        let g = Geometry::new(m, x)?;
-        let collapsed = |f: FaceId| {
-            let corners: Vec<DVec3> = m.vertices_around_face(f).map(|v| x[v.index()]).collect();
-            (0..corners.len())
-                .all(|k| corners[k].distance(corners[(k + 1) % corners.len()]) < point)
-        };
-        Ok(m.faces()
-            .filter(|&f| g.is_degenerate_face(f) || collapsed(f))
-            .count())
-    };
-    let faces = count(out, out_positions)?;
-    if faces == 0 {
-        return Ok(());
+/// What the remesher watches for after every iteration: many faces that are degenerate
+/// ([`degenerate_faces`]) beyond the input's count mean the target is too long for the
+/// surface ([`RemeshError::Degenerate`]); stopping at once also stops the runaway of
+/// splits that such faces start.
+struct DegeneracyGuard {
+    /// The length below which a face whose every edge is shorter counts as a point:
+    /// `10⁻⁹` times the input's bounding box diagonal.
+    point: f64,
+    /// Degenerate faces of the input.
+    input_faces: usize,
+    /// The (mean) target edge length, for the error.
+    edge_length: f64,
+    /// The input's bounding box diagonal, for the error.
+    diagonal: f64,
+}
+
+impl DegeneracyGuard {
+    fn new(edit: &EditMesh, positions: &[DVec3], edge_length: f64) -> Self {
+        let (lo, hi) = positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let diagonal = lo.distance(hi);
+        let point = 1e-9 * diagonal;
+        Self {
+            point,
+            input_faces: degenerate_faces(edit, point),
+            edge_length,
+            diagonal,
+        }
     }
-    let input_faces = count(mesh, positions)?;
-    if faces <= input_faces {
-        return Ok(());
+
+    /// [`RemeshError::Degenerate`] when more than a tenth of `mesh`'s faces are
+    /// degenerate ones beyond the input's count. A few such faces come and go on noisy
+    /// input with sharp features (later passes remove them); a tenth and more is a
+    /// surface drawn together, or a runaway of splits.
+    fn check(&self, mesh: &EditMesh) -> Result<(), RemeshError> {
+        let faces = degenerate_faces(mesh, self.point);
+        let new = faces.saturating_sub(self.input_faces);
+        if new == 0 || new * 10 <= mesh.n_faces() {
+            return Ok(());
+        }
+        Err(RemeshError::Degenerate {
+            faces,
+            input_faces: self.input_faces,
+            total: mesh.n_faces(),
+            edge_length: self.edge_length,
+            diagonal: self.diagonal,
+        })
     }
-    Err(RemeshError::Degenerate {
-        faces,
-        input_faces,
-        edge_length: target,
-        diagonal,
-    })
+}
+
+/// The triangles of `mesh` that are flat for their size (twice the area at most
+/// [`DEGENERACY_RATIO`] times the longest edge squared, the test of
+/// `Geometry::is_degenerate_face`) or drawn into a point (every edge shorter than
+/// `point`, which the relative test alone lets pass as a well-shaped tiny triangle).
+/// Counted on rayon's threads.
+fn degenerate_faces(mesh: &EditMesh, point: f64) -> usize {
+    (0..mesh.face_capacity())
+        .into_par_iter()
+        .filter(|&i| {
+            let f = FaceId::new(i as u32);
+            if !mesh.is_live_face(f) {
+                return false;
+            }
+            let h = mesh.face_halfedge(f);
+            let [a, b, c] = [
+                mesh.from_vertex(h),
+                mesh.to_vertex(h),
+                mesh.to_vertex(mesh.next(h)),
+            ]
+            .map(|v| mesh.position(v));
+            let longest = (b - a)
+                .length_squared()
+                .max((c - b).length_squared())
+                .max((a - c).length_squared());
+            let twice_area = (b - a).cross(c - a).length();
+            twice_area <= DEGENERACY_RATIO * longest || longest < point * point
+        })
+        .count()
 }
 
 /// Refuses a target so small for the surface's area that the result would have more
@@ -629,10 +678,11 @@ fn face_area(edit: &EditMesh, f: FaceId) -> f64 {
 }
 
 /// `iterations` rounds of split, collapse, flip and relax, then the removal of caps,
-/// counted into `report`.
+/// counted into `report`; `guard` checks the mesh after each round and at the end.
 fn run_passes(
     remesher: &mut Remesher<'_>,
     iterations: usize,
+    guard: &DegeneracyGuard,
     report: &mut RemeshReport,
     mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(), RemeshError> {
@@ -641,6 +691,7 @@ fn run_passes(
         let collapses = remesher.collapse_short_edges()?;
         let flips = remesher.flip_edges()?;
         remesher.relax()?;
+        guard.check(&remesher.mesh)?;
         report.iterations.push(RemeshIteration {
             splits,
             collapses,
@@ -660,6 +711,7 @@ fn run_passes(
         let caps = remesher.remove_caps()?;
         report.flips += caps;
         report.cap_flips = caps;
+        guard.check(&remesher.mesh)?;
     }
     Ok(())
 }
