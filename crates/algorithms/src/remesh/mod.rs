@@ -298,7 +298,7 @@ algorithm_error! {
         /// whose tangential relaxation then draws them together). The run stops there;
         /// no mesh is returned.
         #[error(
-            "the result would have {faces} degenerate faces (the input has {input_faces}) of {total}: a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
+            "{faces} of the result's {total} faces would be degenerate (the input has {input_faces}): a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
         )]
         Degenerate {
             /// Degenerate faces of the result.
