@@ -13,7 +13,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::errors::{MeshError, no_panic, topology_error};
+use crate::errors::{MeshError, no_panic, nonnegative, nonnegative_opt, topology_error};
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 
@@ -128,7 +128,8 @@ fn quality_dict<'py>(
 /// result too large for a mesh.
 #[pyfunction]
 #[pyo3(signature = (mesh, scheme = "loop", steps = 1))]
-pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: usize) -> PyResult<Mesh> {
+pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) -> PyResult<Mesh> {
+    let steps: usize = nonnegative("steps", steps)?;
     let Some(scheme) = Scheme::from_name(scheme) else {
         return Err(PyValueError::new_err(format!(
             "unknown scheme {scheme:?}; the schemes are {}",
@@ -166,7 +167,7 @@ pub(crate) fn delaunay<'py>(
     py: Python<'py>,
     mesh: &Mesh,
     max_dihedral: Option<f64>,
-    max_flips: Option<usize>,
+    max_flips: Option<i128>,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let mut options = DelaunayOptions::default();
     if let Some(d) = max_dihedral {
@@ -177,7 +178,7 @@ pub(crate) fn delaunay<'py>(
         }
         options = options.max_dihedral(d.to_radians());
     }
-    if let Some(n) = max_flips {
+    if let Some(n) = nonnegative_opt("max_flips", max_flips)? {
         options = options.max_flips(n);
     }
     let (m, p, report) = py.detach(|| {
@@ -228,7 +229,7 @@ pub(crate) fn remesh<'py>(
     edge_length: Option<f64>,
     edge_length_relative: Option<f64>,
     adaptive: Option<(f64, f64, f64)>,
-    iterations: usize,
+    iterations: i128,
     features: Option<f64>,
     projection: bool,
     progress: bool,
@@ -243,6 +244,7 @@ pub(crate) fn remesh<'py>(
             "give one of edge_length, edge_length_relative and adaptive",
         ));
     }
+    let iterations: usize = nonnegative("iterations", iterations)?;
     let mut options = RemeshOptions::default()
         .iterations(iterations)
         .projection(projection);
@@ -327,7 +329,7 @@ pub(crate) fn remesh<'py>(
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
     mesh: &Mesh,
-    vertices: Option<usize>,
+    vertices: Option<i128>,
     ratio: Option<f64>,
     max_error: Option<f64>,
     max_normal_deviation: Option<f64>,
@@ -341,6 +343,7 @@ pub(crate) fn decimate<'py>(
     stabilizer: f64,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let vertices: Option<usize> = nonnegative_opt("vertices", vertices)?;
     let mut options = match (vertices, ratio) {
         (Some(n), None) => DecimateOptions::default().vertices(n),
         (None, Some(r)) => DecimateOptions::default().ratio(r),
@@ -483,7 +486,7 @@ pub(crate) fn decimate<'py>(
 pub(crate) fn fill_holes<'py>(
     py: Python<'py>,
     mesh: &Mesh,
-    max_loop_edges: Option<usize>,
+    max_loop_edges: Option<i128>,
     fill_all: bool,
     refine: bool,
     fair: bool,
@@ -492,7 +495,7 @@ pub(crate) fn fill_holes<'py>(
         .fill_all(fill_all)
         .refine(refine)
         .fair(fair);
-    if let Some(n) = max_loop_edges {
+    if let Some(n) = nonnegative_opt("max_loop_edges", max_loop_edges)? {
         options = options.max_loop_edges(n);
     }
     let (m, p, r) = py.detach(|| {

@@ -168,9 +168,9 @@ pub(crate) fn compare<'py>(
     py: Python<'py>,
     mesh: &Mesh,
     reference: &Mesh,
-    samples: Option<usize>,
+    samples: Option<i128>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let samples = samples.unwrap_or(0);
+    let samples: usize = crate::errors::nonnegative_opt("samples", samples)?.unwrap_or(0);
     if samples > MAX_SAMPLES {
         return Err(PyValueError::new_err(format!(
             "samples must be at most {MAX_SAMPLES}, got {samples}"

@@ -15,6 +15,28 @@ use pyo3::exceptions::{
 };
 use pyo3::prelude::*;
 
+/// The Python integer `value` given as the argument `name` in the unsigned type `T` (a
+/// count, a level or a seed), or a `ValueError` naming the argument: integers arrive as
+/// `i128`, so that a negative one is a value error like any other instead of the
+/// conversion's `OverflowError`.
+pub(crate) fn nonnegative<T: TryFrom<i128>>(name: &str, value: i128) -> PyResult<T> {
+    T::try_from(value).map_err(|_| {
+        PyValueError::new_err(if value < 0 {
+            format!("{name} must be 0 or more, got {value}")
+        } else {
+            format!("{name} is too large: {value}")
+        })
+    })
+}
+
+/// [`nonnegative`] for an optional argument.
+pub(crate) fn nonnegative_opt<T: TryFrom<i128>>(
+    name: &str,
+    value: Option<i128>,
+) -> PyResult<Option<T>> {
+    value.map(|v| nonnegative(name, v)).transpose()
+}
+
 pyo3::create_exception!(
     _beltrami,
     MeshError,

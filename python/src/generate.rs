@@ -31,11 +31,14 @@ pub(crate) fn generate(
     surface: &str,
     noise: Option<f64>,
     absolute_noise: bool,
-    seed: u64,
-    level: Option<u32>,
-    shuffle: Option<u64>,
+    seed: i128,
+    level: Option<i128>,
+    shuffle: Option<i128>,
     size: &str,
 ) -> PyResult<Mesh> {
+    let seed: u64 = crate::errors::nonnegative("seed", seed)?;
+    let level: Option<u32> = crate::errors::nonnegative_opt("level", level)?;
+    let shuffle: Option<u64> = crate::errors::nonnegative_opt("shuffle", shuffle)?;
     let size = match size {
         "paper" => Size::Paper,
         "small" => Size::Small,

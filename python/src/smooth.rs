@@ -231,7 +231,7 @@ pub(crate) fn smooth<'py>(
     mesh: &Mesh,
     weights: &str,
     lam: Option<f64>,
-    iterations: Option<usize>,
+    iterations: Option<i128>,
     boundary: &str,
     method: &str,
     update: &str,
@@ -249,14 +249,14 @@ pub(crate) fn smooth<'py>(
     preserve_volume: bool,
     on_iteration: Option<Py<PyAny>>,
     progress: bool,
-    max_iterations: usize,
+    max_iterations: i128,
     step_stats: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let pin = pin_indices(pin)?;
     let options = Options {
         weights: weights.to_string(),
         lambda: lam,
-        iterations,
+        iterations: crate::errors::nonnegative_opt("iterations", iterations)?,
         boundary: choice("boundary", boundary, &["fixed", "free", "curve"])?,
         method: choice("method", method, &["explicit", "taubin", "hc", "implicit"])?,
         update: choice("update", update, &["every", "once"])?,
@@ -276,7 +276,7 @@ pub(crate) fn smooth<'py>(
         solver: choice("solver", solver.unwrap_or("cg"), &["cg", "cholesky"])?,
         pin,
         preserve_volume,
-        max_iterations,
+        max_iterations: crate::errors::nonnegative("max_iterations", max_iterations)?,
         step_stats,
     };
     let scheme = scheme(&options.weights)?;

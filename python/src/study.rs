@@ -110,12 +110,12 @@ fn study_error(e: &StudyError) -> PyErr {
     *,
     surfaces = vec!["flens".to_string(), "sphere".to_string(), "block".to_string(), "golfball".to_string()],
     weights = None,
-    iterations = beltrami_study::paper_iterations(),
+    iterations = beltrami_study::paper_iterations().into_iter().map(|n| n as i128).collect(),
     lam = 0.8,
     noise = 0.2,
     absolute_noise = false,
     seed = 1,
-    seeds = beltrami_study::DEFAULT_SEEDS,
+    seeds = beltrami_study::DEFAULT_SEEDS as i128,
     boundary = "free",
     update = "every",
     small = false,
@@ -135,12 +135,12 @@ pub(crate) fn study<'py>(
     out: PathBuf,
     surfaces: Vec<String>,
     weights: Option<Vec<String>>,
-    iterations: Vec<usize>,
+    iterations: Vec<i128>,
     lam: f64,
     noise: f64,
     absolute_noise: bool,
-    seed: u64,
-    seeds: usize,
+    seed: i128,
+    seeds: i128,
     boundary: &str,
     update: &str,
     small: bool,
@@ -154,6 +154,12 @@ pub(crate) fn study<'py>(
     no_remesh: bool,
     no_scan_example: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let iterations = iterations
+        .into_iter()
+        .map(|n| crate::errors::nonnegative::<usize>("iterations", n))
+        .collect::<PyResult<Vec<_>>>()?;
+    let seed: u64 = crate::errors::nonnegative("seed", seed)?;
+    let seeds: usize = crate::errors::nonnegative("seeds", seeds)?;
     let negative = negative_weights(cotangent_negative)?;
     let normalization = normalization_of(normalize, vertex_area)?;
     let remesh = remesh_options(no_remesh, remesh, remesh_relative)?;

@@ -250,3 +250,32 @@ def test_ctrl_c_stops_a_long_remesh():
         _thread.interrupt_main()
         bt.remesh(mesh, iterations=5000)
     assert time.perf_counter() - start < 3.0
+
+
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda s, d: bt.subdivide(s, "loop", -1), "steps"),
+        (lambda s, d: bt.delaunay(s, max_flips=-1), "max_flips"),
+        (lambda s, d: bt.remesh(s, iterations=-1), "iterations"),
+        (lambda s, d: bt.decimate(s, vertices=-5), "vertices"),
+        (lambda s, d: bt.fill_holes(s, max_loop_edges=-1), "max_loop_edges"),
+        (lambda s, d: bt.compare(s, s, samples=-1), "samples"),
+        (lambda s, d: bt.smooth(s, iterations=-1), "iterations"),
+        (lambda s, d: bt.smooth(s, max_iterations=-1), "max_iterations"),
+        (lambda s, d: bt.generate("sphere", seed=-1), "seed"),
+        (lambda s, d: bt.generate("sphere", level=-2), "level"),
+        (lambda s, d: bt.generate("sphere", shuffle=-1), "shuffle"),
+        (lambda s, d: bt.study(d / "study", seeds=-1), "seeds"),
+        (lambda s, d: bt.study(d / "study", iterations=[10, -1]), "iterations"),
+    ],
+)
+def test_a_negative_count_is_a_value_error_naming_the_argument(sphere, tmp_path, call, name):
+    with pytest.raises(ValueError, match=f"^{name} must be 0 or more, got -"):
+        call(sphere, tmp_path)
+    assert not (tmp_path / "study").exists()
+
+
+def test_a_count_too_large_for_its_type_is_a_value_error():
+    with pytest.raises(ValueError, match="^level is too large: 1099511627776$"):
+        bt.generate("sphere", level=2**40)

@@ -119,6 +119,16 @@ macro_rules! algorithm_error {
 }
 pub(crate) use algorithm_error;
 
+/// A count for a message: the number, or "more than 18446744073709551614" where it was
+/// saturated at `u64::MAX`.
+fn count_text(count: u64) -> String {
+    if count == u64::MAX {
+        format!("more than {}", u64::MAX - 1)
+    } else {
+        count.to_string()
+    }
+}
+
 algorithm_error! {
     mesh only
     /// Why a mesh could not be subdivided. Every variant names the offending element or
@@ -128,7 +138,8 @@ algorithm_error! {
     pub enum SubdivisionError for "subdivision" {
         /// The result would have more elements than a mesh can hold.
         #[error(
-            "{steps} steps of {scheme} subdivision would make {count} {kind}; a mesh holds at most {max}"
+            "{steps} steps of {scheme} subdivision would make {} {kind}; a mesh holds at most {max}",
+            count_text(*count)
         )]
         TooLarge {
             /// The scheme's name (`"loop"` or `"sqrt3"`).

@@ -241,6 +241,12 @@ fn errors_name_the_problem() {
         "{err:?}"
     );
     let err = sqrt3_subdivide(&mesh, &tet.positions, 500).unwrap_err();
+    // A saturated count is not printed as if it were exact.
+    assert!(
+        err.to_string()
+            .contains("would make more than 18446744073709551614"),
+        "{err}"
+    );
     assert!(
         matches!(
             err,
