@@ -7,7 +7,9 @@
 //!    links, or by inode, which also catches hard links);
 //! 2. no output is an input, unless `--force`;
 //! 3. every output's directory exists and a file can be created in it;
-//! 4. no output is a write-protected file, unless `--force` (as `cp` refuses).
+//! 4. no output is a write-protected file, unless `--force` (as `cp` refuses);
+//! 5. a mesh OUTPUT's extension names a format the command can write
+//!    ([`refuse_height_map_output`]).
 //!
 //! An output that is a symbolic link is written through: the link stays and its
 //! target is replaced.
@@ -24,8 +26,10 @@ use crate::error::CliError;
 /// Whether `a` and `b` name the same existing file: the same path after resolving
 /// symbolic links and `..`, or (on Unix) the same inode on the same device, which also
 /// catches hard links. A path that does not exist names no input.
-/// Refuses an OUTPUT named `.x3p` or `.sdf` for a command whose result is no height map
-/// (its vertices leave the input's grid), before any work: `why` says what moves them.
+/// Refuses, before any work, an OUTPUT whose extension names no format (the error the
+/// write would give after the run) and an OUTPUT named `.x3p` or `.sdf` for a command
+/// whose result is no height map (its vertices leave the input's grid): `why` says what
+/// moves them.
 pub(crate) fn refuse_height_map_output(
     path: &Path,
     command: &str,
@@ -38,7 +42,11 @@ pub(crate) fn refuse_height_map_output(
                 path.display()
             )))
         }
-        _ => Ok(()),
+        Ok(_) => Ok(()),
+        Err(source) => Err(CliError::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
     }
 }
 

@@ -186,3 +186,32 @@ fn a_report_that_cannot_be_written_leaves_no_mesh() {
         assert!(!out.exists(), "{command}");
     }
 }
+
+/// An OUTPUT whose extension names no format is refused before the input is read (the
+/// input here does not exist, and the error names the output), so a long run is not
+/// spent on a result that cannot be written; `smooth` and `subdivide` check the same.
+#[test]
+fn an_output_of_no_known_format_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("no-such-input.ply");
+    let out = dir.path().join("result.xyz");
+    let commands: [(&str, &[&str]); 5] = [
+        COMMANDS[0],
+        COMMANDS[1],
+        COMMANDS[2],
+        ("smooth", &[]),
+        ("subdivide", &[]),
+    ];
+    for (command, extra) in commands {
+        let mut args = vec![command, s(&missing), s(&out)];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert_eq!(o.status.code(), Some(1), "{command}");
+        let line = error_line(&o, dir.path());
+        assert!(
+            line.contains("result.xyz") && line.contains("unsupported file extension"),
+            "{command}: {line}"
+        );
+        assert!(!out.exists(), "{command}");
+    }
+}
