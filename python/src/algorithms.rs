@@ -265,24 +265,18 @@ pub(crate) fn remesh<'py>(
         }
         options = options.feature_angle(deg.to_radians());
     }
-    let mut bar = Progress::new();
-    bar.open_bar(py, progress, iterations, "remesh")?;
-    let result = py.detach(|| {
-        no_panic(|| {
-            beltrami_algorithms::remesh_with_progress(
-                &mesh.mesh,
-                &mesh.positions,
-                &options,
-                |done, total| bar.show(done, total),
-            )
-            .map_err(|e| match e {
-                RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
-                e => algorithm_error("remesh", e),
-            })
+    let (m, p, r) = Progress::run(py, progress, iterations, "remesh", |bar| {
+        beltrami_algorithms::remesh_with_progress(
+            &mesh.mesh,
+            &mesh.positions,
+            &options,
+            |done, total| bar.show(done, total),
+        )
+        .map_err(|e| match e {
+            RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
+            e => algorithm_error("remesh", e),
         })
-    });
-    bar.finish(py)?;
-    let (m, p, r) = result?;
+    })?;
     let d = PyDict::new(py);
     d.set_item("target_edge_length", r.target_edge_length)?;
     d.set_item("adaptive", adaptive.is_some())?;
@@ -406,24 +400,18 @@ pub(crate) fn decimate<'py>(
         options = options.max_distance(d);
     }
     // The bar's total is the planned collapses, which the first call gives.
-    let mut bar = Progress::new();
-    bar.open_bar(py, progress, 0, "decimate")?;
-    let result = py.detach(|| {
-        no_panic(|| {
-            beltrami_algorithms::decimate_with_progress(
-                &mesh.mesh,
-                &mesh.positions,
-                &options,
-                |done, planned| bar.show(done, planned),
-            )
-            .map_err(|e| match e {
-                DecimateError::Options { .. } => PyValueError::new_err(e.to_string()),
-                e => algorithm_error("decimate", e),
-            })
+    let (m, p, r) = Progress::run(py, progress, 0, "decimate", |bar| {
+        beltrami_algorithms::decimate_with_progress(
+            &mesh.mesh,
+            &mesh.positions,
+            &options,
+            |done, planned| bar.show(done, planned),
+        )
+        .map_err(|e| match e {
+            DecimateError::Options { .. } => PyValueError::new_err(e.to_string()),
+            e => algorithm_error("decimate", e),
         })
-    });
-    bar.finish(py)?;
-    let (m, p, r) = result?;
+    })?;
     let d = PyDict::new(py);
     d.set_item("vertices_before", r.vertices_before)?;
     d.set_item("vertices_after", r.vertices_after)?;

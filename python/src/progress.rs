@@ -106,6 +106,25 @@ impl Progress {
         Ok(())
     }
 
+    /// Runs `work` without the GIL (and with panics turned into exceptions), under a
+    /// bar of `total` steps named `desc` when `wanted`; `work` gets this to call
+    /// [`show`](Self::show) or [`show_and_call`](Self::show_and_call). The first
+    /// exception of a callback (the bar's, the user's, `KeyboardInterrupt`) is raised
+    /// instead of `work`'s result.
+    pub(crate) fn run<T: Send>(
+        py: Python<'_>,
+        wanted: bool,
+        total: usize,
+        desc: &str,
+        work: impl FnOnce(&mut Self) -> PyResult<T> + Send,
+    ) -> PyResult<T> {
+        let mut progress = Self::new();
+        progress.open_bar(py, wanted, total, desc)?;
+        let result = py.detach(|| crate::errors::no_panic(|| work(&mut progress)));
+        progress.finish(py)?;
+        result
+    }
+
     /// Closes the bar; the first exception, if any.
     pub(crate) fn finish(mut self, py: Python<'_>) -> PyResult<()> {
         if let Some(bar) = self.bar.take()

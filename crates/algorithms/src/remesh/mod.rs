@@ -67,7 +67,7 @@ mod sizing;
 use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
-use beltrami_halfedge::geometry::DEGENERACY_RATIO;
+use beltrami_halfedge::geometry::{DEGENERACY_RATIO, Geometry};
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
@@ -522,7 +522,7 @@ pub fn remesh_with_progress(
         reference = Some((mesh, field));
     }
     check_result_size(&edit, sizing)?;
-    let guard = DegeneracyGuard::new(&edit, positions, target);
+    let guard = DegeneracyGuard::new(&edit, &Geometry::new(mesh, positions)?, target);
 
     let mut remesher = Remesher {
         mesh: edit,
@@ -579,12 +579,10 @@ struct DegeneracyGuard {
 }
 
 impl DegeneracyGuard {
-    fn new(edit: &EditMesh, positions: &[DVec3], edge_length: f64) -> Self {
-        let (lo, hi) = positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
-        let diagonal = lo.distance(hi);
+    /// The guard of a run on `input` (whose editable copy is `edit`) towards
+    /// `edge_length`.
+    fn new(edit: &EditMesh, input: &Geometry<'_>, edge_length: f64) -> Self {
+        let diagonal = input.bounding_box().map_or(0.0, |(lo, hi)| lo.distance(hi));
         let point = 1e-9 * diagonal;
         Self {
             point,
