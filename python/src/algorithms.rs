@@ -122,9 +122,11 @@ fn quality_dict<'py>(
 
 /// Subdivides `mesh` `steps` times with `scheme` (`"loop"`: every triangle into four,
 /// Loop 1987; `"sqrt3"`: √3 subdivision, Kobbelt 2000), as `beltrami subdivide`. The old
-/// vertices keep their indices; new ones are appended. Returns a new `Mesh`.
+/// vertices keep their indices; new ones are appended. Returns a new `Mesh`; with
+/// `steps=0` an unchanged copy (the identity, as in a loop over the steps; the CLI
+/// refuses `--steps 0`, where writing the input unchanged is most likely a mistake).
 ///
-/// Raises `ValueError` for an unknown scheme, `MeshError` for a polygon mesh or a
+/// Raises `ValueError` for an unknown scheme or a negative `steps`, `MeshError` for a polygon mesh or a
 /// result too large for a mesh.
 #[pyfunction]
 #[pyo3(signature = (mesh, scheme = "loop", steps = 1))]

@@ -62,6 +62,10 @@ def test_loop_subdivision_counts_and_kept_vertices(sphere):
     assert len(sqrt3.faces) == 9 * len(sphere.faces)
     with pytest.raises(ValueError, match="unknown scheme"):
         bt.subdivide(sphere, "butterfly")
+    # No steps: an unchanged copy, as documented.
+    same = bt.subdivide(sphere, "loop", steps=0)
+    assert np.array_equal(same.vertices, sphere.vertices)
+    assert np.array_equal(same.faces, sphere.faces)
 
 
 def test_delaunay_removes_negative_weights_of_a_plane():

@@ -144,7 +144,8 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
     for line in &loaded.repair_lines {
         writeln!(out, "{line}")?;
     }
-    let open = open_note(&report, options.max_loop_edges);
+    let share = outer_share(&loaded.mesh, &loaded.positions, &report);
+    let open = open_note(&report, options.max_loop_edges, share);
     let area: f64 = report.filled.iter().map(|h| h.area).sum();
     writeln!(
         out,
@@ -203,12 +204,56 @@ fn summarise(
     }
 }
 
+/// Below this share of the surface's area, the loop left open as the outer boundary
+/// looks like a hole of a closed part, and the summary says that `--all` fills it. The
+/// rim of an open scan spans most of its surface (a hemisphere's: half), a hole cut into
+/// a closed part a few per cent at most.
+const CLOSED_PART_SHARE: f64 = 0.05;
+
+/// The area the loop left open as the outer boundary spans (the length of its vector
+/// area, `|Σ pᵢ × pᵢ₊₁| / 2`, the area of the flattest patch it can bound), as a share
+/// of the input's surface area; `None` when no loop was left open for that reason or
+/// the surface has no area.
+fn outer_share(
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    positions: &[glam::DVec3],
+    report: &FillReport,
+) -> Option<f64> {
+    let outer = report
+        .skipped
+        .iter()
+        .find(|s| s.reason == SkipReason::OuterBoundary)?;
+    let boundary = mesh
+        .boundary_loops()
+        .find(|l| l.first() == Some(&outer.halfedge))?;
+    let point = |h: &beltrami_halfedge::HalfedgeId| positions[mesh.to_vertex(*h).index()];
+    let spanned = boundary
+        .iter()
+        .zip(boundary.iter().cycle().skip(1))
+        .map(|(a, b)| point(a).cross(point(b)))
+        .sum::<glam::DVec3>()
+        .length()
+        / 2.0;
+    let area = beltrami_halfedge::geometry::Geometry::new(mesh, positions)
+        .ok()?
+        .surface_area();
+    (area > 0.0).then(|| spanned / area)
+}
+
 /// `; left N loops open: …`: the loops left open, by reason (empty when none).
-fn open_note(report: &FillReport, max_loop_edges: usize) -> String {
+/// `outer_share` is the share of the surface's area the loop left open as the outer
+/// boundary spans ([`outer_share`]).
+fn open_note(report: &FillReport, max_loop_edges: usize, outer_share: Option<f64>) -> String {
     let count = |reason: SkipReason| report.skipped.iter().filter(|s| s.reason == reason).count();
     let mut open = Vec::new();
     if count(SkipReason::OuterBoundary) > 0 {
-        open.push("the outer boundary (largest perimeter; --all fills it)".to_string());
+        open.push(match outer_share {
+            Some(share) if share < CLOSED_PART_SHARE => format!(
+                "the largest loop, taken for the outer boundary of an open surface, though it spans only {:.2}% of the surface's area as a hole in a closed part does (--all fills it)",
+                100.0 * share
+            ),
+            _ => "the outer boundary (largest perimeter; --all fills it)".to_string(),
+        });
     }
     let large = count(SkipReason::TooLarge);
     if large > 0 {

@@ -237,6 +237,24 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         number(report.edge_length_cv_before),
         number(report.hausdorff),
     )?;
+    if let Some(angle) = args.features {
+        let interior = loaded.mesh.n_edges() - report.boundary_edges;
+        writeln!(
+            out,
+            "features: {} of {} interior edges sharper than {}° kept as feature curves, {} corners fixed",
+            report.feature_edges,
+            interior,
+            number(angle),
+            report.corners,
+        )?;
+        if interior > 0 && report.feature_edges == interior {
+            writeln!(
+                out,
+                "note: every interior edge is sharper than --features {}°, so every edge is kept and no vertex off a feature is left to move; a larger angle (such as 45) keeps only the sharp edges, and no --features keeps none",
+                number(angle),
+            )?;
+        }
+    }
     quality.write_table(out)?;
     Ok(())
 }

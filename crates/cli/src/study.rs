@@ -309,6 +309,9 @@ pub(crate) fn run(
     let staged = stage_dir(&args.out).map_err(io)?;
     let written = write_study(&results, staged.path()).map_err(CliError::Study)?;
     staged.commit().map_err(io)?;
+    for caution in results.remeshing.iter().flat_map(|c| c.cautions()) {
+        eprintln!("warning: {caution}");
+    }
     writeln!(
         out,
         "study: {} x {}, {}, {:.1} s -> {}",

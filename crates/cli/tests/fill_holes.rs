@@ -89,7 +89,50 @@ fn the_holes_are_filled_and_the_rim_kept_as_the_library_does() {
         "{text}"
     );
     assert!(text.starts_with("filled 5 holes of "), "{text}");
-    assert!(text.contains("the outer boundary"), "{text}");
+    assert!(
+        text.contains("the outer boundary (largest perimeter; --all fills it)"),
+        "{text}"
+    );
+    // The patch's rim spans the patch: not taken for a hole of a closed part.
+    assert!(!text.contains("spans only"), "{text}");
+}
+
+#[test]
+fn a_closed_part_with_holes_is_told_that_all_fills_the_largest() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("holed.ply");
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&[
+        "generate",
+        "sphere",
+        s(&input),
+        "--level",
+        "4",
+        "--holes",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = beltrami(&["fill-holes", s(&input), s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let first = text.lines().next().unwrap();
+    assert!(first.starts_with("filled 2 holes of "), "{first}");
+    // The share is the loop's vector area over the sphere's: about π r² / 4π for a
+    // hole of radius r = 3 mean edge lengths, well under the 5 % threshold.
+    let share: f64 = first
+        .split("spans only ")
+        .nth(1)
+        .and_then(|t| t.split('%').next())
+        .unwrap_or_else(|| panic!("{first}"))
+        .parse()
+        .unwrap();
+    assert!(share > 0.0 && share < 5.0, "{first}");
+    assert!(first.contains("(--all fills it)"), "{first}");
+    // With --all every hole is filled and the sentence says nothing was left open.
+    let o = beltrami(&["fill-holes", s(&input), s(&out), "--all", "--force"]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.starts_with("filled 3 holes of "), "{text}");
+    assert!(!text.contains("left "), "{text}");
 }
 
 #[test]

@@ -293,3 +293,54 @@ fn adaptive_sizing_matches_the_library() {
     let chord = (6.0f64 * 0.002 - 3.0 * 0.002 * 0.002).sqrt();
     assert!((f(&summary["mean_edge_length"]) / chord - 1.0).abs() < 0.2);
 }
+
+#[test]
+fn the_summary_counts_the_features_and_says_when_every_edge_is_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = fixtures().join("cube_ascii.ply");
+    let out = dir.path().join("cube.ply");
+    let run = |input: &std::path::Path, angle: &str| {
+        let o = beltrami(&[
+            "remesh",
+            s(input),
+            s(&out),
+            "--edge-length",
+            "0.25",
+            "--features",
+            angle,
+            "--force",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    // The cube's 12 edges are features, its 6 face diagonals are flat: no note.
+    let text = run(&cube, "45");
+    assert!(
+        text.contains("features: 12 of 18 interior edges sharper than 45° kept as feature curves, 8 corners fixed"),
+        "{text}"
+    );
+    assert!(!text.contains("note:"), "{text}");
+    // On a sphere every edge is sharper than 0°: the note says why nothing moved.
+    let sphere = fixtures().join("icosphere_2.ply");
+    let text = run(&sphere, "0");
+    let note = text
+        .lines()
+        .find(|l| l.starts_with("note: "))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        note.contains("every interior edge is sharper than --features 0°"),
+        "{note}"
+    );
+    let input = read_mesh(&sphere).unwrap();
+    assert_eq!(read_mesh(&out).unwrap().positions, input.positions);
+    // Without --features there is no features line.
+    let o = beltrami(&[
+        "remesh",
+        s(&sphere),
+        s(&out),
+        "--edge-length",
+        "0.25",
+        "--force",
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("features:"));
+}

@@ -53,6 +53,8 @@ fn a_small_study_reports_remeshing_at_the_chosen_length_or_skips_it() {
     assert!(report.contains("## Remeshing before smoothing"), "{report}");
     assert!(report.contains("L = 1.5 × the clean mesh's mean edge length"));
     assert!(report.contains("## Timing"));
+    // A target of 1.5 mean edge lengths resolves the block: no caution.
+    assert!(!report.contains("**Caution:**"), "{report}");
     // A coarser remesh has fewer vertices: the table's "before → after" shows it.
     let row = report
         .lines()
@@ -69,4 +71,48 @@ fn a_small_study_reports_remeshing_at_the_chosen_length_or_skips_it() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(!report.contains("## Remeshing before smoothing"));
+}
+
+#[test]
+fn a_remesh_target_as_long_as_the_surface_is_flagged_in_the_report_and_on_stderr() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let args = [
+        "study",
+        "--out",
+        s(&out),
+        "--small",
+        "--surfaces",
+        "sphere",
+        "--weights",
+        "uniform,cotangent",
+        "--iterations",
+        "10",
+        "--seeds",
+        "1",
+        "--no-countermeasures",
+        "--remesh",
+        "1e9",
+    ];
+    let o = beltrami(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    // The remeshed sphere is a handful of vertices: the table says how many, and the
+    // caution names the count the table shows.
+    let row = report
+        .lines()
+        .find(|l| l.starts_with("| sphere | ") && l.contains(" → "))
+        .unwrap();
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    let after: usize = cells[2].split_once(" → ").unwrap().1.parse().unwrap();
+    assert!(after < beltrami_study::TOO_COARSE_VERTICES, "{row}");
+    let said = format!("the remeshed sphere has only {after} vertices");
+    assert!(report.contains(&format!("**Caution:** {said}")), "{report}");
+    let warning = err
+        .lines()
+        .find(|l| l.starts_with("warning: "))
+        .unwrap_or_else(|| panic!("no warning: {err}"));
+    assert!(warning.contains(&said), "{warning}");
+    assert!(warning.contains("--remesh"), "{warning}");
 }

@@ -54,7 +54,7 @@ pub use preservation::{
 };
 pub use remeshing::{
     CotangentRms, MeshFigures, REMESH_ITERATIONS, REMESH_LONG_ITERATIONS, RemeshComparison,
-    RemeshRow, SHARE_TOL, default_remesh, describe_target,
+    RemeshRow, SHARE_TOL, TOO_COARSE_VERTICES, default_remesh, describe_target,
 };
 pub use report::{Written, write_study};
 pub use results::{CSV_HEADER, Row, to_csv};

@@ -112,6 +112,36 @@ pub struct RemeshComparison {
     pub rows: Vec<RemeshRow>,
 }
 
+/// Fewer vertices than this after remeshing: the surface is no longer resolved, and the
+/// row says nothing about the scheme ([`RemeshComparison::cautions`]).
+pub const TOO_COARSE_VERTICES: usize = 100;
+
+impl RemeshComparison {
+    /// One sentence per surface whose remeshed mesh has fewer than
+    /// [`TOO_COARSE_VERTICES`] vertices: the target edge length is close to the
+    /// surface's size, so the remeshed mesh no longer resembles it (a sphere remeshed
+    /// with a target of its diameter is a tetrahedron). The report prints them in its
+    /// remeshing section and the CLI on standard error; empty when every surface is
+    /// resolved.
+    #[must_use]
+    pub fn cautions(&self) -> Vec<String> {
+        self.rows
+            .iter()
+            .filter(|r| r.after.vertices < TOO_COARSE_VERTICES)
+            .map(|r| {
+                format!(
+                    "the remeshed {} has only {} vertices (from {}; mean edge length {} against {} before): the target edge length is close to the surface's size, so its remeshing rows say nothing about the scheme; choose a shorter --remesh or --remesh-relative",
+                    r.surface,
+                    r.after.vertices,
+                    r.before.vertices,
+                    crate::findings::sig(r.after.mean_edge_length),
+                    crate::findings::sig(r.before.mean_edge_length),
+                )
+            })
+            .collect()
+    }
+}
+
 /// The target edge length of `options` in words.
 #[must_use]
 pub fn describe_target(options: &RemeshOptions) -> String {
@@ -312,7 +342,11 @@ fn angle(x: Option<f64>) -> String {
 
 /// The "Remeshing before smoothing" section of the report.
 pub(crate) fn remesh_section(s: &mut String, comparison: &RemeshComparison, config: &StudyConfig) {
+    use std::fmt::Write as _;
     remesh_intro(s, comparison, config);
+    for caution in comparison.cautions() {
+        let _ = writeln!(s, "**Caution:** {caution}.\n");
+    }
     mesh_table(s, comparison);
     rms_table(s, comparison);
     remesh_summary(s, comparison);
