@@ -124,6 +124,9 @@ def test_remesh_evens_out_the_edges(sphere):
     assert report["edge_length_cv"] < 0.8 * report["edge_length_cv_before"]
     assert report["mean_edge_length"] == pytest.approx(report["target_edge_length"], rel=0.15)
     assert bt.info(even)["boundary_loops"] == 1
+    # The report's count of degenerate triangles is the one `info` finds.
+    assert report["degenerate_faces"] == bt.info(even)["degenerate_faces"]
+    assert report["degenerate_faces_before"] == bt.info(bt.Mesh(v, g.faces))["degenerate_faces"]
     closed, _ = bt.remesh(sphere, edge_length_relative=1.5)
     assert bt.info(closed)["closed"] and bt.info(closed)["genus"] == 0
     with pytest.raises(ValueError, match="one of"):

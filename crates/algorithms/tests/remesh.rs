@@ -481,6 +481,39 @@ fn zero_iterations_return_the_input() {
     assert_eq!(report.splits + report.collapses + report.flips, 0);
 }
 
+/// The degenerate triangles of `mesh`, counted with `Geometry::is_degenerate_face` (the
+/// remesher's own count is a separate, parallel loop).
+fn degenerate(mesh: &HalfedgeMesh, x: &[DVec3]) -> usize {
+    let g = beltrami_halfedge::geometry::Geometry::new(mesh, x).unwrap();
+    mesh.faces().filter(|&f| g.is_degenerate_face(f)).count()
+}
+
+#[test]
+fn the_report_counts_the_degenerate_faces_of_the_input_and_the_output() {
+    // A grid with one interior vertex moved onto the segment between two of its
+    // neighbours: the triangle on those three is flat.
+    let grid = primitives::grid(6, 6);
+    let mesh = grid.mesh().unwrap();
+    let mut x = grid.positions.clone();
+    let v = VertexId::new(2 * 7 + 2);
+    let h = mesh.outgoing_halfedge(v).unwrap();
+    let (a, b) = (mesh.to_vertex(h), mesh.to_vertex(mesh.next(h)));
+    x[v.index()] = 0.5 * (x[a.index()] + x[b.index()]);
+    let before = degenerate(&mesh, &x);
+    assert!(before >= 1, "the construction made no flat triangle");
+
+    let options = RemeshOptions::default().iterations(0);
+    let (_, _, report) = remesh(&mesh, &x, &options).unwrap();
+    assert_eq!(report.degenerate_faces_before, before);
+    assert_eq!(report.degenerate_faces, before, "nothing changed");
+
+    let (out, y, report) = remesh(&mesh, &x, &RemeshOptions::default()).unwrap();
+    assert_eq!(report.degenerate_faces_before, before);
+    assert_eq!(report.degenerate_faces, degenerate(&out, &y));
+    // Remeshing flips and relaxes the flat triangle away.
+    assert_eq!(report.degenerate_faces, 0);
+}
+
 /// The feature flag is an edge property of the `EditMesh`: both halves of a split edge
 /// keep it and the edges to the opposite corners do not get it (the rule of
 /// `docs/editing.md` the remesher relies on).

@@ -11,7 +11,7 @@ use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::refuse_height_map_output;
-use crate::text::number;
+use crate::text::{counted, number};
 
 /// Arguments of `beltrami remesh`.
 #[derive(Debug, clap::Args)]
@@ -87,6 +87,10 @@ struct Summary {
     corners: usize,
     /// The largest distance from an output vertex to the input surface.
     hausdorff: f64,
+    /// Degenerate triangles (flat for their size, or shrunk to a point) of the input.
+    degenerate_faces_before: usize,
+    /// Degenerate triangles of the output.
+    degenerate_faces: usize,
     feature_angle_degrees: Option<f64>,
     projection: bool,
     seconds: f64,
@@ -209,6 +213,8 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         boundary_edges: report.boundary_edges,
         corners: report.corners,
         hausdorff: report.hausdorff,
+        degenerate_faces_before: report.degenerate_faces_before,
+        degenerate_faces: report.degenerate_faces,
         feature_angle_degrees: args.features,
         projection: !args.no_projection,
         seconds,
@@ -237,6 +243,9 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         number(report.edge_length_cv_before),
         number(report.hausdorff),
     )?;
+    if let Some(note) = degenerate_note(&report) {
+        writeln!(out, "{note}")?;
+    }
     if let Some(angle) = args.features {
         let interior = loaded.mesh.n_edges() - report.boundary_edges;
         writeln!(
@@ -257,4 +266,36 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     quality.write_table(out)?;
     Ok(())
+}
+
+/// The note line when the output has more degenerate triangles than the input.
+fn degenerate_note(report: &beltrami_algorithms::RemeshReport) -> Option<String> {
+    (report.degenerate_faces > report.degenerate_faces_before).then(|| {
+        format!(
+            "note: {} of the output are degenerate (flat for their size; the input had {}): passes of a run on noisy input with sharp features can leave a few; more --iterations or a longer target usually removes them",
+            counted(report.degenerate_faces, "face", "faces"),
+            report.degenerate_faces_before,
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_degenerate_note_appears_only_when_the_output_has_more_than_the_input() {
+        let mut report = beltrami_algorithms::RemeshReport::default();
+        assert_eq!(degenerate_note(&report), None);
+        report.degenerate_faces_before = 2;
+        report.degenerate_faces = 2;
+        assert_eq!(degenerate_note(&report), None);
+        report.degenerate_faces = 3;
+        let note = degenerate_note(&report).unwrap();
+        assert!(
+            note.starts_with("note: 3 faces of the output are degenerate"),
+            "{note}"
+        );
+        assert!(note.contains("the input had 2"), "{note}");
+    }
 }

@@ -142,6 +142,11 @@ fn every_triangle_fixture_remeshes_into_the_library_result() {
         assert_eq!(summary["collapses"], report.collapses);
         assert_eq!(summary["faces"], want.n_faces());
         assert_eq!(f(&summary["hausdorff"]), report.hausdorff);
+        assert_eq!(
+            summary["degenerate_faces_before"],
+            report.degenerate_faces_before
+        );
+        assert_eq!(summary["degenerate_faces"], report.degenerate_faces);
         fs::remove_file(&out).unwrap();
         remeshed += 1;
     }

@@ -257,6 +257,15 @@ pub struct RemeshReport {
     /// Hausdorff distance at the vertices (a lower bound of the one between surfaces).
     /// Isolated vertices (in no face) are kept where they are and not counted.
     pub hausdorff: f64,
+    /// Degenerate triangles of the input: flat for their size (twice the area at most
+    /// `DEGENERACY_RATIO` times the longest edge squared) or shrunk to a point (every
+    /// edge below 10⁻⁹ of the bounding box diagonal).
+    pub degenerate_faces_before: usize,
+    /// Degenerate triangles of the output, by the same test. A run stops with
+    /// [`RemeshError::Degenerate`] when those beyond the input's count are more than a
+    /// tenth of the faces; a few can survive on noisy input with sharp features, and a
+    /// caller who needs none checks this count.
+    pub degenerate_faces: usize,
 }
 
 algorithm_error! {
@@ -542,6 +551,8 @@ pub fn remesh_with_progress(
         feature_edges: found.feature_edges,
         boundary_edges: found.boundary_edges,
         corners: found.corners,
+        degenerate_faces_before: guard.input_faces,
+        degenerate_faces: guard.input_faces,
         ..RemeshReport::default()
     };
     run_passes(
@@ -596,11 +607,13 @@ impl DegeneracyGuard {
     /// degenerate ones beyond the input's count. A few such faces come and go on noisy
     /// input with sharp features (later passes remove them); a tenth and more is a
     /// surface drawn together, or a runaway of splits.
-    fn check(&self, mesh: &EditMesh) -> Result<(), RemeshError> {
+    ///
+    /// Returns the number of degenerate faces of `mesh` otherwise.
+    fn check(&self, mesh: &EditMesh) -> Result<usize, RemeshError> {
         let faces = degenerate_faces(mesh, self.point);
         let new = faces.saturating_sub(self.input_faces);
         if new == 0 || new * 10 <= mesh.n_faces() {
-            return Ok(());
+            return Ok(faces);
         }
         Err(RemeshError::Degenerate {
             faces,
@@ -689,7 +702,7 @@ fn run_passes(
         let collapses = remesher.collapse_short_edges()?;
         let flips = remesher.flip_edges()?;
         remesher.relax()?;
-        guard.check(&remesher.mesh)?;
+        report.degenerate_faces = guard.check(&remesher.mesh)?;
         report.iterations.push(RemeshIteration {
             splits,
             collapses,
@@ -709,7 +722,7 @@ fn run_passes(
         let caps = remesher.remove_caps()?;
         report.flips += caps;
         report.cap_flips = caps;
-        guard.check(&remesher.mesh)?;
+        report.degenerate_faces = guard.check(&remesher.mesh)?;
     }
     Ok(())
 }
