@@ -9,8 +9,18 @@ use rayon::prelude::*;
 use super::evaluate::{Candidate, Decimator, End, Refusal, bound_between};
 use super::{DecimateError, NOT_KEYED, Placement};
 
-/// Collapses between two calls of the progress closure of [`Decimator::run`].
+/// Collapses between two calls of the progress closure of [`Decimator::run`], and
+/// between two looks at how many entries went back into the heap
+/// ([`Decimator::key_queued_bounds`]).
 const PROGRESS_EVERY: u32 = 4096;
+
+/// Entries sent back per collapse, over the last [`PROGRESS_EVERY`] collapses, above
+/// which the queued bounds are replaced by full keys ([`Decimator::key_queued_bounds`]).
+const SENT_BACK_PER_COLLAPSE: u32 = 2;
+
+/// Windows of [`PROGRESS_EVERY`] collapses that must pass between two rounds of
+/// [`Decimator::key_queued_bounds`], which cost a pass over the whole heap.
+const WINDOWS_BETWEEN_KEYINGS: u32 = 8;
 
 impl Decimator<'_> {
     /// Queues the collapse of `h` with its current priority, or parks it (removed from
@@ -122,6 +132,8 @@ impl Decimator<'_> {
         self.fill_queue(input);
         let planned = self.mesh.n_vertices().saturating_sub(target);
         let mut max_rms: f64 = 0.0;
+        let mut keyed_window = None;
+        let mut window = 0;
         while self.mesh.n_vertices() > target {
             let Some((key, raw)) = self.heap.peek() else {
                 break;
@@ -134,13 +146,21 @@ impl Decimator<'_> {
             };
             max_rms = max_rms.max(done.candidate.rms);
             self.apply(done);
-            if self.collapses % PROGRESS_EVERY == 0
-                && progress(self.collapses as usize, planned).is_break()
-            {
-                return Err(DecimateError::Stopped {
-                    done: self.collapses as usize,
-                    planned,
-                });
+            if self.collapses % PROGRESS_EVERY == 0 {
+                if progress(self.collapses as usize, planned).is_break() {
+                    return Err(DecimateError::Stopped {
+                        done: self.collapses as usize,
+                        planned,
+                    });
+                }
+                window += 1;
+                let sent_back = std::mem::take(&mut self.sent_back);
+                if sent_back > SENT_BACK_PER_COLLAPSE * PROGRESS_EVERY
+                    && keyed_window.is_none_or(|w| window >= w + WINDOWS_BETWEEN_KEYINGS)
+                {
+                    keyed_window = Some(window);
+                    self.key_queued_bounds();
+                }
             }
         }
         // The last call reports where the run ended; stopping there changes nothing.
@@ -190,6 +210,54 @@ impl Decimator<'_> {
                     Some(Err(r)) => self.refuse(h, r),
                     None => {}
                 }
+            }
+        }
+        self.heap.fill(&entries);
+    }
+
+    /// Replaces the key of every queued entry whose key is its bound (not a full key
+    /// computed since it was queued) by its full key, computed on rayon's threads in
+    /// halfedge order, and builds the heap again.
+    ///
+    /// The collapse loop calls this when many entries go back into the heap (more
+    /// than [`SENT_BACK_PER_COLLAPSE`] per collapse over [`PROGRESS_EVERY`] collapses):
+    /// once a generation of collapses has used up the edges whose collapse leaves
+    /// well-shaped triangles, the bound of most remaining entries is far below their
+    /// penalised key, and each would come to the top, be evaluated and sink again one
+    /// by one (2.5 entries per collapse on the level-8 sphere). Keying them all at once
+    /// costs one pass in memory order instead. The keys and the heap do not depend on
+    /// the thread count; the collapses chosen afterwards can differ from a lazy run's
+    /// where a full key goes stale before its entry reaches the top.
+    fn key_queued_bounds(&mut self) {
+        if self.options.quality_threshold <= 0.0 {
+            return;
+        }
+        self.keyings += 1;
+        let mut entries = self.heap.drain();
+        entries.sort_unstable_by_key(|&(_, raw)| raw);
+        let this = &*self;
+        let keys: Vec<Option<f64>> = entries
+            .par_iter()
+            .map(|&(key, raw)| {
+                let h = HalfedgeId::new(raw);
+                if this.keyed_at[h.index()] != NOT_KEYED || !this.mesh.is_live_halfedge(h) {
+                    return None;
+                }
+                // A queued entry's key is its bound; an initial entry has no recorded
+                // position (computed again here; `take_top` records it).
+                let (position, _) = this.placed[h.index()];
+                let position = if position.is_nan() {
+                    this.bound(h).ok()?.2
+                } else {
+                    position
+                };
+                this.full_key(h, key, position).ok()
+            })
+            .collect();
+        for (entry, full) in entries.iter_mut().zip(keys) {
+            if let Some(full) = full {
+                entry.0 = full;
+                self.keyed_at[entry.1 as usize] = self.collapses;
             }
         }
         self.heap.fill(&entries);
@@ -255,6 +323,7 @@ impl Decimator<'_> {
                     // The entry's key was a lower bound, or the neighbourhood has
                     // changed since: it goes back with its full key.
                     self.heap.set(raw, full);
+                    self.sent_back += 1;
                     return None;
                 }
                 Ok((_, symmetric, position)) => {

@@ -79,6 +79,11 @@ pub(super) struct Decimator<'a> {
     pub(super) changed_at: Vec<u32>,
     /// Collapses done so far.
     pub(super) collapses: u32,
+    /// Entries sent back into the heap with a larger full key since the collapse loop
+    /// last looked ([`Decimator::run`]).
+    pub(super) sent_back: u32,
+    /// Rounds of [`Decimator::key_queued_bounds`] so far.
+    pub(super) keyings: u32,
     /// Scratch: the outgoing halfedges of the kept vertex of a collapse.
     pub(super) spokes: Vec<HalfedgeId>,
     /// Scratch: the neighbours of the removed vertex of a collapse.
@@ -110,6 +115,8 @@ impl<'a> Decimator<'a> {
             placed: vec![(DVec3::NAN, false); nh],
             changed_at: vec![0; nv],
             collapses: 0,
+            sent_back: 0,
+            keyings: 0,
             spokes: Vec::new(),
             support: Vec::new(),
             refused: RefusalCounts::default(),

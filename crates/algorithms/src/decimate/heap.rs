@@ -47,6 +47,18 @@ impl Heap {
         }
     }
 
+    /// Empties the heap and returns its entries as `(key, halfedge)`, in no particular
+    /// order (to be keyed again and put back with [`Heap::fill`]).
+    pub(super) fn drain(&mut self) -> Vec<(f64, u32)> {
+        for &(_, h) in &self.entries {
+            self.place[h as usize] = Self::ABSENT;
+        }
+        std::mem::take(&mut self.entries)
+            .into_iter()
+            .map(|(key, h)| (f64::from_bits(key), h))
+            .collect()
+    }
+
     /// Moves the entry at `i` towards the root to its place; each entry it passes moves
     /// down one level (one write of each place, not a swap per level).
     fn up(&mut self, mut i: usize) {
@@ -214,6 +226,13 @@ mod tests {
         }
         let mut expected: Vec<(f64, u32)> = want.into_iter().map(|(h, k)| (k, h)).collect();
         expected.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Drained and filled again (as the collapse loop does when it keys the whole
+        // queue), the heap holds the same entries and gives them in the same order.
+        let mut drained = heap.drain();
+        assert!((0..n).all(|h| !heap.contains(h)));
+        assert!(heap.peek().is_none());
+        drained.sort_by_key(|&(_, h)| h);
+        heap.fill(&drained);
         let mut got = Vec::new();
         while let Some((key, h)) = heap.peek() {
             heap.remove(h);
