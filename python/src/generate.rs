@@ -1,6 +1,7 @@
 //! `beltrami.generate`: the paper's test surfaces, optionally with seeded noise.
 
-use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind, add_normal_noise};
+use beltrami_io::MeshData;
+use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind, add_normal_noise, cut_holes};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -20,11 +21,20 @@ const MAX_SPHERE_LEVEL: u32 = 10;
 /// `level` is the sphere's subdivision level, 0 to 10 (default 6: 40 962 vertices).
 /// `shuffle` renumbers the vertices in a random order drawn from this seed.
 /// `size="small"` gives a coarse version of the same shape (for tests and quick
-/// looks).
+/// looks). `holes` cuts this many round holes into the surface, as a scan leaves
+/// them where the sensor saw nothing: each removes the faces whose centroid lies
+/// within `hole_radius` mean edge lengths (default 3) of a vertex drawn from `seed`
+/// away from the boundary and from the other holes; the vertices are renumbered, so
+/// `holes` and `shuffle` exclude each other. Generate the surface again without
+/// `noise` and `holes` for the clean reference.
 ///
 /// The same arguments give the same bits as the command line's file.
+///
+/// Raises `ValueError` for an unknown surface or size, a negative count or seed, a
+/// level above 10 or for another surface than the sphere, `hole_radius` without
+/// `holes` or not positive, `holes` with `shuffle`, and more holes than fit.
 #[pyfunction]
-#[pyo3(signature = (surface, *, noise = None, absolute_noise = false, seed = 1, level = None, shuffle = None, size = "paper"))]
+#[pyo3(signature = (surface, *, noise = None, absolute_noise = false, seed = 1, level = None, shuffle = None, size = "paper", holes = None, hole_radius = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
@@ -35,10 +45,29 @@ pub(crate) fn generate(
     level: Option<i128>,
     shuffle: Option<i128>,
     size: &str,
+    holes: Option<i128>,
+    hole_radius: Option<f64>,
 ) -> PyResult<Mesh> {
     let seed: u64 = crate::errors::nonnegative("seed", seed)?;
     let level: Option<u32> = crate::errors::nonnegative_opt("level", level)?;
     let shuffle: Option<u64> = crate::errors::nonnegative_opt("shuffle", shuffle)?;
+    let holes: Option<usize> = crate::errors::nonnegative_opt("holes", holes)?;
+    let hole_radius = match (holes, hole_radius) {
+        (None, Some(_)) => {
+            return Err(PyValueError::new_err("hole_radius needs holes"));
+        }
+        (_, Some(r)) if !(r > 0.0 && r.is_finite()) => {
+            return Err(PyValueError::new_err(format!(
+                "hole_radius must be positive and finite, got {r}"
+            )));
+        }
+        (_, r) => r.unwrap_or(3.0),
+    };
+    if holes.is_some() && shuffle.is_some() {
+        return Err(PyValueError::new_err(
+            "holes and shuffle cannot be combined (cutting holes renumbers the vertices)",
+        ));
+    }
     let size = match size {
         "paper" => Size::Paper,
         "small" => Size::Small,
@@ -92,6 +121,20 @@ pub(crate) fn generate(
                         .0
                 }
             };
+            if let Some(count) = holes {
+                // As `beltrami generate --holes`: the radius in mean edge lengths of the
+                // clean surface, the holes cut into the noisy one.
+                let mean = beltrami_halfedge::geometry::Geometry::new(&mesh, &surface.positions)
+                    .ok()
+                    .and_then(|g| g.mean_edge_length())
+                    .ok_or_else(|| {
+                        PyValueError::new_err("internal: generated surface has no edges")
+                    })?;
+                let noisy = MeshData::new(positions, surface.faces.clone());
+                let cut = cut_holes(&noisy, count, hole_radius * mean, seed)
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                return Ok((cut.data.positions, cut.data.faces));
+            }
             Ok(match shuffle {
                 None => (positions, surface.faces.clone()),
                 Some(seed) => {

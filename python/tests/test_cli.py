@@ -52,6 +52,36 @@ def test_generate_matches_the_cli(noisy_file):
     np.testing.assert_array_equal(mesh.faces, from_file.faces)
 
 
+def test_generate_with_holes_matches_the_cli(cli, tmp_path):
+    path = tmp_path / "holed.ply"
+    run(cli, "generate", "golfball", path, "--noise", "0.1", "--holes", "4",
+        "--hole-radius", "2.5", "--seed", "9")
+    mesh = bt.generate("golfball", noise=0.1, holes=4, hole_radius=2.5, seed=9)
+    from_file = bt.read(path)
+    np.testing.assert_array_equal(mesh.vertices, from_file.vertices)
+    np.testing.assert_array_equal(mesh.faces, from_file.faces)
+    assert bt.info(mesh)["boundary_loops"] == 4
+    # The default radius is the command line's too.
+    run(cli, "generate", "sphere", path, "--level", "4", "--holes", "2", "--force")
+    np.testing.assert_array_equal(
+        bt.generate("sphere", level=4, holes=2).faces, bt.read(path).faces
+    )
+
+
+def test_generate_refuses_hole_options_that_make_no_sense():
+    with pytest.raises(ValueError, match="hole_radius needs holes"):
+        bt.generate("sphere", level=2, hole_radius=2.0)
+    with pytest.raises(ValueError, match="hole_radius must be positive"):
+        bt.generate("sphere", level=2, holes=1, hole_radius=0.0)
+    with pytest.raises(ValueError, match="holes and shuffle"):
+        bt.generate("sphere", level=2, holes=1, shuffle=3)
+    with pytest.raises(ValueError, match="holes must be 0 or more"):
+        bt.generate("sphere", level=2, holes=-1)
+    # More holes than fit on a coarse sphere: the library's own error.
+    with pytest.raises(ValueError, match="hole"):
+        bt.generate("sphere", level=1, holes=50)
+
+
 def test_info_matches_the_cli(cli, noisy_file):
     expected = json.loads(run(cli, "info", noisy_file, "--json"))
     got = bt.info(bt.read(noisy_file))

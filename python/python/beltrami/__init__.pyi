@@ -106,6 +106,8 @@ def generate(
     level: Optional[int] = None,
     shuffle: Optional[int] = None,
     size: Literal["paper", "small"] = "paper",
+    holes: Optional[int] = None,
+    hole_radius: Optional[float] = None,
 ) -> Mesh:
     """One of the paper's test surfaces, as `beltrami generate` writes it."""
 
