@@ -316,13 +316,16 @@ pub(crate) fn remesh<'py>(
 /// triangles cost more; `openmesh=True` is OpenMesh's plain quadric decimation
 /// (endpoint placement, no shape penalty); `plane_weights` is `"area"` (the default) or
 /// `"uniform"` and `stabilizer` (default 0) the weight of a pull towards the input
-/// positions, as `decimate --plane-weights/--stabilizer`; `progress=True` shows a tqdm
+/// positions, as `decimate --plane-weights/--stabilizer`; `flip_tolerance` (default 0.2,
+/// 0 turns it off) lets edges be flipped towards valence 6 after the collapses where the
+/// surface moves by at most that fraction of the largest collapse error, as
+/// `decimate --flip-tolerance`; `progress=True` shows a tqdm
 /// bar of the collapses when tqdm is installed. Returns `(Mesh, report)`, the report
 /// with the keys of `decimate --json` (without the file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, progress = false))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, flip_tolerance = 0.2, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -339,6 +342,7 @@ pub(crate) fn decimate<'py>(
     max_distance: Option<f64>,
     plane_weights: &str,
     stabilizer: f64,
+    flip_tolerance: f64,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let vertices: Option<usize> = nonnegative_opt("vertices", vertices)?;
@@ -380,15 +384,18 @@ pub(crate) fn decimate<'py>(
         ));
     }
     options = if openmesh {
+        // OpenMesh's decimater makes no flips; the default tolerance does not apply.
         options
             .placement(Placement::Endpoint)
             .quality_threshold(0.0)
+            .flip_tolerance(0.0)
     } else {
         options
             .placement(placement)
             .quality_threshold(quality_threshold)
             .area_weighted(area_weighted)
             .stabilizer(stabilizer)
+            .flip_tolerance(flip_tolerance)
     };
     options = options.keep_boundary(keep_boundary);
     if let Some(e) = max_error {
@@ -455,6 +462,8 @@ pub(crate) fn decimate<'py>(
     };
     d.set_item("plane_weights", weights)?;
     d.set_item("stabilizer", options.stabilizer)?;
+    d.set_item("flip_tolerance", options.flip_tolerance)?;
+    d.set_item("flips", r.flips)?;
     d.set_item("max_quadric_error", r.max_quadric_error)?;
     d.set_item("hausdorff", r.hausdorff)?;
     d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;

@@ -173,6 +173,22 @@ def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
         bt.decimate(sphere)
 
 
+def test_decimate_flips_towards_valence_six_after_the_collapses(sphere):
+    # A smooth sphere: its collapses leave quads flat enough to flip (on the noisy
+    # fixture, whose quads fold by more than the tolerance, none is).
+    smooth = bt.generate("sphere", level=4)
+    flipped, report = bt.decimate(smooth, ratio=0.25)
+    plain, plain_report = bt.decimate(smooth, ratio=0.25, flip_tolerance=0.0)
+    assert report["flip_tolerance"] == 0.2 and plain_report["flips"] == 0
+    assert report["flips"] > 0
+    # The same vertices; only edges changed, towards valence 6.
+    np.testing.assert_array_equal(flipped.vertices, plain.vertices)
+    assert bt.quality(flipped)["regular_share"] > bt.quality(plain)["regular_share"]
+    assert bt.decimate(sphere, ratio=0.25, openmesh=True)[1]["flips"] == 0
+    with pytest.raises(ValueError, match="flip tolerance"):
+        bt.decimate(sphere, ratio=0.25, flip_tolerance=-1.0)
+
+
 def test_decimate_plane_weights_and_stabilizer(sphere):
     plain, report = bt.decimate(sphere, ratio=0.25)
     assert report["plane_weights"] == "area" and report["stabilizer"] == 0.0

@@ -176,6 +176,89 @@ fn the_default_gives_well_shaped_triangles_and_a_smaller_distance() {
     }
 }
 
+/// The smallest shape quality `4A / (√3 ℓ²_max)` of `mesh`'s triangles.
+fn worst_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
+    mesh.faces()
+        .map(|f| 1.0 / aspect(mesh, positions, f))
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn the_valence_flips_raise_the_regular_share_within_their_tolerance() {
+    for (name, p, ratio) in [
+        ("noisy icosphere", noisy_icosphere(), 0.2),
+        ("noisy F-lens", noisy_flens(), 0.3),
+        ("icosphere 5", primitives::icosphere(5), 0.1),
+    ] {
+        let mesh = p.mesh().unwrap();
+        let (flat, flat_positions, flat_report) = run(
+            &p,
+            &DecimateOptions::default().ratio(ratio).flip_tolerance(0.0),
+        );
+        let (out, positions, report) = run(&p, &DecimateOptions::default().ratio(ratio));
+        assert_eq!(flat_report.flips, 0, "{name}");
+        assert!(report.flips > 0, "{name}: no flip");
+        out.check_integrity().unwrap();
+        assert_eq!(out.n_vertices(), flat.n_vertices(), "{name}");
+        assert_eq!(
+            out.euler_characteristic(),
+            mesh.euler_characteristic(),
+            "{name}"
+        );
+        assert_eq!(
+            out.boundary_loops().count(),
+            mesh.boundary_loops().count(),
+            "{name}"
+        );
+        // The flips follow the same collapses: the same vertices, bit for bit.
+        assert_eq!(positions, flat_positions, "{name}");
+        assert_eq!(report.max_quadric_error, flat_report.max_quadric_error);
+        assert!(
+            regular_share(&out) > regular_share(&flat),
+            "{name}: regular share {} against {}",
+            regular_share(&out),
+            regular_share(&flat)
+        );
+        // Each flip moves the surface by at most the tolerance, 0.2 of the largest
+        // collapse error, and no flip touches another's triangles' distance by more.
+        let tolerance = 0.2 * report.max_quadric_error;
+        assert!(
+            report.hausdorff <= flat_report.hausdorff + tolerance * (1.0 + 1e-9),
+            "{name}: Hausdorff {} against {} (tolerance {tolerance})",
+            report.hausdorff,
+            flat_report.hausdorff
+        );
+        // No triangle worse than the worst before or than quality 0.4.
+        let (q, q_flat) = (
+            worst_quality(&out, &positions),
+            worst_quality(&flat, &flat_positions),
+        );
+        assert!(q >= q_flat.min(0.4) - 1e-12, "{name}: {q} against {q_flat}");
+    }
+    // OpenMesh's decimater makes no flips; the flips follow no distance or normal bound.
+    let p = noisy_icosphere();
+    for options in [
+        DecimateOptions::openmesh().ratio(0.2),
+        DecimateOptions::default().ratio(0.2).max_distance(1.0),
+        DecimateOptions::default()
+            .ratio(0.2)
+            .max_normal_deviation(1.0),
+    ] {
+        assert_eq!(run(&p, &options).2.flips, 0, "{options:?}");
+    }
+    // An aspect-ratio bound holds for the flipped triangles too.
+    let (out, positions, report) = run(
+        &p,
+        &DecimateOptions::default().ratio(0.2).max_aspect_ratio(3.0),
+    );
+    let worst = out
+        .faces()
+        .map(|f| aspect(&out, &positions, f))
+        .fold(0.0f64, f64::max);
+    assert!(report.flips > 0);
+    assert!(worst <= 3.0 * (1.0 + 1e-12), "{worst}");
+}
+
 #[test]
 fn the_shape_penalty_orders_collapses_but_never_stops_them() {
     // The strongest penalty still reaches the target, on a closed and an open surface,
@@ -679,6 +762,9 @@ fn bad_input_and_options_are_typed_errors() {
         d.stabilizer(-1e-3),
         d.stabilizer(f64::INFINITY),
         d.stabilizer(f64::NAN),
+        d.flip_tolerance(-0.1),
+        d.flip_tolerance(f64::INFINITY),
+        d.flip_tolerance(f64::NAN),
     ] {
         assert!(
             matches!(bad(options), DecimateError::Options { .. }),

@@ -52,7 +52,12 @@ pub(crate) struct DecimateArgs {
     /// 4·area / (√3·longest edge²): 1 for an equilateral triangle, about 0.3 for a 15°
     /// needle), so that well-shaped collapses go first; 0 turns the penalty off. It
     /// orders collapses and never refuses one. In [0, 1].
-    #[arg(long, value_name = "Q", default_value_t = 0.4)]
+    #[arg(
+        long,
+        value_name = "Q",
+        default_value_t = 0.4,
+        allow_negative_numbers = true
+    )]
     quality_threshold: f64,
     /// How each input triangle's plane counts in the vertex quadrics: by its area
     /// (Garland and Heckbert's and OpenMesh's choice) or once (uniform, MeshLib's).
@@ -61,11 +66,27 @@ pub(crate) struct DecimateArgs {
     /// The weight of a pull of each vertex towards its input position, relative to one
     /// triangle plane (MeshLib uses 0.001); it makes the optimal position well defined
     /// in flat regions. At least 0.
-    #[arg(long, value_name = "W", default_value_t = 0.0)]
+    #[arg(
+        long,
+        value_name = "W",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
     stabilizer: f64,
+    /// After the collapses, flip edges towards valence 6 (4 on the boundary) where a flip
+    /// moves the surface by at most F times the largest collapse error, turns no triangle
+    /// over and makes no triangle worse shaped; 0 turns the flips off. At least 0. No
+    /// flips with --max-distance or --max-normal-deviation.
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 0.2,
+        allow_negative_numbers = true
+    )]
+    flip_tolerance: f64,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
-    /// placement, no shape penalty, area-weighted planes and no stabilizer.
-    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold", "plane_weights", "stabilizer"])]
+    /// placement, no shape penalty, area-weighted planes, no stabilizer and no flips.
+    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold", "plane_weights", "stabilizer", "flip_tolerance"])]
     openmesh: bool,
     /// Refuse a collapse that makes a triangle of a larger aspect ratio (1 for an
     /// equilateral triangle; at least 1) unless it improves on the triangles it replaces.
@@ -138,6 +159,10 @@ struct Summary {
     plane_weights: &'static str,
     /// The weight of the pull towards the input positions (0: none).
     stabilizer: f64,
+    /// The valence flips' tolerance, a fraction of the largest collapse error (0: none).
+    flip_tolerance: f64,
+    /// Edges flipped towards valence 6 after the collapses.
+    flips: usize,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
     /// The symmetric Hausdorff distance output <-> input, in the mesh's unit (null
@@ -209,10 +234,17 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             number(args.stabilizer)
         ));
     }
+    if !(args.flip_tolerance >= 0.0 && args.flip_tolerance.is_finite()) {
+        return usage(format!(
+            "--flip-tolerance must be >= 0, got {}",
+            number(args.flip_tolerance)
+        ));
+    }
     options = if args.openmesh {
         options
             .placement(Placement::Endpoint)
             .quality_threshold(0.0)
+            .flip_tolerance(0.0)
     } else {
         options
             .placement(match args.placement {
@@ -222,6 +254,7 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             .quality_threshold(args.quality_threshold)
             .area_weighted(args.plane_weights == PlaneWeightsArg::Area)
             .stabilizer(args.stabilizer)
+            .flip_tolerance(args.flip_tolerance)
     };
     Ok(options.keep_boundary(args.keep_boundary))
 }
@@ -350,6 +383,12 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             _ => "area",
         },
         stabilizer: if args.openmesh { 0.0 } else { args.stabilizer },
+        flip_tolerance: if args.openmesh {
+            0.0
+        } else {
+            args.flip_tolerance
+        },
+        flips: report.flips,
         max_quadric_error: report.max_quadric_error,
         hausdorff: measured(report.hausdorff),
         hausdorff_to_input: measured(report.hausdorff_to_input),

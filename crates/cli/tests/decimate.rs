@@ -177,6 +177,9 @@ fn openmesh_mode_and_endpoint_placement_keep_input_points() {
         &["--plane-weights", "volume"],
         &["--stabilizer=-0.001"],
         &["--stabilizer", "inf"],
+        &["--flip-tolerance", "-0.1"],
+        &["--flip-tolerance", "nan"],
+        &["--openmesh", "--flip-tolerance", "0.5"],
     ] {
         let out = dir.path().join("bad.ply");
         let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3"];
@@ -303,6 +306,70 @@ fn bad_input_and_usage_leave_no_output() {
     // The input is not overwritten without --force.
     let o = beltrami(&["decimate", s(&input), s(&input), "--ratio", "0.5"]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn the_flip_tolerance_reaches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let data = read_mesh(&input).unwrap();
+    let mesh = data.mesh().unwrap();
+    let out = dir.path().join("out.ply");
+    let mut flips = Vec::new();
+    for (extra, tolerance) in [
+        (&[][..], 0.2),
+        (&["--flip-tolerance", "0"][..], 0.0),
+        (&["--flip-tolerance", "0.5"][..], 0.5),
+    ] {
+        let mut args = vec![
+            "decimate",
+            s(&input),
+            s(&out),
+            "--ratio",
+            "0.3",
+            "--json",
+            "--force",
+            "--no-distance",
+        ];
+        args.extend_from_slice(extra);
+        let o = beltrami(&args);
+        assert!(
+            o.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let options = DecimateOptions::default()
+            .ratio(0.3)
+            .flip_tolerance(tolerance);
+        let (want, positions, report) = decimate(&mesh, &data.positions, &options).unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{extra:?}");
+        assert_eq!(got.faces, want.to_polygons(), "{extra:?}");
+        assert_eq!(summary["flip_tolerance"], tolerance, "{extra:?}");
+        assert_eq!(summary["flips"], report.flips, "{extra:?}");
+        flips.push(report.flips);
+    }
+    // No flips at 0; a larger tolerance allows at least as many.
+    assert!(
+        flips[0] > 0 && flips[1] == 0 && flips[2] >= flips[0],
+        "{flips:?}"
+    );
+    // OpenMesh's mode makes none.
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--ratio",
+        "0.3",
+        "--json",
+        "--force",
+        "--no-distance",
+        "--openmesh",
+    ]);
+    let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["flips"], 0);
+    assert_eq!(summary["flip_tolerance"], 0.0);
 }
 
 #[test]

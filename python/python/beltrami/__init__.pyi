@@ -180,6 +180,7 @@ def decimate(
     max_distance: Optional[float] = None,
     plane_weights: Literal["area", "uniform"] = "area",
     stabilizer: float = 0.0,
+    flip_tolerance: float = 0.2,
     progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Quadric-error decimation, as `beltrami decimate --json`."""

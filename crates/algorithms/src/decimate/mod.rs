@@ -189,10 +189,28 @@ pub struct DecimateOptions {
     /// point — and changes it elsewhere by about the weight's share. It is not counted
     /// in the weight of [`DecimateOptions::max_error`]'s mean.
     pub stabilizer: f64,
+    /// After the collapses, edges are flipped towards valence 6 (4 on the boundary)
+    /// where a flip moves the surface by at most this fraction of the largest quadric
+    /// error of a collapse done ([`DecimateReport::max_quadric_error`]), turns no
+    /// triangle over and leaves no triangle worse shaped than the worse of the two it
+    /// replaces or than shape quality 0.4 (the default
+    /// [`DecimateOptions::quality_threshold`]), whichever is worse (≥ 0, finite; default 0.2; 0:
+    /// no flips). On the level-6 and level-8 spheres, the golf ball and a scan-like
+    /// surface the default raises the share of valence-6 vertices by 4–6 points with the
+    /// same Hausdorff distance and smallest angle and a slightly smaller area RMS; on a
+    /// flat region (the block's sides) it flips only edges whose quad is flat. No flip
+    /// is made when [`DecimateOptions::max_distance`] or
+    /// [`DecimateOptions::max_normal_deviation`] is set, whose bookkeeping follows
+    /// collapses only; [`DecimateOptions::max_aspect_ratio`] holds for the flipped
+    /// triangles too.
+    pub flip_tolerance: f64,
 }
 
 /// The default of [`DecimateOptions::quality_threshold`].
 const DEFAULT_QUALITY_THRESHOLD: f64 = 0.4;
+
+/// The default of [`DecimateOptions::flip_tolerance`].
+const DEFAULT_FLIP_TOLERANCE: f64 = 0.2;
 
 impl Default for DecimateOptions {
     fn default() -> Self {
@@ -208,14 +226,15 @@ impl Default for DecimateOptions {
             measure_distance: true,
             area_weighted: true,
             stabilizer: 0.0,
+            flip_tolerance: DEFAULT_FLIP_TOLERANCE,
         }
     }
 }
 
 impl DecimateOptions {
     /// OpenMesh's `DecimaterT` with `ModQuadricT` alone: [`Placement::Endpoint`], no
-    /// shape penalty (`quality_threshold` 0), area-weighted planes and no stabilizer;
-    /// the other settings are the defaults.
+    /// shape penalty (`quality_threshold` 0), area-weighted planes, no stabilizer and no
+    /// flips; the other settings are the defaults.
     #[must_use]
     pub fn openmesh() -> Self {
         Self {
@@ -223,8 +242,18 @@ impl DecimateOptions {
             quality_threshold: 0.0,
             area_weighted: true,
             stabilizer: 0.0,
+            flip_tolerance: 0.0,
             ..Self::default()
         }
+    }
+
+    /// Sets how far, as a fraction of the largest collapse error, the valence flips
+    /// after the collapses may move the surface (0: no flips; see
+    /// [`DecimateOptions::flip_tolerance`]).
+    #[must_use]
+    pub fn flip_tolerance(mut self, fraction: f64) -> Self {
+        self.flip_tolerance = fraction;
+        self
     }
 
     /// Keeps `count` vertices.
@@ -364,6 +393,12 @@ impl DecimateOptions {
         if !(0.0..=1.0).contains(&t) {
             return bad(format!("the quality threshold must be in [0, 1], got {t}"));
         }
+        let f = self.flip_tolerance;
+        if !(f >= 0.0 && f.is_finite()) {
+            return bad(format!(
+                "the flip tolerance must be finite and >= 0, got {f}"
+            ));
+        }
         Ok(())
     }
 
@@ -434,6 +469,9 @@ pub struct DecimateReport {
     /// of the [module documentation](self)). 0 on most surfaces; a count of the work
     /// done, not of the result's quality.
     pub keyings: usize,
+    /// Edges flipped towards valence 6 after the collapses
+    /// ([`DecimateOptions::flip_tolerance`]).
+    pub flips: usize,
     /// Why the run stopped.
     pub stop: DecimateStop,
     /// Whether the output has at most the target vertex count (exactly the target when
@@ -520,6 +558,7 @@ algorithm_error! {
 
 mod collapse_loop;
 mod evaluate;
+mod flips;
 mod geometry;
 mod heap;
 
@@ -620,7 +659,20 @@ pub fn decimate_with_progress(
     let max_rms = decimator.run(mesh, target, progress)?;
     let refused = decimator.refused;
     let keyings = decimator.keyings as usize;
-    let edit = decimator.mesh;
+    let mut edit = decimator.mesh;
+    let flips = if options.flip_tolerance > 0.0
+        && options.max_distance.is_none()
+        && options.max_normal_deviation.is_none()
+    {
+        flips::flip_towards_valence_six(
+            &mut edit,
+            options.flip_tolerance * max_rms,
+            DEFAULT_QUALITY_THRESHOLD,
+            options.max_aspect_ratio,
+        )?
+    } else {
+        0
+    };
     let stop = if edit.n_vertices() <= target {
         DecimateStop::TargetReached
     } else {
@@ -637,6 +689,7 @@ pub fn decimate_with_progress(
         collapses: mesh.n_vertices() - out.n_vertices(),
         refused,
         keyings,
+        flips,
         stop,
         target_reached: stop == DecimateStop::TargetReached,
         max_quadric_error: max_rms,
