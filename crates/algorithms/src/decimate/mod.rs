@@ -465,9 +465,9 @@ pub struct DecimateReport {
     /// Candidate collapses refused, by check.
     pub refused: RefusalCounts,
     /// How many times the collapse loop replaced the bounds in its queue by full keys
-    /// at once, because many entries were going back into the queue one by one (step 3
-    /// of the [module documentation](self)). 0 on most surfaces; a count of the work
-    /// done, not of the result's quality.
+    /// at once, because many entries were going back into the queue one by one (more
+    /// than two per collapse over 4 096 collapses; `docs/decimation.md`, step 5). 0 on
+    /// most surfaces; a count of the work done, not of the result's quality.
     pub keyings: usize,
     /// Edges flipped towards valence 6 after the collapses
     /// ([`DecimateOptions::flip_tolerance`]).
