@@ -75,8 +75,9 @@ pub(crate) struct DecimateArgs {
     stabilizer: f64,
     /// After the collapses, flip edges towards valence 6 (4 on the boundary) where a flip
     /// moves the surface by at most F times the largest collapse error, turns no triangle
-    /// over and makes no triangle worse shaped; 0 turns the flips off. At least 0. No
-    /// flips with --max-distance or --max-normal-deviation.
+    /// over and leaves no triangle below shape quality 0.4 unless the two it replaces
+    /// were worse; 0 turns the flips off. At least 0. No flips with --max-distance or
+    /// --max-normal-deviation.
     #[arg(
         long,
         value_name = "F",
