@@ -54,6 +54,7 @@ mod fill_holes;
 pub mod quality;
 mod remesh;
 pub mod subdivision;
+mod valence;
 
 pub use decimate::{
     DecimateError, DecimateOptions, DecimateReport, DecimateStop, DecimateTarget, Placement,

@@ -4,6 +4,7 @@
 use beltrami_halfedge::{DVec3, EdgeId, EditError, EditMesh, VertexId};
 
 use super::geometry::{aspect_ratio, cross, shape_quality_squared};
+use crate::valence::Valences;
 
 /// Passes over the edges at most (each pass flips what improves; most meshes settle in
 /// two or three).
@@ -33,11 +34,7 @@ pub(super) fn flip_towards_valence_six(
     threshold: f64,
     max_aspect_ratio: Option<f64>,
 ) -> Result<usize, EditError> {
-    let mut valence = vec![0i64; mesh.vertex_capacity()];
-    for v in mesh.vertices() {
-        valence[v.index()] = mesh.valence(v) as i64;
-    }
-    let optimal = |m: &EditMesh, v: VertexId| if m.is_boundary_vertex(v) { 4 } else { 6 };
+    let mut valence = Valences::new(mesh);
     let threshold_squared = threshold * threshold;
     let mut flips = 0;
     for _ in 0..MAX_PASSES {
@@ -52,24 +49,14 @@ pub(super) fn flip_towards_valence_six(
                 continue;
             };
             let quad = [mesh.from_vertex(h), mesh.to_vertex(h), a, b];
-            // The flip takes an edge from v0 and v1 and gives one to a and b.
-            let change = [-1, -1, 1, 1];
-            let (mut before, mut after) = (0, 0);
-            for (&v, d) in quad.iter().zip(change) {
-                let off = valence[v.index()] - optimal(mesh, v);
-                before += off * off;
-                after += (off + d) * (off + d);
-            }
-            if after >= before
+            if !valence.flip_improves(mesh, quad)
                 || !flip_is_close(mesh, quad, tolerance, threshold_squared, max_aspect_ratio)
                 || !mesh.is_flip_ok(e)
             {
                 continue;
             }
             mesh.flip_edge(e)?;
-            for (&v, d) in quad.iter().zip(change) {
-                valence[v.index()] += d;
-            }
+            valence.flipped(quad);
             flips += 1;
             changed = true;
         }

@@ -1,6 +1,7 @@
 //! The four steps of one remeshing iteration on the [`EditMesh`]: split, collapse, flip,
 //! relax (with the projections).
 
+use crate::valence::Valences;
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
 use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
@@ -252,11 +253,7 @@ impl Remesher<'_> {
     /// valences of its four vertices closer to 6 (4 on the boundary), repeatedly, when
     /// the flip is valid and folds nothing. Returns the count.
     pub(super) fn flip_edges(&mut self) -> Result<usize, RemeshError> {
-        let mut valence = vec![0i64; self.mesh.vertex_capacity()];
-        for v in self.mesh.vertices() {
-            valence[v.index()] = self.mesh.valence(v) as i64;
-        }
-        let optimal = |m: &EditMesh, v: VertexId| if m.is_boundary_vertex(v) { 4i64 } else { 6 };
+        let mut valence = Valences::new(&self.mesh);
         let mut flips = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
@@ -277,19 +274,12 @@ impl Remesher<'_> {
                 if quad.iter().any(|&v| self.is_corner(v)) {
                     continue;
                 }
-                let change = [-1, -1, 1, 1];
-                let mut before = 0;
-                let mut after = 0;
-                for (&v, d) in quad.iter().zip(change) {
-                    let off = valence[v.index()] - optimal(&self.mesh, v);
-                    before += off * off;
-                    after += (off + d) * (off + d);
-                }
-                if after < before && self.mesh.is_flip_ok(e) && self.flip_is_fine(e) {
+                if valence.flip_improves(&self.mesh, quad)
+                    && self.mesh.is_flip_ok(e)
+                    && self.flip_is_fine(e)
+                {
                     self.mesh.flip_edge(e)?;
-                    for (&v, d) in quad.iter().zip(change) {
-                        valence[v.index()] += d;
-                    }
+                    valence.flipped(quad);
                     flips += 1;
                     changed = true;
                 }
