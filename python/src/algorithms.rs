@@ -211,7 +211,8 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
 
 /// Isotropic remeshing (Botsch & Kobbelt 2004), as `beltrami remesh`: splits, collapses,
 /// valence flips and tangential relaxation towards one edge length, every vertex
-/// projected back onto the input. `edge_length` (in the mesh's unit) or
+/// projected back onto the smooth (Phong) surface through the input's triangles, or with
+/// `smooth_projection=False` onto the triangles themselves. `edge_length` (in the mesh's unit) or
 /// `edge_length_relative` (a multiple of the input's mean edge length; default 1), or
 /// `adaptive=(min_edge, max_edge, error)` for curvature-adaptive sizing;
 /// `features` (degrees) keeps edges sharper than that as curves; the boundary is always
@@ -223,7 +224,7 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
 /// small for the surface (too many triangles) or as long as the surface itself (the
 /// result would have faces of no area).
 #[pyfunction]
-#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true, progress = false))]
+#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true, smooth_projection = true, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn remesh<'py>(
     py: Python<'py>,
@@ -234,6 +235,7 @@ pub(crate) fn remesh<'py>(
     iterations: i128,
     features: Option<f64>,
     projection: bool,
+    smooth_projection: bool,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let given = [
@@ -249,7 +251,8 @@ pub(crate) fn remesh<'py>(
     let iterations: usize = nonnegative("iterations", iterations)?;
     let mut options = RemeshOptions::default()
         .iterations(iterations)
-        .projection(projection);
+        .projection(projection)
+        .smooth_projection(smooth_projection);
     if let Some(l) = edge_length {
         options = options.edge_length(l);
     }
@@ -302,6 +305,7 @@ pub(crate) fn remesh<'py>(
     d.set_item("degenerate_faces", r.degenerate_faces)?;
     d.set_item("feature_angle_degrees", features)?;
     d.set_item("projection", projection)?;
+    d.set_item("smooth_projection", projection && smooth_projection)?;
     Ok((result_mesh(m, p), d))
 }
 

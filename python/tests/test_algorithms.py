@@ -151,6 +151,22 @@ def test_remesh_evens_out_the_edges(sphere):
     assert outcomes == ["solid", "refused", "solid"]
 
 
+def test_remesh_projects_onto_the_smooth_surface_or_the_facets():
+    # A smooth level-4 icosphere: by default the vertices land on the unit sphere the
+    # triangles approximate; smooth_projection=False keeps them on the triangles, up to
+    # a triangle's depth (1.1e-3) below the sphere.
+    smooth = bt.generate("sphere", level=4)
+    lifted, report = bt.remesh(smooth, edge_length_relative=1.5)
+    faceted, flat_report = bt.remesh(smooth, edge_length_relative=1.5, smooth_projection=False)
+    assert report["smooth_projection"] and not flat_report["smooth_projection"]
+    off = lambda m: np.abs(np.linalg.norm(m.vertices, axis=1) - 1.0).max()
+    assert off(lifted) < 1e-5 < 1e-4 < off(faceted) < 1.2e-3
+    assert flat_report["hausdorff"] < 1e-12 < 1e-4 < report["hausdorff"] < 1.2e-3
+    # Without projection there is nothing to lift.
+    _, none = bt.remesh(smooth, edge_length_relative=1.5, projection=False)
+    assert not none["smooth_projection"]
+
+
 def test_decimate_reaches_the_target_and_keeps_the_topology(sphere):
     light, report = bt.decimate(sphere, ratio=0.25)
     assert report["target_reached"] and len(light.vertices) == report["target_vertices"]

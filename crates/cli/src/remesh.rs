@@ -55,6 +55,12 @@ pub(crate) struct RemeshArgs {
     /// within their tangent planes, and a curved surface shrinks slightly).
     #[arg(long)]
     no_projection: bool,
+    /// Project onto the input's flat triangles, not onto the smooth surface through them
+    /// (Phong tessellation from the input's vertex normals, flat between feature edges):
+    /// every vertex then lies on the input's triangles, and on a curved surface up to a
+    /// triangle's sagitta below the surface they approximate.
+    #[arg(long, conflicts_with = "no_projection")]
+    faceted: bool,
     #[command(flatten)]
     outputs: EditOutputArgs,
     #[command(flatten)]
@@ -85,7 +91,7 @@ struct Summary {
     feature_edges: usize,
     boundary_edges: usize,
     corners: usize,
-    /// The largest distance from an output vertex to the input surface.
+    /// The largest distance from an output vertex to the input's triangles.
     hausdorff: f64,
     /// Degenerate triangles (flat for their size, or shrunk to a point) of the input.
     degenerate_faces_before: usize,
@@ -93,6 +99,9 @@ struct Summary {
     degenerate_faces: usize,
     feature_angle_degrees: Option<f64>,
     projection: bool,
+    /// Whether the vertices were projected onto the smooth surface through the input's
+    /// triangles (not with `--faceted` or `--no-projection`).
+    smooth_projection: bool,
     seconds: f64,
 }
 
@@ -110,7 +119,8 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
     };
     let mut options = RemeshOptions::default()
         .iterations(args.iterations)
-        .projection(!args.no_projection);
+        .projection(!args.no_projection)
+        .smooth_projection(!args.faceted);
     if let Some(l) = args.edge_length {
         options = options.edge_length(positive("--edge-length", l)?);
     }
@@ -217,6 +227,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         degenerate_faces: report.degenerate_faces,
         feature_angle_degrees: args.features,
         projection: !args.no_projection,
+        smooth_projection: !args.no_projection && !args.faceted,
         seconds,
     };
     if args
@@ -230,7 +241,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     writeln!(
         out,
-        "remeshed {} -> {}: {} vertices, {} faces -> {} vertices, {} faces; mean edge length {} (target {}), variation {} (was {}); vertices within {} of the input surface",
+        "remeshed {} -> {}: {} vertices, {} faces -> {} vertices, {} faces; mean edge length {} (target {}), variation {} (was {}); vertices within {} of the input's triangles{}",
         args.input.display(),
         args.output.display(),
         report.vertices_before,
@@ -242,6 +253,11 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         number(report.edge_length_cv),
         number(report.edge_length_cv_before),
         number(report.hausdorff),
+        if !args.no_projection && !args.faceted {
+            " (on the smooth surface through them)"
+        } else {
+            ""
+        },
     )?;
     if let Some(note) = degenerate_note(&report) {
         writeln!(out, "{note}")?;

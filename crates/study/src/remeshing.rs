@@ -33,13 +33,21 @@ pub const REMESH_LONG_ITERATIONS: usize = 100;
 
 /// The study's default remeshing: target edge length the clean mesh's mean edge length,
 /// [`REMESH_ITERATIONS`] iterations, edges sharper than [`FEATURE_THRESHOLD_DEG`] kept
-/// as features (the block's edges), vertices projected back onto the clean surface.
+/// as features (the block's edges), vertices projected back onto the clean mesh's
+/// triangles.
+///
+/// The projection is the faceted one ([`RemeshOptions::smooth_projection`] off), as
+/// MeshLab's, the paper's tool: the comparison measures distances to the clean mesh, and
+/// a lift onto the smooth surface through its triangles would move every remeshed vertex
+/// off them by up to a triangle's sagitta, a change of geometry where the comparison asks
+/// only what a new triangulation does.
 #[must_use]
 pub fn default_remesh() -> RemeshOptions {
     RemeshOptions::default()
         .relative_edge_length(1.0)
         .iterations(REMESH_ITERATIONS)
         .feature_angle(FEATURE_THRESHOLD_DEG.to_radians())
+        .smooth_projection(false)
 }
 
 /// Mesh figures that decide how cotangent weights behave.

@@ -161,9 +161,11 @@ def remesh(
     iterations: int = 10,
     features: Optional[float] = None,
     projection: bool = True,
+    smooth_projection: bool = True,
     progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
-    """Isotropic remeshing, as `beltrami remesh --json`."""
+    """Isotropic remeshing, as `beltrami remesh --json` (`smooth_projection=False` is
+    `--faceted`)."""
 
 def decimate(
     mesh: Mesh,

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::RemeshError;
 use super::curves::{CurveIndex, feature_count, triangle_normal};
+use super::phong::PhongSurface;
 
 /// Passes of one step over all edges, at most (pmp-library's limit): a pass that changes
 /// nothing ends the step earlier.
@@ -26,6 +27,8 @@ pub(super) struct Remesher<'a> {
     /// curvature-adaptive field otherwise. An edge's target is the smaller of its end
     /// points'.
     pub(super) sizing: VertexProperty<f64>,
+    /// The input mesh (its faces are the surface index's).
+    pub(super) input: &'a HalfedgeMesh,
     /// The input surface, when vertices are projected onto it.
     pub(super) surface: Option<&'a SurfaceIndex>,
     /// For adaptive sizing: the input mesh and its sizing field, interpolated at the
@@ -33,6 +36,10 @@ pub(super) struct Remesher<'a> {
     pub(super) reference: Option<(&'a HalfedgeMesh, Vec<f64>)>,
     /// The input's feature curves (and boundary).
     pub(super) curves: CurveIndex,
+    /// The smooth surface over the input that projected points are lifted onto, when
+    /// [`RemeshOptions::smooth_projection`](super::RemeshOptions::smooth_projection) is
+    /// on.
+    pub(super) phong: Option<PhongSurface>,
 }
 
 impl Remesher<'_> {
@@ -82,10 +89,13 @@ impl Remesher<'_> {
             return Ok(None);
         };
         let closest = surface.closest_point(p)?;
-        let size = self.reference.as_ref().and_then(|(input, sizing)| {
-            let corners = input.triangle_vertices(closest.face);
-            let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
-            let weights = barycentric(closest.point, a, b, c);
+        if self.phong.is_none() && self.reference.is_none() {
+            return Ok(Some((closest.point, None)));
+        }
+        let corners = self.input.triangle_vertices(closest.face);
+        let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
+        let weights = barycentric(closest.point, a, b, c);
+        let size = self.reference.as_ref().and_then(|(_, sizing)| {
             let size: f64 = corners
                 .iter()
                 .zip(weights)
@@ -93,7 +103,11 @@ impl Remesher<'_> {
                 .sum();
             (size.is_finite() && size > 0.0).then_some(size)
         });
-        Ok(Some((closest.point, size)))
+        let point = match &self.phong {
+            Some(phong) => phong.lift(closest.face, [a, b, c], weights, closest.point),
+            None => closest.point,
+        };
+        Ok(Some((point, size)))
     }
 
     /// Moves `v` where [`projection`](Self::projection) said.
