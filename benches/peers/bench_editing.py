@@ -35,7 +35,9 @@ Tasks and peers (each skipped with a note when it does not install or fails):
 Every output is measured by beltrami itself: `compare OUT REFERENCE --json`
 (Hausdorff over the vertices both ways and area RMS, against the input — the uncut
 surface for fill-holes) and `info OUT --quality --json` (smallest angle, share of
-regular vertices, edge-length coefficient of variation). Times are the algorithm alone
+regular vertices, edge-length coefficient of variation); on the sphere surfaces (sphere*,
+scan) also the exact Hausdorff distance to the unit sphere they approximate ("to the
+sphere"), the surface the input's own triangles only approximate. Times are the algorithm alone
 (peers: the call in this process, input already in memory; beltrami: the `seconds` of
 its `--json` summary, which excludes reading, writing and the report's measurements —
 `decimate` runs with `--no-distance`, as its output is measured here anyway), medians of
@@ -86,6 +88,11 @@ def save(path, v, f):
 
 def mean_edge(beltrami, path):
     return json.loads(run([beltrami, "info", path, "--json"]).stdout)["mean_edge_length"]
+
+
+def on_sphere(name):
+    """Whether surface `name` is (a triangulation of) the unit sphere."""
+    return name.startswith("sphere") or name == "scan"
 
 
 def make_surfaces(beltrami, out, names):
@@ -158,6 +165,36 @@ def measure(beltrami, output, reference):
         "cv": quality.get("edge_length_cv"),
         "boundary_loops": q["boundary_loops"],
     }
+
+
+def sphere_distance(path):
+    """The Hausdorff distance between the mesh at `path` and the unit sphere it
+    approximates (sphere* and scan are unit spheres), exactly: a flat triangle's
+    farthest points outside the sphere are its vertices (|x| is convex), its deepest point
+    is its closest point to the centre; with the triangles near the sphere, the sphere's
+    farthest point from the mesh lies over one of those deepest points."""
+    import trimesh
+
+    mesh = trimesh.load(str(path), process=False)
+    v, f = np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    h = (a * n).sum(1)
+    p = h[:, None] * n  # the centre's projection onto each triangle's plane
+    inside = np.ones(len(f), bool)
+    for x, y in ((a, b), (b, c), (c, a)):
+        inside &= (np.cross(y - x, p - x) * n).sum(1) >= 0
+
+    def segment(x, y):
+        d = y - x
+        t = np.clip(-(x * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
+        return np.linalg.norm(x + t[:, None] * d, axis=1)
+
+    nearest = np.where(inside, np.abs(h),
+                       np.minimum(np.minimum(segment(a, b), segment(b, c)), segment(c, a)))
+    outside = np.linalg.norm(v, axis=1).max() - 1.0
+    return float(max(outside, (1.0 - nearest).max(), 0.0))
 
 
 def timed(reps, call):
@@ -401,13 +438,14 @@ def main():
     lines = []
     for task, name, reference, runs in tasks(args, surfaces, out):
         lines += [f"\n### {task}: {name}\n",
-                  "| tool | median s | vertices | Hausdorff | area RMS | min angle ° | regular % | edge CV | boundary loops |",
-                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+                  "| tool | median s | vertices | Hausdorff | area RMS | to the sphere | min angle ° | regular % | edge CV | boundary loops |",
+                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         defects = []
         for tool, call in runs:
             try:
                 times, output = call()
                 m = measure(args.beltrami, output, reference)
+                m["sphere"] = sphere_distance(output) if on_sphere(name) else None
             except Exception as e:  # a peer that is missing or fails is reported, not fatal
                 print(f"skipped {tool} on {task} {name}: {e}", file=sys.stderr)
                 continue
@@ -419,7 +457,8 @@ def main():
                                f"(`{m['defect']}`); measured after `--repair`.")
             lines.append(
                 f"| {label} | {statistics.median(times):.3f} | {m['vertices']} | "
-                f"{m['hausdorff']:.3g} | {m['area_rms']:.3g} | {fmt(m['min_angle'], '.1f')} | "
+                f"{m['hausdorff']:.3g} | {m['area_rms']:.3g} | {fmt(m['sphere'], '.3g')} | "
+                f"{fmt(m['min_angle'], '.1f')} | "
                 f"{fmt(None if m['regular'] is None else 100 * m['regular'], '.1f')} | "
                 f"{fmt(m['cv'], '.3f')} | {m['boundary_loops']} |")
             print(lines[-1], flush=True)

@@ -74,9 +74,23 @@ impl CliError {
     pub(crate) fn exit_code(&self) -> u8 {
         match self {
             Self::Usage(_) | Self::OverwritesInput { .. } => 2,
+            Self::Stdout(_) if self.is_closed_pipe() => CLOSED_PIPE_EXIT,
             Self::Smooth { source, .. } if is_usage(source) => 2,
             _ => 1,
         }
+    }
+}
+
+/// The exit code when the reader of stdout went away (`beltrami info x.ply | head -1`):
+/// 128 + SIGPIPE, what a shell reports for a program the signal ended, as for the
+/// standard tools. No message is printed for it.
+pub(crate) const CLOSED_PIPE_EXIT: u8 = 141;
+
+impl CliError {
+    /// Whether this is a write to a stdout whose reader has gone (a broken pipe): the
+    /// reader's choice, not an error worth a line on stderr.
+    pub(crate) fn is_closed_pipe(&self) -> bool {
+        matches!(self, Self::Stdout(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
     }
 }
 

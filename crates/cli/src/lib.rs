@@ -231,7 +231,9 @@ where
     match result.and_then(|()| stdout.flush().map_err(CliError::from)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err}");
+            if !err.is_closed_pipe() {
+                eprintln!("error: {err}");
+            }
             ExitCode::from(err.exit_code())
         }
     }

@@ -191,6 +191,33 @@ fn help_goes_to_stdout_with_exit_0() {
     assert!(String::from_utf8(out.stdout).unwrap().contains("--json"));
 }
 
+/// `beltrami schemes | head -1`: when the reader of stdout has gone, the command ends
+/// without an error line (exit 141, as a shell reports a program ended by SIGPIPE).
+#[test]
+fn a_closed_stdout_ends_the_command_quietly() {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beltrami"))
+        .args([
+            "info",
+            fixture("noisy_icosphere_4.ply").to_str().unwrap(),
+            "--quality",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the only read end before the command has started to write.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(stderr.is_empty(), "{stderr}");
+    // 0 only if the whole output fitted into the pipe before the reader went.
+    assert!(
+        matches!(out.status.code(), Some(141 | 0)),
+        "{:?}",
+        out.status
+    );
+}
+
 #[test]
 fn quality_figures_match_the_library() {
     for name in [
