@@ -92,10 +92,14 @@ impl Remesher<'_> {
         if self.phong.is_none() && self.reference.is_none() {
             return Ok(Some((closest.point, None)));
         }
-        let corners = self.input.triangle_vertices(closest.face);
-        let [a, b, c] = corners.map(|w| surface.positions()[w.index()]);
+        // The corners from the index's own face table: one look-up, where the input's
+        // halfedges take three dependent ones.
+        let Some([a, b, c]) = surface.triangle(closest.face) else {
+            return Ok(Some((closest.point, None)));
+        };
         let weights = barycentric(closest.point, a, b, c);
         let size = self.reference.as_ref().and_then(|(_, sizing)| {
+            let corners = self.input.triangle_vertices(closest.face);
             let size: f64 = corners
                 .iter()
                 .zip(weights)
