@@ -46,8 +46,9 @@ pub const SMOOTH_ANGLE: f64 = std::f64::consts::PI / 6.0;
 /// The input's corner normals, for the Phong lift of closest points.
 pub(super) struct PhongSurface {
     /// Per face, the unit normals at its corners in the order of
-    /// [`HalfedgeMesh::triangle_vertices`]; zero where no normal is defined (a fan of
-    /// degenerate triangles), and the lift is then skipped.
+    /// [`HalfedgeMesh::triangle_vertices`]; all three zero where the face is not lifted
+    /// (corner normals more than [`SMOOTH_ANGLE`] apart, or one undefined in a fan of
+    /// degenerate triangles).
     normals: Vec<[DVec3; 3]>,
 }
 
