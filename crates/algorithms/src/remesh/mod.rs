@@ -577,7 +577,6 @@ pub fn remesh_with_progress(
         feature,
         corner,
         sizing,
-        input: mesh,
         surface: options.projection.then_some(&index),
         reference: if options.projection { reference } else { None },
         curves,

@@ -27,8 +27,6 @@ pub(super) struct Remesher<'a> {
     /// curvature-adaptive field otherwise. An edge's target is the smaller of its end
     /// points'.
     pub(super) sizing: VertexProperty<f64>,
-    /// The input mesh (its faces are the surface index's).
-    pub(super) input: &'a HalfedgeMesh,
     /// The input surface, when vertices are projected onto it.
     pub(super) surface: Option<&'a SurfaceIndex>,
     /// For adaptive sizing: the input mesh and its sizing field, interpolated at the
@@ -94,13 +92,13 @@ impl Remesher<'_> {
         }
         // The corners from the index's own face table: one look-up, where the input's
         // halfedges take three dependent ones.
-        let Some([a, b, c]) = surface.triangle(closest.face) else {
+        let Some(vertices) = surface.triangle_vertices(closest.face) else {
             return Ok(Some((closest.point, None)));
         };
+        let [a, b, c] = vertices.map(|v| surface.positions()[v.index()]);
         let weights = barycentric(closest.point, a, b, c);
         let size = self.reference.as_ref().and_then(|(_, sizing)| {
-            let corners = self.input.triangle_vertices(closest.face);
-            let size: f64 = corners
+            let size: f64 = vertices
                 .iter()
                 .zip(weights)
                 .map(|(w, t)| t * sizing[w.index()])
@@ -108,7 +106,7 @@ impl Remesher<'_> {
             (size.is_finite() && size > 0.0).then_some(size)
         });
         let point = match &self.phong {
-            Some(phong) => phong.lift(closest.face, [a, b, c], weights, closest.point),
+            Some(phong) => phong.lift(closest.face, vertices, [a, b, c], weights, closest.point),
             None => closest.point,
         };
         Ok(Some((point, size)))

@@ -228,6 +228,15 @@ impl SurfaceIndex {
         Some(vs.map(|v| self.positions[v as usize]))
     }
 
+    /// The vertices of face `f` in the face's order (that of
+    /// `HalfedgeMesh::triangle_vertices`), or `None` when `f` is not a face of the
+    /// reference. One look-up in the index's own face table.
+    #[must_use]
+    pub fn triangle_vertices(&self, f: FaceId) -> Option<[VertexId; 3]> {
+        let vs = self.face_vertices.get(f.index())?;
+        Some(vs.map(VertexId::new))
+    }
+
     /// The closest point of the reference surface to `p`: the closest point on the closest
     /// triangle (not the closest vertex), with the face and the feature that hold it.
     ///
