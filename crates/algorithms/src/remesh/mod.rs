@@ -567,7 +567,7 @@ pub fn remesh_with_progress(
             edit.set(sizing, v, field[v.index()]);
         }
         target = field.iter().sum::<f64>() / field.len() as f64;
-        reference = Some((mesh, field));
+        reference = Some(field);
     }
     check_result_size(&edit, sizing)?;
     let guard = DegeneracyGuard::new(&edit, &Geometry::new(mesh, positions)?, target);

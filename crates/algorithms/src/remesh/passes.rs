@@ -3,7 +3,7 @@
 
 use crate::valence::Valences;
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
-use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, HalfedgeMesh, VertexId};
+use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
@@ -29,9 +29,9 @@ pub(super) struct Remesher<'a> {
     pub(super) sizing: VertexProperty<f64>,
     /// The input surface, when vertices are projected onto it.
     pub(super) surface: Option<&'a SurfaceIndex>,
-    /// For adaptive sizing: the input mesh and its sizing field, interpolated at the
-    /// projected points.
-    pub(super) reference: Option<(&'a HalfedgeMesh, Vec<f64>)>,
+    /// For adaptive sizing: the sizing field at the input's vertices, interpolated at
+    /// the projected points.
+    pub(super) reference: Option<Vec<f64>>,
     /// The input's feature curves (and boundary).
     pub(super) curves: CurveIndex,
     /// The smooth surface over the input that projected points are lifted onto, when
@@ -97,7 +97,7 @@ impl Remesher<'_> {
         };
         let [a, b, c] = vertices.map(|v| surface.positions()[v.index()]);
         let weights = barycentric(closest.point, a, b, c);
-        let size = self.reference.as_ref().and_then(|(_, sizing)| {
+        let size = self.reference.as_ref().and_then(|sizing| {
             let size: f64 = vertices
                 .iter()
                 .zip(weights)

@@ -174,11 +174,11 @@ impl PhongSurface {
                 let corners = [h1, h2, h0];
                 let own = corners.iter().any(|&h| creased(mesh.from_vertex(h)));
                 let normals = corners.map(|h| {
-                    let v = mesh.from_vertex(h);
-                    if creased(v) {
+                    let normal = vertex_normals[mesh.from_vertex(h).index()];
+                    if normal == DVec3::ZERO {
                         fan_normal(h)
                     } else {
-                        vertex_normals[v.index()]
+                        normal
                     }
                 });
                 let [n0, n1, n2] = normals;
