@@ -227,7 +227,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         degenerate_faces: report.degenerate_faces,
         feature_angle_degrees: args.features,
         projection: !args.no_projection,
-        smooth_projection: !args.no_projection && !args.faceted,
+        smooth_projection: options.projection && options.smooth_projection,
         seconds,
     };
     if args
@@ -253,7 +253,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         number(report.edge_length_cv),
         number(report.edge_length_cv_before),
         number(report.hausdorff),
-        if !args.no_projection && !args.faceted {
+        if options.projection && options.smooth_projection {
             " (on the smooth surface through them)"
         } else {
             ""
