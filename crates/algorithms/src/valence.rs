@@ -42,3 +42,25 @@ impl Valences {
         }
     }
 }
+
+/// Whether collapsing the interior edge `h` (both of its end points interior) into one
+/// vertex keeps `Σ (valence − optimal)²` over the edge's end points and the two vertices
+/// opposite it from growing: the merged vertex gets the end points' valences less four,
+/// and the opposite vertices lose one each (the optimum as in
+/// [`Valences::flip_improves`]). `false` for a boundary edge.
+pub(crate) fn collapse_keeps_valences(mesh: &EditMesh, h: beltrami_halfedge::HalfedgeId) -> bool {
+    let (Some(a), Some(b)) = (mesh.opposite_vertex(h), mesh.opposite_vertex(h.twin())) else {
+        return false;
+    };
+    let valence = |v: VertexId| mesh.valence(v) as i64;
+    let off = |v: VertexId, change: i64| {
+        let optimal = if mesh.is_boundary_vertex(v) { 4 } else { 6 };
+        let d = valence(v) + change - optimal;
+        d * d
+    };
+    let (v0, v1) = (mesh.from_vertex(h), mesh.to_vertex(h));
+    let before = off(v0, 0) + off(v1, 0) + off(a, 0) + off(b, 0);
+    let merged = valence(v0) + valence(v1) - 4 - 6;
+    let after = merged * merged + off(a, -1) + off(b, -1);
+    after <= before
+}

@@ -1,7 +1,7 @@
 //! The four steps of one remeshing iteration on the [`EditMesh`]: split, collapse, flip,
 //! relax (with the projections).
 
-use crate::valence::Valences;
+use crate::valence::{Valences, collapse_keeps_valences};
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
 use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
@@ -83,6 +83,13 @@ impl Remesher<'_> {
         if self.features_at(v) > 0 {
             return Ok(Some((self.curves.closest_point(p), None)));
         }
+        self.surface_projection(p)
+    }
+
+    /// Where a point `p` off the feature curves goes: its closest point on the input's
+    /// triangles, lifted onto the smooth surface when that is on, with the sizing
+    /// interpolated there for adaptive sizing; `None` without projection.
+    fn surface_projection(&self, p: DVec3) -> Result<Option<(DVec3, Option<f64>)>, RemeshError> {
         let Some(surface) = self.surface else {
             return Ok(None);
         };
@@ -179,6 +186,53 @@ impl Remesher<'_> {
         true
     }
 
+    /// Whether collapsing `h = v0 → v1` with the merged vertex at `q` keeps every edge
+    /// at that vertex at most `4/3 L` and turns no surviving triangle of either end
+    /// point's ring over (nor makes it vanish).
+    fn collapse_to_point_is_fine(&self, h: HalfedgeId, q: DVec3) -> bool {
+        let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+        [(v0, v1), (v1, v0)].into_iter().all(|(x, y)| {
+            let px = self.mesh.position(x);
+            self.mesh.halfedges_around_vertex(x).all(|g| {
+                let w = self.mesh.to_vertex(g);
+                if w != y && self.mesh.position(w).distance(q) > 4.0 / 3.0 * self.size(v1, w) {
+                    return false;
+                }
+                let Some(o) = self.mesh.opposite_vertex(g) else {
+                    return true;
+                };
+                if w == y || o == y {
+                    return true; // removed by the collapse
+                }
+                let (pa, pb) = (self.mesh.position(w), self.mesh.position(o));
+                let after = (pa - q).cross(pb - q);
+                (pa - px).cross(pb - px).dot(after) > 0.0 && after.length_squared() > 0.0
+            })
+        })
+    }
+
+    /// Collapses `h`'s edge into its midpoint, projected onto the input, when
+    /// [`collapse_to_point_is_fine`](Self::collapse_to_point_is_fine) there and the
+    /// valences get no further from 6 ([`collapse_keeps_valences`]). For an interior edge
+    /// off the curves whose collapse into either end point was refused. Returns whether
+    /// it collapsed.
+    fn collapse_into_midpoint(&mut self, h: HalfedgeId) -> Result<bool, RemeshError> {
+        if !collapse_keeps_valences(&self.mesh, h) {
+            return Ok(false);
+        }
+        let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
+        let mid = (self.mesh.position(v0) + self.mesh.position(v1)) * 0.5;
+        let projected = self.surface_projection(mid)?;
+        let q = projected.map_or(mid, |(q, _)| q);
+        if !self.collapse_to_point_is_fine(h, q) {
+            return Ok(false);
+        }
+        let kept = self.mesh.collapse_edge(h)?;
+        self.mesh.set_position(kept, mid);
+        self.apply_projection(kept, projected);
+        Ok(true)
+    }
+
     /// Whether a collapse removing `from(h)` would drop a feature edge: the edges merged
     /// away in the triangles at the edge (`prev(h)` and `next(twin h)`) must not be
     /// features, since the merged edge at the kept vertex keeps its own flag.
@@ -190,7 +244,9 @@ impl Remesher<'_> {
 
     /// Collapses every edge shorter than 4/5 L into one of its end points, repeatedly,
     /// unless that breaks the topology, a feature or boundary curve, a corner, or makes
-    /// an edge longer than 4/3 L or a folded triangle. Returns the count.
+    /// an edge longer than 4/3 L or a folded triangle; an edge off the curves whose end
+    /// points both fail the length or fold test goes into its projected midpoint when
+    /// that passes them and keeps the valences as near 6. Returns the count.
     pub(super) fn collapse_short_edges(&mut self) -> Result<usize, RemeshError> {
         let mut collapses = 0;
         for _ in 0..MAX_PASSES {
@@ -232,13 +288,23 @@ impl Remesher<'_> {
                 } else {
                     [(ok10, h10), (ok01, h01)]
                 };
+                let mut collapsed = false;
                 for (ok, h) in order {
                     if ok && self.collapse_is_fine(h) {
                         self.mesh.collapse_edge(h)?;
-                        collapses += 1;
-                        changed = true;
+                        collapsed = true;
                         break;
                     }
+                }
+                // Neither end point may go (mostly: the kept one would get an edge
+                // longer than 4/3 L): an edge off the curves may still collapse into
+                // its midpoint.
+                if !collapsed && ok01 && ok10 && !f0 && !f1 {
+                    collapsed = self.collapse_into_midpoint(order[0].1)?;
+                }
+                if collapsed {
+                    collapses += 1;
+                    changed = true;
                 }
             }
             if !changed {
