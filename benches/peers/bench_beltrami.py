@@ -15,6 +15,8 @@ import subprocess
 import tempfile
 import time
 
+import numpy as np
+
 import harness as H
 
 BIN = os.environ["BELTRAMI"]
@@ -60,7 +62,9 @@ def run_config(name, nv, scheme, update, lam=H.LAMBDA, boundary="free", threads=
     return H.record(
         "beltrami", label, name, nv, smoothing, H.ITERATIONS, scheme=scheme, weights=update,
         cpu_wall=cpu / wall, threads=str(threads or "all"), semantics=semantics,
-        extra=dict(variant=variant, wall_seconds=wall, wall_min=min(r[0] for r in runs),
+        extra=dict(variant=variant, wall_seconds=wall,
+                   wall_median=float(np.median([r[0] for r in runs])),
+                   wall_min=min(r[0] for r in runs),
                    wall_max=max(r[0] for r in runs), read_seconds=sec["read"],
                    weights_seconds=sec["weights"], updates_seconds=sec["updates"],
                    write_seconds=sec["write"]))

@@ -4,7 +4,8 @@ boundary=True) (MeshLab's vcg VertexCoordLaplacian). Only the filter call is tim
 MeshLab has no lambda: x <- (x + sum_e w_e x_j) / (1 + sum_e w_e), summed over face
 edges, so an interior edge counts twice. Uniform: step 2n/(2n+1) (about 0.92).
 Cotangent: w = cot a + cot b (twice the usual weight), recomputed every step in
-float32, step W_i/(1+W_i). Boundary vertices are averaged with boundary neighbours."""
+float32, step W_i/(1+W_i). Boundary vertices are averaged with boundary neighbours.
+Also timed: the whole script (load_new_mesh, the filter, save_current_mesh)."""
 from importlib.metadata import version
 
 import numpy as np
@@ -29,6 +30,15 @@ def main():
                                                    cotangentweight=cot)
                 return ms
 
+            def read(path):
+                ms = pymeshlab.MeshSet()
+                ms.load_new_mesh(path)
+                return ms
+
+            H.whole_process(
+                "pymeshlab", f"load_new_mesh + apply_coord_laplacian_smoothing({H.ITERATIONS}, "
+                f"cotangentweight={cot}) + save_current_mesh", name, len(V), read, run,
+                lambda ms, path: ms.save_current_mesh(path), scheme=scheme, weights="every")
             times, ratio, _ = H.repeat(run, setup=setup)
             H.record("pymeshlab", f"apply_coord_laplacian_smoothing({H.ITERATIONS}, cotangentweight={cot})",
                      name, len(V), times, H.ITERATIONS, scheme=scheme, weights="every",

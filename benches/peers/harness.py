@@ -149,6 +149,37 @@ def record(tool, operation, mesh, vertices, times, iterations, *, scheme, weight
     return rec
 
 
+def whole_process(tool, operation, mesh, vertices, read, smooth, write, *, scheme, weights,
+                  semantics="", reps=None):
+    """Times what a user's script does with `tool`: read the benchmark file with the tool's
+    own reader (`read(path) -> state`), smooth (`smooth(state) -> result`) and write the
+    result with its own writer (`write(result, path)`, to out/whole/), `reps` times. The
+    interpreter's start and the imports are not counted, in the peer's favour; beltrami's
+    counterpart is its whole process (start, read, smooth, write). Records kind "whole"
+    with the median run's read, smooth and write seconds."""
+    src = mesh_path(mesh)
+    os.makedirs(os.path.join(OUT, "whole"), exist_ok=True)
+    dst = os.path.join(OUT, "whole", f"{tool}_{mesh}_{scheme}_{weights}.ply")
+    times, parts = [], []
+    for _ in range(reps or REPS):
+        t0 = time.perf_counter()
+        state = read(src)
+        t1 = time.perf_counter()
+        result = smooth(state)
+        t2 = time.perf_counter()
+        write(result, dst)
+        t3 = time.perf_counter()
+        times.append(t3 - t0)
+        parts.append((t1 - t0, t2 - t1, t3 - t2))
+        if t3 - t0 > LONG:
+            break
+    med = int(np.argsort(times)[(len(times) - 1) // 2])
+    return record(tool, operation, mesh, vertices, times, ITERATIONS, scheme=scheme,
+                  weights=weights, kind="whole", semantics=semantics,
+                  extra=dict(read_seconds=parts[med][0], smooth_seconds=parts[med][1],
+                             write_seconds=parts[med][2]))
+
+
 def beltrami_output(mesh, scheme, weights, variant=""):
     """Positions beltrami produced for a configuration (written by bench_beltrami.py),
     or None when that run is not there."""

@@ -51,6 +51,10 @@ def ns(x):
     return "–" if x is None else (f"{x:.1f}" if x < 100 else f"{x:.0f}")
 
 
+def order_of(mesh):
+    return MESH_ORDER.index(mesh) if mesh in MESH_ORDER else len(MESH_ORDER)
+
+
 def main():
     recs = [json.loads(line) for line in open(H.RECORDS)] if os.path.exists(H.RECORDS) else []
     smooth = [r for r in recs if r["kind"] == "smooth"]
@@ -176,6 +180,27 @@ def main():
         L.append(f"| {PAPER[mesh][0]} | {c['vertices']} | {PAPER[mesh][1]} | {c['seconds'] / u['seconds']:.1f}× | "
                  f"{c['seconds'] / d['seconds']:.1f}× | {c['wall_seconds'] / u['wall_seconds']:.1f}× |")
     L.append("")
+
+    whole = [r for r in recs if r["kind"] == "whole"]
+    if whole:
+        L += ["## Whole process: beltrami's run against a peer's script", "",
+              "beltrami: the whole `beltrami smooth` process (start, read, smooth, write; median wall "
+              "time of its runs). A peer: its own reader, its smoothing call and its own writer in one "
+              "script, the interpreter's start and imports not counted (in the peer's favour; "
+              "OpenMesh: its C++ program's read, smooth and write). The beltrami run compared is the "
+              "same scheme and weight policy (for OpenMesh: λ 0.5, weights once, fixed boundary). "
+              "`÷ belt.` > 1 means beltrami's whole process is faster.", "",
+              "| mesh | scheme | weights | tool | operation | peer s (read + smooth + write) | beltrami s | ÷ belt. |",
+              "|---|---|---|---|---|---:|---:|---:|"]
+        for r in sorted(whole, key=lambda r: (order_of(r["mesh"]), r["scheme"], r["weights"], r["tool"])):
+            b = bel(r["mesh"], r["scheme"], r["weights"], "_om" if r["tool"] == "openmesh" else "")
+            bw_ = b and b.get("wall_median", b.get("wall_seconds"))
+            parts = (f" ({r['read_seconds']:.3f} + {r['smooth_seconds']:.3f} + {r['write_seconds']:.3f})"
+                     if "smooth_seconds" in r else "")
+            L.append(f"| {r['mesh']} | {r['scheme']} | {r['weights']} | {r['tool']} | {r['operation']} | "
+                     f"{r['seconds']:.3f}{parts} | {'–' if not bw_ else format(bw_, '.3f')} | "
+                     f"{'–' if not bw_ else format(r['seconds'] / bw_, '.2f')} |")
+        L.append("")
 
     L += ["## Every smoothing measurement", "",
           "`seconds`: median (min–max) of the timed call. beltrami: weights + updates from its "
