@@ -76,8 +76,8 @@ impl PerElement {
 /// The half-edge mesh: outgoing halfedge per vertex (4), target, next, previous and
 /// face per halfedge (16), one halfedge per face (4). The face list as read is dropped
 /// once it is built, and the input positions that the summary's mean displacement
-/// needs wait in a temporary file (in memory only when none can be written, within the
-/// margin). An explicit run with a built-in scheme on a triangle mesh replaces the mesh
+/// needs wait in a temporary file (in memory only below 65 536 vertices or when none can
+/// be written, within the margin). An explicit run with a built-in scheme on a triangle mesh replaces the mesh
 /// by its triangle list (12 per face) once the operator is built, before its second
 /// position buffer is made: the mesh stands for both.
 const MESH: PerElement = PerElement::new(4, 16, 4);
