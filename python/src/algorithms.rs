@@ -485,9 +485,12 @@ pub(crate) fn decimate<'py>(
 /// `boundary_loops_left`, as `fill-holes --json`. The input's vertices and faces keep
 /// their indices; new ones are appended.
 ///
+/// `progress=True` shows a tqdm bar of the boundary loops when tqdm is installed; Ctrl-C
+/// stops the run between two loops with `KeyboardInterrupt`.
+///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, max_loop_edges = None, fill_all = false, refine = true, fair = true))]
+#[pyo3(signature = (mesh, *, max_loop_edges = None, fill_all = false, refine = true, fair = true, progress = false))]
 pub(crate) fn fill_holes<'py>(
     py: Python<'py>,
     mesh: &Mesh,
@@ -495,6 +498,7 @@ pub(crate) fn fill_holes<'py>(
     fill_all: bool,
     refine: bool,
     fair: bool,
+    progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let mut options = FillOptions::default()
         .fill_all(fill_all)
@@ -503,14 +507,17 @@ pub(crate) fn fill_holes<'py>(
     if let Some(n) = nonnegative_opt("max_loop_edges", max_loop_edges)? {
         options = options.max_loop_edges(n);
     }
-    let (m, p, r) = py.detach(|| {
-        no_panic(|| {
-            beltrami_algorithms::fill_holes(&mesh.mesh, &mesh.positions, &options).map_err(|e| {
-                match e {
-                    FillError::Options { .. } => PyValueError::new_err(e.to_string()),
-                    e => algorithm_error("fill_holes", e),
-                }
-            })
+    let loops = mesh.mesh.boundary_loops().count();
+    let (m, p, r) = Progress::run(py, progress, loops, "fill_holes", |bar| {
+        beltrami_algorithms::fill_holes_with_progress(
+            &mesh.mesh,
+            &mesh.positions,
+            &options,
+            |done, total| bar.show(done, total),
+        )
+        .map_err(|e| match e {
+            FillError::Options { .. } => PyValueError::new_err(e.to_string()),
+            e => algorithm_error("fill_holes", e),
         })
     })?;
     let d = PyDict::new(py);

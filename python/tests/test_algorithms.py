@@ -277,6 +277,27 @@ def test_remesh_and_decimate_progress_bars_change_nothing(sphere, capsys):
     assert "decimate" in err
 
 
+def test_fill_holes_progress_bar_changes_nothing(capsys):
+    # Two holes cut into a sphere: progress=True gives the same result, and the bar
+    # (when tqdm is installed) counts the two boundary loops.
+    s = bt.generate("sphere", level=3)
+    keep = np.ones(len(s.faces), dtype=bool)
+    keep[[0, 600]] = False
+    holed = bt.Mesh(s.vertices, s.faces[keep])
+    plain, plain_report = bt.fill_holes(holed, fill_all=True)
+    shown, shown_report = bt.fill_holes(holed, fill_all=True, progress=True)
+    np.testing.assert_array_equal(plain.vertices, shown.vertices)
+    np.testing.assert_array_equal(plain.faces, shown.faces)
+    assert plain_report == shown_report
+    assert len(shown_report["filled"]) == 2 and bt.info(shown)["closed"]
+    try:
+        import tqdm  # noqa: F401
+    except ImportError:
+        return
+    err = capsys.readouterr().err
+    assert "fill_holes" in err and "2/2" in err
+
+
 def test_ctrl_c_stops_a_long_remesh():
     # A pending Ctrl-C (as the terminal sends it) is seen within about a tenth of a
     # second: the run stops long before its 5000 iterations (about 10 s), with

@@ -64,7 +64,7 @@ pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};
 pub use fill_holes::{
     FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole,
-    fill_hole, fill_holes,
+    fill_hole, fill_holes, fill_holes_with_progress,
 };
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{

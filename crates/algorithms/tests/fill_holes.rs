@@ -6,6 +6,7 @@
 
 use beltrami_algorithms::{
     FairWeights, FillError, FillOptions, FillReport, SkipReason, fill_hole, fill_holes,
+    fill_holes_with_progress,
 };
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, MeshData, VertexId, primitives};
 use beltrami_surfaces::{FLensParams, flens};
@@ -347,6 +348,52 @@ fn filling_is_deterministic() {
     assert_eq!(bits(&a.1), bits(&b.1));
     assert_eq!(a.2, b.2);
     assert_eq!(a.2.filled.len(), 2);
+}
+
+/// The progress closure sees every loop once, in order, and a `Break` stops the run
+/// with the typed error; with `Continue` the result is [`fill_holes`]'s.
+#[test]
+fn a_progress_closure_sees_every_loop_and_can_stop_the_filling() {
+    use std::ops::ControlFlow;
+    let torus = primitives::torus(3.0, 1.0, 24, 12);
+    let (open, x) = cut(&torus, |f, p| {
+        f.iter()
+            .any(|&v| p[v as usize].x > 3.5 || p[v as usize].y > 3.5)
+    });
+    let mut seen = Vec::new();
+    let watched = fill_holes_with_progress(&open, &x, &all(), |done, total| {
+        seen.push((done, total));
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert_eq!(seen, [(1, 2), (2, 2)]);
+    let plain = fill_holes(&open, &x, &all()).unwrap();
+    assert_eq!(watched.0.to_polygons(), plain.0.to_polygons());
+    assert_eq!(watched.1, plain.1);
+    assert_eq!(watched.2, plain.2);
+
+    let mut calls = 0;
+    let err = fill_holes_with_progress(&open, &x, &all(), |done, _| {
+        calls += 1;
+        if done == 1 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    })
+    .unwrap_err();
+    assert_eq!(calls, 1);
+    assert_eq!(err, FillError::Stopped { done: 1, total: 2 });
+    assert_eq!(
+        err.to_string(),
+        "hole filling was stopped after 1 of 2 boundary loops"
+    );
+    // A closed mesh has no loop: the closure is never called.
+    let closed = torus.mesh().unwrap();
+    fill_holes_with_progress(&closed, &torus.positions, &all(), |_, _| {
+        panic!("no loop to report")
+    })
+    .unwrap();
 }
 
 #[test]

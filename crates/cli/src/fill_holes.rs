@@ -4,7 +4,9 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_algorithms::{FillError, FillOptions, FillReport, SkipReason, fill_holes};
+use beltrami_algorithms::{
+    FillError, FillOptions, FillReport, SkipReason, fill_holes_with_progress,
+};
 use serde::Serialize;
 
 use crate::edit_report::{EditOutputArgs, QualityChange};
@@ -119,14 +121,27 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         options = options.max_loop_edges(n);
     }
     let start = std::time::Instant::now();
-    let (mesh, positions, report) =
-        fill_holes(&loaded.mesh, &loaded.positions, &options).map_err(|e| CliError::Input {
-            path: args.input.clone(),
-            message: match e {
-                FillError::NotTriangle { face, len } => not_triangles("fill-holes", face, len),
-                e => e.to_string(),
-            },
-        })?;
+    // A bar on a terminal for scans with many holes (each loop is a step; a loop of a
+    // few edges takes well under a millisecond, one of hundreds up to a second).
+    let loops = loaded.mesh.boundary_loops().count();
+    let progress = crate::progress::bar(loops, "boundary loops", loops >= 100);
+    let result = fill_holes_with_progress(&loaded.mesh, &loaded.positions, &options, |done, _| {
+        if let Some(bar) = &progress {
+            bar.set_position(done as u64);
+        }
+        // Ctrl-C ends the process from the signal handler.
+        std::ops::ControlFlow::Continue(())
+    });
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let (mesh, positions, report) = result.map_err(|e| CliError::Input {
+        path: args.input.clone(),
+        message: match e {
+            FillError::NotTriangle { face, len } => not_triangles("fill-holes", face, len),
+            e => e.to_string(),
+        },
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     let quality = QualityChange::measure(
         &args.input,

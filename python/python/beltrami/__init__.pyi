@@ -194,8 +194,10 @@ def fill_holes(
     fill_all: bool = False,
     refine: bool = True,
     fair: bool = True,
+    progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
-    """Hole filling, as `beltrami fill-holes --json`."""
+    """Hole filling, as `beltrami fill-holes --json` (`progress=True`: a tqdm bar of the
+    boundary loops)."""
 
 def laplacian(
     mesh: Mesh,

@@ -50,6 +50,8 @@ mod fair;
 mod refine;
 mod triangulate;
 
+use std::ops::ControlFlow;
+
 use beltrami_halfedge::{DVec3, EditError, EditMesh, HalfedgeId, HalfedgeMesh, TopologyError};
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
@@ -293,6 +295,14 @@ algorithm_error! {
         /// mesh.
         #[error("{0}")]
         Topology(#[from] TopologyError),
+        /// The progress closure of [`fill_holes_with_progress`] asked to stop.
+        #[error("hole filling was stopped after {done} of {total} boundary loops")]
+        Stopped {
+            /// The loops done (filled or skipped).
+            done: usize,
+            /// The boundary loops of the input.
+            total: usize,
+        },
     }
 }
 
@@ -519,6 +529,44 @@ pub fn fill_holes(
     positions: &[DVec3],
     options: &FillOptions,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, FillReport), FillError> {
+    fill_holes_with_progress(mesh, positions, options, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`fill_holes`], calling `progress(done, total)` after each boundary loop (`total`
+/// loops, the outer boundary and the loops skipped included), where a caller shows a bar
+/// or looks for an interruption; returning [`ControlFlow::Break`] stops the run before
+/// the next loop.
+///
+/// # Errors
+/// As for [`fill_holes`], and [`FillError::Stopped`] when `progress` stopped the run.
+///
+/// # Examples
+/// ```
+/// use std::ops::ControlFlow;
+/// use beltrami_algorithms::{fill_holes_with_progress, FillOptions};
+/// use beltrami_halfedge::{HalfedgeMesh, primitives};
+///
+/// // An icosphere without two faces far apart: two holes.
+/// let ico = primitives::icosphere(3);
+/// let faces: Vec<&[u32]> = ico.faces.iter().enumerate()
+///     .filter(|&(f, _)| f != 0 && f != 600).map(|(_, face)| face).collect();
+/// let open = HalfedgeMesh::from_polygons(ico.positions.len(), faces)?;
+/// let mut seen = Vec::new();
+/// let options = FillOptions::default().fill_all(true);
+/// let (closed, _, _) = fill_holes_with_progress(&open, &ico.positions, &options, |done, total| {
+///     seen.push((done, total));
+///     ControlFlow::Continue(())
+/// })?;
+/// assert!(closed.is_closed());
+/// assert_eq!(seen, [(1, 2), (2, 2)]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fill_holes_with_progress(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &FillOptions,
+    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, FillReport), FillError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     options.validate()?;
@@ -542,7 +590,11 @@ pub fn fill_holes(
         loops: loops.len(),
         ..FillReport::default()
     };
+    let total = loops.len();
     for (i, hole) in loops.iter().enumerate() {
+        if i > 0 && progress(i, total).is_break() {
+            return Err(FillError::Stopped { done: i, total });
+        }
         let skip = |reason| SkippedHole {
             halfedge: hole[0],
             boundary_edges: hole.len(),
@@ -566,6 +618,9 @@ pub fn fill_holes(
             Err(LoopError::Skip(reason)) => report.skipped.push(skip(reason)),
             Err(LoopError::Edit(e)) => return Err(FillError::Edit(e)),
         }
+    }
+    if total > 0 && progress(total, total).is_break() {
+        return Err(FillError::Stopped { done: total, total });
     }
     edit.garbage_collection();
     let (out, out_positions) = edit.into_mesh()?;
