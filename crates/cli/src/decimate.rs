@@ -311,23 +311,15 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     // A bar on a terminal for meshes whose decimation takes a noticeable time (about a
     // second from 500 000 faces).
     // Its length is the planned collapses, which the first call gives.
-    let progress = crate::progress::bar(0, "collapses", loaded.mesh.n_faces() >= 500_000);
-    let result = decimate_with_progress(
-        &loaded.mesh,
-        &loaded.positions,
-        &options.measure_distance(false),
-        |done, planned| {
-            if let Some(bar) = &progress {
-                bar.set_length(planned as u64);
-                bar.set_position(done as u64);
-            }
-            // Ctrl-C ends the process from the signal handler.
-            std::ops::ControlFlow::Continue(())
-        },
-    );
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
+    let long = loaded.mesh.n_faces() >= 500_000;
+    let result = crate::progress::with_bar(0, "collapses", long, |show| {
+        decimate_with_progress(
+            &loaded.mesh,
+            &loaded.positions,
+            &options.measure_distance(false),
+            show,
+        )
+    });
     let (mesh, positions, mut report) = result.map_err(input_error)?;
     let seconds = start.elapsed().as_secs_f64();
     let seconds_measure = if args.no_distance {

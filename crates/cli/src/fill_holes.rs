@@ -124,17 +124,9 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
     // A bar on a terminal for scans with many holes (each loop is a step; a loop of a
     // few edges takes well under a millisecond, one of hundreds up to a second).
     let loops = loaded.mesh.boundary_loops().count();
-    let progress = crate::progress::bar(loops, "boundary loops", loops >= 100);
-    let result = fill_holes_with_progress(&loaded.mesh, &loaded.positions, &options, |done, _| {
-        if let Some(bar) = &progress {
-            bar.set_position(done as u64);
-        }
-        // Ctrl-C ends the process from the signal handler.
-        std::ops::ControlFlow::Continue(())
+    let result = crate::progress::with_bar(loops, "boundary loops", loops >= 100, |show| {
+        fill_holes_with_progress(&loaded.mesh, &loaded.positions, &options, show)
     });
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
     let (mesh, positions, report) = result.map_err(|e| CliError::Input {
         path: args.input.clone(),
         message: match e {

@@ -2,6 +2,7 @@
 //! a file or a test sees nothing), cleared when the work is done.
 
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -16,4 +17,29 @@ pub(crate) fn bar(len: usize, unit: &str, long: bool) -> Option<ProgressBar> {
         );
         bar
     })
+}
+
+/// Runs `work` with a progress callback `(done, total)` that moves a [`bar`] of `len`
+/// steps named `unit` (shown when `long` and stderr is a terminal) to `done` of `total`,
+/// then clears the bar. The callback never asks to stop: Ctrl-C ends the process from
+/// the signal handler.
+pub(crate) fn with_bar<T>(
+    len: usize,
+    unit: &str,
+    long: bool,
+    work: impl FnOnce(&mut dyn FnMut(usize, usize) -> ControlFlow<()>) -> T,
+) -> T {
+    let progress = bar(len, unit, long);
+    let mut show = |done: usize, total: usize| {
+        if let Some(bar) = &progress {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }
+        ControlFlow::Continue(())
+    };
+    let result = work(&mut show);
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    result
 }

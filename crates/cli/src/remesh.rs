@@ -169,21 +169,10 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     let start = std::time::Instant::now();
     // A bar on a terminal for meshes whose iterations take a noticeable time (about a
     // tenth of a second each from 100 000 faces on two cores).
-    let progress = crate::progress::bar(
-        options.iterations,
-        "iterations",
-        loaded.mesh.n_faces() >= 100_000,
-    );
-    let result = remesh_with_progress(&loaded.mesh, &loaded.positions, &options, |done, _| {
-        if let Some(bar) = &progress {
-            bar.set_position(done as u64);
-        }
-        // Ctrl-C ends the process from the signal handler.
-        std::ops::ControlFlow::Continue(())
+    let long = loaded.mesh.n_faces() >= 100_000;
+    let result = crate::progress::with_bar(options.iterations, "iterations", long, |show| {
+        remesh_with_progress(&loaded.mesh, &loaded.positions, &options, show)
     });
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
     let (mesh, positions, report) = result.map_err(|e| match e {
         RemeshError::Options { reason } => CliError::Usage(reason),
         RemeshError::NotTriangle { face, len } => CliError::Input {
