@@ -44,10 +44,10 @@ impl Valences {
 }
 
 /// Whether collapsing the interior edge `h` (both of its end points interior) into one
-/// vertex keeps `Σ (valence − optimal)²` over the edge's end points and the two vertices
-/// opposite it from growing: the merged vertex gets the end points' valences less four,
-/// and the opposite vertices lose one each (the optimum as in
-/// [`Valences::flip_improves`]). `false` for a boundary edge.
+/// vertex keeps the valences near 6: the merged vertex (the end points' valences less
+/// four) and the two vertices opposite the edge (one less each) end within one of their
+/// optimum, and `Σ (valence − optimal)²` over the edge's end points and those two does
+/// not grow (the optimum as in [`Valences::flip_improves`]). `false` for a boundary edge.
 pub(crate) fn collapse_keeps_valences(mesh: &EditMesh, h: beltrami_halfedge::HalfedgeId) -> bool {
     let (Some(a), Some(b)) = (mesh.opposite_vertex(h), mesh.opposite_vertex(h.twin())) else {
         return false;
@@ -61,6 +61,7 @@ pub(crate) fn collapse_keeps_valences(mesh: &EditMesh, h: beltrami_halfedge::Hal
     let (v0, v1) = (mesh.from_vertex(h), mesh.to_vertex(h));
     let before = off(v0, 0) + off(v1, 0) + off(a, 0) + off(b, 0);
     let merged = valence(v0) + valence(v1) - 4 - 6;
-    let after = merged * merged + off(a, -1) + off(b, -1);
-    after <= before
+    let (a_after, b_after) = (off(a, -1), off(b, -1));
+    let near = merged * merged <= 1 && a_after <= 1 && b_after <= 1;
+    near && merged * merged + a_after + b_after <= before
 }
