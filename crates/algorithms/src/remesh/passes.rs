@@ -162,28 +162,7 @@ impl Remesher<'_> {
     /// product with the old one and a non-zero length).
     fn collapse_is_fine(&self, h: HalfedgeId) -> bool {
         let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
-        let (p0, p1) = (self.mesh.position(v0), self.mesh.position(v1));
-        for g in self.mesh.halfedges_around_vertex(v0) {
-            let w = self.mesh.to_vertex(g);
-            if w != v1 && self.mesh.position(w).distance(p1) > 4.0 / 3.0 * self.size(v1, w) {
-                return false;
-            }
-            if self.mesh.face(g).is_none() {
-                continue;
-            }
-            let n = self.mesh.next(g);
-            let (a, b) = (self.mesh.to_vertex(g), self.mesh.to_vertex(n));
-            if a == v1 || b == v1 {
-                continue; // removed by the collapse
-            }
-            let (pa, pb) = (self.mesh.position(a), self.mesh.position(b));
-            let before = (pa - p0).cross(pb - p0);
-            let after = (pa - p1).cross(pb - p1);
-            if before.dot(after) <= 0.0 || after.length_squared() == 0.0 {
-                return false;
-            }
-        }
-        true
+        self.ring_stays_fine(v0, v1, v1, self.mesh.position(v1))
     }
 
     /// Whether collapsing `h = v0 → v1` with the merged vertex at `q` keeps every edge
@@ -191,23 +170,31 @@ impl Remesher<'_> {
     /// point's ring over (nor makes it vanish).
     fn collapse_to_point_is_fine(&self, h: HalfedgeId, q: DVec3) -> bool {
         let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
-        [(v0, v1), (v1, v0)].into_iter().all(|(x, y)| {
-            let px = self.mesh.position(x);
-            self.mesh.halfedges_around_vertex(x).all(|g| {
-                let w = self.mesh.to_vertex(g);
-                if w != y && self.mesh.position(w).distance(q) > 4.0 / 3.0 * self.size(v1, w) {
-                    return false;
-                }
-                let Some(o) = self.mesh.opposite_vertex(g) else {
-                    return true;
-                };
-                if w == y || o == y {
-                    return true; // removed by the collapse
-                }
-                let (pa, pb) = (self.mesh.position(w), self.mesh.position(o));
-                let after = (pa - q).cross(pb - q);
-                (pa - px).cross(pb - px).dot(after) > 0.0 && after.length_squared() > 0.0
-            })
+        self.ring_stays_fine(v0, v1, v1, q) && self.ring_stays_fine(v1, v0, v1, q)
+    }
+
+    /// Whether moving `x` to `q` as it merges with its neighbour `y` into the vertex
+    /// `kept` keeps every edge from `q` to `x`'s other neighbours at most `4/3 L` (the
+    /// target between `kept` and the neighbour) and turns none of `x`'s triangles that
+    /// survive the merge over (nor makes one vanish). The triangles at the edge `x y` are
+    /// removed by the collapse.
+    fn ring_stays_fine(&self, x: VertexId, y: VertexId, kept: VertexId, q: DVec3) -> bool {
+        let px = self.mesh.position(x);
+        self.mesh.halfedges_around_vertex(x).all(|g| {
+            let w = self.mesh.to_vertex(g);
+            if w != y && self.mesh.position(w).distance(q) > 4.0 / 3.0 * self.size(kept, w) {
+                return false;
+            }
+            let Some(o) = self.mesh.opposite_vertex(g) else {
+                return true;
+            };
+            if w == y || o == y {
+                return true; // removed by the collapse
+            }
+            let (pa, pb) = (self.mesh.position(w), self.mesh.position(o));
+            let before = (pa - px).cross(pb - px);
+            let after = (pa - q).cross(pb - q);
+            !(before.dot(after) <= 0.0 || after.length_squared() == 0.0)
         })
     }
 
