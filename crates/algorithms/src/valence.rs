@@ -7,32 +7,54 @@ use beltrami_halfedge::{EditMesh, VertexId};
 /// `v0` and `v1` and joins `a` and `b`.
 const FLIP_CHANGE: [i64; 4] = [-1, -1, 1, 1];
 
-/// Each vertex's valence, kept up to date through the flips made.
+/// Each vertex's valence less its optimum (6 inside, 4 on the boundary), kept up to date
+/// through the flips made. A flip of an interior edge changes no vertex's boundary
+/// status, so the optimum is looked up once.
 pub(crate) struct Valences(Vec<i64>);
 
 impl Valences {
-    /// The valences of `mesh`'s live vertices.
+    /// The valences of `mesh`'s live vertices, less their optimum.
     pub(crate) fn new(mesh: &EditMesh) -> Self {
-        let mut valence = vec![0i64; mesh.vertex_capacity()];
+        let mut off = vec![0i64; mesh.vertex_capacity()];
         for v in mesh.vertices() {
-            valence[v.index()] = mesh.valence(v) as i64;
+            let optimal = if mesh.is_boundary_vertex(v) { 4 } else { 6 };
+            off[v.index()] = mesh.valence(v) as i64 - optimal;
         }
-        Self(valence)
+        Self(off)
     }
 
     /// Whether flipping the edge `v0 v1` of the quad `[v0, v1, a, b]` lowers
     /// `Σ (valence − optimal)²` over its four vertices, the optimal valence being 6
     /// inside and 4 on the boundary (Botsch and Kobbelt's flip rule, pmp-library's
     /// `Remeshing::flip_edges`).
-    pub(crate) fn flip_improves(&self, mesh: &EditMesh, quad: [VertexId; 4]) -> bool {
+    pub(crate) fn flip_improves(&self, quad: [VertexId; 4]) -> bool {
+        let (before, after) = self.flip_deviation(quad);
+        after < before
+    }
+
+    /// Whether flipping the edge `v0 v1` of the quad leaves `Σ (valence − optimal)²`
+    /// over its four vertices unchanged (the flip moves a 5–7 pair by one edge).
+    pub(crate) fn flip_keeps(&self, quad: [VertexId; 4]) -> bool {
+        let (before, after) = self.flip_deviation(quad);
+        after == before
+    }
+
+    /// `Σ (valence − optimal)²` over the quad before and after flipping its edge.
+    fn flip_deviation(&self, quad: [VertexId; 4]) -> (i64, i64) {
         let (mut before, mut after) = (0, 0);
         for (&v, d) in quad.iter().zip(FLIP_CHANGE) {
-            let optimal = if mesh.is_boundary_vertex(v) { 4 } else { 6 };
-            let off = self.0[v.index()] - optimal;
+            let off = self.0[v.index()];
             before += off * off;
             after += (off + d) * (off + d);
         }
-        after < before
+        (before, after)
+    }
+
+    /// Undoes [`flipped`](Self::flipped) for a flip made and undone.
+    pub(crate) fn unflipped(&mut self, quad: [VertexId; 4]) {
+        for (&v, d) in quad.iter().zip(FLIP_CHANGE) {
+            self.0[v.index()] -= d;
+        }
     }
 
     /// Records the flip of the edge `v0 v1` of the quad `[v0, v1, a, b]`.

@@ -279,7 +279,9 @@ fn uneven_triangles_get_edges_of_the_target_length() {
         let regular = out.vertices().filter(|&v| out.valence(v) == 6).count() as f64
             / out.n_vertices() as f64;
         // Endpoint collapses alone left 10.5-10.7 % of the edges short, the mean at
-        // 0.92 L and 76 % of the vertices regular on these three surfaces.
+        // 0.92 L and 76 % of the vertices regular on these three surfaces; single flips
+        // alone, without the pairs that cancel two 5-7 pairs, 85.5-86.1 % regular
+        // (89.6-91.0 % with them).
         assert!(
             (mean / target - 1.0).abs() < 0.03,
             "seed {seed}: mean {mean} of {target}"
@@ -289,7 +291,7 @@ fn uneven_triangles_get_edges_of_the_target_length() {
             "seed {seed}: {short} of the edges shorter than 4/5 L"
         );
         assert!(
-            regular > 0.8,
+            regular > 0.88,
             "seed {seed}: {regular} of the vertices of valence 6"
         );
         assert!(

@@ -49,7 +49,7 @@ pub(super) fn flip_towards_valence_six(
                 continue;
             };
             let quad = [mesh.from_vertex(h), mesh.to_vertex(h), a, b];
-            if !valence.flip_improves(mesh, quad)
+            if !valence.flip_improves(quad)
                 || !flip_is_close(mesh, quad, tolerance, threshold_squared, max_aspect_ratio)
                 || !mesh.is_flip_ok(e)
             {

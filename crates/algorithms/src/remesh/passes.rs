@@ -15,8 +15,23 @@ use super::phong::PhongSurface;
 /// nothing ends the step earlier.
 const MAX_PASSES: usize = 10;
 
+/// The smallest angle a flip made as one of a pair ([`Remesher::flip_pairs`]) may leave
+/// in its two new triangles, in degrees. Lower, the pairs raise the share of valence-6
+/// vertices further but cost the smallest angle of the block's feature strips (15°:
+/// 21.8° against 25.5° without pairs); higher, they are rarer (30°: 87.6 % regular on
+/// the scan-like sphere against 89.8 % at 20°).
+const PAIR_MIN_ANGLE_DEGREES: f64 = 20.0;
+
 /// Relaxation sweeps per iteration (pmp-library's value).
 const RELAX_SWEEPS: usize = 5;
+
+/// The feature flags of the edges and the corner flags of the vertices, copied for a
+/// flip step: flips change neither (a flipped edge is never a feature and keeps its
+/// id), and a slice is cheaper than a typed property look-up per edge.
+struct Pinned {
+    feature: Vec<bool>,
+    corner: Vec<bool>,
+}
 
 /// The mesh being remeshed with its flags and the input surface.
 pub(super) struct Remesher<'a> {
@@ -320,33 +335,23 @@ impl Remesher<'_> {
 
     /// Flips every interior, non-feature edge away from corners whose flip brings the
     /// valences of its four vertices closer to 6 (4 on the boundary), repeatedly, when
-    /// the flip is valid and folds nothing. Returns the count.
+    /// the flip is valid and folds nothing; then the [pairs](Self::flip_pairs) of flips
+    /// that do so together. Returns the count.
     pub(super) fn flip_edges(&mut self) -> Result<usize, RemeshError> {
         let mut valence = Valences::new(&self.mesh);
+        let pinned = Pinned {
+            feature: self.mesh.values(self.feature).to_vec(),
+            corner: self.mesh.values(self.corner).to_vec(),
+        };
         let mut flips = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
             for i in 0..self.mesh.edge_capacity() {
                 let e = EdgeId::new(i as u32);
-                if !self.mesh.is_live_edge(e) || self.is_feature(e) || self.mesh.is_boundary_edge(e)
-                {
-                    continue;
-                }
-                let [h, t] = e.halfedges();
-                let (Some(a), Some(b)) =
-                    (self.mesh.opposite_vertex(h), self.mesh.opposite_vertex(t))
-                else {
+                let Some(quad) = self.flip_quad(&pinned, e) else {
                     continue;
                 };
-                let (v0, v1) = (self.mesh.from_vertex(h), self.mesh.to_vertex(h));
-                let quad = [v0, v1, a, b];
-                if quad.iter().any(|&v| self.is_corner(v)) {
-                    continue;
-                }
-                if valence.flip_improves(&self.mesh, quad)
-                    && self.mesh.is_flip_ok(e)
-                    && self.flip_is_fine(e)
-                {
+                if valence.flip_improves(quad) && self.mesh.is_flip_ok(e) && self.flip_is_fine(e) {
                     self.mesh.flip_edge(e)?;
                     valence.flipped(quad);
                     flips += 1;
@@ -355,6 +360,91 @@ impl Remesher<'_> {
             }
             if !changed {
                 break;
+            }
+        }
+        flips += self.flip_pairs(&mut valence, &pinned)?;
+        Ok(flips)
+    }
+
+    /// The quad `[v0, v1, a, b]` of edge `e` when the flip step may flip it: a live,
+    /// interior, non-feature edge with no corner among its four vertices.
+    fn flip_quad(&self, pinned: &Pinned, e: EdgeId) -> Option<[VertexId; 4]> {
+        if !self.mesh.is_live_edge(e) || pinned.feature[e.index()] || self.mesh.is_boundary_edge(e)
+        {
+            return None;
+        }
+        let [h, t] = e.halfedges();
+        let a = self.mesh.opposite_vertex(h)?;
+        let b = self.mesh.opposite_vertex(t)?;
+        let quad = [self.mesh.from_vertex(h), self.mesh.to_vertex(h), a, b];
+        (!quad.iter().any(|&v| pinned.corner[v.index()])).then_some(quad)
+    }
+
+    /// Whether `e` (quad `[v0, v1, a, b]`) may flip as one of a pair: the flip is valid,
+    /// folds nothing, and leaves both new triangles `(a, b, v1)` and `(b, a, v0)` with
+    /// no angle below [`PAIR_MIN_ANGLE_DEGREES`].
+    fn pair_flip_is_fine(&self, e: EdgeId, quad: [VertexId; 4]) -> bool {
+        let [v0, v1, a, b] = quad.map(|v| self.mesh.position(v));
+        let smallest = |p: DVec3, q: DVec3, r: DVec3| {
+            let at_p = (q - p).angle_between(r - p);
+            let at_q = (p - q).angle_between(r - q);
+            at_p.min(at_q).min(std::f64::consts::PI - at_p - at_q)
+        };
+        let least = smallest(a, b, v1).min(smallest(b, a, v0));
+        self.mesh.is_flip_ok(e)
+            && self.flip_is_fine(e)
+            && least >= PAIR_MIN_ANGLE_DEGREES.to_radians()
+    }
+
+    /// Pairs of flips that lower the valence deviation together where no single flip
+    /// does: a flip that leaves `Σ (valence − optimal)²` over its quad unchanged (it
+    /// moves a 5–7 pair of vertices by one edge, a *glide*) followed by one that lowers
+    /// it among the edges at the first flip's four vertices (the two 5–7 pairs meet and
+    /// cancel). Both flips must pass [`pair_flip_is_fine`](Self::pair_flip_is_fine); a
+    /// first flip with no second is undone. Run after the single flips of
+    /// [`flip_edges`](Self::flip_edges), which cannot remove such pairs, as a 5–7 pair
+    /// only moves at no gain. Returns the count of flips made (twice the pairs).
+    fn flip_pairs(
+        &mut self,
+        valence: &mut Valences,
+        pinned: &Pinned,
+    ) -> Result<usize, RemeshError> {
+        let mut flips = 0;
+        let mut near: Vec<EdgeId> = Vec::new();
+        for i in 0..self.mesh.edge_capacity() {
+            let e = EdgeId::new(i as u32);
+            let Some(quad) = self.flip_quad(pinned, e) else {
+                continue;
+            };
+            if !valence.flip_keeps(quad) || !self.pair_flip_is_fine(e, quad) {
+                continue;
+            }
+            self.mesh.flip_edge(e)?;
+            valence.flipped(quad);
+            near.clear();
+            for &v in &quad {
+                for h in self.mesh.halfedges_around_vertex(v) {
+                    let e2 = h.edge();
+                    if e2 != e && !near.contains(&e2) {
+                        near.push(e2);
+                    }
+                }
+            }
+            let second = near.iter().find_map(|&e2| {
+                let q2 = self.flip_quad(pinned, e2)?;
+                (valence.flip_improves(q2) && self.pair_flip_is_fine(e2, q2)).then_some((e2, q2))
+            });
+            match second {
+                Some((e2, q2)) => {
+                    self.mesh.flip_edge(e2)?;
+                    valence.flipped(q2);
+                    flips += 2;
+                }
+                None => {
+                    // Back: flipping the edge again restores the quad's diagonal.
+                    self.mesh.flip_edge(e)?;
+                    valence.unflipped(quad);
+                }
             }
         }
         Ok(flips)
