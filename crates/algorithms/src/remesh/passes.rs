@@ -246,10 +246,11 @@ impl Remesher<'_> {
 
     /// Collapses every edge shorter than 4/5 L into one of its end points, repeatedly,
     /// unless that breaks the topology, a feature or boundary curve, a corner, or makes
-    /// an edge longer than 4/3 L or a folded triangle; an edge off the curves whose end
-    /// points both fail the length or fold test goes into its projected midpoint when
-    /// that passes them and keeps the valences as near 6. Returns the count.
-    pub(super) fn collapse_short_edges(&mut self) -> Result<usize, RemeshError> {
+    /// an edge longer than 4/3 L or a folded triangle; with `midpoints`, an edge off the
+    /// curves whose end points both fail the length or fold test goes into its projected
+    /// midpoint when that passes them and keeps the valences as near 6. Returns the
+    /// count.
+    pub(super) fn collapse_short_edges(&mut self, midpoints: bool) -> Result<usize, RemeshError> {
         let mut collapses = 0;
         for _ in 0..MAX_PASSES {
             let mut changed = false;
@@ -301,7 +302,7 @@ impl Remesher<'_> {
                 // Neither end point may go (mostly: the kept one would get an edge
                 // longer than 4/3 L): an edge off the curves may still collapse into
                 // its midpoint.
-                if !collapsed && ok01 && ok10 && !f0 && !f1 {
+                if midpoints && !collapsed && ok01 && ok10 && !f0 && !f1 {
                     collapsed = self.collapse_into_midpoint(order[0].1)?;
                 }
                 if collapsed {
