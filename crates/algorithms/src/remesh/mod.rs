@@ -728,8 +728,6 @@ fn face_area(edit: &EditMesh, f: FaceId) -> f64 {
     curves::triangle_normal(edit, edit.face_halfedge(f)).length() / 2.0
 }
 
-/// `iterations` rounds of split, collapse, flip and relax, then the removal of caps,
-/// counted into `report`; `guard` checks the mesh after each round and at the end.
 /// The share of the iterations, from the first, whose collapse step may collapse an edge
 /// into its midpoint. Those collapses even out uneven triangles, nearly all in the first
 /// two or three iterations (the scan-like sphere: 18 478, 1 827, 496, 176, then under a
@@ -745,6 +743,8 @@ fn midpoint_iterations(iterations: usize) -> usize {
     ((iterations as f64 * MIDPOINT_SHARE).ceil() as usize).max(1)
 }
 
+/// `iterations` rounds of split, collapse, flip and relax, then the removal of caps,
+/// counted into `report`; `guard` checks the mesh after each round and at the end.
 fn run_passes(
     remesher: &mut Remesher<'_>,
     iterations: usize,
