@@ -782,7 +782,22 @@ proptest! {
         let options = RemeshOptions::default()
             .relative_edge_length(factor)
             .iterations(4);
-        let (out, y, report) = remesh(&mesh, &x, &options).unwrap();
+        let (out, y, report) = match remesh(&mesh, &x, &options) {
+            Ok(result) => result,
+            // A target too long for the surface (the level-1 sphere at 2.5 times its
+            // mean edge comes down to four vertices) may end in a flat solid, which is
+            // refused with the typed error, as in
+            // `a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error`.
+            Err(RemeshError::Degenerate {
+                faces,
+                input_faces,
+                total,
+                ..
+            }) if closed && total <= 8 && 10 * (faces - input_faces) > total => {
+                return Ok(());
+            }
+            Err(e) => panic!("seed {seed}, factor {factor}: {e}"),
+        };
         assert_same_topology(&mesh, &out, &y, &format!("seed {seed}"));
         let boundary = segments(&mesh, &x, |e| mesh.is_boundary_edge(e));
         for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
