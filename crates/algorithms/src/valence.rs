@@ -7,6 +7,11 @@ use beltrami_halfedge::{EditMesh, VertexId};
 /// `v0` and `v1` and joins `a` and `b`.
 const FLIP_CHANGE: [i64; 4] = [-1, -1, 1, 1];
 
+/// The valence a vertex of a regular triangulation has: 6 inside, 4 on the boundary.
+fn optimal_valence(mesh: &EditMesh, v: VertexId) -> i64 {
+    if mesh.is_boundary_vertex(v) { 4 } else { 6 }
+}
+
 /// Each vertex's valence less its optimum (6 inside, 4 on the boundary), kept up to date
 /// through the flips made. A flip of an interior edge changes no vertex's boundary
 /// status, so the optimum is looked up once.
@@ -17,8 +22,7 @@ impl Valences {
     pub(crate) fn new(mesh: &EditMesh) -> Self {
         let mut off = vec![0i64; mesh.vertex_capacity()];
         for v in mesh.vertices() {
-            let optimal = if mesh.is_boundary_vertex(v) { 4 } else { 6 };
-            off[v.index()] = mesh.valence(v) as i64 - optimal;
+            off[v.index()] = mesh.valence(v) as i64 - optimal_valence(mesh, v);
         }
         Self(off)
     }
@@ -76,8 +80,7 @@ pub(crate) fn collapse_keeps_valences(mesh: &EditMesh, h: beltrami_halfedge::Hal
     };
     let valence = |v: VertexId| mesh.valence(v) as i64;
     let off = |v: VertexId, change: i64| {
-        let optimal = if mesh.is_boundary_vertex(v) { 4 } else { 6 };
-        let d = valence(v) + change - optimal;
+        let d = valence(v) + change - optimal_valence(mesh, v);
         d * d
     };
     let (v0, v1) = (mesh.from_vertex(h), mesh.to_vertex(h));
