@@ -4,9 +4,9 @@
 
 use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
 use beltrami_algorithms::{
-    DecimateError, DecimateOptions, DecimateStop, DelaunayError, DelaunayOptions, FillError,
-    FillOptions, MeshQuality, Placement, QualityError, RemeshError, RemeshOptions, Scheme,
-    SkipReason, SubdivisionError, delaunay_flip, flipped_faces, mesh_quality,
+    AdaptiveSizing, DecimateError, DecimateOptions, DecimateStop, DelaunayError, DelaunayOptions,
+    FillError, FillOptions, MeshQuality, Placement, QualityError, RemeshError, RemeshOptions,
+    Scheme, SkipReason, SubdivisionError, delaunay_flip, flipped_faces, mesh_quality,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
@@ -209,12 +209,26 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(format!("{what}: {e}"))
 }
 
+/// `remesh`'s `adaptive` argument: `True` (every value derived from the input) or a
+/// tuple `(min_edge, max_edge, error)` whose `None` entries are derived.
+#[derive(FromPyObject)]
+pub(crate) enum Adaptive {
+    /// `True` or `False`.
+    Flag(bool),
+    /// The three values, each optional.
+    Values((Option<f64>, Option<f64>, Option<f64>)),
+}
+
 /// Isotropic remeshing (Botsch & Kobbelt 2004), as `beltrami remesh`: splits, collapses,
 /// valence flips and tangential relaxation towards one edge length, every vertex
 /// projected back onto the smooth (Phong) surface through the input's triangles, or with
 /// `smooth_projection=False` onto the triangles themselves. `edge_length` (in the mesh's unit) or
 /// `edge_length_relative` (a multiple of the input's mean edge length; default 1), or
-/// `adaptive=(min_edge, max_edge, error)` for curvature-adaptive sizing;
+/// `adaptive=(min_edge, max_edge, error)` for curvature-adaptive sizing (a `None`
+/// entry, or `adaptive=True` for all three, is derived from the input as
+/// `remesh --adaptive` does: a quarter and four times the mean edge length, and the error
+/// that keeps the mean edge length at the median curvature; the report's `min_edge`,
+/// `max_edge` and `approx_error` give the values used);
 /// `features` (degrees) keeps edges sharper than that as curves; the boundary is always
 /// kept; `progress=True` shows a tqdm bar of the iterations when tqdm is installed.
 /// Returns `(Mesh, report)`, the report with the keys of `remesh --json` (without the
@@ -231,13 +245,22 @@ pub(crate) fn remesh<'py>(
     mesh: &Mesh,
     edge_length: Option<f64>,
     edge_length_relative: Option<f64>,
-    adaptive: Option<(f64, f64, f64)>,
+    adaptive: Option<Adaptive>,
     iterations: i128,
     features: Option<f64>,
     projection: bool,
     smooth_projection: bool,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let adaptive = match adaptive {
+        None | Some(Adaptive::Flag(false)) => None,
+        Some(Adaptive::Flag(true)) => Some(AdaptiveSizing::default()),
+        Some(Adaptive::Values((min_edge, max_edge, approx_error))) => Some(AdaptiveSizing {
+            min_edge,
+            max_edge,
+            approx_error,
+        }),
+    };
     let given = [
         edge_length.is_some(),
         edge_length_relative.is_some(),
@@ -259,8 +282,8 @@ pub(crate) fn remesh<'py>(
     if let Some(r) = edge_length_relative {
         options = options.relative_edge_length(r);
     }
-    if let Some((a, b, e)) = adaptive {
-        options = options.adaptive(a, b, e);
+    if let Some(sizing) = adaptive {
+        options = options.adaptive_sizing(sizing);
     }
     if let Some(deg) = features {
         if !(0.0..=180.0).contains(&deg) {
@@ -285,6 +308,9 @@ pub(crate) fn remesh<'py>(
     let d = PyDict::new(py);
     d.set_item("target_edge_length", r.target_edge_length)?;
     d.set_item("adaptive", adaptive.is_some())?;
+    d.set_item("min_edge", r.adaptive.map(|a| a.min_edge))?;
+    d.set_item("max_edge", r.adaptive.map(|a| a.max_edge))?;
+    d.set_item("approx_error", r.adaptive.map(|a| a.approx_error))?;
     d.set_item("iterations", r.iterations.len())?;
     d.set_item("splits", r.splits)?;
     d.set_item("collapses", r.collapses)?;

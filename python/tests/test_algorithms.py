@@ -153,6 +153,26 @@ def test_remesh_evens_out_the_edges(sphere):
     assert "solid" in outcomes and "refused" in outcomes, outcomes
 
 
+def test_remesh_adaptive_derives_what_is_not_given():
+    sphere = bt.generate("sphere", level=3)
+    # All three derived: a sphere has one curvature, so its density stays.
+    even, report = bt.remesh(sphere, adaptive=True)
+    mean = report["mean_edge_length_before"]
+    assert report["adaptive"] is True
+    assert report["min_edge"] == pytest.approx(mean / 4, rel=1e-12)
+    assert report["max_edge"] == pytest.approx(4 * mean, rel=1e-12)
+    assert len(even.vertices) == pytest.approx(len(sphere.vertices), rel=0.15)
+    # A given value is kept; None entries are derived as with True.
+    _, given = bt.remesh(sphere, adaptive=(None, None, 0.001))
+    assert given["approx_error"] == 0.001
+    assert given["min_edge"] == report["min_edge"]
+    assert given["vertices"] > report["vertices"]
+    _, plain = bt.remesh(sphere, edge_length_relative=1.0)
+    assert plain["min_edge"] is None and plain["adaptive"] is False
+    with pytest.raises(ValueError):
+        bt.remesh(sphere, adaptive=(-1.0, None, None))
+
+
 def test_remesh_projects_onto_the_smooth_surface_or_the_facets():
     # A smooth level-4 icosphere: by default the vertices land on the unit sphere the
     # triangles approximate; smooth_projection=False keeps them on the triangles, up to

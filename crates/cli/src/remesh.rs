@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_algorithms::{RemeshError, RemeshOptions, remesh_with_progress};
+use beltrami_algorithms::{AdaptiveSizing, RemeshError, RemeshOptions, remesh_with_progress};
 use serde::Serialize;
 
 use crate::edit_report::{EditOutputArgs, QualityChange};
@@ -30,17 +30,22 @@ pub(crate) struct RemeshArgs {
     edge_length_relative: Option<f64>,
     /// Curvature-adaptive edge lengths (Dunyach et al. 2013): short edges where the
     /// surface is curved, long where it is flat, each edge deviating by about --error
-    /// from the surface, within [--min-edge, --max-edge].
+    /// from the surface, within [--min-edge, --max-edge]. Values not given are derived
+    /// from the input's mean edge length L: --min-edge L/4, --max-edge 4L, and --error
+    /// such that vertices of the median curvature keep edges of length L.
     #[arg(long, conflicts_with_all = ["edge_length", "edge_length_relative"])]
     adaptive: bool,
-    /// With --adaptive: the smallest edge length, in the mesh's unit.
+    /// With --adaptive: the smallest edge length, in the mesh's unit (default: a quarter
+    /// of the input's mean edge length).
     #[arg(long, value_name = "A", requires = "adaptive")]
     min_edge: Option<f64>,
-    /// With --adaptive: the largest edge length, in the mesh's unit.
+    /// With --adaptive: the largest edge length, in the mesh's unit (default: four times
+    /// the input's mean edge length).
     #[arg(long, value_name = "B", requires = "adaptive")]
     max_edge: Option<f64>,
     /// With --adaptive: the allowed distance between an edge and the surface, in the
-    /// mesh's unit.
+    /// mesh's unit (default: that of a chord as long as the input's mean edge on a circle
+    /// of the input's median curvature).
     #[arg(long, value_name = "E", requires = "adaptive")]
     error: Option<f64>,
     /// The number of split-collapse-flip-relax iterations.
@@ -76,6 +81,12 @@ struct Summary {
     /// the sizing field over the input's vertices).
     target_edge_length: f64,
     adaptive: bool,
+    /// With --adaptive: the smallest edge length used (given or derived).
+    min_edge: Option<f64>,
+    /// With --adaptive: the largest edge length used.
+    max_edge: Option<f64>,
+    /// With --adaptive: the approximation error used.
+    approx_error: Option<f64>,
     iterations: usize,
     splits: usize,
     collapses: usize,
@@ -128,20 +139,22 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
         options = options.relative_edge_length(positive("--edge-length-relative", r)?);
     }
     if args.adaptive {
-        let (Some(a), Some(b), Some(e)) = (args.min_edge, args.max_edge, args.error) else {
-            return Err(CliError::Usage(
-                "--adaptive needs --min-edge, --max-edge and --error".to_string(),
-            ));
+        let given = |name: &str, x: Option<f64>| x.map(|x| positive(name, x)).transpose();
+        let sizing = AdaptiveSizing {
+            min_edge: given("--min-edge", args.min_edge)?,
+            max_edge: given("--max-edge", args.max_edge)?,
+            approx_error: given("--error", args.error)?,
         };
-        let (a, b) = (positive("--min-edge", a)?, positive("--max-edge", b)?);
-        if a > b {
+        if let (Some(a), Some(b)) = (sizing.min_edge, sizing.max_edge)
+            && a > b
+        {
             return Err(CliError::Usage(format!(
                 "--min-edge ({}) must not exceed --max-edge ({})",
                 number(a),
                 number(b)
             )));
         }
-        options = options.adaptive(a, b, positive("--error", e)?);
+        options = options.adaptive_sizing(sizing);
     }
     if let Some(d) = args.features {
         if !(0.0..=180.0).contains(&d) {
@@ -196,6 +209,9 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         output: args.output.display().to_string(),
         target_edge_length: report.target_edge_length,
         adaptive: args.adaptive,
+        min_edge: report.adaptive.map(|a| a.min_edge),
+        max_edge: report.adaptive.map(|a| a.max_edge),
+        approx_error: report.adaptive.map(|a| a.approx_error),
         iterations: report.iterations.len(),
         splits: report.splits,
         collapses: report.collapses,
@@ -248,6 +264,29 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             ""
         },
     )?;
+    if let Some(a) = report.adaptive {
+        let derived = [
+            (args.min_edge, "--min-edge"),
+            (args.max_edge, "--max-edge"),
+            (args.error, "--error"),
+        ]
+        .iter()
+        .filter(|(given, _)| given.is_none())
+        .map(|(_, name)| *name)
+        .collect::<Vec<_>>();
+        writeln!(
+            out,
+            "adaptive sizing: edges from {} to {}, approximation error {}{}",
+            number(a.min_edge),
+            number(a.max_edge),
+            number(a.approx_error),
+            if derived.is_empty() {
+                String::new()
+            } else {
+                format!(" ({} derived from the input)", derived.join(", "))
+            },
+        )?;
+    }
     if let Some(note) = degenerate_note(&report) {
         writeln!(out, "{note}")?;
     }

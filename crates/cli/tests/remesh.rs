@@ -203,9 +203,9 @@ fn usage_errors_exit_2_with_one_line_and_write_nothing() {
         &["--features", "200"][..],
         &["--features", "-5"][..],
         &["--iterations", "many"][..],
-        &["--adaptive"][..],
-        &["--adaptive", "--min-edge", "0.1", "--max-edge", "0.5"][..],
         &["--min-edge", "0.1"][..],
+        &["--adaptive", "--min-edge", "-0.1"][..],
+        &["--adaptive", "--error", "nan"][..],
         &[
             "--adaptive",
             "--min-edge",
@@ -332,6 +332,67 @@ fn adaptive_sizing_matches_the_library() {
     // The chord length of the error on the unit sphere, about 0.11.
     let chord = (6.0f64 * 0.002 - 3.0 * 0.002 * 0.002).sqrt();
     assert!((f(&summary["mean_edge_length"]) / chord - 1.0).abs() < 0.2);
+    assert_eq!(f(&summary["min_edge"]), 0.05);
+    assert_eq!(f(&summary["max_edge"]), 1.0);
+    assert_eq!(f(&summary["approx_error"]), 0.002);
+}
+
+#[test]
+fn adaptive_sizing_works_with_its_defaults_and_says_what_it_derived() {
+    let dir = tempfile::tempdir().unwrap();
+    // On a sphere every vertex has the median curvature, so the defaults keep the
+    // input's density.
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("adaptive.ply");
+    let o = beltrami(&["remesh", s(&input), s(&out), "--adaptive"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("(--min-edge, --max-edge, --error derived from the input)"),
+        "{text}"
+    );
+    let summary = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--adaptive",
+        "--force",
+        "--json",
+    ]);
+    let mean_before = f(&summary["mean_edge_length_before"]);
+    assert!((f(&summary["min_edge"]) - mean_before / 4.0).abs() < 1e-15);
+    assert!((f(&summary["max_edge"]) - 4.0 * mean_before).abs() < 1e-15);
+    let ratio = f(&summary["vertices"]) / f(&summary["vertices_before"]);
+    assert!((0.85..1.15).contains(&ratio), "{ratio}");
+    assert!((f(&summary["mean_edge_length"]) / mean_before - 1.0).abs() < 0.1);
+
+    // A value given is kept, and the derived ones respect it.
+    let summary = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--adaptive",
+        "--max-edge",
+        "0.05",
+        "--force",
+        "--json",
+    ]);
+    assert_eq!(f(&summary["min_edge"]), 0.05);
+    assert_eq!(f(&summary["max_edge"]), 0.05);
+    let o = beltrami(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--adaptive",
+        "--error",
+        "0.01",
+        "--force",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("approximation error 0.01 (--min-edge, --max-edge derived from the input)"),
+        "{text}"
+    );
 }
 
 #[test]

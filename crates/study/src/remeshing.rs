@@ -157,7 +157,7 @@ pub fn describe_target(options: &RemeshOptions) -> String {
         EdgeLength::Absolute(l) => format!("L = {l} (in each surface's unit)"),
         EdgeLength::Relative(1.0) => "L = the clean mesh's mean edge length".into(),
         EdgeLength::Relative(r) => format!("L = {r} × the clean mesh's mean edge length"),
-        EdgeLength::Adaptive { .. } => "curvature-adaptive".into(),
+        EdgeLength::Adaptive(_) => "curvature-adaptive".into(),
         _ => "other".into(),
     }
 }

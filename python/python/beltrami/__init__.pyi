@@ -157,7 +157,7 @@ def remesh(
     edge_length: Optional[float] = None,
     *,
     edge_length_relative: Optional[float] = None,
-    adaptive: Optional[tuple[float, float, float]] = None,
+    adaptive: Union[bool, tuple[Optional[float], Optional[float], Optional[float]], None] = None,
     iterations: int = 10,
     features: Optional[float] = None,
     projection: bool = True,

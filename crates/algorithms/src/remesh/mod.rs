@@ -102,19 +102,66 @@ pub enum EdgeLength {
     Relative(f64),
     /// Curvature-adaptive sizing (Dunyach et al. 2013, pmp-library's
     /// `adaptive_remeshing`): at each vertex, the length of a chord that deviates by
-    /// `approx_error` from a circle of the largest principal curvature radius, clamped to
-    /// `[min_edge, max_edge]`. The curvature is estimated on the input (cotangent mean
-    /// curvature and angle defect) at vertices off the features and the boundary,
-    /// smoothed twice over the neighbours, and follows the vertices: a split averages its
-    /// end points' lengths, a projection interpolates the input's field.
-    Adaptive {
-        /// The smallest target edge length.
-        min_edge: f64,
-        /// The largest target edge length.
-        max_edge: f64,
-        /// The allowed distance between an edge and the curved surface.
-        approx_error: f64,
-    },
+    /// the approximation error from a circle of the largest principal curvature radius,
+    /// clamped to the smallest and largest edge length. The curvature is estimated on
+    /// the input (cotangent mean curvature and angle defect) at vertices off the
+    /// features and the boundary, smoothed twice over the neighbours, and follows the
+    /// vertices: a split averages its end points' lengths, a projection interpolates the
+    /// input's field. Values left `None` are derived from the input
+    /// ([`AdaptiveSizing`]); the report says which were used
+    /// ([`RemeshReport::adaptive`]).
+    Adaptive(AdaptiveSizing),
+}
+
+/// The settings of curvature-adaptive sizing ([`EdgeLength::Adaptive`]), in the
+/// positions' unit. Each value left `None` is derived from the input's mean edge length
+/// L̄, so that `AdaptiveSizing::default()` keeps about the input's density where the
+/// surface has its typical curvature, refines where it is more curved and coarsens where
+/// it is flatter:
+/// - `min_edge`: L̄ / 4 (at most a given `max_edge`);
+/// - `max_edge`: 4 L̄ (at least a given `min_edge`);
+/// - `approx_error`: the deviation of a chord of length L̄ from a circle of the median
+///   curvature (over the vertices whose curvature is above `10⁻⁶ / L̄`, after smoothing),
+///   so that vertices of that curvature get exactly L̄; on a surface with no such vertex
+///   (flat) every vertex gets `max_edge` whatever the error, and L̄ is used.
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{AdaptiveSizing, EdgeLength, RemeshOptions};
+/// let defaults = RemeshOptions::default().adaptive_sizing(AdaptiveSizing::default());
+/// let given = RemeshOptions::default().adaptive(0.01, 0.2, 0.001);
+/// assert_eq!(
+///     given.edge_length,
+///     EdgeLength::Adaptive(AdaptiveSizing {
+///         min_edge: Some(0.01),
+///         max_edge: Some(0.2),
+///         approx_error: Some(0.001),
+///     })
+/// );
+/// assert_ne!(defaults, given);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AdaptiveSizing {
+    /// The smallest target edge length (default L̄ / 4).
+    pub min_edge: Option<f64>,
+    /// The largest target edge length (default 4 L̄).
+    pub max_edge: Option<f64>,
+    /// The allowed distance between an edge and the curved surface (default: that of a
+    /// chord of length L̄ at the median curvature).
+    pub approx_error: Option<f64>,
+}
+
+/// The values an adaptive run used ([`RemeshReport::adaptive`]), in the positions' unit:
+/// those given in [`AdaptiveSizing`] and those derived from the input.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct AdaptiveLengths {
+    /// The smallest target edge length.
+    pub min_edge: f64,
+    /// The largest target edge length.
+    pub max_edge: f64,
+    /// The allowed distance between an edge and the curved surface.
+    pub approx_error: f64,
 }
 
 /// The settings of [`remesh`].
@@ -185,15 +232,23 @@ impl RemeshOptions {
         self
     }
 
-    /// Sets curvature-adaptive sizing ([`EdgeLength::Adaptive`]), lengths in the
-    /// positions' unit.
+    /// Sets curvature-adaptive sizing ([`EdgeLength::Adaptive`]) with all three values
+    /// given, lengths in the positions' unit.
     #[must_use]
     pub fn adaptive(mut self, min_edge: f64, max_edge: f64, approx_error: f64) -> Self {
-        self.edge_length = EdgeLength::Adaptive {
-            min_edge,
-            max_edge,
-            approx_error,
-        };
+        self.edge_length = EdgeLength::Adaptive(AdaptiveSizing {
+            min_edge: Some(min_edge),
+            max_edge: Some(max_edge),
+            approx_error: Some(approx_error),
+        });
+        self
+    }
+
+    /// Sets curvature-adaptive sizing ([`EdgeLength::Adaptive`]); the values left `None`
+    /// are derived from the input ([`AdaptiveSizing`]).
+    #[must_use]
+    pub fn adaptive_sizing(mut self, sizing: AdaptiveSizing) -> Self {
+        self.edge_length = EdgeLength::Adaptive(sizing);
         self
     }
 
@@ -246,6 +301,9 @@ pub struct RemeshReport {
     /// The target edge length L used; for adaptive sizing, the mean of the sizing field
     /// over the input's vertices.
     pub target_edge_length: f64,
+    /// With adaptive sizing, the smallest and largest edge length and the approximation
+    /// error used (given or derived from the input); `None` otherwise.
+    pub adaptive: Option<AdaptiveLengths>,
     /// The counts of each iteration, in order.
     pub iterations: Vec<RemeshIteration>,
     /// Edges split, in all iterations.
@@ -387,7 +445,7 @@ fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
 }
 
 /// Checks the options against the input and returns the target edge length (the
-/// smallest one for adaptive sizing).
+/// input's mean edge length for adaptive sizing, replaced by the sizing field's mean).
 fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshError> {
     let bad = |reason: String| Err(RemeshError::Options { reason });
     let target = match options.edge_length {
@@ -401,26 +459,26 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
                 "the relative target edge length must be positive and finite, got {r}"
             ));
         }
-        EdgeLength::Adaptive {
-            min_edge,
-            max_edge,
-            approx_error,
-        } => {
+        EdgeLength::Adaptive(sizing) => {
             for (name, x) in [
-                ("the smallest edge length", min_edge),
-                ("the largest edge length", max_edge),
-                ("the approximation error", approx_error),
+                ("the smallest edge length", sizing.min_edge),
+                ("the largest edge length", sizing.max_edge),
+                ("the approximation error", sizing.approx_error),
             ] {
-                if !(x.is_finite() && x > 0.0) {
+                if let Some(x) = x
+                    && !(x.is_finite() && x > 0.0)
+                {
                     return bad(format!("{name} must be positive and finite, got {x}"));
                 }
             }
-            if min_edge > max_edge {
+            if let (Some(min_edge), Some(max_edge)) = (sizing.min_edge, sizing.max_edge)
+                && min_edge > max_edge
+            {
                 return bad(format!(
                     "the smallest edge length {min_edge} exceeds the largest {max_edge}"
                 ));
             }
-            min_edge
+            mean_edge
         }
         EdgeLength::Absolute(l) => l,
         EdgeLength::Relative(r) => r * mean_edge,
@@ -556,18 +614,17 @@ pub fn remesh_with_progress(
     let sizing = edit.add_vertex_property("remesh:sizing", target)?;
     let mut reference = None;
     let mut target = target;
-    if let EdgeLength::Adaptive {
-        min_edge,
-        max_edge,
-        approx_error,
-    } = options.edge_length
-    {
-        let field = sizing::sizing_field(&edit, feature, min_edge, max_edge, approx_error);
+    let mut adaptive = None;
+    if let EdgeLength::Adaptive(given) = options.edge_length {
+        let curvature = sizing::curvature_field(&edit, feature);
+        let lengths = sizing::resolve(given, &curvature, mean_before);
+        let field = sizing::lengths(&curvature, lengths);
         for v in mesh.vertices() {
             edit.set(sizing, v, field[v.index()]);
         }
         target = field.iter().sum::<f64>() / field.len() as f64;
         reference = Some(field);
+        adaptive = Some(lengths);
     }
     check_result_size(&edit, sizing)?;
     let guard = DegeneracyGuard::new(&edit, &Geometry::new(mesh, positions)?, target);
@@ -584,6 +641,7 @@ pub fn remesh_with_progress(
     };
     let mut report = RemeshReport {
         target_edge_length: target,
+        adaptive,
         vertices_before: mesh.n_vertices(),
         faces_before: mesh.n_faces(),
         mean_edge_length_before: mean_before,
