@@ -5,7 +5,7 @@
 //! input's feature edges, with every sharp corner kept; it is deterministic; bad options
 //! are refused with the typed error.
 
-use beltrami_algorithms::{EdgeLength, RemeshError, RemeshOptions, remesh};
+use beltrami_algorithms::{EdgeLength, MIN_EXTENT_SHARE, RemeshError, RemeshOptions, remesh};
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, VertexId, primitives};
 use beltrami_metrics::distance::SurfaceIndex;
 use beltrami_surfaces::{FLensParams, Size, SurfaceKind, flens};
@@ -149,12 +149,13 @@ fn topology_is_kept_on_closed_open_and_higher_genus_surfaces() {
     }
 }
 
-/// A target edge length as large as the surface or larger never gives a flat result:
-/// either a solid (no face of zero area, no two faces on the same three vertices, at
-/// least a tetrahedron for a closed surface) or [`RemeshError::Degenerate`], which names
-/// the length. A closed surface coarsened to a few vertices is drawn together by the
-/// tangential relaxation, so the level-2 icosphere with a length of 5 is refused (the
-/// level-3 one, whose last collapses go into midpoints, ends as a regular tetrahedron).
+/// A target edge length as large as the surface or larger never gives a flat or shrunk
+/// result: either a solid (no face of zero area, no two faces on the same three
+/// vertices, at least a tetrahedron for a closed surface) or [`RemeshError::Degenerate`]
+/// or [`RemeshError::Shrunk`], which name the length. A closed surface coarsened to a
+/// few vertices is drawn together by the tangential relaxation, so the level-2
+/// icosphere with a length of 5 is refused (the level-3 one, whose last collapses go
+/// into midpoints, ends as a regular tetrahedron).
 #[test]
 fn a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error() {
     let cases = [
@@ -178,6 +179,17 @@ fn a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error() {
                     diagonal,
                 }) => {
                     assert!(10 * (faces - input_faces) > total, "{what}");
+                    assert_eq!(edge_length, length, "{what}");
+                    assert!(diagonal > 1.0, "{what}: {diagonal}");
+                    refused += 1;
+                    continue;
+                }
+                Err(RemeshError::Shrunk {
+                    extent,
+                    diagonal,
+                    edge_length,
+                }) => {
+                    assert!(extent <= MIN_EXTENT_SHARE * diagonal, "{what}");
                     assert_eq!(edge_length, length, "{what}");
                     assert!(diagonal > 1.0, "{what}: {diagonal}");
                     refused += 1;
@@ -210,8 +222,44 @@ fn a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error() {
         &RemeshOptions::default().edge_length(5.0),
     )
     .unwrap_err();
-    assert!(matches!(err, RemeshError::Degenerate { .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            RemeshError::Degenerate { .. } | RemeshError::Shrunk { .. }
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("too long for this surface"),
+        "{err}"
+    );
     assert!(refused >= 1);
+}
+
+/// The 8-vertex cube remeshed at its own mean edge length without feature edges comes
+/// down to a tetrahedron, which the relaxation draws together on the cube's surface
+/// (to a twelfth of the cube's diagonal in 10 iterations): refused as shrunk, not
+/// returned as a small solid that no longer spans the cube. With the cube's edges as
+/// features the same length keeps the corners.
+#[test]
+fn a_cube_remeshed_too_coarsely_is_refused_rather_than_drawn_together() {
+    let data = primitives::cube();
+    let mesh = data.mesh().unwrap();
+    let err = remesh(&mesh, &data.positions, &RemeshOptions::default()).unwrap_err();
+    let RemeshError::Shrunk {
+        extent, diagonal, ..
+    } = err
+    else {
+        panic!("{err}");
+    };
+    assert!((diagonal - 3f64.sqrt()).abs() < 1e-12);
+    assert!(extent <= MIN_EXTENT_SHARE * diagonal, "{extent}");
+    let kept = RemeshOptions::default().feature_angle(45f64.to_radians());
+    let (out, y, _) = remesh(&mesh, &data.positions, &kept).unwrap();
+    assert!(out.n_vertices() >= 8);
+    for corner in &data.positions {
+        assert!(y.contains(corner), "corner {corner}");
+    }
 }
 
 #[test]
@@ -785,8 +833,8 @@ proptest! {
         let (out, y, report) = match remesh(&mesh, &x, &options) {
             Ok(result) => result,
             // A target too long for the surface (the level-1 sphere at 2.5 times its
-            // mean edge comes down to four vertices) may end in a flat solid, which is
-            // refused with the typed error, as in
+            // mean edge comes down to four vertices) may end in a flat or shrunk solid,
+            // which is refused with the typed error, as in
             // `a_target_longer_than_the_surface_gives_a_solid_or_the_typed_error`.
             Err(RemeshError::Degenerate {
                 faces,
@@ -794,6 +842,11 @@ proptest! {
                 total,
                 ..
             }) if closed && total <= 8 && 10 * (faces - input_faces) > total => {
+                return Ok(());
+            }
+            Err(RemeshError::Shrunk { extent, diagonal, .. })
+                if closed && extent <= MIN_EXTENT_SHARE * diagonal =>
+            {
                 return Ok(());
             }
             Err(e) => panic!("seed {seed}, factor {factor}: {e}"),

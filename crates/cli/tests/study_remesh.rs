@@ -92,7 +92,7 @@ fn a_remesh_target_as_long_as_the_surface_is_flagged_in_the_report_and_on_stderr
         "1",
         "--no-countermeasures",
         "--remesh",
-        "1e9",
+        "2",
     ];
     let o = beltrami(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -115,4 +115,17 @@ fn a_remesh_target_as_long_as_the_surface_is_flagged_in_the_report_and_on_stderr
         .unwrap_or_else(|| panic!("no warning: {err}"));
     assert!(warning.contains(&said), "{warning}");
     assert!(warning.contains("--remesh"), "{warning}");
+
+    // Longer still, the few vertices are drawn together on the sphere: refused with one
+    // line, no report.
+    let out = dir.path().join("refused");
+    let mut args = args.to_vec();
+    args[2] = s(&out);
+    *args.last_mut().unwrap() = "1e9";
+    let o = beltrami(&args);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("too long for this surface"), "{err}");
+    assert!(!out.join("report.md").exists());
 }
