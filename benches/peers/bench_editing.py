@@ -33,8 +33,12 @@ Tasks and peers (each skipped with a note when it does not install or fails):
               CGAL triangulate_refine_and_fair_hole, MeshLib fillHole
 
 Every output is measured by beltrami itself: `compare OUT REFERENCE --json`
-(Hausdorff over the vertices both ways and area RMS, against the input — the uncut
-surface for fill-holes) and `info OUT --quality --json` (smallest angle, share of
+(Hausdorff over the vertices and 10^6 area-uniform surface samples both ways; "area
+RMS", the output's vertices' distances to the input weighted by their areas; and
+"surface RMS", the RMS distance of the surface samples to the other surface, the larger
+of the two ways (Metro's error: face interiors count, so vertices placed on the input
+do not hide faces that cut below it) — all against the input, the uncut surface for
+fill-holes) and `info OUT --quality --json` (smallest angle, share of
 regular vertices, edge-length coefficient of variation); on the sphere surfaces (sphere*,
 scan) also the exact Hausdorff distance to the unit sphere they approximate ("to the
 sphere"), the surface the input's own triangles only approximate. Times are the algorithm alone
@@ -60,6 +64,10 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 FEATURE_DEG = 45.0
+
+
+# Surface samples per surface for `compare --samples` (Hausdorff and surface RMS).
+SAMPLES = 1_000_000
 
 
 def run(cmd, **kw):
@@ -148,11 +156,13 @@ def measure(beltrami, output, reference):
     `--repair`, and the first line of the refusal is returned as `defect`."""
     defect, repair = None, []
     try:
-        c = json.loads(run([beltrami, "compare", output, reference, "--json"]).stdout)
+        c = json.loads(run([beltrami, "compare", output, reference, "--json",
+                            "--samples", str(SAMPLES)]).stdout)
     except subprocess.CalledProcessError as e:
         defect = (e.stderr or "").strip().splitlines()[0] if e.stderr else str(e)
         repair = ["--repair"]
-        c = json.loads(run([beltrami, "compare", output, reference, "--json", *repair]).stdout)
+        c = json.loads(run([beltrami, "compare", output, reference, "--json",
+                            "--samples", str(SAMPLES), *repair]).stdout)
     q = json.loads(run([beltrami, "info", output, "--json", "--quality", *repair]).stdout)
     quality = q.get("quality") or {}
     return {
@@ -160,6 +170,7 @@ def measure(beltrami, output, reference):
         "vertices": q["vertices"],
         "hausdorff": c["hausdorff"],
         "area_rms": c["area_rms"],
+        "surface_rms": c["surface_rms"]["symmetric"],
         "min_angle": quality.get("min_angle_degrees"),
         "regular": quality.get("regular_share"),
         "cv": quality.get("edge_length_cv"),
@@ -438,8 +449,8 @@ def main():
     lines = []
     for task, name, reference, runs in tasks(args, surfaces, out):
         lines += [f"\n### {task}: {name}\n",
-                  "| tool | median s | vertices | Hausdorff | area RMS | to the sphere | min angle ° | regular % | edge CV | boundary loops |",
-                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+                  "| tool | median s | vertices | Hausdorff | area RMS | surface RMS | to the sphere | min angle ° | regular % | edge CV | boundary loops |",
+                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         defects = []
         for tool, call in runs:
             try:
@@ -457,7 +468,8 @@ def main():
                                f"(`{m['defect']}`); measured after `--repair`.")
             lines.append(
                 f"| {label} | {statistics.median(times):.3f} | {m['vertices']} | "
-                f"{m['hausdorff']:.3g} | {m['area_rms']:.3g} | {fmt(m['sphere'], '.3g')} | "
+                f"{m['hausdorff']:.3g} | {m['area_rms']:.3g} | {m['surface_rms']:.3g} | "
+                f"{fmt(m['sphere'], '.3g')} | "
                 f"{fmt(m['min_angle'], '.1f')} | "
                 f"{fmt(None if m['regular'] is None else 100 * m['regular'], '.1f')} | "
                 f"{fmt(m['cv'], '.3f')} | {m['boundary_loops']} |")

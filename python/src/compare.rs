@@ -6,8 +6,8 @@ use std::time::Instant;
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
-    DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
-    check_same_topology, displacement_stats, one_sided_hausdorff,
+    DistanceStats, HausdorffDistance, SampledDistance, SignedDistanceStats, SurfaceIndex,
+    check_same_topology, displacement_stats, surface_distance,
 };
 use beltrami_metrics::measures::{closed_volume, surface_area};
 use beltrami_metrics::normals::normal_deviation;
@@ -31,6 +31,8 @@ struct Comparison {
     stats: DistanceStats,
     signed: SignedDistanceStats,
     hausdorff: HausdorffDistance,
+    /// With samples: the sampled distances mesh → reference and back.
+    sampled: Option<(SampledDistance, SampledDistance)>,
     displacement: Option<DistanceStats>,
     normals: Option<beltrami_metrics::normals::NormalDeviation>,
     volumes: Option<(f64, f64)>,
@@ -60,34 +62,10 @@ fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, 
     reference_index.prepare_signed();
     let mesh_index = SurfaceIndex::new(&mesh.mesh, &mesh.positions)?;
     let index_build = clock.elapsed().as_secs_f64();
-    let sampling = match samples {
-        0 => HausdorffSampling::Vertices,
-        samples => HausdorffSampling::VerticesAndSurface {
-            samples,
-            seed: SAMPLE_SEED,
-        },
-    };
     let clock = Instant::now();
     let signed = reference_index.signed_distances(&mesh.positions)?;
-    let on_surface = mesh
-        .mesh
-        .vertices()
-        .zip(&signed)
-        .filter(|&(v, _)| !mesh.mesh.is_isolated(v))
-        .fold(0.0f64, |m, (_, s)| m.max(s.abs()));
-    let forward = match sampling {
-        HausdorffSampling::VerticesAndSurface { samples, seed } => {
-            let points = mesh_index.sample_surface(samples, seed);
-            let far = reference_index
-                .distances(&points)?
-                .into_iter()
-                .fold(0.0f64, f64::max);
-            on_surface.max(far)
-        }
-        _ => on_surface,
-    };
-    let backward = one_sided_hausdorff(&reference_index, &mesh_index, sampling)?;
-    let hausdorff = HausdorffDistance::from_one_sided(forward, backward);
+    let both = surface_distance(&mesh_index, &signed, &reference_index, samples, SAMPLE_SEED)?;
+    let (hausdorff, sampled) = (both.hausdorff, both.sampled);
     let queries = clock.elapsed().as_secs_f64();
 
     let unsigned: Vec<f64> = signed.iter().map(|s| s.abs()).collect();
@@ -130,6 +108,7 @@ fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, 
         stats,
         signed: signed_stats,
         hausdorff,
+        sampled,
         displacement,
         normals,
         volumes,
@@ -151,14 +130,15 @@ fn summary<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDict>> {
 /// Distances, normals, areas and volumes of `mesh` against the `reference` surface: a
 /// dict with the keys of `beltrami compare --json` (`mesh`, `reference`, `rms`,
 /// `mean`, `max`, `area_rms`, `signed`, `hausdorff`, `hausdorff_mesh_to_reference`,
-/// `hausdorff_reference_to_mesh`, `hausdorff_samples`, `same_topology`,
+/// `hausdorff_reference_to_mesh`, `hausdorff_samples`, `surface_rms`, `same_topology`,
 /// `displacement`, `normal_deviation_deg`, `normal_area_weighted_error`, `volume`,
 /// `area`, `scalars`, `png`, `seconds`).
 ///
 /// Distances are from the mesh's vertices to the closest point of the reference's
 /// triangles; signed distances are positive on the side the reference's normals point
 /// to. `samples` also measures the Hausdorff distance from that many points per
-/// surface, spread uniformly by area (fixed seed). `displacement` and the normal
+/// surface, spread uniformly by area (fixed seed), and the RMS distance of those points
+/// to the other surface each way (`surface_rms`, None without samples). `displacement` and the normal
 /// deviation need both meshes to share vertices and faces (None otherwise); `volume`
 /// needs both closed. `scalars` and `png` are always None (use `distances` and
 /// `write(..., scalars=...)`). Runs without the GIL.
@@ -198,6 +178,16 @@ pub(crate) fn compare<'py>(
     d.set_item("hausdorff_mesh_to_reference", c.hausdorff.forward)?;
     d.set_item("hausdorff_reference_to_mesh", c.hausdorff.backward)?;
     d.set_item("hausdorff_samples", samples)?;
+    match &c.sampled {
+        Some((there, back)) => {
+            let rms = PyDict::new(py);
+            rms.set_item("symmetric", there.rms.max(back.rms))?;
+            rms.set_item("mesh_to_reference", there.rms)?;
+            rms.set_item("reference_to_mesh", back.rms)?;
+            d.set_item("surface_rms", rms)?;
+        }
+        None => d.set_item("surface_rms", py.None())?,
+    }
     d.set_item("same_topology", c.displacement.is_some())?;
     match &c.displacement {
         Some(x) => {

@@ -13,9 +13,8 @@ use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_io::{MeshData, MeshFormat, VertexAttributes, WriteOptions, stage_bytes, stage_ply};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{
-    DistanceStats, HausdorffDistance, HausdorffSampling, SignedDistanceStats, SurfaceIndex,
-    check_same_topology, displacement_stats, one_sided_hausdorff,
-    one_sided_hausdorff_from_vertex_distances,
+    DistanceStats, HausdorffDistance, SampledDistance, SignedDistanceStats, SurfaceIndex,
+    check_same_topology, displacement_stats, surface_distance,
 };
 use beltrami_metrics::measures::{closed_volume, surface_area};
 use beltrami_metrics::normals::{NormalDeviation, normal_deviation};
@@ -51,7 +50,9 @@ pub(crate) struct CompareArgs {
     #[arg(long, value_name = "OUT.png")]
     png: Option<PathBuf>,
     /// Also measure the Hausdorff distance from N points per surface spread uniformly
-    /// by area (fixed seed), not only from the vertices (N up to 10 million).
+    /// by area (fixed seed), not only from the vertices, and the RMS distance of those
+    /// points to the other surface each way ("surface rms", Metro's area-weighted error
+    /// over whole faces) (N up to 10 million).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
     /// Replace the --scalars or --png file even when it is MESH or REFERENCE or
@@ -82,6 +83,10 @@ struct Comparison {
     hausdorff_reference_to_mesh: f64,
     /// Surface samples per surface on top of the vertices (0: vertices only).
     hausdorff_samples: u64,
+    /// With `--samples`: the RMS distance of the surface samples of each surface to the
+    /// other (Metro's RMS error, weighted by area over the whole surface, face interiors
+    /// included); null without.
+    surface_rms: Option<SurfaceRms>,
     /// Whether both meshes have the same vertices and faces.
     same_topology: bool,
     /// Plain per-vertex displacement `|x_i − y_i|`; null unless the topologies match.
@@ -117,6 +122,15 @@ struct Seconds {
     other: f64,
     /// The whole command, from the start to just before printing.
     total: f64,
+}
+
+/// The sampled RMS distances of `compare --samples` (`SampledDistance::rms` each way).
+#[derive(Debug, Serialize)]
+struct SurfaceRms {
+    /// The larger of the two one-sided values.
+    symmetric: f64,
+    mesh_to_reference: f64,
+    reference_to_mesh: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -227,6 +241,11 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         hausdorff_mesh_to_reference: h.forward,
         hausdorff_reference_to_mesh: h.backward,
         hausdorff_samples: d.samples,
+        surface_rms: d.sampled.map(|(there, back)| SurfaceRms {
+            symmetric: there.rms.max(back.rms),
+            mesh_to_reference: there.rms,
+            reference_to_mesh: back.rms,
+        }),
         same_topology: displacement.is_some(),
         displacement: displacement.map(|d| Displacement {
             rms: d.rms,
@@ -301,6 +320,8 @@ struct Distances {
     hausdorff: HausdorffDistance,
     /// `--samples` (0: vertices only).
     samples: u64,
+    /// The sampled distances MESH → REFERENCE and back, with `--samples`.
+    sampled: Option<(SampledDistance, SampledDistance)>,
     index_build: f64,
     queries: f64,
 }
@@ -322,29 +343,23 @@ fn distances(
     let index_build = clock.elapsed().as_secs_f64();
 
     let samples = args.samples.unwrap_or(0);
-    let sampling = match usize::try_from(samples) {
-        Ok(0) => HausdorffSampling::Vertices,
-        Ok(samples) => HausdorffSampling::VerticesAndSurface {
-            samples,
-            seed: SAMPLE_SEED,
-        },
-        Err(_) => return Err(CliError::Usage(format!("--samples {samples} is too large"))),
+    let Ok(count) = usize::try_from(samples) else {
+        return Err(CliError::Usage(format!("--samples {samples} is too large")));
     };
     let clock = Instant::now();
     // One closest-point query per vertex gives the signed and the unsigned distance, and
-    // the vertex part of the mesh → reference Hausdorff distance.
+    // the vertex part of the mesh → reference Hausdorff distance; the surface samples
+    // give both the sampled part of each Hausdorff distance and the surface RMS.
     let signed = reference_index
         .signed_distances(&mesh.positions)
         .map_err(&on_mesh)?;
-    let forward =
-        one_sided_hausdorff_from_vertex_distances(&mesh_index, &signed, &reference_index, sampling)
-            .map_err(&on_mesh)?;
-    let backward =
-        one_sided_hausdorff(&reference_index, &mesh_index, sampling).map_err(&on_mesh)?;
+    let both = surface_distance(&mesh_index, &signed, &reference_index, count, SAMPLE_SEED)
+        .map_err(&on_mesh)?;
     Ok(Distances {
         signed,
-        hausdorff: HausdorffDistance::from_one_sided(forward, backward),
+        hausdorff: both.hausdorff,
         samples,
+        sampled: both.sampled,
         index_build,
         queries: clock.elapsed().as_secs_f64(),
     })
@@ -537,7 +552,8 @@ fn table_sections(
     ]
 }
 
-/// The rows of the "surfaces" section: Hausdorff distance, displacement, normal
+/// The rows of the "surfaces" section: Hausdorff distance, surface RMS (with
+/// `--samples`), displacement, normal
 /// deviation, area and volume (with why one is missing).
 fn surface_rows(c: &Comparison, notes: &Notes) -> Vec<(&'static str, String)> {
     let n = |x: f64| number(x);
@@ -546,16 +562,28 @@ fn surface_rows(c: &Comparison, notes: &Notes) -> Vec<(&'static str, String)> {
     } else {
         format!("vertices and {} surface samples", c.hausdorff_samples)
     };
-    vec![
-        (
-            "hausdorff",
-            format!(
-                "{} (mesh -> reference {}, reference -> mesh {}; from {hausdorff_points})",
-                n(c.hausdorff),
-                n(c.hausdorff_mesh_to_reference),
-                n(c.hausdorff_reference_to_mesh),
-            ),
+    let mut rows = vec![(
+        "hausdorff",
+        format!(
+            "{} (mesh -> reference {}, reference -> mesh {}; from {hausdorff_points})",
+            n(c.hausdorff),
+            n(c.hausdorff_mesh_to_reference),
+            n(c.hausdorff_reference_to_mesh),
         ),
+    )];
+    if let Some(r) = &c.surface_rms {
+        rows.push((
+            "surface rms",
+            format!(
+                "{} (mesh -> reference {}, reference -> mesh {}; from {} surface samples each)",
+                n(r.symmetric),
+                n(r.mesh_to_reference),
+                n(r.reference_to_mesh),
+                c.hausdorff_samples,
+            ),
+        ));
+    }
+    rows.extend([
         (
             "displacement",
             c.displacement.as_ref().map_or_else(
@@ -603,7 +631,8 @@ fn surface_rows(c: &Comparison, notes: &Notes) -> Vec<(&'static str, String)> {
                 },
             ),
         ),
-    ]
+    ]);
+    rows
 }
 
 /// `"a.ply vs b.ply"`: the subject of an error about a pair of files.

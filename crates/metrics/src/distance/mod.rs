@@ -54,8 +54,9 @@ mod triangle;
 pub use crate::measures::{surface_area, volume};
 pub use displacement::{check_same_topology, displacement_stats, displacements};
 pub use hausdorff::{
-    HausdorffDistance, HausdorffSampling, hausdorff, one_sided_hausdorff,
-    one_sided_hausdorff_from_vertex_distances,
+    HausdorffDistance, HausdorffSampling, SampledDistance, SurfaceDistance, hausdorff,
+    one_sided_hausdorff, one_sided_hausdorff_from_vertex_distances, sampled_distance,
+    surface_distance,
 };
 pub use index::{ClosestPoint, Feature, MAX_COORDINATE, SurfaceIndex};
 pub(crate) use stats::vertex_areas;
