@@ -349,13 +349,15 @@ pub(crate) fn remesh<'py>(
 /// positions, as `decimate --plane-weights/--stabilizer`; `flip_tolerance` (default 0.2,
 /// 0 turns it off) lets edges be flipped towards valence 6 after the collapses where the
 /// surface moves by at most that fraction of the largest collapse error, as
-/// `decimate --flip-tolerance`; `progress=True` shows a tqdm
+/// `decimate --flip-tolerance`; `fit_rounds` (default 2, 0 turns it off) rounds of the
+/// final fit that moves the vertices to bring the surface closer to the input, as
+/// `decimate --fit-rounds`; `progress=True` shows a tqdm
 /// bar of the collapses when tqdm is installed. Returns `(Mesh, report)`, the report
 /// with the keys of `decimate --json` (without the file names and `seconds`).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, flip_tolerance = 0.2, progress = false))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, flip_tolerance = 0.2, fit_rounds = 2, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -373,9 +375,11 @@ pub(crate) fn decimate<'py>(
     plane_weights: &str,
     stabilizer: f64,
     flip_tolerance: f64,
+    fit_rounds: i128,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
     let vertices: Option<usize> = nonnegative_opt("vertices", vertices)?;
+    let fit_rounds: usize = nonnegative("fit_rounds", fit_rounds)?;
     let mut options = match (vertices, ratio) {
         (Some(n), None) => DecimateOptions::default().vertices(n),
         (None, Some(r)) => DecimateOptions::default().ratio(r),
@@ -419,6 +423,7 @@ pub(crate) fn decimate<'py>(
             .placement(Placement::Endpoint)
             .quality_threshold(0.0)
             .flip_tolerance(0.0)
+            .fit_rounds(0)
     } else {
         options
             .placement(placement)
@@ -426,6 +431,7 @@ pub(crate) fn decimate<'py>(
             .area_weighted(area_weighted)
             .stabilizer(stabilizer)
             .flip_tolerance(flip_tolerance)
+            .fit_rounds(fit_rounds)
     };
     options = options.keep_boundary(keep_boundary);
     if let Some(e) = max_error {
@@ -494,6 +500,9 @@ pub(crate) fn decimate<'py>(
     d.set_item("stabilizer", options.stabilizer)?;
     d.set_item("flip_tolerance", options.flip_tolerance)?;
     d.set_item("flips", r.flips)?;
+    d.set_item("fit_rounds", r.fit_rounds)?;
+    d.set_item("fit_rms_before", r.fit_rms_before)?;
+    d.set_item("fit_rms_after", r.fit_rms_after)?;
     d.set_item("max_quadric_error", r.max_quadric_error)?;
     d.set_item("hausdorff", r.hausdorff)?;
     d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;

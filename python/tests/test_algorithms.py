@@ -215,8 +215,9 @@ def test_decimate_flips_towards_valence_six_after_the_collapses(sphere):
     # A smooth sphere: its collapses leave quads flat enough to flip (on the noisy
     # fixture, whose quads fold by more than the tolerance, none is).
     smooth = bt.generate("sphere", level=4)
-    flipped, report = bt.decimate(smooth, ratio=0.25)
-    plain, plain_report = bt.decimate(smooth, ratio=0.25, flip_tolerance=0.0)
+    # Without the final fit, which moves the vertices after the flips.
+    flipped, report = bt.decimate(smooth, ratio=0.25, fit_rounds=0)
+    plain, plain_report = bt.decimate(smooth, ratio=0.25, flip_tolerance=0.0, fit_rounds=0)
     assert report["flip_tolerance"] == 0.2 and plain_report["flips"] == 0
     assert report["flips"] > 0
     # The same vertices; only edges changed, towards valence 6.
@@ -225,6 +226,22 @@ def test_decimate_flips_towards_valence_six_after_the_collapses(sphere):
     assert bt.decimate(sphere, ratio=0.25, openmesh=True)[1]["flips"] == 0
     with pytest.raises(ValueError, match="flip tolerance"):
         bt.decimate(sphere, ratio=0.25, flip_tolerance=-1.0)
+
+
+def test_decimate_fits_the_surface_to_the_input():
+    smooth = bt.generate("sphere", level=4)
+    fitted, report = bt.decimate(smooth, ratio=0.25)
+    plain, plain_report = bt.decimate(smooth, ratio=0.25, fit_rounds=0)
+    assert report["fit_rounds"] == 2 and plain_report["fit_rounds"] == 0
+    assert report["fit_rms_after"] < 0.8 * report["fit_rms_before"]
+    # Only the vertices move, and the surface comes closer to the input's.
+    np.testing.assert_array_equal(fitted.faces, plain.faces)
+    assert bt.compare(fitted, smooth, samples=20000)["surface_rms"]["symmetric"] < 0.8 * (
+        bt.compare(plain, smooth, samples=20000)["surface_rms"]["symmetric"]
+    )
+    assert bt.decimate(smooth, ratio=0.25, openmesh=True)[1]["fit_rounds"] == 0
+    with pytest.raises(ValueError, match="fit_rounds"):
+        bt.decimate(smooth, ratio=0.25, fit_rounds=-1)
 
 
 def test_decimate_plane_weights_and_stabilizer(sphere):

@@ -57,8 +57,8 @@ pub mod subdivision;
 mod valence;
 
 pub use decimate::{
-    DecimateError, DecimateOptions, DecimateReport, DecimateStop, DecimateTarget, Placement,
-    RefusalCounts, decimate, decimate_with_progress,
+    DEFAULT_FIT_ROUNDS, DecimateError, DecimateOptions, DecimateReport, DecimateStop,
+    DecimateTarget, Placement, RefusalCounts, decimate, decimate_with_progress,
 };
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};

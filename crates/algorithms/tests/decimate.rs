@@ -11,7 +11,7 @@ use beltrami_algorithms::{
 };
 use beltrami_halfedge::primitives::{self, Primitive};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
-use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff};
+use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff, sampled_distance};
 use beltrami_surfaces::{FLensParams, flens};
 use beltrami_testkit::SplitMix64;
 use beltrami_testkit::fixtures::{noisy_flens, noisy_icosphere, openmesh_inputs};
@@ -191,11 +191,10 @@ fn the_valence_flips_raise_the_regular_share_within_their_tolerance() {
         ("icosphere 5", primitives::icosphere(5), 0.1),
     ] {
         let mesh = p.mesh().unwrap();
-        let (flat, flat_positions, flat_report) = run(
-            &p,
-            &DecimateOptions::default().ratio(ratio).flip_tolerance(0.0),
-        );
-        let (out, positions, report) = run(&p, &DecimateOptions::default().ratio(ratio));
+        // Without the final fit, which moves the vertices after the flips.
+        let plain = DecimateOptions::default().ratio(ratio).fit_rounds(0);
+        let (flat, flat_positions, flat_report) = run(&p, &plain.flip_tolerance(0.0));
+        let (out, positions, report) = run(&p, &plain);
         assert_eq!(flat_report.flips, 0, "{name}");
         assert!(report.flips > 0, "{name}: no flip");
         out.check_integrity().unwrap();
@@ -257,6 +256,82 @@ fn the_valence_flips_raise_the_regular_share_within_their_tolerance() {
         .fold(0.0f64, f64::max);
     assert!(report.flips > 0);
     assert!(worst <= 3.0 * (1.0 + 1e-12), "{worst}");
+}
+
+/// The sampled RMS distance between two surfaces, the larger of the two ways (Metro's
+/// error).
+fn surface_rms(a: (&HalfedgeMesh, &[DVec3]), b: (&HalfedgeMesh, &[DVec3])) -> f64 {
+    let a = SurfaceIndex::new(a.0, a.1).unwrap();
+    let b = SurfaceIndex::new(b.0, b.1).unwrap();
+    let there = sampled_distance(&a, &b, 100_000, 3).unwrap().rms;
+    let back = sampled_distance(&b, &a, 100_000, 3).unwrap().rms;
+    there.max(back)
+}
+
+/// The final fit moves only vertices: the same triangles, the boundary bit for bit, no
+/// triangle turned over, none worse than the worst before or than quality 0.3; and the
+/// surface comes closer to the input: the sampled RMS distance both ways falls by 45 %
+/// on the smooth level-5 sphere, by 20 % and 10 % on the noisy sphere and F-lens, whose
+/// noise no coarse surface follows (37–44 % on the bench surfaces), and the fit's own
+/// energy by more than a fifth.
+#[test]
+fn the_final_fit_brings_the_surface_closer_and_keeps_the_triangles() {
+    // The largest share of the unfitted surface distance the fit may leave: on a noisy
+    // input part of the distance is noise no coarse surface follows.
+    for (name, p, ratio, share) in [
+        ("icosphere 5", primitives::icosphere(5), 0.1, 0.6),
+        ("noisy F-lens", noisy_flens(), 0.3, 0.93),
+        ("noisy icosphere", noisy_icosphere(), 0.2, 0.85),
+    ] {
+        let mesh = p.mesh().unwrap();
+        let input = (&mesh, p.positions.as_slice());
+        let (plain, plain_positions, plain_report) =
+            run(&p, &DecimateOptions::default().ratio(ratio).fit_rounds(0));
+        let (out, positions, report) = run(&p, &DecimateOptions::default().ratio(ratio));
+        out.check_integrity().unwrap();
+        assert_eq!(plain_report.fit_rounds, 0, "{name}");
+        assert_eq!(report.fit_rounds, 2, "{name}");
+        assert_eq!(out.to_polygons(), plain.to_polygons(), "{name}");
+        for v in out.vertices().filter(|&v| out.is_boundary_vertex(v)) {
+            assert_eq!(positions[v.index()], plain_positions[v.index()], "{name}");
+        }
+        for f in out.faces() {
+            let turned =
+                face_normal(&out, &positions, f).dot(face_normal(&plain, &plain_positions, f));
+            assert!(turned > 0.0, "{name}: face {f:?} turned over");
+        }
+        let (q, q_plain) = (
+            worst_quality(&out, &positions),
+            worst_quality(&plain, &plain_positions),
+        );
+        assert!(
+            q >= q_plain.min(0.3) - 1e-12,
+            "{name}: {q} against {q_plain}"
+        );
+        assert!(
+            report.fit_rms_after < 0.8 * report.fit_rms_before,
+            "{name}: {report:?}"
+        );
+        let (fitted, unfitted) = (
+            surface_rms((&out, &positions), input),
+            surface_rms((&plain, &plain_positions), input),
+        );
+        assert!(
+            fitted < share * unfitted,
+            "{name}: surface RMS {fitted} against {unfitted}"
+        );
+    }
+    // No fit where the output's vertices must be input vertices, or where a bound
+    // follows the collapses only.
+    let p = noisy_icosphere();
+    for options in [
+        DecimateOptions::openmesh(),
+        DecimateOptions::default().placement(Placement::Endpoint),
+        DecimateOptions::default().max_distance(1.0),
+        DecimateOptions::default().max_normal_deviation(1.0),
+    ] {
+        assert_eq!(run(&p, &options.ratio(0.2)).2.fit_rounds, 0, "{options:?}");
+    }
 }
 
 #[test]
@@ -487,13 +562,14 @@ fn the_normal_deviation_bound_holds() {
         (worst, report)
     };
     let (free, free_report) = max_angle(None);
-    let bound = 4f64.to_radians();
+    // The final fit of the unbounded run lowers its largest deviation (to 3.7°).
+    let bound = 3f64.to_radians();
     let (bounded, report) = max_angle(Some(bound));
     assert!(free_report.target_reached);
     assert!(!report.target_reached, "{report:?}");
     assert_eq!(report.stop, DecimateStop::NoCollapseLeft);
     assert!(report.refused.normal_deviation > 0);
-    assert!(bounded <= bound, "{} > 4 degrees", bounded.to_degrees());
+    assert!(bounded <= bound, "{} > 3 degrees", bounded.to_degrees());
     assert!(free > bound, "the bound must matter: {}", free.to_degrees());
 }
 

@@ -85,9 +85,17 @@ pub(crate) struct DecimateArgs {
         allow_negative_numbers = true
     )]
     flip_tolerance: f64,
+    /// Rounds of the final fit to the input: after the collapses and flips, the vertices
+    /// move (mostly along the normal) to bring the output surface closer to the input's
+    /// triangles, keeping every triangle's orientation and shape (quality 0.3, or no
+    /// worse); 0 turns it off. Not with --placement endpoint, --max-distance or
+    /// --max-normal-deviation.
+    #[arg(long, value_name = "N", default_value_t = beltrami_algorithms::DEFAULT_FIT_ROUNDS)]
+    fit_rounds: usize,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
-    /// placement, no shape penalty, area-weighted planes, no stabilizer and no flips.
-    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold", "plane_weights", "stabilizer", "flip_tolerance"])]
+    /// placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no
+    /// fit.
+    #[arg(long, conflicts_with_all = ["placement", "optimal", "quality_threshold", "plane_weights", "stabilizer", "flip_tolerance", "fit_rounds"])]
     openmesh: bool,
     /// Refuse a collapse that makes a triangle of a larger aspect ratio (1 for an
     /// equilateral triangle; at least 1) unless it improves on the triangles it replaces.
@@ -164,6 +172,12 @@ struct Summary {
     flip_tolerance: f64,
     /// Edges flipped towards valence 6 after the collapses.
     flips: usize,
+    /// Rounds of the final fit to the input done (0: none).
+    fit_rounds: usize,
+    /// The area-weighted RMS distance of the input's face centroids, along their
+    /// normals, to the output before and after the fit (0 without a fit).
+    fit_rms_before: f64,
+    fit_rms_after: f64,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
     /// The symmetric Hausdorff distance output <-> input, in the mesh's unit (null
@@ -246,6 +260,7 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             .placement(Placement::Endpoint)
             .quality_threshold(0.0)
             .flip_tolerance(0.0)
+            .fit_rounds(0)
     } else {
         options
             .placement(match args.placement {
@@ -256,6 +271,7 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             .area_weighted(args.plane_weights == PlaneWeightsArg::Area)
             .stabilizer(args.stabilizer)
             .flip_tolerance(args.flip_tolerance)
+            .fit_rounds(args.fit_rounds)
     };
     Ok(options.keep_boundary(args.keep_boundary))
 }
@@ -382,6 +398,9 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             args.flip_tolerance
         },
         flips: report.flips,
+        fit_rounds: report.fit_rounds,
+        fit_rms_before: report.fit_rms_before,
+        fit_rms_after: report.fit_rms_after,
         max_quadric_error: report.max_quadric_error,
         hausdorff: measured(report.hausdorff),
         hausdorff_to_input: measured(report.hausdorff_to_input),
@@ -415,9 +434,19 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     } else {
         String::new()
     };
+    let fit = if report.fit_rounds > 0 {
+        format!(
+            "; fitted to the input in {} rounds (RMS plane distance {} -> {})",
+            report.fit_rounds,
+            number(report.fit_rms_before),
+            number(report.fit_rms_after)
+        )
+    } else {
+        String::new()
+    };
     writeln!(
         out,
-        "decimated {} -> {}: {} -> {} vertices ({target}){distance}",
+        "decimated {} -> {}: {} -> {} vertices ({target}){fit}{distance}",
         args.input.display(),
         args.output.display(),
         report.vertices_before,

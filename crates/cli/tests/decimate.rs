@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use beltrami_algorithms::{DecimateOptions, Placement, decimate};
 use beltrami_io::read_mesh;
-use common::{beltrami, error_line, s};
+use common::{beltrami, error_line, f, s};
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
@@ -180,6 +180,9 @@ fn openmesh_mode_and_endpoint_placement_keep_input_points() {
         &["--flip-tolerance", "-0.1"],
         &["--flip-tolerance", "nan"],
         &["--openmesh", "--flip-tolerance", "0.5"],
+        &["--fit-rounds", "-1"],
+        &["--fit-rounds", "two"],
+        &["--openmesh", "--fit-rounds", "1"],
     ] {
         let out = dir.path().join("bad.ply");
         let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3"];
@@ -306,6 +309,48 @@ fn bad_input_and_usage_leave_no_output() {
     // The input is not overwritten without --force.
     let o = beltrami(&["decimate", s(&input), s(&input), "--ratio", "0.5"]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn the_fit_rounds_reach_the_library_and_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let data = read_mesh(&input).unwrap();
+    let mesh = data.mesh().unwrap();
+    let out = dir.path().join("out.ply");
+    for (extra, rounds) in [
+        (&[][..], 2),
+        (&["--fit-rounds", "0"][..], 0),
+        (&["--fit-rounds", "3"][..], 3),
+    ] {
+        let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3", "--force"];
+        args.extend_from_slice(extra);
+        let text = beltrami(&args);
+        assert!(
+            text.status.success(),
+            "{}",
+            String::from_utf8_lossy(&text.stderr)
+        );
+        let text = String::from_utf8(text.stdout).unwrap();
+        assert_eq!(
+            text.contains(&format!("fitted to the input in {rounds} rounds")),
+            rounds > 0,
+            "{text}"
+        );
+        args.extend(["--json", "--no-distance"]);
+        let summary: Value = serde_json::from_slice(&beltrami(&args).stdout).unwrap();
+        let options = DecimateOptions::default().ratio(0.3).fit_rounds(rounds);
+        let (want, positions, report) = decimate(&mesh, &data.positions, &options).unwrap();
+        let got = read_mesh(&out).unwrap();
+        assert_eq!(got.positions, positions, "{extra:?}");
+        assert_eq!(got.faces, want.to_polygons(), "{extra:?}");
+        assert_eq!(summary["fit_rounds"], rounds, "{extra:?}");
+        assert_eq!(f(&summary["fit_rms_before"]), report.fit_rms_before);
+        assert_eq!(f(&summary["fit_rms_after"]), report.fit_rms_after);
+        if rounds > 0 {
+            assert!(report.fit_rms_after < report.fit_rms_before, "{report:?}");
+        }
+    }
 }
 
 #[test]

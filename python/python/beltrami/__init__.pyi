@@ -183,6 +183,7 @@ def decimate(
     plane_weights: Literal["area", "uniform"] = "area",
     stabilizer: float = 0.0,
     flip_tolerance: float = 0.2,
+    fit_rounds: int = 2,
     progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Quadric-error decimation, as `beltrami decimate --json`."""

@@ -204,7 +204,28 @@ pub struct DecimateOptions {
     /// collapses only; [`DecimateOptions::max_aspect_ratio`] holds for the flipped
     /// triangles too.
     pub flip_tolerance: f64,
+    /// Rounds of the final fit to the input (default 2; 0: no fit). After the collapses
+    /// and flips, the vertices move — mostly along the surface normal — so that the
+    /// output surface comes closer to the input's triangles: each round matches the
+    /// input's face centroids to their closest output points and moves every interior
+    /// vertex to lower the area-weighted squared distance of those points to the input
+    /// faces' planes (Hoppe et al. 1993's distance energy, point to plane;
+    /// `decimate/fit.rs`). A move is not made when it would turn a triangle over, go
+    /// farther than half the vertex's shortest edge, or leave a triangle around the
+    /// vertex below shape quality 0.3 (or below the inverse of
+    /// [`DecimateOptions::max_aspect_ratio`], when that is higher) unless one there was
+    /// already worse (then none may get worse). Boundary vertices stay. On the level-6 sphere, the scan-like sphere
+    /// and the golf ball the sampled RMS distance between output and input falls by
+    /// 37–44 % and the edge-length variation by 10–25 %; the vertices then lie off the
+    /// input's triangles (inside the faces' error band), so distances measured at the
+    /// vertices alone rise. Only with [`Placement::Optimal`] and without
+    /// [`DecimateOptions::max_distance`] and [`DecimateOptions::max_normal_deviation`],
+    /// whose bounds follow collapses only; otherwise no fit is made.
+    pub fit_rounds: usize,
 }
+
+/// The default of [`DecimateOptions::fit_rounds`].
+pub const DEFAULT_FIT_ROUNDS: usize = 2;
 
 /// The default of [`DecimateOptions::quality_threshold`].
 const DEFAULT_QUALITY_THRESHOLD: f64 = 0.4;
@@ -227,14 +248,15 @@ impl Default for DecimateOptions {
             area_weighted: true,
             stabilizer: 0.0,
             flip_tolerance: DEFAULT_FLIP_TOLERANCE,
+            fit_rounds: DEFAULT_FIT_ROUNDS,
         }
     }
 }
 
 impl DecimateOptions {
     /// OpenMesh's `DecimaterT` with `ModQuadricT` alone: [`Placement::Endpoint`], no
-    /// shape penalty (`quality_threshold` 0), area-weighted planes, no stabilizer and no
-    /// flips; the other settings are the defaults.
+    /// shape penalty (`quality_threshold` 0), area-weighted planes, no stabilizer, no
+    /// flips and no fit; the other settings are the defaults.
     #[must_use]
     pub fn openmesh() -> Self {
         Self {
@@ -243,8 +265,26 @@ impl DecimateOptions {
             area_weighted: true,
             stabilizer: 0.0,
             flip_tolerance: 0.0,
+            fit_rounds: 0,
             ..Self::default()
         }
+    }
+
+    /// Sets the rounds of the final fit to the input (0: no fit; see
+    /// [`DecimateOptions::fit_rounds`]).
+    #[must_use]
+    pub fn fit_rounds(mut self, rounds: usize) -> Self {
+        self.fit_rounds = rounds;
+        self
+    }
+
+    /// Whether the final fit runs: rounds asked for, optimal placement, and no bound
+    /// that follows collapses only.
+    fn fits(&self) -> bool {
+        self.fit_rounds > 0
+            && self.placement == Placement::Optimal
+            && self.max_distance.is_none()
+            && self.max_normal_deviation.is_none()
     }
 
     /// Sets how far, as a fraction of the largest collapse error, the valence flips
@@ -480,6 +520,15 @@ pub struct DecimateReport {
     /// The largest quadric error of a collapse done, as a distance in the positions'
     /// unit (see [`DecimateOptions::max_error`]); 0 without collapses.
     pub max_quadric_error: f64,
+    /// Rounds of the final fit to the input done ([`DecimateOptions::fit_rounds`]; 0
+    /// when it did not run).
+    pub fit_rounds: usize,
+    /// The area-weighted RMS distance of the input's face centroids, along their faces'
+    /// normals, to their closest points on the output, before the fit (in the
+    /// positions' unit; 0 without a fit): the energy the fit lowers.
+    pub fit_rms_before: f64,
+    /// The same after the fit, from the last round's matches.
+    pub fit_rms_after: f64,
     /// Whether the three distances below were measured
     /// ([`DecimateOptions::measure_distance`]); when not, they are 0.
     pub distance_measured: bool,
@@ -558,6 +607,7 @@ algorithm_error! {
 
 mod collapse_loop;
 mod evaluate;
+mod fit;
 mod flips;
 mod geometry;
 mod heap;
@@ -679,7 +729,19 @@ pub fn decimate_with_progress(
         DecimateStop::NoCollapseLeft
     };
     // The conversion compacts the live elements as a garbage collection would.
-    let (out, out_positions) = edit.into_mesh()?;
+    let (out, mut out_positions) = edit.into_mesh()?;
+    let fit = if options.fits() && out.n_faces() > 0 {
+        Some(fit::fit_to_input(
+            &out,
+            &mut out_positions,
+            mesh,
+            positions,
+            options.fit_rounds,
+            options.max_aspect_ratio,
+        )?)
+    } else {
+        None
+    };
     let mut report = DecimateReport {
         vertices_before: mesh.n_vertices(),
         faces_before: mesh.n_faces(),
@@ -693,6 +755,9 @@ pub fn decimate_with_progress(
         stop,
         target_reached: stop == DecimateStop::TargetReached,
         max_quadric_error: max_rms,
+        fit_rounds: fit.map_or(0, |f| f.rounds),
+        fit_rms_before: fit.map_or(0.0, |f| f.rms_before),
+        fit_rms_after: fit.map_or(0.0, |f| f.rms_after),
         ..DecimateReport::default()
     };
     if options.measure_distance {
