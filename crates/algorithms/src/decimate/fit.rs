@@ -26,6 +26,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::SurfaceIndex;
 use glam::DMat3;
+use rayon::prelude::*;
 
 use beltrami_halfedge::geometry::CompensatedSum as Sum;
 
@@ -71,7 +72,43 @@ pub(super) fn fit_to_input(
 ) -> Result<Fit, MetricsError> {
     // A triangle of aspect ratio a has shape quality 1/a: the bound raises the floor.
     let floor = max_aspect_ratio.map_or(SHAPE, |a| SHAPE.max(1.0 / a));
-    let samples: Vec<Sample> = input
+    let samples = face_samples(input, y);
+    let total_area: f64 = samples.iter().map(|s| s.area).sum();
+    if samples.is_empty() || total_area.is_nan() || total_area <= 0.0 {
+        return Ok(Fit::default());
+    }
+    let centroids: Vec<DVec3> = samples.iter().map(|s| s.centroid).collect();
+    let fixed: Vec<bool> = out.vertices().map(|v| out.is_boundary_vertex(v)).collect();
+    let mut fit = Fit {
+        rounds,
+        ..Fit::default()
+    };
+    for round in 0..rounds {
+        let mut matches = Matches::new(out, x, &samples, &centroids)?;
+        if round == 0 {
+            fit.rms_before = matches.energy(&samples, total_area);
+        }
+        for _ in 0..SWEEPS {
+            for v in out.vertices() {
+                if fixed[v.index()] {
+                    continue;
+                }
+                if let Some(step) = matches.step(v, &samples)
+                    && allowed(out, x, v, step, floor)
+                {
+                    x[v.index()] += step;
+                    matches.moved(v, step, &samples);
+                }
+            }
+        }
+        fit.rms_after = matches.energy(&samples, total_area);
+    }
+    Ok(fit)
+}
+
+/// One sample per input face of non-zero area: its centroid, unit normal and area.
+fn face_samples(input: &HalfedgeMesh, y: &[DVec3]) -> Vec<Sample> {
+    input
         .faces()
         .filter_map(|f| {
             let [a, b, c] = input.triangle_vertices(f).map(|v| y[v.index()]);
@@ -83,31 +120,41 @@ pub(super) fn fit_to_input(
                 area,
             })
         })
-        .collect();
-    let centroids: Vec<DVec3> = samples.iter().map(|s| s.centroid).collect();
-    let triangles: Vec<[VertexId; 3]> = out.faces().map(|f| out.triangle_vertices(f)).collect();
-    let fixed: Vec<bool> = out.vertices().map(|v| out.is_boundary_vertex(v)).collect();
-    let total_area: f64 = samples.iter().map(|s| s.area).sum();
-    let mut fit = Fit {
-        rounds,
-        ..Fit::default()
-    };
-    if samples.is_empty() || total_area.is_nan() || total_area <= 0.0 {
-        fit.rounds = 0;
-        return Ok(fit);
-    }
-    for round in 0..rounds {
+        .collect()
+}
+
+/// The samples matched to the output in one round: each vertex's samples with their
+/// barycentric weights, and each sample's signed plane distance (residual), kept up to
+/// date as vertices move.
+struct Matches {
+    /// `entries[offsets[v]..offsets[v + 1]]` are vertex `v`'s samples.
+    offsets: Vec<usize>,
+    /// (sample, the vertex's barycentric weight at the sample's closest point).
+    entries: Vec<(u32, f64)>,
+    /// `n_i · (q_i − c_i)` for each sample, `q_i` its closest output point.
+    residual: Vec<f64>,
+    /// Each vertex's inverse system matrix `(Σ a_i b_i² n_i n_iᵀ + pull · trace · I)⁻¹`,
+    /// fixed within a round; `None` where it has no samples or is singular.
+    inverse: Vec<Option<DMat3>>,
+}
+
+impl Matches {
+    /// Matches every sample centroid to its closest point on the output `(out, x)`.
+    fn new(
+        out: &HalfedgeMesh,
+        x: &[DVec3],
+        samples: &[Sample],
+        centroids: &[DVec3],
+    ) -> Result<Self, MetricsError> {
         let index = SurfaceIndex::new(out, x)?;
-        let closest = index.closest_points(&centroids)?;
-        // Per sample: the output triangle and the barycentric coordinates of the match.
+        let closest = index.closest_points(centroids)?;
         let matched: Vec<([VertexId; 3], [f64; 3])> = closest
-            .iter()
+            .par_iter()
             .map(|cp| {
-                let t = triangles[cp.face.index()];
+                let t = out.triangle_vertices(cp.face);
                 (t, barycentric(cp.point, t.map(|v| x[v.index()])))
             })
             .collect();
-        // Each vertex's samples, as (sample, barycentric weight), in sample order.
         let mut offsets = vec![0usize; x.len() + 1];
         for (t, _) in &matched {
             for v in t {
@@ -125,60 +172,74 @@ pub(super) fn fit_to_input(
                 fill[v.index()] += 1;
             }
         }
-        let mut residual: Vec<f64> = matched
-            .iter()
-            .zip(&samples)
+        let residual = matched
+            .par_iter()
+            .zip(samples)
             .map(|((t, b), s)| {
                 let q = x[t[0].index()] * b[0] + x[t[1].index()] * b[1] + x[t[2].index()] * b[2];
                 s.normal.dot(q - s.centroid)
             })
             .collect();
-        let energy = |residual: &[f64]| {
-            let mut sum = Sum::default();
-            for (r, s) in residual.iter().zip(&samples) {
-                sum.add(s.area * r * r);
-            }
-            (sum.value() / total_area).sqrt()
-        };
-        if round == 0 {
-            fit.rms_before = energy(&residual);
-        }
-        for _ in 0..SWEEPS {
-            for v in out.vertices() {
-                if fixed[v.index()] {
-                    continue;
-                }
-                let own = &entries[offsets[v.index()]..offsets[v.index() + 1]];
+        let inverse = (0..x.len())
+            .into_par_iter()
+            .map(|v| {
                 let mut h = DMat3::ZERO;
-                let mut g = DVec3::ZERO;
-                for &(i, b) in own {
+                for &(i, b) in &entries[offsets[v]..offsets[v + 1]] {
                     let s = &samples[i as usize];
-                    let w = s.area * b;
-                    h += outer(s.normal * (w * b), s.normal);
-                    g += s.normal * (w * residual[i as usize]);
+                    h += outer(s.normal * (s.area * b * b), s.normal);
                 }
                 let trace = h.x_axis.x + h.y_axis.y + h.z_axis.z;
                 if trace.is_nan() || trace <= 0.0 {
-                    continue;
+                    return None;
                 }
                 h += DMat3::from_diagonal(DVec3::splat(PULL * trace));
                 let det = h.determinant();
-                if det.is_nan() || det == 0.0 {
-                    continue;
-                }
-                let step = -(h.inverse() * g);
-                if !step.is_finite() || !allowed(out, x, v, step, floor) {
-                    continue;
-                }
-                x[v.index()] += step;
-                for &(i, b) in own {
-                    residual[i as usize] += b * samples[i as usize].normal.dot(step);
-                }
-            }
-        }
-        fit.rms_after = energy(&residual);
+                (det.is_finite() && det != 0.0).then(|| h.inverse())
+            })
+            .collect();
+        Ok(Self {
+            offsets,
+            entries,
+            residual,
+            inverse,
+        })
     }
-    Ok(fit)
+
+    /// Vertex `v`'s samples.
+    fn own(&self, v: VertexId) -> &[(u32, f64)] {
+        &self.entries[self.offsets[v.index()]..self.offsets[v.index() + 1]]
+    }
+
+    /// The move of `v` that minimises its samples' energy with the other vertices
+    /// fixed, with the pull towards its position; `None` where it has no samples or the
+    /// system is singular.
+    fn step(&self, v: VertexId, samples: &[Sample]) -> Option<DVec3> {
+        let inverse = self.inverse[v.index()]?;
+        let mut g = DVec3::ZERO;
+        for &(i, b) in self.own(v) {
+            let s = &samples[i as usize];
+            g += s.normal * (s.area * b * self.residual[i as usize]);
+        }
+        let step = -(inverse * g);
+        step.is_finite().then_some(step)
+    }
+
+    /// Updates the residuals of `v`'s samples after `v` moved by `step`.
+    fn moved(&mut self, v: VertexId, step: DVec3, samples: &[Sample]) {
+        let (start, end) = (self.offsets[v.index()], self.offsets[v.index() + 1]);
+        for &(i, b) in &self.entries[start..end] {
+            self.residual[i as usize] += b * samples[i as usize].normal.dot(step);
+        }
+    }
+
+    /// The area-weighted RMS of the residuals, `sqrt(Σ a_i r_i² / total_area)`.
+    fn energy(&self, samples: &[Sample], total_area: f64) -> f64 {
+        let mut sum = Sum::default();
+        for (r, s) in self.residual.iter().zip(samples) {
+            sum.add(s.area * r * r);
+        }
+        (sum.value() / total_area).sqrt()
+    }
 }
 
 /// `a bᵀ`.
