@@ -28,7 +28,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 use glam::DMat3;
 use rayon::prelude::*;
 
-use beltrami_halfedge::geometry::CompensatedSum as Sum;
+use beltrami_halfedge::geometry::{self, CompensatedSum as Sum};
 
 /// The weight of the pull towards the current position, relative to the trace of the
 /// vertex's plane matrix.
@@ -250,15 +250,8 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 /// The barycentric coordinates of `p` (a point of the triangle, up to rounding) in
 /// triangle `t`, clamped to the triangle; the centroid's for a degenerate triangle.
 fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f64; 3] {
-    let (e1, e2, d) = (b - a, c - a, p - a);
-    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-    let (d1, d2) = (d.dot(e1), d.dot(e2));
-    let den = d11 * d22 - d12 * d12;
-    if den.is_nan() || den <= 0.0 {
-        return [1.0 / 3.0; 3];
-    }
-    let v = ((d22 * d1 - d12 * d2) / den).clamp(0.0, 1.0);
-    let w = ((d11 * d2 - d12 * d1) / den).clamp(0.0, 1.0);
+    let [_, v, w] = geometry::barycentric(p, a, b, c);
+    let (v, w) = (v.clamp(0.0, 1.0), w.clamp(0.0, 1.0));
     let s = v + w;
     let (v, w) = if s > 1.0 { (v / s, w / s) } else { (v, w) };
     [1.0 - v - w, v, w]
@@ -302,7 +295,8 @@ fn allowed(mesh: &HalfedgeMesh, x: &[DVec3], v: VertexId, step: DVec3, floor: f6
 const SHAPE: f64 = 0.3;
 
 /// The shape quality of triangle `(p, a, b)`: `4·area / (√3·longest edge²)`, 1 for an
-/// equilateral triangle, 0 for a flat one.
+/// equilateral triangle, 0 for a flat one. (Not the collapse loop's squared quality:
+/// the fit compares unsquared values, and its output bytes depend on that.)
 fn quality(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let longest = (a - p)
         .length_squared()

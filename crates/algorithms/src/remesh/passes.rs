@@ -3,6 +3,7 @@
 
 use crate::valence::{Valences, collapse_keeps_valences};
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
+use beltrami_halfedge::geometry::barycentric;
 use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
@@ -610,19 +611,4 @@ impl Remesher<'_> {
         }
         Ok(())
     }
-}
-
-/// The barycentric coordinates of `p` (on the triangle's plane) in triangle `a b c`;
-/// equal thirds for a degenerate triangle.
-fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
-    let (u, v, w) = (b - a, c - a, p - a);
-    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
-    let (wu, wv) = (w.dot(u), w.dot(v));
-    let det = uu * vv - uv * uv;
-    if det.is_nan() || det <= 0.0 {
-        return [1.0 / 3.0; 3];
-    }
-    let s = (vv * wu - uv * wv) / det;
-    let t = (uu * wv - uv * wu) / det;
-    [1.0 - s - t, s, t]
 }

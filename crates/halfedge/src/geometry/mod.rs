@@ -116,6 +116,33 @@ pub use kernel::CompensatedSum;
 pub fn distance(p: glam::DVec3, q: glam::DVec3) -> f64 {
     kernel::distance(p, q)
 }
+/// The barycentric coordinates `[α, β, γ]` of `p` in triangle `(a, b, c)`, with
+/// `p = α a + β b + γ c` when `p` lies in the triangle's plane (otherwise those of its
+/// orthogonal projection onto the plane); `α + β + γ = 1`. Not clamped: a point outside
+/// the triangle has a negative coordinate. Equal thirds for a degenerate triangle (no
+/// area, or not finite).
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::{geometry::barycentric, DVec3};
+/// let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+/// assert_eq!(barycentric(DVec3::new(0.25, 0.5, 0.0), a, b, c), [0.25, 0.25, 0.5]);
+/// assert_eq!(barycentric(DVec3::X, a, b, 2.0 * b), [1.0 / 3.0; 3]);
+/// ```
+#[must_use]
+pub fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
+    let (u, v, w) = (b - a, c - a, p - a);
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (wu, wv) = (w.dot(u), w.dot(v));
+    let det = uu * vv - uv * uv;
+    if det.is_nan() || det <= 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let s = (vv * wu - uv * wv) / det;
+    let t = (uu * wv - uv * wu) / det;
+    [1.0 - s - t, s, t]
+}
+
 pub use batch::{distances_into, distances_with, ring_cotangents_with};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
