@@ -90,7 +90,12 @@ pub(crate) struct DecimateArgs {
     /// triangles, keeping every triangle's orientation and shape (quality 0.3, or no
     /// worse); 0 turns it off. Not with --placement endpoint, --max-distance or
     /// --max-normal-deviation.
-    #[arg(long, value_name = "N", default_value_t = beltrami_algorithms::DEFAULT_FIT_ROUNDS)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = beltrami_algorithms::DEFAULT_FIT_ROUNDS,
+        allow_negative_numbers = true
+    )]
     fit_rounds: usize,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
     /// placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no
