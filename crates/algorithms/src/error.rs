@@ -180,3 +180,58 @@ algorithm_error! {
         Metrics(#[from] beltrami_metrics::MetricsError),
     }
 }
+
+/// `x` with six significant digits and no trailing zeros, for messages: `0.00702305`,
+/// `1234.57`, `1e-300`, `1e100` (plain notation from 1e-4 up to 1e6, scientific
+/// otherwise), so that a tiny or huge length does not print hundreds of digits.
+pub(crate) fn short(x: f64) -> String {
+    fn trim(text: &str) -> &str {
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            text
+        }
+    }
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let magnitude = x.abs();
+    if (1e-4..1e6).contains(&magnitude) {
+        #[allow(clippy::cast_possible_truncation, reason = "a small exponent")]
+        let exponent = magnitude.log10().floor() as i32;
+        let decimals = usize::try_from((5 - exponent).max(0)).unwrap_or(0);
+        trim(&format!("{x:.decimals$}")).to_string()
+    } else {
+        let text = format!("{x:.5e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
+            None => text,
+        }
+    }
+}
+
+/// "about N" for an estimated count of triangles, in scientific notation from a million,
+/// or "more than can be counted" when the estimate overflowed.
+pub(crate) fn about_count(predicted: f64) -> String {
+    if predicted.is_finite() {
+        format!("about {predicted:.2e}")
+    } else {
+        "more than can be counted".to_string()
+    }
+}
+
+#[cfg(test)]
+mod short_tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_messages_have_six_significant_digits() {
+        assert_eq!(short(1e-300), "1e-300");
+        assert_eq!(short(1e100), "1e100");
+        assert_eq!(short(1.138_071_187_457_698_3), "1.13807");
+        assert_eq!(short(0.1), "0.1");
+        assert_eq!(short(0.0), "0");
+        assert_eq!(about_count(f64::INFINITY), "more than can be counted");
+        assert_eq!(about_count(1.5e9), "about 1.50e9");
+    }
+}

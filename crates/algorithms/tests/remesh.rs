@@ -978,3 +978,101 @@ fn a_golf_ball_near_the_target_length_stops_collapsing_into_midpoints() {
     );
     assert_same_topology(&mesh, &out, &y, "golf ball");
 }
+
+/// Any target length beyond the surface's extent acts alike, however large: the
+/// outcome at 1e155, 1e200 or `f64::MAX` (whose squares overflow) is the one at 1e9,
+/// given as a length, a factor or adaptive bounds. The level-2 icosphere, refused at
+/// 1e9 as too coarse, was returned as a sliver tetrahedron from about 1.3e154 on.
+#[test]
+fn a_huge_target_length_does_what_a_long_one_does() {
+    let outcome = |mesh: &HalfedgeMesh, x: &[DVec3], options: RemeshOptions| match remesh(
+        mesh, x, &options,
+    ) {
+        Ok((out, y, _)) => Ok((
+            out.n_vertices(),
+            out.n_faces(),
+            y.iter()
+                .map(|p| p.to_array().map(f64::to_bits))
+                .collect::<Vec<_>>(),
+        )),
+        Err(e) => Err(std::mem::discriminant(&e)),
+    };
+    let sphere = primitives::icosphere(2);
+    let cases = [
+        ("icosphere", sphere.clone()),
+        ("torus", primitives::torus(1.0, 0.4, 24, 12)),
+        ("grid", primitives::grid(12, 8)),
+    ];
+    for (name, data) in cases {
+        let mesh = data.mesh().unwrap();
+        let x = &data.positions;
+        let long = outcome(&mesh, x, RemeshOptions::default().edge_length(1e9));
+        let long_adaptive = outcome(&mesh, x, RemeshOptions::default().adaptive(1e9, 1e9, 1e9));
+        for huge in [1e155, 1e200, f64::MAX] {
+            for (options, expected) in [
+                (RemeshOptions::default().edge_length(huge), &long),
+                (RemeshOptions::default().relative_edge_length(huge), &long),
+                (
+                    RemeshOptions::default().adaptive(huge, huge, huge),
+                    &long_adaptive,
+                ),
+            ] {
+                assert_eq!(
+                    &outcome(&mesh, x, options),
+                    expected,
+                    "{name}, {:?}",
+                    options.edge_length
+                );
+            }
+        }
+    }
+    let mesh = sphere.mesh().unwrap();
+    for huge in [1e100, 1e155, 1e200, f64::MAX] {
+        let err = remesh(
+            &mesh,
+            &sphere.positions,
+            &RemeshOptions::default().edge_length(huge),
+        )
+        .unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("too long for this surface"), "{text}");
+        // Six significant digits, not a hundred-digit decimal.
+        assert!(text.len() < 250, "{text}");
+    }
+}
+
+/// Vertices in no face are no part of the surface: the shrink check measures the
+/// triangles' extent for the input as for the result, so a far-away isolated vertex
+/// does not make every length fail, and stays where it is.
+#[test]
+fn isolated_vertices_do_not_count_in_the_surface_extent() {
+    let sphere = primitives::icosphere(3);
+    let mesh = sphere.mesh().unwrap();
+    let far = [DVec3::splat(5.0), DVec3::new(-2.0, 3.0, 0.125)];
+    let mut data = sphere.clone();
+    data.positions.extend(far);
+    let with_isolated = data.mesh().unwrap();
+    assert_eq!(with_isolated.n_vertices(), mesh.n_vertices() + 2);
+    let x = data.positions;
+    let options = RemeshOptions::default().edge_length(0.1);
+    let (out, y, report) = remesh(&with_isolated, &x, &options).unwrap();
+    let (plain, _, plain_report) = remesh(&mesh, &sphere.positions, &options).unwrap();
+    assert_eq!(out.n_faces(), plain.n_faces());
+    assert_eq!(report.faces, plain_report.faces);
+    for p in far {
+        assert!(y.contains(&p), "{p}");
+    }
+}
+
+/// A mesh whose only face has no area is refused as such, not as a mesh without edges.
+#[test]
+fn a_mesh_of_flat_faces_is_refused_as_having_no_area() {
+    let data = beltrami_halfedge::MeshData {
+        positions: vec![DVec3::ZERO, DVec3::X, 2.0 * DVec3::X],
+        faces: beltrami_halfedge::PolygonList::from_triangles(&[[0, 1, 2]]),
+    };
+    let (mesh, x) = (data.mesh().unwrap(), data.positions);
+    let err = remesh(&mesh, &x, &RemeshOptions::default()).unwrap_err();
+    assert_eq!(err, RemeshError::NoArea);
+    assert!(err.to_string().contains("zero area"), "{err}");
+}

@@ -445,3 +445,61 @@ fn the_summary_counts_the_features_and_says_when_every_edge_is_one() {
     ]);
     assert!(!String::from_utf8_lossy(&o.stdout).contains("features:"));
 }
+
+/// A huge target length is refused as too long like 1e100 is, whether its square
+/// overflows or not (it used to return a sliver tetrahedron from about 1.3e154 on), and
+/// the message prints the length in six significant digits.
+#[test]
+fn a_huge_target_length_is_refused_as_too_long() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    for args in [
+        &["--edge-length", "1e100"][..],
+        &["--edge-length", "1e155"][..],
+        &["--edge-length", "1.7e308"][..],
+        &["--edge-length-relative", "1e200"][..],
+        &["--adaptive", "--min-edge", "1e155", "--max-edge", "1e155"][..],
+        &["--adaptive", "--min-edge", "1e200"][..],
+        &["--adaptive", "--error", "1e200", "--max-edge", "1e200"][..],
+    ] {
+        let mut all = vec!["remesh", s(&input), s(&out)];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let line = error_line(&o, dir.path());
+        assert!(line.contains("is too long for this surface"), "{line}");
+        assert!(!line.contains("00000000"), "{line}");
+        assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+        assert!(!out.exists(), "{args:?}");
+    }
+}
+
+/// Isolated vertices are no part of the surface: the extent check measures the
+/// triangles, so the fixture with two far-away isolated vertices remeshes.
+#[test]
+fn a_mesh_with_isolated_vertices_remeshes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("bad/isolated_vertices.obj");
+    let out = dir.path().join("out.obj");
+    for args in [&[][..], &["--edge-length", "0.1"][..]] {
+        let mut all = vec!["remesh", s(&input), s(&out), "--force"];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+}
+
+/// A triangle whose corners lie on a line has edges but no area: the error says so.
+#[test]
+fn a_flat_triangle_is_refused_for_having_no_area() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("flat.obj");
+    fs::write(&input, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&["remesh", s(&input), s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, dir.path());
+    assert!(line.contains("zero area"), "{line}");
+    assert!(!out.exists());
+}

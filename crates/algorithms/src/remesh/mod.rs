@@ -72,12 +72,12 @@ mod sizing;
 use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
-use beltrami_halfedge::geometry::{DEGENERACY_RATIO, Geometry};
+use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
-use crate::error::{algorithm_error, check_finite, check_mesh};
+use crate::error::{about_count, algorithm_error, check_finite, check_mesh, short};
 
 use passes::Remesher;
 use phong::PhongSurface;
@@ -365,10 +365,16 @@ algorithm_error! {
         /// remesh and no mean edge length.
         #[error("the mesh has no faces or no edge of non-zero length; there is nothing to remesh")]
         Empty,
+        /// Every face of the mesh has zero area (its triangles are flat: their corners
+        /// lie on a line or coincide): there is no surface to remesh.
+        #[error("every face of the mesh has zero area (its corners lie on a line); there is no surface to remesh")]
+        NoArea,
         /// The target length is so small for the surface's area that the result would be
         /// too large.
         #[error(
-            "a target edge length of {edge_length} would make about {predicted:.2e} triangles; at most {max} are allowed"
+            "a target edge length of {} would make {} triangles; at most {max} are allowed",
+            short(*.edge_length),
+            about_count(*.predicted)
         )]
         TooManyFaces {
             /// The (smallest) target edge length.
@@ -395,7 +401,8 @@ algorithm_error! {
         /// whose tangential relaxation then draws them together). The run stops there;
         /// no mesh is returned.
         #[error(
-            "{faces} of the result's {total} faces would be degenerate (the input has {input_faces}): a target edge length of {edge_length} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one"
+            "{faces} of the result's {total} faces would be degenerate (the input has {input_faces}): a target edge length of {} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one",
+            short(*.edge_length)
         )]
         Degenerate {
             /// Degenerate faces of the result.
@@ -416,7 +423,8 @@ algorithm_error! {
         /// projection keeps them on the surface). The run stops there; no mesh is
         /// returned.
         #[error(
-            "the result would shrink to {extent:.6} across, against the input's bounding box diagonal of {diagonal:.6}: a target edge length of {edge_length} is too long for this surface; use a shorter one"
+            "the result would shrink to {extent:.6} across, against the input's bounding box diagonal of {diagonal:.6}: a target edge length of {} is too long for this surface; use a shorter one",
+            short(*.edge_length)
         )]
         Shrunk {
             /// The bounding box diagonal of the result's triangles at that iteration.
@@ -535,7 +543,7 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
 /// # Errors
 /// [`RemeshError::PositionCount`], [`RemeshError::NotTriangle`],
 /// [`RemeshError::NonFinite`] for bad input; [`RemeshError::Empty`] for a mesh without
-/// faces or of zero size; [`RemeshError::Options`] for a non-positive or non-finite
+/// faces or of zero size; [`RemeshError::NoArea`] for one whose faces are all flat; [`RemeshError::Options`] for a non-positive or non-finite
 /// length, factor or error, an adaptive smallest length above the largest, or a feature
 /// angle outside `[0, π]`; [`RemeshError::TooManyFaces`] when the target length is too
 /// small for the surface.
@@ -608,8 +616,11 @@ pub fn remesh_with_progress(
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
     let total_area: f64 = edit.faces().map(|f| face_area(&edit, f)).sum();
-    if mesh.n_faces() == 0 || !is_positive(mean_before) || !is_positive(total_area) {
+    if mesh.n_faces() == 0 || !is_positive(mean_before) {
         return Err(RemeshError::Empty);
+    }
+    if !is_positive(total_area) {
+        return Err(RemeshError::NoArea);
     }
     let target = target_length(options, mean_before)?;
     let feature = edit.add_edge_property("remesh:feature", false)?;
@@ -628,23 +639,29 @@ pub fn remesh_with_progress(
         PhongSurface::new(mesh, positions, |e| flags[e.index()])
     });
     let index = SurfaceIndex::new(mesh, positions)?;
-    let sizing = edit.add_vertex_property("remesh:sizing", target)?;
+    // Lengths far beyond the surface's extent act alike (every edge is short, no edge
+    // long); capped, their squares (the relaxation's weights) stay finite.
+    let cap = MAX_SIZING_SHARE * face_extent(&edit);
+    let sizing = edit.add_vertex_property("remesh:sizing", target.min(cap))?;
     let mut reference = None;
     let mut target = target;
     let mut adaptive = None;
     if let EdgeLength::Adaptive(given) = options.edge_length {
         let curvature = sizing::curvature_field(&edit, feature);
         let lengths = sizing::resolve(given, &curvature, mean_before);
-        let field = sizing::lengths(&curvature, lengths);
+        let mut field = sizing::lengths(&curvature, lengths);
+        target = mean(&field);
+        for x in &mut field {
+            *x = x.min(cap);
+        }
         for v in mesh.vertices() {
             edit.set(sizing, v, field[v.index()]);
         }
-        target = field.iter().sum::<f64>() / field.len() as f64;
         reference = Some(field);
         adaptive = Some(lengths);
     }
     check_result_size(&edit, sizing)?;
-    let guard = DegeneracyGuard::new(&edit, &Geometry::new(mesh, positions)?, target);
+    let guard = DegeneracyGuard::new(&edit, target);
 
     let mut remesher = Remesher {
         mesh: edit,
@@ -688,6 +705,25 @@ pub fn remesh_with_progress(
     Ok((out, out_positions, report))
 }
 
+/// The multiple of the extent of the input's triangles (their bounding box diagonal) at
+/// which the target length at a vertex is capped. A target beyond the surface's
+/// extent makes every edge short and none long, so the runs do the same at any such
+/// length; the cap keeps the relaxation's weights (areas over squared lengths) from
+/// vanishing when a length's square overflows (about 1.3e154 and up), which let a
+/// sphere collapse into a sliver tetrahedron instead of being refused.
+const MAX_SIZING_SHARE: f64 = 1e3;
+
+/// The mean of `values` (not empty), without overflow for values near `f64::MAX`.
+fn mean(values: &[f64]) -> f64 {
+    let n = values.len() as f64;
+    let sum = values.iter().sum::<f64>();
+    if sum.is_finite() {
+        sum / n
+    } else {
+        values.iter().map(|x| x / n).sum()
+    }
+}
+
 /// The share of the input's bounding box diagonal below which the result's triangles'
 /// extent means the surface was drawn together ([`RemeshError::Shrunk`]). A tetrahedron
 /// inscribed in a sphere keeps 0.58 of the sphere's; the 8-vertex cube remeshed at its
@@ -715,8 +751,10 @@ struct DegeneracyGuard {
 impl DegeneracyGuard {
     /// The guard of a run on `input` (whose editable copy is `edit`) towards
     /// `edge_length`.
-    fn new(edit: &EditMesh, input: &Geometry<'_>, edge_length: f64) -> Self {
-        let diagonal = input.bounding_box().map_or(0.0, |(lo, hi)| lo.distance(hi));
+    fn new(edit: &EditMesh, edge_length: f64) -> Self {
+        // The triangles' extent, as for the result: isolated vertices are no part of
+        // the surface (and stay where they are).
+        let diagonal = face_extent(edit);
         let point = 1e-9 * diagonal;
         Self {
             point,
