@@ -76,27 +76,19 @@ pub(crate) struct DecimateArgs {
     /// After the collapses, flip edges towards valence 6 (4 on the boundary) where a flip
     /// moves the surface by at most F times the largest collapse error, turns no triangle
     /// over and leaves no triangle below shape quality 0.4 unless the two it replaces
-    /// were worse; 0 turns the flips off. At least 0. No flips with --max-distance or
-    /// --max-normal-deviation.
-    #[arg(
-        long,
-        value_name = "F",
-        default_value_t = 0.2,
-        allow_negative_numbers = true
-    )]
-    flip_tolerance: f64,
+    /// were worse; 0 turns the flips off. At least 0 (default 0.2). No flips with
+    /// --max-distance or --max-normal-deviation, so a tolerance above 0 given with
+    /// either is refused.
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    flip_tolerance: Option<f64>,
     /// Rounds of the final fit to the input: after the collapses and flips, the vertices
     /// move (mostly along the normal) to bring the output surface closer to the input's
     /// triangles, keeping every triangle's orientation and shape (quality 0.3, or no
-    /// worse); 0 turns it off. Not with --placement endpoint, --max-distance or
-    /// --max-normal-deviation.
-    #[arg(
-        long,
-        value_name = "N",
-        default_value_t = beltrami_algorithms::DEFAULT_FIT_ROUNDS,
-        allow_negative_numbers = true
-    )]
-    fit_rounds: usize,
+    /// worse); 0 turns it off (default 2). No fit with --placement endpoint,
+    /// --max-distance or --max-normal-deviation, so a count above 0 given with any of
+    /// them is refused.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    fit_rounds: Option<usize>,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
     /// placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no
     /// fit.
@@ -254,10 +246,43 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             number(args.stabilizer)
         ));
     }
-    if !(args.flip_tolerance >= 0.0 && args.flip_tolerance.is_finite()) {
+    let flip_tolerance = args
+        .flip_tolerance
+        .unwrap_or(DecimateOptions::default().flip_tolerance);
+    if !(flip_tolerance >= 0.0 && flip_tolerance.is_finite()) {
         return usage(format!(
             "--flip-tolerance must be >= 0, got {}",
-            number(args.flip_tolerance)
+            number(flip_tolerance)
+        ));
+    }
+    let fit_rounds = args
+        .fit_rounds
+        .unwrap_or(beltrami_algorithms::DEFAULT_FIT_ROUNDS);
+    // Options given explicitly that the run could not honour are refused, not dropped.
+    let bounds = [
+        (args.max_distance.is_some(), "--max-distance"),
+        (
+            args.max_normal_deviation.is_some(),
+            "--max-normal-deviation",
+        ),
+    ];
+    if args.fit_rounds.is_some_and(|n| n > 0) {
+        let endpoint = !args.openmesh && matches!(args.placement, PlacementArg::Endpoint);
+        if let Some((_, name)) = [(endpoint, "--placement endpoint")]
+            .iter()
+            .chain(&bounds)
+            .find(|(given, _)| *given)
+        {
+            return usage(format!(
+                "--fit-rounds cannot be used with {name}, with which no fit is made (leave --fit-rounds out or give 0)"
+            ));
+        }
+    }
+    if args.flip_tolerance.is_some_and(|f| f > 0.0)
+        && let Some((_, name)) = bounds.iter().find(|(given, _)| *given)
+    {
+        return usage(format!(
+            "--flip-tolerance cannot be used with {name}, with which no flips are made (leave --flip-tolerance out or give 0)"
         ));
     }
     options = if args.openmesh {
@@ -275,8 +300,8 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             .quality_threshold(args.quality_threshold)
             .area_weighted(args.plane_weights == PlaneWeightsArg::Area)
             .stabilizer(args.stabilizer)
-            .flip_tolerance(args.flip_tolerance)
-            .fit_rounds(args.fit_rounds)
+            .flip_tolerance(flip_tolerance)
+            .fit_rounds(fit_rounds)
     };
     Ok(options.keep_boundary(args.keep_boundary))
 }
@@ -397,11 +422,7 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             _ => "area",
         },
         stabilizer: if args.openmesh { 0.0 } else { args.stabilizer },
-        flip_tolerance: if args.openmesh {
-            0.0
-        } else {
-            args.flip_tolerance
-        },
+        flip_tolerance: options.flip_tolerance,
         flips: report.flips,
         fit_rounds: report.fit_rounds,
         fit_rms_before: report.fit_rms_before,

@@ -183,6 +183,12 @@ fn openmesh_mode_and_endpoint_placement_keep_input_points() {
         &["--fit-rounds", "-1"],
         &["--fit-rounds", "two"],
         &["--openmesh", "--fit-rounds", "1"],
+        // Options that cannot take effect are refused, not dropped.
+        &["--fit-rounds", "3", "--placement", "endpoint"],
+        &["--fit-rounds", "3", "--max-distance", "0.1"],
+        &["--fit-rounds", "1", "--max-normal-deviation", "30"],
+        &["--flip-tolerance", "0.7", "--max-distance", "1"],
+        &["--flip-tolerance", "0.2", "--max-normal-deviation", "30"],
     ] {
         let out = dir.path().join("bad.ply");
         let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3"];
@@ -470,4 +476,50 @@ fn plane_weights_and_the_stabilizer_reach_the_library() {
     // Each setting changes where the kept vertices go.
     assert_ne!(outputs[0], outputs[1]);
     assert_ne!(outputs[1], outputs[2]);
+}
+
+/// An option left at its default, or turned off with 0, never triggers the refusal of
+/// an option that cannot take effect; the refusal names both options on one line.
+#[test]
+fn fit_rounds_and_flip_tolerance_are_refused_only_when_they_could_not_take_effect() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let out = dir.path().join("out.ply");
+    for ok in [
+        &["--placement", "endpoint"][..],
+        &["--max-distance", "1"],
+        &["--max-normal-deviation", "30"],
+        &["--fit-rounds", "0", "--placement", "endpoint"],
+        &["--fit-rounds", "0", "--max-distance", "1"],
+        &["--flip-tolerance", "0", "--max-distance", "1"],
+        &["--flip-tolerance", "0.5", "--placement", "endpoint"],
+    ] {
+        let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.25", "--force"];
+        args.extend_from_slice(ok);
+        let o = beltrami(&args);
+        assert!(
+            o.status.success(),
+            "{ok:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--ratio",
+        "0.25",
+        "--force",
+        "--fit-rounds",
+        "3",
+        "--placement",
+        "endpoint",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("--fit-rounds") && stderr.contains("--placement endpoint"),
+        "{stderr}"
+    );
 }
