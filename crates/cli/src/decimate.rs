@@ -172,9 +172,9 @@ struct Summary {
     /// Rounds of the final fit to the input done (0: none).
     fit_rounds: usize,
     /// The area-weighted RMS distance of the input's face centroids, along their
-    /// normals, to the output before and after the fit (0 without a fit).
-    fit_rms_before: f64,
-    fit_rms_after: f64,
+    /// normals, to the output before and after the fit (null without a fit).
+    fit_rms_before: Option<f64>,
+    fit_rms_after: Option<f64>,
     /// The largest quadric error of a collapse done, as a distance in the mesh's unit.
     max_quadric_error: f64,
     /// The symmetric Hausdorff distance output <-> input, in the mesh's unit (null
@@ -378,6 +378,8 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         Some(start.elapsed().as_secs_f64())
     };
     let measured = |x: f64| report.distance_measured.then_some(x);
+    // No fit ran: null, not a 0 that reads as a perfect fit.
+    let fitted = |x: f64| (report.fit_rounds > 0).then_some(x);
     let quality = QualityChange::measure(
         &args.input,
         "decimate",
@@ -425,8 +427,8 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         flip_tolerance: options.flip_tolerance,
         flips: report.flips,
         fit_rounds: report.fit_rounds,
-        fit_rms_before: report.fit_rms_before,
-        fit_rms_after: report.fit_rms_after,
+        fit_rms_before: fitted(report.fit_rms_before),
+        fit_rms_after: fitted(report.fit_rms_after),
         max_quadric_error: report.max_quadric_error,
         hausdorff: measured(report.hausdorff),
         hausdorff_to_input: measured(report.hausdorff_to_input),

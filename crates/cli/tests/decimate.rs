@@ -351,10 +351,14 @@ fn the_fit_rounds_reach_the_library_and_the_summary() {
         assert_eq!(got.positions, positions, "{extra:?}");
         assert_eq!(got.faces, want.to_polygons(), "{extra:?}");
         assert_eq!(summary["fit_rounds"], rounds, "{extra:?}");
-        assert_eq!(f(&summary["fit_rms_before"]), report.fit_rms_before);
-        assert_eq!(f(&summary["fit_rms_after"]), report.fit_rms_after);
         if rounds > 0 {
+            assert_eq!(f(&summary["fit_rms_before"]), report.fit_rms_before);
+            assert_eq!(f(&summary["fit_rms_after"]), report.fit_rms_after);
             assert!(report.fit_rms_after < report.fit_rms_before, "{report:?}");
+        } else {
+            // No fit: null, not a 0.0 that reads as a perfect fit.
+            assert!(summary["fit_rms_before"].is_null(), "{summary}");
+            assert!(summary["fit_rms_after"].is_null(), "{summary}");
         }
     }
 }
@@ -522,4 +526,33 @@ fn fit_rounds_and_flip_tolerance_are_refused_only_when_they_could_not_take_effec
         stderr.contains("--fit-rounds") && stderr.contains("--placement endpoint"),
         "{stderr}"
     );
+}
+
+/// Without a fit (endpoint placement, a bound, --openmesh) the fit's RMS values are
+/// null in --json and the sentence has no fit clause.
+#[test]
+fn the_fit_rms_is_null_when_no_fit_ran() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("noisy_icosphere_4.ply");
+    let out = dir.path().join("out.ply");
+    for extra in [
+        &["--placement", "endpoint"][..],
+        &["--openmesh"],
+        &["--max-distance", "1"],
+        &["--max-normal-deviation", "30"],
+    ] {
+        let mut args = vec!["decimate", s(&input), s(&out), "--ratio", "0.3", "--force"];
+        args.extend_from_slice(extra);
+        let text = beltrami(&args);
+        assert!(text.status.success(), "{extra:?}");
+        assert!(
+            !String::from_utf8_lossy(&text.stdout).contains("fitted"),
+            "{extra:?}"
+        );
+        args.extend(["--json", "--no-distance"]);
+        let summary: Value = serde_json::from_slice(&beltrami(&args).stdout).unwrap();
+        assert_eq!(summary["fit_rounds"], 0, "{extra:?}");
+        assert!(summary["fit_rms_before"].is_null(), "{extra:?}: {summary}");
+        assert!(summary["fit_rms_after"].is_null(), "{extra:?}: {summary}");
+    }
 }
