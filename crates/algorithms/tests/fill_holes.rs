@@ -330,6 +330,43 @@ fn a_hole_of_three_edges_becomes_one_triangle() {
     assert!(out.is_closed());
 }
 
+/// The rim of a lone triangle is a loop of three edges whose only triangulation repeats
+/// the triangle: a duplicate face (which `repair` drops), so the loop stays open, with
+/// `--all` too, as hole-filling.md says of loops that would duplicate an edge. A
+/// triangle on the loop next to two other triangles (a hole, above) still fills.
+#[test]
+fn the_rim_of_a_lone_triangle_stays_open() {
+    let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
+    let mesh = HalfedgeMesh::from_polygons(3, [&[0u32, 1, 2][..]]).unwrap();
+    let (out, y, report) = fill_holes(&mesh, &positions, &all()).unwrap();
+    assert_eq!(report.faces_added, 0);
+    assert_eq!(out.n_faces(), 1);
+    assert_eq!(y, positions);
+    assert_eq!(report.skipped.len(), 1);
+    assert_eq!(
+        report.skipped[0].reason,
+        SkipReason::NoManifoldTriangulation
+    );
+    // Two triangles sharing an edge: their four-edge rim fills without a duplicate.
+    let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.2)];
+    let mesh = HalfedgeMesh::from_polygons(4, [&[0u32, 1, 2][..], &[1, 3, 2]]).unwrap();
+    let (out, _, report) = fill_holes(&mesh, &positions, &all()).unwrap();
+    assert!(report.faces_added >= 2, "{report:?}");
+    let mut faces: Vec<Vec<u32>> = out
+        .to_polygons()
+        .iter()
+        .map(|f| {
+            let mut f = f.to_vec();
+            f.sort_unstable();
+            f
+        })
+        .collect();
+    let n = faces.len();
+    faces.sort();
+    faces.dedup();
+    assert_eq!(faces.len(), n, "a duplicate face");
+}
+
 #[test]
 fn filling_is_deterministic() {
     let torus = primitives::torus(3.0, 1.0, 24, 12);

@@ -239,3 +239,24 @@ fn bad_input_and_usage_leave_no_output() {
     let o = beltrami(&["fill-holes", s(&holes()), s(&holes())]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// `fill-holes --all` on a lone triangle leaves its rim open instead of writing a
+/// duplicate face that `repair` would then drop as a defect.
+#[test]
+fn all_on_a_lone_triangle_adds_no_duplicate_face() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("tri.obj");
+    fs::write(&input, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = dir.path().join("out.obj");
+    let summary = json(&["fill-holes", s(&input), s(&out), "--all", "--json"]);
+    assert_eq!(summary["faces_added"], 0, "{summary}");
+    assert_eq!(read_mesh(&out).unwrap().faces.len(), 1);
+    let repaired = dir.path().join("rep.obj");
+    let o = beltrami(&["repair", s(&out), s(&repaired)]);
+    assert!(o.status.success());
+    assert!(
+        !String::from_utf8_lossy(&o.stdout).contains("duplicate"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}

@@ -33,7 +33,8 @@
 //! hole); [`FillOptions::fill_all`] fills that one too, for a closed part. Loops of more
 //! than [`FillOptions::max_loop_edges`] edges are skipped, as are loops through a vertex
 //! with two boundary gaps and loops every triangulation of which would duplicate an
-//! edge; the report lists each skipped loop and why.
+//! edge or a face (the rim of a lone triangle); the report lists each skipped loop and
+//! why.
 //!
 //! **Numbering.** The input's vertices keep their ids, order and positions bit for bit;
 //! the new vertices follow them, hole by hole. The input's faces keep their ids and
@@ -218,7 +219,8 @@ pub enum SkipReason {
     /// A vertex of the loop appears twice in it or has a second boundary gap (another
     /// loop through it): filling would leave a non-manifold vertex.
     NonManifoldVertex,
-    /// Every triangulation of the loop would duplicate an edge already in the mesh.
+    /// Every triangulation of the loop would duplicate an edge already in the mesh, or
+    /// (a loop of three edges around one face, such as a lone triangle's) a face.
     NoManifoldTriangulation,
 }
 
@@ -230,7 +232,7 @@ impl SkipReason {
             Self::OuterBoundary => "the outer boundary (largest perimeter)",
             Self::TooLarge => "more edges than the limit",
             Self::NonManifoldVertex => "a vertex on two boundary loops",
-            Self::NoManifoldTriangulation => "no triangulation without a duplicate edge",
+            Self::NoManifoldTriangulation => "no triangulation without a duplicate edge or face",
         }
     }
 }

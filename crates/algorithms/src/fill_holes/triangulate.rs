@@ -76,7 +76,7 @@ pub(super) fn plan(
     let n = hole.len();
     let vertex: Vec<VertexId> = hole.iter().map(|&h| mesh.to_vertex(h)).collect();
     let index_of = loop_indices(mesh, &vertex)?;
-    if n < 3 {
+    if n < 3 || (n == 3 && closes_a_face(mesh, hole)) {
         return Err(TriangulateError::NoTriangulation);
     }
     let position: Vec<DVec3> = vertex.iter().map(|&v| mesh.position(v)).collect();
@@ -87,6 +87,15 @@ pub(super) fn plan(
         return Err(TriangulateError::NoTriangulation);
     }
     Ok(read_triangles(&vertex, &split))
+}
+
+/// Whether the three-edge loop `hole` is the rim of one existing face (a lone triangle,
+/// or the open side of a one-face sheet): its only triangulation would repeat that face
+/// on the same three vertices, a duplicate face that `repair` drops and that closes the
+/// sheet into a flat two-face pillow.
+fn closes_a_face(mesh: &EditMesh, hole: &[HalfedgeId]) -> bool {
+    let outside = |h: HalfedgeId| mesh.face(h.twin());
+    outside(hole[0]).is_some() && hole.iter().all(|&h| outside(h) == outside(hole[0]))
 }
 
 /// The loop index of each loop vertex.
