@@ -210,13 +210,13 @@ pub(crate) fn short(x: f64) -> String {
     }
 }
 
-/// "about N" for an estimated count of triangles, in scientific notation from a million,
-/// or "more than can be counted" when the estimate overflowed.
+/// "about N triangles" for an estimated count of triangles, in scientific notation, or
+/// "more triangles than can be counted" when the estimate overflowed.
 pub(crate) fn about_count(predicted: f64) -> String {
     if predicted.is_finite() {
-        format!("about {predicted:.2e}")
+        format!("about {predicted:.2e} triangles")
     } else {
-        "more than can be counted".to_string()
+        "more triangles than can be counted".to_string()
     }
 }
 
@@ -231,7 +231,10 @@ mod short_tests {
         assert_eq!(short(1.138_071_187_457_698_3), "1.13807");
         assert_eq!(short(0.1), "0.1");
         assert_eq!(short(0.0), "0");
-        assert_eq!(about_count(f64::INFINITY), "more than can be counted");
-        assert_eq!(about_count(1.5e9), "about 1.50e9");
+        assert_eq!(
+            about_count(f64::INFINITY),
+            "more triangles than can be counted"
+        );
+        assert_eq!(about_count(1.5e9), "about 1.50e9 triangles");
     }
 }

@@ -53,7 +53,7 @@ pub(crate) struct CompareArgs {
     /// by area (fixed seed), not only from the vertices, and the RMS distance of those
     /// points to the other surface each way ("surface rms", Metro's area-weighted error
     /// over whole faces) (N up to 10 million).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
     /// Replace the --scalars or --png file even when it is MESH or REFERENCE or
     /// write-protected.

@@ -12,7 +12,7 @@ use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::refuse_height_map_output;
-use crate::text::number;
+use crate::text::{exact, number};
 
 /// Arguments of `beltrami decimate`.
 #[derive(Debug, clap::Args)]
@@ -22,19 +22,19 @@ pub(crate) struct DecimateArgs {
     /// The decimated mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
     /// Keep this many vertices (give this or --ratio).
-    #[arg(long, value_name = "N")]
+    #[arg(long, allow_negative_numbers = true, value_name = "N")]
     vertices: Option<usize>,
     /// Keep this fraction of the vertices, in (0, 1] (give this or --vertices).
-    #[arg(long, value_name = "R")]
+    #[arg(long, allow_hyphen_values = true, value_name = "R")]
     ratio: Option<f64>,
     /// Refuse a collapse whose quadric error, as a distance in the mesh's unit (the
     /// area-weighted RMS distance of the new position to the planes of the merged
     /// triangles), exceeds this.
-    #[arg(long, value_name = "E")]
+    #[arg(long, allow_hyphen_values = true, value_name = "E")]
     max_error: Option<f64>,
     /// Refuse a collapse that turns a triangle's normal by more than this, in degrees
     /// (0 to 180), from any input triangle merged into it. Flips are always refused.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
     max_normal_deviation: Option<f64>,
     /// Never remove a boundary vertex (the boundary stays bit for bit).
     #[arg(long)]
@@ -56,7 +56,7 @@ pub(crate) struct DecimateArgs {
         long,
         value_name = "Q",
         default_value_t = 0.4,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     quality_threshold: f64,
     /// How each input triangle's plane counts in the vertex quadrics: by its area
@@ -70,7 +70,7 @@ pub(crate) struct DecimateArgs {
         long,
         value_name = "W",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     stabilizer: f64,
     /// After the collapses, flip edges towards valence 6 (4 on the boundary) where a flip
@@ -79,7 +79,7 @@ pub(crate) struct DecimateArgs {
     /// were worse; 0 turns the flips off. At least 0 (default 0.2). No flips with
     /// --max-distance or --max-normal-deviation, so a tolerance above 0 given with
     /// either is refused.
-    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     flip_tolerance: Option<f64>,
     /// Rounds of the final fit to the input: after the collapses and flips, the vertices
     /// move (mostly along the normal) to bring the output surface closer to the input's
@@ -96,11 +96,11 @@ pub(crate) struct DecimateArgs {
     openmesh: bool,
     /// Refuse a collapse that makes a triangle of a larger aspect ratio (1 for an
     /// equilateral triangle; at least 1) unless it improves on the triangles it replaces.
-    #[arg(long, value_name = "A")]
+    #[arg(long, allow_hyphen_values = true, value_name = "A")]
     max_aspect_ratio: Option<f64>,
     /// Refuse a collapse that leaves an input vertex farther than this (in the mesh's
     /// unit) from the output surface.
-    #[arg(long, value_name = "D")]
+    #[arg(long, allow_hyphen_values = true, value_name = "D")]
     max_distance: Option<f64>,
     /// Skip measuring the Hausdorff distance between the result and the input (it is
     /// only reported, never used by the decimation, and can take about as long as the
@@ -200,13 +200,16 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
         (Some(0), None) => return usage("--vertices must be at least 1".into()),
         (Some(n), None) => options.vertices(n),
         (None, Some(r)) if !(r > 0.0 && r <= 1.0) => {
-            return usage(format!("--ratio must be in (0, 1], got {}", number(r)));
+            return usage(format!("--ratio must be in (0, 1], got {}", exact(r)));
         }
         (None, Some(r)) => options.ratio(r),
     };
     if let Some(e) = args.max_error {
         if !(e >= 0.0 && e.is_finite()) {
-            return usage(format!("--max-error must be >= 0, got {}", number(e)));
+            return usage(format!(
+                "--max-error must be a finite number >= 0, got {}",
+                exact(e)
+            ));
         }
         options = options.max_error(e);
     }
@@ -214,7 +217,7 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
         if !(0.0..=180.0).contains(&d) {
             return usage(format!(
                 "--max-normal-deviation must be between 0 and 180 degrees, got {}",
-                number(d)
+                exact(d)
             ));
         }
         options = options.max_normal_deviation(d.to_radians());
@@ -222,28 +225,31 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
     if let Some(a) = args.max_aspect_ratio {
         if !(a >= 1.0 && a.is_finite()) {
             return usage(format!(
-                "--max-aspect-ratio must be >= 1, got {}",
-                number(a)
+                "--max-aspect-ratio must be a finite number >= 1, got {}",
+                exact(a)
             ));
         }
         options = options.max_aspect_ratio(a);
     }
     if let Some(d) = args.max_distance {
         if !(d >= 0.0 && d.is_finite()) {
-            return usage(format!("--max-distance must be >= 0, got {}", number(d)));
+            return usage(format!(
+                "--max-distance must be a finite number >= 0, got {}",
+                exact(d)
+            ));
         }
         options = options.max_distance(d);
     }
     if !(0.0..=1.0).contains(&args.quality_threshold) {
         return usage(format!(
             "--quality-threshold must be in [0, 1], got {}",
-            number(args.quality_threshold)
+            exact(args.quality_threshold)
         ));
     }
     if !(args.stabilizer >= 0.0 && args.stabilizer.is_finite()) {
         return usage(format!(
-            "--stabilizer must be >= 0, got {}",
-            number(args.stabilizer)
+            "--stabilizer must be a finite number >= 0, got {}",
+            exact(args.stabilizer)
         ));
     }
     let flip_tolerance = args
@@ -251,8 +257,8 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
         .unwrap_or(DecimateOptions::default().flip_tolerance);
     if !(flip_tolerance >= 0.0 && flip_tolerance.is_finite()) {
         return usage(format!(
-            "--flip-tolerance must be >= 0, got {}",
-            number(flip_tolerance)
+            "--flip-tolerance must be a finite number >= 0, got {}",
+            exact(flip_tolerance)
         ));
     }
     let fit_rounds = args

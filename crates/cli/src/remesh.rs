@@ -11,7 +11,7 @@ use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::output::refuse_height_map_output;
-use crate::text::{counted, number};
+use crate::text::{counted, exact, number};
 
 /// Arguments of `beltrami remesh`.
 #[derive(Debug, clap::Args)]
@@ -22,11 +22,16 @@ pub(crate) struct RemeshArgs {
     output: PathBuf,
     /// The target edge length, in the mesh's unit. Default (without this and without
     /// --edge-length-relative): the input's mean edge length.
-    #[arg(long, value_name = "L", conflicts_with = "edge_length_relative")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_name = "L",
+        conflicts_with = "edge_length_relative"
+    )]
     edge_length: Option<f64>,
     /// The target edge length as a multiple of the input's mean edge length (default 1:
     /// the input's mean edge length).
-    #[arg(long, value_name = "R")]
+    #[arg(long, allow_hyphen_values = true, value_name = "R")]
     edge_length_relative: Option<f64>,
     /// Curvature-adaptive edge lengths (Dunyach et al. 2013): short edges where the
     /// surface is curved, long where it is flat, each edge deviating by about --error
@@ -37,24 +42,44 @@ pub(crate) struct RemeshArgs {
     adaptive: bool,
     /// With --adaptive: the smallest edge length, in the mesh's unit (default: a quarter
     /// of the input's mean edge length).
-    #[arg(long, value_name = "A", requires = "adaptive")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_name = "A",
+        requires = "adaptive"
+    )]
     min_edge: Option<f64>,
     /// With --adaptive: the largest edge length, in the mesh's unit (default: four times
     /// the input's mean edge length).
-    #[arg(long, value_name = "B", requires = "adaptive")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_name = "B",
+        requires = "adaptive"
+    )]
     max_edge: Option<f64>,
     /// With --adaptive: the allowed distance between an edge and the surface, in the
     /// mesh's unit (default: that of a chord as long as the input's mean edge on a circle
     /// of the input's median curvature).
-    #[arg(long, value_name = "E", requires = "adaptive")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_name = "E",
+        requires = "adaptive"
+    )]
     error: Option<f64>,
     /// The number of split-collapse-flip-relax iterations.
-    #[arg(long, value_name = "N", default_value_t = 10)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_name = "N",
+        default_value_t = 10
+    )]
     iterations: usize,
     /// Keep edges whose two triangles meet at more than this angle, in degrees (0 to
     /// 180), as feature curves; corners of features stay. Default: no feature edges (the
     /// boundary is kept in any case).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
     features: Option<f64>,
     /// Do not project the vertices back onto the input surface (they then move only
     /// within their tangent planes, and a curved surface shrinks slightly).
@@ -123,8 +148,8 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
             Ok(x)
         } else {
             Err(CliError::Usage(format!(
-                "{name} must be a positive number, got {}",
-                number(x)
+                "{name} must be a finite number > 0, got {}",
+                exact(x)
             )))
         }
     };
@@ -150,8 +175,8 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
         {
             return Err(CliError::Usage(format!(
                 "--min-edge ({}) must not exceed --max-edge ({})",
-                number(a),
-                number(b)
+                exact(a),
+                exact(b)
             )));
         }
         options = options.adaptive_sizing(sizing);
@@ -160,7 +185,7 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
         if !(0.0..=180.0).contains(&d) {
             return Err(CliError::Usage(format!(
                 "--features must be between 0 and 180 degrees, got {}",
-                number(d)
+                exact(d)
             )));
         }
         options = options.feature_angle(d.to_radians());

@@ -33,6 +33,13 @@ pub(crate) fn number(x: f64) -> String {
     }
 }
 
+/// `x` exactly as given, for a usage error that echoes a value back: the shortest text
+/// that reads back to the same number, in scientific notation when very large or small
+/// (`180.0001`, not [`number`]'s `180`; `1e300`, not 301 digits).
+pub(crate) fn exact(x: f64) -> String {
+    format!("{x:?}")
+}
+
 /// A point or direction as `(x, y, z)` with [`number`]s.
 pub(crate) fn vector(v: glam::DVec3) -> String {
     format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
@@ -62,6 +69,15 @@ pub(crate) fn counted(n: usize, one: &str, many: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn exact_values_are_echoed_exactly_and_briefly() {
+        assert_eq!(exact(180.0001), "180.0001");
+        assert_eq!(exact(1e300), "1e300");
+        assert_eq!(exact(1e-300), "1e-300");
+        assert_eq!(exact(-1.0), "-1.0");
+        assert_eq!(exact(f64::INFINITY), "inf");
+    }
 
     #[test]
     fn numbers_have_six_significant_digits_and_no_trailing_zeros() {

@@ -556,3 +556,38 @@ fn the_fit_rms_is_null_when_no_fit_ran() {
         assert!(summary["fit_rms_after"].is_null(), "{extra:?}: {summary}");
     }
 }
+
+/// An infinite bound is "not a finite number", not a contradiction ("must be >= 0, got
+/// inf"), and a negative one given as a separate argument reaches the same check.
+#[test]
+fn bounds_must_be_finite_numbers_and_may_be_given_negative() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    for (args, message) in [
+        (
+            &["--max-error=inf"][..],
+            "--max-error must be a finite number >= 0, got inf",
+        ),
+        (
+            &["--max-distance", "-1"][..],
+            "--max-distance must be a finite number >= 0, got -1",
+        ),
+        (
+            &["--stabilizer", "-inf"][..],
+            "--stabilizer must be a finite number >= 0, got -inf",
+        ),
+        (
+            &["--max-aspect-ratio", "inf"][..],
+            "--max-aspect-ratio must be a finite number >= 1, got inf",
+        ),
+    ] {
+        let mut all = vec!["decimate", s(&input), s(&out), "--ratio", "0.5"];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(message), "{stderr}");
+    }
+}

@@ -503,3 +503,54 @@ fn a_flat_triangle_is_refused_for_having_no_area() {
     assert!(line.contains("zero area"), "{line}");
     assert!(!out.exists());
 }
+
+/// A negative or infinite number given as a separate argument reaches the option's own
+/// range check (exit 2, one line), not the parser's "unexpected argument" with a tip
+/// that would make it a positional argument; values are echoed exactly, not rounded.
+#[test]
+fn negative_and_out_of_range_numbers_get_the_options_own_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    for (args, message) in [
+        (
+            &["--edge-length", "-1"][..],
+            "--edge-length must be a finite number > 0, got -1",
+        ),
+        (
+            &["--edge-length", "-inf"][..],
+            "--edge-length must be a finite number > 0, got -inf",
+        ),
+        (
+            &["--edge-length-relative", "inf"][..],
+            "--edge-length-relative must be a finite number > 0, got inf",
+        ),
+        (
+            &["--adaptive", "--min-edge", "-0.5"][..],
+            "--min-edge must be a finite number > 0, got -0.5",
+        ),
+        (
+            &["--features", "180.0001"][..],
+            "--features must be between 0 and 180 degrees, got 180.0001",
+        ),
+    ] {
+        let mut all = vec!["remesh", s(&input), s(&out)];
+        all.extend_from_slice(args);
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(message), "{stderr}");
+        assert!(!out.exists());
+    }
+    // The positionals still parse around an option given a negative value.
+    let o = beltrami(&["remesh", "--edge-length", "-1", s(&input), s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("finite number > 0"));
+    // A tiny length prints in six significant digits, and no "inf" count.
+    let o = beltrami(&["remesh", s(&input), s(&out), "--edge-length", "1e-300"]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, dir.path());
+    assert!(line.contains("a target edge length of 1e-300"), "{line}");
+    assert!(!line.contains("inf"), "{line}");
+}

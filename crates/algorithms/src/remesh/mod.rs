@@ -372,7 +372,7 @@ algorithm_error! {
         /// The target length is so small for the surface's area that the result would be
         /// too large.
         #[error(
-            "a target edge length of {} would make {} triangles; at most {max} are allowed",
+            "a target edge length of {} would make {}; at most {max} are allowed",
             short(*.edge_length),
             about_count(*.predicted)
         )]
