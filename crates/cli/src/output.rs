@@ -43,10 +43,16 @@ pub(crate) fn refuse_height_map_output(
             )))
         }
         Ok(_) => Ok(()),
-        Err(source) => Err(CliError::Io {
-            path: path.to_path_buf(),
-            source,
-        }),
+        // A bad OUTPUT name is a usage error (exit 2), as a height-map name is, and the
+        // list is of what this command writes.
+        Err(_) => Err(CliError::Usage(format!(
+            "{}: {} for the output; {command} writes .ply, .stl, .obj or .off",
+            path.display(),
+            path.extension().map_or_else(
+                || "no file extension".to_string(),
+                |e| format!("unsupported file extension {:?}", e.to_string_lossy())
+            ),
+        ))),
     }
 }
 

@@ -206,10 +206,16 @@ fn an_output_of_no_known_format_is_refused_before_any_work() {
         let mut args = vec![command, s(&missing), s(&out)];
         args.extend_from_slice(extra);
         let o = beltrami(&args);
-        assert_eq!(o.status.code(), Some(1), "{command}");
+        // A bad OUTPUT name is a usage error, as a height map's name is (exit 2), and
+        // the message lists what the command writes, not the height maps it reads.
+        assert_eq!(o.status.code(), Some(2), "{command}");
         let line = error_line(&o, dir.path());
         assert!(
             line.contains("result.xyz") && line.contains("unsupported file extension"),
+            "{command}: {line}"
+        );
+        assert!(
+            line.contains(".ply, .stl, .obj or .off") && !line.contains(".x3p"),
             "{command}: {line}"
         );
         assert!(!out.exists(), "{command}");
