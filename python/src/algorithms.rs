@@ -13,7 +13,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::errors::{MeshError, no_panic, nonnegative, nonnegative_opt, topology_error};
+use crate::errors::{
+    MeshError, at_least_opt, no_panic, nonnegative, nonnegative_opt, topology_error,
+};
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 
@@ -79,6 +81,26 @@ pub(crate) fn quality<'py>(
         })
     })?;
     quality_dict(py, &q, flipped)
+}
+
+/// `quality_before` and `quality_after` of an edit's report (as `--json` has them):
+/// the triangle quality of the input and of the result, measured without the GIL.
+fn set_quality_change(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    before: (&HalfedgeMesh, &[DVec3]),
+    after: (&HalfedgeMesh, &[DVec3]),
+) -> PyResult<()> {
+    let (b, a) = py.detach(|| {
+        no_panic(|| {
+            let b = mesh_quality(before.0, before.1).map_err(|e| quality_error(&e))?;
+            let a = mesh_quality(after.0, after.1).map_err(|e| quality_error(&e))?;
+            Ok((b, a))
+        })
+    })?;
+    d.set_item("quality_before", quality_dict(py, &b, None)?)?;
+    d.set_item("quality_after", quality_dict(py, &a, None)?)?;
+    Ok(())
 }
 
 fn quality_dict<'py>(
@@ -211,12 +233,32 @@ fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
 
 /// `remesh`'s `adaptive` argument: `True` (every value derived from the input) or a
 /// tuple `(min_edge, max_edge, error)` whose `None` entries are derived.
-#[derive(FromPyObject)]
 pub(crate) enum Adaptive {
     /// `True` or `False`.
     Flag(bool),
     /// The three values, each optional.
     Values((Option<f64>, Option<f64>, Option<f64>)),
+}
+
+impl<'py> FromPyObject<'py> for Adaptive {
+    /// `True`/`False`, or a sequence of three numbers or `None`s; anything else is a
+    /// `TypeError` that says what `adaptive` accepts (not PyO3's enum-extraction text).
+    fn extract_bound(value: &Bound<'py, PyAny>) -> PyResult<Self> {
+        if let Ok(flag) = value.extract::<bool>() {
+            return Ok(Self::Flag(flag));
+        }
+        value
+            .extract::<(Option<f64>, Option<f64>, Option<f64>)>()
+            .map(Self::Values)
+            .map_err(|_| {
+                let shown = value
+                    .repr()
+                    .map_or_else(|_| "?".to_string(), |r| r.to_string());
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "adaptive must be True, False, None or a tuple (min_edge, max_edge, error) of three numbers or None entries, got {shown}"
+                ))
+            })
+    }
 }
 
 /// Isotropic remeshing (Botsch & Kobbelt 2004), as `beltrami remesh`: splits, collapses,
@@ -332,6 +374,7 @@ pub(crate) fn remesh<'py>(
     d.set_item("feature_angle_degrees", features)?;
     d.set_item("projection", projection)?;
     d.set_item("smooth_projection", projection && smooth_projection)?;
+    set_quality_change(py, &d, (&mesh.mesh, &mesh.positions), (&m, &p))?;
     Ok((result_mesh(m, p), d))
 }
 
@@ -351,13 +394,23 @@ pub(crate) fn remesh<'py>(
 /// surface moves by at most that fraction of the largest collapse error, as
 /// `decimate --flip-tolerance`; `fit_rounds` (default 2, 0 turns it off) rounds of the
 /// final fit that moves the vertices to bring the surface closer to the input, as
-/// `decimate --fit-rounds`; `progress=True` shows a tqdm
-/// bar of the collapses when tqdm is installed. Returns `(Mesh, report)`, the report
-/// with the keys of `decimate --json` (without the file names and `seconds`).
+/// `decimate --fit-rounds`; `distance=False` skips measuring the Hausdorff distance
+/// (the three `hausdorff` keys are then None), as `decimate --no-distance`;
+/// `progress=True` shows a tqdm bar of the collapses when tqdm is installed. `None`
+/// means the default. Returns
+/// `(Mesh, report)`, the report with the keys of `decimate --json` (without the file
+/// names and `seconds`).
+///
+/// Options that could not take effect are refused, as the command line refuses them:
+/// with `openmesh=True`, any of `placement`, `quality_threshold`, `plane_weights`,
+/// `stabilizer`, `flip_tolerance` and `fit_rounds` given (OpenMesh's plain quadrics fix
+/// them); `fit_rounds` above 0 with `placement="endpoint"`, `max_distance` or
+/// `max_normal_deviation` (no fit is made with them); `flip_tolerance` above 0 with
+/// `max_distance` or `max_normal_deviation` (no flips are made with them).
 ///
 /// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
 #[pyfunction]
-#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = "optimal", quality_threshold = 0.4, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = "area", stabilizer = 0.0, flip_tolerance = 0.2, fit_rounds = 2, progress = false))]
+#[pyo3(signature = (mesh, vertices = None, *, ratio = None, max_error = None, max_normal_deviation = None, keep_boundary = false, placement = None, quality_threshold = None, openmesh = false, max_aspect_ratio = None, max_distance = None, plane_weights = None, stabilizer = None, flip_tolerance = None, fit_rounds = None, distance = true, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn decimate<'py>(
     py: Python<'py>,
@@ -367,19 +420,52 @@ pub(crate) fn decimate<'py>(
     max_error: Option<f64>,
     max_normal_deviation: Option<f64>,
     keep_boundary: bool,
-    placement: &str,
-    quality_threshold: f64,
+    placement: Option<&str>,
+    quality_threshold: Option<f64>,
     openmesh: bool,
     max_aspect_ratio: Option<f64>,
     max_distance: Option<f64>,
-    plane_weights: &str,
-    stabilizer: f64,
-    flip_tolerance: f64,
-    fit_rounds: i128,
+    plane_weights: Option<&str>,
+    stabilizer: Option<f64>,
+    flip_tolerance: Option<f64>,
+    fit_rounds: Option<i128>,
+    distance: bool,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
-    let vertices: Option<usize> = nonnegative_opt("vertices", vertices)?;
-    let fit_rounds: usize = nonnegative("fit_rounds", fit_rounds)?;
+    let vertices: Option<usize> = at_least_opt("vertices", vertices, 1)?;
+    if let Some(deg) = max_normal_deviation
+        && !(0.0..=180.0).contains(&deg)
+    {
+        return Err(PyValueError::new_err(format!(
+            "max_normal_deviation must be between 0 and 180 degrees, got {deg}"
+        )));
+    }
+    let given_fit_rounds: Option<usize> = nonnegative_opt("fit_rounds", fit_rounds)?;
+    refuse_ignored_decimate_options(
+        openmesh,
+        [
+            ("placement", placement.is_some()),
+            ("quality_threshold", quality_threshold.is_some()),
+            ("plane_weights", plane_weights.is_some()),
+            ("stabilizer", stabilizer.is_some()),
+            ("flip_tolerance", flip_tolerance.is_some()),
+            ("fit_rounds", given_fit_rounds.is_some()),
+        ],
+        placement == Some("endpoint"),
+        [
+            ("max_distance", max_distance.is_some()),
+            ("max_normal_deviation", max_normal_deviation.is_some()),
+        ],
+        given_fit_rounds.is_some_and(|n| n > 0),
+        flip_tolerance.is_some_and(|f| f > 0.0),
+    )?;
+    let defaults = DecimateOptions::default();
+    let fit_rounds = given_fit_rounds.unwrap_or(defaults.fit_rounds);
+    let quality_threshold = quality_threshold.unwrap_or(defaults.quality_threshold);
+    let stabilizer = stabilizer.unwrap_or(defaults.stabilizer);
+    let flip_tolerance = flip_tolerance.unwrap_or(defaults.flip_tolerance);
+    let placement = placement.unwrap_or("optimal");
+    let plane_weights = plane_weights.unwrap_or("area");
     let mut options = match (vertices, ratio) {
         (Some(n), None) => DecimateOptions::default().vertices(n),
         (None, Some(r)) => DecimateOptions::default().ratio(r),
@@ -412,11 +498,6 @@ pub(crate) fn decimate<'py>(
             )));
         }
     };
-    if openmesh && (!area_weighted || stabilizer != 0.0) {
-        return Err(PyValueError::new_err(
-            "openmesh=True is OpenMesh's plain quadrics: plane_weights and stabilizer cannot be set with it",
-        ));
-    }
     options = if openmesh {
         // OpenMesh's decimater makes no flips; the default tolerance does not apply.
         options
@@ -433,7 +514,9 @@ pub(crate) fn decimate<'py>(
             .flip_tolerance(flip_tolerance)
             .fit_rounds(fit_rounds)
     };
-    options = options.keep_boundary(keep_boundary);
+    options = options
+        .keep_boundary(keep_boundary)
+        .measure_distance(distance);
     if let Some(e) = max_error {
         options = options.max_error(e);
     }
@@ -501,13 +584,53 @@ pub(crate) fn decimate<'py>(
     d.set_item("flip_tolerance", options.flip_tolerance)?;
     d.set_item("flips", r.flips)?;
     d.set_item("fit_rounds", r.fit_rounds)?;
-    d.set_item("fit_rms_before", r.fit_rms_before)?;
-    d.set_item("fit_rms_after", r.fit_rms_after)?;
+    // None without a fit, as `--json`'s null: not a 0.0 that reads as a perfect fit.
+    let fitted = |x: f64| (r.fit_rounds > 0).then_some(x);
+    d.set_item("fit_rms_before", fitted(r.fit_rms_before))?;
+    d.set_item("fit_rms_after", fitted(r.fit_rms_after))?;
     d.set_item("max_quadric_error", r.max_quadric_error)?;
-    d.set_item("hausdorff", r.hausdorff)?;
-    d.set_item("hausdorff_to_input", r.hausdorff_to_input)?;
-    d.set_item("hausdorff_from_input", r.hausdorff_from_input)?;
+    // None when not measured (`distance=False`), as `--no-distance`'s null.
+    let measured = |x: f64| r.distance_measured.then_some(x);
+    d.set_item("hausdorff", measured(r.hausdorff))?;
+    d.set_item("hausdorff_to_input", measured(r.hausdorff_to_input))?;
+    d.set_item("hausdorff_from_input", measured(r.hausdorff_from_input))?;
+    set_quality_change(py, &d, (&mesh.mesh, &mesh.positions), (&m, &p))?;
     Ok((result_mesh(m, p), d))
+}
+
+/// Refuses, as `beltrami decimate` does (exit 2 there), options given explicitly that
+/// the run could not honour: any of `openmesh_conflicts` with `openmesh=True` (OpenMesh's
+/// plain quadrics fix them), `fit_rounds` above 0 with endpoint placement or a bound
+/// (`bounds`: `max_distance`, `max_normal_deviation`), and `flip_tolerance` above 0
+/// with a bound.
+fn refuse_ignored_decimate_options(
+    openmesh: bool,
+    openmesh_conflicts: [(&str, bool); 6],
+    endpoint: bool,
+    bounds: [(&str, bool); 2],
+    fits: bool,
+    flips: bool,
+) -> PyResult<()> {
+    if openmesh && let Some((name, _)) = openmesh_conflicts.iter().find(|(_, given)| *given) {
+        return Err(PyValueError::new_err(format!(
+            "{name} cannot be given with openmesh=True, which is OpenMesh's plain quadrics (endpoint placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no fit)"
+        )));
+    }
+    let bound = bounds
+        .iter()
+        .find(|(_, given)| *given)
+        .map(|(name, _)| *name);
+    if fits && let Some(name) = endpoint.then_some("placement='endpoint'").or(bound) {
+        return Err(PyValueError::new_err(format!(
+            "fit_rounds cannot be given with {name}, with which no fit is made (leave fit_rounds out or give 0)"
+        )));
+    }
+    if flips && let Some(name) = bound {
+        return Err(PyValueError::new_err(format!(
+            "flip_tolerance cannot be given with {name}, with which no flips are made (leave flip_tolerance out or give 0)"
+        )));
+    }
+    Ok(())
 }
 
 /// Hole filling (Liepa 2003), as `beltrami fill-holes`: each boundary loop of at most
@@ -517,7 +640,8 @@ pub(crate) fn decimate<'py>(
 /// Returns `(Mesh, report)`: `loops`, `filled` and `skipped` (a dict per loop:
 /// `boundary_edges`, `perimeter`, and `faces_added`, `vertices_added`, `area`,
 /// `faired_order` or the `reason`), `faces_added`, `vertices_added`,
-/// `boundary_loops_left`, as `fill-holes --json`. The input's vertices and faces keep
+/// `boundary_loops_left`, `max_loop_edges`, `quality_before` and `quality_after`, as
+/// `fill-holes --json`. The input's vertices and faces keep
 /// their indices; new ones are appended.
 ///
 /// `progress=True` shows a tqdm bar of the boundary loops when tqdm is installed; Ctrl-C
@@ -539,7 +663,7 @@ pub(crate) fn fill_holes<'py>(
         .fill_all(fill_all)
         .refine(refine)
         .fair(fair);
-    if let Some(n) = nonnegative_opt("max_loop_edges", max_loop_edges)? {
+    if let Some(n) = at_least_opt("max_loop_edges", max_loop_edges, 3)? {
         options = options.max_loop_edges(n);
     }
     let loops = mesh.mesh.boundary_loops().count();
@@ -598,5 +722,6 @@ pub(crate) fn fill_holes<'py>(
     d.set_item("vertices_added", r.vertices_added)?;
     d.set_item("boundary_loops_left", m.boundary_loops().count())?;
     d.set_item("max_loop_edges", options.max_loop_edges)?;
+    set_quality_change(py, &d, (&mesh.mesh, &mesh.positions), (&m, &p))?;
     Ok((result_mesh(m, p), d))
 }

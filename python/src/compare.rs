@@ -150,12 +150,15 @@ pub(crate) fn compare<'py>(
     reference: &Mesh,
     samples: Option<i128>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let samples: usize = crate::errors::nonnegative_opt("samples", samples)?.unwrap_or(0);
-    if samples > MAX_SAMPLES {
+    // As `compare --samples`: 1 to MAX_SAMPLES points; None takes no samples.
+    if let Some(n) = samples
+        && !(1..=MAX_SAMPLES as i128).contains(&n)
+    {
         return Err(PyValueError::new_err(format!(
-            "samples must be at most {MAX_SAMPLES}, got {samples}"
+            "samples must be between 1 and {MAX_SAMPLES} (or None for no samples), got {n}"
         )));
     }
+    let samples = samples.map_or(0, |n| n as usize);
     needs_faces(mesh, "mesh")?;
     needs_faces(reference, "reference")?;
     let start = Instant::now();

@@ -29,6 +29,26 @@ pub(crate) fn nonnegative<T: TryFrom<i128>>(name: &str, value: i128) -> PyResult
     })
 }
 
+/// An optional integer argument of at least `min`, as a `T`: a `ValueError` that states
+/// the real limit ("vertices must be at least 1, got -1") below it, and says it is too
+/// large when it does not fit.
+pub(crate) fn at_least_opt<T: TryFrom<i128>>(
+    name: &str,
+    value: Option<i128>,
+    min: i128,
+) -> PyResult<Option<T>> {
+    value
+        .map(|v| {
+            if v < min {
+                return Err(PyValueError::new_err(format!(
+                    "{name} must be at least {min}, got {v}"
+                )));
+            }
+            T::try_from(v).map_err(|_| PyValueError::new_err(format!("{name} is too large: {v}")))
+        })
+        .transpose()
+}
+
 /// [`nonnegative`] for an optional argument.
 pub(crate) fn nonnegative_opt<T: TryFrom<i128>>(
     name: &str,

@@ -15,6 +15,10 @@ use pyo3::types::PyDict;
 use crate::errors::{io_error, no_panic, topology_error};
 use crate::mesh::Mesh;
 
+// The signature of `read` writes the default out (a literal shows in
+// `inspect.signature`, a constant shows as `Ellipsis`): it must stay the library's.
+const _: () = assert!(Weld::DEFAULT_RELATIVE == 1e-6);
+
 /// The largest weld tolerance, as on the command line: a hundredth of the diagonal
 /// already joins features of a coarse mesh.
 const MAX_WELD_TOLERANCE: f64 = 0.01;
@@ -33,7 +37,7 @@ const MAX_WELD_TOLERANCE: f64 = 0.01;
 /// `FormatError` when it cannot be decoded and `MeshError` when its faces are not an
 /// oriented 2-manifold. The file is read without holding the GIL.
 #[pyfunction]
-#[pyo3(signature = (path, *, weld_tolerance = Weld::DEFAULT_RELATIVE, lenient = false, repair = false))]
+#[pyo3(signature = (path, *, weld_tolerance = 1e-6, lenient = false, repair = false))]
 pub(crate) fn read(
     py: Python<'_>,
     path: PathBuf,
@@ -85,17 +89,28 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
 /// vertex) adds per-vertex `double` properties and needs a .ply path. The file is
 /// replaced atomically, without holding the GIL.
 ///
-/// Raises `FormatError` for an unsupported extension or bad scalars, `OSError` when
-/// the file cannot be written.
+/// A write-protected file is replaced only with `force=True`, as the commands replace
+/// one only with `--force`.
+///
+/// Raises `FormatError` for an unsupported extension or bad scalars,
+/// `PermissionError` for a write-protected file without `force`, `OSError` when the
+/// file cannot be written.
 #[pyfunction]
-#[pyo3(signature = (path, mesh, scalars = None, *, ascii = false))]
+#[pyo3(signature = (path, mesh, scalars = None, *, ascii = false, force = false))]
 pub(crate) fn write(
     py: Python<'_>,
     path: PathBuf,
     mesh: &Mesh,
     scalars: Option<&Bound<'_, PyDict>>,
     ascii: bool,
+    force: bool,
 ) -> PyResult<()> {
+    if !force && std::fs::metadata(&path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        return Err(pyo3::exceptions::PyPermissionError::new_err(format!(
+            "{}: the file is write-protected (pass force=True to replace it)",
+            path.display()
+        )));
+    }
     let options = WriteOptions::default().encoding(if ascii {
         Encoding::Ascii
     } else {

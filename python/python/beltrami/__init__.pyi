@@ -63,8 +63,10 @@ def write(
     scalars: Optional[Mapping[str, npt.ArrayLike]] = None,
     *,
     ascii: bool = False,
+    force: bool = False,
 ) -> None:
-    """Writes a mesh file; the format follows the extension."""
+    """Writes a mesh file; the format follows the extension. A write-protected file
+    is replaced only with `force=True` (PermissionError otherwise)."""
 
 def info(mesh: Mesh) -> dict[str, Any]:
     """Counts, topology and geometry, with the keys of `beltrami info --json`."""
@@ -175,18 +177,22 @@ def decimate(
     max_error: Optional[float] = None,
     max_normal_deviation: Optional[float] = None,
     keep_boundary: bool = False,
-    placement: Literal["optimal", "endpoint"] = "optimal",
-    quality_threshold: float = 0.4,
+    placement: Optional[Literal["optimal", "endpoint"]] = None,
+    quality_threshold: Optional[float] = None,
     openmesh: bool = False,
     max_aspect_ratio: Optional[float] = None,
     max_distance: Optional[float] = None,
-    plane_weights: Literal["area", "uniform"] = "area",
-    stabilizer: float = 0.0,
-    flip_tolerance: float = 0.2,
-    fit_rounds: int = 2,
+    plane_weights: Optional[Literal["area", "uniform"]] = None,
+    stabilizer: Optional[float] = None,
+    flip_tolerance: Optional[float] = None,
+    fit_rounds: Optional[int] = None,
+    distance: bool = True,
     progress: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
-    """Quadric-error decimation, as `beltrami decimate --json`."""
+    """Quadric-error decimation, as `beltrami decimate --json`. `None` means the
+    default ("optimal", 0.4, "area", 0.0, 0.2, 2); options that could not take effect
+    (with `openmesh=True`, or a fit or flips with a bound that excludes them) raise
+    ValueError."""
 
 def fill_holes(
     mesh: Mesh,
