@@ -451,7 +451,12 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     for line in &loaded.repair_lines {
         writeln!(out, "{line}")?;
     }
-    let target = if report.target_reached {
+    let target = if report.target_vertices > report.vertices_before {
+        format!(
+            "target {}: the input already has fewer vertices, nothing to collapse",
+            report.target_vertices
+        )
+    } else if report.target_reached {
         format!("target {} reached", report.target_vertices)
     } else {
         format!(

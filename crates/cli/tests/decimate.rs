@@ -591,3 +591,30 @@ fn bounds_must_be_finite_numbers_and_may_be_given_negative() {
         assert!(stderr.contains(message), "{stderr}");
     }
 }
+
+/// A target above the input's vertex count is not "reached": the sentence says the
+/// input already has fewer vertices.
+#[test]
+fn a_target_above_the_input_count_says_there_is_nothing_to_collapse() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&["decimate", s(&input), s(&out), "--vertices", "163"]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains(
+            "162 -> 162 vertices (target 163: the input already has fewer vertices, nothing to collapse)"
+        ),
+        "{text}"
+    );
+    let o = beltrami(&[
+        "decimate",
+        s(&input),
+        s(&out),
+        "--force",
+        "--vertices",
+        "162",
+    ]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("(target 162 reached)"));
+}
