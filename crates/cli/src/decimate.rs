@@ -491,6 +491,19 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         report.vertices_before,
         report.vertices_after,
     )?;
+    let isolated = loaded
+        .mesh
+        .vertices()
+        .filter(|&v| loaded.mesh.is_isolated(v))
+        .count();
+    if isolated > 0 {
+        writeln!(
+            out,
+            "note: the input has {} in no face; {} kept as they are and counted in the vertex counts and the target (--repair removes them)",
+            crate::text::counted(isolated, "isolated vertex", "isolated vertices"),
+            crate::text::plural(isolated, "it is", "they are"),
+        )?;
+    }
     quality.write_table(out)?;
     Ok(())
 }

@@ -618,3 +618,22 @@ fn a_target_above_the_input_count_says_there_is_nothing_to_collapse() {
     ]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("(target 162 reached)"));
 }
+
+/// Isolated vertices (in no face) stay and count in the target: a note says so and
+/// points to --repair, which removes them.
+#[test]
+fn isolated_vertices_get_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("bad/isolated_vertices.obj");
+    let out = dir.path().join("out.obj");
+    let o = beltrami(&["decimate", s(&input), s(&out), "--ratio", "0.5"]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("note: the input has 2 isolated vertices in no face"),
+        "{text}"
+    );
+    let plain = fixtures().join("icosphere_2.ply");
+    let o = beltrami(&["decimate", s(&plain), s(&out), "--force", "--ratio", "0.5"]);
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("isolated"));
+}
