@@ -181,33 +181,10 @@ algorithm_error! {
     }
 }
 
-/// `x` with six significant digits and no trailing zeros, for messages: `0.00702305`,
-/// `1234.57`, `1e-300`, `1e100` (plain notation from 1e-4 up to 1e6, scientific
-/// otherwise), so that a tiny or huge length does not print hundreds of digits.
+/// `x` with six significant digits, for messages (see
+/// [`short_number`](beltrami_halfedge::short_number)).
 pub(crate) fn short(x: f64) -> String {
-    fn trim(text: &str) -> &str {
-        if text.contains('.') {
-            text.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            text
-        }
-    }
-    if x == 0.0 || !x.is_finite() {
-        return x.to_string();
-    }
-    let magnitude = x.abs();
-    if (1e-4..1e6).contains(&magnitude) {
-        #[allow(clippy::cast_possible_truncation, reason = "a small exponent")]
-        let exponent = magnitude.log10().floor() as i32;
-        let decimals = usize::try_from((5 - exponent).max(0)).unwrap_or(0);
-        trim(&format!("{x:.decimals$}")).to_string()
-    } else {
-        let text = format!("{x:.5e}");
-        match text.split_once('e') {
-            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
-            None => text,
-        }
-    }
+    beltrami_halfedge::short_number(x)
 }
 
 /// "about N triangles" for an estimated count of triangles, in scientific notation, or
@@ -225,12 +202,7 @@ mod short_tests {
     use super::*;
 
     #[test]
-    fn numbers_in_messages_have_six_significant_digits() {
-        assert_eq!(short(1e-300), "1e-300");
-        assert_eq!(short(1e100), "1e100");
-        assert_eq!(short(1.138_071_187_457_698_3), "1.13807");
-        assert_eq!(short(0.1), "0.1");
-        assert_eq!(short(0.0), "0");
+    fn triangle_counts_in_messages() {
         assert_eq!(
             about_count(f64::INFINITY),
             "more triangles than can be counted"

@@ -10,27 +10,7 @@
 /// assert_eq!(number(0.0070230492772682895), "0.00702305");
 /// ```
 pub(crate) fn number(x: f64) -> String {
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    let magnitude = x.abs();
-    if (1e-4..1e6).contains(&magnitude) {
-        #[allow(clippy::cast_possible_truncation, reason = "a small exponent")]
-        let exponent = magnitude.log10().floor() as i32;
-        let decimals = usize::try_from((5 - exponent).max(0)).unwrap_or(0);
-        let text = format!("{x:.decimals$}");
-        // Rounding may carry into a new digit (999999.5 -> "1000000"); still fine.
-        trim_zeros(&text)
-    } else {
-        let text = format!("{x:.5e}");
-        match text.split_once('e') {
-            Some((mantissa, exponent)) => format!("{}e{exponent}", trim_zeros(mantissa)),
-            None => text,
-        }
-    }
+    beltrami_halfedge::short_number(x)
 }
 
 /// `x` exactly as given, for a usage error that echoes a value back: the shortest text
@@ -43,16 +23,6 @@ pub(crate) fn exact(x: f64) -> String {
 /// A point or direction as `(x, y, z)` with [`number`]s.
 pub(crate) fn vector(v: glam::DVec3) -> String {
     format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
-}
-
-/// Removes trailing zeros after a decimal point, and the point itself if nothing
-/// follows it.
-fn trim_zeros(text: &str) -> String {
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text.to_string()
-    }
 }
 
 /// `one` when `n` is 1, `many` otherwise: "1 triangle", "2 triangles".

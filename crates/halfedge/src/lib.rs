@@ -83,6 +83,7 @@ mod refine;
 mod release;
 pub mod reorder;
 mod repair;
+mod text;
 
 pub use boundary::BoundaryLoops;
 pub use build::{BuildOptions, BuildReport, MAX_ELEMENTS, VertexSplit};
@@ -102,3 +103,4 @@ pub use polygons::PolygonList;
 pub use raw::RawConnectivity;
 pub use release::release;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
+pub use text::short_number;
