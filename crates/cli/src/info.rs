@@ -280,13 +280,25 @@ fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, 
         Some(path) => {
             let reference = load(path, &args.read)?;
             if reference.faces != loaded.faces {
+                let (theirs, ours) = (reference.faces.len(), loaded.faces.len());
+                let how = match reference
+                    .faces
+                    .iter()
+                    .zip(loaded.faces.iter())
+                    .position(|(a, b)| a != b)
+                {
+                    Some(f) if theirs == ours => format!(
+                        "face {f} is ({}) there against ({}) here: the same number of faces, numbered differently (a format that welds its vertices, as STL does, renumbers them)",
+                        face_text(reference.faces.get(f)),
+                        face_text(loaded.faces.get(f))
+                    ),
+                    _ => format!("{theirs} faces against {ours}"),
+                };
                 return Err(CliError::Input {
                     path: path.clone(),
                     message: format!(
-                        "--reference must have the same faces as {} ({} faces against {}); the flipped-face count compares two placements of one mesh",
+                        "--reference must have the same faces as {} ({how}); the flipped-face count compares two placements of one mesh",
                         args.mesh.display(),
-                        reference.faces.len(),
-                        loaded.faces.len()
                     ),
                 });
             }
@@ -405,4 +417,13 @@ fn write_table(s: &Summary, repair_lines: &[String], out: &mut impl Write) -> st
         writeln!(out, "{line}")?;
     }
     Ok(())
+}
+
+/// A face's vertex indices as "a b c".
+fn face_text(face: Option<&[u32]>) -> String {
+    face.unwrap_or_default()
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(" ")
 }

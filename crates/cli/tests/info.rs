@@ -313,6 +313,19 @@ fn quality_table_and_flipped_faces_against_a_reference() {
     ]);
     assert_eq!(out.status.code(), Some(1));
     assert!(error_line(&out, dir.path()).contains("same faces"));
+    // The same sphere as STL (welded, renumbered): as many faces, numbered otherwise,
+    // and the line says so instead of "320 faces against 320".
+    let out = beltrami(&[
+        "info",
+        fixture("icosphere_2.ply").to_str().unwrap(),
+        "--quality",
+        "--reference",
+        fixture("icosphere_2.stl").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out, dir.path());
+    assert!(line.contains("numbered differently"), "{line}");
+    assert!(!line.contains("320 faces against 320"), "{line}");
     // --reference without --quality is a usage error.
     let out = beltrami(&[
         "info",
