@@ -122,6 +122,7 @@ def test_fill_holes_leaves_a_lone_triangle_open():
             lambda m: bt.decimate(m, ratio=0.5, max_normal_deviation=200),
             "^max_normal_deviation must be between 0 and 180 degrees, got 200",
         ),
+        (lambda m: bt.decimate(m, ratio=0.5, fit_rounds=101), "at most 100 rounds, got 101"),
         (lambda m: bt.compare(m, m, samples=0), "^samples must be between 1 and 10000000"),
         (lambda m: bt.compare(m, m, samples=-1), "^samples must be between 1 and 10000000"),
         (lambda m: bt.compare(m, m, samples=10**7 + 1), "^samples must be between 1 and 10000000"),

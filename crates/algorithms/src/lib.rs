@@ -58,7 +58,7 @@ mod valence;
 
 pub use decimate::{
     DEFAULT_FIT_ROUNDS, DecimateError, DecimateOptions, DecimateReport, DecimateStop,
-    DecimateTarget, Placement, RefusalCounts, decimate, decimate_with_progress,
+    DecimateTarget, MAX_FIT_ROUNDS, Placement, RefusalCounts, decimate, decimate_with_progress,
 };
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};
 pub use error::{DelaunayError, SubdivisionError};

@@ -84,7 +84,7 @@ pub(crate) struct DecimateArgs {
     /// Rounds of the final fit to the input: after the collapses and flips, the vertices
     /// move (mostly along the normal) to bring the output surface closer to the input's
     /// triangles, keeping every triangle's orientation and shape (quality 0.3, or no
-    /// worse); 0 turns it off (default 2). No fit with --placement endpoint,
+    /// worse); 0 turns it off (default 2, at most 100). No fit with --placement endpoint,
     /// --max-distance or --max-normal-deviation, so a count above 0 given with any of
     /// them is refused.
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
@@ -264,6 +264,12 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
     let fit_rounds = args
         .fit_rounds
         .unwrap_or(beltrami_algorithms::DEFAULT_FIT_ROUNDS);
+    if fit_rounds > beltrami_algorithms::MAX_FIT_ROUNDS {
+        return usage(format!(
+            "--fit-rounds must be at most {} (the distance stops falling after a few rounds), got {fit_rounds}",
+            beltrami_algorithms::MAX_FIT_ROUNDS
+        ));
+    }
     // Options given explicitly that the run could not honour are refused, not dropped.
     let bounds = [
         (args.max_distance.is_some(), "--max-distance"),

@@ -182,6 +182,10 @@ fn openmesh_mode_and_endpoint_placement_keep_input_points() {
         &["--openmesh", "--flip-tolerance", "0.5"],
         &["--fit-rounds", "-1"],
         &["--fit-rounds", "two"],
+        // A count far beyond what the fit can use (a typing error that would run for
+        // hours): 100 is the most.
+        &["--fit-rounds", "101"],
+        &["--fit-rounds", "4294967296"],
         &["--openmesh", "--fit-rounds", "1"],
         // Options that cannot take effect are refused, not dropped.
         &["--fit-rounds", "3", "--placement", "endpoint"],
