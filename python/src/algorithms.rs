@@ -366,6 +366,7 @@ pub(crate) fn remesh<'py>(
     d.set_item("mean_edge_length", r.mean_edge_length)?;
     d.set_item("edge_length_cv", r.edge_length_cv)?;
     d.set_item("feature_edges", r.feature_edges)?;
+    d.set_item("fold_edges", r.fold_edges)?;
     d.set_item("boundary_edges", r.boundary_edges)?;
     d.set_item("corners", r.corners)?;
     d.set_item("hausdorff", r.hausdorff)?;

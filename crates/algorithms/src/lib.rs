@@ -68,8 +68,8 @@ pub use fill_holes::{
 };
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
-    AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, MAX_REMESH_FACES,
-    MIN_EXTENT_SHARE, RemeshError, RemeshIteration, RemeshOptions, RemeshReport, SMOOTH_ANGLE,
-    remesh, remesh_with_progress,
+    AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, FOLD_ANGLE,
+    MAX_REMESH_FACES, MIN_EXTENT_SHARE, RemeshError, RemeshIteration, RemeshOptions, RemeshReport,
+    SMOOTH_ANGLE, remesh, remesh_with_progress,
 };
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

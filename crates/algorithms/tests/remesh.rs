@@ -1076,3 +1076,31 @@ fn a_mesh_of_flat_faces_is_refused_as_having_no_area() {
     assert_eq!(err, RemeshError::NoArea);
     assert!(err.to_string().contains("zero area"), "{err}");
 }
+
+/// Feature edges whose triangles fold back onto each other (a scan's folded slivers)
+/// are counted as folds: a flat grid has none at any feature angle; one vertex pushed
+/// across its neighbours turns its triangles over, and every feature edge found is then
+/// a fold (the grid is flat elsewhere).
+#[test]
+fn folded_feature_edges_are_counted_as_folds() {
+    let grid = primitives::grid(9, 7);
+    let mesh = grid.mesh().unwrap();
+    let options = RemeshOptions::default().feature_angle(45f64.to_radians());
+    let (_, _, flat) = remesh(&mesh, &grid.positions, &options).unwrap();
+    assert_eq!((flat.feature_edges, flat.fold_edges), (0, 0));
+    // An interior vertex moved well past its ring folds the triangles around it.
+    let mut x = grid.positions.clone();
+    let v = (0..x.len())
+        .find(|&i| !mesh.is_boundary_vertex(VertexId::new(i as u32)))
+        .unwrap();
+    let ring: Vec<DVec3> = mesh
+        .vertices_around_vertex(VertexId::new(v as u32))
+        .map(|u| x[u.index()])
+        .collect();
+    let centre = ring.iter().copied().sum::<DVec3>() / ring.len() as f64;
+    let reach = ring.iter().map(|p| p.distance(centre)).fold(0.0, f64::max);
+    x[v] = centre + DVec3::new(1.6 * reach, 0.3 * reach, 0.0);
+    let (_, _, report) = remesh(&mesh, &x, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert!(report.fold_edges > 0, "{report:?}");
+    assert_eq!(report.fold_edges, report.feature_edges, "{report:?}");
+}

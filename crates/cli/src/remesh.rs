@@ -125,6 +125,8 @@ struct Summary {
     mean_edge_length: f64,
     edge_length_cv: f64,
     feature_edges: usize,
+    /// Feature edges whose triangles fold back onto each other (above 150°).
+    fold_edges: usize,
     boundary_edges: usize,
     corners: usize,
     /// The largest distance from an output vertex to the input's triangles.
@@ -250,6 +252,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         mean_edge_length: report.mean_edge_length,
         edge_length_cv: report.edge_length_cv,
         feature_edges: report.feature_edges,
+        fold_edges: report.fold_edges,
         boundary_edges: report.boundary_edges,
         corners: report.corners,
         hausdorff: report.hausdorff,
@@ -325,6 +328,9 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             number(angle),
             report.corners,
         )?;
+        if let Some(note) = fold_note(&report) {
+            writeln!(out, "{note}")?;
+        }
         if interior > 0 && report.feature_edges == interior {
             writeln!(
                 out,
@@ -335,6 +341,24 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     quality.write_table(out)?;
     Ok(())
+}
+
+/// The note line when feature edges of the input are folds: their triangles turn back
+/// onto each other, as a scan's folded slivers do, and stay in the output as feature
+/// curves (with the degenerate triangles along them that the degenerate note counts).
+fn fold_note(report: &beltrami_algorithms::RemeshReport) -> Option<String> {
+    let n = report.fold_edges;
+    let (is, their, stay) = if n == 1 {
+        ("feature edge is a fold", "its", "stays")
+    } else {
+        ("feature edges are folds", "their", "stay")
+    };
+    (n > 0).then(|| {
+        format!(
+            "note: {n} {is} of the input ({their} two triangles turn back onto each other by more than {}°, as the folded slivers of a scan do) and {stay} folded in the output; remesh without --features to smooth them out, or repair the input first",
+            number(beltrami_algorithms::FOLD_ANGLE.to_degrees()),
+        )
+    })
 }
 
 /// The note line when the output has more degenerate triangles than the input.
@@ -366,5 +390,22 @@ mod tests {
             "{note}"
         );
         assert!(note.contains("the input had 2"), "{note}");
+    }
+
+    #[test]
+    fn the_fold_note_counts_the_folded_feature_edges() {
+        let mut report = beltrami_algorithms::RemeshReport::default();
+        assert_eq!(fold_note(&report), None);
+        report.fold_edges = 1;
+        let one = fold_note(&report).unwrap();
+        assert!(one.starts_with("note: 1 feature edge is a fold of the input (its two triangles turn back onto each other by more than 150°"), "{one}");
+        assert!(one.contains("stays folded"), "{one}");
+        report.fold_edges = 387;
+        let many = fold_note(&report).unwrap();
+        assert!(
+            many.starts_with("note: 387 feature edges are folds of the input (their"),
+            "{many}"
+        );
+        assert!(many.contains("remesh without --features"), "{many}");
     }
 }

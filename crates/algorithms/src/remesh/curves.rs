@@ -35,10 +35,19 @@ pub(super) fn feature_count(mesh: &EditMesh, feature: EdgeProperty<bool>, v: Ver
         .count()
 }
 
+/// The dihedral angle (radians, 150°) above which a feature edge is counted as a fold:
+/// its two triangles turn back onto each other, as a scan's folded slivers do. Such
+/// edges are kept as features like any other (a thin fin is one too), and counted so
+/// that a caller can say so.
+pub const FOLD_ANGLE: f64 = 5.0 * std::f64::consts::PI / 6.0;
+
 /// What the detection found.
 pub(super) struct Detected {
     /// Interior edges whose dihedral angle exceeds the feature angle.
     pub(super) feature_edges: usize,
+    /// Those of them whose triangles fold back onto each other (dihedral angle above
+    /// [`FOLD_ANGLE`]).
+    pub(super) fold_edges: usize,
     /// Boundary edges (always constraint curves).
     pub(super) boundary_edges: usize,
     /// Vertices that never move.
@@ -57,6 +66,7 @@ pub(super) fn detect(
 ) -> Detected {
     let mut found = Detected {
         feature_edges: 0,
+        fold_edges: 0,
         boundary_edges: 0,
         corners: 0,
     };
@@ -65,8 +75,12 @@ pub(super) fn detect(
         let flag = if mesh.is_boundary_edge(e) {
             found.boundary_edges += 1;
             true
-        } else if feature_angle.is_some_and(|a| dihedral(mesh, e) > a) {
+        } else if let Some(a) = feature_angle
+            && let angle = dihedral(mesh, e)
+            && angle > a
+        {
             found.feature_edges += 1;
+            found.fold_edges += usize::from(angle > FOLD_ANGLE);
             true
         } else {
             false

@@ -79,6 +79,7 @@ use rayon::prelude::*;
 
 use crate::error::{about_count, algorithm_error, check_finite, check_mesh, short};
 
+pub use curves::FOLD_ANGLE;
 use passes::Remesher;
 use phong::PhongSurface;
 pub use phong::SMOOTH_ANGLE;
@@ -333,6 +334,10 @@ pub struct RemeshReport {
     pub edge_length_cv: f64,
     /// Interior edges of the input found sharper than the feature angle.
     pub feature_edges: usize,
+    /// Those of the feature edges whose two triangles fold back onto each other (a
+    /// dihedral angle above [`FOLD_ANGLE`], 150°): on a scan these are folded slivers,
+    /// which stay in the output as feature curves, folds and all.
+    pub fold_edges: usize,
     /// Boundary edges of the input (kept as curves).
     pub boundary_edges: usize,
     /// Vertices of the input that are corners and stay where they are.
@@ -681,6 +686,7 @@ pub fn remesh_with_progress(
         mean_edge_length_before: mean_before,
         edge_length_cv_before: cv_before,
         feature_edges: found.feature_edges,
+        fold_edges: found.fold_edges,
         boundary_edges: found.boundary_edges,
         corners: found.corners,
         degenerate_faces_before: guard.input_faces,
