@@ -7,7 +7,7 @@ use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_smooth::{
     Boundary, DEFAULT_LAMBDA, DiffusionTime, ImplicitSolver, Method, SmoothConfig,
-    SmoothError as Error, SmoothReport, Smoother, Statistics, StepStats, TAUBIN_LAMBDA,
+    SmoothError as Error, SmoothReport, Smoother, Statistics, StepStats, Summation, TAUBIN_LAMBDA,
     WeightUpdate,
 };
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
@@ -49,6 +49,7 @@ struct Options {
     normalize: &'static str,
     vertex_area: &'static str,
     cotangent_negative: &'static str,
+    summation: &'static str,
     time: Option<f64>,
     cutoff: Option<f64>,
     until_change: Option<f64>,
@@ -162,7 +163,10 @@ impl Options {
         if !self.step_stats {
             config = config.statistics(Statistics::OnDemand);
         }
-        config
+        config.summation(match self.summation {
+            "triangles" => Summation::Triangles,
+            _ => Summation::Rows,
+        })
     }
 }
 
@@ -196,6 +200,12 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// - `update`: `"every"` (weights recomputed each iteration) or `"once"`.
 /// - `normalize`: `"sum"` (None) or `"area"`; `vertex_area`: `"mixed"` or
 ///   `"barycentric"`; `cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`.
+/// - `summation`: `"rows"` (each vertex's weighted neighbours summed around its
+///   one-ring, OpenMesh's bits; the default) or `"triangles"` (each triangle's
+///   cotangents computed once and added into its three vertices: about a quarter less
+///   time per iteration on large meshes, the same results to rounding but not bit for
+///   bit; only for cotangent weights with `update="every"`, `normalize="sum"`,
+///   `cotangent_negative="keep"`, `method="explicit"`, no `preserve_volume`).
 /// - `time` (length²) or `cutoff` (Gaussian cut-off wavelength): diffuse for a
 ///   physical time instead of a count; `until_change`: stop once no vertex moves
 ///   farther than this.
@@ -220,7 +230,8 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 #[pyo3(signature = (
     mesh, weights = "cotangent", lam = None, iterations = None, boundary = "fixed",
     method = "explicit", update = "every", normalize = None, *, vertex_area = "mixed",
-    cotangent_negative = "keep", time = None, cutoff = None, until_change = None,
+    cotangent_negative = "keep", summation = "rows", time = None, cutoff = None,
+    until_change = None,
     mu = None, hc_alpha = None, hc_beta = None, solver = None, pin = None,
     preserve_volume = false, on_iteration = None, progress = false,
     max_iterations = 1_000_000, step_stats = true
@@ -238,6 +249,7 @@ pub(crate) fn smooth<'py>(
     normalize: Option<&str>,
     vertex_area: &str,
     cotangent_negative: &str,
+    summation: &str,
     time: Option<f64>,
     cutoff: Option<f64>,
     until_change: Option<f64>,
@@ -267,6 +279,7 @@ pub(crate) fn smooth<'py>(
             cotangent_negative,
             &["keep", "clamp", "abs"],
         )?,
+        summation: choice("summation", summation, &["rows", "triangles"])?,
         time,
         cutoff,
         until_change,
@@ -288,6 +301,13 @@ pub(crate) fn smooth<'py>(
         )));
     }
     let config = options.config();
+    if options.summation == "triangles"
+        && let Some(needed) = config.triangle_summation_unmet(scheme.as_ref())
+    {
+        return Err(PyValueError::new_err(format!(
+            "summation='triangles' needs {needed}; it applies to weights='cotangent' with update='every', normalize='sum', cotangent_negative='keep', method='explicit' and no preserve_volume"
+        )));
+    }
     let mut observer = Progress::new();
     let smoothed = py.detach(|| {
         no_panic(|| {
@@ -378,6 +398,7 @@ fn report<'py>(
     parameters.set_item("boundary", options.boundary)?;
     parameters.set_item("update", options.update)?;
     parameters.set_item("cotangent_negative", options.cotangent_negative)?;
+    parameters.set_item("summation", options.summation)?;
     parameters.set_item("normalize", options.normalize)?;
     parameters.set_item("vertex_area", options.vertex_area)?;
     parameters.set_item("pinned", options.pin.len())?;

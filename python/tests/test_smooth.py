@@ -14,7 +14,7 @@ REPORT_KEYS = {
     "max_stuck_vertices", "seconds", "steps",
 }
 PARAMETER_KEYS = {
-    "weights", "lambda", "iterations", "boundary", "update", "cotangent_negative",
+    "weights", "lambda", "iterations", "boundary", "update", "cotangent_negative", "summation",
     "normalize", "vertex_area", "pinned", "method", "mu", "hc", "preserve_volume",
     "time", "cutoff", "until_change", "lambda_used", "iterations_planned",
 }
@@ -108,6 +108,17 @@ def test_every_option_family_runs_and_moves(sphere, options):
         assert p["time"] > 0 and p["iterations_planned"] >= 1
 
 
+def test_triangle_summation_is_the_row_summation_to_rounding(sphere):
+    rows, report = bt.smooth(sphere, iterations=20)
+    triangles, t_report = bt.smooth(sphere, iterations=20, summation="triangles")
+    assert report["parameters"]["summation"] == "rows"
+    assert t_report["parameters"]["summation"] == "triangles"
+    scale = np.abs(sphere.vertices).max()
+    assert np.abs(rows.vertices - triangles.vertices).max() <= 1e-13 * scale
+    again, _ = bt.smooth(sphere, iterations=20, summation="triangles")
+    np.testing.assert_array_equal(again.vertices, triangles.vertices)
+
+
 def test_taubin_defaults_are_the_classic_pair(sphere):
     _, report = bt.smooth(sphere, method="taubin")
     p = report["parameters"]
@@ -167,6 +178,9 @@ def test_runs_are_deterministic(sphere):
         ({"pin": [100000]}, bt.SmoothError, "100000"),
         ({"normalize": "area", "lam": 10.0}, bt.SmoothError, "stab"),
         ({"time": 1e6, "max_iterations": 1000}, ValueError, "more than max_iterations=1000"),
+        ({"summation": "edges"}, ValueError, "summation must be one of 'rows', 'triangles'"),
+        ({"summation": "triangles", "update": "once"}, ValueError, "needs weights recomputed every iteration"),
+        ({"summation": "triangles", "weights": "uniform"}, ValueError, "needs cotangent weights"),
     ],
 )
 def test_bad_options_raise_the_right_exception(sphere, options, error, message):

@@ -56,7 +56,7 @@ mod smoother;
 
 pub use config::{
     Boundary, DEFAULT_LAMBDA, DiffusionTime, HC_ALPHA, HC_BETA, ImplicitSolver, Method, Reorder,
-    SmoothConfig, Statistics, TAUBIN_LAMBDA, TAUBIN_PASS_BAND, WeightUpdate,
+    SmoothConfig, Statistics, Summation, TAUBIN_LAMBDA, TAUBIN_PASS_BAND, WeightUpdate,
 };
 pub use error::SmoothError;
 pub use report::{

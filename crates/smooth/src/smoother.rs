@@ -27,7 +27,8 @@ use crate::report::{IterationView, SmoothReport, Smoothed, SolverReport, StepSta
 ///
 /// Large meshes are renumbered internally for memory locality (see
 /// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
-/// numbering and bit-identical to a run without reordering.
+/// numbering and bit-identical to a run without reordering (with
+/// [`Summation::Triangles`](crate::Summation::Triangles), identical to rounding).
 ///
 /// [`Smoother::new`] borrows the mesh and copies the positions (and, when it renumbers,
 /// copies the mesh too); [`Smoother::from_owned`] takes both by value, renumbers the

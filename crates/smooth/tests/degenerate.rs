@@ -11,7 +11,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, TopologyError, VertexId, primitives};
 use beltrami_smooth::{
-    Boundary, SmoothConfig, SmoothError, Smoothed, Smoother, WeightUpdate, smooth,
+    Boundary, SmoothConfig, SmoothError, Smoothed, Smoother, Summation, WeightUpdate, smooth,
 };
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{
@@ -1024,7 +1024,9 @@ fn power_of_two_scaling_commutes_bit_for_bit() {
     // normalisation is dimensionless: smoothing 2^k x gives exactly 2^k times the result
     // for x, far beyond the range where squared lengths overflow or underflow. (Inverse
     // distance is excluded: its ε = 1e-12 sets a scale. The default 1-D curve weight is
-    // inverse distance too, so cotangent runs without the curve mode here.)
+    // inverse distance too, so cotangent runs without the curve mode here.) Cotangent rows
+    // summed by triangles keep the property through a sweep on positions rescaled by a
+    // power of two.
     for case in scale_cases() {
         let mesh = case.mesh();
         for k in SCALE_EXPONENTS {
@@ -1035,11 +1037,15 @@ fn power_of_two_scaling_commutes_bit_for_bit() {
                 (COTANGENT, &[Boundary::Fixed, Boundary::Free][..]),
             ] {
                 for &boundary in boundaries {
-                    for update in UPDATES {
+                    for (update, summation) in UPDATES
+                        .into_iter()
+                        .flat_map(|u| [(u, Summation::Rows), (u, Summation::Triangles)])
+                    {
                         for negative in NEGATIVES {
                             let config = SmoothConfig::new(0.8, 10)
                                 .boundary(boundary)
                                 .update(update)
+                                .summation(summation)
                                 .laplacian(
                                     LaplacianOptions::new()
                                         .normalization(Normalization::WeightSum)

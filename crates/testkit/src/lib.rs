@@ -58,6 +58,7 @@ mod comparison;
 mod conformance;
 pub mod fixtures;
 mod metrics;
+pub mod numbering;
 pub mod openmesh;
 mod rng;
 mod round;

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use beltrami_halfedge::VertexId;
 use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_smooth::{
-    Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, Statistics, WeightUpdate,
+    Boundary, DiffusionTime, ImplicitSolver, Method, SmoothConfig, Statistics, Summation,
+    WeightUpdate,
 };
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
 use clap::ValueEnum;
@@ -63,6 +64,15 @@ pub(crate) struct SmoothArgs {
     /// ring when only that fits the memory available or --max-memory).
     #[arg(long, value_enum, default_value_t = CotangentKernelArg::Auto)]
     pub(crate) cotangent_kernel: CotangentKernelArg,
+    /// How each vertex's weighted neighbours are summed: rows (around each vertex's
+    /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or triangles (each
+    /// triangle's three cotangents computed once and added into its vertices: about a
+    /// quarter less time per iteration on large meshes, the same results to rounding
+    /// but not bit for bit). triangles applies to cotangent weights with --update
+    /// every, --normalize sum, --cotangent-negative keep and --method explicit, without
+    /// --preserve-volume.
+    #[arg(long, value_enum, default_value_t = SummationArg::Rows)]
+    pub(crate) summation: SummationArg,
     /// Row normalisation: sum (divide by the weight sum, paper Eq. 2) or area (divide
     /// by the vertex area, paper Eq. 6). Default: sum, for every method (a --time or
     /// --cutoff is converted to steps either way).
@@ -161,14 +171,14 @@ pub(crate) enum BoundaryArg {
     Curve,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub(crate) enum UpdateArg {
     Every,
     Once,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub(crate) enum NegativeArg {
     Keep,
@@ -191,6 +201,13 @@ pub(crate) enum CotangentKernelArg {
     Auto,
     PerTriangle,
     Ring,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum SummationArg {
+    Rows,
+    Triangles,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
@@ -315,7 +332,10 @@ impl SmoothArgs {
         if self.report.is_none() || self.no_step_stats {
             config = config.statistics(Statistics::OnDemand);
         }
-        config
+        config.summation(match self.summation {
+            SummationArg::Rows => Summation::Rows,
+            SummationArg::Triangles => Summation::Triangles,
+        })
     }
 
     pub(crate) fn method(&self) -> Method {

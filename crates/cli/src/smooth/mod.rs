@@ -23,7 +23,8 @@ mod report;
 
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
 use args::{
-    CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, TAUBIN_LAMBDA, TAUBIN_PASS_BAND,
+    CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, SummationArg, TAUBIN_LAMBDA,
+    TAUBIN_PASS_BAND,
 };
 use kept::KeptPositions;
 use report::{ReadSeconds, build_report, method_label};
@@ -36,6 +37,13 @@ pub(crate) fn run(
 ) -> Result<(), CliError> {
     let scheme = registry.get(&args.weights)?;
     args.check_combination()?;
+    if args.summation == SummationArg::Triangles
+        && let Some(needed) = args.config().triangle_summation_unmet(scheme.as_ref())
+    {
+        return Err(CliError::Usage(format!(
+            "--summation triangles needs {needed}; it applies to --weights cotangent --update every --normalize sum --cotangent-negative keep --method explicit without --preserve-volume"
+        )));
+    }
     refuse_height_map_output(
         &args.output,
         "smooth",

@@ -7,7 +7,8 @@ use beltrami_smooth::{Method, SmoothReport};
 use serde::Serialize;
 
 use super::args::{
-    AreaArg, BoundaryArg, MethodArg, NegativeArg, NormalizeArg, SmoothArgs, SolverArg, UpdateArg,
+    AreaArg, BoundaryArg, MethodArg, NegativeArg, NormalizeArg, SmoothArgs, SolverArg,
+    SummationArg, UpdateArg,
 };
 
 /// The JSON written by `--report`.
@@ -52,6 +53,8 @@ pub(crate) struct Parameters<'a> {
     pub(crate) boundary: BoundaryArg,
     pub(crate) update: UpdateArg,
     pub(crate) cotangent_negative: NegativeArg,
+    /// How the rows were summed (`rows` or `triangles`).
+    pub(crate) summation: SummationArg,
     pub(crate) normalize: NormalizeArg,
     pub(crate) vertex_area: AreaArg,
     pub(crate) pinned: usize,
@@ -120,6 +123,7 @@ pub(crate) fn build_report<'a>(
             boundary: args.boundary,
             update: args.update,
             cotangent_negative: args.cotangent_negative,
+            summation: args.summation,
             normalize: args.normalize(),
             vertex_area: args.vertex_area,
             pinned: args.pin.len(),

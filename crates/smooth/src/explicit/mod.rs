@@ -2,6 +2,7 @@
 //! internal renumbering of large meshes.
 
 mod compound;
+mod faces;
 mod rows;
 mod sweep;
 
@@ -15,7 +16,7 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, Method, SmoothConfig, Statistics};
+use crate::config::{Boundary, Method, SmoothConfig, Statistics, Summation};
 use crate::duration::{Plan, area_rate, resolve_duration};
 use crate::error::SmoothError;
 use crate::numbering::{CHUNK, error_to_caller, permute_par, restore_par};
@@ -91,6 +92,15 @@ pub(crate) struct Explicit<'a> {
     volume: f64,
     iteration: usize,
     weights_fresh: bool,
+    /// A sweep that scatters triangles declined once (an edge too short or too long for
+    /// its plain products, or a weight sum not finite): the run sweeps gathered rows
+    /// from then on (see [`sweep_by_triangles`](Self::sweep_by_triangles)).
+    scatter_declined: bool,
+    /// The triangles in the order of that sweep, built on its first use.
+    triangle_order: Option<faces::TriangleOrder>,
+    /// The power of two that sweep multiplies the corner positions by, once an edge was
+    /// too short or too long for plain products ([`faces::cotangent_scale`]).
+    cotangent_scale: Option<f64>,
     /// The last sweep computed its weights itself (see [`sweep_fresh`](Self::sweep_fresh)):
     /// the stored operator's weights are older than that sweep's.
     operator_behind: bool,
@@ -261,11 +271,79 @@ fn small_chunk(n: usize) -> usize {
     n.div_ceil(8).clamp(256, CHUNK)
 }
 
+/// Runs the triangle sweep `scatter` over work units of [`faces::block_rows`] rows in
+/// parallel into `next`, each unit split into the statistics' chunks (those of
+/// [`sweep_chunks`]: [`CHUNK`] for full statistics, [`small_chunk`] otherwise), with one
+/// [`Partial`] per chunk; with `record` (and full statistics), also each displacement
+/// into `disp`. Why it declined, when a unit did.
+fn scatter_blocks(
+    scatter: &faces::Scatter<'_>,
+    input: &SweepInput<'_>,
+    want: Want,
+    record: bool,
+    next: &mut [DVec3],
+    disp: &mut [f64],
+) -> Result<Vec<Partial>, faces::Decline> {
+    let n = next.len();
+    let unit = if want == Want::Full {
+        CHUNK
+    } else {
+        small_chunk(n)
+    };
+    let block = faces::block_rows(unit, scatter.sweep.span, n);
+    let disps: Vec<&mut [f64]> = if record {
+        disp.chunks_mut(block).collect()
+    } else {
+        (0..n.div_ceil(block)).map(|_| &mut [][..]).collect()
+    };
+    let blocks: Vec<Result<Vec<Partial>, faces::Decline>> = next
+        .par_chunks_mut(block)
+        .zip(disps)
+        .enumerate()
+        .map(|(b, (out, disp))| {
+            let first = b * block;
+            let (mut stuck, mut parts) = (Vec::new(), Vec::new());
+            faces::sweep_triangles(scatter, first, out, unit, &mut stuck, &mut parts)?;
+            let is_stuck = |v: u32| stuck.binary_search(&v).is_ok();
+            let mut partials = Vec::with_capacity(parts.len());
+            let mut disp = Some(disp);
+            for (k, (out, swept)) in out.chunks_mut(unit).zip(parts).enumerate() {
+                let at = first + k * unit;
+                let partial = match (want, record) {
+                    (Want::Nothing, _) => {
+                        input.put_right::<NOTHING, false>(at, out, &mut [], swept, is_stuck)
+                    }
+                    (Want::Max, _) => {
+                        input.put_right::<MAX, false>(at, out, &mut [], swept, is_stuck)
+                    }
+                    (Want::Full, false) => {
+                        input.put_right::<FULL, false>(at, out, &mut [], swept, is_stuck)
+                    }
+                    (Want::Full, true) => {
+                        let d = disp.take().unwrap_or_default();
+                        let (here, rest) = d.split_at_mut(out.len());
+                        disp = Some(rest);
+                        input.put_right::<FULL, true>(at, out, here, swept, is_stuck)
+                    }
+                };
+                partials.push(partial);
+            }
+            Ok(partials)
+        })
+        .collect();
+    let mut partials = Vec::new();
+    for block in blocks {
+        partials.extend(block?);
+    }
+    Ok(partials)
+}
+
 /// Runs `input`'s sweep over fixed chunks of [`CHUNK`] rows in parallel, into `next`,
 /// one [`Partial`] per chunk into `partials` (and, with full statistics and `record`,
 /// each displacement into `disp`, as long as `next`).
 fn sweep_chunks(
     input: &SweepInput<'_>,
+    source: RowSource<'_>,
     want: Want,
     record: bool,
     next: &mut [DVec3],
@@ -279,23 +357,23 @@ fn sweep_chunks(
         (Want::Nothing, _) => next
             .par_chunks_mut(fine)
             .enumerate()
-            .map(|(c, out)| input.chunk::<NOTHING, false>(c * fine, out, &mut []))
+            .map(|(c, out)| input.chunk::<NOTHING, false>(source, c * fine, out, &mut []))
             .collect_into_vec(partials),
         (Want::Max, _) => next
             .par_chunks_mut(fine)
             .enumerate()
-            .map(|(c, out)| input.chunk::<MAX, false>(c * fine, out, &mut []))
+            .map(|(c, out)| input.chunk::<MAX, false>(source, c * fine, out, &mut []))
             .collect_into_vec(partials),
         (Want::Full, false) => next
             .par_chunks_mut(CHUNK)
             .enumerate()
-            .map(|(c, out)| input.chunk::<FULL, false>(c * CHUNK, out, &mut []))
+            .map(|(c, out)| input.chunk::<FULL, false>(source, c * CHUNK, out, &mut []))
             .collect_into_vec(partials),
         (Want::Full, true) => next
             .par_chunks_mut(CHUNK)
             .enumerate()
             .zip(disp.par_chunks_mut(CHUNK))
-            .map(|((c, out), disp)| input.chunk::<FULL, true>(c * CHUNK, out, disp))
+            .map(|((c, out), disp)| input.chunk::<FULL, true>(source, c * CHUNK, out, disp))
             .collect_into_vec(partials),
     }
 }
@@ -422,6 +500,9 @@ impl<'a> Explicit<'a> {
             config,
             iteration: 0,
             weights_fresh: true,
+            scatter_declined: false,
+            triangle_order: None,
+            cotangent_scale: None,
             operator_behind: false,
             current: OnceLock::new(),
             weight_time: Duration::ZERO,
@@ -558,7 +639,9 @@ impl<'a> Explicit<'a> {
         }
         // Weights not kept (a lean operator, or released by a fused sweep) are stale too.
         let stale = self.weights_stale() || !self.laplacian.weights_stored();
-        let fused = stale && self.fuses() && self.sweep_fresh(lambda, want);
+        let fused = stale
+            && self.fuses()
+            && (self.sweep_by_triangles(lambda, want) || self.sweep_fresh(lambda, want));
         if !fused {
             if stale {
                 self.refresh_weights()?;
@@ -603,7 +686,6 @@ impl<'a> Explicit<'a> {
     fn sweep_stored(&mut self, lambda: f64, want: Want) {
         let start = Instant::now();
         let input = SweepInput {
-            rows: RowSource::Stored(&self.laplacian),
             roles: &self.roles,
             exceptions: &self.exceptions,
             curve: &self.curve,
@@ -613,6 +695,7 @@ impl<'a> Explicit<'a> {
         let (disp, record) = (&mut self.disp[..], self.perm.is_some());
         sweep_chunks(
             &input,
+            RowSource::Stored(&self.laplacian),
             want,
             record,
             &mut self.next,
@@ -647,7 +730,6 @@ impl<'a> Explicit<'a> {
         let swept = Instant::now();
         self.weight_time += swept - start;
         let input = SweepInput {
-            rows: RowSource::Fresh(&rows),
             roles: &self.roles,
             exceptions: &self.exceptions,
             curve: &self.curve,
@@ -657,6 +739,7 @@ impl<'a> Explicit<'a> {
         let (disp, record) = (&mut self.disp[..], self.perm.is_some());
         sweep_chunks(
             &input,
+            RowSource::Fresh(&rows),
             want,
             record,
             &mut self.next,
@@ -667,6 +750,93 @@ impl<'a> Explicit<'a> {
         if self.partials.iter().any(|p| p.redo) {
             return false;
         }
+        self.operator_behind = true;
+        self.current = OnceLock::new();
+        true
+    }
+
+    /// A sweep into `next` and `partials` that scatters each triangle's cotangents into
+    /// its vertices' rows at the current positions
+    /// ([`Laplacian::scatters_cotangents`]: cotangent weights, weight-sum normalisation,
+    /// negative weights kept, with either cotangent kernel); the stored operator is then
+    /// behind. `false` when the operator's rows are not of that kind, a face is not a
+    /// triangle, the mesh's order leaves rows open too long ([`faces::MAX_SPAN`]), or a
+    /// row's weights are not finite or an edge is too short or too long for plain
+    /// products even on positions scaled by a power of two ([`faces::cotangent_scale`];
+    /// in these three cases the run keeps to the gathered rows from then on): the caller
+    /// sweeps the gathered rows instead.
+    ///
+    /// The work units are [`faces::block_rows`] long, each split into the statistics'
+    /// chunks (those of [`sweep_chunks`]), so the statistics are summed as there.
+    fn sweep_by_triangles(&mut self, lambda: f64, want: Want) -> bool {
+        let start = Instant::now();
+        if self.config.summation != Summation::Triangles
+            || self.scatter_declined
+            || self.refresh_curve_weights().is_err()
+        {
+            return false;
+        }
+        if !self.laplacian.scatters_cotangents(self.scheme) {
+            return false;
+        }
+        if self.triangle_order.is_none() {
+            let n = self.positions.len();
+            let order = match &self.mesh {
+                Some(mesh) => faces::TriangleOrder::of_mesh(mesh),
+                None => faces::TriangleOrder::new(n, &self.faces.triangles),
+            };
+            match order {
+                Some(order) if order.span <= faces::MAX_SPAN => self.triangle_order = Some(order),
+                _ => {
+                    self.scatter_declined = true;
+                    return false;
+                }
+            }
+        }
+        let Some(triangles) = &self.triangle_order else {
+            return false;
+        };
+        let swept = Instant::now();
+        self.weight_time += swept - start;
+        let input = SweepInput {
+            roles: &self.roles,
+            exceptions: &self.exceptions,
+            curve: &self.curve,
+            old: &self.positions,
+            lambda,
+        };
+        let record = want == Want::Full && self.perm.is_some();
+        let mut pass = |scale: Option<f64>| {
+            let scatter = faces::Scatter {
+                sweep: triangles,
+                positions: &self.positions,
+                lambda,
+                scale,
+            };
+            scatter_blocks(
+                &scatter,
+                &input,
+                want,
+                record,
+                &mut self.next,
+                &mut self.disp,
+            )
+        };
+        let mut result = pass(self.cotangent_scale);
+        if result.as_ref().err() == Some(&faces::Decline::Range) && self.cotangent_scale.is_none() {
+            // Edges too short or too long for plain products: the same sweep, bit for bit,
+            // on positions scaled by a power of two, for this and every later iteration.
+            if let Some(scale) = faces::cotangent_scale(triangles, &self.positions) {
+                self.cotangent_scale = Some(scale);
+                result = pass(Some(scale));
+            }
+        }
+        self.update_time += swept.elapsed();
+        let Ok(partials) = result else {
+            self.scatter_declined = true;
+            return false;
+        };
+        self.partials = partials;
         self.operator_behind = true;
         self.current = OnceLock::new();
         true
@@ -899,5 +1069,72 @@ impl<'a> Explicit<'a> {
             }
             laplacian
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::borrow::Cow;
+
+    use beltrami_halfedge::{DVec3, primitives};
+    use beltrami_weights::{Cotangent, LaplacianOptions, NegativeWeights, Uniform, WeightScheme};
+
+    use super::{Explicit, Want};
+    use crate::config::{Reorder, SmoothConfig, Summation, WeightUpdate};
+
+    /// After three iterations: whether the sweeps scattered triangles (the triangle order
+    /// was built and never declined), and the scale they took.
+    fn scattered(
+        x: &[DVec3],
+        scheme: &dyn WeightScheme,
+        config: SmoothConfig,
+    ) -> (bool, Option<f64>) {
+        let sphere = primitives::icosphere(2);
+        let mesh = sphere.mesh().unwrap();
+        let mut e = Explicit::new(Cow::Borrowed(&mesh), Cow::Borrowed(x), scheme, config).unwrap();
+        for want in [Want::Full, Want::Nothing, Want::Max] {
+            e.iterate(want).unwrap();
+        }
+        (
+            e.triangle_order.is_some() && !e.scatter_declined,
+            e.cotangent_scale,
+        )
+    }
+
+    /// The triangle sweep takes exactly the runs `sums_by_triangles` (testkit) names, on
+    /// either numbering, and far from unit scale through a power of two; a triangle
+    /// collapsed to a point sends the run to the gathered rows. The default sums rows.
+    #[test]
+    fn summing_by_triangles_scatters_triangles() {
+        let sphere = primitives::icosphere(2);
+        let x = sphere.positions.clone();
+        let rows = SmoothConfig::new(0.5, 3).update(WeightUpdate::Every);
+        assert!(!scattered(&x, &Cotangent, rows.clone()).0);
+        let every = rows.summation(Summation::Triangles);
+        for reorder in [Reorder::Never, Reorder::Always] {
+            let config = every.clone().reorder(reorder);
+            assert_eq!(scattered(&x, &Cotangent, config.clone()), (true, None));
+            assert!(!scattered(&x, &Uniform, config.clone()).0);
+            let clamp = LaplacianOptions::new().negative(NegativeWeights::Clamp);
+            assert!(!scattered(&x, &Cotangent, config.clone().laplacian(clamp)).0);
+            assert!(!scattered(&x, &Cotangent, config.clone().preserve_volume(true)).0);
+            let once = config.clone().update(WeightUpdate::Once);
+            assert!(!scattered(&x, &Cotangent, once).0);
+        }
+        let huge: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(700)).collect();
+        let (yes, scale) = scattered(&huge, &Cotangent, every.clone());
+        assert!(yes);
+        // The sphere's edges are about 0.3 long: 2^-700 times a few.
+        let scale = scale.unwrap();
+        assert!(
+            (2f64.powi(-700)..2f64.powi(-696)).contains(&scale),
+            "{scale:e}"
+        );
+        let mut collapsed = x.clone();
+        let f = sphere.faces.iter().nth(7).unwrap();
+        let (a, b, c) = (f[0] as usize, f[1] as usize, f[2] as usize);
+        collapsed[b] = collapsed[a];
+        collapsed[c] = collapsed[a];
+        assert!(!scattered(&collapsed, &Cotangent, every).0);
     }
 }

@@ -82,9 +82,8 @@ impl RowSource<'_> {
     }
 }
 
-/// What a sweep reads.
+/// What a sweep reads besides its rows.
 pub(super) struct SweepInput<'s> {
-    pub(super) rows: RowSource<'s>,
     pub(super) roles: &'s [Role],
     pub(super) exceptions: &'s [u32],
     pub(super) curve: &'s [CurveRow],
@@ -93,44 +92,61 @@ pub(super) struct SweepInput<'s> {
 }
 
 impl SweepInput<'_> {
-    /// Sweeps the rows `first..first + out.len()` into `out`, with the statistics of
+    /// Sweeps the rows `first..first + out.len()` of `source` into `out`, with the statistics of
     /// `MODE` (`NOTHING`, `MAX`, `FULL`); with `RECORD` (and `FULL`), also stores each
     /// vertex's displacement in `disp`.
     #[inline]
     pub(super) fn chunk<const MODE: u8, const RECORD: bool>(
         &self,
+        source: RowSource<'_>,
         first: usize,
         out: &mut [DVec3],
         disp: &mut [f64],
     ) -> Partial {
-        let Self {
-            rows: source,
-            roles,
-            exceptions,
-            curve,
-            old,
-            lambda,
-        } = *self;
-        let rows = first..first + out.len();
         // Every row moves by its Laplacian row...
-        let Some(RowSweep {
-            mut stuck,
-            sum: mut probe,
-        }) = source.sweep(first, old, lambda, out)
-        else {
+        let Some(swept) = source.sweep(first, self.old, self.lambda, out) else {
             return Partial {
                 redo: true,
                 ..Partial::default()
             };
         };
-        // ...then the vertices that do not move that way are put right. `probe` keeps
+        self.put_right::<MODE, RECORD>(first, out, disp, swept, |v| source.is_stuck(v, self.old))
+    }
+
+    /// The rest of [`chunk`](Self::chunk) once the rows `first..first + out.len()` have
+    /// moved by their Laplacian rows into `out` (`swept`, with `is_stuck` telling which
+    /// rows were stuck): the vertices that do not move that way are put right, and the
+    /// statistics of `MODE` computed.
+    #[inline]
+    pub(super) fn put_right<const MODE: u8, const RECORD: bool>(
+        &self,
+        first: usize,
+        out: &mut [DVec3],
+        disp: &mut [f64],
+        swept: RowSweep,
+        is_stuck: impl Fn(u32) -> bool,
+    ) -> Partial {
+        let Self {
+            roles,
+            exceptions,
+            curve,
+            old,
+            lambda,
+            ..
+        } = *self;
+        let rows = first..first + out.len();
+        let RowSweep {
+            mut stuck,
+            sum: mut probe,
+        } = swept;
+        // The vertices that do not move by their row are put right. `probe` keeps
         // the value a row gave them: a spurious non-finite sum only costs a scan.
         let lo = exceptions.partition_point(|&v| (v as usize) < rows.start);
         let hi = exceptions.partition_point(|&v| (v as usize) < rows.end);
         let mut cursor = curve.partition_point(|r| (r.v as usize) < first);
         for &v in &exceptions[lo..hi] {
             let i = v as usize;
-            if source.is_stuck(v, old) {
+            if is_stuck(v) {
                 // Counted by the row sweep, but this vertex is not a row.
                 stuck -= 1;
             }

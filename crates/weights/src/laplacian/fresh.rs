@@ -39,6 +39,29 @@ pub struct FreshRows<'a> {
 }
 
 impl Laplacian {
+    /// Whether a sweep may compute these rows itself by scattering each triangle's
+    /// cotangents into its three vertices' rows: `scheme` is the built-in
+    /// [`Cotangent`](crate::Cotangent), with weight-sum normalisation and negative weights
+    /// kept ([`NegativeWeights::Keep`]; a clamped or mirrored edge weight needs both of
+    /// its triangles' cotangents before it can be taken). Row `i` is then
+    /// `Σ_j w_ij x_j / Σ_j w_ij` with `w_ij = ½(cot α + cot β)`, whatever the
+    /// [`CotangentKernel`](crate::CotangentKernel) (the ½ cancels).
+    ///
+    /// When it may, the stored weights are released, as [`fresh_rows`](Self::fresh_rows)
+    /// releases them: the sweep's weights are newer, and [`update`](Self::update) at
+    /// that sweep's positions gives its operator (to rounding: the sweep sums each
+    /// row's terms triangle by triangle, the operator edge by edge). The row sums and
+    /// scales stay those of the last assembly or update.
+    pub fn scatters_cotangents(&mut self, scheme: &dyn WeightScheme) -> bool {
+        let scatters = BuiltIn::of(scheme) == Some(BuiltIn::Cotangent)
+            && self.options.normalization == Normalization::WeightSum
+            && self.options.negative == NegativeWeights::Keep;
+        if scatters && !self.unit_weights {
+            self.weights = OnceLock::new();
+        }
+        scatters
+    }
+
     /// The rows at `positions`, to be computed one at a time by [`FreshRows::row`]:
     /// the per-vertex and per-face parts (vertex areas for area normalisation; with
     /// [`CotangentKernel::PerTriangle`](crate::CotangentKernel::PerTriangle), the

@@ -1,0 +1,666 @@
+//! The cotangent step scattered triangle by triangle: each triangle's three cotangents
+//! are computed once and added into the rows of its three vertices, which are finished
+//! as soon as their last triangle has been added. No weight is stored, and no
+//! cotangent is computed twice.
+
+use beltrami_halfedge::geometry::DEGENERACY_RATIO;
+use beltrami_halfedge::{DVec3, HalfedgeMesh};
+
+use super::rows::RowSweep;
+
+/// A mesh's triangles in the order a sweep scatters them: sorted by their smallest
+/// vertex (stable), with where each vertex's triangles start and how far back a sweep
+/// of the rows from a vertex on must begin. 12 bytes per triangle and 8 per vertex.
+#[derive(Debug)]
+pub(super) struct TriangleOrder {
+    /// The triangles (vertex indices in face order, starting at the smallest), sorted by
+    /// their smallest vertex.
+    triangles: Vec<[u32; 3]>,
+    /// `starts[v]..starts[v + 1]`: the triangles whose smallest vertex is `v`
+    /// (`n + 1` entries).
+    starts: Vec<u32>,
+    /// `reach[v]`: the smallest vertex of the triangles whose largest vertex is `v` or
+    /// more (`v` when there is none). A sweep of the rows from `v` on starts with the
+    /// triangles of `reach[v]`: every triangle at a row `v` or later comes after it.
+    reach: Vec<u32>,
+    /// The largest difference between a triangle's largest and smallest vertex index:
+    /// while the triangles of vertex `v` are scattered, only the rows `v..=v + span`
+    /// are open.
+    pub(super) span: usize,
+}
+
+impl TriangleOrder {
+    /// The order of `triangles` (three vertex indices each, one after the other) over
+    /// `n` vertices (indices below `n`), or `None` when there are more than `u32` can
+    /// count.
+    pub(super) fn new(n: usize, triangles: &[u32]) -> Option<Self> {
+        let corners = |c: &[u32]| -> [u32; 3] { [c[0], c[1], c[2]] };
+        let triangles = || triangles.chunks_exact(3).map(corners);
+        let count = triangles().len();
+        u32::try_from(count).ok()?;
+        let lowest = |t: &[u32; 3]| t[0].min(t[1]).min(t[2]) as usize;
+        // A counting sort by the smallest vertex: stable, O(F + V).
+        let mut starts = vec![0u32; n + 1];
+        for t in triangles() {
+            starts[lowest(&t) + 1] += 1;
+        }
+        for v in 1..=n {
+            starts[v] += starts[v - 1];
+        }
+        let mut next = starts.clone();
+        let mut sorted = vec![[0u32; 3]; count];
+        let mut reach: Vec<u32> = (0..n as u32).collect();
+        let mut span = 0;
+        for t in triangles() {
+            let (lo, hi) = (lowest(&t), t[0].max(t[1]).max(t[2]) as usize);
+            // Each triangle starts at its smallest vertex (its orientation kept), so the
+            // cotangents' bits do not depend on which corner a face list starts at: the
+            // mesh's faces and a detached triangle list give the same sweep.
+            sorted[next[lo] as usize] = match t.iter().position(|&v| v as usize == lo) {
+                Some(1) => [t[1], t[2], t[0]],
+                Some(2) => [t[2], t[0], t[1]],
+                _ => t,
+            };
+            next[lo] += 1;
+            reach[hi] = reach[hi].min(lo as u32);
+            span = span.max(hi - lo);
+        }
+        for v in (0..n.saturating_sub(1)).rev() {
+            reach[v] = reach[v].min(reach[v + 1]);
+        }
+        Some(Self {
+            triangles: sorted,
+            starts,
+            reach,
+            span,
+        })
+    }
+
+    /// The order of `mesh`'s faces, `None` when one is not a triangle (or there are more
+    /// than `u32` can count).
+    pub(super) fn of_mesh(mesh: &HalfedgeMesh) -> Option<Self> {
+        let triangles: Option<Vec<[u32; 3]>> = mesh
+            .faces()
+            .map(|f| {
+                let h0 = mesh.face_halfedge(f);
+                let h1 = mesh.next(h0);
+                let h2 = mesh.next(h1);
+                (mesh.next(h2) == h0).then(|| [h0, h1, h2].map(|h| mesh.to_vertex(h).raw()))
+            })
+            .collect();
+        Self::new(mesh.n_vertices(), triangles?.as_flattened())
+    }
+}
+
+/// A row's sums `(Σ c·x, Σ c·y, Σ c·z, Σ c)`: four lanes that two multiply-adds update
+/// together (a point is widened to `(x, y, z, 1)`, so the same operation adds a
+/// cotangent to the weight sum).
+type P4 = [f64; 4];
+
+/// Triangles whose cotangents are computed together, in lanes of arrays the compiler
+/// vectorises, before they are scattered.
+const LANES: usize = 4;
+
+/// The range of a triangle's longest squared edge length inside which
+/// [`cotangent_lanes`] computes without rescaling: products of up to four coordinate
+/// differences stay finite (up to 2^800), and for a triangle that is not degenerate
+/// (whose shortest edge is then more than [`DEGENERACY_RATIO`] times its longest) they
+/// stay normal, so the cotangents and the degeneracy test are the rescaled kernel's to
+/// rounding. A shorter edge only occurs in a degenerate triangle, whose cotangents are 0
+/// however its products round. Outside the range the sweep declines (see
+/// [`cotangent_scale`]).
+const PLAIN: std::ops::RangeInclusive<f64> = 3.872_591_914_849_318e-121..=2.582_249_878_086_908e120;
+
+type Lanes = [f64; LANES];
+
+/// The smallest and largest longest squared edge length of the triangles
+/// [`cotangent_lanes`] has seen, lane by lane (tested once, at the end of a sweep: no
+/// branch per triangle).
+#[derive(Clone, Copy)]
+struct Range {
+    lo: Lanes,
+    hi: Lanes,
+}
+
+impl Range {
+    const EMPTY: Self = Self {
+        lo: [f64::INFINITY; LANES],
+        hi: [0.0; LANES],
+    };
+
+    /// Whether every triangle seen has its longest squared edge in [`PLAIN`] (false for
+    /// NaN too).
+    fn plain(&self) -> bool {
+        let lo = self.lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let hi = self.hi.iter().fold(0.0_f64, |a, &b| a.max(b));
+        PLAIN.contains(&lo) && PLAIN.contains(&hi)
+    }
+
+    /// The reason to give for `decline`: [`Decline::Range`] when a triangle seen so far
+    /// is outside [`PLAIN`] (an overflowed product makes a weight sum non-finite too).
+    fn blame(&self, decline: Decline) -> Decline {
+        if self.plain() {
+            decline
+        } else {
+            Decline::Range
+        }
+    }
+}
+
+/// The cotangents of `LANES` triangles whose corners are `p[corner][coordinate][lane]`:
+/// per lane `[c1, c2, c0]` with `cᵢ` the cotangent of the angle at corner `i` (the order
+/// of the geometry's `triangle_cotangents_into`: opposite the edges ending at the first,
+/// second and third corner), from one cross product per triangle,
+/// `cot = (u · v) / |u × v|` with the triangle's `|u × v|` (twice its area) for all
+/// three corners: one square root and one division per triangle where the geometry's
+/// kernel takes one per corner. The values are the geometry's to rounding, and 0 where
+/// the triangle is degenerate (twice its area at most [`DEGENERACY_RATIO`] times its
+/// longest edge squared, the geometry's test). The squared edge lengths come from the
+/// three corner products (`|s₁|² = s₁·s₂ − e·s₁` and so on round, as `s₂ = s₁ + e`);
+/// the longest goes into `range`, which the caller tests against [`PLAIN`] once per
+/// sweep.
+///
+/// Positions that are not finite give non-finite cotangents, which reach the rows'
+/// weight sums: the sweep then declines (see [`Finished::row`]).
+#[inline(always)]
+fn cotangent_lanes(p: &[[Lanes; 3]; 3], range: &mut Range) -> [Lanes; 3] {
+    let sub = |a: &[Lanes; 3], b: &[Lanes; 3]| -> [Lanes; 3] {
+        std::array::from_fn(|k| std::array::from_fn(|l| a[k][l] - b[k][l]))
+    };
+    let dot = |a: &[Lanes; 3], b: &[Lanes; 3]| -> Lanes {
+        std::array::from_fn(|l| a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l])
+    };
+    // The edges leaving each corner: at corner 0, s1 = p1 − p0 and s2 = p2 − p0; at
+    // corner 1, e = p2 − p1 and −s1; at corner 2, −s2 and −e.
+    let s1 = sub(&p[1], &p[0]);
+    let s2 = sub(&p[2], &p[0]);
+    let e = sub(&p[2], &p[1]);
+    let cross: [Lanes; 3] = [
+        std::array::from_fn(|l| s1[1][l] * s2[2][l] - s1[2][l] * s2[1][l]),
+        std::array::from_fn(|l| s1[2][l] * s2[0][l] - s1[0][l] * s2[2][l]),
+        std::array::from_fn(|l| s1[0][l] * s2[1][l] - s1[1][l] * s2[0][l]),
+    ];
+    let twice_area: Lanes = dot(&cross, &cross).map(f64::sqrt);
+    let (d0, d1, d2) = (dot(&s1, &s2), dot(&e, &s1), dot(&s2, &e));
+    let (q1, q2, qe): (Lanes, Lanes, Lanes) = (
+        std::array::from_fn(|l| d0[l] - d1[l]),
+        std::array::from_fn(|l| d0[l] + d2[l]),
+        std::array::from_fn(|l| d2[l] - d1[l]),
+    );
+    let longest: Lanes = std::array::from_fn(|l| q1[l].max(q2[l]).max(qe[l]));
+    for (l, &longest) in longest.iter().enumerate() {
+        range.lo[l] = range.lo[l].min(longest);
+        range.hi[l] = range.hi[l].max(longest);
+    }
+    let inv: Lanes = std::array::from_fn(|l| {
+        let inv = 1.0 / twice_area[l];
+        if twice_area[l] > DEGENERACY_RATIO * longest[l] {
+            inv
+        } else {
+            0.0
+        }
+    });
+    // Corner 0 (u = s1, v = s2), corner 1 (u = e, v = −s1), corner 2 (u = −s2, v = −e).
+    [
+        std::array::from_fn(|l| -d1[l] * inv[l]),
+        std::array::from_fn(|l| d2[l] * inv[l]),
+        std::array::from_fn(|l| d0[l] * inv[l]),
+    ]
+}
+
+/// The ring sizes [`sweep_triangles`] is compiled for; a larger
+/// [`TriangleOrder::span`] (a mesh in an order far from its neighbourhoods) is swept
+/// by gathered rows instead.
+const RINGS: [usize; 5] = [1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16];
+
+/// The largest [`TriangleOrder::span`] this sweep takes.
+pub(super) const MAX_SPAN: usize = RINGS[RINGS.len() - 1] - 1;
+
+/// Rows per work unit of a triangle sweep over `n` rows, a multiple of `unit` (the
+/// statistics' chunk): a unit starts `span` rows back (the triangles of those rows are
+/// added again, to the rows of the unit), so it spans at least 16 times as many rows,
+/// and a quarter of each thread's share when that is more (the rows' sums do not
+/// depend on where a unit starts, so neither does the result).
+pub(super) fn block_rows(unit: usize, span: usize, n: usize) -> usize {
+    let share = n.div_ceil(4 * rayon::current_num_threads().max(1));
+    (16 * span).max(share).div_ceil(unit).max(1) * unit
+}
+
+/// What a triangle sweep reads: the triangles, the positions, λ, and the power of two
+/// the cotangents' corner positions are multiplied by (see [`cotangent_scale`]).
+pub(super) struct Scatter<'a> {
+    pub(super) sweep: &'a TriangleOrder,
+    pub(super) positions: &'a [DVec3],
+    pub(super) lambda: f64,
+    /// `None`: the positions as they are.
+    pub(super) scale: Option<f64>,
+}
+
+/// Why a triangle sweep gave up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Decline {
+    /// A triangle's longest squared edge (after the scale) outside [`PLAIN`]: the sweep may be
+    /// repeated with a [`cotangent_scale`].
+    Range,
+    /// A row's weights do not sum to a finite value.
+    Weight,
+}
+
+/// The power of two that brings the mesh's largest edge component (`|x_b − x_a|` over
+/// the triangles' edges) into `[1, 2)`, for a mesh whose triangles leave
+/// [`PLAIN`]: the cotangents computed from `2^k x` are those from `x` bit for bit (every
+/// product scales by a power of two, exactly, while it stays normal), so the sweep keeps
+/// its bits at any scale where the positions and their differences are normal, the
+/// property the gathered rows' kernel has by rescaling edge by edge. `None` when the
+/// largest component is zero, not finite, or too far from 1 for a normal power of two.
+pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Option<f64> {
+    let mut largest = 0.0_f64;
+    for t in &sweep.triangles {
+        let [a, b, c] = t.map(|v| positions[v as usize]);
+        for d in [b - a, c - b, a - c] {
+            largest = largest.max(d.abs().max_element());
+        }
+    }
+    if !(largest.is_finite() && largest > 0.0) {
+        return None;
+    }
+    // The unbiased binary exponent of `largest` (a subnormal counts as -1023).
+    let exponent = ((largest.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    let k = -exponent;
+    // 2^k as a normal number.
+    (-1022..=1023)
+        .contains(&k)
+        .then(|| f64::from_bits(((k + 1023) as u64) << 52))
+}
+
+/// One explicit step `x_i + λ (Σ_j w_ij x_j / Σ_j w_ij − x_i)` with cotangent weights
+/// over the rows `first..first + out.len()`: each triangle's cotangents
+/// ([`cotangent_lanes`]; the ½ of `w_ij` cancels) are added to its vertices' rows in
+/// triangle order, starting at the triangles of `sweep.reach[first]`, so that every row
+/// sums its terms in the same order whichever rows a call covers.
+///
+/// A row whose weights sum to zero or less (or whose reciprocal is not positive and
+/// finite) is stuck: its vertex keeps its position and its index goes into `stuck`, in
+/// row order. `unit` rows at a time (the last part may be shorter), the new positions'
+/// sum and the stuck rows' count go into `swept`, one [`RowSweep`] per part.
+///
+/// [`Decline::Weight`] when a row's weights do not sum to a finite value (the caller
+/// falls back to the gathered rows, which report the bad weight), [`Decline::Range`]
+/// when a triangle is too small or too large for plain products ([`PLAIN`]) at
+/// `scatter.scale` (the caller may repeat the sweep with a [`cotangent_scale`]). The
+/// rows of `out` are then unspecified.
+///
+/// # Panics
+/// If `sweep.span` is above [`MAX_SPAN`].
+pub(super) fn sweep_triangles(
+    scatter: &Scatter<'_>,
+    first: usize,
+    out: &mut [DVec3],
+    unit: usize,
+    stuck: &mut Vec<u32>,
+    swept: &mut Vec<RowSweep>,
+) -> Result<(), Decline> {
+    let mut finished = Finished {
+        first,
+        end: first + out.len(),
+        scatter,
+        out,
+        unit,
+        left: unit,
+        part: RowSweep::default(),
+        stuck,
+        swept,
+    };
+    let span = scatter.sweep.span;
+    // The scale is a const parameter: the plain sweep multiplies by nothing.
+    match (
+        RINGS.iter().position(|&r| r > span),
+        scatter.scale.is_some(),
+    ) {
+        (Some(0), false) => sweep_in_ring::<{ RINGS[0] }, false>(&mut finished),
+        (Some(1), false) => sweep_in_ring::<{ RINGS[1] }, false>(&mut finished),
+        (Some(2), false) => sweep_in_ring::<{ RINGS[2] }, false>(&mut finished),
+        (Some(3), false) => sweep_in_ring::<{ RINGS[3] }, false>(&mut finished),
+        (Some(4), false) => sweep_in_ring::<{ RINGS[4] }, false>(&mut finished),
+        (Some(0), true) => sweep_in_ring::<{ RINGS[0] }, true>(&mut finished),
+        (Some(1), true) => sweep_in_ring::<{ RINGS[1] }, true>(&mut finished),
+        (Some(2), true) => sweep_in_ring::<{ RINGS[2] }, true>(&mut finished),
+        (Some(3), true) => sweep_in_ring::<{ RINGS[3] }, true>(&mut finished),
+        (Some(4), true) => sweep_in_ring::<{ RINGS[4] }, true>(&mut finished),
+        _ => panic!("a span of {span} is above MAX_SPAN"),
+    }
+}
+
+/// [`sweep_triangles`] with the open rows in a ring of `R` slots (`R` > the span), the
+/// corner positions multiplied by `scatter.scale` when `SCALED`.
+fn sweep_in_ring<const R: usize, const SCALED: bool>(
+    finished: &mut Finished<'_, '_>,
+) -> Result<(), Decline> {
+    RING.with_borrow_mut(|ring| {
+        // Zero between calls: each call clears the slots it leaves open.
+        ring.resize(R.max(ring.len()), [0.0; 4]);
+        let ring: &mut [P4; R] = (&mut ring[..R])
+            .try_into()
+            .expect("the ring was just resized to at least R slots");
+        let done = scatter_in_ring::<R, SCALED>(finished, ring);
+        match done {
+            Ok(open_from) => {
+                // The rows after the range that the range's triangles reached.
+                for v in open_from..open_from + sweep_span(finished) + 1 {
+                    ring[v % R] = [0.0; 4];
+                }
+            }
+            Err(_) => ring.fill([0.0; 4]),
+        }
+        done.map(|_| ())
+    })
+}
+
+fn sweep_span(finished: &Finished<'_, '_>) -> usize {
+    finished.scatter.sweep.span
+}
+
+thread_local! {
+    /// The ring of open rows of [`sweep_in_ring`], kept for the thread's next call
+    /// (zero between calls).
+    static RING: std::cell::RefCell<Vec<P4>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The scatter of [`sweep_in_ring`] into `ring` (all zero); returns the first row it
+/// did not finish (the end of the range), or why it declined (a row's weight sum not
+/// finite, or an edge length outside [`PLAIN`]).
+#[inline(always)]
+fn scatter_in_ring<const R: usize, const SCALED: bool>(
+    finished: &mut Finished<'_, '_>,
+    ring: &mut [P4; R],
+) -> Result<usize, Decline> {
+    let Scatter {
+        sweep,
+        positions,
+        scale,
+        ..
+    } = *finished.scatter;
+    let scale = scale.unwrap_or(1.0);
+    let (first, end) = (finished.first, finished.end);
+    let start = (sweep.reach[first] as usize).min(first);
+    let (t_begin, t_end) = (sweep.starts[start] as usize, sweep.starts[end] as usize);
+    let mut range = Range::EMPTY;
+    // The next row to finish.
+    let mut v = start;
+    let mut t = t_begin;
+    while t < t_end {
+        let k = (t_end - t).min(LANES);
+        let tris = &sweep.triangles[t..t + k];
+        // Corners in lanes (a short last step repeats its last triangle).
+        let mut p = [[[0.0; LANES]; 3]; 3];
+        for l in 0..LANES {
+            let tri = &tris[l.min(k - 1)];
+            for c in 0..3 {
+                let q = if SCALED {
+                    positions[tri[c] as usize] * scale
+                } else {
+                    positions[tri[c] as usize]
+                };
+                p[c][0][l] = q.x;
+                p[c][1][l] = q.y;
+                p[c][2][l] = q.z;
+            }
+        }
+        let cots = cotangent_lanes(&p, &mut range);
+        for (l, tri) in tris.iter().enumerate() {
+            let [a, b, c] = tri.map(|v| v as usize);
+            let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
+            // The angles at b (opposite the edge ending at a), at c and at a.
+            let (at_b, at_c, at_a) = (cots[0][l], cots[1][l], cots[2][l]);
+            add2(&mut ring[a % R], at_c, pb, at_b, pc);
+            add2(&mut ring[b % R], at_c, pa, at_a, pc);
+            add2(&mut ring[c % R], at_b, pa, at_a, pb);
+        }
+        t += k;
+        // Rows whose triangles have all been added are complete.
+        while v < end && sweep.starts[v + 1] as usize <= t {
+            finished
+                .row(v, std::mem::take(&mut ring[v % R]))
+                .map_err(|e| range.blame(e))?;
+            v += 1;
+        }
+    }
+    while v < end {
+        finished
+            .row(v, std::mem::take(&mut ring[v % R]))
+            .map_err(|e| range.blame(e))?;
+        v += 1;
+    }
+    if range.plain() {
+        Ok(end)
+    } else {
+        Err(Decline::Range)
+    }
+}
+
+/// `acc += wa · (pa, 1) + wb · (pb, 1)`, lane by lane (the two terms added one after
+/// the other; the last lane adds the weights themselves).
+#[inline(always)]
+fn add2(acc: &mut P4, wa: f64, pa: DVec3, wb: f64, pb: DVec3) {
+    use wide::f64x2;
+    let (wa, wb) = (f64x2::splat(wa), f64x2::splat(wb));
+    let lo = f64x2::new([acc[0], acc[1]])
+        + wa * f64x2::new([pa.x, pa.y])
+        + wb * f64x2::new([pb.x, pb.y]);
+    let hi =
+        f64x2::new([acc[2], acc[3]]) + wa * f64x2::new([pa.z, 1.0]) + wb * f64x2::new([pb.z, 1.0]);
+    let [a0, a1] = lo.to_array();
+    let [a2, a3] = hi.to_array();
+    *acc = [a0, a1, a2, a3];
+}
+
+/// Where [`sweep_triangles`] puts each finished row.
+struct Finished<'s, 'a> {
+    first: usize,
+    end: usize,
+    scatter: &'s Scatter<'a>,
+    out: &'s mut [DVec3],
+    unit: usize,
+    /// Rows left in the current part.
+    left: usize,
+    part: RowSweep,
+    stuck: &'s mut Vec<u32>,
+    swept: &'s mut Vec<RowSweep>,
+}
+
+impl Finished<'_, '_> {
+    /// Row `v` with its sums `open`: nothing for a row before the range (its slot is
+    /// only cleared), [`Decline::Weight`] when its weights do not sum to a finite value.
+    #[inline(always)]
+    fn row(&mut self, v: usize, open: P4) -> Result<(), Decline> {
+        if v < self.first {
+            return Ok(());
+        }
+        let weight = open[3];
+        if !weight.is_finite() {
+            return Err(Decline::Weight);
+        }
+        let xi = self.scatter.positions[v];
+        let inv = 1.0 / weight;
+        let new = if weight > 0.0 && inv.is_finite() && inv > 0.0 {
+            let s = DVec3::new(open[0], open[1], open[2]);
+            xi + (s * inv - xi) * self.scatter.lambda
+        } else {
+            self.stuck.push(v as u32);
+            self.part.stuck += 1;
+            xi
+        };
+        self.out[v - self.first] = new;
+        self.part.sum += new;
+        self.left -= 1;
+        if self.left == 0 || v + 1 == self.end {
+            self.swept.push(std::mem::take(&mut self.part));
+            self.left = self.unit;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
+    use beltrami_weights::{Cotangent, Laplacian, LaplacianOptions};
+
+    use super::{Decline, Scatter, TriangleOrder, cotangent_scale, sweep_triangles};
+
+    /// Noisy positions: a fixed, cheap perturbation.
+    fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
+        p.iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                let t = i as f64;
+                x + DVec3::new((t * 1.3).sin(), (t * 2.1).cos(), (t * 0.7).sin()) * amount
+            })
+            .collect()
+    }
+
+    fn bits(p: &[DVec3]) -> Vec<[u64; 3]> {
+        p.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
+    }
+
+    /// A grid with degenerate triangles, a noisy sphere, a torus.
+    fn cases() -> Vec<(HalfedgeMesh, Vec<DVec3>)> {
+        let grid = primitives::grid(12, 9);
+        let sphere = primitives::icosphere(3);
+        let torus = primitives::torus(2.0, 0.7, 13, 7);
+        let mut degenerate = wobble(&grid.positions, 0.4);
+        degenerate[14] = degenerate[15];
+        vec![
+            (grid.mesh().unwrap(), wobble(&grid.positions, 0.4)),
+            (grid.mesh().unwrap(), degenerate),
+            (sphere.mesh().unwrap(), wobble(&sphere.positions, 0.05)),
+            (torus.mesh().unwrap(), torus.positions.clone()),
+        ]
+    }
+
+    /// The sweep over the ranges between consecutive `cuts` (rows split anywhere) in
+    /// units of `unit` rows: the new positions and the stuck rows (the per-unit stuck
+    /// counts checked against them).
+    fn sweep(
+        order: &TriangleOrder,
+        x: &[DVec3],
+        scale: Option<f64>,
+        cuts: &[usize],
+        unit: usize,
+    ) -> Result<(Vec<DVec3>, Vec<u32>), Decline> {
+        let scatter = Scatter {
+            sweep: order,
+            positions: x,
+            lambda: 0.8,
+            scale,
+        };
+        let mut out = vec![DVec3::splat(f64::NAN); x.len()];
+        let mut stuck = Vec::new();
+        let mut counted = 0;
+        for range in cuts.windows(2).map(|c| c[0]..c[1]) {
+            let mut swept = Vec::new();
+            sweep_triangles(
+                &scatter,
+                range.start,
+                &mut out[range.clone()],
+                unit,
+                &mut stuck,
+                &mut swept,
+            )?;
+            assert_eq!(swept.len(), range.len().div_ceil(unit));
+            counted += swept.iter().map(|s| s.stuck).sum::<usize>();
+        }
+        assert_eq!(counted, stuck.len());
+        Ok((out, stuck))
+    }
+
+    #[test]
+    fn triangles_start_at_their_smallest_vertex_in_face_order() {
+        let triangles = [[4, 2, 7], [0, 5, 1], [3, 6, 2], [2, 3, 1]];
+        let order = TriangleOrder::new(8, triangles.as_flattened()).unwrap();
+        // Rotated (orientation kept) and sorted by the smallest vertex, stably.
+        assert_eq!(
+            order.triangles,
+            vec![[0, 5, 1], [1, 2, 3], [2, 7, 4], [2, 3, 6]]
+        );
+        assert_eq!(order.starts, vec![0, 1, 2, 4, 4, 4, 4, 4, 4]);
+        assert_eq!(order.span, 5);
+        // The mesh's faces and its triangle list give the same order.
+        let sphere = primitives::icosphere(2);
+        let mesh = sphere.mesh().unwrap();
+        let list: Vec<[u32; 3]> = sphere.faces.iter().map(|f| [f[1], f[2], f[0]]).collect();
+        let a = TriangleOrder::of_mesh(&mesh).unwrap();
+        let b = TriangleOrder::new(mesh.n_vertices(), list.as_flattened()).unwrap();
+        assert_eq!(
+            (&a.triangles, &a.starts, &a.reach),
+            (&b.triangles, &b.starts, &b.reach)
+        );
+    }
+
+    /// The scattered rows are the operator's (cotangent weights, weight-sum
+    /// normalisation, negative weights kept) to rounding, with the same stuck rows, and
+    /// the same bits wherever the rows are split into ranges and units.
+    #[test]
+    fn a_triangle_sweep_is_the_operator_to_rounding() {
+        for (mesh, x) in cases() {
+            let n = mesh.n_vertices();
+            let order = TriangleOrder::of_mesh(&mesh).unwrap();
+            let (out, stuck) = sweep(&order, &x, None, &[0, n], 256).unwrap();
+            let lap = Laplacian::new(&mesh, &x, &Cotangent, LaplacianOptions::new()).unwrap();
+            let mut want_stuck = Vec::new();
+            for v in mesh.vertices() {
+                let i = v.index();
+                let want = match lap.laplacian_at(v, &x) {
+                    Some(l) => x[i] + l * 0.8,
+                    None => {
+                        want_stuck.push(i as u32);
+                        x[i]
+                    }
+                };
+                let d = (out[i] - want).abs().max_element();
+                assert!(d <= 1e-14, "row {i}: {d:e}");
+            }
+            assert_eq!(stuck, want_stuck);
+            assert_eq!(stuck.len(), lap.stuck_rows());
+            for (cuts, unit) in [(vec![0, n / 3, n / 3, n - 1, n], 7), (vec![0, 1, n], 1)] {
+                let (other, other_stuck) = sweep(&order, &x, None, &cuts, unit).unwrap();
+                assert_eq!(bits(&other), bits(&out));
+                assert_eq!(other_stuck, stuck);
+            }
+        }
+    }
+
+    /// Far from unit scale the plain products leave their range: the sweep declines,
+    /// and on positions multiplied by [`cotangent_scale`] it gives the bits of the same
+    /// mesh at unit scale times the power of two. A NaN position declines for its
+    /// weight.
+    #[test]
+    fn a_scaled_sweep_has_the_bits_of_unit_scale() {
+        for (mesh, x) in cases() {
+            let n = mesh.n_vertices();
+            let order = TriangleOrder::of_mesh(&mesh).unwrap();
+            let (unit, stuck) = sweep(&order, &x, None, &[0, n], 64).unwrap();
+            for k in [-700, -600, -250, 250, 600, 1000] {
+                let s = 2f64.powi(k);
+                let y: Vec<DVec3> = x.iter().map(|&p| p * s).collect();
+                assert_eq!(
+                    sweep(&order, &y, None, &[0, n], 64).err(),
+                    Some(Decline::Range),
+                    "{k}"
+                );
+                let scale = cotangent_scale(&order, &y).unwrap();
+                assert_eq!(scale.to_bits() & ((1 << 52) - 1), 0, "a power of two");
+                let (out, scaled_stuck) = sweep(&order, &y, Some(scale), &[0, n], 64).unwrap();
+                let want: Vec<DVec3> = unit.iter().map(|&p| p * s).collect();
+                assert_eq!(bits(&out), bits(&want), "2^{k}");
+                assert_eq!(scaled_stuck, stuck);
+            }
+            let mut nan = x.clone();
+            nan[n / 2].x = f64::NAN;
+            assert_eq!(
+                sweep(&order, &nan, None, &[0, n], 64).err(),
+                Some(Decline::Weight)
+            );
+        }
+    }
+}
