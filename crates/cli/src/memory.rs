@@ -94,6 +94,10 @@ const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
 const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 28);
 /// The one-ring cotangent kernel's bit per row slot (counted as a byte).
 const RING_BITS: PerElement = PerElement::new(0, 1, 0);
+/// Rows summed by triangles (`--summation triangles`): the triangles sorted by their
+/// smallest vertex (12 per face), where each vertex's triangles start and how far back
+/// a sweep from it begins (8 per vertex).
+const TRIANGLE_ORDER: PerElement = PerElement::new(8, 0, 12);
 /// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
 /// per-halfedge weight buffer (8)...
 const HALFEDGE_WEIGHTS: PerElement = PerElement::new(0, 8, 0);
@@ -200,6 +204,8 @@ pub(crate) struct Run {
     pub(crate) iterations: usize,
     /// Whether the `--report` JSON lists every iteration.
     pub(crate) report_steps: bool,
+    /// Rows summed by triangles (`--summation triangles`).
+    pub(crate) triangles: bool,
 }
 
 impl Run {
@@ -214,6 +220,9 @@ impl Run {
         };
         if self.area {
             sum = sum.plus(AREAS);
+        }
+        if self.triangles {
+            sum = sum.plus(TRIANGLE_ORDER);
         }
         match self.method {
             Method::ImplicitCg => sum.plus(IMPLICIT).plus(CG),
@@ -491,6 +500,7 @@ mod tests {
             area: false,
             iterations: 10,
             report_steps: false,
+            triangles: false,
         }
     }
 
@@ -576,6 +586,12 @@ mod tests {
             ..explicit
         };
         assert_eq!(per_vertex(&area, 10) - per_vertex(&explicit, 10), 16);
+        // Summed by triangles: 8 per vertex and 12 per face (24 per vertex).
+        let triangles = Run {
+            triangles: true,
+            ..explicit
+        };
+        assert_eq!(per_vertex(&triangles, 10) - per_vertex(&explicit, 10), 32);
         // Reordered runs keeping every iteration's statistics hold the displacements.
         let stats = Run {
             report_steps: true,

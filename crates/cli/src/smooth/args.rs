@@ -61,7 +61,8 @@ pub(crate) struct SmoothArgs {
     /// How cotangents are computed (the same results either way): per-triangle (each
     /// triangle once, a per-face table of about 120 bytes per vertex), ring (from each
     /// vertex's one-ring: no table, about 1.4 times the time), or auto (per-triangle,
-    /// ring when only that fits the memory available or --max-memory).
+    /// ring when only that fits the memory available or --max-memory; ring with
+    /// --summation triangles, whose sweeps use neither).
     #[arg(long, value_enum, default_value_t = CotangentKernelArg::Auto)]
     pub(crate) cotangent_kernel: CotangentKernelArg,
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's

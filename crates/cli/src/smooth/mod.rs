@@ -163,14 +163,18 @@ fn load_within_memory(
 /// The cotangent kernel of the run, after checking that its estimate (`estimate` of
 /// the run's memory profile) fits: `--cotangent-kernel`, or for `auto` the per-triangle
 /// kernel, and the one-ring kernel when only that fits (with a note). A run that fits
-/// with neither fails with the per-triangle kernel's figure.
+/// with neither fails with the per-triangle kernel's figure. With `--summation
+/// triangles`, `auto` is the one-ring kernel: the operator's kernel then only assembles
+/// it once, and the per-triangle table would be 120 bytes per vertex for nothing.
 fn choose_kernel(
     args: &SmoothArgs,
     scheme: &dyn WeightScheme,
     exact: bool,
     estimate: impl Fn(&memory::Run) -> MemoryEstimate,
 ) -> Result<CotangentKernel, CliError> {
-    let ring = args.cotangent_kernel == CotangentKernelArg::Ring;
+    let ring = args.cotangent_kernel == CotangentKernelArg::Ring
+        || (args.cotangent_kernel == CotangentKernelArg::Auto
+            && args.summation == SummationArg::Triangles);
     let first = memory_run(args, scheme, ring);
     let fits = check_memory(args, &estimate(&first), exact);
     let auto = args.cotangent_kernel == CotangentKernelArg::Auto;
@@ -399,6 +403,7 @@ fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme, ring: bool) -> memor
             (_, false) => args.iterations,
         },
         report_steps: args.report.is_some() && !args.no_step_stats,
+        triangles: args.summation == SummationArg::Triangles,
     }
 }
 
