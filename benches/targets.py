@@ -174,6 +174,13 @@ def main():
             loads.append(load())
             rows[(weights, update, "shuffled")] = smooth_case(sh, n8, weights, update)
             loads.append(load())
+    # Cotangent rows summed by triangles (`--summation triangles`), the same meshes.
+    triangles = ["--summation", "triangles"]
+    rows[("cotangent", "every", "ordered/triangles")] = smooth_case(s8, n8, "cotangent", "every",
+                                                                    triangles)
+    rows[("cotangent", "every", "shuffled/triangles")] = smooth_case(sh, n8, "cotangent", "every",
+                                                                     triangles)
+    loads.append(load())
     res["sphere8"] = {f"{w}/{u}/{o}": v for (w, u, o), v in rows.items()}
 
     # The paper's surfaces: cotangent / uniform with weights recomputed every iteration.
@@ -224,6 +231,8 @@ def main():
         n10 = vertices(s10)
         c = smooth_case(s10, n10, "cotangent", "every", reps=1)
         res["sphere10"] = {"vertices": n10, **c}
+        t = smooth_case(s10, n10, "cotangent", "every", ["--summation", "triangles"], reps=1)
+        res["sphere10_triangles"] = {"vertices": n10, **t}
 
     if os.environ.get("LEVEL11"):
         res["sphere11"] = level11()
@@ -255,6 +264,11 @@ def report_md(res):
             L.append(f"| {w} | {u} | {o['ns']:.1f} ({o['range'][0]:.1f}–{o['range'][1]:.1f}) | "
                      f"{s['ns']:.1f} ({s['range'][0]:.1f}–{s['range'][1]:.1f}) | "
                      f"{s['ns'] / o['ns']:.2f} | {o['bytes_per_vertex']:.0f} |")
+    o, s = r8["cotangent/every/ordered/triangles"], r8["cotangent/every/shuffled/triangles"]
+    L.append(f"| cotangent, `--summation triangles` | every | {o['ns']:.1f} "
+             f"({o['range'][0]:.1f}–{o['range'][1]:.1f}) | {s['ns']:.1f} "
+             f"({s['range'][0]:.1f}–{s['range'][1]:.1f}) | {s['ns'] / o['ns']:.2f} | "
+             f"{o['bytes_per_vertex']:.0f} |")
     L += ["", "Cotangent ÷ uniform, weights recomputed every iteration (paper's surfaces):", "",
           "| surface | vertices | uniform ns | cotangent ns | ratio |", "|---|---:|---:|---:|---:|"]
     for name, p in res["paper"].items():
@@ -281,11 +295,13 @@ def report_md(res):
           "", f"Binary PLY on sphere8 (32.8 MB), medians: parse {res['io']['parse']:.3f} s, "
           f"half-edge build and validation {res['io']['build']:.3f} s, write (atomic, with fsync) "
           f"{res['io']['write']:.3f} s."]
-    if "sphere10" in res:
-        s = res["sphere10"]
+    for key, how in (("sphere10", ""), ("sphere10_triangles", ", `--summation triangles`")):
+        if key not in res:
+            continue
+        s = res[key]
         secs = s["seconds"][0]
         L += ["", f"Icosphere level 10 ({s['vertices']} vertices), 100 cotangent iterations, weights "
-              f"recomputed every iteration: {secs['weights'] + secs['updates']:.1f} s smoothing "
+              f"recomputed every iteration{how}: {secs['weights'] + secs['updates']:.1f} s smoothing "
               f"({s['ns']:.1f} ns per vertex-iteration), read {secs['read']:.1f} s, write "
               f"{secs['write']:.1f} s, peak {s['bytes_per_vertex']:.0f} B/vertex "
               f"({s['bytes_per_vertex'] * s['vertices'] / 2**30:.1f} GiB); whole process "

@@ -68,7 +68,7 @@ pub(crate) struct SmoothArgs {
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's
     /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or triangles (each
     /// triangle's three cotangents computed once and added into its vertices: about a
-    /// quarter less time per iteration on large meshes, the same results to rounding
+    /// sixth less time per iteration on large meshes, the same results to rounding
     /// but not bit for bit). triangles applies to cotangent weights with --update
     /// every, --normalize sum, --cotangent-negative keep and --method explicit, without
     /// --preserve-volume.
