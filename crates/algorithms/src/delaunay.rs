@@ -176,7 +176,10 @@ pub fn delaunay_flip(
         && (d.is_nan() || d < 0.0)
     {
         return Err(DelaunayError::Options {
-            reason: format!("the largest dihedral angle must be >= 0, got {d}"),
+            reason: format!(
+                "the largest dihedral angle must be >= 0, got {}",
+                beltrami_halfedge::exact_number(d)
+            ),
         });
     }
     let mut edit = EditMesh::from_mesh(mesh, positions)?;

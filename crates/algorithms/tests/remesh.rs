@@ -613,6 +613,14 @@ fn bad_input_and_options_give_the_typed_error() {
     bad_options(RemeshOptions::default().feature_angle(-0.1));
     bad_options(RemeshOptions::default().feature_angle(4.0));
     bad_options(RemeshOptions::default().feature_angle(f64::NAN));
+    // The refused value exactly, without 300 digits.
+    let message = |options: RemeshOptions| remesh(&mesh, x, &options).unwrap_err().to_string();
+    assert!(
+        message(RemeshOptions::default().edge_length(-1e300)).ends_with("got -1e300"),
+        "{}",
+        message(RemeshOptions::default().edge_length(-1e300))
+    );
+    assert!(message(RemeshOptions::default().feature_angle(3.25)).ends_with("got 3.25"));
     assert!(matches!(
         remesh(&mesh, x, &RemeshOptions::default().edge_length(1e-6)),
         Err(RemeshError::TooManyFaces { .. })

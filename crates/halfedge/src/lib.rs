@@ -103,4 +103,4 @@ pub use polygons::PolygonList;
 pub use raw::RawConnectivity;
 pub use release::release;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
-pub use text::short_number;
+pub use text::{exact_number, short_number};

@@ -37,9 +37,42 @@ pub fn short_number(x: f64) -> String {
     }
 }
 
+/// `x` exactly (the shortest text that reads back as the same `f64`), for a message that
+/// echoes a value it refuses, where six digits could hide why (`1.0000001` is not `1`):
+/// plain notation for magnitudes from 1e-4 up to 1e15 (`0.5`, `-1`, `180.0001`),
+/// scientific otherwise (`1e300`, `2.5e-7`), so that a huge or tiny value does not print
+/// hundreds of digits; `0`, `inf`, `-inf` and `NaN` as such.
+#[must_use]
+pub fn exact_number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        // Display: the shortest round-trip digits, without an exponent.
+        x.to_string()
+    } else {
+        // LowerExp: the same digits with an exponent (`1e300`, `2.5e-7`).
+        format!("{x:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn exact_numbers_read_back() {
+        assert_eq!(exact_number(0.5), "0.5");
+        assert_eq!(exact_number(-1.0), "-1");
+        assert_eq!(exact_number(0.0), "0");
+        assert_eq!(exact_number(180.0001), "180.0001");
+        assert_eq!(exact_number(1.000_000_1), "1.0000001");
+        assert_eq!(exact_number(1e300), "1e300");
+        assert_eq!(exact_number(-2.5e-7), "-2.5e-7");
+        assert_eq!(exact_number(1e15), "1e15");
+        assert_eq!(exact_number(f64::NAN), "NaN");
+        assert_eq!(exact_number(f64::INFINITY), "inf");
+        for x in [0.1, 1e-310, 123_456.789, 6.02e23, -1e-4, 9.999e14] {
+            assert_eq!(exact_number(x).parse::<f64>().unwrap(), x, "{x}");
+        }
+    }
 
     #[test]
     fn six_significant_digits_without_trailing_zeros() {

@@ -127,7 +127,10 @@ impl BilateralNormal {
         if !(sigma > 0.0 && sigma.is_finite()) {
             return Err(SchemesError::InvalidParameter {
                 name: "sigma",
-                reason: format!("must be positive and finite, got {sigma}"),
+                reason: format!(
+                    "must be positive and finite, got {}",
+                    beltrami_halfedge::exact_number(sigma)
+                ),
             });
         }
         Ok(Self { sigma, base })

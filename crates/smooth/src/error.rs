@@ -7,7 +7,7 @@ use beltrami_weights::WeightError;
 #[non_exhaustive]
 pub enum SmoothError {
     /// λ outside its valid range.
-    #[error("lambda must be {range}, got {lambda}")]
+    #[error("lambda must be {range}, got {}", beltrami_halfedge::exact_number(*.lambda))]
     InvalidLambda {
         /// The value given.
         lambda: f64,
@@ -105,7 +105,7 @@ pub enum SmoothError {
         reason: String,
     },
     /// A convergence threshold that is negative or not finite.
-    #[error("the convergence threshold must be positive and finite, got {value}")]
+    #[error("the convergence threshold must be positive and finite, got {}", beltrami_halfedge::exact_number(*.value))]
     InvalidUntilChange {
         /// The value given.
         value: f64,

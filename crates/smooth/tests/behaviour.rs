@@ -324,6 +324,9 @@ fn invalid_configurations_are_typed_errors() {
     let err = |config: SmoothConfig| smooth(&mesh, &p.positions, &Uniform, config).unwrap_err();
     insta::assert_snapshot!(err(SmoothConfig::new(0.0, 1)), @"lambda must be in (0, 1] with weight-sum normalisation, got 0");
     insta::assert_snapshot!(err(SmoothConfig::new(1.5, 1)), @"lambda must be in (0, 1] with weight-sum normalisation, got 1.5");
+    // The refused value exactly, and a huge one without its 300 digits.
+    insta::assert_snapshot!(err(SmoothConfig::new(1.000_000_1, 1)), @"lambda must be in (0, 1] with weight-sum normalisation, got 1.0000001");
+    insta::assert_snapshot!(err(SmoothConfig::new(1e300, 1)), @"lambda must be in (0, 1] with weight-sum normalisation, got 1e300");
     insta::assert_snapshot!(err(SmoothConfig::new(0.5, 1).pinned(vec![VertexId::new(99)])), @"pinned vertex 99 does not exist (the mesh has 42 vertices)");
     let mut x = p.positions.clone();
     x[5].y = f64::NAN;

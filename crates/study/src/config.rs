@@ -337,7 +337,7 @@ impl StudyConfig {
         if !(self.lambda > 0.0 && self.lambda <= 1.0) {
             return Err(StudyError::Config(format!(
                 "lambda must be in (0, 1], got {}",
-                self.lambda
+                beltrami_halfedge::exact_number(self.lambda)
             )));
         }
         if let Some(r) = &self.remesh {
@@ -349,7 +349,7 @@ impl StudyConfig {
             if length.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
                 return Err(StudyError::Config(format!(
                     "the remeshing target edge length must be positive and finite, got {}",
-                    length.unwrap_or(f64::NAN)
+                    beltrami_halfedge::exact_number(length.unwrap_or(f64::NAN))
                 )));
             }
         }
@@ -357,7 +357,8 @@ impl StudyConfig {
             if !(c.lambda > 0.0 && c.lambda <= 1.0) {
                 return Err(StudyError::Config(format!(
                     "counter-measure '{}': lambda must be in (0, 1], got {}",
-                    c.label, c.lambda
+                    c.label,
+                    beltrami_halfedge::exact_number(c.lambda)
                 )));
             }
         }

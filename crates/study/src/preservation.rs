@@ -412,7 +412,7 @@ impl EdgePreservationOptions {
                 name: "target",
                 reason: format!(
                     "must be a fraction strictly between 0 and 1, got {}",
-                    self.target
+                    beltrami_halfedge::exact_number(self.target)
                 ),
             });
         }
@@ -421,7 +421,7 @@ impl EdgePreservationOptions {
                 name: "feature threshold",
                 reason: format!(
                     "must be an angle in degrees strictly between 0 and 180, got {}",
-                    self.feature_threshold_deg
+                    beltrami_halfedge::exact_number(self.feature_threshold_deg)
                 ),
             });
         }

@@ -401,7 +401,10 @@ impl DecimateOptions {
                 return bad("the target vertex count must be at least 1".into());
             }
             DecimateTarget::Ratio(r) if !(r > 0.0 && r <= 1.0) => {
-                return bad(format!("the target ratio must be in (0, 1], got {r}"));
+                return bad(format!(
+                    "the target ratio must be in (0, 1], got {}",
+                    beltrami_halfedge::exact_number(r)
+                ));
             }
             _ => {}
         }
@@ -409,42 +412,53 @@ impl DecimateOptions {
             && !(e >= 0.0 && e.is_finite())
         {
             return bad(format!(
-                "the largest quadric error must be finite and >= 0, got {e}"
+                "the largest quadric error must be finite and >= 0, got {}",
+                beltrami_halfedge::exact_number(e)
             ));
         }
         if let Some(a) = self.max_normal_deviation
             && !(0.0..=PI).contains(&a)
         {
             return bad(format!(
-                "the largest normal deviation must be in [0, pi] radians, got {a}"
+                "the largest normal deviation must be in [0, pi] radians, got {}",
+                beltrami_halfedge::exact_number(a)
             ));
         }
         if let Some(a) = self.max_aspect_ratio
             && !(a >= 1.0 && a.is_finite())
         {
             return bad(format!(
-                "the largest aspect ratio must be finite and >= 1, got {a}"
+                "the largest aspect ratio must be finite and >= 1, got {}",
+                beltrami_halfedge::exact_number(a)
             ));
         }
         if let Some(d) = self.max_distance
             && !(d >= 0.0 && d.is_finite())
         {
             return bad(format!(
-                "the largest distance must be finite and >= 0, got {d}"
+                "the largest distance must be finite and >= 0, got {}",
+                beltrami_halfedge::exact_number(d)
             ));
         }
         let w = self.stabilizer;
         if !(w >= 0.0 && w.is_finite()) {
-            return bad(format!("the stabilizer must be finite and >= 0, got {w}"));
+            return bad(format!(
+                "the stabilizer must be finite and >= 0, got {}",
+                beltrami_halfedge::exact_number(w)
+            ));
         }
         let t = self.quality_threshold;
         if !(0.0..=1.0).contains(&t) {
-            return bad(format!("the quality threshold must be in [0, 1], got {t}"));
+            return bad(format!(
+                "the quality threshold must be in [0, 1], got {}",
+                beltrami_halfedge::exact_number(t)
+            ));
         }
         let f = self.flip_tolerance;
         if !(f >= 0.0 && f.is_finite()) {
             return bad(format!(
-                "the flip tolerance must be finite and >= 0, got {f}"
+                "the flip tolerance must be finite and >= 0, got {}",
+                beltrami_halfedge::exact_number(f)
             ));
         }
         if self.fit_rounds > MAX_FIT_ROUNDS {

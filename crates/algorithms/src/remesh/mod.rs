@@ -481,12 +481,14 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
     let target = match options.edge_length {
         EdgeLength::Absolute(l) if !(l.is_finite() && l > 0.0) => {
             return bad(format!(
-                "the target edge length must be positive and finite, got {l}"
+                "the target edge length must be positive and finite, got {}",
+                beltrami_halfedge::exact_number(l)
             ));
         }
         EdgeLength::Relative(r) if !(r.is_finite() && r > 0.0) => {
             return bad(format!(
-                "the relative target edge length must be positive and finite, got {r}"
+                "the relative target edge length must be positive and finite, got {}",
+                beltrami_halfedge::exact_number(r)
             ));
         }
         EdgeLength::Adaptive(sizing) => {
@@ -498,7 +500,10 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
                 if let Some(x) = x
                     && !(x.is_finite() && x > 0.0)
                 {
-                    return bad(format!("{name} must be positive and finite, got {x}"));
+                    return bad(format!(
+                        "{name} must be positive and finite, got {}",
+                        beltrami_halfedge::exact_number(x)
+                    ));
                 }
             }
             if let (Some(min_edge), Some(max_edge)) = (sizing.min_edge, sizing.max_edge)
@@ -517,7 +522,8 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
         && !(0.0..=std::f64::consts::PI).contains(&a)
     {
         return bad(format!(
-            "the feature angle must be between 0 and pi radians, got {a}"
+            "the feature angle must be between 0 and pi radians, got {}",
+            beltrami_halfedge::exact_number(a)
         ));
     }
     Ok(target)

@@ -255,7 +255,10 @@ impl ScanConfig {
             }
         }
         if !(self.lambda > 0.0 && self.lambda <= 1.0) {
-            return bad(format!("lambda must be in (0, 1], got {}", self.lambda));
+            return bad(format!(
+                "lambda must be in (0, 1], got {}",
+                beltrami_halfedge::exact_number(self.lambda)
+            ));
         }
         if self.max_iterations == 0 {
             return bad("the iteration limit must be at least 1".into());
@@ -266,7 +269,8 @@ impl ScanConfig {
             .find(|t| !(t.is_finite() && **t > 0.0))
         {
             return bad(format!(
-                "implicit time steps must be positive and finite, got {t}"
+                "implicit time steps must be positive and finite, got {}",
+                beltrami_halfedge::exact_number(*t)
             ));
         }
         if self.methods.contains(&ScanMethod::Implicit) && self.implicit_steps.is_empty() {
