@@ -4,9 +4,10 @@
 
 use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
 use beltrami_algorithms::{
-    AdaptiveSizing, DecimateError, DecimateOptions, DecimateStop, DelaunayError, DelaunayOptions,
-    FillError, FillOptions, MeshQuality, Placement, QualityError, RemeshError, RemeshOptions,
-    Scheme, SkipReason, SubdivisionError, delaunay_flip, flipped_faces, mesh_quality,
+    AdaptiveSizing, BlockedBy, DecimateError, DecimateOptions, DecimateStop, DelaunayError,
+    DelaunayOptions, FillError, FillOptions, MeshQuality, Placement, QualityError, RemeshError,
+    RemeshOptions, Scheme, SkipReason, SubdivisionError, delaunay_flip, flipped_faces,
+    mesh_quality,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
@@ -452,18 +453,15 @@ pub(crate) fn decimate<'py>(
             ("flip_tolerance", flip_tolerance.is_some()),
             ("fit_rounds", given_fit_rounds.is_some()),
         ],
-        placement == Some("endpoint"),
-        [
-            ("max_distance", max_distance.is_some()),
-            ("max_normal_deviation", max_normal_deviation.is_some()),
-        ],
-        given_fit_rounds.is_some_and(|n| n > 0),
-        flip_tolerance.is_some_and(|f| f > 0.0),
     )?;
     let defaults = DecimateOptions::default();
     let fit_rounds = given_fit_rounds.unwrap_or(defaults.fit_rounds);
     let quality_threshold = quality_threshold.unwrap_or(defaults.quality_threshold);
     let stabilizer = stabilizer.unwrap_or(defaults.stabilizer);
+    let (fits, flips) = (
+        given_fit_rounds.is_some_and(|n| n > 0),
+        flip_tolerance.is_some_and(|f| f > 0.0),
+    );
     let flip_tolerance = flip_tolerance.unwrap_or(defaults.flip_tolerance);
     let placement = placement.unwrap_or("optimal");
     let plane_weights = plane_weights.unwrap_or("area");
@@ -530,6 +528,7 @@ pub(crate) fn decimate<'py>(
     if let Some(d) = max_distance {
         options = options.max_distance(d);
     }
+    refuse_blocked_decimate_steps(&options, fits, flips)?;
     // The bar's total is the planned collapses, which the first call gives.
     let (m, p, r) = Progress::run(py, progress, 0, "decimate", |bar| {
         beltrami_algorithms::decimate_with_progress(
@@ -600,35 +599,44 @@ pub(crate) fn decimate<'py>(
 }
 
 /// Refuses, as `beltrami decimate` does (exit 2 there), options given explicitly that
-/// the run could not honour: any of `openmesh_conflicts` with `openmesh=True` (OpenMesh's
-/// plain quadrics fix them), `fit_rounds` above 0 with endpoint placement or a bound
-/// (`bounds`: `max_distance`, `max_normal_deviation`), and `flip_tolerance` above 0
-/// with a bound.
+/// the run could not honour with `openmesh=True`: any of `openmesh_conflicts`
+/// (OpenMesh's plain quadrics fix them).
 fn refuse_ignored_decimate_options(
     openmesh: bool,
     openmesh_conflicts: [(&str, bool); 6],
-    endpoint: bool,
-    bounds: [(&str, bool); 2],
-    fits: bool,
-    flips: bool,
 ) -> PyResult<()> {
     if openmesh && let Some((name, _)) = openmesh_conflicts.iter().find(|(_, given)| *given) {
         return Err(PyValueError::new_err(format!(
             "{name} cannot be given with openmesh=True, which is OpenMesh's plain quadrics (endpoint placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no fit)"
         )));
     }
-    let bound = bounds
-        .iter()
-        .find(|(_, given)| *given)
-        .map(|(name, _)| *name);
-    if fits && let Some(name) = endpoint.then_some("placement='endpoint'").or(bound) {
+    Ok(())
+}
+
+/// Refuses, as `beltrami decimate` does, `fit_rounds` or `flip_tolerance` given above 0
+/// when a setting of `options` keeps that step off
+/// (`DecimateOptions::fit_blocked_by`, `flips_blocked_by`).
+fn refuse_blocked_decimate_steps(
+    options: &DecimateOptions,
+    fits: bool,
+    flips: bool,
+) -> PyResult<()> {
+    let name = |blocker| match blocker {
+        BlockedBy::EndpointPlacement => "placement='endpoint'",
+        BlockedBy::MaxDistance => "max_distance",
+        BlockedBy::MaxNormalDeviation => "max_normal_deviation",
+        _ => "the other options",
+    };
+    if fits && let Some(blocker) = options.fit_blocked_by() {
         return Err(PyValueError::new_err(format!(
-            "fit_rounds cannot be given with {name}, with which no fit is made (leave fit_rounds out or give 0)"
+            "fit_rounds cannot be given with {}, with which no fit is made (leave fit_rounds out or give 0)",
+            name(blocker)
         )));
     }
-    if flips && let Some(name) = bound {
+    if flips && let Some(blocker) = options.flips_blocked_by() {
         return Err(PyValueError::new_err(format!(
-            "flip_tolerance cannot be given with {name}, with which no flips are made (leave flip_tolerance out or give 0)"
+            "flip_tolerance cannot be given with {}, with which no flips are made (leave flip_tolerance out or give 0)",
+            name(blocker)
         )));
     }
     Ok(())

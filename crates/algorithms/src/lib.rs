@@ -57,7 +57,7 @@ pub mod subdivision;
 mod valence;
 
 pub use decimate::{
-    DEFAULT_FIT_ROUNDS, DecimateError, DecimateOptions, DecimateReport, DecimateStop,
+    BlockedBy, DEFAULT_FIT_ROUNDS, DecimateError, DecimateOptions, DecimateReport, DecimateStop,
     DecimateTarget, MAX_FIT_ROUNDS, Placement, RefusalCounts, decimate, decimate_with_progress,
 };
 pub use delaunay::{DelaunayOptions, DelaunayReport, delaunay_flip};

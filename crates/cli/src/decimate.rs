@@ -4,7 +4,8 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use beltrami_algorithms::{
-    DecimateError, DecimateOptions, DecimateReport, DecimateStop, Placement, decimate_with_progress,
+    BlockedBy, DecimateError, DecimateOptions, DecimateReport, DecimateStop, Placement,
+    decimate_with_progress,
 };
 use serde::Serialize;
 
@@ -270,31 +271,33 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             beltrami_algorithms::MAX_FIT_ROUNDS
         ));
     }
-    // Options given explicitly that the run could not honour are refused, not dropped.
-    let bounds = [
-        (args.max_distance.is_some(), "--max-distance"),
-        (
-            args.max_normal_deviation.is_some(),
-            "--max-normal-deviation",
-        ),
-    ];
-    if args.fit_rounds.is_some_and(|n| n > 0) {
-        let endpoint = !args.openmesh && matches!(args.placement, PlacementArg::Endpoint);
-        if let Some((_, name)) = [(endpoint, "--placement endpoint")]
-            .iter()
-            .chain(&bounds)
-            .find(|(given, _)| *given)
-        {
-            return usage(format!(
-                "--fit-rounds cannot be used with {name}, with which no fit is made (leave --fit-rounds out or give 0)"
-            ));
-        }
-    }
-    if args.flip_tolerance.is_some_and(|f| f > 0.0)
-        && let Some((_, name)) = bounds.iter().find(|(given, _)| *given)
+    // Options given explicitly that the run could not honour are refused, not dropped
+    // (`--openmesh` excludes both in the arguments already).
+    let placement = match args.placement {
+        PlacementArg::Optimal => Placement::Optimal,
+        PlacementArg::Endpoint => Placement::Endpoint,
+    };
+    let planned = options.placement(placement);
+    let name = |blocker| match blocker {
+        BlockedBy::EndpointPlacement => "--placement endpoint",
+        BlockedBy::MaxDistance => "--max-distance",
+        BlockedBy::MaxNormalDeviation => "--max-normal-deviation",
+        _ => "the other options",
+    };
+    if args.fit_rounds.is_some_and(|n| n > 0)
+        && let Some(blocker) = planned.fit_blocked_by()
     {
         return usage(format!(
-            "--flip-tolerance cannot be used with {name}, with which no flips are made (leave --flip-tolerance out or give 0)"
+            "--fit-rounds cannot be used with {}, with which no fit is made (leave --fit-rounds out or give 0)",
+            name(blocker)
+        ));
+    }
+    if args.flip_tolerance.is_some_and(|f| f > 0.0)
+        && let Some(blocker) = planned.flips_blocked_by()
+    {
+        return usage(format!(
+            "--flip-tolerance cannot be used with {}, with which no flips are made (leave --flip-tolerance out or give 0)",
+            name(blocker)
         ));
     }
     options = if args.openmesh {
@@ -305,10 +308,7 @@ fn options(args: &DecimateArgs) -> Result<DecimateOptions, CliError> {
             .fit_rounds(0)
     } else {
         options
-            .placement(match args.placement {
-                PlacementArg::Optimal => Placement::Optimal,
-                PlacementArg::Endpoint => Placement::Endpoint,
-            })
+            .placement(placement)
             .quality_threshold(args.quality_threshold)
             .area_weighted(args.plane_weights == PlaneWeightsArg::Area)
             .stabilizer(args.stabilizer)

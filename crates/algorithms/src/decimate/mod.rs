@@ -238,6 +238,19 @@ pub const MAX_FIT_ROUNDS: usize = 100;
 /// The default of [`DecimateOptions::quality_threshold`].
 const DEFAULT_QUALITY_THRESHOLD: f64 = 0.4;
 
+/// A setting of [`DecimateOptions`] that keeps a step after the collapses off (see
+/// [`DecimateOptions::fit_blocked_by`] and [`DecimateOptions::flips_blocked_by`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BlockedBy {
+    /// [`Placement::Endpoint`].
+    EndpointPlacement,
+    /// [`DecimateOptions::max_distance`].
+    MaxDistance,
+    /// [`DecimateOptions::max_normal_deviation`].
+    MaxNormalDeviation,
+}
+
 /// The default of [`DecimateOptions::flip_tolerance`].
 const DEFAULT_FLIP_TOLERANCE: f64 = 0.2;
 
@@ -286,13 +299,58 @@ impl DecimateOptions {
         self
     }
 
-    /// Whether the final fit runs: rounds asked for, optimal placement, and no bound
-    /// that follows collapses only.
+    /// Whether the final fit runs: rounds asked for and nothing keeps it off
+    /// ([`fit_blocked_by`](Self::fit_blocked_by)).
     fn fits(&self) -> bool {
-        self.fit_rounds > 0
-            && self.placement == Placement::Optimal
-            && self.max_distance.is_none()
-            && self.max_normal_deviation.is_none()
+        self.fit_rounds > 0 && self.fit_blocked_by().is_none()
+    }
+
+    /// Whether the valence flips run: a tolerance above 0 and nothing keeps them off
+    /// ([`flips_blocked_by`](Self::flips_blocked_by)).
+    fn flips(&self) -> bool {
+        self.flip_tolerance > 0.0 && self.flips_blocked_by().is_none()
+    }
+
+    /// The setting that keeps the final fit to the input off, whatever
+    /// [`fit_rounds`](Self::fit_rounds) says: the first of endpoint placement (the fit
+    /// moves vertices off the input's, which endpoint placement keeps), a distance bound
+    /// and a normal-deviation bound (both hold only for the collapses' own placements);
+    /// `None` when the fit runs with rounds asked for. A front end that takes the rounds
+    /// from its user can refuse them rather than drop them.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_algorithms::{BlockedBy, DecimateOptions, Placement};
+    /// let options = DecimateOptions::default().ratio(0.5);
+    /// assert_eq!(options.fit_blocked_by(), None);
+    /// let endpoint = options.placement(Placement::Endpoint);
+    /// assert_eq!(endpoint.fit_blocked_by(), Some(BlockedBy::EndpointPlacement));
+    /// assert_eq!(endpoint.flips_blocked_by(), None);
+    /// let bounded = options.max_distance(0.01);
+    /// assert_eq!(bounded.flips_blocked_by(), Some(BlockedBy::MaxDistance));
+    /// ```
+    #[must_use]
+    pub fn fit_blocked_by(&self) -> Option<BlockedBy> {
+        if self.placement == Placement::Endpoint {
+            Some(BlockedBy::EndpointPlacement)
+        } else {
+            self.flips_blocked_by()
+        }
+    }
+
+    /// The setting that keeps the valence flips after the collapses off, whatever
+    /// [`flip_tolerance`](Self::flip_tolerance) says: a distance bound or a
+    /// normal-deviation bound (a flip could break either); `None` when the flips run
+    /// with a tolerance above 0.
+    #[must_use]
+    pub fn flips_blocked_by(&self) -> Option<BlockedBy> {
+        if self.max_distance.is_some() {
+            Some(BlockedBy::MaxDistance)
+        } else if self.max_normal_deviation.is_some() {
+            Some(BlockedBy::MaxNormalDeviation)
+        } else {
+            None
+        }
     }
 
     /// Sets how far, as a fraction of the largest collapse error, the valence flips
@@ -738,10 +796,7 @@ pub fn decimate_with_progress(
     let refused = decimator.refused;
     let keyings = decimator.keyings as usize;
     let mut edit = decimator.mesh;
-    let flips = if options.flip_tolerance > 0.0
-        && options.max_distance.is_none()
-        && options.max_normal_deviation.is_none()
-    {
+    let flips = if options.flips() {
         flips::flip_towards_valence_six(
             &mut edit,
             options.flip_tolerance * max_rms,
