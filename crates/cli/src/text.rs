@@ -15,9 +15,10 @@ pub(crate) fn number(x: f64) -> String {
 
 /// `x` exactly as given, for a usage error that echoes a value back: the shortest text
 /// that reads back to the same number, in scientific notation when very large or small
-/// (`180.0001`, not [`number`]'s `180`; `1e300`, not 301 digits).
+/// (`180.0001`, not [`number`]'s `180`; `1e300`, not 301 digits), as the library's
+/// messages write it ([`beltrami_halfedge::exact_number`]).
 pub(crate) fn exact(x: f64) -> String {
-    format!("{x:?}")
+    beltrami_halfedge::exact_number(x)
 }
 
 /// A point or direction as `(x, y, z)` with [`number`]s.
@@ -45,7 +46,7 @@ mod tests {
         assert_eq!(exact(180.0001), "180.0001");
         assert_eq!(exact(1e300), "1e300");
         assert_eq!(exact(1e-300), "1e-300");
-        assert_eq!(exact(-1.0), "-1.0");
+        assert_eq!(exact(-1.0), "-1");
         assert_eq!(exact(f64::INFINITY), "inf");
     }
 

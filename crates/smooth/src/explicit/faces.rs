@@ -506,18 +506,8 @@ mod tests {
     use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
     use beltrami_weights::{Cotangent, Laplacian, LaplacianOptions};
 
+    use super::super::rows::tests::wobble;
     use super::{Decline, Scatter, TriangleOrder, cotangent_scale, sweep_triangles};
-
-    /// Noisy positions: a fixed, cheap perturbation.
-    fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
-        p.iter()
-            .enumerate()
-            .map(|(i, &x)| {
-                let t = i as f64;
-                x + DVec3::new((t * 1.3).sin(), (t * 2.1).cos(), (t * 0.7).sin()) * amount
-            })
-            .collect()
-    }
 
     fn bits(p: &[DVec3]) -> Vec<[u64; 3]> {
         p.iter().map(|q| q.to_array().map(f64::to_bits)).collect()

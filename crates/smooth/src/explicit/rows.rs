@@ -310,7 +310,7 @@ impl std::ops::Mul<f64> for Xy {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use beltrami_halfedge::geometry::VertexAreaKind;
     use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
     use beltrami_weights::{
@@ -384,7 +384,7 @@ mod tests {
     }
 
     /// Noisy positions: a fixed, cheap perturbation (no generator needed).
-    fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
+    pub(in crate::explicit) fn wobble(p: &[DVec3], amount: f64) -> Vec<DVec3> {
         p.iter()
             .enumerate()
             .map(|(i, &x)| {
