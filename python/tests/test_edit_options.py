@@ -123,6 +123,7 @@ def test_fill_holes_leaves_a_lone_triangle_open():
             "^max_normal_deviation must be between 0 and 180 degrees, got 200",
         ),
         (lambda m: bt.decimate(m, ratio=0.5, fit_rounds=101), "at most 100 rounds, got 101"),
+        (lambda m: bt.remesh(m, iterations=1001), "^invalid option: remeshing takes at most 1000 iterations .*, got 1001$"),
         (lambda m: bt.compare(m, m, samples=0), "^samples must be between 1 and 10000000"),
         (lambda m: bt.compare(m, m, samples=-1), "^samples must be between 1 and 10000000"),
         (lambda m: bt.compare(m, m, samples=10**7 + 1), "^samples must be between 1 and 10000000"),

@@ -69,7 +69,7 @@ pub use fill_holes::{
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
     AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, FOLD_ANGLE,
-    MAX_REMESH_FACES, MIN_EXTENT_SHARE, RemeshError, RemeshIteration, RemeshOptions, RemeshReport,
-    SMOOTH_ANGLE, remesh, remesh_with_progress,
+    MAX_REMESH_FACES, MAX_REMESH_ITERATIONS, MIN_EXTENT_SHARE, RemeshError, RemeshIteration,
+    RemeshOptions, RemeshReport, SMOOTH_ANGLE, remesh, remesh_with_progress,
 };
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

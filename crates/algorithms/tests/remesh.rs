@@ -5,7 +5,9 @@
 //! input's feature edges, with every sharp corner kept; it is deterministic; bad options
 //! are refused with the typed error.
 
-use beltrami_algorithms::{EdgeLength, MIN_EXTENT_SHARE, RemeshError, RemeshOptions, remesh};
+use beltrami_algorithms::{
+    EdgeLength, MAX_REMESH_ITERATIONS, MIN_EXTENT_SHARE, RemeshError, RemeshOptions, remesh,
+};
 use beltrami_halfedge::{DVec3, EditMesh, HalfedgeMesh, VertexId, primitives};
 use beltrami_metrics::distance::SurfaceIndex;
 use beltrami_surfaces::{FLensParams, Size, SurfaceKind, flens};
@@ -613,6 +615,7 @@ fn bad_input_and_options_give_the_typed_error() {
     bad_options(RemeshOptions::default().feature_angle(-0.1));
     bad_options(RemeshOptions::default().feature_angle(4.0));
     bad_options(RemeshOptions::default().feature_angle(f64::NAN));
+    bad_options(RemeshOptions::default().iterations(MAX_REMESH_ITERATIONS + 1));
     // The refused value exactly, without 300 digits.
     let message = |options: RemeshOptions| remesh(&mesh, x, &options).unwrap_err().to_string();
     assert!(

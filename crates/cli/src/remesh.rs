@@ -68,7 +68,8 @@ pub(crate) struct RemeshArgs {
         requires = "adaptive"
     )]
     error: Option<f64>,
-    /// The number of split-collapse-flip-relax iterations.
+    /// The number of split-collapse-flip-relax iterations (at most 1000; the counts
+    /// settle within 10 to 20).
     #[arg(
         long,
         allow_negative_numbers = true,

@@ -533,6 +533,10 @@ fn negative_and_out_of_range_numbers_get_the_options_own_message() {
             &["--features", "180.0001"][..],
             "--features must be between 0 and 180 degrees, got 180.0001",
         ),
+        (
+            &["--iterations", "1000000"][..],
+            "remeshing takes at most 1000 iterations (it settles within 10 to 20), got 1000000",
+        ),
     ] {
         let mut all = vec!["remesh", s(&input), s(&out)];
         all.extend_from_slice(args);

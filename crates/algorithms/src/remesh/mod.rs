@@ -165,6 +165,11 @@ pub struct AdaptiveLengths {
     pub approx_error: f64,
 }
 
+/// The most iterations a remeshing run takes ([`RemeshOptions::iterations`]): the
+/// counts of splits, collapses and flips settle within 10 to 20 iterations, and a larger
+/// count is most likely a typing error that would run for hours on a large mesh.
+pub const MAX_REMESH_ITERATIONS: usize = 1000;
+
 /// The settings of [`remesh`].
 ///
 /// # Examples
@@ -183,7 +188,8 @@ pub struct RemeshOptions {
     /// The target edge length L. Default: the input's mean edge length
     /// (`Relative(1.0)`).
     pub edge_length: EdgeLength,
-    /// The number of split–collapse–flip–relax iterations (default 10, as pmp-library).
+    /// The number of split–collapse–flip–relax iterations (default 10, as pmp-library;
+    /// at most [`MAX_REMESH_ITERATIONS`]).
     pub iterations: usize,
     /// Edges whose two triangles' normals differ by more than this angle (radians, in
     /// `[0, π]`) are feature edges and are kept. `None` (the default): no interior edge
@@ -510,7 +516,9 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
                 && min_edge > max_edge
             {
                 return bad(format!(
-                    "the smallest edge length {min_edge} exceeds the largest {max_edge}"
+                    "the smallest edge length {} exceeds the largest {}",
+                    beltrami_halfedge::exact_number(min_edge),
+                    beltrami_halfedge::exact_number(max_edge)
                 ));
             }
             mean_edge
@@ -518,6 +526,12 @@ fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshE
         EdgeLength::Absolute(l) => l,
         EdgeLength::Relative(r) => r * mean_edge,
     };
+    if options.iterations > MAX_REMESH_ITERATIONS {
+        return bad(format!(
+            "remeshing takes at most {MAX_REMESH_ITERATIONS} iterations (it settles within 10 to 20), got {}",
+            options.iterations
+        ));
+    }
     if let Some(a) = options.feature_angle
         && !(0.0..=std::f64::consts::PI).contains(&a)
     {
