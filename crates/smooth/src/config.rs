@@ -129,8 +129,8 @@ pub enum Summation {
     /// the internal vertex order, [`Reorder`]) and each cotangent rounds differently
     /// from the per-corner formula OpenMesh uses. A run that amplifies rounding
     /// (negative weights on obtuse triangles over many iterations) can therefore end
-    /// farther from OpenMesh's result than rounding. Other configurations are summed by
-    /// rows whatever this says.
+    /// farther from OpenMesh's result than rounding. Other configurations, and meshes
+    /// with faces other than triangles, are summed by rows whatever this says.
     Triangles,
 }
 
