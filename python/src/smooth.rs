@@ -185,8 +185,9 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// Returns `(smoothed, report)`: a new `Mesh` with the same faces and the smoothed
 /// positions, and a dict with the keys of the command line's `--report` JSON
 /// (`input`, `output`, `vertices`, `faces`, `parameters`, `iterations`, `stop`,
-/// `max_stuck_vertices`, `seconds`, `steps`, and `implicit` for the implicit
-/// method); `seconds` holds `weights` and `updates` (no file is read or written).
+/// `max_stuck_vertices`, `triangle_sweeps`, `seconds`, `steps`, and `implicit` for the
+/// implicit method); `seconds` holds `weights` and `updates` (no file is read or
+/// written).
 ///
 /// The options and their defaults are those of `beltrami smooth`:
 ///
@@ -451,6 +452,7 @@ fn report<'py>(
     d.set_item("iterations", r.iterations)?;
     d.set_item("stop", r.stop.name())?;
     d.set_item("max_stuck_vertices", r.max_stuck_vertices)?;
+    d.set_item("triangle_sweeps", r.triangle_sweeps)?;
     d.set_item("seconds", seconds)?;
     d.set_item("steps", steps)?;
     if let Some(s) = &r.solver {

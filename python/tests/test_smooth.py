@@ -11,7 +11,7 @@ import beltrami as bt
 
 REPORT_KEYS = {
     "input", "output", "vertices", "faces", "parameters", "iterations", "stop",
-    "max_stuck_vertices", "seconds", "steps",
+    "max_stuck_vertices", "triangle_sweeps", "seconds", "steps",
 }
 PARAMETER_KEYS = {
     "weights", "lambda", "iterations", "boundary", "update", "cotangent_negative", "summation",
@@ -113,6 +113,7 @@ def test_triangle_summation_is_the_row_summation_to_rounding(sphere):
     triangles, t_report = bt.smooth(sphere, iterations=20, summation="triangles")
     assert report["parameters"]["summation"] == "rows"
     assert t_report["parameters"]["summation"] == "triangles"
+    assert (report["triangle_sweeps"], t_report["triangle_sweeps"]) == (0, 20)
     scale = np.abs(sphere.vertices).max()
     assert np.abs(rows.vertices - triangles.vertices).max() <= 1e-13 * scale
     again, _ = bt.smooth(sphere, iterations=20, summation="triangles")

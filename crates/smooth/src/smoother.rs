@@ -120,6 +120,8 @@ pub(crate) struct Finished {
     pub(crate) weight_time: Duration,
     pub(crate) update_time: Duration,
     pub(crate) solver: Option<SolverReport>,
+    /// Iterations swept triangle by triangle.
+    pub(crate) triangle_sweeps: usize,
 }
 
 impl<'a> Smoother<'a> {
@@ -400,6 +402,7 @@ impl<'a> Smoother<'a> {
             weight_time: finished.weight_time,
             update_time: finished.update_time,
             solver: finished.solver,
+            triangle_sweeps: finished.triangle_sweeps,
         };
         let smoothed = Smoothed {
             positions: finished.positions,

@@ -6,7 +6,7 @@ use std::ops::ControlFlow;
 use beltrami_halfedge::primitives;
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_smooth::{
-    Boundary, SmoothConfig, SmoothError, Smoother, StopReason, WeightUpdate, smooth,
+    Boundary, SmoothConfig, SmoothError, Smoother, StopReason, Summation, WeightUpdate, smooth,
 };
 use beltrami_testkit::SplitMix64;
 use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
@@ -315,6 +315,25 @@ fn observer_sees_every_iteration_and_can_stop_the_run() {
         .fold(0.0, f64::max);
     assert_eq!(full.report.steps[0].max_displacement, max);
     assert_eq!(full.report.stop, StopReason::Completed);
+}
+
+/// The report counts the iterations summed triangle by triangle: all of them where
+/// `Summation::Triangles` applies, none on a mesh with quads (its rows are summed as
+/// usual) or with the default summation.
+#[test]
+fn the_report_counts_the_triangle_sweeps() {
+    let sweeps = |p: &primitives::Primitive, summation| {
+        let mesh = p.mesh().unwrap();
+        let config = SmoothConfig::new(0.5, 4).summation(summation);
+        smooth(&mesh, &p.positions, &Cotangent, config)
+            .unwrap()
+            .report
+            .triangle_sweeps
+    };
+    let sphere = primitives::icosphere(2);
+    assert_eq!(sweeps(&sphere, Summation::Triangles), 4);
+    assert_eq!(sweeps(&sphere, Summation::Rows), 0);
+    assert_eq!(sweeps(&primitives::cube_quads(), Summation::Triangles), 0);
 }
 
 #[test]

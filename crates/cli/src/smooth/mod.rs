@@ -263,6 +263,19 @@ fn write_summary(
             plural(r.max_stuck_vertices, "vertex", "vertices"),
         )?;
     }
+    if args.summation == SummationArg::Triangles && r.triangle_sweeps < r.iterations {
+        let why = if shape.triangles {
+            "a triangle collapsed to a point, or a vertex order too scattered for it"
+        } else {
+            "the mesh has polygon faces"
+        };
+        writeln!(
+            out,
+            "note: {} of {} iterations were summed by rows, not by triangles ({why})",
+            r.iterations - r.triangle_sweeps,
+            r.iterations
+        )?;
+    }
     Ok(())
 }
 

@@ -24,6 +24,8 @@ pub(crate) struct Report<'a> {
     /// The largest number of vertices that could not move in one iteration (weights
     /// summing to ≤ 0, zero area).
     pub(crate) max_stuck_vertices: usize,
+    /// Iterations summed triangle by triangle (`--summation triangles`; 0 otherwise).
+    pub(crate) triangle_sweeps: usize,
     pub(crate) seconds: Seconds,
     pub(crate) steps: Vec<Step>,
     /// Solver figures of --method implicit.
@@ -146,6 +148,7 @@ pub(crate) fn build_report<'a>(
         iterations: r.iterations,
         stop: r.stop.name(),
         max_stuck_vertices: r.max_stuck_vertices,
+        triangle_sweeps: r.triangle_sweeps,
         seconds: Seconds {
             read: read.total,
             parse: read.parse,

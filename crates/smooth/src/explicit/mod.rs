@@ -101,6 +101,8 @@ pub(crate) struct Explicit<'a> {
     /// The power of two that sweep multiplies the corner positions by, once an edge was
     /// too short or too long for plain products ([`faces::cotangent_scale`]).
     cotangent_scale: Option<f64>,
+    /// The iterations swept triangle by triangle.
+    triangle_sweeps: usize,
     /// The last sweep computed its weights itself (see [`sweep_fresh`](Self::sweep_fresh)):
     /// the stored operator's weights are older than that sweep's.
     operator_behind: bool,
@@ -503,6 +505,7 @@ impl<'a> Explicit<'a> {
             scatter_declined: false,
             triangle_order: None,
             cotangent_scale: None,
+            triangle_sweeps: 0,
             operator_behind: false,
             current: OnceLock::new(),
             weight_time: Duration::ZERO,
@@ -837,6 +840,7 @@ impl<'a> Explicit<'a> {
             return false;
         };
         self.partials = partials;
+        self.triangle_sweeps += 1;
         self.operator_behind = true;
         self.current = OnceLock::new();
         true
@@ -1018,6 +1022,7 @@ impl<'a> Explicit<'a> {
             weight_time: self.weight_time,
             update_time: self.update_time,
             solver: None,
+            triangle_sweeps: self.triangle_sweeps,
         };
         (finished, triangles)
     }
@@ -1095,10 +1100,9 @@ mod tests {
         for want in [Want::Full, Want::Nothing, Want::Max] {
             e.iterate(want).unwrap();
         }
-        (
-            e.triangle_order.is_some() && !e.scatter_declined,
-            e.cotangent_scale,
-        )
+        let swept = e.triangle_sweeps == 3;
+        assert_eq!(swept, e.triangle_order.is_some() && !e.scatter_declined);
+        (swept, e.cotangent_scale)
     }
 
     /// The triangle sweep takes exactly the runs `sums_by_triangles` (testkit) names, on
