@@ -84,3 +84,66 @@ fn both_kernels_write_the_same_bytes_and_auto_falls_back_to_the_ring() {
     assert!(note.contains("one-ring"), "{note}");
     assert_eq!(fs::read(&path).unwrap(), fs::read(&default_out).unwrap());
 }
+
+/// With `--summation triangles` the sweeps use no per-triangle table: `auto` takes the
+/// one-ring kernel from the start (no note, the same bytes as asking for it), and the
+/// estimate is the one-ring kernel's plus the sorted triangles (12 bytes per face and 8
+/// per vertex: about 0.31 MiB here).
+#[test]
+fn triangle_summation_takes_the_ring_kernel() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::squashed_sphere(dir.path(), "scan.ply", 5);
+    let run = |out: &str, extra: &[&str]| {
+        let output = dir.path().join(out);
+        let mut args = vec![
+            "smooth",
+            s(&input),
+            s(&output),
+            "--iterations",
+            "3",
+            "--summation",
+            "triangles",
+        ];
+        args.extend_from_slice(extra);
+        (beltrami(&args), output)
+    };
+    let (auto, auto_out) = run("auto.ply", &[]);
+    assert!(auto.status.success() && auto.stderr.is_empty());
+    let (per_triangle, per_triangle_out) =
+        run("table.ply", &["--cotangent-kernel", "per-triangle"]);
+    assert!(per_triangle.status.success());
+    assert_eq!(
+        fs::read(&auto_out).unwrap(),
+        fs::read(&per_triangle_out).unwrap()
+    );
+    let refused = |extra: &[&str]| {
+        let mut args = extra.to_vec();
+        args.extend_from_slice(&["--max-memory", "1M"]);
+        let (out, path) = run("refused.ply", &args);
+        assert_eq!(out.status.code(), Some(1));
+        assert!(!path.exists());
+        estimate_mib(&out.stderr)
+    };
+    let (auto, ring) = (refused(&[]), refused(&["--cotangent-kernel", "ring"]));
+    assert_eq!(auto, ring);
+    // 10 242 vertices, 20 480 faces: 0.31 MiB more than summing rows with the ring
+    // kernel (before the estimate's margin).
+    let (out, _) = {
+        let output = dir.path().join("rows.ply");
+        let args = [
+            "smooth",
+            s(&input),
+            s(&output),
+            "--cotangent-kernel",
+            "ring",
+            "--max-memory",
+            "1M",
+        ];
+        (beltrami(&args), output)
+    };
+    let rows = estimate_mib(&out.stderr);
+    assert!(
+        ring - rows > 0.3 && ring - rows < 0.45,
+        "{ring} against {rows}"
+    );
+}
