@@ -563,7 +563,7 @@ fn summing_by_triangles_stays_within_openmeshs_own_rounding() {
                 checked.0 += 1;
             } else {
                 assert!(
-                    off <= 100.0 * sensitivity,
+                    off <= 10.0 * sensitivity,
                     "{}: {id}: {off:e} against {sensitivity:e}",
                     f.name
                 );

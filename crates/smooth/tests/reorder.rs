@@ -115,7 +115,8 @@ fn same_to_rounding(a: &Seen, b: &Seen, label: &str) {
         stats(&x.2, &y.2);
     }
     match (&a.result, &b.result) {
-        (Some(Ok((p, s))), Some(Ok((q, t)))) => {
+        (Some(Ok((p, s, a))), Some(Ok((q, t, b)))) => {
+            assert_eq!(a, b, "{label}: triangle sweeps");
             let d = max_difference(p, q);
             assert!(d <= ROUNDING, "{label}: the result differs by {d:e}");
             assert_eq!(s.len(), t.len(), "{label}");
@@ -133,7 +134,8 @@ fn same_to_rounding(a: &Seen, b: &Seen, label: &str) {
 struct Seen {
     new: Result<(u64, usize), SmoothError>,
     observed: Vec<(usize, Bits, [u64; 3])>,
-    result: Option<Result<(Bits, Bits), SmoothError>>,
+    /// Positions, step statistics, and the iterations summed by triangles.
+    result: Option<Result<(Bits, Bits, usize), SmoothError>>,
 }
 
 /// Bit patterns of vectors.
@@ -178,6 +180,7 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> See
             (
                 bits(&out.positions),
                 out.report.steps.iter().map(stat_bits).collect(),
+                out.report.triangle_sweeps,
             )
         });
     Seen {
@@ -198,6 +201,10 @@ fn same(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> bool {
     let always = observe(m, scheme, config.clone().reorder(Reorder::Always));
     if sums_by_triangles(scheme, &config) {
         same_to_rounding(&never, &always, &format!("{} {config:?}", m.name));
+        // Every iteration of a run that went through was summed by triangles.
+        if let Some(Ok((_, _, sweeps))) = &never.result {
+            assert_eq!(*sweeps, never.observed.len(), "{} {config:?}", m.name);
+        }
         return matches!(never.result, Some(Ok(_)));
     }
     assert!(

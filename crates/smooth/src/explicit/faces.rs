@@ -23,9 +23,10 @@ pub(super) struct TriangleOrder {
     /// more (`v` when there is none). A sweep of the rows from `v` on starts with the
     /// triangles of `reach[v]`: every triangle at a row `v` or later comes after it.
     reach: Vec<u32>,
-    /// The largest difference between a triangle's largest and smallest vertex index:
-    /// while the triangles of vertex `v` are scattered, only the rows `v..=v + span`
-    /// are open.
+    /// The largest difference between the largest vertex index of `LANES` consecutive
+    /// triangles and the smallest vertex of the first of them (at least each triangle's
+    /// own largest minus smallest): while a sweep adds a group of triangles starting
+    /// with one whose smallest vertex is `v`, only the rows `v..=v + span` are open.
     pub(super) span: usize,
 }
 
@@ -50,7 +51,6 @@ impl TriangleOrder {
         let mut next = starts.clone();
         let mut sorted = vec![[0u32; 3]; count];
         let mut reach: Vec<u32> = (0..n as u32).collect();
-        let mut span = 0;
         for t in triangles() {
             let (lo, hi) = (lowest(&t), t[0].max(t[1]).max(t[2]) as usize);
             // Each triangle starts at its smallest vertex (its orientation kept), so the
@@ -63,7 +63,15 @@ impl TriangleOrder {
             };
             next[lo] += 1;
             reach[hi] = reach[hi].min(lo as u32);
-            span = span.max(hi - lo);
+        }
+        // A sweep adds `LANES` triangles at a time, from a group's first triangle on,
+        // with every row before that triangle's smallest vertex finished: the rows open
+        // meanwhile lie within this span of it, whichever triangle a group starts at.
+        let mut span = 0;
+        for (i, t) in sorted.iter().enumerate() {
+            let group = &sorted[i..(i + LANES).min(count)];
+            let hi = group.iter().flatten().max().copied().unwrap_or(t[0]);
+            span = span.max((hi - t[0]) as usize);
         }
         for v in (0..n.saturating_sub(1)).rev() {
             reach[v] = reach[v].min(reach[v + 1]);
@@ -129,11 +137,16 @@ impl Range {
     };
 
     /// Whether every triangle seen has its longest squared edge in [`PLAIN`] (false for
-    /// NaN too).
+    /// NaN); true when none was seen (a range of rows without triangles: isolated
+    /// vertices), so that where work units start, which follows the thread count,
+    /// decides nothing.
     fn plain(&self) -> bool {
+        if self.hi.iter().any(|h| h.is_nan()) {
+            return false;
+        }
         let lo = self.lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         let hi = self.hi.iter().fold(0.0_f64, |a, &b| a.max(b));
-        PLAIN.contains(&lo) && PLAIN.contains(&hi)
+        lo > hi || (PLAIN.contains(&lo) && PLAIN.contains(&hi))
     }
 
     /// The reason to give for `decline`: [`Decline::Range`] when a triangle seen so far
@@ -158,14 +171,26 @@ impl Range {
 /// longest edge squared, the geometry's test). The squared edge lengths come from the
 /// three corner products (`|s₁|² = s₁·s₂ − e·s₁` and so on round, as `s₂ = s₁ + e`);
 /// the longest goes into `range`, which the caller tests against [`PLAIN`] once per
-/// sweep.
+/// sweep. With `SCALED` the edge vectors are multiplied by `scale`, a power of two (see
+/// [`cotangent_scale`]): every product then scales exactly and the cotangents keep
+/// their bits.
 ///
 /// Positions that are not finite give non-finite cotangents, which reach the rows'
 /// weight sums: the sweep then declines (see [`Finished::row`]).
 #[inline(always)]
-fn cotangent_lanes(p: &[[Lanes; 3]; 3], range: &mut Range) -> [Lanes; 3] {
+fn cotangent_lanes<const SCALED: bool>(
+    p: &[[Lanes; 3]; 3],
+    scale: f64,
+    range: &mut Range,
+) -> [Lanes; 3] {
+    // With `SCALED`, each difference times `scale` (exact: a power of two).
     let sub = |a: &[Lanes; 3], b: &[Lanes; 3]| -> [Lanes; 3] {
-        std::array::from_fn(|k| std::array::from_fn(|l| a[k][l] - b[k][l]))
+        std::array::from_fn(|k| {
+            std::array::from_fn(|l| {
+                let d = a[k][l] - b[k][l];
+                if SCALED { d * scale } else { d }
+            })
+        })
     };
     let dot = |a: &[Lanes; 3], b: &[Lanes; 3]| -> Lanes {
         std::array::from_fn(|l| a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l])
@@ -190,7 +215,14 @@ fn cotangent_lanes(p: &[[Lanes; 3]; 3], range: &mut Range) -> [Lanes; 3] {
     let longest: Lanes = std::array::from_fn(|l| q1[l].max(q2[l]).max(qe[l]));
     for (l, &longest) in longest.iter().enumerate() {
         range.lo[l] = range.lo[l].min(longest);
-        range.hi[l] = range.hi[l].max(longest);
+        // A NaN (an overflowed product, or a position that is not finite) sticks, so
+        // the range is not plain.
+        let hi = range.hi[l];
+        range.hi[l] = if longest.is_nan() || longest > hi {
+            longest
+        } else {
+            hi
+        };
     }
     let inv: Lanes = std::array::from_fn(|l| {
         let inv = 1.0 / twice_area[l];
@@ -247,12 +279,13 @@ pub(super) enum Decline {
 }
 
 /// The power of two that brings the mesh's largest edge component (`|x_b − x_a|` over
-/// the triangles' edges) into `[1, 2)`, for a mesh whose triangles leave
-/// [`PLAIN`]: the cotangents computed from `2^k x` are those from `x` bit for bit (every
-/// product scales by a power of two, exactly, while it stays normal), so the sweep keeps
-/// its bits at any scale where the positions and their differences are normal, the
-/// property the gathered rows' kernel has by rescaling edge by edge. `None` when the
-/// largest component is zero, not finite, or too far from 1 for a normal power of two.
+/// the triangles' edges) into `[1, 2)`, for a mesh whose triangles leave [`PLAIN`]:
+/// [`cotangent_lanes`] multiplies the edge vectors by it, and the cotangents from
+/// `2^k (x_b − x_a)` are those from `x_b − x_a` bit for bit (every product scales by a
+/// power of two, exactly, while it stays normal). So the sweep keeps its bits at any
+/// scale where the differences are normal, wherever the mesh lies, the property the
+/// gathered rows' kernel has by rescaling edge by edge. `None` when the largest
+/// component is zero, not finite, or too far from 1 for a normal power of two.
 pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Option<f64> {
     let mut largest = 0.0_f64;
     for t in &sweep.triangles {
@@ -389,24 +422,30 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
     let mut v = start;
     let mut t = t_begin;
     while t < t_end {
+        // Rows whose triangles have all been added are complete: every row before this
+        // group's first smallest vertex, so that the group's rows fit in the ring
+        // ([`TriangleOrder::span`]).
+        while v < end && sweep.starts[v + 1] as usize <= t {
+            finished
+                .row(v, std::mem::take(&mut ring[v % R]))
+                .map_err(|e| range.blame(e))?;
+            v += 1;
+        }
         let k = (t_end - t).min(LANES);
         let tris = &sweep.triangles[t..t + k];
+        debug_assert!(tris.iter().flatten().all(|&u| (u as usize) < v + R));
         // Corners in lanes (a short last step repeats its last triangle).
         let mut p = [[[0.0; LANES]; 3]; 3];
         for l in 0..LANES {
             let tri = &tris[l.min(k - 1)];
             for c in 0..3 {
-                let q = if SCALED {
-                    positions[tri[c] as usize] * scale
-                } else {
-                    positions[tri[c] as usize]
-                };
+                let q = positions[tri[c] as usize];
                 p[c][0][l] = q.x;
                 p[c][1][l] = q.y;
                 p[c][2][l] = q.z;
             }
         }
-        let cots = cotangent_lanes(&p, &mut range);
+        let cots = cotangent_lanes::<SCALED>(&p, scale, &mut range);
         for (l, tri) in tris.iter().enumerate() {
             let [a, b, c] = tri.map(|v| v as usize);
             let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
@@ -417,13 +456,6 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
             add2(&mut ring[c % R], at_b, pa, at_a, pb);
         }
         t += k;
-        // Rows whose triangles have all been added are complete.
-        while v < end && sweep.starts[v + 1] as usize <= t {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| range.blame(e))?;
-            v += 1;
-        }
     }
     while v < end {
         finished
@@ -574,7 +606,8 @@ mod tests {
             vec![[0, 5, 1], [1, 2, 3], [2, 7, 4], [2, 3, 6]]
         );
         assert_eq!(order.starts, vec![0, 1, 2, 4, 4, 4, 4, 4, 4]);
-        assert_eq!(order.span, 5);
+        // The first four triangles reach vertex 7 from vertex 0.
+        assert_eq!(order.span, 7);
         // The mesh's faces and its triangle list give the same order.
         let sphere = primitives::icosphere(2);
         let mesh = sphere.mesh().unwrap();
@@ -620,10 +653,46 @@ mod tests {
         }
     }
 
+    /// Isolated vertices before the triangles' rows (as reordering puts them, and
+    /// more of them than the ring holds), and ranges that hold only isolated rows: the
+    /// rows get the bits they have without the isolated vertices, wherever the ranges
+    /// are cut, and a range without triangles does not decline.
+    #[test]
+    fn isolated_vertices_change_no_row() {
+        for (mesh, x) in cases() {
+            let n = mesh.n_vertices();
+            let order = TriangleOrder::of_mesh(&mesh).unwrap();
+            let (want, want_stuck) = sweep(&order, &x, None, &[0, n], 64).unwrap();
+            let gap = 3 * (1 << 16);
+            let shifted: Vec<u32> = order
+                .triangles
+                .iter()
+                .flatten()
+                .map(|&v| v + gap as u32)
+                .collect();
+            let wide = TriangleOrder::new(n + gap, &shifted).unwrap();
+            assert_eq!(wide.span, order.span);
+            let mut y = vec![DVec3::new(5.0, -3.0, 1.0); gap];
+            y.extend_from_slice(&x);
+            for cuts in [
+                vec![0, n + gap],
+                vec![0, gap / 2, gap + n / 2, n + gap],
+                vec![0, gap, n + gap],
+            ] {
+                let (out, stuck) = sweep(&wide, &y, None, &cuts, 256).unwrap();
+                assert_eq!(bits(&out[gap..]), bits(&want), "{cuts:?}");
+                assert_eq!(&out[..gap], &y[..gap]);
+                let isolated: Vec<u32> = (0..gap as u32).collect();
+                let shifted_stuck: Vec<u32> = want_stuck.iter().map(|&v| v + gap as u32).collect();
+                assert_eq!(stuck, [isolated, shifted_stuck].concat());
+            }
+        }
+    }
+
     /// Far from unit scale the plain products leave their range: the sweep declines,
     /// and on positions multiplied by [`cotangent_scale`] it gives the bits of the same
-    /// mesh at unit scale times the power of two. A NaN position declines for its
-    /// weight.
+    /// mesh at unit scale times the power of two. A NaN position declines (the gathered
+    /// rows then name it).
     #[test]
     fn a_scaled_sweep_has_the_bits_of_unit_scale() {
         for (mesh, x) in cases() {
@@ -647,10 +716,9 @@ mod tests {
             }
             let mut nan = x.clone();
             nan[n / 2].x = f64::NAN;
-            assert_eq!(
-                sweep(&order, &nan, None, &[0, n], 64).err(),
-                Some(Decline::Weight)
-            );
+            assert!(sweep(&order, &nan, None, &[0, n], 64).is_err());
+            let scale = cotangent_scale(&order, &nan).unwrap();
+            assert!(sweep(&order, &nan, Some(scale), &[0, n], 64).is_err());
         }
     }
 }

@@ -642,9 +642,10 @@ impl<'a> Explicit<'a> {
         }
         // Weights not kept (a lean operator, or released by a fused sweep) are stale too.
         let stale = self.weights_stale() || !self.laplacian.weights_stored();
-        let fused = stale
-            && self.fuses()
-            && (self.sweep_by_triangles(lambda, want) || self.sweep_fresh(lambda, want));
+        // Rows summed by triangles compute their weights in every sweep, the first of a
+        // run whose operator was just assembled too (a duration plans the step with it).
+        let fused = self.fuses()
+            && (self.sweep_by_triangles(lambda, want) || (stale && self.sweep_fresh(lambda, want)));
         if !fused {
             if stale {
                 self.refresh_weights()?;
@@ -774,6 +775,7 @@ impl<'a> Explicit<'a> {
     fn sweep_by_triangles(&mut self, lambda: f64, want: Want) -> bool {
         let start = Instant::now();
         if self.config.summation != Summation::Triangles
+            || self.config.triangle_summation_unmet(self.scheme).is_some()
             || self.scatter_declined
             || self.refresh_curve_weights().is_err()
         {
@@ -1081,11 +1083,14 @@ impl<'a> Explicit<'a> {
 mod tests {
     use std::borrow::Cow;
 
+    use beltrami_halfedge::geometry::VertexAreaKind;
     use beltrami_halfedge::{DVec3, primitives};
-    use beltrami_weights::{Cotangent, LaplacianOptions, NegativeWeights, Uniform, WeightScheme};
+    use beltrami_weights::{
+        Cotangent, LaplacianOptions, NegativeWeights, Normalization, Uniform, WeightScheme,
+    };
 
     use super::{Explicit, Want};
-    use crate::config::{Reorder, SmoothConfig, Summation, WeightUpdate};
+    use crate::config::{DiffusionTime, Method, Reorder, SmoothConfig, Summation, WeightUpdate};
 
     /// After three iterations: whether the sweeps scattered triangles (the triangle order
     /// was built and never declined), and the scale they took.
@@ -1124,6 +1129,16 @@ mod tests {
             assert!(!scattered(&x, &Cotangent, config.clone().preserve_volume(true)).0);
             let once = config.clone().update(WeightUpdate::Once);
             assert!(!scattered(&x, &Cotangent, once).0);
+            let area = LaplacianOptions::new()
+                .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi));
+            let small = config.clone().lambda(1e-4).laplacian(area);
+            assert!(!scattered(&x, &Cotangent, small).0);
+            for method in [Method::taubin_or_pass_band(0.5, None), Method::hc()] {
+                assert!(!scattered(&x, &Cotangent, config.clone().method(method)).0);
+            }
+            // A duration: every iteration, the first too.
+            let timed = config.clone().duration(DiffusionTime::Time(1e-3));
+            assert_eq!(scattered(&x, &Cotangent, timed), (true, None));
         }
         let huge: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(700)).collect();
         let (yes, scale) = scattered(&huge, &Cotangent, every.clone());
