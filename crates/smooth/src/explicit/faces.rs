@@ -23,10 +23,9 @@ pub(super) struct TriangleOrder {
     /// more (`v` when there is none). A sweep of the rows from `v` on starts with the
     /// triangles of `reach[v]`: every triangle at a row `v` or later comes after it.
     reach: Vec<u32>,
-    /// The largest difference between the largest vertex index of `LANES` consecutive
-    /// triangles and the smallest vertex of the first of them (at least each triangle's
-    /// own largest minus smallest): while a sweep adds a group of triangles starting
-    /// with one whose smallest vertex is `v`, only the rows `v..=v + span` are open.
+    /// The largest difference between a triangle's largest and smallest vertex index:
+    /// while a sweep adds a triangle whose smallest vertex is `v` (every row before `v`
+    /// finished), only the rows `v..=v + span` are open.
     pub(super) span: usize,
 }
 
@@ -51,6 +50,7 @@ impl TriangleOrder {
         let mut next = starts.clone();
         let mut sorted = vec![[0u32; 3]; count];
         let mut reach: Vec<u32> = (0..n as u32).collect();
+        let mut span = 0;
         for t in triangles() {
             let (lo, hi) = (lowest(&t), t[0].max(t[1]).max(t[2]) as usize);
             // Each triangle starts at its smallest vertex (its orientation kept), so the
@@ -63,15 +63,7 @@ impl TriangleOrder {
             };
             next[lo] += 1;
             reach[hi] = reach[hi].min(lo as u32);
-        }
-        // A sweep adds `LANES` triangles at a time, from a group's first triangle on,
-        // with every row before that triangle's smallest vertex finished: the rows open
-        // meanwhile lie within this span of it, whichever triangle a group starts at.
-        let mut span = 0;
-        for (i, t) in sorted.iter().enumerate() {
-            let group = &sorted[i..(i + LANES).min(count)];
-            let hi = group.iter().flatten().max().copied().unwrap_or(t[0]);
-            span = span.max((hi - t[0]) as usize);
+            span = span.max(hi - lo);
         }
         for v in (0..n.saturating_sub(1)).rev() {
             reach[v] = reach[v].min(reach[v + 1]);
@@ -291,10 +283,13 @@ pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Opt
     for t in &sweep.triangles {
         let [a, b, c] = t.map(|v| positions[v as usize]);
         for d in [b - a, c - b, a - c] {
+            if !d.is_finite() {
+                return None;
+            }
             largest = largest.max(d.abs().max_element());
         }
     }
-    if !(largest.is_finite() && largest > 0.0) {
+    if largest == 0.0 {
         return None;
     }
     // The unbiased binary exponent of `largest` (a subnormal counts as -1023).
@@ -317,11 +312,12 @@ pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Opt
 /// row order. `unit` rows at a time (the last part may be shorter), the new positions'
 /// sum and the stuck rows' count go into `swept`, one [`RowSweep`] per part.
 ///
-/// [`Decline::Weight`] when a row's weights do not sum to a finite value (the caller
-/// falls back to the gathered rows, which report the bad weight), [`Decline::Range`]
-/// when a triangle is too small or too large for plain products ([`PLAIN`]) at
-/// `scatter.scale` (the caller may repeat the sweep with a [`cotangent_scale`]). The
-/// rows of `out` are then unspecified.
+/// [`Decline::Range`] when a triangle is too small or too large for plain products
+/// ([`PLAIN`]) at `scatter.scale`, or a position is not finite (the caller may repeat
+/// the sweep with a [`cotangent_scale`], which there is none for in the second case);
+/// [`Decline::Weight`] when a row's weights do not sum to a finite value otherwise.
+/// The caller then falls back to the gathered rows, which report any bad weight or
+/// position. The rows of `out` are then unspecified.
 ///
 /// # Panics
 /// If `sweep.span` is above [`MAX_SPAN`].
@@ -422,18 +418,8 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
     let mut v = start;
     let mut t = t_begin;
     while t < t_end {
-        // Rows whose triangles have all been added are complete: every row before this
-        // group's first smallest vertex, so that the group's rows fit in the ring
-        // ([`TriangleOrder::span`]).
-        while v < end && sweep.starts[v + 1] as usize <= t {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| range.blame(e))?;
-            v += 1;
-        }
         let k = (t_end - t).min(LANES);
         let tris = &sweep.triangles[t..t + k];
-        debug_assert!(tris.iter().flatten().all(|&u| (u as usize) < v + R));
         // Corners in lanes (a short last step repeats its last triangle).
         let mut p = [[[0.0; LANES]; 3]; 3];
         for l in 0..LANES {
@@ -447,6 +433,16 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
         }
         let cots = cotangent_lanes::<SCALED>(&p, scale, &mut range);
         for (l, tri) in tris.iter().enumerate() {
+            // Rows whose triangles have all been added are complete: every row before
+            // this triangle's smallest vertex, so that the rows open meanwhile lie within
+            // the span of it ([`TriangleOrder::span`]) and fit in the ring.
+            while v < end && sweep.starts[v + 1] as usize <= t + l {
+                finished
+                    .row(v, std::mem::take(&mut ring[v % R]))
+                    .map_err(|e| range.blame(e))?;
+                v += 1;
+            }
+            debug_assert!(tri.iter().all(|&u| (u as usize) < v + R));
             let [a, b, c] = tri.map(|v| v as usize);
             let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
             // The angles at b (opposite the edge ending at a), at c and at a.
@@ -606,8 +602,7 @@ mod tests {
             vec![[0, 5, 1], [1, 2, 3], [2, 7, 4], [2, 3, 6]]
         );
         assert_eq!(order.starts, vec![0, 1, 2, 4, 4, 4, 4, 4, 4]);
-        // The first four triangles reach vertex 7 from vertex 0.
-        assert_eq!(order.span, 7);
+        assert_eq!(order.span, 5);
         // The mesh's faces and its triangle list give the same order.
         let sphere = primitives::icosphere(2);
         let mesh = sphere.mesh().unwrap();
@@ -686,13 +681,74 @@ mod tests {
                 let shifted_stuck: Vec<u32> = want_stuck.iter().map(|&v| v + gap as u32).collect();
                 assert_eq!(stuck, [isolated, shifted_stuck].concat());
             }
+            // And a run of isolated vertices in the middle of the numbering.
+            let (half, gap) = (n as u32 / 2, 700);
+            let moved = |v: u32| if v < half { v } else { v + gap };
+            let split: Vec<u32> = order
+                .triangles
+                .iter()
+                .flatten()
+                .map(|&v| moved(v))
+                .collect();
+            let wide = TriangleOrder::new(n + gap as usize, &split).unwrap();
+            let mut y = x[..half as usize].to_vec();
+            y.extend(std::iter::repeat_n(
+                DVec3::new(5.0, -3.0, 1.0),
+                gap as usize,
+            ));
+            y.extend_from_slice(&x[half as usize..]);
+            let m = n + gap as usize;
+            for cuts in [vec![0, m], vec![0, half as usize + 350, m]] {
+                let (out, _) = sweep(&wide, &y, None, &cuts, 256).unwrap();
+                let real: Vec<DVec3> = (0..n as u32).map(|v| out[moved(v) as usize]).collect();
+                assert_eq!(bits(&real), bits(&want), "{cuts:?}");
+            }
+        }
+    }
+
+    /// A flat mesh far from the origin across its plane, with edges too short for plain
+    /// products: the scaled sweep multiplies the edge vectors, not the positions (which
+    /// would overflow), and gives the in-plane bits of the mesh at unit scale.
+    #[test]
+    fn a_flat_mesh_far_from_the_origin_is_scaled_by_its_edges() {
+        let grid = primitives::grid(12, 9);
+        let mesh = grid.mesh().unwrap();
+        let x: Vec<DVec3> = wobble(&grid.positions, 0.3)
+            .iter()
+            .map(|p| DVec3::new(p.x, p.y, 0.0))
+            .collect();
+        let n = x.len();
+        let order = TriangleOrder::of_mesh(&mesh).unwrap();
+        let (unit, _) = sweep(&order, &x, None, &[0, n], 64).unwrap();
+        let (s, z) = (2f64.powi(-300), 2f64.powi(900));
+        let y: Vec<DVec3> = x.iter().map(|p| DVec3::new(p.x * s, p.y * s, z)).collect();
+        assert_eq!(
+            sweep(&order, &y, None, &[0, n], 64).err(),
+            Some(Decline::Range)
+        );
+        let scale = cotangent_scale(&order, &y).unwrap();
+        assert!(
+            y.iter().any(|p| !(p.z * scale).is_finite()),
+            "positions would overflow"
+        );
+        let (out, _) = sweep(&order, &y, Some(scale), &[0, n], 64).unwrap();
+        for (p, q) in out.iter().zip(&unit) {
+            assert_eq!(
+                [p.x, p.y].map(f64::to_bits),
+                [q.x * s, q.y * s].map(f64::to_bits)
+            );
+            assert!(
+                (p.z - z).abs() <= 4.0 * f64::EPSILON * z,
+                "{} against {z}",
+                p.z
+            );
         }
     }
 
     /// Far from unit scale the plain products leave their range: the sweep declines,
     /// and on positions multiplied by [`cotangent_scale`] it gives the bits of the same
-    /// mesh at unit scale times the power of two. A NaN position declines (the gathered
-    /// rows then name it).
+    /// mesh at unit scale times the power of two. A NaN position declines, and no scale
+    /// is tried (the gathered rows then name it).
     #[test]
     fn a_scaled_sweep_has_the_bits_of_unit_scale() {
         for (mesh, x) in cases() {
@@ -716,9 +772,11 @@ mod tests {
             }
             let mut nan = x.clone();
             nan[n / 2].x = f64::NAN;
-            assert!(sweep(&order, &nan, None, &[0, n], 64).is_err());
-            let scale = cotangent_scale(&order, &nan).unwrap();
-            assert!(sweep(&order, &nan, Some(scale), &[0, n], 64).is_err());
+            assert_eq!(
+                sweep(&order, &nan, None, &[0, n], 64).err(),
+                Some(Decline::Range)
+            );
+            assert_eq!(cotangent_scale(&order, &nan), None);
         }
     }
 }
