@@ -123,7 +123,7 @@ pub enum Summation {
     /// ([`Method::Laplacian`] without volume preservation). Each triangle's three
     /// cotangents are computed once per iteration, from one cross product, one square
     /// root and one division, and added into its three vertices' sums; no weight is
-    /// stored. On a large mesh an iteration takes about a sixth less time
+    /// stored. On a large mesh an iteration takes 10 to 16 % less time
     /// (docs/performance.md). The results are [`Rows`](Self::Rows)' to rounding, not
     /// bit for bit: each row is summed in another order (so the last bits also follow
     /// the internal vertex order, [`Reorder`]) and each cotangent rounds differently
