@@ -210,7 +210,7 @@ pub(crate) fn validate(m: &HalfedgeMesh, strictness: Strictness) -> Result<(), T
 /// halfedge array.
 fn check_lengths(m: &HalfedgeMesh) -> Result<(), TopologyError> {
     let nh = m.n_halfedges();
-    if nh % 2 != 0 {
+    if !nh.is_multiple_of(2) {
         return Err(TopologyError::Integrity {
             element: "mesh".into(),
             invariant: "the number of halfedges is even",
@@ -253,10 +253,8 @@ fn check_ranges(m: &HalfedgeMesh) -> Result<(), TopologyError> {
         && max(&m.h_next).is_none_or(|x| (x as usize) < nh)
         && max(&m.h_prev).is_none_or(|x| (x as usize) < nh)
         && max_face.is_none_or(|x| x as usize <= nf);
-    if !all_in_range {
-        if let Some((h, invariant)) = first_fault(nh, in_range) {
-            return fail(HalfedgeId::from_index(h), invariant);
-        }
+    if !all_in_range && let Some((h, invariant)) = first_fault(nh, in_range) {
+        return fail(HalfedgeId::from_index(h), invariant);
     }
     if let Some((f, invariant)) = first_fault(nf, |f| {
         (m.f_he[f] as usize >= nh).then_some("links are in range")

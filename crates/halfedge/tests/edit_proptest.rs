@@ -331,7 +331,7 @@ fn run(fixture_index: usize, seed: u64, steps: usize) {
             16..=17 => {
                 // Re-add a deleted face, or try a random triple.
                 let vs: Vec<VertexId> = match deleted_faces.pop() {
-                    Some(f) if rng.next_u64() % 4 != 0 => f,
+                    Some(f) if !rng.next_u64().is_multiple_of(4) => f,
                     _ => (0..3)
                         .filter_map(|_| {
                             pick::<VertexId>(&mut rng, m.vertex_capacity(), |v| m.is_live_vertex(v))

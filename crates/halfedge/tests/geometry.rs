@@ -524,11 +524,11 @@ fn icosphere_converges_to_the_sphere() {
         assert!(area < sphere_area && volume < ball_volume, "level {level}");
         let (area_error, volume_error) = (sphere_area - area, ball_volume - volume);
         // Second order: each level halves the edges, the errors drop by about 4.
-        if let Some((a, v)) = previous {
-            if level >= 3 {
-                assert!((3.8..4.2).contains(&(a / area_error)), "level {level}");
-                assert!((3.8..4.2).contains(&(v / volume_error)), "level {level}");
-            }
+        if let Some((a, v)) = previous
+            && level >= 3
+        {
+            assert!((3.8..4.2).contains(&(a / area_error)), "level {level}");
+            assert!((3.8..4.2).contains(&(v / volume_error)), "level {level}");
         }
         previous = Some((area_error, volume_error));
         // A convex polyhedron has χ = 2: total defect 4π.

@@ -311,12 +311,12 @@ pub fn stage_with(
     registry.paths.push(file.path().to_path_buf());
     drop(registry);
     let result = (|| {
-        if let Ok(existing) = fs::metadata(&target) {
-            if existing.is_file() {
-                file.as_file()
-                    .set_permissions(existing.permissions())
-                    .map_err(|e| IoError::io("copy the permissions of the existing file")(e))?;
-            }
+        if let Ok(existing) = fs::metadata(&target)
+            && existing.is_file()
+        {
+            file.as_file()
+                .set_permissions(existing.permissions())
+                .map_err(|e| IoError::io("copy the permissions of the existing file")(e))?;
         }
         write(&mut file)?;
         file.as_file()

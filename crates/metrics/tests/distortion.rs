@@ -101,7 +101,7 @@ fn error_by_ring_groups_the_error_by_ring() {
     let error: Vec<f64> = grid
         .positions
         .iter()
-        .map(|p| if p.x as u32 % 2 == 0 { 1.0 } else { -1.0 } * (1.0 + p.y / 10.0))
+        .map(|p| if (p.x as u32).is_multiple_of(2) { 1.0 } else { -1.0 } * (1.0 + p.y / 10.0))
         .collect();
     let profile = error_by_ring(&mesh, &error).expect("valid");
     assert_eq!(profile.unreached, 0);

@@ -292,20 +292,18 @@ impl<'a> Implicit<'a> {
 
     /// Factorises the system for the direct solver when it is not factored yet.
     fn factorize(&mut self, iteration: usize, stats: &mut SolveStats) -> Result<(), SmoothError> {
-        if let SolverState::Cholesky(direct) = &mut self.solver {
-            if !direct.is_factored() {
-                let start = Instant::now();
-                let result = direct.factorize(&self.system.matrix(&self.laplacian));
-                self.factorization_time += start.elapsed();
-                self.numeric_factorizations += 1;
-                stats.factorized = true;
-                result.map_err(|e| match e {
-                    FactorError::NotPositiveDefinite => {
-                        SmoothError::NotPositiveDefinite { iteration }
-                    }
-                    FactorError::Other(reason) => SmoothError::Factorization { reason },
-                })?;
-            }
+        if let SolverState::Cholesky(direct) = &mut self.solver
+            && !direct.is_factored()
+        {
+            let start = Instant::now();
+            let result = direct.factorize(&self.system.matrix(&self.laplacian));
+            self.factorization_time += start.elapsed();
+            self.numeric_factorizations += 1;
+            stats.factorized = true;
+            result.map_err(|e| match e {
+                FactorError::NotPositiveDefinite => SmoothError::NotPositiveDefinite { iteration },
+                FactorError::Other(reason) => SmoothError::Factorization { reason },
+            })?;
         }
         Ok(())
     }

@@ -545,14 +545,14 @@ fn ring_plot(
         ),
     );
     for m in &result.measured {
-        if m.row.iteration == shown || m.row.scheme == "input" {
-            if let Some(rings) = &m.rings {
-                let points = rings.rings.iter().map(|r| (f64::from(r.ring), r.rms));
-                plot.series.push(
-                    Series::new(m.row.scheme.clone(), points)
-                        .with_style(scheme_style(result, &m.row.scheme)),
-                );
-            }
+        if (m.row.iteration == shown || m.row.scheme == "input")
+            && let Some(rings) = &m.rings
+        {
+            let points = rings.rings.iter().map(|r| (f64::from(r.ring), r.rms));
+            plot.series.push(
+                Series::new(m.row.scheme.clone(), points)
+                    .with_style(scheme_style(result, &m.row.scheme)),
+            );
         }
     }
     if plot.series.is_empty() {

@@ -1035,10 +1035,10 @@ fn paper_count_sentence(
         if let (Some(tb), Some(tu)) = (
             time_at(rows, name, b, shown),
             time_at(rows, name, "uniform", shown),
-        ) {
-            if b != "uniform" && tu > 0.0 {
-                let _ = write!(text, " `{b}` takes {:.1}× the time of `uniform`.", tb / tu);
-            }
+        ) && b != "uniform"
+            && tu > 0.0
+        {
+            let _ = write!(text, " `{b}` takes {:.1}× the time of `uniform`.", tb / tu);
         }
     }
 }
@@ -1061,18 +1061,17 @@ fn countermeasure_sentence(
     if let (Some(best_cm), Some(plain)) = (
         cm.iter().copied().min_by(|a, b| a.rms.total_cmp(&b.rms)),
         cm.iter().copied().find(|x| x.scheme.ends_with("/plain")),
-    ) {
-        if best_cm.scheme != plain.scheme {
-            let _ = write!(
-                text,
-                " If many iterations are needed, `{}` keeps the RMS at {}{unit} after {shown} iterations against {}{unit} for `{}` (seed {}).",
-                best_cm.scheme,
-                sig(best_cm.rms),
-                sig(plain.rms),
-                plain.scheme,
-                seed
-            );
-        }
+    ) && best_cm.scheme != plain.scheme
+    {
+        let _ = write!(
+            text,
+            " If many iterations are needed, `{}` keeps the RMS at {}{unit} after {shown} iterations against {}{unit} for `{}` (seed {}).",
+            best_cm.scheme,
+            sig(best_cm.rms),
+            sig(plain.rms),
+            plain.scheme,
+            seed
+        );
     }
 }
 

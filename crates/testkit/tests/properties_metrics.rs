@@ -178,10 +178,10 @@ fn measure_like_the_study(
     ];
     // The study divides by the clean volume; its surfaces all enclose one. Here it is
     // only taken when the clean volume is not zero.
-    if let (Some(v), Some(c)) = (volume, clean_volume) {
-        if c != 0.0 {
-            values.push(("volume_ratio", Some(v / c)));
-        }
+    if let (Some(v), Some(c)) = (volume, clean_volume)
+        && c != 0.0
+    {
+        values.push(("volume_ratio", Some(v / c)));
     }
     if !mesh.is_closed() {
         let input = Geometry::new(mesh, noisy)?;

@@ -63,7 +63,7 @@ impl Decimator<'_> {
             Ok((key, true, position)) => {
                 // One entry for the edge, under its even halfedge; both directions are
                 // tried when it comes to the top.
-                let (even, odd) = if h.index() % 2 == 0 {
+                let (even, odd) = if h.index().is_multiple_of(2) {
                     (h, h.twin())
                 } else {
                     (h.twin(), h)
@@ -146,7 +146,7 @@ impl Decimator<'_> {
             };
             max_rms = max_rms.max(done.candidate.rms);
             self.apply(done);
-            if self.collapses % PROGRESS_EVERY == 0 {
+            if self.collapses.is_multiple_of(PROGRESS_EVERY) {
                 if progress(self.collapses as usize, planned).is_break() {
                     return Err(DecimateError::Stopped {
                         done: self.collapses as usize,
@@ -328,9 +328,9 @@ impl Decimator<'_> {
                 }
                 Ok((_, symmetric, position)) => {
                     placed = Some(position);
-                    if symmetric && h.index() % 2 == 0 {
+                    if symmetric && h.index().is_multiple_of(2) {
                         directions[1] = Some(h.twin());
-                    } else if h.index() % 2 == 0 && !self.heap.contains(h.twin().raw()) {
+                    } else if h.index().is_multiple_of(2) && !self.heap.contains(h.twin().raw()) {
                         // The edge's entry stood for both directions; no longer.
                         self.queue(h.twin());
                     }

@@ -204,7 +204,7 @@ mod tests {
         // Few distinct keys, so that ties (broken by the id) are common.
         let mut initial: Vec<(f64, u32)> = Vec::new();
         for h in 0..n {
-            if rng.next() % 3 != 0 {
+            if !rng.next().is_multiple_of(3) {
                 initial.push(((rng.next() % 20) as f64, h));
             }
         }
@@ -214,7 +214,7 @@ mod tests {
         heap.fill(&initial);
         for _ in 0..2000 {
             let h = (rng.next() % u64::from(n)) as u32;
-            if rng.next() % 4 == 0 {
+            if rng.next().is_multiple_of(4) {
                 heap.remove(h);
                 want.remove(&h);
             } else {

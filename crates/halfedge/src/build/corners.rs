@@ -112,7 +112,7 @@ impl<'a> Corners<'a> {
     /// multiple of three, a triangle at a time.
     #[inline]
     pub(crate) fn edges_in(&self, range: std::ops::Range<usize>, mut f: impl FnMut(u32, u32, u32)) {
-        if self.triangles() && range.start % 3 == 0 {
+        if self.triangles() && range.start.is_multiple_of(3) {
             let whole = range.start + (range.end - range.start) / 3 * 3;
             for (t, tri) in self.indices[range.start..whole].chunks_exact(3).enumerate() {
                 let k = (range.start + 3 * t) as u32;
@@ -256,12 +256,12 @@ pub(super) fn corner_fans(
 ) -> UnionFind<u32> {
     let mut fans = UnionFind::new(corners.indices.len());
     for g in starts.windows(2) {
-        if let [k1, k2] = sorted[g[0]..g[1]] {
-            if corners.from(k1) == corners.to(k2) {
-                // k1: a -> b, k2: b -> a. The corner of a in k2's face is next(k2).
-                fans.union(k1, corners.next(k2));
-                fans.union(corners.next(k1), k2);
-            }
+        if let [k1, k2] = sorted[g[0]..g[1]]
+            && corners.from(k1) == corners.to(k2)
+        {
+            // k1: a -> b, k2: b -> a. The corner of a in k2's face is next(k2).
+            fans.union(k1, corners.next(k2));
+            fans.union(corners.next(k1), k2);
         }
     }
     fans

@@ -276,10 +276,10 @@ impl EditMesh {
             self.adjust_outgoing(v1);
         }
 
-        if let Some(fo) = fo {
-            if self.face_halfedge(fo) == o0 {
-                self.set_face_halfedge(fo, h1);
-            }
+        if let Some(fo) = fo
+            && self.face_halfedge(fo) == o0
+        {
+            self.set_face_halfedge(fo, h1);
         }
         if let Some(fh) = fh {
             self.mark_face_deleted(fh);

@@ -56,10 +56,10 @@ impl EditMesh {
                 return Err(EditError::ComplexVertex { vertex: a });
             }
             let h = self.find_halfedge(a, b);
-            if let Some(h) = h {
-                if !self.is_boundary_halfedge(h) {
-                    return Err(EditError::ComplexEdge { from: a, to: b });
-                }
+            if let Some(h) = h
+                && !self.is_boundary_halfedge(h)
+            {
+                return Err(EditError::ComplexEdge { from: a, to: b });
             }
             sides.push(h);
         }

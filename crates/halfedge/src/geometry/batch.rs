@@ -52,13 +52,14 @@ impl Geometry<'_> {
     ) -> Result<(), TopologyError> {
         let m = self.mesh;
         assert_eq!(out.len(), m.n_vertices(), "one area per vertex");
-        if kind == VertexAreaKind::MixedVoronoi && !m.is_triangle_mesh() {
-            if let Some(f) = m.faces().find(|&f| self.triangle(f).is_none()) {
-                return Err(TopologyError::NotTriangle {
-                    face: f.raw(),
-                    len: m.face_valence(f),
-                });
-            }
+        if kind == VertexAreaKind::MixedVoronoi
+            && !m.is_triangle_mesh()
+            && let Some(f) = m.faces().find(|&f| self.triangle(f).is_none())
+        {
+            return Err(TopologyError::NotTriangle {
+                face: f.raw(),
+                len: m.face_valence(f),
+            });
         }
         out.par_chunks_mut(CHUNK)
             .enumerate()

@@ -59,7 +59,7 @@ impl<'a> TriangleGeometry<'a> {
     /// [`TopologyError::VertexOutOfRange`](crate::TopologyError::VertexOutOfRange) when a
     /// triangle names a vertex that has no position (the first such triangle).
     pub fn new(triangles: &'a [u32], positions: &'a [DVec3]) -> Result<Self, crate::TopologyError> {
-        if triangles.len() % 3 != 0 {
+        if !triangles.len().is_multiple_of(3) {
             return Err(crate::TopologyError::NotTriangle {
                 face: u32::try_from(triangles.len() / 3).unwrap_or(u32::MAX),
                 len: triangles.len() % 3,

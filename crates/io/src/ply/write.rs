@@ -315,25 +315,24 @@ fn check_attributes(
                 found: values.len(),
             });
         }
-        if encoding == Encoding::Ascii {
-            if let Some((vertex, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite())
-            {
-                return Err(IoError::NonFiniteAttribute {
-                    attribute: name.clone(),
-                    vertex,
-                    value,
-                });
-            }
-        }
-    }
-    if let Some(colors) = &attributes.colors {
-        if colors.len() != n {
-            return Err(IoError::AttributeLength {
-                attribute: "colors".to_owned(),
-                expected: n,
-                found: colors.len(),
+        if encoding == Encoding::Ascii
+            && let Some((vertex, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite())
+        {
+            return Err(IoError::NonFiniteAttribute {
+                attribute: name.clone(),
+                vertex,
+                value,
             });
         }
+    }
+    if let Some(colors) = &attributes.colors
+        && colors.len() != n
+    {
+        return Err(IoError::AttributeLength {
+            attribute: "colors".to_owned(),
+            expected: n,
+            found: colors.len(),
+        });
     }
     Ok(())
 }

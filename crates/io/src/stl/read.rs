@@ -79,10 +79,10 @@ fn read_welded_exactly<R: BufRead + Seek>(mut reader: R) -> Result<Soup, IoError
         .read_to_end(&mut head)
         .map_err(IoError::io("read the file"))?;
     let declared = binary_count(&head);
-    if let Some(n) = declared {
-        if binary_length(n) == Some(file_length) {
-            return read_binary(reader, n as usize);
-        }
+    if let Some(n) = declared
+        && binary_length(n) == Some(file_length)
+    {
+        return read_binary(reader, n as usize);
     }
     let count_error = |declared| IoError::StlTriangleCount {
         declared,

@@ -160,14 +160,14 @@ impl SurfaceIndex {
                 what: "reference mesh",
             });
         }
-        if !mesh.is_triangle_mesh() {
-            if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-                return Err(TopologyError::NotTriangle {
-                    face: f.raw(),
-                    len: mesh.face_valence(f),
-                }
-                .into());
+        if !mesh.is_triangle_mesh()
+            && let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3)
+        {
+            return Err(TopologyError::NotTriangle {
+                face: f.raw(),
+                len: mesh.face_valence(f),
             }
+            .into());
         }
         let (face_vertices, face_edges): (Vec<[u32; 3]>, Vec<[u32; 3]>) = (0..mesh.n_faces())
             .into_par_iter()

@@ -124,13 +124,13 @@ pub fn fit_cylinder(
 ) -> Result<CylinderFit, MetricsError> {
     const SHAPE: &str = "cylinder";
     options.check()?;
-    if let Some(guess) = axis_guess {
-        if !(guess.is_finite() && guess.length() > 0.0) {
-            return Err(MetricsError::InvalidParameter {
-                name: "axis_guess",
-                reason: "must be a finite non-zero vector",
-            });
-        }
+    if let Some(guess) = axis_guess
+        && !(guess.is_finite() && guess.length() > 0.0)
+    {
+        return Err(MetricsError::InvalidParameter {
+            name: "axis_guess",
+            reason: "must be a finite non-zero vector",
+        });
     }
     let data = input.normalise(SHAPE, 5)?;
     let (values, vectors) = symmetric_eigen3(covariance(&data));

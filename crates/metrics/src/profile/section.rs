@@ -77,10 +77,11 @@ pub fn cross_section(
 
     // Open chains start in a face entered across a boundary edge.
     for f in mesh.faces() {
-        if let Some((enter, _)) = crossing[f.index()] {
-            if mesh.is_boundary_halfedge(enter.twin()) && !visited[f.index()] {
-                polylines.push(cut.walk(f, &crossing, &mut visited, false));
-            }
+        if let Some((enter, _)) = crossing[f.index()]
+            && mesh.is_boundary_halfedge(enter.twin())
+            && !visited[f.index()]
+        {
+            polylines.push(cut.walk(f, &crossing, &mut visited, false));
         }
     }
     // Every other crossed face lies on a loop.

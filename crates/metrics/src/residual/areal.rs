@@ -457,13 +457,13 @@ fn validate(mesh: &HalfedgeMesh, field: &[f64]) -> Result<(), MetricsError> {
     if mesh.n_faces() == 0 {
         return Err(MetricsError::Empty { what: "mesh" });
     }
-    if !mesh.is_triangle_mesh() {
-        if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {
-            return Err(MetricsError::Topology(TopologyError::NotTriangle {
-                face: f.raw(),
-                len: mesh.face_valence(f),
-            }));
-        }
+    if !mesh.is_triangle_mesh()
+        && let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3)
+    {
+        return Err(MetricsError::Topology(TopologyError::NotTriangle {
+            face: f.raw(),
+            len: mesh.face_valence(f),
+        }));
     }
     if field.len() != mesh.n_vertices() {
         return Err(MetricsError::FieldLength {

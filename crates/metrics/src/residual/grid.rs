@@ -304,13 +304,13 @@ pub fn resample_to_grid(
 
 /// Refuses a grid step that is not positive and finite and fewer than 16 points.
 fn check_options(options: &ResampleOptions) -> Result<(), MetricsError> {
-    if let Some(step) = options.step {
-        if !(step > 0.0 && step.is_finite()) {
-            return Err(MetricsError::InvalidParameter {
-                name: "grid step",
-                reason: "must be positive and finite",
-            });
-        }
+    if let Some(step) = options.step
+        && !(step > 0.0 && step.is_finite())
+    {
+        return Err(MetricsError::InvalidParameter {
+            name: "grid step",
+            reason: "must be positive and finite",
+        });
     }
     if options.max_points < 16 {
         return Err(MetricsError::InvalidParameter {

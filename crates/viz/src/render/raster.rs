@@ -175,13 +175,13 @@ pub fn render_mesh_with(
     }
     check_size(width, height, options)?;
     let basis = view.basis()?;
-    if let Some((lo, hi)) = frame {
-        if !lo.is_finite() || !hi.is_finite() || lo.cmpgt(hi).any() {
-            return Err(VizError::Invalid {
-                what: "frame",
-                reason: format!("bounding box {lo}..{hi} must be finite with min ≤ max"),
-            });
-        }
+    if let Some((lo, hi)) = frame
+        && (!lo.is_finite() || !hi.is_finite() || lo.cmpgt(hi).any())
+    {
+        return Err(VizError::Invalid {
+            what: "frame",
+            reason: format!("bounding box {lo}..{hi} must be finite with min ≤ max"),
+        });
     }
 
     let ss = options.supersample;
