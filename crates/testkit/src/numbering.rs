@@ -2,7 +2,10 @@
 //! one configuration whose results follow it to rounding, [`max_difference`] measures
 //! by how much.
 
+use beltrami_halfedge::DVec3;
 use beltrami_smooth::{SmoothConfig, Summation};
+
+use crate::Deviation;
 use beltrami_weights::WeightScheme;
 
 /// The largest difference [`max_difference`] allows between two runs of a
@@ -24,23 +27,26 @@ pub fn sums_by_triangles(scheme: &dyn WeightScheme, config: &SmoothConfig) -> bo
     config.summation == Summation::Triangles && config.triangle_summation_unmet(scheme).is_none()
 }
 
-/// The largest coordinate difference between two lists of points given as bit patterns
-/// (`f64::to_bits` of x, y, z); infinite when the lists differ in length or a pair
-/// differs in a non-finite coordinate, 0 for bit-identical lists.
+/// The largest distance between corresponding points of two lists given as bit
+/// patterns (`f64::to_bits` of x, y, z), as [`Deviation::between`] measures it;
+/// infinite when the lists differ in length or a distance is not a number, 0 for
+/// bit-identical lists.
 #[must_use]
 pub fn max_difference(a: &[[u64; 3]], b: &[[u64; 3]]) -> f64 {
     if a.len() != b.len() {
         return f64::INFINITY;
     }
-    let mut largest = 0.0_f64;
-    for (p, q) in a.iter().zip(b) {
-        for (&x, &y) in p.iter().zip(q) {
-            if x == y {
-                continue;
-            }
-            let d = (f64::from_bits(x) - f64::from_bits(y)).abs();
-            largest = largest.max(if d.is_nan() { f64::INFINITY } else { d });
-        }
+    let points = |p: &[[u64; 3]]| -> Vec<DVec3> {
+        p.iter()
+            .map(|c| DVec3::from_array(c.map(f64::from_bits)))
+            .collect()
+    };
+    let d = Deviation::between(&points(a), &points(b), 1.0);
+    if d.identical {
+        0.0
+    } else if d.max.is_nan() {
+        f64::INFINITY
+    } else {
+        d.max
     }
-    largest
 }
