@@ -174,13 +174,14 @@ def main():
             loads.append(load())
             rows[(weights, update, "shuffled")] = smooth_case(sh, n8, weights, update)
             loads.append(load())
-    # Cotangent rows summed by triangles (`--summation triangles`), the same meshes.
-    triangles = ["--summation", "triangles"]
-    rows[("cotangent", "every", "ordered/triangles")] = smooth_case(s8, n8, "cotangent", "every",
-                                                                    triangles)
-    rows[("cotangent", "every", "shuffled/triangles")] = smooth_case(sh, n8, "cotangent", "every",
-                                                                     triangles)
-    loads.append(load())
+    # Cotangent rows summed by triangles and inverse-distance rows by edges
+    # (`--summation scatter`), the same meshes.
+    scatter = ["--summation", "scatter"]
+    for weights in ("distance", "cotangent"):
+        for order, m in (("ordered", s8), ("shuffled", sh)):
+            rows[(weights, "every", f"{order}/scatter")] = smooth_case(m, n8, weights, "every",
+                                                                       scatter)
+        loads.append(load())
     res["sphere8"] = {f"{w}/{u}/{o}": v for (w, u, o), v in rows.items()}
 
     # The paper's surfaces: cotangent / uniform with weights recomputed every iteration.
@@ -231,8 +232,8 @@ def main():
         n10 = vertices(s10)
         c = smooth_case(s10, n10, "cotangent", "every", reps=1)
         res["sphere10"] = {"vertices": n10, **c}
-        t = smooth_case(s10, n10, "cotangent", "every", ["--summation", "triangles"], reps=1)
-        res["sphere10_triangles"] = {"vertices": n10, **t}
+        t = smooth_case(s10, n10, "cotangent", "every", ["--summation", "scatter"], reps=1)
+        res["sphere10_scatter"] = {"vertices": n10, **t}
 
     if os.environ.get("LEVEL11"):
         res["sphere11"] = level11()
@@ -264,11 +265,12 @@ def report_md(res):
             L.append(f"| {w} | {u} | {o['ns']:.1f} ({o['range'][0]:.1f}–{o['range'][1]:.1f}) | "
                      f"{s['ns']:.1f} ({s['range'][0]:.1f}–{s['range'][1]:.1f}) | "
                      f"{s['ns'] / o['ns']:.2f} | {o['bytes_per_vertex']:.0f} |")
-    o, s = r8["cotangent/every/ordered/triangles"], r8["cotangent/every/shuffled/triangles"]
-    L.append(f"| cotangent, `--summation triangles` | every | {o['ns']:.1f} "
-             f"({o['range'][0]:.1f}–{o['range'][1]:.1f}) | {s['ns']:.1f} "
-             f"({s['range'][0]:.1f}–{s['range'][1]:.1f}) | {s['ns'] / o['ns']:.2f} | "
-             f"{o['bytes_per_vertex']:.0f} |")
+    for w in ("distance", "cotangent"):
+        o, s = r8[f"{w}/every/ordered/scatter"], r8[f"{w}/every/shuffled/scatter"]
+        L.append(f"| {w}, `--summation scatter` | every | {o['ns']:.1f} "
+                 f"({o['range'][0]:.1f}–{o['range'][1]:.1f}) | {s['ns']:.1f} "
+                 f"({s['range'][0]:.1f}–{s['range'][1]:.1f}) | {s['ns'] / o['ns']:.2f} | "
+                 f"{o['bytes_per_vertex']:.0f} |")
     L += ["", "Cotangent ÷ uniform, weights recomputed every iteration (paper's surfaces):", "",
           "| surface | vertices | uniform ns | cotangent ns | ratio |", "|---|---:|---:|---:|---:|"]
     for name, p in res["paper"].items():
@@ -295,7 +297,7 @@ def report_md(res):
           "", f"Binary PLY on sphere8 (32.8 MB), medians: parse {res['io']['parse']:.3f} s, "
           f"half-edge build and validation {res['io']['build']:.3f} s, write (atomic, with fsync) "
           f"{res['io']['write']:.3f} s."]
-    for key, how in (("sphere10", ""), ("sphere10_triangles", ", `--summation triangles`")):
+    for key, how in (("sphere10", ""), ("sphere10_scatter", ", `--summation scatter`")):
         if key not in res:
             continue
         s = res[key]

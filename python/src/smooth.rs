@@ -164,7 +164,7 @@ impl Options {
             config = config.statistics(Statistics::OnDemand);
         }
         config.summation(match self.summation {
-            "triangles" => Summation::Triangles,
+            "scatter" => Summation::Scatter,
             _ => Summation::Rows,
         })
     }
@@ -185,7 +185,7 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// Returns `(smoothed, report)`: a new `Mesh` with the same faces and the smoothed
 /// positions, and a dict with the keys of the command line's `--report` JSON
 /// (`input`, `output`, `vertices`, `faces`, `parameters`, `iterations`, `stop`,
-/// `max_stuck_vertices`, `triangle_sweeps`, `seconds`, `steps`, and `implicit` for the
+/// `max_stuck_vertices`, `scattered_sweeps`, `seconds`, `steps`, and `implicit` for the
 /// implicit method); `seconds` holds `weights` and `updates` (no file is read or
 /// written).
 ///
@@ -202,11 +202,12 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// - `normalize`: `"sum"` (None) or `"area"`; `vertex_area`: `"mixed"` or
 ///   `"barycentric"`; `cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`.
 /// - `summation`: `"rows"` (each vertex's weighted neighbours summed around its
-///   one-ring, OpenMesh's bits; the default) or `"triangles"` (each triangle's
-///   cotangents computed once and added into its three vertices: 10 to 16 % less
-///   time per iteration on large meshes, the same results to rounding but not bit for
-///   bit; only for cotangent weights with `update="every"`, `normalize="sum"`,
-///   `cotangent_negative="keep"`, `method="explicit"`, no `preserve_volume`).
+///   one-ring, OpenMesh's bits; the default) or `"scatter"` (each triangle's
+///   cotangents, or each edge's inverse distance, computed once and added into its
+///   vertices' sums: about 10 to 16 % less time per iteration on large meshes, the same
+///   results to rounding but not bit for bit; only for `weights="cotangent"` with
+///   `cotangent_negative="keep"` or `weights="distance"`, with `update="every"`,
+///   `normalize="sum"`, `method="explicit"`, no `preserve_volume`).
 /// - `time` (length²) or `cutoff` (Gaussian cut-off wavelength): diffuse for a
 ///   physical time instead of a count; `until_change`: stop once no vertex moves
 ///   farther than this.
@@ -280,7 +281,7 @@ pub(crate) fn smooth<'py>(
             cotangent_negative,
             &["keep", "clamp", "abs"],
         )?,
-        summation: choice("summation", summation, &["rows", "triangles"])?,
+        summation: choice("summation", summation, &["rows", "scatter"])?,
         time,
         cutoff,
         until_change,
@@ -302,11 +303,11 @@ pub(crate) fn smooth<'py>(
         )));
     }
     let config = options.config();
-    if options.summation == "triangles"
-        && let Some(needed) = config.triangle_summation_unmet(scheme.as_ref())
+    if options.summation == "scatter"
+        && let Some(needed) = config.scatter_unmet(scheme.as_ref())
     {
         return Err(PyValueError::new_err(format!(
-            "summation='triangles' needs {needed}; it applies to weights='cotangent' with update='every', normalize='sum', cotangent_negative='keep', method='explicit' and no preserve_volume"
+            "summation='scatter' needs {needed}; it applies to weights='cotangent' (with cotangent_negative='keep') or 'distance', with update='every', normalize='sum', method='explicit' and no preserve_volume"
         )));
     }
     let mut observer = Progress::new();
@@ -452,7 +453,7 @@ fn report<'py>(
     d.set_item("iterations", r.iterations)?;
     d.set_item("stop", r.stop.name())?;
     d.set_item("max_stuck_vertices", r.max_stuck_vertices)?;
-    d.set_item("triangle_sweeps", r.triangle_sweeps)?;
+    d.set_item("scattered_sweeps", r.scattered_sweeps)?;
     d.set_item("seconds", seconds)?;
     d.set_item("steps", steps)?;
     if let Some(s) = &r.solver {

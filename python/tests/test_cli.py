@@ -29,7 +29,8 @@ RUNS = [
         {"normalize": "area", "lam": 1e-4, "until_change": 1e-3, "iterations": 500},
     ),
     (["--preserve-volume", "--cotangent-negative", "clamp"], {"preserve_volume": True, "cotangent_negative": "clamp"}),
-    (["--summation", "triangles", "--boundary", "free"], {"summation": "triangles", "boundary": "free"}),
+    (["--summation", "scatter", "--boundary", "free"], {"summation": "scatter", "boundary": "free"}),
+    (["--weights", "distance", "--summation", "scatter"], {"weights": "distance", "summation": "scatter"}),
 ]
 
 

@@ -11,7 +11,7 @@ import beltrami as bt
 
 REPORT_KEYS = {
     "input", "output", "vertices", "faces", "parameters", "iterations", "stop",
-    "max_stuck_vertices", "triangle_sweeps", "seconds", "steps",
+    "max_stuck_vertices", "scattered_sweeps", "seconds", "steps",
 }
 PARAMETER_KEYS = {
     "weights", "lambda", "iterations", "boundary", "update", "cotangent_negative", "summation",
@@ -108,16 +108,17 @@ def test_every_option_family_runs_and_moves(sphere, options):
         assert p["time"] > 0 and p["iterations_planned"] >= 1
 
 
-def test_triangle_summation_is_the_row_summation_to_rounding(sphere):
-    rows, report = bt.smooth(sphere, iterations=20)
-    triangles, t_report = bt.smooth(sphere, iterations=20, summation="triangles")
+@pytest.mark.parametrize("weights", ["cotangent", "distance"])
+def test_scatter_summation_is_the_row_summation_to_rounding(sphere, weights):
+    rows, report = bt.smooth(sphere, iterations=20, weights=weights)
+    scattered, s_report = bt.smooth(sphere, iterations=20, weights=weights, summation="scatter")
     assert report["parameters"]["summation"] == "rows"
-    assert t_report["parameters"]["summation"] == "triangles"
-    assert (report["triangle_sweeps"], t_report["triangle_sweeps"]) == (0, 20)
+    assert s_report["parameters"]["summation"] == "scatter"
+    assert (report["scattered_sweeps"], s_report["scattered_sweeps"]) == (0, 20)
     scale = np.abs(sphere.vertices).max()
-    assert np.abs(rows.vertices - triangles.vertices).max() <= 1e-13 * scale
-    again, _ = bt.smooth(sphere, iterations=20, summation="triangles")
-    np.testing.assert_array_equal(again.vertices, triangles.vertices)
+    assert np.abs(rows.vertices - scattered.vertices).max() <= 1e-13 * scale
+    again, _ = bt.smooth(sphere, iterations=20, weights=weights, summation="scatter")
+    np.testing.assert_array_equal(again.vertices, scattered.vertices)
 
 
 def test_taubin_defaults_are_the_classic_pair(sphere):
@@ -179,9 +180,9 @@ def test_runs_are_deterministic(sphere):
         ({"pin": [100000]}, bt.SmoothError, "100000"),
         ({"normalize": "area", "lam": 10.0}, bt.SmoothError, "stab"),
         ({"time": 1e6, "max_iterations": 1000}, ValueError, "more than max_iterations=1000"),
-        ({"summation": "edges"}, ValueError, "summation must be one of 'rows', 'triangles'"),
-        ({"summation": "triangles", "update": "once"}, ValueError, "needs weights recomputed every iteration"),
-        ({"summation": "triangles", "weights": "uniform"}, ValueError, "needs cotangent weights"),
+        ({"summation": "edges"}, ValueError, "summation must be one of 'rows', 'scatter'"),
+        ({"summation": "scatter", "update": "once"}, ValueError, "needs weights recomputed every iteration"),
+        ({"summation": "scatter", "weights": "uniform"}, ValueError, "needs cotangent or inverse-distance weights"),
     ],
 )
 def test_bad_options_raise_the_right_exception(sphere, options, error, message):

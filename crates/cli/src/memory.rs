@@ -94,10 +94,14 @@ const LAPLACIAN: PerElement = PerElement::new(24, 16, 0);
 const COTANGENT_PLAN: PerElement = PerElement::new(4, 12, 28);
 /// The one-ring cotangent kernel's bit per row slot (counted as a byte).
 const RING_BITS: PerElement = PerElement::new(0, 1, 0);
-/// Rows summed by triangles (`--summation triangles`): the triangles sorted by their
-/// smallest vertex (12 per face), where each vertex's triangles start and how far back
-/// a sweep from it begins (8 per vertex).
+/// Cotangent rows summed by triangles (`--summation scatter`): the triangles sorted by
+/// their smallest vertex (12 per face), where each vertex's triangles start and how far
+/// back a sweep from it begins (8 per vertex).
 const TRIANGLE_ORDER: PerElement = PerElement::new(8, 0, 12);
+/// Inverse-distance rows summed by edges (`--summation scatter`): each edge's two
+/// vertices (8 per edge, 4 per halfedge) grouped by the smaller, and the same two
+/// tables per vertex (8).
+const EDGE_ORDER: PerElement = PerElement::new(8, 4, 0);
 /// A scheme without a built-in kernel (`bilateral`, a scheme of your own) fills a
 /// per-halfedge weight buffer (8)...
 const HALFEDGE_WEIGHTS: PerElement = PerElement::new(0, 8, 0);
@@ -204,8 +208,9 @@ pub(crate) struct Run {
     pub(crate) iterations: usize,
     /// Whether the `--report` JSON lists every iteration.
     pub(crate) report_steps: bool,
-    /// Rows summed by triangles (`--summation triangles`).
-    pub(crate) triangles: bool,
+    /// Rows summed element by element (`--summation scatter`): by triangles for
+    /// cotangent weights, by edges for the others (inverse distance).
+    pub(crate) scatter: bool,
 }
 
 impl Run {
@@ -221,8 +226,11 @@ impl Run {
         if self.area {
             sum = sum.plus(AREAS);
         }
-        if self.triangles {
-            sum = sum.plus(TRIANGLE_ORDER);
+        if self.scatter {
+            sum = sum.plus(match self.weights {
+                Weights::Cotangent | Weights::CotangentRing => TRIANGLE_ORDER,
+                _ => EDGE_ORDER,
+            });
         }
         match self.method {
             Method::ImplicitCg => sum.plus(IMPLICIT).plus(CG),
@@ -500,7 +508,7 @@ mod tests {
             area: false,
             iterations: 10,
             report_steps: false,
-            triangles: false,
+            scatter: false,
         }
     }
 
@@ -588,10 +596,17 @@ mod tests {
         assert_eq!(per_vertex(&area, 10) - per_vertex(&explicit, 10), 16);
         // Summed by triangles: 8 per vertex and 12 per face (24 per vertex).
         let triangles = Run {
-            triangles: true,
+            scatter: true,
             ..explicit
         };
         assert_eq!(per_vertex(&triangles, 10) - per_vertex(&explicit, 10), 32);
+        // Inverse distances summed by edges: 8 per vertex and 8 per edge (24 per vertex).
+        let distance = run(Method::Explicit, Weights::Rows);
+        let edges = Run {
+            scatter: true,
+            ..distance
+        };
+        assert_eq!(per_vertex(&edges, 10) - per_vertex(&distance, 10), 32);
         // Reordered runs keeping every iteration's statistics hold the displacements.
         let stats = Run {
             report_steps: true,

@@ -85,12 +85,12 @@ fn both_kernels_write_the_same_bytes_and_auto_falls_back_to_the_ring() {
     assert_eq!(fs::read(&path).unwrap(), fs::read(&default_out).unwrap());
 }
 
-/// With `--summation triangles` the sweeps use no per-triangle table: `auto` takes the
+/// With `--summation scatter` the cotangent sweeps use no per-triangle table: `auto` takes the
 /// one-ring kernel from the start (no note, the same bytes as asking for it), and the
 /// estimate is the one-ring kernel's plus the sorted triangles (12 bytes per face and 8
 /// per vertex: about 0.31 MiB here).
 #[test]
-fn triangle_summation_takes_the_ring_kernel() {
+fn scatter_summation_takes_the_ring_kernel() {
     let dir = tempfile::tempdir().unwrap();
     let input = common::squashed_sphere(dir.path(), "scan.ply", 5);
     let run = |out: &str, extra: &[&str]| {
@@ -102,7 +102,7 @@ fn triangle_summation_takes_the_ring_kernel() {
             "--iterations",
             "3",
             "--summation",
-            "triangles",
+            "scatter",
         ];
         args.extend_from_slice(extra);
         (beltrami(&args), output)

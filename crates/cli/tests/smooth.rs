@@ -254,14 +254,15 @@ fn step_statistics_can_be_left_out_without_changing_the_result() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// `--summation triangles`: the library's triangle summation (the same bytes), within
-/// rounding of the default's rows, counted in the report; refused (exit 2, nothing
-/// written) where it would change nothing; and a note where it did not apply.
+/// `--summation scatter`: the library's scattered summation (the same bytes) for
+/// cotangent and inverse-distance weights, within rounding of the default's rows,
+/// counted in the report; refused (exit 2, nothing written) where it would change
+/// nothing; and a note where it did not apply.
 #[test]
-fn triangle_summation_is_the_librarys_and_says_when_it_did_not_apply() {
+fn scatter_summation_is_the_librarys_and_says_when_it_did_not_apply() {
     let dir = tempfile::tempdir().unwrap();
     let (input, data) = noisy_sphere(dir.path());
-    let (rows, triangles) = (dir.path().join("rows.ply"), dir.path().join("tri.ply"));
+    let (rows, scattered) = (dir.path().join("rows.ply"), dir.path().join("scatter.ply"));
     let report = dir.path().join("report.json");
     let run = |out: &Path, extra: &[&str]| {
         let mut args = vec!["smooth", s(&input), s(out), "--iterations", "6"];
@@ -270,46 +271,67 @@ fn triangle_summation_is_the_librarys_and_says_when_it_did_not_apply() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8_lossy(&o.stdout).to_string()
     };
-    run(&rows, &[]);
-    let said = run(
-        &triangles,
-        &["--summation", "triangles", "--report", s(&report)],
-    );
-    assert!(!said.contains("note:"), "{said}");
-    let j: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-    assert_eq!(j["parameters"]["summation"], "triangles");
-    assert_eq!(j["triangle_sweeps"], 6);
     let mesh =
         beltrami_halfedge::HalfedgeMesh::from_polygons(data.positions.len(), data.faces.iter())
             .unwrap();
-    let config = SmoothConfig::new(0.8, 6).summation(Summation::Triangles);
-    let want = smooth(&mesh, &data.positions, &Cotangent, config).unwrap();
-    let got = read_mesh(&triangles).unwrap().positions;
-    assert_eq!(got, want.positions, "the library's bytes");
-    let by_rows = read_mesh(&rows).unwrap().positions;
-    let far = by_rows
-        .iter()
-        .zip(&got)
-        .map(|(a, b)| (*a - *b).abs().max_element())
-        .fold(0.0, f64::max);
-    assert!(far > 0.0 && far < 1e-14, "{far:e}");
-    // A quad mesh: the rows are summed as usual, and the command says so.
+    let schemes: [(&str, &dyn WeightScheme); 2] =
+        [("cotangent", &Cotangent), ("distance", &InverseDistance)];
+    for (name, scheme) in schemes {
+        run(&rows, &["--weights", name, "--force"]);
+        let said = run(
+            &scattered,
+            &[
+                "--weights",
+                name,
+                "--summation",
+                "scatter",
+                "--report",
+                s(&report),
+                "--force",
+            ],
+        );
+        assert!(!said.contains("note:"), "{said}");
+        let j: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        assert_eq!(j["parameters"]["summation"], "scatter");
+        assert_eq!(j["scattered_sweeps"], 6);
+        let config = SmoothConfig::new(0.8, 6).summation(Summation::Scatter);
+        let want = smooth(&mesh, &data.positions, scheme, config).unwrap();
+        let got = read_mesh(&scattered).unwrap().positions;
+        assert_eq!(got, want.positions, "{name}: the library's bytes");
+        let by_rows = read_mesh(&rows).unwrap().positions;
+        let far = by_rows
+            .iter()
+            .zip(&got)
+            .map(|(a, b)| (*a - *b).abs().max_element())
+            .fold(0.0, f64::max);
+        assert!(far > 0.0 && far < 1e-14, "{name}: {far:e}");
+    }
+    // A quad mesh: cotangent rows are summed as usual, and the command says so;
+    // inverse distances are scattered by edges.
     let quads = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cube_quads.obj");
-    let o = beltrami(&[
-        "smooth",
-        s(&quads),
-        s(&dir.path().join("quads.obj")),
-        "--summation",
-        "triangles",
-        "--iterations",
-        "2",
-    ]);
-    assert!(o.status.success());
-    let said = String::from_utf8_lossy(&o.stdout);
+    let on_quads = |weights: &str| {
+        let o = beltrami(&[
+            "smooth",
+            s(&quads),
+            s(&dir.path().join("quads.obj")),
+            "--weights",
+            weights,
+            "--summation",
+            "scatter",
+            "--iterations",
+            "2",
+            "--force",
+        ]);
+        assert!(o.status.success());
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    let said = on_quads("cotangent");
     assert!(
-        said.contains("note: 2 of 2 iterations were summed by rows, not by triangles (the mesh has polygon faces)"),
+        said.contains("note: 2 of 2 iterations were summed by rows, not scattered (the mesh has polygon faces)"),
         "{said}"
     );
+    let said = on_quads("distance");
+    assert!(!said.contains("note:"), "{said}");
     // Where it would change nothing: a usage error, nothing written.
     let refused = dir.path().join("refused.ply");
     for (extra, needed) in [
@@ -317,20 +339,27 @@ fn triangle_summation_is_the_librarys_and_says_when_it_did_not_apply() {
             &["--update", "once"][..],
             "weights recomputed every iteration",
         ),
-        (&["--weights", "uniform"][..], "cotangent weights"),
+        (
+            &["--weights", "uniform"][..],
+            "cotangent or inverse-distance weights",
+        ),
         (&["--method", "taubin"][..], "plain explicit diffusion"),
+        (
+            &["--weights", "distance", "--normalize", "area"][..],
+            "weight-sum normalisation",
+        ),
         (
             &["--cotangent-negative", "clamp"][..],
             "negative weights kept",
         ),
     ] {
-        let mut args = vec!["smooth", s(&input), s(&refused), "--summation", "triangles"];
+        let mut args = vec!["smooth", s(&input), s(&refused), "--summation", "scatter"];
         args.extend_from_slice(extra);
         let o = beltrami(&args);
         assert_eq!(o.status.code(), Some(2), "{extra:?}");
         let line = error_line(&o, dir.path());
         assert!(
-            line.starts_with(&format!("error: --summation triangles needs {needed};")),
+            line.starts_with(&format!("error: --summation scatter needs {needed};")),
             "{line}"
         );
         assert!(!refused.exists());

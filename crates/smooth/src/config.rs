@@ -43,7 +43,7 @@ pub enum WeightUpdate {
 /// ([`rcm_order`](beltrami_halfedge::reorder::rcm_order)) and gives everything back in
 /// the caller's numbering: positions, observer positions, statistics, error indices and
 /// the chosen step are bit-identical to a run without reordering (with
-/// [`Summation::Triangles`], identical to rounding). It costs the
+/// [`Summation::Scatter`], identical to rounding). It costs the
 /// renumbering (O(V + E), sequential; about the time of 5–10 frozen-weight iterations
 /// on a large mesh), the permutation both ways (8 bytes per vertex) and, for a mesh
 /// lent to [`Smoother::new`](crate::Smoother::new), one copy of the connectivity; a
@@ -100,10 +100,11 @@ impl Reorder {
 /// let sphere = primitives::icosphere(3);
 /// let mesh = sphere.mesh().unwrap();
 /// let rows = smooth(&mesh, &sphere.positions, &Cotangent, SmoothConfig::new(0.5, 5)).unwrap();
-/// let config = SmoothConfig::new(0.5, 5).summation(Summation::Triangles);
-/// let triangles = smooth(&mesh, &sphere.positions, &Cotangent, config).unwrap();
+/// let config = SmoothConfig::new(0.5, 5).summation(Summation::Scatter);
+/// let scattered = smooth(&mesh, &sphere.positions, &Cotangent, config).unwrap();
 /// // The same smoothing to rounding.
-/// for (a, b) in rows.positions.iter().zip(&triangles.positions) {
+/// assert_eq!(scattered.report.scattered_sweeps, 5);
+/// for (a, b) in rows.positions.iter().zip(&scattered.positions) {
 ///     assert!((*a - *b).abs().max_element() < 1e-14);
 /// }
 /// ```
@@ -117,21 +118,27 @@ pub enum Summation {
     /// ([`Reorder`]). The default.
     #[default]
     Rows,
-    /// Triangle by triangle, where it applies: the built-in cotangent scheme with
-    /// weight-sum normalisation and negative weights kept, weights recomputed every
-    /// iteration ([`WeightUpdate::Every`]), plain explicit diffusion
-    /// ([`Method::Laplacian`] without volume preservation). Each triangle's three
-    /// cotangents are computed once per iteration, from one cross product, one square
-    /// root and one division, and added into its three vertices' sums; no weight is
-    /// stored. On a large mesh an iteration takes 10 to 16 % less time
-    /// (docs/performance.md). The results are [`Rows`](Self::Rows)' to rounding, not
-    /// bit for bit: each row is summed in another order (so the last bits also follow
-    /// the internal vertex order, [`Reorder`]) and each cotangent rounds differently
-    /// from the per-corner formula OpenMesh uses. A run that amplifies rounding
-    /// (negative weights on obtuse triangles over many iterations) can therefore end
-    /// farther from OpenMesh's result than rounding. Other configurations, and meshes
-    /// with faces other than triangles, are summed by rows whatever this says.
-    Triangles,
+    /// Element by element, where it applies: each triangle's three cotangents (the
+    /// built-in [`Cotangent`](beltrami_weights::Cotangent) scheme, negative weights
+    /// kept, every face a triangle) or each edge's inverse distance (the built-in
+    /// [`InverseDistance`](beltrami_weights::InverseDistance) scheme, any mesh) is
+    /// computed once per iteration and scattered into the sums of its vertices' rows;
+    /// no weight is stored. A triangle's cotangents take one cross product, one square
+    /// root and one division instead of one of each per corner, and an edge's weight
+    /// one square root and one division instead of one at each end. It needs weight-sum
+    /// normalisation, weights recomputed every iteration ([`WeightUpdate::Every`]) and
+    /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
+    /// [`SmoothConfig::scatter_unmet`] says what is missing. On a large mesh an
+    /// iteration takes about 10 to 16 % less time (docs/performance.md). The results
+    /// are [`Rows`](Self::Rows)' to rounding, not bit for bit: each row is summed in
+    /// another order (so the last bits also follow the internal vertex order,
+    /// [`Reorder`]), and each cotangent rounds differently from the per-corner formula
+    /// OpenMesh uses (an inverse-distance weight has the bits of the rows' weight). A
+    /// run that amplifies rounding (negative weights on obtuse triangles over many
+    /// iterations) can therefore end farther from OpenMesh's result than rounding.
+    /// Other configurations are summed by rows whatever this says, and so are cotangent
+    /// weights on meshes with faces other than triangles.
+    Scatter,
 }
 
 /// Whether [`Smoother::run`](crate::Smoother::run) computes the displacement statistics
@@ -489,7 +496,7 @@ pub struct SmoothConfig {
     /// `iterations` stays the upper limit.
     pub until_change: Option<f64>,
     /// Whether the vertices are renumbered internally for speed (see [`Reorder`]); the
-    /// results are the same bits either way (with [`Summation::Triangles`], the same to
+    /// results are the same bits either way (with [`Summation::Scatter`], the same to
     /// rounding).
     pub reorder: Reorder,
     /// Whether [`Smoother::run`](crate::Smoother::run) computes every iteration's
@@ -604,11 +611,13 @@ impl SmoothConfig {
         self
     }
 
-    /// What [`Summation::Triangles`] needs that this configuration lacks with `scheme`,
-    /// in words, the first of: `"cotangent weights"` (the built-in
-    /// [`Cotangent`](beltrami_weights::Cotangent)), `"weights recomputed every
-    /// iteration"`, `"weight-sum normalisation"`, `"negative weights kept"`, `"plain
-    /// explicit diffusion"`, `"no volume preservation"`; `None` when it applies. The
+    /// What [`Summation::Scatter`] needs that this configuration lacks with `scheme`,
+    /// in words, the first of: `"cotangent or inverse-distance weights"` (the built-in
+    /// [`Cotangent`](beltrami_weights::Cotangent) or
+    /// [`InverseDistance`](beltrami_weights::InverseDistance)), `"weights recomputed
+    /// every iteration"`, `"weight-sum normalisation"`, `"negative weights kept"` (for
+    /// cotangents), `"plain explicit diffusion"`, `"no volume preservation"`; `None`
+    /// when it applies. The
     /// summation asked for does not matter. A front end that takes the summation from
     /// its user can refuse a request that would change nothing.
     ///
@@ -617,22 +626,29 @@ impl SmoothConfig {
     /// use beltrami_smooth::{SmoothConfig, WeightUpdate};
     /// use beltrami_weights::{Cotangent, Uniform};
     /// let config = SmoothConfig::new(0.5, 10);
-    /// assert_eq!(config.triangle_summation_unmet(&Cotangent), None);
-    /// assert_eq!(config.triangle_summation_unmet(&Uniform), Some("cotangent weights"));
+    /// assert_eq!(config.scatter_unmet(&Cotangent), None);
+    /// assert_eq!(
+    ///     config.scatter_unmet(&Uniform),
+    ///     Some("cotangent or inverse-distance weights")
+    /// );
     /// let once = config.update(WeightUpdate::Once);
     /// assert_eq!(
-    ///     once.triangle_summation_unmet(&Cotangent),
+    ///     once.scatter_unmet(&Cotangent),
     ///     Some("weights recomputed every iteration")
     /// );
     /// ```
     #[must_use]
-    pub fn triangle_summation_unmet(
+    pub fn scatter_unmet(
         &self,
         scheme: &dyn beltrami_weights::WeightScheme,
     ) -> Option<&'static str> {
         let any: &dyn std::any::Any = scheme;
+        let distance = any.is::<beltrami_weights::InverseDistance>();
         [
-            (any.is::<beltrami_weights::Cotangent>(), "cotangent weights"),
+            (
+                any.is::<beltrami_weights::Cotangent>() || distance,
+                "cotangent or inverse-distance weights",
+            ),
             (
                 self.update == WeightUpdate::Every,
                 "weights recomputed every iteration",
@@ -642,7 +658,7 @@ impl SmoothConfig {
                 "weight-sum normalisation",
             ),
             (
-                self.laplacian.negative == beltrami_weights::NegativeWeights::Keep,
+                distance || self.laplacian.negative == beltrami_weights::NegativeWeights::Keep,
                 "negative weights kept",
             ),
             (self.method == Method::Laplacian, "plain explicit diffusion"),

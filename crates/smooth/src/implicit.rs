@@ -420,7 +420,7 @@ impl<'a> Implicit<'a> {
             weight_time: self.assembly_time,
             update_time: self.solve_time,
             solver: Some(solver),
-            triangle_sweeps: 0,
+            scattered_sweeps: 0,
         }
     }
 

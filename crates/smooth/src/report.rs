@@ -180,13 +180,13 @@ pub struct SmoothReport {
     pub update_time: Duration,
     /// What the linear solver did over the run ([`Method::Implicit`](crate::Method::Implicit) only).
     pub solver: Option<SolverReport>,
-    /// Iterations whose rows were summed triangle by triangle
-    /// ([`Summation::Triangles`](crate::Summation::Triangles)); fewer than
+    /// Iterations whose rows were summed element by element
+    /// ([`Summation::Scatter`](crate::Summation::Scatter)); fewer than
     /// [`iterations`](Self::iterations) when that summation was asked for but did not
-    /// apply (faces other than triangles, a triangle collapsed to a point, a vertex order
-    /// too scattered for the sweep without reordering), and 0 with the default
-    /// summation.
-    pub triangle_sweeps: usize,
+    /// apply (cotangent weights on faces other than triangles, a triangle collapsed to a
+    /// point, an edge too long for plain products, a vertex order too scattered for the
+    /// sweep without reordering), and 0 with the default summation.
+    pub scattered_sweeps: usize,
 }
 
 /// What the linear solver of an implicit run did.

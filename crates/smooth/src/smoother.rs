@@ -28,7 +28,7 @@ use crate::report::{IterationView, SmoothReport, Smoothed, SolverReport, StepSta
 /// Large meshes are renumbered internally for memory locality (see
 /// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
 /// numbering and bit-identical to a run without reordering (with
-/// [`Summation::Triangles`](crate::Summation::Triangles), identical to rounding).
+/// [`Summation::Scatter`](crate::Summation::Scatter), identical to rounding).
 ///
 /// [`Smoother::new`] borrows the mesh and copies the positions (and, when it renumbers,
 /// copies the mesh too); [`Smoother::from_owned`] takes both by value, renumbers the
@@ -120,8 +120,8 @@ pub(crate) struct Finished {
     pub(crate) weight_time: Duration,
     pub(crate) update_time: Duration,
     pub(crate) solver: Option<SolverReport>,
-    /// Iterations swept triangle by triangle.
-    pub(crate) triangle_sweeps: usize,
+    /// Iterations swept element by element.
+    pub(crate) scattered_sweeps: usize,
 }
 
 impl<'a> Smoother<'a> {
@@ -402,7 +402,7 @@ impl<'a> Smoother<'a> {
             weight_time: finished.weight_time,
             update_time: finished.update_time,
             solver: finished.solver,
-            triangle_sweeps: finished.triangle_sweeps,
+            scattered_sweeps: finished.scattered_sweeps,
         };
         let smoothed = Smoothed {
             positions: finished.positions,

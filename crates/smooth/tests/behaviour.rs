@@ -317,23 +317,28 @@ fn observer_sees_every_iteration_and_can_stop_the_run() {
     assert_eq!(full.report.stop, StopReason::Completed);
 }
 
-/// The report counts the iterations summed triangle by triangle: all of them where
-/// `Summation::Triangles` applies, none on a mesh with quads (its rows are summed as
-/// usual) or with the default summation.
+/// The report counts the iterations summed element by element: all of them where
+/// `Summation::Scatter` applies (inverse distances on quads too, by edges), none for
+/// cotangents on a mesh with quads (its rows are summed as usual) or with the default
+/// summation.
 #[test]
-fn the_report_counts_the_triangle_sweeps() {
-    let sweeps = |p: &primitives::Primitive, summation| {
+fn the_report_counts_the_scattered_sweeps() {
+    let sweeps = |p: &primitives::Primitive, scheme: &dyn WeightScheme, summation| {
         let mesh = p.mesh().unwrap();
         let config = SmoothConfig::new(0.5, 4).summation(summation);
-        smooth(&mesh, &p.positions, &Cotangent, config)
+        smooth(&mesh, &p.positions, scheme, config)
             .unwrap()
             .report
-            .triangle_sweeps
+            .scattered_sweeps
     };
     let sphere = primitives::icosphere(2);
-    assert_eq!(sweeps(&sphere, Summation::Triangles), 4);
-    assert_eq!(sweeps(&sphere, Summation::Rows), 0);
-    assert_eq!(sweeps(&primitives::cube_quads(), Summation::Triangles), 0);
+    let quads = primitives::cube_quads();
+    for scheme in [&Cotangent as &dyn WeightScheme, &InverseDistance] {
+        assert_eq!(sweeps(&sphere, scheme, Summation::Scatter), 4);
+        assert_eq!(sweeps(&sphere, scheme, Summation::Rows), 0);
+    }
+    assert_eq!(sweeps(&quads, &Cotangent, Summation::Scatter), 0);
+    assert_eq!(sweeps(&quads, &InverseDistance, Summation::Scatter), 4);
 }
 
 #[test]

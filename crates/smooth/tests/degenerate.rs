@@ -1039,7 +1039,7 @@ fn power_of_two_scaling_commutes_bit_for_bit() {
                 for &boundary in boundaries {
                     for (update, summation) in UPDATES
                         .into_iter()
-                        .flat_map(|u| [(u, Summation::Rows), (u, Summation::Triangles)])
+                        .flat_map(|u| [(u, Summation::Rows), (u, Summation::Scatter)])
                     {
                         for negative in NEGATIVES {
                             let config = SmoothConfig::new(0.8, 10)

@@ -5,13 +5,13 @@
 //! mode, with a pinned vertex, on open and closed meshes, with and without reordering;
 //! and that `Smoother::laplacian` is still the operator the last sweep used. Cotangent
 //! rows with weight-sum normalisation and negative weights kept are summed triangle by
-//! triangle instead (`sums_by_triangles`): those steps are the operator's to rounding.
+//! triangle instead (`sums_by_scatter`): those steps are the operator's to rounding.
 
 use beltrami_halfedge::geometry::{Geometry, VertexAreaKind};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId, primitives};
 use beltrami_smooth::{Boundary, Reorder, SmoothConfig, Smoother, Summation, WeightUpdate};
 use beltrami_testkit::SplitMix64;
-use beltrami_testkit::numbering::{ROUNDING, max_difference, sums_by_triangles};
+use beltrami_testkit::numbering::{ROUNDING, max_difference, sums_by_scatter};
 use beltrami_weights::{
     Cotangent, InverseDistance, Laplacian, LaplacianOptions, NegativeWeights, Normalization,
     Uniform, WeightContext, WeightScheme,
@@ -111,7 +111,7 @@ fn fresh_weights_in_the_sweep_are_the_refreshed_operator_bit_for_bit() {
             for (options, lambda) in options() {
                 for (boundary, summation) in [Boundary::Fixed, Boundary::Free, Boundary::Curve]
                     .into_iter()
-                    .flat_map(|b| [(b, Summation::Rows), (b, Summation::Triangles)])
+                    .flat_map(|b| [(b, Summation::Rows), (b, Summation::Scatter)])
                 {
                     let config = SmoothConfig::new(lambda, iterations)
                         .update(WeightUpdate::Every)
@@ -121,7 +121,7 @@ fn fresh_weights_in_the_sweep_are_the_refreshed_operator_bit_for_bit() {
                         .reorder(Reorder::Never)
                         .summation(summation);
                     let label = format!("{} {options:?} {boundary:?} {summation:?}", scheme.name());
-                    let by_triangles = sums_by_triangles(scheme, &config);
+                    let by_triangles = sums_by_scatter(scheme, &config);
                     let Ok(mut smoother) = Smoother::new(mesh, x0, scheme, config.clone()) else {
                         // A curve boundary needs weight-sum rows.
                         assert!(boundary == Boundary::Curve && lambda < 0.1, "{label}");

@@ -189,8 +189,10 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig, owned:
 /// borrowed run with the same setting: what reordering itself changes is
 /// `reorder.rs`'s subject); returns whether the run succeeded.
 fn same(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> bool {
-    if config.summation == Summation::Rows && scheme.name() == Cotangent.name() {
-        same(m, scheme, config.clone().summation(Summation::Triangles));
+    if config.summation == Summation::Rows
+        && [Cotangent.name(), InverseDistance.name()].contains(&scheme.name())
+    {
+        same(m, scheme, config.clone().summation(Summation::Scatter));
     }
     let mut succeeded = true;
     for reorder in [Reorder::Never, Reorder::Always] {

@@ -3,7 +3,7 @@
 //! without volume preservation, a diffusion time and pinned vertices, on a closed noisy
 //! sphere, a bumpy open grid and a grid with isolated vertices; and the same errors on
 //! runs that blow up. The one exception, cotangent rows recomputed every iteration and
-//! summed triangle by triangle (`Summation::Triangles`, `sums_by_triangles`), is held to
+//! summed triangle by triangle (`Summation::Scatter`, `sums_by_scatter`), is held to
 //! rounding instead.
 
 use std::ops::ControlFlow;
@@ -15,7 +15,7 @@ use beltrami_smooth::{
     StepStats, Summation, WeightUpdate,
 };
 use beltrami_testkit::fixtures::jitter;
-use beltrami_testkit::numbering::{ROUNDING, max_difference, sums_by_triangles};
+use beltrami_testkit::numbering::{ROUNDING, max_difference, sums_by_scatter};
 use beltrami_weights::{
     Cotangent, InverseDistance, LaplacianOptions, Normalization, Uniform, WeightContext,
     WeightScheme,
@@ -180,7 +180,7 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> See
             (
                 bits(&out.positions),
                 out.report.steps.iter().map(stat_bits).collect(),
-                out.report.triangle_sweeps,
+                out.report.scattered_sweeps,
             )
         });
     Seen {
@@ -191,17 +191,19 @@ fn observe(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> See
 }
 
 /// Runs `config` with and without reordering; returns whether the run succeeded. The
-/// runs are the same bits, or for a configuration that sums its rows triangle by
-/// triangle ([`sums_by_triangles`]) the same to rounding ([`same_to_rounding`]).
+/// runs are the same bits, or for a configuration that sums its rows element by
+/// element ([`sums_by_scatter`]) the same to rounding ([`same_to_rounding`]).
 fn same(m: &TestMesh, scheme: &dyn WeightScheme, config: SmoothConfig) -> bool {
-    if config.summation == Summation::Rows && scheme.name() == Cotangent.name() {
-        same(m, scheme, config.clone().summation(Summation::Triangles));
+    if config.summation == Summation::Rows
+        && [Cotangent.name(), InverseDistance.name()].contains(&scheme.name())
+    {
+        same(m, scheme, config.clone().summation(Summation::Scatter));
     }
     let never = observe(m, scheme, config.clone().reorder(Reorder::Never));
     let always = observe(m, scheme, config.clone().reorder(Reorder::Always));
-    if sums_by_triangles(scheme, &config) {
+    if sums_by_scatter(scheme, &config) {
         same_to_rounding(&never, &always, &format!("{} {config:?}", m.name));
-        // Every iteration of a run that went through was summed by triangles.
+        // Every iteration of a run that went through was scattered.
         if let Some(Ok((_, _, sweeps))) = &never.result {
             assert_eq!(*sweeps, never.observed.len(), "{} {config:?}", m.name);
         }
@@ -477,8 +479,8 @@ fn statistics_on_demand_are_the_same_bits() {
                     for (reorder, summation) in [
                         (Reorder::Never, Summation::Rows),
                         (Reorder::Always, Summation::Rows),
-                        (Reorder::Never, Summation::Triangles),
-                        (Reorder::Always, Summation::Triangles),
+                        (Reorder::Never, Summation::Scatter),
+                        (Reorder::Always, Summation::Scatter),
                     ] {
                         // Against the eager run in the same numbering (reordering itself
                         // is the test above).

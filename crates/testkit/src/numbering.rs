@@ -1,4 +1,4 @@
-//! What the smoother's internal numbering may change: [`sums_by_triangles`] names the
+//! What the smoother's internal numbering may change: [`sums_by_scatter`] names the
 //! one configuration whose results follow it to rounding, [`max_difference`] measures
 //! by how much.
 
@@ -9,22 +9,23 @@ use crate::Deviation;
 use beltrami_weights::WeightScheme;
 
 /// The largest difference [`max_difference`] allows between two runs of a
-/// [`sums_by_triangles`] configuration that differ only in the internal numbering, for
+/// [`sums_by_scatter`] configuration that differ only in the internal numbering, for
 /// the unit-sized test meshes and a handful of iterations: a few units in the last place
 /// of each coordinate, accumulated over the iterations.
 pub const ROUNDING: f64 = 1e-12;
 
 /// Whether `config` smooths with `scheme`'s rows recomputed every iteration and summed
-/// triangle by triangle inside the sweep (`Summation::Triangles` where it applies): the
-/// built-in cotangent scheme (registry name `cotangent`), weight-sum normalisation,
-/// negative weights kept, weights updated every iteration, plain explicit diffusion
-/// without volume preservation (`SmoothConfig::triangle_summation_unmet`). Such a run
-/// sums each row in the order of the triangles in the smoother's internal numbering, so
-/// reordering the vertices (`Reorder`) changes its results in the last bits; every
-/// other configuration gives the same bits either way.
+/// element by element inside the sweep (`Summation::Scatter` where it applies): the
+/// built-in cotangent scheme (registry name `cotangent`, negative weights kept) or
+/// inverse-distance scheme (`distance`), weight-sum normalisation, weights updated
+/// every iteration, plain explicit diffusion without volume preservation
+/// (`SmoothConfig::scatter_unmet`). Such a run sums each row in the order of the
+/// triangles or edges in the smoother's internal numbering, so reordering the vertices
+/// (`Reorder`) changes its results in the last bits; every other configuration gives
+/// the same bits either way.
 #[must_use]
-pub fn sums_by_triangles(scheme: &dyn WeightScheme, config: &SmoothConfig) -> bool {
-    config.summation == Summation::Triangles && config.triangle_summation_unmet(scheme).is_none()
+pub fn sums_by_scatter(scheme: &dyn WeightScheme, config: &SmoothConfig) -> bool {
+    config.summation == Summation::Scatter && config.scatter_unmet(scheme).is_none()
 }
 
 /// The largest distance between corresponding points of two lists given as bit

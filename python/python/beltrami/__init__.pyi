@@ -83,7 +83,7 @@ def smooth(
     *,
     vertex_area: Literal["mixed", "barycentric"] = "mixed",
     cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
-    summation: Literal["rows", "triangles"] = "rows",
+    summation: Literal["rows", "scatter"] = "rows",
     time: Optional[float] = None,
     cutoff: Optional[float] = None,
     until_change: Optional[float] = None,

@@ -62,15 +62,16 @@ pub(crate) struct SmoothArgs {
     /// triangle once, a per-face table of about 120 bytes per vertex), ring (from each
     /// vertex's one-ring: no table, about 1.4 times the time), or auto (per-triangle,
     /// ring when only that fits the memory available or --max-memory; ring with
-    /// --summation triangles, whose sweeps use neither).
+    /// --summation scatter, whose sweeps use neither).
     #[arg(long, value_enum, default_value_t = CotangentKernelArg::Auto)]
     pub(crate) cotangent_kernel: CotangentKernelArg,
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's
-    /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or triangles (each
-    /// triangle's three cotangents computed once and added into its vertices: 10 to 16
-    /// % less time per iteration on large meshes, the same results to rounding
-    /// but not bit for bit). triangles applies to cotangent weights with --update
-    /// every, --normalize sum, --cotangent-negative keep and --method explicit, without
+    /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or scatter (each
+    /// triangle's three cotangents, or each edge's inverse distance, computed once and
+    /// added into its vertices' sums: about 10 to 16 % less time per iteration on large
+    /// meshes, the same results to rounding but not bit for bit). scatter applies to
+    /// --weights cotangent (with --cotangent-negative keep) and --weights distance, with
+    /// --update every, --normalize sum and --method explicit, without
     /// --preserve-volume.
     #[arg(long, value_enum, default_value_t = SummationArg::Rows)]
     pub(crate) summation: SummationArg,
@@ -208,7 +209,7 @@ pub(crate) enum CotangentKernelArg {
 #[serde(rename_all = "lowercase")]
 pub(crate) enum SummationArg {
     Rows,
-    Triangles,
+    Scatter,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
@@ -335,7 +336,7 @@ impl SmoothArgs {
         }
         config.summation(match self.summation {
             SummationArg::Rows => Summation::Rows,
-            SummationArg::Triangles => Summation::Triangles,
+            SummationArg::Scatter => Summation::Scatter,
         })
     }
 

@@ -37,11 +37,11 @@ pub(crate) fn run(
 ) -> Result<(), CliError> {
     let scheme = registry.get(&args.weights)?;
     args.check_combination()?;
-    if args.summation == SummationArg::Triangles
-        && let Some(needed) = args.config().triangle_summation_unmet(scheme.as_ref())
+    if args.summation == SummationArg::Scatter
+        && let Some(needed) = args.config().scatter_unmet(scheme.as_ref())
     {
         return Err(CliError::Usage(format!(
-            "--summation triangles needs {needed}; it applies to --weights cotangent --update every --normalize sum --cotangent-negative keep --method explicit without --preserve-volume"
+            "--summation scatter needs {needed}; it applies to --weights cotangent (with --cotangent-negative keep) or distance, with --update every --normalize sum --method explicit, without --preserve-volume"
         )));
     }
     refuse_height_map_output(
@@ -174,7 +174,7 @@ fn choose_kernel(
 ) -> Result<CotangentKernel, CliError> {
     let ring = args.cotangent_kernel == CotangentKernelArg::Ring
         || (args.cotangent_kernel == CotangentKernelArg::Auto
-            && args.summation == SummationArg::Triangles);
+            && args.summation == SummationArg::Scatter);
     let first = memory_run(args, scheme, ring);
     let fits = check_memory(args, &estimate(&first), exact);
     let auto = args.cotangent_kernel == CotangentKernelArg::Auto;
@@ -263,16 +263,18 @@ fn write_summary(
             plural(r.max_stuck_vertices, "vertex", "vertices"),
         )?;
     }
-    if args.summation == SummationArg::Triangles && r.triangle_sweeps < r.iterations {
-        let why = if shape.triangles {
+    if args.summation == SummationArg::Scatter && r.scattered_sweeps < r.iterations {
+        let why = if r.scheme == "distance" {
+            "an edge too long for plain products, or a vertex order too scattered for it"
+        } else if shape.triangles {
             "a triangle collapsed to a point, or a vertex order too scattered for it"
         } else {
             "the mesh has polygon faces"
         };
         writeln!(
             out,
-            "note: {} of {} iterations were summed by rows, not by triangles ({why})",
-            r.iterations - r.triangle_sweeps,
+            "note: {} of {} iterations were summed by rows, not scattered ({why})",
+            r.iterations - r.scattered_sweeps,
             r.iterations
         )?;
     }
@@ -416,7 +418,7 @@ fn memory_run(args: &SmoothArgs, scheme: &dyn WeightScheme, ring: bool) -> memor
             (_, false) => args.iterations,
         },
         report_steps: args.report.is_some() && !args.no_step_stats,
-        triangles: args.summation == SummationArg::Triangles,
+        scatter: args.summation == SummationArg::Scatter,
     }
 }
 

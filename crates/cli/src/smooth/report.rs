@@ -24,8 +24,8 @@ pub(crate) struct Report<'a> {
     /// The largest number of vertices that could not move in one iteration (weights
     /// summing to ≤ 0, zero area).
     pub(crate) max_stuck_vertices: usize,
-    /// Iterations summed triangle by triangle (`--summation triangles`; 0 otherwise).
-    pub(crate) triangle_sweeps: usize,
+    /// Iterations summed element by element (`--summation scatter`; 0 otherwise).
+    pub(crate) scattered_sweeps: usize,
     pub(crate) seconds: Seconds,
     pub(crate) steps: Vec<Step>,
     /// Solver figures of --method implicit.
@@ -55,7 +55,7 @@ pub(crate) struct Parameters<'a> {
     pub(crate) boundary: BoundaryArg,
     pub(crate) update: UpdateArg,
     pub(crate) cotangent_negative: NegativeArg,
-    /// How the rows were summed (`rows` or `triangles`).
+    /// How the rows were summed (`rows` or `scatter`).
     pub(crate) summation: SummationArg,
     pub(crate) normalize: NormalizeArg,
     pub(crate) vertex_area: AreaArg,
@@ -148,7 +148,7 @@ pub(crate) fn build_report<'a>(
         iterations: r.iterations,
         stop: r.stop.name(),
         max_stuck_vertices: r.max_stuck_vertices,
-        triangle_sweeps: r.triangle_sweeps,
+        scattered_sweeps: r.scattered_sweeps,
         seconds: Seconds {
             read: read.total,
             parse: read.parse,

@@ -7,32 +7,16 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::rows::RowSweep;
+use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring};
 
-/// A mesh's triangles in the order a sweep scatters them: sorted by their smallest
-/// vertex (stable), with where each vertex's triangles start and how far back a sweep
-/// of the rows from a vertex on must begin. 12 bytes per triangle and 8 per vertex.
-#[derive(Debug)]
-pub(super) struct TriangleOrder {
-    /// The triangles (vertex indices in face order, starting at the smallest), sorted by
-    /// their smallest vertex.
-    triangles: Vec<[u32; 3]>,
-    /// `starts[v]..starts[v + 1]`: the triangles whose smallest vertex is `v`
-    /// (`n + 1` entries).
-    starts: Vec<u32>,
-    /// `reach[v]`: the smallest vertex of the triangles whose largest vertex is `v` or
-    /// more (`v` when there is none). A sweep of the rows from `v` on starts with the
-    /// triangles of `reach[v]`: every triangle at a row `v` or later comes after it.
-    reach: Vec<u32>,
-    /// The largest difference between a triangle's largest and smallest vertex index:
-    /// while a sweep adds a triangle whose smallest vertex is `v` (every row before `v`
-    /// finished), only the rows `v..=v + span` are open.
-    pub(super) span: usize,
-}
+/// A mesh's triangles in the order a sweep scatters them (vertex indices in face order,
+/// rotated to start at the smallest): 12 bytes per triangle and 8 per vertex.
+pub(super) type TriangleOrder = Order<3>;
 
-impl TriangleOrder {
+impl Order<3> {
     /// The order of `triangles` (three vertex indices each, one after the other) over
-    /// `n` vertices (indices below `n`), or `None` when there are more than `u32` can
-    /// count.
+    /// `n` vertices (indices below `n`): sorted by their smallest vertex (stable), or
+    /// `None` when there are more than `u32` can count.
     pub(super) fn new(n: usize, triangles: &[u32]) -> Option<Self> {
         let corners = |c: &[u32]| -> [u32; 3] { [c[0], c[1], c[2]] };
         let triangles = || triangles.chunks_exact(3).map(corners);
@@ -49,10 +33,8 @@ impl TriangleOrder {
         }
         let mut next = starts.clone();
         let mut sorted = vec![[0u32; 3]; count];
-        let mut reach: Vec<u32> = (0..n as u32).collect();
-        let mut span = 0;
         for t in triangles() {
-            let (lo, hi) = (lowest(&t), t[0].max(t[1]).max(t[2]) as usize);
+            let lo = lowest(&t);
             // Each triangle starts at its smallest vertex (its orientation kept), so the
             // cotangents' bits do not depend on which corner a face list starts at: the
             // mesh's faces and a detached triangle list give the same sweep.
@@ -62,18 +44,8 @@ impl TriangleOrder {
                 _ => t,
             };
             next[lo] += 1;
-            reach[hi] = reach[hi].min(lo as u32);
-            span = span.max(hi - lo);
         }
-        for v in (0..n.saturating_sub(1)).rev() {
-            reach[v] = reach[v].min(reach[v + 1]);
-        }
-        Some(Self {
-            triangles: sorted,
-            starts,
-            reach,
-            span,
-        })
+        Some(Self::grouped(sorted, starts))
     }
 
     /// The order of `mesh`'s faces, `None` when one is not a triangle (or there are more
@@ -91,11 +63,6 @@ impl TriangleOrder {
         Self::new(mesh.n_vertices(), triangles?.as_flattened())
     }
 }
-
-/// A row's sums `(Σ c·x, Σ c·y, Σ c·z, Σ c)`: four lanes that two multiply-adds update
-/// together (a point is widened to `(x, y, z, 1)`, so the same operation adds a
-/// cotangent to the weight sum).
-type P4 = [f64; 4];
 
 /// Triangles whose cotangents are computed together, in lanes of arrays the compiler
 /// vectorises, before they are scattered.
@@ -232,24 +199,6 @@ fn cotangent_lanes<const SCALED: bool>(
     ]
 }
 
-/// The ring sizes [`sweep_triangles`] is compiled for; a larger
-/// [`TriangleOrder::span`] (a mesh in an order far from its neighbourhoods) is swept
-/// by gathered rows instead.
-const RINGS: [usize; 5] = [1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16];
-
-/// The largest [`TriangleOrder::span`] this sweep takes.
-pub(super) const MAX_SPAN: usize = RINGS[RINGS.len() - 1] - 1;
-
-/// Rows per work unit of a triangle sweep over `n` rows, a multiple of `unit` (the
-/// statistics' chunk): a unit starts `span` rows back (the triangles of those rows are
-/// added again, to the rows of the unit), so it spans at least 16 times as many rows,
-/// and a quarter of each thread's share when that is more (the rows' sums do not
-/// depend on where a unit starts, so neither does the result).
-pub(super) fn block_rows(unit: usize, span: usize, n: usize) -> usize {
-    let share = n.div_ceil(4 * rayon::current_num_threads().max(1));
-    (16 * span).max(share).div_ceil(unit).max(1) * unit
-}
-
 /// What a triangle sweep reads: the triangles, the positions, λ, and the power of two
 /// the cotangents' corner positions are multiplied by (see [`cotangent_scale`]).
 pub(super) struct Scatter<'a> {
@@ -258,16 +207,6 @@ pub(super) struct Scatter<'a> {
     pub(super) lambda: f64,
     /// `None`: the positions as they are.
     pub(super) scale: Option<f64>,
-}
-
-/// Why a triangle sweep gave up.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Decline {
-    /// A triangle's longest squared edge (after the scale) outside [`PLAIN`]: the sweep may be
-    /// repeated with a [`cotangent_scale`].
-    Range,
-    /// A row's weights do not sum to a finite value.
-    Weight,
 }
 
 /// The power of two that brings the mesh's largest edge component (`|x_b − x_a|` over
@@ -280,7 +219,7 @@ pub(super) enum Decline {
 /// component is zero, not finite, or too far from 1 for a normal power of two.
 pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Option<f64> {
     let mut largest = 0.0_f64;
-    for t in &sweep.triangles {
+    for t in &sweep.elements {
         let [a, b, c] = t.map(|v| positions[v as usize]);
         for d in [b - a, c - b, a - c] {
             if !d.is_finite() {
@@ -329,33 +268,32 @@ pub(super) fn sweep_triangles(
     stuck: &mut Vec<u32>,
     swept: &mut Vec<RowSweep>,
 ) -> Result<(), Decline> {
-    let mut finished = Finished {
+    // `Finished` is moved into the sweep, a local of its loop (see `edges`).
+    let finished = Finished::new(
         first,
-        end: first + out.len(),
-        scatter,
+        scatter.positions,
+        scatter.lambda,
         out,
         unit,
-        left: unit,
-        part: RowSweep::default(),
         stuck,
         swept,
-    };
+    );
     let span = scatter.sweep.span;
     // The scale is a const parameter: the plain sweep multiplies by nothing.
     match (
         RINGS.iter().position(|&r| r > span),
         scatter.scale.is_some(),
     ) {
-        (Some(0), false) => sweep_in_ring::<{ RINGS[0] }, false>(&mut finished),
-        (Some(1), false) => sweep_in_ring::<{ RINGS[1] }, false>(&mut finished),
-        (Some(2), false) => sweep_in_ring::<{ RINGS[2] }, false>(&mut finished),
-        (Some(3), false) => sweep_in_ring::<{ RINGS[3] }, false>(&mut finished),
-        (Some(4), false) => sweep_in_ring::<{ RINGS[4] }, false>(&mut finished),
-        (Some(0), true) => sweep_in_ring::<{ RINGS[0] }, true>(&mut finished),
-        (Some(1), true) => sweep_in_ring::<{ RINGS[1] }, true>(&mut finished),
-        (Some(2), true) => sweep_in_ring::<{ RINGS[2] }, true>(&mut finished),
-        (Some(3), true) => sweep_in_ring::<{ RINGS[3] }, true>(&mut finished),
-        (Some(4), true) => sweep_in_ring::<{ RINGS[4] }, true>(&mut finished),
+        (Some(0), false) => sweep_in_ring::<{ RINGS[0] }, false>(scatter, finished),
+        (Some(1), false) => sweep_in_ring::<{ RINGS[1] }, false>(scatter, finished),
+        (Some(2), false) => sweep_in_ring::<{ RINGS[2] }, false>(scatter, finished),
+        (Some(3), false) => sweep_in_ring::<{ RINGS[3] }, false>(scatter, finished),
+        (Some(4), false) => sweep_in_ring::<{ RINGS[4] }, false>(scatter, finished),
+        (Some(0), true) => sweep_in_ring::<{ RINGS[0] }, true>(scatter, finished),
+        (Some(1), true) => sweep_in_ring::<{ RINGS[1] }, true>(scatter, finished),
+        (Some(2), true) => sweep_in_ring::<{ RINGS[2] }, true>(scatter, finished),
+        (Some(3), true) => sweep_in_ring::<{ RINGS[3] }, true>(scatter, finished),
+        (Some(4), true) => sweep_in_ring::<{ RINGS[4] }, true>(scatter, finished),
         _ => panic!("a span of {span} is above MAX_SPAN"),
     }
 }
@@ -363,36 +301,12 @@ pub(super) fn sweep_triangles(
 /// [`sweep_triangles`] with the open rows in a ring of `R` slots (`R` > the span), the
 /// corner positions multiplied by `scatter.scale` when `SCALED`.
 fn sweep_in_ring<const R: usize, const SCALED: bool>(
-    finished: &mut Finished<'_, '_>,
+    scatter: &Scatter<'_>,
+    finished: Finished<'_>,
 ) -> Result<(), Decline> {
-    RING.with_borrow_mut(|ring| {
-        // Zero between calls: each call clears the slots it leaves open.
-        ring.resize(R.max(ring.len()), [0.0; 4]);
-        let ring: &mut [P4; R] = (&mut ring[..R])
-            .try_into()
-            .expect("the ring was just resized to at least R slots");
-        let done = scatter_in_ring::<R, SCALED>(finished, ring);
-        match done {
-            Ok(open_from) => {
-                // The rows after the range that the range's triangles reached.
-                for v in open_from..open_from + sweep_span(finished) + 1 {
-                    ring[v % R] = [0.0; 4];
-                }
-            }
-            Err(_) => ring.fill([0.0; 4]),
-        }
-        done.map(|_| ())
+    in_ring::<R>(scatter.sweep.span, |ring| {
+        scatter_in_ring::<R, SCALED>(scatter, finished, ring)
     })
-}
-
-fn sweep_span(finished: &Finished<'_, '_>) -> usize {
-    finished.scatter.sweep.span
-}
-
-thread_local! {
-    /// The ring of open rows of [`sweep_in_ring`], kept for the thread's next call
-    /// (zero between calls).
-    static RING: std::cell::RefCell<Vec<P4>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// The scatter of [`sweep_in_ring`] into `ring` (all zero); returns the first row it
@@ -400,7 +314,8 @@ thread_local! {
 /// finite, or an edge length outside [`PLAIN`]).
 #[inline(always)]
 fn scatter_in_ring<const R: usize, const SCALED: bool>(
-    finished: &mut Finished<'_, '_>,
+    scatter: &Scatter<'_>,
+    mut finished: Finished<'_>,
     ring: &mut [P4; R],
 ) -> Result<usize, Decline> {
     let Scatter {
@@ -408,7 +323,7 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
         positions,
         scale,
         ..
-    } = *finished.scatter;
+    } = *scatter;
     let scale = scale.unwrap_or(1.0);
     let (first, end) = (finished.first, finished.end);
     let start = (sweep.reach[first] as usize).min(first);
@@ -419,7 +334,7 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
     let mut t = t_begin;
     while t < t_end {
         let k = (t_end - t).min(LANES);
-        let tris = &sweep.triangles[t..t + k];
+        let tris = &sweep.elements[t..t + k];
         // Corners in lanes (a short last step repeats its last triangle).
         let mut p = [[[0.0; LANES]; 3]; 3];
         for l in 0..LANES {
@@ -435,7 +350,7 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
         for (l, tri) in tris.iter().enumerate() {
             // Rows whose triangles have all been added are complete: every row before
             // this triangle's smallest vertex, so that the rows open meanwhile lie within
-            // the span of it ([`TriangleOrder::span`]) and fit in the ring.
+            // the span of it ([`Order::span`]) and fit in the ring.
             while v < end && sweep.starts[v + 1] as usize <= t + l {
                 finished
                     .row(v, std::mem::take(&mut ring[v % R]))
@@ -482,83 +397,17 @@ fn add2(acc: &mut P4, wa: f64, pa: DVec3, wb: f64, pb: DVec3) {
     *acc = [a0, a1, a2, a3];
 }
 
-/// Where [`sweep_triangles`] puts each finished row.
-struct Finished<'s, 'a> {
-    first: usize,
-    end: usize,
-    scatter: &'s Scatter<'a>,
-    out: &'s mut [DVec3],
-    unit: usize,
-    /// Rows left in the current part.
-    left: usize,
-    part: RowSweep,
-    stuck: &'s mut Vec<u32>,
-    swept: &'s mut Vec<RowSweep>,
-}
-
-impl Finished<'_, '_> {
-    /// Row `v` with its sums `open`: nothing for a row before the range (its slot is
-    /// only cleared), [`Decline::Weight`] when its weights do not sum to a finite value.
-    #[inline(always)]
-    fn row(&mut self, v: usize, open: P4) -> Result<(), Decline> {
-        if v < self.first {
-            return Ok(());
-        }
-        let weight = open[3];
-        if !weight.is_finite() {
-            return Err(Decline::Weight);
-        }
-        let xi = self.scatter.positions[v];
-        let inv = 1.0 / weight;
-        let new = if weight > 0.0 && inv.is_finite() && inv > 0.0 {
-            let s = DVec3::new(open[0], open[1], open[2]);
-            xi + (s * inv - xi) * self.scatter.lambda
-        } else {
-            self.stuck.push(v as u32);
-            self.part.stuck += 1;
-            xi
-        };
-        self.out[v - self.first] = new;
-        self.part.sum += new;
-        self.left -= 1;
-        if self.left == 0 || v + 1 == self.end {
-            self.swept.push(std::mem::take(&mut self.part));
-            self.left = self.unit;
-        }
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
+    use beltrami_halfedge::{DVec3, primitives};
     use beltrami_weights::{Cotangent, Laplacian, LaplacianOptions};
 
     use super::super::rows::tests::wobble;
+    use super::super::scatter::tests::{assert_step_of, bits, cases, sweep_ranges};
     use super::{Decline, Scatter, TriangleOrder, cotangent_scale, sweep_triangles};
 
-    fn bits(p: &[DVec3]) -> Vec<[u64; 3]> {
-        p.iter().map(|q| q.to_array().map(f64::to_bits)).collect()
-    }
-
-    /// A grid with degenerate triangles, a noisy sphere, a torus.
-    fn cases() -> Vec<(HalfedgeMesh, Vec<DVec3>)> {
-        let grid = primitives::grid(12, 9);
-        let sphere = primitives::icosphere(3);
-        let torus = primitives::torus(2.0, 0.7, 13, 7);
-        let mut degenerate = wobble(&grid.positions, 0.4);
-        degenerate[14] = degenerate[15];
-        vec![
-            (grid.mesh().unwrap(), wobble(&grid.positions, 0.4)),
-            (grid.mesh().unwrap(), degenerate),
-            (sphere.mesh().unwrap(), wobble(&sphere.positions, 0.05)),
-            (torus.mesh().unwrap(), torus.positions.clone()),
-        ]
-    }
-
-    /// The sweep over the ranges between consecutive `cuts` (rows split anywhere) in
-    /// units of `unit` rows: the new positions and the stuck rows (the per-unit stuck
-    /// counts checked against them).
+    /// The sweep over the ranges between consecutive `cuts` in units of `unit` rows
+    /// ([`sweep_ranges`]).
     fn sweep(
         order: &TriangleOrder,
         x: &[DVec3],
@@ -572,24 +421,9 @@ mod tests {
             lambda: 0.8,
             scale,
         };
-        let mut out = vec![DVec3::splat(f64::NAN); x.len()];
-        let mut stuck = Vec::new();
-        let mut counted = 0;
-        for range in cuts.windows(2).map(|c| c[0]..c[1]) {
-            let mut swept = Vec::new();
-            sweep_triangles(
-                &scatter,
-                range.start,
-                &mut out[range.clone()],
-                unit,
-                &mut stuck,
-                &mut swept,
-            )?;
-            assert_eq!(swept.len(), range.len().div_ceil(unit));
-            counted += swept.iter().map(|s| s.stuck).sum::<usize>();
-        }
-        assert_eq!(counted, stuck.len());
-        Ok((out, stuck))
+        sweep_ranges(x.len(), cuts, unit, |first, out, unit, stuck, swept| {
+            sweep_triangles(&scatter, first, out, unit, stuck, swept)
+        })
     }
 
     #[test]
@@ -598,7 +432,7 @@ mod tests {
         let order = TriangleOrder::new(8, triangles.as_flattened()).unwrap();
         // Rotated (orientation kept) and sorted by the smallest vertex, stably.
         assert_eq!(
-            order.triangles,
+            order.elements,
             vec![[0, 5, 1], [1, 2, 3], [2, 7, 4], [2, 3, 6]]
         );
         assert_eq!(order.starts, vec![0, 1, 2, 4, 4, 4, 4, 4, 4]);
@@ -610,8 +444,8 @@ mod tests {
         let a = TriangleOrder::of_mesh(&mesh).unwrap();
         let b = TriangleOrder::new(mesh.n_vertices(), list.as_flattened()).unwrap();
         assert_eq!(
-            (&a.triangles, &a.starts, &a.reach),
-            (&b.triangles, &b.starts, &b.reach)
+            (&a.elements, &a.starts, &a.reach),
+            (&b.elements, &b.starts, &b.reach)
         );
     }
 
@@ -625,21 +459,7 @@ mod tests {
             let order = TriangleOrder::of_mesh(&mesh).unwrap();
             let (out, stuck) = sweep(&order, &x, None, &[0, n], 256).unwrap();
             let lap = Laplacian::new(&mesh, &x, &Cotangent, LaplacianOptions::new()).unwrap();
-            let mut want_stuck = Vec::new();
-            for v in mesh.vertices() {
-                let i = v.index();
-                let want = match lap.laplacian_at(v, &x) {
-                    Some(l) => x[i] + l * 0.8,
-                    None => {
-                        want_stuck.push(i as u32);
-                        x[i]
-                    }
-                };
-                let d = (out[i] - want).abs().max_element();
-                assert!(d <= 1e-14, "row {i}: {d:e}");
-            }
-            assert_eq!(stuck, want_stuck);
-            assert_eq!(stuck.len(), lap.stuck_rows());
+            assert_step_of(&lap, &mesh, &x, &out, &stuck);
             for (cuts, unit) in [(vec![0, n / 3, n / 3, n - 1, n], 7), (vec![0, 1, n], 1)] {
                 let (other, other_stuck) = sweep(&order, &x, None, &cuts, unit).unwrap();
                 assert_eq!(bits(&other), bits(&out));
@@ -660,7 +480,7 @@ mod tests {
             let (want, want_stuck) = sweep(&order, &x, None, &[0, n], 64).unwrap();
             let gap = 3 * (1 << 16);
             let shifted: Vec<u32> = order
-                .triangles
+                .elements
                 .iter()
                 .flatten()
                 .map(|&v| v + gap as u32)
@@ -684,12 +504,7 @@ mod tests {
             // And a run of isolated vertices in the middle of the numbering.
             let (half, gap) = (n as u32 / 2, 700);
             let moved = |v: u32| if v < half { v } else { v + gap };
-            let split: Vec<u32> = order
-                .triangles
-                .iter()
-                .flatten()
-                .map(|&v| moved(v))
-                .collect();
+            let split: Vec<u32> = order.elements.iter().flatten().map(|&v| moved(v)).collect();
             let wide = TriangleOrder::new(n + gap as usize, &split).unwrap();
             let mut y = x[..half as usize].to_vec();
             y.extend(std::iter::repeat_n(

@@ -2,8 +2,10 @@
 //! internal renumbering of large meshes.
 
 mod compound;
+mod edges;
 mod faces;
 mod rows;
+mod scatter;
 mod sweep;
 
 use std::borrow::Cow;
@@ -92,17 +94,17 @@ pub(crate) struct Explicit<'a> {
     volume: f64,
     iteration: usize,
     weights_fresh: bool,
-    /// A sweep that scatters triangles declined once (an edge too short or too long for
-    /// its plain products, or a weight sum not finite): the run sweeps gathered rows
-    /// from then on (see [`sweep_by_triangles`](Self::sweep_by_triangles)).
+    /// A scattered sweep declined once (an edge too short or too long for its plain
+    /// products, or a weight sum not finite): the run sweeps gathered rows
+    /// from then on (see [`sweep_scattered`](Self::sweep_scattered)).
     scatter_declined: bool,
-    /// The triangles in the order of that sweep, built on its first use.
-    triangle_order: Option<faces::TriangleOrder>,
+    /// The triangles or edges in the order of that sweep, built on its first use.
+    scatter_order: Option<ScatterOrder>,
     /// The power of two that sweep multiplies the corner positions by, once an edge was
     /// too short or too long for plain products ([`faces::cotangent_scale`]).
     cotangent_scale: Option<f64>,
-    /// The iterations swept triangle by triangle.
-    triangle_sweeps: usize,
+    /// The iterations swept element by element (triangles or edges).
+    scattered_sweeps: usize,
     /// The last sweep computed its weights itself (see [`sweep_fresh`](Self::sweep_fresh)):
     /// the stored operator's weights are older than that sweep's.
     operator_behind: bool,
@@ -273,39 +275,88 @@ fn small_chunk(n: usize) -> usize {
     n.div_ceil(8).clamp(256, CHUNK)
 }
 
-/// Runs the triangle sweep `scatter` over work units of [`faces::block_rows`] rows in
+/// The elements a scattered sweep computes its weights from, in its order.
+enum ScatterOrder {
+    /// Triangles: cotangent weights ([`faces`]).
+    Triangles(faces::TriangleOrder),
+    /// Edges: inverse-distance weights ([`edges`]).
+    Edges(edges::EdgeOrder),
+}
+
+impl ScatterOrder {
+    /// Whether its sweep takes the order's span (a mesh in an order far from its
+    /// neighbourhoods is swept by gathered rows instead).
+    fn fits(&self) -> bool {
+        match self {
+            Self::Triangles(order) => order.span <= scatter::MAX_SPAN,
+            Self::Edges(order) => order.span <= edges::MAX_SPAN,
+        }
+    }
+}
+
+/// A scattered sweep's input: what [`faces::sweep_triangles`] or
+/// [`edges::sweep_edges`] reads.
+enum Scattered<'a> {
+    Triangles(faces::Scatter<'a>),
+    Edges(edges::EdgeScatter<'a>),
+}
+
+impl Scattered<'_> {
+    fn span(&self) -> usize {
+        match self {
+            Self::Triangles(s) => s.sweep.span,
+            Self::Edges(s) => s.sweep.span,
+        }
+    }
+
+    fn sweep(
+        &self,
+        first: usize,
+        out: &mut [DVec3],
+        unit: usize,
+        stuck: &mut Vec<u32>,
+        swept: &mut Vec<rows::RowSweep>,
+    ) -> Result<(), scatter::Decline> {
+        match self {
+            Self::Triangles(s) => faces::sweep_triangles(s, first, out, unit, stuck, swept),
+            Self::Edges(s) => edges::sweep_edges(s, first, out, unit, stuck, swept),
+        }
+    }
+}
+
+/// Runs the scattered sweep `scatter` over work units of [`scatter::block_rows`] rows in
 /// parallel into `next`, each unit split into the statistics' chunks (those of
 /// [`sweep_chunks`]: [`CHUNK`] for full statistics, [`small_chunk`] otherwise), with one
 /// [`Partial`] per chunk; with `record` (and full statistics), also each displacement
 /// into `disp`. Why it declined, when a unit did.
 fn scatter_blocks(
-    scatter: &faces::Scatter<'_>,
+    scatter: &Scattered<'_>,
     input: &SweepInput<'_>,
     want: Want,
     record: bool,
     next: &mut [DVec3],
     disp: &mut [f64],
-) -> Result<Vec<Partial>, faces::Decline> {
+) -> Result<Vec<Partial>, scatter::Decline> {
     let n = next.len();
     let unit = if want == Want::Full {
         CHUNK
     } else {
         small_chunk(n)
     };
-    let block = faces::block_rows(unit, scatter.sweep.span, n);
+    let block = scatter::block_rows(unit, scatter.span(), n);
     let disps: Vec<&mut [f64]> = if record {
         disp.chunks_mut(block).collect()
     } else {
         (0..n.div_ceil(block)).map(|_| &mut [][..]).collect()
     };
-    let blocks: Vec<Result<Vec<Partial>, faces::Decline>> = next
+    let blocks: Vec<Result<Vec<Partial>, scatter::Decline>> = next
         .par_chunks_mut(block)
         .zip(disps)
         .enumerate()
         .map(|(b, (out, disp))| {
             let first = b * block;
             let (mut stuck, mut parts) = (Vec::new(), Vec::new());
-            faces::sweep_triangles(scatter, first, out, unit, &mut stuck, &mut parts)?;
+            scatter.sweep(first, out, unit, &mut stuck, &mut parts)?;
             let is_stuck = |v: u32| stuck.binary_search(&v).is_ok();
             let mut partials = Vec::with_capacity(parts.len());
             let mut disp = Some(disp);
@@ -503,9 +554,9 @@ impl<'a> Explicit<'a> {
             iteration: 0,
             weights_fresh: true,
             scatter_declined: false,
-            triangle_order: None,
+            scatter_order: None,
             cotangent_scale: None,
-            triangle_sweeps: 0,
+            scattered_sweeps: 0,
             operator_behind: false,
             current: OnceLock::new(),
             weight_time: Duration::ZERO,
@@ -642,10 +693,10 @@ impl<'a> Explicit<'a> {
         }
         // Weights not kept (a lean operator, or released by a fused sweep) are stale too.
         let stale = self.weights_stale() || !self.laplacian.weights_stored();
-        // Rows summed by triangles compute their weights in every sweep, the first of a
+        // Rows summed element by element compute their weights in every sweep, the first of a
         // run whose operator was just assembled too (a duration plans the step with it).
         let fused = self.fuses()
-            && (self.sweep_by_triangles(lambda, want) || (stale && self.sweep_fresh(lambda, want)));
+            && (self.sweep_scattered(lambda, want) || (stale && self.sweep_fresh(lambda, want)));
         if !fused {
             if stale {
                 self.refresh_weights()?;
@@ -759,46 +810,61 @@ impl<'a> Explicit<'a> {
         true
     }
 
-    /// A sweep into `next` and `partials` that scatters each triangle's cotangents into
-    /// its vertices' rows at the current positions
-    /// ([`Laplacian::scatters_cotangents`]: cotangent weights, weight-sum normalisation,
-    /// negative weights kept, with either cotangent kernel); the stored operator is then
-    /// behind. `false` when the operator's rows are not of that kind, a face is not a
-    /// triangle, the mesh's order leaves rows open too long ([`faces::MAX_SPAN`]), or a
-    /// row's weights are not finite or an edge is too short or too long for plain
-    /// products even on positions scaled by a power of two ([`faces::cotangent_scale`];
-    /// in these three cases the run keeps to the gathered rows from then on): the caller
-    /// sweeps the gathered rows instead.
+    /// A sweep into `next` and `partials` that computes each element's weights once at
+    /// the current positions and scatters them into its vertices' rows: each triangle's
+    /// cotangents ([`Laplacian::scatters_cotangents`]: cotangent weights, weight-sum
+    /// normalisation, negative weights kept, with either cotangent kernel), or each
+    /// edge's inverse distance ([`Laplacian::scatters_distances`]: inverse-distance
+    /// weights, weight-sum normalisation); the stored operator is then behind. `false`
+    /// when the operator's rows are of neither kind, a face is not a triangle (for
+    /// cotangents), the mesh's order leaves rows open too long ([`scatter::MAX_SPAN`]),
+    /// or a row's weights are not finite or an edge is too short or too long for plain
+    /// products (for cotangents, even on positions scaled by a power of two,
+    /// [`faces::cotangent_scale`]); in these last three cases the run keeps to the
+    /// gathered rows from then on. The caller then sweeps the gathered rows instead.
     ///
-    /// The work units are [`faces::block_rows`] long, each split into the statistics'
+    /// The work units are [`scatter::block_rows`] long, each split into the statistics'
     /// chunks (those of [`sweep_chunks`]), so the statistics are summed as there.
-    fn sweep_by_triangles(&mut self, lambda: f64, want: Want) -> bool {
+    fn sweep_scattered(&mut self, lambda: f64, want: Want) -> bool {
         let start = Instant::now();
-        if self.config.summation != Summation::Triangles
-            || self.config.triangle_summation_unmet(self.scheme).is_some()
+        if self.config.summation != Summation::Scatter
+            || self.config.scatter_unmet(self.scheme).is_some()
             || self.scatter_declined
             || self.refresh_curve_weights().is_err()
         {
             return false;
         }
-        if !self.laplacian.scatters_cotangents(self.scheme) {
+        let triangles = if self.laplacian.scatters_cotangents(self.scheme) {
+            true
+        } else if self.laplacian.scatters_distances(self.scheme) {
+            false
+        } else {
             return false;
-        }
-        if self.triangle_order.is_none() {
+        };
+        if self.scatter_order.is_none() {
             let n = self.positions.len();
-            let order = match &self.mesh {
-                Some(mesh) => faces::TriangleOrder::of_mesh(mesh),
-                None => faces::TriangleOrder::new(n, &self.faces.triangles),
+            let order = if triangles {
+                match &self.mesh {
+                    Some(mesh) => faces::TriangleOrder::of_mesh(mesh),
+                    None => faces::TriangleOrder::new(n, &self.faces.triangles),
+                }
+                .map(ScatterOrder::Triangles)
+            } else {
+                let lap = &self.laplacian;
+                edges::EdgeOrder::new(n, |v| lap.neighbours(VertexId::new(v as u32)))
+                    .map(ScatterOrder::Edges)
             };
             match order {
-                Some(order) if order.span <= faces::MAX_SPAN => self.triangle_order = Some(order),
+                Some(order) if order.fits() => {
+                    self.scatter_order = Some(order);
+                }
                 _ => {
                     self.scatter_declined = true;
                     return false;
                 }
             }
         }
-        let Some(triangles) = &self.triangle_order else {
+        let Some(order) = &self.scatter_order else {
             return false;
         };
         let swept = Instant::now();
@@ -812,11 +878,18 @@ impl<'a> Explicit<'a> {
         };
         let record = want == Want::Full && self.perm.is_some();
         let mut pass = |scale: Option<f64>| {
-            let scatter = faces::Scatter {
-                sweep: triangles,
-                positions: &self.positions,
-                lambda,
-                scale,
+            let scatter = match order {
+                ScatterOrder::Triangles(sweep) => Scattered::Triangles(faces::Scatter {
+                    sweep,
+                    positions: &self.positions,
+                    lambda,
+                    scale,
+                }),
+                ScatterOrder::Edges(sweep) => Scattered::Edges(edges::EdgeScatter {
+                    sweep,
+                    positions: &self.positions,
+                    lambda,
+                }),
             };
             scatter_blocks(
                 &scatter,
@@ -828,7 +901,10 @@ impl<'a> Explicit<'a> {
             )
         };
         let mut result = pass(self.cotangent_scale);
-        if result.as_ref().err() == Some(&faces::Decline::Range) && self.cotangent_scale.is_none() {
+        if let ScatterOrder::Triangles(triangles) = order
+            && result.as_ref().err() == Some(&scatter::Decline::Range)
+            && self.cotangent_scale.is_none()
+        {
             // Edges too short or too long for plain products: the same sweep, bit for bit,
             // on positions scaled by a power of two, for this and every later iteration.
             if let Some(scale) = faces::cotangent_scale(triangles, &self.positions) {
@@ -842,7 +918,7 @@ impl<'a> Explicit<'a> {
             return false;
         };
         self.partials = partials;
-        self.triangle_sweeps += 1;
+        self.scattered_sweeps += 1;
         self.operator_behind = true;
         self.current = OnceLock::new();
         true
@@ -1024,7 +1100,7 @@ impl<'a> Explicit<'a> {
             weight_time: self.weight_time,
             update_time: self.update_time,
             solver: None,
-            triangle_sweeps: self.triangle_sweeps,
+            scattered_sweeps: self.scattered_sweeps,
         };
         (finished, triangles)
     }
@@ -1086,13 +1162,14 @@ mod tests {
     use beltrami_halfedge::geometry::VertexAreaKind;
     use beltrami_halfedge::{DVec3, primitives};
     use beltrami_weights::{
-        Cotangent, LaplacianOptions, NegativeWeights, Normalization, Uniform, WeightScheme,
+        Cotangent, InverseDistance, LaplacianOptions, NegativeWeights, Normalization, Uniform,
+        WeightScheme,
     };
 
     use super::{Explicit, Want};
     use crate::config::{DiffusionTime, Method, Reorder, SmoothConfig, Summation, WeightUpdate};
 
-    /// After three iterations: whether the sweeps scattered triangles (the triangle order
+    /// After three iterations: whether the sweeps scattered triangles or edges (the order
     /// was built and never declined), and the scale they took.
     fn scattered(
         x: &[DVec3],
@@ -1105,34 +1182,44 @@ mod tests {
         for want in [Want::Full, Want::Nothing, Want::Max] {
             e.iterate(want).unwrap();
         }
-        let swept = e.triangle_sweeps == 3;
-        assert_eq!(swept, e.triangle_order.is_some() && !e.scatter_declined);
+        let swept = e.scattered_sweeps == 3;
+        assert_eq!(swept, e.scatter_order.is_some() && !e.scatter_declined);
         (swept, e.cotangent_scale)
     }
 
-    /// The triangle sweep takes exactly the runs `sums_by_triangles` (testkit) names, on
+    /// The scattered sweep takes exactly the runs `sums_by_scatter` (testkit) names, on
     /// either numbering, and far from unit scale through a power of two; a triangle
-    /// collapsed to a point sends the run to the gathered rows. The default sums rows.
+    /// collapsed to a point sends a cotangent run to the gathered rows, while inverse
+    /// distances take any clamp and coincident vertices. The default sums rows.
     #[test]
-    fn summing_by_triangles_scatters_triangles() {
+    fn the_scatter_sweeps_where_it_applies() {
         let sphere = primitives::icosphere(2);
         let x = sphere.positions.clone();
         let rows = SmoothConfig::new(0.5, 3).update(WeightUpdate::Every);
         assert!(!scattered(&x, &Cotangent, rows.clone()).0);
-        let every = rows.summation(Summation::Triangles);
+        let every = rows.summation(Summation::Scatter);
         for reorder in [Reorder::Never, Reorder::Always] {
             let config = every.clone().reorder(reorder);
             assert_eq!(scattered(&x, &Cotangent, config.clone()), (true, None));
+            assert_eq!(
+                scattered(&x, &InverseDistance, config.clone()),
+                (true, None)
+            );
             assert!(!scattered(&x, &Uniform, config.clone()).0);
             let clamp = LaplacianOptions::new().negative(NegativeWeights::Clamp);
             assert!(!scattered(&x, &Cotangent, config.clone().laplacian(clamp)).0);
+            let clamped = config.clone().laplacian(clamp);
+            assert_eq!(scattered(&x, &InverseDistance, clamped), (true, None));
+            let volume = config.clone().preserve_volume(true);
+            assert!(!scattered(&x, &InverseDistance, volume).0);
             assert!(!scattered(&x, &Cotangent, config.clone().preserve_volume(true)).0);
             let once = config.clone().update(WeightUpdate::Once);
             assert!(!scattered(&x, &Cotangent, once).0);
             let area = LaplacianOptions::new()
                 .normalization(Normalization::Area(VertexAreaKind::MixedVoronoi));
             let small = config.clone().lambda(1e-4).laplacian(area);
-            assert!(!scattered(&x, &Cotangent, small).0);
+            assert!(!scattered(&x, &Cotangent, small.clone()).0);
+            assert!(!scattered(&x, &InverseDistance, small).0);
             for method in [Method::taubin_or_pass_band(0.5, None), Method::hc()] {
                 assert!(!scattered(&x, &Cotangent, config.clone().method(method)).0);
             }
@@ -1154,6 +1241,13 @@ mod tests {
         let (a, b, c) = (f[0] as usize, f[1] as usize, f[2] as usize);
         collapsed[b] = collapsed[a];
         collapsed[c] = collapsed[a];
-        assert!(!scattered(&collapsed, &Cotangent, every).0);
+        assert!(!scattered(&collapsed, &Cotangent, every.clone()).0);
+        assert!(scattered(&collapsed, &InverseDistance, every.clone()).0);
+        // Inverse distances far from unit scale: small edges keep to the scatter (their
+        // weights are 1/ε either way); lengths whose squares overflow decline.
+        let tiny: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(-700)).collect();
+        assert!(scattered(&tiny, &InverseDistance, every.clone()).0);
+        let huge: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(600)).collect();
+        assert!(!scattered(&huge, &InverseDistance, every).0);
     }
 }

@@ -62,6 +62,22 @@ impl Laplacian {
         scatters
     }
 
+    /// Whether an integrator may compute this operator's inverse-distance weights
+    /// itself, edge by edge, each edge's weight `1 / (|x_j − x_i| + ε)` once for both
+    /// its rows: `scheme` is the built-in [`InverseDistance`](crate::InverseDistance)
+    /// and the rows are normalised by their weight sums (every negative-weight policy
+    /// leaves a positive weight as it is). When it may, the stored weights are released
+    /// as by [`fresh_rows`](Self::fresh_rows): until the next
+    /// [`update`](Self::update), [`weights_stored`](Self::weights_stored) is `false`.
+    pub fn scatters_distances(&mut self, scheme: &dyn WeightScheme) -> bool {
+        let scatters = BuiltIn::of(scheme) == Some(BuiltIn::InverseDistance)
+            && self.options.normalization == Normalization::WeightSum;
+        if scatters {
+            self.weights = OnceLock::new();
+        }
+        scatters
+    }
+
     /// The rows at `positions`, to be computed one at a time by [`FreshRows::row`]:
     /// the per-vertex and per-face parts (vertex areas for area normalisation; with
     /// [`CotangentKernel::PerTriangle`](crate::CotangentKernel::PerTriangle), the

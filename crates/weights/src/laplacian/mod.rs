@@ -231,6 +231,16 @@ impl Laplacian {
             .map(|(&j, &w)| (VertexId::new(j), w))
     }
 
+    /// Row `v`'s neighbours (vertex indices), counter-clockwise: the columns of its
+    /// weights, whether or not the weights are stored.
+    ///
+    /// # Panics
+    /// If `v` is not a row.
+    #[must_use]
+    pub fn neighbours(&self, v: VertexId) -> &[u32] {
+        &self.neighbours[self.range(v.index())]
+    }
+
     /// Whether the weights can be read ([`row`](Self::row), [`rows`](Self::rows),
     /// [`laplacian_at`](Self::laplacian_at), [`apply`](Self::apply)): always after
     /// [`new`](Self::new) and [`update`](Self::update); after
