@@ -7,6 +7,9 @@ Every scheme (uniform, distance, cotangent) with weights recomputed every iterat
 and frozen, lambda 0.8, weight-sum normalisation, free boundary (the paper's and
 Open3D's / trimesh's setting; the test spheres are closed, so it only matters on the
 F-lens). Both cores (rayon's default); with ONE_THREAD_MESHES also on one core.
+Inverse-distance and cotangent weights recomputed every iteration are also run with
+`--summation scatter` (each edge's or triangle's weights once, the same results to
+rounding).
 On meshes small enough for the numerical checks it also writes the configuration
 OpenMesh computes (lambda 0.5, weights once, fixed boundary)."""
 import json
@@ -24,10 +27,10 @@ ONE_THREAD = os.environ.get("ONE_THREAD_MESHES", "sphere8").split()
 SCHEMES = ("uniform", "distance", "cotangent")
 
 
-def smooth(src, dst, report, scheme, update, lam, boundary, threads=None):
+def smooth(src, dst, report, scheme, update, lam, boundary, threads=None, extra=()):
     cmd = [BIN, "smooth", src, dst, "--weights", scheme, "--update", update,
            "--iterations", str(H.ITERATIONS), "--lambda", str(lam), "--normalize", "sum",
-           "--boundary", boundary, "--report", report, "--no-step-stats"]
+           "--boundary", boundary, "--report", report, "--no-step-stats", *extra]
     env = dict(os.environ)
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)
@@ -43,14 +46,15 @@ def smooth(src, dst, report, scheme, update, lam, boundary, threads=None):
 
 
 def run_config(name, nv, scheme, update, lam=H.LAMBDA, boundary="free", threads=None,
-               variant="", semantics="", reps=None):
+               variant="", semantics="", reps=None, extra=()):
     src = H.mesh_path(name)
     os.makedirs(os.path.join(H.OUT, "beltrami"), exist_ok=True)
     dst = os.path.join(H.OUT, "beltrami", f"{name}_{scheme}_{update}{variant}.ply")
     runs = []
     for _ in range(reps or H.REPS):
         with tempfile.NamedTemporaryFile(suffix=".json") as tmp:
-            wall, cpu, rep = smooth(src, dst, tmp.name, scheme, update, lam, boundary, threads)
+            wall, cpu, rep = smooth(src, dst, tmp.name, scheme, update, lam, boundary, threads,
+                                    extra)
         runs.append((wall, cpu, rep["seconds"]))
         if wall > H.LONG:
             break
@@ -58,6 +62,7 @@ def run_config(name, nv, scheme, update, lam=H.LAMBDA, boundary="free", threads=
     med = sorted(range(len(runs)), key=lambda k: smoothing[k])[(len(runs) - 1) // 2]
     wall, cpu, sec = runs[med]
     label = (f"smooth --weights {scheme} --update {update} --lambda {lam} --boundary {boundary}"
+             + "".join(f" {a}" for a in extra)
              + (f" (RAYON_NUM_THREADS={threads})" if threads else ""))
     return H.record(
         "beltrami", label, name, nv, smoothing, H.ITERATIONS, scheme=scheme, weights=update,
@@ -80,6 +85,10 @@ def main():
             for update in ("every", "once"):
                 run_config(name, nv, scheme, update,
                            semantics="x += 0.8 (sum_j w_ij x_j / W_i - x_i), Jacobi")
+        for scheme in ("distance", "cotangent"):
+            run_config(name, nv, scheme, "every", variant="_scatter",
+                       extra=("--summation", "scatter"),
+                       semantics="as above, each edge's or triangle's weights once")
         if name in ONE_THREAD:
             for scheme in SCHEMES:
                 for update in ("every", "once"):

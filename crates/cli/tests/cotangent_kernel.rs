@@ -88,7 +88,7 @@ fn both_kernels_write_the_same_bytes_and_auto_falls_back_to_the_ring() {
 /// With `--summation scatter` the cotangent sweeps use no per-triangle table: `auto` takes the
 /// one-ring kernel from the start (no note, the same bytes as asking for it), and the
 /// estimate is the one-ring kernel's plus the sorted triangles (12 bytes per face and 8
-/// per vertex: about 0.31 MiB here).
+/// per vertex: about 0.31 MiB here) and a permutation (8 bytes per vertex).
 #[test]
 fn scatter_summation_takes_the_ring_kernel() {
     let dir = tempfile::tempdir().unwrap();
@@ -127,7 +127,8 @@ fn scatter_summation_takes_the_ring_kernel() {
     let (auto, ring) = (refused(&[]), refused(&["--cotangent-kernel", "ring"]));
     assert_eq!(auto, ring);
     // 10 242 vertices, 20 480 faces: 0.31 MiB more than summing rows with the ring
-    // kernel (before the estimate's margin).
+    // kernel for the sorted triangles, and 0.08 for the permutation a small mesh may
+    // take for the sweep (before the estimate's margin).
     let (out, _) = {
         let output = dir.path().join("rows.ply");
         let args = [
@@ -143,7 +144,7 @@ fn scatter_summation_takes_the_ring_kernel() {
     };
     let rows = estimate_mib(&out.stderr);
     assert!(
-        ring - rows > 0.3 && ring - rows < 0.45,
+        ring - rows > 0.39 && ring - rows < 0.6,
         "{ring} against {rows}"
     );
 }

@@ -258,6 +258,30 @@ fn renumber_in_place(mesh: &mut HalfedgeMesh, new_to_old: &[u32], old_to_new: &[
 /// Halfedges per parallel work unit of [`renumber_in_place`].
 const RENUMBER_CHUNK: usize = 1 << 16;
 
+/// The largest difference between the indices of two vertices joined by an edge (0
+/// for a mesh without edges): how far apart a sweep over the vertices in index order
+/// finds neighbours. [`rcm_order`] makes it small.
+///
+/// # Complexity
+/// O(E) time, no allocation.
+///
+/// # Examples
+/// ```
+/// use beltrami_halfedge::{primitives, reorder};
+///
+/// let grid = primitives::grid(10, 4).mesh().unwrap();
+/// // Rows of 11 vertices one after the other: a diagonal spans 12 indices.
+/// assert_eq!(reorder::bandwidth(&grid), 12);
+/// ```
+#[must_use]
+pub fn bandwidth(mesh: &HalfedgeMesh) -> usize {
+    mesh.h_to
+        .chunks_exact(2)
+        .map(|e| e[0].abs_diff(e[1]) as usize)
+        .max()
+        .unwrap_or(0)
+}
+
 /// Reverse Cuthill–McKee order of the vertex graph: each connected component is
 /// traversed breadth-first from a pseudo-peripheral vertex (the last vertex reached by a
 /// breadth-first search from the component's lowest-numbered vertex), unvisited
@@ -422,6 +446,21 @@ fn hilbert_key(mut x: [u32; 3]) -> u64 {
 mod tests {
     use super::*;
     use crate::primitives;
+
+    /// The bandwidth is the largest index difference along an edge: 0 without edges,
+    /// and reverse Cuthill–McKee narrows a subdivided sphere's (whose new vertices are
+    /// numbered after the old ones).
+    #[test]
+    fn bandwidth_is_the_widest_edge_in_index() {
+        let lonely = HalfedgeMesh::from_polygons(3, std::iter::empty::<[u32; 3]>()).unwrap();
+        assert_eq!(bandwidth(&lonely), 0);
+        let tri = HalfedgeMesh::from_polygons(6, [[0u32, 5, 2]]).unwrap();
+        assert_eq!(bandwidth(&tri), 5);
+        let sphere = primitives::icosphere(4).mesh().unwrap();
+        let wide = bandwidth(&sphere);
+        let narrow = bandwidth(&rcm_order(&sphere).apply_to_mesh(&sphere));
+        assert!(narrow * 4 < wide, "{narrow} against {wide}");
+    }
 
     fn check(mesh: &HalfedgeMesh, perm: &VertexPermutation) {
         let new = perm.apply_to_mesh(mesh);

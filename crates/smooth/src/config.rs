@@ -56,7 +56,12 @@ pub enum WeightUpdate {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Reorder {
-    /// Reorder when the mesh has at least [`Reorder::AUTO_MIN_VERTICES`] vertices. The
+    /// Reorder when the mesh has at least [`Reorder::AUTO_MIN_VERTICES`] vertices, or,
+    /// for a run summed element by element ([`Summation::Scatter`] where it applies),
+    /// when two neighbours lie more than [`Reorder::SCATTER_MAX_BANDWIDTH`] indices
+    /// apart ([`bandwidth`](beltrami_halfedge::reorder::bandwidth)): that sweep keeps
+    /// the rows between an element's smallest and largest vertex open, and splits the
+    /// rows among the threads only where that distance is small against the mesh. The
     /// default.
     #[default]
     Auto,
@@ -70,7 +75,13 @@ impl Reorder {
     /// The vertex count from which [`Reorder::Auto`] reorders.
     pub const AUTO_MIN_VERTICES: usize = 50_000;
 
-    /// Whether a mesh with `n_vertices` vertices is reordered.
+    /// The largest [`bandwidth`](beltrami_halfedge::reorder::bandwidth) at which
+    /// [`Reorder::Auto`] leaves a smaller mesh summed element by element in its own
+    /// order.
+    pub const SCATTER_MAX_BANDWIDTH: usize = 128;
+
+    /// Whether a mesh with `n_vertices` vertices is reordered (for a run summed element
+    /// by element, [`Reorder::Auto`] may also reorder a smaller mesh, see there).
     ///
     /// # Examples
     /// ```

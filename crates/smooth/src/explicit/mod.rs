@@ -13,12 +13,12 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use beltrami_halfedge::geometry::Geometry;
-use beltrami_halfedge::reorder::{VertexPermutation, rcm_order};
+use beltrami_halfedge::reorder::{VertexPermutation, bandwidth, rcm_order};
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 use beltrami_weights::{Laplacian, Normalization, WeightContext, WeightScheme};
 use rayon::prelude::*;
 
-use crate::config::{Boundary, Method, SmoothConfig, Statistics, Summation};
+use crate::config::{Boundary, Method, Reorder, SmoothConfig, Statistics, Summation};
 use crate::duration::{Plan, area_rate, resolve_duration};
 use crate::error::SmoothError;
 use crate::numbering::{CHUNK, error_to_caller, permute_par, restore_par};
@@ -325,8 +325,8 @@ impl Scattered<'_> {
 }
 
 /// Runs the scattered sweep `scatter` over work units of [`scatter::block_rows`] rows in
-/// parallel into `next`, each unit split into the statistics' chunks (those of
-/// [`sweep_chunks`]: [`CHUNK`] for full statistics, [`small_chunk`] otherwise), with one
+/// parallel into `next`, each unit split into the statistics' chunks ([`CHUNK`] for
+/// full statistics, as in [`sweep_chunks`]; the whole unit otherwise), with one
 /// [`Partial`] per chunk; with `record` (and full statistics), also each displacement
 /// into `disp`. Why it declined, when a unit did.
 fn scatter_blocks(
@@ -338,12 +338,15 @@ fn scatter_blocks(
     disp: &mut [f64],
 ) -> Result<Vec<Partial>, scatter::Decline> {
     let n = next.len();
-    let unit = if want == Want::Full {
-        CHUNK
+    // Full statistics sum the displacements in the chunks of `sweep_chunks`, whose bits
+    // must not depend on the split; the others combine by maxima and counts, so a work
+    // unit is one chunk, and the units share the rows evenly.
+    let (block, unit) = if want == Want::Full {
+        (scatter::block_rows(CHUNK, scatter.span(), n), CHUNK)
     } else {
-        small_chunk(n)
+        let block = scatter::block_rows(1, scatter.span(), n);
+        (block, block)
     };
-    let block = scatter::block_rows(unit, scatter.span(), n);
     let disps: Vec<&mut [f64]> = if record {
         disp.chunks_mut(block).collect()
     } else {
@@ -451,9 +454,14 @@ impl<'a> Explicit<'a> {
         let start = Instant::now();
         let mesh_given = matches!(mesh, Cow::Owned(_));
         // With a mismatched position count the operator reports the error unreordered.
-        let perm = (config.reorder.applies(mesh.n_vertices())
-            && positions.len() == mesh.n_vertices())
-        .then(|| rcm_order(&mesh));
+        let n = mesh.n_vertices();
+        // The scattered sweep wants neighbours close in index on any mesh.
+        let scattered = config.summation == Summation::Scatter
+            && config.scatter_unmet(scheme).is_none()
+            && config.reorder == Reorder::Auto
+            && bandwidth(&mesh) > Reorder::SCATTER_MAX_BANDWIDTH;
+        let perm = ((config.reorder.applies(n) || scattered) && positions.len() == n)
+            .then(|| rcm_order(&mesh));
         // The input volume in the caller's numbering (the same bits either way), taken
         // before renumbering and reported after the operator's own errors.
         let volume = config
@@ -824,7 +832,8 @@ impl<'a> Explicit<'a> {
     /// gathered rows from then on. The caller then sweeps the gathered rows instead.
     ///
     /// The work units are [`scatter::block_rows`] long, each split into the statistics'
-    /// chunks (those of [`sweep_chunks`]), so the statistics are summed as there.
+    /// chunks (see [`scatter_blocks`]), so full statistics are summed as in
+    /// [`sweep_chunks`].
     fn sweep_scattered(&mut self, lambda: f64, want: Want) -> bool {
         let start = Instant::now();
         if self.config.summation != Summation::Scatter
@@ -1185,6 +1194,35 @@ mod tests {
         let swept = e.scattered_sweeps == 3;
         assert_eq!(swept, e.scatter_order.is_some() && !e.scatter_declined);
         (swept, e.cotangent_scale)
+    }
+
+    /// `Reorder::Auto` renumbers a small mesh for the scattered sweep when its
+    /// neighbours lie far apart in index (a subdivided sphere), not otherwise (a grid, a
+    /// configuration the sweep does not apply to, the default summation).
+    #[test]
+    fn the_scatter_reorders_small_meshes_in_a_poor_order() {
+        let sphere = primitives::icosphere(3);
+        let grid = primitives::grid(30, 20);
+        let renumbered = |p: &primitives::Primitive, scheme: &dyn WeightScheme, config| {
+            let mesh = p.mesh().unwrap();
+            let x = Cow::Borrowed(&p.positions[..]);
+            Explicit::new(Cow::Borrowed(&mesh), x, scheme, config)
+                .unwrap()
+                .perm
+                .is_some()
+        };
+        let scatter = SmoothConfig::new(0.5, 3).summation(Summation::Scatter);
+        assert!(renumbered(&sphere, &InverseDistance, scatter.clone()));
+        assert!(renumbered(&sphere, &Cotangent, scatter.clone()));
+        assert!(!renumbered(&grid, &InverseDistance, scatter.clone()));
+        assert!(!renumbered(&sphere, &Uniform, scatter.clone()));
+        let never = scatter.clone().reorder(Reorder::Never);
+        assert!(!renumbered(&sphere, &InverseDistance, never));
+        assert!(!renumbered(
+            &sphere,
+            &InverseDistance,
+            SmoothConfig::new(0.5, 3)
+        ));
     }
 
     /// The scattered sweep takes exactly the runs `sums_by_scatter` (testkit) names, on

@@ -74,14 +74,26 @@ pub(super) const RINGS: [usize; 5] = [1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16
 pub(super) const MAX_SPAN: usize = RINGS[RINGS.len() - 1] - 1;
 
 /// Rows per work unit of a scattered sweep over `n` rows, a multiple of `unit` (the
-/// statistics' chunk): a unit starts `span` rows back (the elements of those rows are
-/// added again, to the rows of the unit), so it spans at least 16 times as many rows,
-/// and a quarter of each thread's share when that is more (the rows' sums do not
-/// depend on where a unit starts, so neither does the result).
+/// statistics' chunk). A unit starts `span` rows back (the elements of those rows are
+/// added again, to the rows of the unit), and each costs a task, so the rows are split
+/// into as many units as there are threads times the largest of 4, 3, 2, 1 that leaves
+/// each unit at least 8 spans and [`MIN_UNIT_ROWS`] rows long; into one unit per
+/// thread when that is not possible but each would still be at least 2 spans long;
+/// else into one. The rows' sums do not depend on where a unit starts, so neither does
+/// the result.
 pub(super) fn block_rows(unit: usize, span: usize, n: usize) -> usize {
-    let share = n.div_ceil(4 * rayon::current_num_threads().max(1));
-    (16 * span).max(share).div_ceil(unit).max(1) * unit
+    let threads = rayon::current_num_threads().max(1);
+    let long = |rows: usize| rows >= 8 * span && rows >= MIN_UNIT_ROWS;
+    let count = match (1..=4).rev().find(|&m| long(n / (threads * m))) {
+        Some(m) => threads * m,
+        None if n / threads >= 2 * span => threads,
+        None => 1,
+    };
+    n.div_ceil(count).div_ceil(unit).max(1) * unit
 }
+
+/// The fewest rows [`block_rows`] gives a work unit while it can give every thread one.
+pub(super) const MIN_UNIT_ROWS: usize = 4096;
 
 /// Why a scattered sweep gave up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -206,6 +218,37 @@ impl<'s> Finished<'s> {
 
 #[cfg(test)]
 pub(super) mod tests {
+    /// On two threads: units of a multiple of the threads while they stay 8 spans and
+    /// `MIN_UNIT_ROWS` long, one per thread while 2 spans long, else one; whole
+    /// statistics' chunks.
+    #[test]
+    fn units_share_the_rows_among_the_threads() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            use super::{MIN_UNIT_ROWS, block_rows};
+            // The level-8 sphere and the golf ball, reordered: four units a thread.
+            assert_eq!(block_rows(1, 1282, 655_362), 655_362_usize.div_ceil(8));
+            assert_eq!(block_rows(1, 446, 79_212), 79_212_usize.div_ceil(8));
+            // In statistics' chunks of 4096 rows.
+            assert_eq!(block_rows(4096, 446, 79_212), 3 * 4096);
+            // Short units: one a thread (the F-lens), while each is 2 spans long.
+            assert_eq!(block_rows(1, 69, 2244), 1122);
+            assert_eq!(
+                block_rows(1, 8 * MIN_UNIT_ROWS, 4 * MIN_UNIT_ROWS),
+                4 * MIN_UNIT_ROWS
+            );
+            assert_eq!(
+                block_rows(1, MIN_UNIT_ROWS, 4 * MIN_UNIT_ROWS),
+                2 * MIN_UNIT_ROWS
+            );
+            // Three units a thread where four would be too short.
+            assert_eq!(block_rows(1, 100, 6 * MIN_UNIT_ROWS), MIN_UNIT_ROWS);
+        });
+    }
+
     use beltrami_halfedge::{DVec3, HalfedgeMesh, primitives};
     use beltrami_weights::Laplacian;
 
