@@ -81,8 +81,9 @@ impl PerElement {
 /// by its triangle list (12 per face) once the operator is built, before its second
 /// position buffer is made: the mesh stands for both.
 const MESH: PerElement = PerElement::new(4, 16, 4);
-/// An explicit smoother on 50 000 vertices or more renumbers them for locality: the
-/// permutation both ways (8). The mesh it is given is renumbered in place, and the
+/// An explicit smoother on 50 000 vertices or more (and, summed element by element, on
+/// a smaller mesh in a poor order) renumbers them for locality: the permutation both
+/// ways (8). The mesh it is given is renumbered in place, and the
 /// positions' renumbered copy replaces them.
 const REORDERED: PerElement = PerElement::new(8, 0, 0);
 /// The operator: row offsets and valences (8), weight sums and scales (16) per vertex;
@@ -239,7 +240,7 @@ impl Run {
                 sum = sum.plus(EXPLICIT);
                 // A run summed element by element may renumber a smaller mesh too
                 // (when its neighbours lie far apart in index), which the file does not
-                // tell beforehand.
+                // tell beforehand: counted whenever it is asked for, an upper bound.
                 let reordered = Reorder::default().applies(vertices) || self.scatter;
                 if reordered {
                     sum = sum.plus(REORDERED);

@@ -57,7 +57,8 @@ pub enum WeightUpdate {
 #[non_exhaustive]
 pub enum Reorder {
     /// Reorder when the mesh has at least [`Reorder::AUTO_MIN_VERTICES`] vertices, or,
-    /// for a run summed element by element ([`Summation::Scatter`] where it applies),
+    /// for a run summed element by element ([`Summation::Scatter`] where it applies;
+    /// for cotangent weights, on a mesh of triangles),
     /// when two neighbours lie more than [`Reorder::SCATTER_MAX_BANDWIDTH`] indices
     /// apart ([`bandwidth`](beltrami_halfedge::reorder::bandwidth)): that sweep keeps
     /// the rows between an element's smallest and largest vertex open, and splits the
@@ -139,8 +140,11 @@ pub enum Summation {
     /// one square root and one division instead of one at each end. It needs weight-sum
     /// normalisation, weights recomputed every iteration ([`WeightUpdate::Every`]) and
     /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
-    /// [`SmoothConfig::scatter_unmet`] says what is missing. On a large mesh an
-    /// iteration takes about 10 to 16 % less time (docs/performance.md). The results
+    /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 9 to
+    /// 30 % less time with inverse distances; with cotangents 12 % less on a mesh larger
+    /// than the cache (the level-8 sphere) and up to 11 % more on mid-size ones, whose
+    /// gathered rows read a per-triangle table that stays in the cache
+    /// (docs/performance.md, ninth round). The results
     /// are [`Rows`](Self::Rows)' to rounding, not bit for bit: each row is summed in
     /// another order (so the last bits also follow the internal vertex order,
     /// [`Reorder`]), and each cotangent rounds differently from the per-corner formula

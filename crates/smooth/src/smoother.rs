@@ -25,7 +25,8 @@ use crate::report::{IterationView, SmoothReport, Smoothed, SolverReport, StepSta
 /// vertex order or thread count. An implicit step solves `(M − λ L) x' = M x` (see
 /// [`Method::Implicit`]).
 ///
-/// Large meshes are renumbered internally for memory locality (see
+/// Large meshes (and, for [`Summation::Scatter`](crate::Summation::Scatter), meshes in a
+/// poor vertex order) are renumbered internally for memory locality (see
 /// [`Reorder`](crate::Reorder)); everything the smoother returns is in the caller's
 /// numbering and bit-identical to a run without reordering (with
 /// [`Summation::Scatter`](crate::Summation::Scatter), identical to rounding).

@@ -189,9 +189,10 @@ fn scatter_edges<const R: usize>(
         // Rows whose edges have all been added are complete: every row before the
         // batch's first smaller vertex (finished after the previous batch, but before
         // the first). The rows open while the batch is added then lie between that
-        // vertex and the span past its last one; when they fit in the ring (always, but
-        // across a run of isolated vertices) the batch is added at once, else edge by
-        // edge, finishing the rows before each edge's smaller vertex.
+        // vertex and the span past its last one; when they fit in the ring (unless the
+        // batch crosses a run of vertices without edges to higher ones, such as
+        // isolated vertices) the batch is added at once, else edge by edge, finishing
+        // the rows before each edge's smaller vertex.
         let (first_u, last_u) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
         while v < first_u {
             finished

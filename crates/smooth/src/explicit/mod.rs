@@ -1,5 +1,6 @@
 //! The explicit engine: Jacobi sweeps, the compound methods built from them, and the
-//! internal renumbering of large meshes.
+//! internal renumbering of large meshes (and of meshes in a poor order, for the
+//! scattered sweep).
 
 mod compound;
 mod edges;
@@ -52,7 +53,7 @@ struct CurveRow {
 
 /// The explicit engine of a [`Smoother`](crate::Smoother): Jacobi sweeps
 /// `x_i ← x_i + λ L x_i`, compound methods (Taubin, HC, volume rescale) built from
-/// them, and the internal renumbering of large meshes.
+/// them, and the internal renumbering of large meshes (see [`Reorder`]).
 pub(crate) struct Explicit<'a> {
     /// The mesh, renumbered when `perm` is set: the caller's own when given by value
     /// (renumbered in place), else borrowed or a renumbered copy. `None` when the run
@@ -455,10 +456,13 @@ impl<'a> Explicit<'a> {
         let mesh_given = matches!(mesh, Cow::Owned(_));
         // With a mismatched position count the operator reports the error unreordered.
         let n = mesh.n_vertices();
-        // The scattered sweep wants neighbours close in index on any mesh.
+        // The scattered sweep wants neighbours close in index on any mesh (cotangents
+        // are scattered on triangle meshes only).
+        let any: &dyn std::any::Any = scheme;
         let scattered = config.summation == Summation::Scatter
             && config.scatter_unmet(scheme).is_none()
             && config.reorder == Reorder::Auto
+            && (mesh.is_triangle_mesh() || !any.is::<beltrami_weights::Cotangent>())
             && bandwidth(&mesh) > Reorder::SCATTER_MAX_BANDWIDTH;
         let perm = ((config.reorder.applies(n) || scattered) && positions.len() == n)
             .then(|| rcm_order(&mesh));
@@ -699,12 +703,13 @@ impl<'a> Explicit<'a> {
             // Once per run at most: with on-demand statistics only a `step()` needs it.
             self.disp.resize(self.positions.len(), 0.0);
         }
-        // Weights not kept (a lean operator, or released by a fused sweep) are stale too.
-        let stale = self.weights_stale() || !self.laplacian.weights_stored();
         // Rows summed element by element compute their weights in every sweep, the first of a
         // run whose operator was just assembled too (a duration plans the step with it).
-        let fused = self.fuses()
-            && (self.sweep_scattered(lambda, want) || (stale && self.sweep_fresh(lambda, want)));
+        let scattered = self.fuses() && self.sweep_scattered(lambda, want);
+        // Weights not kept (a lean operator, or released by a fused sweep, the scattered
+        // one that just declined too) are stale too.
+        let stale = self.weights_stale() || !self.laplacian.weights_stored();
+        let fused = scattered || (self.fuses() && stale && self.sweep_fresh(lambda, want));
         if !fused {
             if stale {
                 self.refresh_weights()?;
@@ -825,7 +830,8 @@ impl<'a> Explicit<'a> {
     /// edge's inverse distance ([`Laplacian::scatters_distances`]: inverse-distance
     /// weights, weight-sum normalisation); the stored operator is then behind. `false`
     /// when the operator's rows are of neither kind, a face is not a triangle (for
-    /// cotangents), the mesh's order leaves rows open too long ([`scatter::MAX_SPAN`]),
+    /// cotangents), the mesh's order leaves rows open too long ([`scatter::MAX_SPAN`] for
+    /// triangles, [`edges::MAX_SPAN`] for edges),
     /// or a row's weights are not finite or an edge is too short or too long for plain
     /// products (for cotangents, even on positions scaled by a power of two,
     /// [`faces::cotangent_scale`]); in these last three cases the run keeps to the
@@ -1280,6 +1286,14 @@ mod tests {
         collapsed[b] = collapsed[a];
         collapsed[c] = collapsed[a];
         assert!(!scattered(&collapsed, &Cotangent, every.clone()).0);
+        // A run planned for a duration sweeps its first iteration with the operator it
+        // assembled: when the scatter declines there, the gathered rows take it (the
+        // weights the scatter released are recomputed, not read).
+        let timed = every.clone().duration(DiffusionTime::Time(1e-3));
+        assert!(!scattered(&collapsed, &Cotangent, timed.clone()).0);
+        let mut far = x.clone();
+        far[5] *= 1e200;
+        assert!(!scattered(&far, &InverseDistance, timed).0);
         assert!(scattered(&collapsed, &InverseDistance, every.clone()).0);
         // Inverse distances far from unit scale: small edges keep to the scatter (their
         // weights are 1/ε either way); lengths whose squares overflow decline.

@@ -92,7 +92,8 @@ pub(super) fn block_rows(unit: usize, span: usize, n: usize) -> usize {
     n.div_ceil(count).div_ceil(unit).max(1) * unit
 }
 
-/// The fewest rows [`block_rows`] gives a work unit while it can give every thread one.
+/// The fewest rows [`block_rows`] gives a work unit when it gives each thread more than
+/// one (a unit per thread may be shorter).
 pub(super) const MIN_UNIT_ROWS: usize = 4096;
 
 /// Why a scattered sweep gave up.
