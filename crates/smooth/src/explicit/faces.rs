@@ -65,8 +65,15 @@ impl Order<3> {
 }
 
 /// Triangles whose cotangents are computed together, in lanes of arrays the compiler
-/// vectorises, before they are scattered.
+/// vectorises.
 const LANES: usize = 4;
+
+/// Triangles whose cotangents are computed before they are scattered.
+const BATCH: usize = 32;
+
+/// The largest [`Order::span`] this sweep takes: its ring holds a batch's rows besides
+/// the span.
+pub(super) const MAX_SPAN: usize = super::scatter::MAX_SPAN - BATCH;
 
 /// The range of a triangle's longest squared edge length inside which
 /// [`cotangent_lanes`] computes without rescaling: products of up to four coordinate
@@ -280,8 +287,10 @@ pub(super) fn sweep_triangles(
     );
     let span = scatter.sweep.span;
     // The scale is a const parameter: the plain sweep multiplies by nothing.
+    // A ring with room for a batch's rows besides the span: batches are then added at
+    // once.
     match (
-        RINGS.iter().position(|&r| r > span),
+        RINGS.iter().position(|&r| r > span + BATCH),
         scatter.scale.is_some(),
     ) {
         (Some(0), false) => sweep_in_ring::<{ RINGS[0] }, false>(scatter, finished),
@@ -331,42 +340,75 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
     let mut range = Range::EMPTY;
     // The next row to finish.
     let mut v = start;
-    let mut t = t_begin;
-    while t < t_end {
-        let k = (t_end - t).min(LANES);
-        let tris = &sweep.elements[t..t + k];
-        // Corners in lanes (a short last step repeats its last triangle).
-        let mut p = [[[0.0; LANES]; 3]; 3];
-        for l in 0..LANES {
-            let tri = &tris[l.min(k - 1)];
-            for c in 0..3 {
-                let q = positions[tri[c] as usize];
-                p[c][0][l] = q.x;
-                p[c][1][l] = q.y;
-                p[c][2][l] = q.z;
+    let tris = &sweep.elements[t_begin..t_end];
+    let mut batches = tris.chunks(BATCH).peekable();
+    while let Some(batch) = batches.next() {
+        // The batch's cotangents, `LANES` triangles at a time (a short last step repeats
+        // its last triangle).
+        let mut cots = [[0.0; 3]; BATCH];
+        for (group, out) in batch.chunks(LANES).zip(cots.chunks_mut(LANES)) {
+            let k = group.len();
+            let mut p = [[[0.0; LANES]; 3]; 3];
+            for l in 0..LANES {
+                let tri = &group[l.min(k - 1)];
+                for c in 0..3 {
+                    let q = positions[tri[c] as usize];
+                    p[c][0][l] = q.x;
+                    p[c][1][l] = q.y;
+                    p[c][2][l] = q.z;
+                }
+            }
+            let lanes = cotangent_lanes::<SCALED>(&p, scale, &mut range);
+            for (l, o) in out.iter_mut().enumerate().take(k) {
+                *o = [lanes[0][l], lanes[1][l], lanes[2][l]];
             }
         }
-        let cots = cotangent_lanes::<SCALED>(&p, scale, &mut range);
-        for (l, tri) in tris.iter().enumerate() {
-            // Rows whose triangles have all been added are complete: every row before
-            // this triangle's smallest vertex, so that the rows open meanwhile lie within
-            // the span of it ([`Order::span`]) and fit in the ring.
-            while v < end && sweep.starts[v + 1] as usize <= t + l {
-                finished
-                    .row(v, std::mem::take(&mut ring[v % R]))
-                    .map_err(|e| range.blame(e))?;
-                v += 1;
-            }
-            debug_assert!(tri.iter().all(|&u| (u as usize) < v + R));
+        // Rows whose triangles have all been added are complete: every row before the
+        // batch's first smallest vertex (finished after the previous batch, but before
+        // the first). The rows open while the batch is added then lie between that
+        // vertex and the span past its last one; when they fit in the ring (unless the
+        // batch crosses a run of vertices that start no triangle) the batch is added at
+        // once, else triangle by triangle, finishing the rows before each triangle's
+        // smallest vertex.
+        let (first_lo, last_lo) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
+        while v < first_lo {
+            finished
+                .row(v, std::mem::take(&mut ring[v % R]))
+                .map_err(|e| range.blame(e))?;
+            v += 1;
+        }
+        // The angles at b (opposite the edge ending at a), at c and at a.
+        let add = |ring: &mut [P4; R], tri: &[u32; 3], [at_b, at_c, at_a]: [f64; 3]| {
             let [a, b, c] = tri.map(|v| v as usize);
             let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
-            // The angles at b (opposite the edge ending at a), at c and at a.
-            let (at_b, at_c, at_a) = (cots[0][l], cots[1][l], cots[2][l]);
             add2(&mut ring[a % R], at_c, pb, at_b, pc);
             add2(&mut ring[b % R], at_c, pa, at_a, pc);
             add2(&mut ring[c % R], at_b, pa, at_a, pb);
+        };
+        if last_lo - first_lo + sweep.span < R {
+            for (tri, &cot) in batch.iter().zip(&cots) {
+                add(ring, tri, cot);
+            }
+        } else {
+            for (tri, &cot) in batch.iter().zip(&cots) {
+                while v < tri[0] as usize {
+                    finished
+                        .row(v, std::mem::take(&mut ring[v % R]))
+                        .map_err(|e| range.blame(e))?;
+                    v += 1;
+                }
+                debug_assert!(tri.iter().all(|&u| (u as usize) < v + R));
+                add(ring, tri, cot);
+            }
         }
-        t += k;
+        // The rows before the next batch's first smallest vertex are complete now.
+        let next = batches.peek().map_or(end, |b| b[0][0] as usize);
+        while v < next {
+            finished
+                .row(v, std::mem::take(&mut ring[v % R]))
+                .map_err(|e| range.blame(e))?;
+            v += 1;
+        }
     }
     while v < end {
         finished

@@ -70,7 +70,9 @@ pub(super) type P4 = [f64; 4];
 pub(super) const RINGS: [usize; 5] = [1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16];
 
 /// The largest span (the largest difference between an element's largest and smallest
-/// vertex index) a scattered sweep takes.
+/// vertex index) the largest ring holds; each sweep takes a little less
+/// ([`faces::MAX_SPAN`](super::faces::MAX_SPAN), [`edges::MAX_SPAN`](super::edges::MAX_SPAN)),
+/// room for a batch's rows.
 pub(super) const MAX_SPAN: usize = RINGS[RINGS.len() - 1] - 1;
 
 /// Rows per work unit of a scattered sweep over `n` rows, a multiple of `unit` (the
