@@ -204,9 +204,8 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// - `summation`: `"rows"` (each vertex's weighted neighbours summed around its
 ///   one-ring, OpenMesh's bits; the default) or `"scatter"` (each triangle's
 ///   cotangents, or each edge's inverse distance, computed once and added into its
-///   vertices' sums: with inverse distances 9 to 30 % less time per iteration, with
-///   cotangents 12 % less on large meshes but up to 11 % more on some mid-size ones;
-///   the same results to rounding but not bit for bit; only for `weights="cotangent"`
+///   vertices' sums: 9 to 30 % less time per iteration with inverse distances, 5 to
+///   21 % less with cotangents; the same results to rounding but not bit for bit; only for `weights="cotangent"`
 ///   with `cotangent_negative="keep"` or `weights="distance"`, with `update="every"`,
 ///   `normalize="sum"`, `method="explicit"`, no `preserve_volume`).
 /// - `time` (length²) or `cutoff` (Gaussian cut-off wavelength): diffuse for a

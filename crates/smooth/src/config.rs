@@ -141,10 +141,9 @@ pub enum Summation {
     /// normalisation, weights recomputed every iteration ([`WeightUpdate::Every`]) and
     /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
     /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 9 to
-    /// 30 % less time with inverse distances; with cotangents 12 % less on a mesh larger
-    /// than the cache (the level-8 sphere) and up to 11 % more on mid-size ones, whose
-    /// gathered rows read a per-triangle table that stays in the cache
-    /// (docs/performance.md, ninth round). The results
+    /// 30 % less time with inverse distances and 5 to 21 % less with cotangents (more
+    /// on a mesh of a few thousand vertices; docs/performance.md, ninth round). The
+    /// results
     /// are [`Rows`](Self::Rows)' to rounding, not bit for bit: each row is summed in
     /// another order (so the last bits also follow the internal vertex order,
     /// [`Reorder`]), and each cotangent rounds differently from the per-corner formula

@@ -68,9 +68,9 @@ pub(crate) struct SmoothArgs {
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's
     /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or scatter (each
     /// triangle's three cotangents, or each edge's inverse distance, computed once and
-    /// added into its vertices' sums: with inverse distances 9 to 30 % less time per
-    /// iteration, with cotangents 12 % less on large meshes but up to 11 % more on some
-    /// mid-size ones; the same results to rounding but not bit for bit). scatter applies to
+    /// added into its vertices' sums: 9 to 30 % less time per iteration with inverse
+    /// distances, 5 to 21 % less with cotangents; the same results to rounding but not
+    /// bit for bit). scatter applies to
     /// --weights cotangent (with --cotangent-negative keep) and --weights distance, with
     /// --update every, --normalize sum and --method explicit, without
     /// --preserve-volume.
