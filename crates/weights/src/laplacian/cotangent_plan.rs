@@ -24,8 +24,17 @@ pub(super) struct CotangentPlan {
     pub(super) face_cots: Vec<f64>,
 }
 
-/// Triangles per parallel work unit of the cotangent kernel (fixed, like `PAR_CHUNK`).
+/// Triangles per parallel work unit of the cotangent kernel, at most.
 const FACE_CHUNK: usize = 4096;
+
+/// Triangles per parallel work unit of the cotangent kernel over `n` triangles:
+/// [`FACE_CHUNK`], or on a mesh too small for four of them per thread, a quarter of each
+/// thread's share (at least 256), so that a small mesh's triangles are shared by the
+/// threads. Each triangle's cotangents are computed alone, so the chunks change no bit.
+fn face_chunk(n: usize) -> usize {
+    n.div_ceil(4 * rayon::current_num_threads().max(1))
+        .clamp(256, FACE_CHUNK)
+}
 
 impl CotangentPlan {
     /// The plan for `mesh` with rows at `offsets` (each row's outgoing halfedges
@@ -102,13 +111,14 @@ impl CotangentPlan {
             + size_of::<f64>() * self.face_cots.capacity()
     }
 
-    /// Recomputes `face_cots` from the positions (in parallel, fixed chunks; each
-    /// triangle's bits are the geometry's). Reads no mesh.
+    /// Recomputes `face_cots` from the positions (in parallel; each triangle's bits are
+    /// the geometry's, whatever the chunks). Reads no mesh.
     pub(super) fn refresh(&mut self, positions: &[DVec3]) {
         let n = self.triangles.len();
+        let chunk = face_chunk(n);
         self.face_cots[..3 * n]
-            .par_chunks_mut(3 * FACE_CHUNK)
-            .zip(self.triangles.par_chunks(FACE_CHUNK))
+            .par_chunks_mut(3 * chunk)
+            .zip(self.triangles.par_chunks(chunk))
             .for_each(|(out, tris)| triangle_cotangents_into(positions, tris, out));
     }
 }
