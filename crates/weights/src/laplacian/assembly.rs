@@ -244,12 +244,13 @@ pub(super) fn fill_cotangent_ring<const CALLER: u8>(
     row_sum_of(w)
 }
 
-/// Runs a row pass over `rows` in parallel: chunks of `PAR_CHUNK` rows (split by
-/// `rayon::join`, no allocation), and in each row `fill(i, first_slot, weights)` writes
-/// the row's weights and returns their sum `W_i` in row order (from `-0.0`, as
-/// `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop), then the
-/// sum and the scale are stored.
-/// Every row's bits depend only on that row, so not on the thread count.
+/// Runs a row pass over `rows` in parallel: chunks of [`PAR_CHUNK`] rows, or on a mesh
+/// too small for four of them per thread a quarter of each thread's share (at least
+/// 256), split by `rayon::join` (no allocation). In each row `fill(i, first_slot,
+/// weights)` writes the row's weights and returns their sum `W_i` in row order (from
+/// `-0.0`, as `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop),
+/// then the sum and the scale are stored.
+/// Every row's bits depend only on that row, so not on the chunks or the thread count.
 pub(super) fn row_pass<F>(
     offsets: &[u32],
     areas: Option<&[f64]>,
@@ -259,9 +260,28 @@ pub(super) fn row_pass<F>(
 where
     F: Fn(usize, usize, &mut [f64]) -> f64 + Sync,
 {
+    let leaf = rows
+        .sums
+        .len()
+        .div_ceil(4 * rayon::current_num_threads().max(1))
+        .clamp(256, PAR_CHUNK);
+    row_pass_in(offsets, areas, rows, fill, leaf)
+}
+
+/// [`row_pass`] in chunks of at most `leaf` rows.
+fn row_pass_in<F>(
+    offsets: &[u32],
+    areas: Option<&[f64]>,
+    rows: Rows<'_>,
+    fill: &F,
+    leaf: usize,
+) -> RowTally
+where
+    F: Fn(usize, usize, &mut [f64]) -> f64 + Sync,
+{
     let n = rows.sums.len();
-    if n > PAR_CHUNK {
-        let mid = n.div_ceil(2 * PAR_CHUNK) * PAR_CHUNK;
+    if n > leaf {
+        let mid = n.div_ceil(2 * leaf) * leaf;
         let split = (offsets[rows.first + mid] - offsets[rows.first]) as usize;
         let (w0, w1) = match rows.weights {
             Some(w) => {
@@ -280,7 +300,7 @@ where
                     sums: s0,
                     scales: c0,
                 };
-                row_pass(offsets, areas, rows, fill)
+                row_pass_in(offsets, areas, rows, fill, leaf)
             },
             || {
                 let rows = Rows {
@@ -289,7 +309,7 @@ where
                     sums: s1,
                     scales: c1,
                 };
-                row_pass(offsets, areas, rows, fill)
+                row_pass_in(offsets, areas, rows, fill, leaf)
             },
         );
         return a.join(b);
