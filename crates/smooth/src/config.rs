@@ -141,12 +141,11 @@ pub enum Summation {
     /// normalisation, weights recomputed every iteration ([`WeightUpdate::Every`]) and
     /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
     /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 9 to
-    /// 30 % less time with inverse distances and 5 to 21 % less with cotangents (more
-    /// on a mesh of a few thousand vertices; docs/performance.md, ninth round). The
-    /// results
-    /// are [`Rows`](Self::Rows)' to rounding, not bit for bit: each row is summed in
-    /// another order (so the last bits also follow the internal vertex order,
-    /// [`Reorder`]), and each cotangent rounds differently from the per-corner formula
+    /// 30 % less time with inverse distances and 5 to 21 % less with cotangents
+    /// (docs/performance.md, ninth round). The results are [`Rows`](Self::Rows)' to
+    /// rounding, not bit for bit: each row is summed in another order (so the last bits
+    /// also follow the internal vertex order, [`Reorder`]), and each cotangent rounds
+    /// differently from the per-corner formula
     /// OpenMesh uses (an inverse-distance weight has the bits of the rows' weight). A
     /// run that amplifies rounding (negative weights on obtuse triangles over many
     /// iterations) can therefore end farther from OpenMesh's result than rounding.

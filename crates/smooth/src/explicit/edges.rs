@@ -8,7 +8,7 @@ use beltrami_weights::DISTANCE_EPSILON;
 use wide::{CmpLt, f64x2};
 
 use super::rows::RowSweep;
-use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring};
+use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring, ring_for};
 
 /// A mesh's edges `[i, j]`, `i < j`, in the order a sweep scatters them: 8 bytes per
 /// edge and 8 per vertex.
@@ -61,7 +61,7 @@ pub(super) struct EdgeScatter<'a> {
 /// rows of `out` are then unspecified.
 ///
 /// # Panics
-/// If `sweep.span` is above [`MAX_SPAN`].
+/// If `sweep.span` is above [`MAX_SPAN`](super::scatter::MAX_SPAN).
 pub(super) fn sweep_edges(
     scatter: &EdgeScatter<'_>,
     first: usize,
@@ -84,7 +84,7 @@ pub(super) fn sweep_edges(
     );
     // A ring with room for a batch's rows besides the span: batches are then added at
     // once.
-    match RINGS.iter().position(|&r| r > span + BATCH) {
+    match ring_for(span, BATCH) {
         Some(0) => in_ring::<{ RINGS[0] }>(span, |ring| scatter_edges(scatter, finished, ring)),
         Some(1) => in_ring::<{ RINGS[1] }>(span, |ring| scatter_edges(scatter, finished, ring)),
         Some(2) => in_ring::<{ RINGS[2] }>(span, |ring| scatter_edges(scatter, finished, ring)),
@@ -96,10 +96,6 @@ pub(super) fn sweep_edges(
 
 /// Edges whose weights are computed together before they are scattered.
 const BATCH: usize = 32;
-
-/// The largest [`Order::span`] this sweep takes: its ring holds a batch's rows
-/// besides the span.
-pub(super) const MAX_SPAN: usize = super::scatter::MAX_SPAN - BATCH;
 
 /// A row's open sums in two pairs of lanes, `(Σ w·x, Σ w·y)` and `(Σ w·z, Σ w)`.
 #[derive(Clone, Copy)]
@@ -207,6 +203,7 @@ fn scatter_edges<const R: usize>(
             add_to(&mut ring[j % R], w, xu);
         };
         if last_u - first_u + sweep.span < R {
+            debug_assert!(last_u + sweep.span < v + R);
             for (&[u, j], &w) in batch.iter().zip(&w) {
                 add(ring, u as usize, j as usize, w);
             }

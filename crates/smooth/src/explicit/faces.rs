@@ -7,7 +7,7 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::rows::RowSweep;
-use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring};
+use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring, ring_for};
 
 /// A mesh's triangles in the order a sweep scatters them (vertex indices in face order,
 /// rotated to start at the smallest): 12 bytes per triangle and 8 per vertex.
@@ -70,10 +70,6 @@ const LANES: usize = 4;
 
 /// Triangles whose cotangents are computed before they are scattered.
 const BATCH: usize = 32;
-
-/// The largest [`Order::span`] this sweep takes: its ring holds a batch's rows besides
-/// the span.
-pub(super) const MAX_SPAN: usize = super::scatter::MAX_SPAN - BATCH;
 
 /// The range of a triangle's longest squared edge length inside which
 /// [`cotangent_lanes`] computes without rescaling: products of up to four coordinate
@@ -266,7 +262,7 @@ pub(super) fn cotangent_scale(sweep: &TriangleOrder, positions: &[DVec3]) -> Opt
 /// position. The rows of `out` are then unspecified.
 ///
 /// # Panics
-/// If `sweep.span` is above [`MAX_SPAN`].
+/// If `sweep.span` is above [`MAX_SPAN`](super::scatter::MAX_SPAN).
 pub(super) fn sweep_triangles(
     scatter: &Scatter<'_>,
     first: usize,
@@ -287,12 +283,7 @@ pub(super) fn sweep_triangles(
     );
     let span = scatter.sweep.span;
     // The scale is a const parameter: the plain sweep multiplies by nothing.
-    // A ring with room for a batch's rows besides the span: batches are then added at
-    // once.
-    match (
-        RINGS.iter().position(|&r| r > span + BATCH),
-        scatter.scale.is_some(),
-    ) {
+    match (ring_for(span, BATCH), scatter.scale.is_some()) {
         (Some(0), false) => sweep_in_ring::<{ RINGS[0] }, false>(scatter, finished),
         (Some(1), false) => sweep_in_ring::<{ RINGS[1] }, false>(scatter, finished),
         (Some(2), false) => sweep_in_ring::<{ RINGS[2] }, false>(scatter, finished),
@@ -307,8 +298,9 @@ pub(super) fn sweep_triangles(
     }
 }
 
-/// [`sweep_triangles`] with the open rows in a ring of `R` slots (`R` > the span), the
-/// corner positions multiplied by `scatter.scale` when `SCALED`.
+/// [`sweep_triangles`] with the open rows in a ring of `R` slots (`R` > the span, and
+/// `R` > the span + [`BATCH`] where a ring that large exists), the corner positions
+/// multiplied by `scatter.scale` when `SCALED`.
 fn sweep_in_ring<const R: usize, const SCALED: bool>(
     scatter: &Scatter<'_>,
     finished: Finished<'_>,
@@ -386,6 +378,7 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
             add2(&mut ring[c % R], at_b, pa, at_a, pb);
         };
         if last_lo - first_lo + sweep.span < R {
+            debug_assert!(last_lo + sweep.span < v + R);
             for (tri, &cot) in batch.iter().zip(&cots) {
                 add(ring, tri, cot);
             }

@@ -288,10 +288,11 @@ impl ScatterOrder {
     /// Whether its sweep takes the order's span (a mesh in an order far from its
     /// neighbourhoods is swept by gathered rows instead).
     fn fits(&self) -> bool {
-        match self {
-            Self::Triangles(order) => order.span <= faces::MAX_SPAN,
-            Self::Edges(order) => order.span <= edges::MAX_SPAN,
-        }
+        let span = match self {
+            Self::Triangles(order) => order.span,
+            Self::Edges(order) => order.span,
+        };
+        span <= scatter::MAX_SPAN
     }
 }
 
@@ -830,8 +831,7 @@ impl<'a> Explicit<'a> {
     /// edge's inverse distance ([`Laplacian::scatters_distances`]: inverse-distance
     /// weights, weight-sum normalisation); the stored operator is then behind. `false`
     /// when the operator's rows are of neither kind, a face is not a triangle (for
-    /// cotangents), the mesh's order leaves rows open too long ([`faces::MAX_SPAN`] for
-    /// triangles, [`edges::MAX_SPAN`] for edges),
+    /// cotangents), the mesh's order leaves rows open too long ([`scatter::MAX_SPAN`]),
     /// or a row's weights are not finite or an edge is too short or too long for plain
     /// products (for cotangents, even on positions scaled by a power of two,
     /// [`faces::cotangent_scale`]); in these last three cases the run keeps to the

@@ -70,10 +70,19 @@ pub(super) type P4 = [f64; 4];
 pub(super) const RINGS: [usize; 5] = [1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16];
 
 /// The largest span (the largest difference between an element's largest and smallest
-/// vertex index) the largest ring holds; each sweep takes a little less
-/// ([`faces::MAX_SPAN`](super::faces::MAX_SPAN), [`edges::MAX_SPAN`](super::edges::MAX_SPAN)),
-/// room for a batch's rows.
+/// vertex index) a scattered sweep takes: the largest ring's.
 pub(super) const MAX_SPAN: usize = RINGS[RINGS.len() - 1] - 1;
+
+/// The ring a sweep of elements whose span is `span` keeps its open rows in (an index
+/// into [`RINGS`]): the smallest with room for `batch` rows besides the span, so that
+/// batches are added at once, else the smallest that holds the span (batches are then
+/// added element by element); `None` above [`MAX_SPAN`].
+pub(super) fn ring_for(span: usize, batch: usize) -> Option<usize> {
+    RINGS
+        .iter()
+        .position(|&r| r > span + batch)
+        .or_else(|| RINGS.iter().position(|&r| r > span))
+}
 
 /// Rows per work unit of a scattered sweep over `n` rows, a multiple of `unit` (the
 /// statistics' chunk). A unit starts `span` rows back (the elements of those rows are
@@ -221,6 +230,19 @@ impl<'s> Finished<'s> {
 
 #[cfg(test)]
 pub(super) mod tests {
+    /// The ring has room for a batch besides the span where one that large exists, and
+    /// holds the span up to the largest.
+    #[test]
+    fn rings_hold_the_span_and_a_batch_where_they_can() {
+        use super::{MAX_SPAN, RINGS, ring_for};
+        assert_eq!(ring_for(0, 32), Some(0));
+        assert_eq!(ring_for(223, 32), Some(0));
+        assert_eq!(ring_for(224, 32), Some(1));
+        assert_eq!(ring_for(MAX_SPAN - 32, 32), Some(RINGS.len() - 1));
+        assert_eq!(ring_for(MAX_SPAN, 32), Some(RINGS.len() - 1));
+        assert_eq!(ring_for(MAX_SPAN + 1, 32), None);
+    }
+
     /// On two threads: units of a multiple of the threads while they stay 8 spans and
     /// `MIN_UNIT_ROWS` long, one per thread while 2 spans long, else one; whole
     /// statistics' chunks.

@@ -244,9 +244,9 @@ pub(super) fn fill_cotangent_ring<const CALLER: u8>(
     row_sum_of(w)
 }
 
-/// Runs a row pass over `rows` in parallel: chunks of [`PAR_CHUNK`] rows, or on a mesh
-/// too small for four of them per thread a quarter of each thread's share (at least
-/// 256), split by `rayon::join` (no allocation). In each row `fill(i, first_slot,
+/// Runs a row pass over `rows` in parallel: chunks of [`PAR_CHUNK`] (8192) rows, or on a
+/// mesh too small for four of them per thread a quarter of each thread's share (at
+/// least 256), split by `rayon::join` (no allocation). In each row `fill(i, first_slot,
 /// weights)` writes the row's weights and returns their sum `W_i` in row order (from
 /// `-0.0`, as `Iterator::sum`: [`row_sum_of`] or the same fold inside the fill's loop),
 /// then the sum and the scale are stored.
