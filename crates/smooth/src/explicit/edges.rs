@@ -190,12 +190,9 @@ fn scatter_edges<const R: usize>(
         // isolated vertices) the batch is added at once, else edge by edge, finishing
         // the rows before each edge's smaller vertex.
         let (first_u, last_u) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
-        while v < first_u {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| if finite.all() { e } else { Decline::Range })?;
-            v += 1;
-        }
+        finished.rows_until(ring, &mut v, first_u, |e| {
+            if finite.all() { e } else { Decline::Range }
+        })?;
         let add = |ring: &mut [P4; R], u: usize, j: usize, w: f64| {
             let w = f64x2::splat(w);
             let (xu, xj) = (positions[u], positions[j]);
@@ -209,30 +206,21 @@ fn scatter_edges<const R: usize>(
             }
         } else {
             for (&[u, j], &w) in batch.iter().zip(&w) {
-                while v < u as usize {
-                    finished
-                        .row(v, std::mem::take(&mut ring[v % R]))
-                        .map_err(|e| if finite.all() { e } else { Decline::Range })?;
-                    v += 1;
-                }
+                finished.rows_until(ring, &mut v, u as usize, |e| {
+                    if finite.all() { e } else { Decline::Range }
+                })?;
                 add(ring, u as usize, j as usize, w);
             }
         }
         // The rows before the next batch's first smaller vertex are complete now.
         let next = batches.peek().map_or(end, |b| b[0][0] as usize);
-        while v < next {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| if finite.all() { e } else { Decline::Range })?;
-            v += 1;
-        }
+        finished.rows_until(ring, &mut v, next, |e| {
+            if finite.all() { e } else { Decline::Range }
+        })?;
     }
-    while v < end {
-        finished
-            .row(v, std::mem::take(&mut ring[v % R]))
-            .map_err(|e| if finite.all() { e } else { Decline::Range })?;
-        v += 1;
-    }
+    finished.rows_until(ring, &mut v, end, |e| {
+        if finite.all() { e } else { Decline::Range }
+    })?;
     if finite.all() {
         Ok(end)
     } else {

@@ -363,12 +363,7 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
         // once, else triangle by triangle, finishing the rows before each triangle's
         // smallest vertex.
         let (first_lo, last_lo) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
-        while v < first_lo {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| range.blame(e))?;
-            v += 1;
-        }
+        finished.rows_until(ring, &mut v, first_lo, |e| range.blame(e))?;
         // The angles at b (opposite the edge ending at a), at c and at a.
         let add = |ring: &mut [P4; R], tri: &[u32; 3], [at_b, at_c, at_a]: [f64; 3]| {
             let [a, b, c] = tri.map(|v| v as usize);
@@ -384,31 +379,16 @@ fn scatter_in_ring<const R: usize, const SCALED: bool>(
             }
         } else {
             for (tri, &cot) in batch.iter().zip(&cots) {
-                while v < tri[0] as usize {
-                    finished
-                        .row(v, std::mem::take(&mut ring[v % R]))
-                        .map_err(|e| range.blame(e))?;
-                    v += 1;
-                }
+                finished.rows_until(ring, &mut v, tri[0] as usize, |e| range.blame(e))?;
                 debug_assert!(tri.iter().all(|&u| (u as usize) < v + R));
                 add(ring, tri, cot);
             }
         }
         // The rows before the next batch's first smallest vertex are complete now.
         let next = batches.peek().map_or(end, |b| b[0][0] as usize);
-        while v < next {
-            finished
-                .row(v, std::mem::take(&mut ring[v % R]))
-                .map_err(|e| range.blame(e))?;
-            v += 1;
-        }
+        finished.rows_until(ring, &mut v, next, |e| range.blame(e))?;
     }
-    while v < end {
-        finished
-            .row(v, std::mem::take(&mut ring[v % R]))
-            .map_err(|e| range.blame(e))?;
-        v += 1;
-    }
+    finished.rows_until(ring, &mut v, end, |e| range.blame(e))?;
     if range.plain() {
         Ok(end)
     } else {

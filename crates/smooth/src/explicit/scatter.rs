@@ -192,6 +192,25 @@ impl<'s> Finished<'s> {
         }
     }
 
+    /// Finishes the rows from `*v` up to `until` (exclusive) with their sums in `ring`,
+    /// whose slots are left zero, and moves `*v` there; the first decline is mapped by
+    /// `blame` (see [`row`](Self::row)).
+    #[inline(always)]
+    pub(super) fn rows_until<const R: usize>(
+        &mut self,
+        ring: &mut [P4; R],
+        v: &mut usize,
+        until: usize,
+        blame: impl Fn(Decline) -> Decline,
+    ) -> Result<(), Decline> {
+        while *v < until {
+            self.row(*v, std::mem::take(&mut ring[*v % R]))
+                .map_err(&blame)?;
+            *v += 1;
+        }
+        Ok(())
+    }
+
     /// Row `v` with its sums `open`: nothing for a row before the range (its slot is
     /// only cleared), [`Decline::Weight`] when its weights do not sum to a finite value.
     /// A row whose weights sum to zero or less (or whose reciprocal is not positive and
