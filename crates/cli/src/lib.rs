@@ -151,20 +151,95 @@ fn schemes(
 /// The clap command with the schemes of `registry` listed in the help of
 /// `smooth --weights` and `study --weights`.
 fn command(registry: &WeightRegistry) -> clap::Command {
-    let list = scheme_lines(registry).join("\n  ");
-    let help = format!(
-        "The weight scheme (default: cotangent). Registered schemes ('beltrami schemes' lists them):\n  {list}"
-    );
-    let study_help = format!(
-        "The weight schemes, comma-separated (default: every registered scheme):\n  {list}"
-    );
     Cli::command()
-        .mut_subcommand("smooth", |c| {
-            c.mut_arg("weights", |a| a.long_help(help.clone()))
-        })
-        .mut_subcommand("study", |c| {
-            c.mut_arg("weights", |a| a.long_help(study_help.clone()))
-        })
+        .mut_subcommand("smooth", |c| with_scheme_list(c, registry))
+        .mut_subcommand("study", |c| with_scheme_list(c, registry))
+}
+
+/// `smooth` or `study` (any other subcommand is returned as it is) with the schemes
+/// of `registry` listed in the help of `--weights`.
+fn with_scheme_list(sub: clap::Command, registry: &WeightRegistry) -> clap::Command {
+    let intro = match sub.get_name() {
+        "smooth" => {
+            "The weight scheme (default: cotangent). Registered schemes ('beltrami schemes' lists them):"
+        }
+        "study" => "The weight schemes, comma-separated (default: every registered scheme):",
+        _ => return sub,
+    };
+    let list = scheme_lines(registry).join("\n  ");
+    sub.mut_arg("weights", |a| a.long_help(format!("{intro}\n  {list}")))
+}
+
+/// Adds a subcommand's arguments to a command (`clap::Args::augment_args`).
+type Augment = fn(clap::Command) -> clap::Command;
+
+/// The subcommands by name, each with the function that adds its arguments: a command
+/// line whose first argument names one of them is parsed by a command holding that
+/// subcommand alone ([`parse_lean`]).
+const SUBCOMMANDS: [(&str, Augment); 16] = [
+    ("info", <info::InfoArgs as clap::Args>::augment_args),
+    ("repair", <repair::RepairArgs as clap::Args>::augment_args),
+    ("smooth", <smooth::SmoothArgs as clap::Args>::augment_args),
+    ("render", <render::RenderArgs as clap::Args>::augment_args),
+    (
+        "compare",
+        <compare::CompareArgs as clap::Args>::augment_args,
+    ),
+    ("fit", <fit::FitArgs as clap::Args>::augment_args),
+    (
+        "residual",
+        <residual::ResidualArgs as clap::Args>::augment_args,
+    ),
+    (
+        "generate",
+        <generate::GenerateArgs as clap::Args>::augment_args,
+    ),
+    (
+        "subdivide",
+        <subdivide::SubdivideArgs as clap::Args>::augment_args,
+    ),
+    (
+        "delaunay",
+        <delaunay::DelaunayArgs as clap::Args>::augment_args,
+    ),
+    ("remesh", <remesh::RemeshArgs as clap::Args>::augment_args),
+    (
+        "fill-holes",
+        <fill_holes::FillHolesArgs as clap::Args>::augment_args,
+    ),
+    (
+        "decimate",
+        <decimate::DecimateArgs as clap::Args>::augment_args,
+    ),
+    (
+        "operator",
+        <operator::OperatorArgs as clap::Args>::augment_args,
+    ),
+    ("study", <study::StudyArgs as clap::Args>::augment_args),
+    ("schemes", <SchemesArgs as clap::Args>::augment_args),
+];
+
+/// The command with only the subcommand `name` and its arguments (the same as in
+/// [`command`] but for the subcommand's one-line description and the other
+/// subcommands), or `None` for a name that is not a subcommand.
+fn lean_command(name: &str, registry: &WeightRegistry) -> Option<clap::Command> {
+    let (name, augment) = SUBCOMMANDS.iter().find(|(n, _)| *n == name)?;
+    let sub = with_scheme_list(augment(clap::Command::new(*name)), registry);
+    Some(clap::Command::new("beltrami").subcommand(sub))
+}
+
+/// Parses a command line that names a subcommand and parses without error, help or
+/// version, with a command holding that subcommand alone: clap's derived command
+/// builds every subcommand's arguments (about half a millisecond, a tenth of a small
+/// run). Anything else (`None`) goes through the whole command, which gives the help
+/// texts and the error messages; a line that parses here parses there to the same
+/// values (tested).
+fn parse_lean(args: &[OsString], registry: &WeightRegistry) -> Option<Cli> {
+    let name = args.get(1)?.to_str()?;
+    let matches = lean_command(name, registry)?
+        .try_get_matches_from(args)
+        .ok()?;
+    Cli::from_arg_matches(&matches).ok()
 }
 
 /// Runs the CLI on the process's arguments with the schemes of `registry`.
@@ -202,12 +277,16 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match command(registry)
-        .try_get_matches_from(args)
-        .and_then(|matches| Cli::from_arg_matches(&matches))
-    {
-        Ok(cli) => cli,
-        Err(err) => return usage_error(&err),
+    let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
+    let cli = match parse_lean(&args, registry) {
+        Some(cli) => cli,
+        None => match command(registry)
+            .try_get_matches_from(&args)
+            .and_then(|matches| Cli::from_arg_matches(&matches))
+        {
+            Ok(cli) => cli,
+            Err(err) => return usage_error(&err),
+        },
     };
     let mut stdout = std::io::stdout().lock();
     let result = match &cli.command {
@@ -261,6 +340,104 @@ fn usage_error(err: &clap::Error) -> ExitCode {
                 eprintln!();
             }
             ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A subcommand without what only the top-level help shows (its description and
+    /// place in the list).
+    fn without_listing(command: clap::Command) -> String {
+        format!(
+            "{:?}",
+            command.about(None).long_about(None).display_order(0)
+        )
+    }
+
+    #[test]
+    fn the_lean_subcommands_are_the_derived_ones() {
+        let registry = WeightRegistry::with_builtins();
+        let full = command(&registry);
+        let mut names: Vec<&str> = full
+            .get_subcommands()
+            .map(clap::Command::get_name)
+            .collect();
+        let mut lean_names: Vec<&str> = SUBCOMMANDS.iter().map(|(n, _)| *n).collect();
+        names.sort_unstable();
+        lean_names.sort_unstable();
+        assert_eq!(lean_names, names);
+        for sub in full.get_subcommands() {
+            let lean = lean_command(sub.get_name(), &registry).expect("in the table");
+            let lean_sub = lean.find_subcommand(sub.get_name()).unwrap().clone();
+            assert_eq!(
+                without_listing(lean_sub),
+                without_listing(sub.clone()),
+                "{}",
+                sub.get_name()
+            );
+        }
+        assert!(lean_command("smoth", &registry).is_none());
+    }
+
+    fn parsed(line: &str) -> (Option<String>, Result<String, clap::error::ErrorKind>) {
+        let registry = WeightRegistry::with_builtins();
+        let args: Vec<OsString> = std::iter::once("beltrami")
+            .chain(line.split_whitespace())
+            .map(OsString::from)
+            .collect();
+        let lean = parse_lean(&args, &registry).map(|cli| format!("{cli:?}"));
+        let full = command(&registry)
+            .try_get_matches_from(&args)
+            .and_then(|m| Cli::from_arg_matches(&m))
+            .map(|cli| format!("{cli:?}"))
+            .map_err(|e| e.kind());
+        (lean, full)
+    }
+
+    #[test]
+    fn a_line_parsed_lean_parses_to_the_same_values() {
+        for line in [
+            "smooth in.ply out.ply",
+            "smooth in.ply out.ply --weights distance --update every --iterations 100 --lambda 0.8 --normalize sum --boundary free --report r.json --no-step-stats",
+            "smooth in.ply out.ply --method taubin --summation rows",
+            "info in.ply --quality --json",
+            "generate sphere --level 3 s.ply --noise 0.2 --relative --seed 1",
+            "remesh in.ply out.ply --edge-length 0.1 --features 45",
+            "decimate in.ply out.ply --ratio 0.1",
+            "fill-holes in.ply out.ply",
+            "compare a.ply b.ply --json",
+            "schemes --json",
+            "study --out results",
+        ] {
+            let (lean, full) = parsed(line);
+            assert_eq!(lean.as_deref(), Some(full.as_deref().unwrap()), "{line}");
+        }
+    }
+
+    #[test]
+    fn help_version_and_errors_go_through_the_derived_command() {
+        for line in [
+            "",
+            "--help",
+            "--version",
+            "smooth --help",
+            "smooth -h",
+            "help smooth",
+            "smooth",
+            "smooth in.ply",
+            "smooth in.ply out.ply --weights",
+            "smooth in.ply out.ply --iterations many",
+            "smooth in.ply out.ply --bogus",
+            "smooth in.ply out.ply --version",
+            "smoth in.ply out.ply",
+            "fill_holes in.ply out.ply",
+        ] {
+            let (lean, full) = parsed(line);
+            assert_eq!(lean, None, "{line}");
+            assert!(full.is_err(), "{line}");
         }
     }
 }

@@ -260,13 +260,13 @@ impl Staged {
         self.push(path, |path| stage_mesh(path, data, &options))
     }
 
-    /// Replaces every target, in the order staged.
+    /// Replaces every target, in the order staged, flushing each directory once.
     pub(crate) fn commit(self) -> Result<(), CliError> {
-        for (path, file) in self.files {
-            file.commit()
-                .map_err(|source| CliError::Io { path, source })?;
-        }
-        Ok(())
+        let (paths, files): (Vec<PathBuf>, Vec<StagedFile>) = self.files.into_iter().unzip();
+        beltrami_io::commit_staged(files).map_err(|(index, source)| CliError::Io {
+            path: paths[index].clone(),
+            source,
+        })
     }
 }
 

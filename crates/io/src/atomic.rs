@@ -148,7 +148,13 @@ impl StagedFile {
     /// # Errors
     /// [`IoError::Io`] when the rename fails (then the temporary file is removed and
     /// the target untouched) or the directory cannot be flushed.
-    pub fn commit(mut self) -> Result<(), IoError> {
+    pub fn commit(self) -> Result<(), IoError> {
+        let dir = self.rename()?;
+        sync_directory(&dir)
+    }
+
+    /// Renames the temporary file over the target and returns the directory to flush.
+    fn rename(mut self) -> Result<PathBuf, IoError> {
         let Some(temp) = self.temp.take() else {
             unreachable!("a staged file holds its temporary file until commit or drop")
         };
@@ -163,8 +169,41 @@ impl StagedFile {
         registry.forget(&temp_path);
         drop(registry);
         result?;
-        sync_directory(&self.dir)
+        Ok(std::mem::take(&mut self.dir))
     }
+}
+
+/// Commits `files` in order, as [`StagedFile::commit`] does one by one, but flushes
+/// each directory once, after the last rename into it: a command writing its mesh and
+/// its report into one directory flushes that directory once instead of twice.
+///
+/// # Errors
+/// The index in `files` of the file that failed, with its error. When a rename fails,
+/// the files before it are in place (their directories flushed), and that file and
+/// the ones after it are removed with their targets untouched. When flushing a
+/// directory fails, every file is in place and the index is that of the last file
+/// renamed into the directory.
+pub fn commit_staged(files: Vec<StagedFile>) -> Result<(), (usize, IoError)> {
+    // (directory, index of the last file renamed into it), in order of first use.
+    let mut dirs: Vec<(PathBuf, usize)> = Vec::new();
+    let mut failed = None;
+    for (index, file) in files.into_iter().enumerate() {
+        if failed.is_some() {
+            // Dropped: its temporary file is removed.
+            continue;
+        }
+        match file.rename() {
+            Ok(dir) => match dirs.iter_mut().find(|(d, _)| *d == dir) {
+                Some(entry) => entry.1 = index,
+                None => dirs.push((dir, index)),
+            },
+            Err(e) => failed = Some((index, e)),
+        }
+    }
+    for (dir, index) in &dirs {
+        sync_directory(dir).map_err(|e| (*index, e))?;
+    }
+    failed.map_or(Ok(()), Err)
 }
 
 impl Drop for StagedFile {
@@ -577,6 +616,51 @@ mod tests {
         assert_eq!(fs::read(&path).unwrap(), b"old");
         drop(staged);
         assert_eq!(fs::read(&path).unwrap(), b"old");
+        assert!(temporaries(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn committing_together_replaces_every_target_in_order() {
+        let (one, two) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        let paths = [
+            one.path().join("a.ply"),
+            two.path().join("b.json"),
+            one.path().join("c.json"),
+        ];
+        fs::write(&paths[2], b"old").unwrap();
+        let files = paths
+            .iter()
+            .zip([&b"a"[..], b"b", b"c"])
+            .map(|(p, bytes)| stage_bytes(p, bytes).unwrap())
+            .collect();
+        commit_staged(files).unwrap();
+        for (p, bytes) in paths.iter().zip([&b"a"[..], b"b", b"c"]) {
+            assert_eq!(fs::read(p).unwrap(), bytes);
+        }
+        assert!(temporaries(one.path()).is_empty() && temporaries(two.path()).is_empty());
+    }
+
+    #[test]
+    fn a_failed_rename_keeps_the_earlier_files_and_removes_the_later() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = dir.path().join("first.ply");
+        // A non-empty directory: renaming a file over it fails.
+        let blocked = dir.path().join("blocked");
+        fs::create_dir(&blocked).unwrap();
+        fs::write(blocked.join("keep"), b"x").unwrap();
+        let last = dir.path().join("last.json");
+        fs::write(&last, b"old").unwrap();
+        let files = vec![
+            stage_bytes(&first, b"new").unwrap(),
+            stage_bytes(&blocked, b"new").unwrap(),
+            stage_bytes(&last, b"new").unwrap(),
+        ];
+        let (index, e) = commit_staged(files).unwrap_err();
+        assert_eq!(index, 1, "{e}");
+        assert!(e.to_string().contains("replace the target file"), "{e}");
+        assert_eq!(fs::read(&first).unwrap(), b"new");
+        assert!(blocked.join("keep").exists());
+        assert_eq!(fs::read(&last).unwrap(), b"old");
         assert!(temporaries(dir.path()).is_empty());
     }
 
