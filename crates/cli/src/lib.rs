@@ -57,8 +57,24 @@ use error::CliError;
     long_about = None
 )]
 struct Cli {
+    #[command(flatten)]
+    global: GlobalArgs,
     #[command(subcommand)]
     command: Command,
+}
+
+/// Options every subcommand takes (before or after its name).
+#[derive(Debug, clap::Args)]
+struct GlobalArgs {
+    /// Write outputs without flushing them to disk (fsync): faster, not safe against a
+    /// power loss.
+    ///
+    /// Outputs still replace their targets atomically, and a killed run leaves them
+    /// untouched, but a power loss or system crash soon after the run may leave an old,
+    /// empty or partial file. Saves about a millisecond per output on a local disk and
+    /// much more on network file systems: for many small runs into scratch space.
+    #[arg(long, global = true, display_order = 1000)]
+    no_sync: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -225,7 +241,7 @@ const SUBCOMMANDS: [(&str, Augment); 16] = [
 fn lean_command(name: &str, registry: &WeightRegistry) -> Option<clap::Command> {
     let (name, augment) = SUBCOMMANDS.iter().find(|(n, _)| *n == name)?;
     let sub = with_scheme_list(augment(clap::Command::new(*name)), registry);
-    Some(clap::Command::new("beltrami").subcommand(sub))
+    Some(<GlobalArgs as clap::Args>::augment_args(clap::Command::new("beltrami")).subcommand(sub))
 }
 
 /// Parses a command line that names a subcommand and parses without error, help or
@@ -288,6 +304,7 @@ where
             Err(err) => return usage_error(&err),
         },
     };
+    beltrami_io::set_flush_to_disk(!cli.global.no_sync);
     let mut stdout = std::io::stdout().lock();
     let result = match &cli.command {
         Command::Info(args) => info::run(args, &mut stdout),
@@ -411,6 +428,8 @@ mod tests {
             "compare a.ply b.ply --json",
             "schemes --json",
             "study --out results",
+            "smooth in.ply out.ply --no-sync",
+            "generate sphere s.ply --no-sync --level 2",
         ] {
             let (lean, full) = parsed(line);
             assert_eq!(lean.as_deref(), Some(full.as_deref().unwrap()), "{line}");
@@ -439,5 +458,9 @@ mod tests {
             assert_eq!(lean, None, "{line}");
             assert!(full.is_err(), "{line}");
         }
+        // A global option before the subcommand's name: the derived command parses it.
+        let (lean, full) = parsed("--no-sync smooth in.ply out.ply");
+        assert_eq!(lean, None);
+        assert!(full.unwrap().contains("no_sync: true"));
     }
 }

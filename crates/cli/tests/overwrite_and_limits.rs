@@ -160,3 +160,31 @@ For more information, try '--help'.
 "#);
     assert!(!output.exists());
 }
+
+#[test]
+fn no_sync_writes_the_same_files_and_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere(dir.path(), "scan.ply");
+    let (a, b) = (dir.path().join("a.ply"), dir.path().join("b.ply"));
+    let (ra, rb) = (dir.path().join("a.json"), dir.path().join("b.json"));
+    let out = beltrami(&["smooth", s(&input), s(&a), "--report", s(&ra)]);
+    assert!(out.status.success(), "{out:?}");
+    // Before the subcommand's name and after it.
+    let out = beltrami(&["--no-sync", "smooth", s(&input), s(&b), "--report", s(&rb)]);
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+    let out = beltrami(&["smooth", s(&input), s(&b), "--force", "--no-sync"]);
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+    let json =
+        |p: &Path| serde_json::from_slice::<serde_json::Value>(&fs::read(p).unwrap()).unwrap();
+    let (report_a, report_b) = (json(&ra), json(&rb));
+    assert!(report_b["vertices"].as_u64().unwrap() > 0);
+    assert_eq!(report_a["vertices"], report_b["vertices"]);
+    assert_eq!(report_a["iterations"], report_b["iterations"]);
+    assert!(
+        names(dir.path())
+            .iter()
+            .all(|n| !n.starts_with(".beltrami-"))
+    );
+}

@@ -90,8 +90,9 @@ mod validate;
 mod write;
 
 pub use atomic::{
-    StagedDir, StagedFile, check_writable, commit_staged, remove_staged_files, resolve_target,
-    stage_bytes, stage_dir, stage_mesh, stage_ply, stage_with, write_bytes_atomic,
+    StagedDir, StagedFile, check_writable, commit_staged, flushes_to_disk, remove_staged_files,
+    resolve_target, set_flush_to_disk, stage_bytes, stage_dir, stage_mesh, stage_ply, stage_with,
+    write_bytes_atomic,
 };
 pub use beltrami_halfedge::MeshData;
 pub use beltrami_halfedge::PolygonList;
