@@ -62,7 +62,8 @@ pub(crate) struct SmoothArgs {
     /// triangle once, a per-face table of about 120 bytes per vertex), ring (from each
     /// vertex's one-ring: no table, about 1.4 times the time), or auto (per-triangle,
     /// ring when only that fits the memory available or --max-memory; ring with
-    /// --summation scatter, whose sweeps use neither).
+    /// --summation scatter, whose sweeps use neither, and with --update once, which
+    /// computes the weights once).
     #[arg(long, value_enum, default_value_t = CotangentKernelArg::Auto)]
     pub(crate) cotangent_kernel: CotangentKernelArg,
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's

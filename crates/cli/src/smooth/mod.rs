@@ -24,7 +24,7 @@ mod report;
 pub(crate) use args::{AreaArg, NegativeArg, NormalizeArg, SmoothArgs, normalization};
 use args::{
     CotangentKernelArg, LARGE_RUN_ITERATIONS, MethodArg, SolverArg, SummationArg, TAUBIN_LAMBDA,
-    TAUBIN_PASS_BAND,
+    TAUBIN_PASS_BAND, UpdateArg,
 };
 use kept::KeptPositions;
 use report::{ReadSeconds, build_report, method_label};
@@ -164,8 +164,9 @@ fn load_within_memory(
 /// the run's memory profile) fits: `--cotangent-kernel`, or for `auto` the per-triangle
 /// kernel, and the one-ring kernel when only that fits (with a note). A run that fits
 /// with neither fails with the per-triangle kernel's figure. With `--summation
-/// triangles`, `auto` is the one-ring kernel: the operator's kernel then only assembles
-/// it once, and the per-triangle table would be 120 bytes per vertex for nothing.
+/// scatter` or `--update once`, `auto` is the one-ring kernel: the operator's kernel
+/// then computes the weights once, and the per-triangle table would be 120 bytes per
+/// vertex for nothing (the same bits either way).
 fn choose_kernel(
     args: &SmoothArgs,
     scheme: &dyn WeightScheme,
@@ -174,7 +175,7 @@ fn choose_kernel(
 ) -> Result<CotangentKernel, CliError> {
     let ring = args.cotangent_kernel == CotangentKernelArg::Ring
         || (args.cotangent_kernel == CotangentKernelArg::Auto
-            && args.summation == SummationArg::Scatter);
+            && (args.summation == SummationArg::Scatter || args.update == UpdateArg::Once));
     let first = memory_run(args, scheme, ring);
     let fits = check_memory(args, &estimate(&first), exact);
     let auto = args.cotangent_kernel == CotangentKernelArg::Auto;

@@ -263,6 +263,15 @@ fn compound_buffers(
     (copy(compound), copy(hc), push_back)
 }
 
+/// Whether `scheme` is one of the built-in schemes, whose rows the operator can
+/// recompute without the mesh ([`Laplacian::detach`]).
+fn built_in(scheme: &dyn WeightScheme) -> bool {
+    let any: &dyn std::any::Any = scheme;
+    any.is::<beltrami_weights::Uniform>()
+        || any.is::<beltrami_weights::InverseDistance>()
+        || any.is::<beltrami_weights::Cotangent>()
+}
+
 /// Whether a run's stale weights are computed inside the sweep: plain diffusion only
 /// (a compound step reads the operator between its sweeps).
 fn fuses(config: &SmoothConfig) -> bool {
@@ -499,7 +508,16 @@ impl<'a> Explicit<'a> {
         // sweep from the first on (`sweep_fresh`): the operator keeps no weight array
         // (8 bytes per slot). A duration is resolved from the weights, so it keeps them.
         let lean = fuses(&config) && config.operator_changes(scheme) && config.duration.is_none();
-        let laplacian = if lean {
+        // Any other run stores its weights: when the mesh will go once the operator is
+        // built, only after it has gone (`refresh_weights` below, the same bits), so
+        // that the weights (8 bytes per slot) and the mesh (104 bytes per vertex) are
+        // never held together. A duration is resolved from the weights, before.
+        let store_later = !lean
+            && mesh_given
+            && config.duration.is_none()
+            && built_in(scheme)
+            && mesh.is_triangle_mesh();
+        let laplacian = if lean || store_later {
             Laplacian::new_without_weights(&mesh, &positions, scheme, config.laplacian)
         } else {
             Laplacian::new(&mesh, &positions, scheme, config.laplacian)
@@ -575,6 +593,12 @@ impl<'a> Explicit<'a> {
             weight_time: Duration::ZERO,
             update_time: Duration::ZERO,
         };
+        if store_later {
+            // The operator's weights and the curve weights, with the mesh or without.
+            smoother.weight_time += start.elapsed();
+            smoother.refresh_weights()?;
+            return Ok(smoother);
+        }
         smoother
             .refresh_curve_weights()
             .map_err(|e| smoother.to_caller(e))?;
