@@ -8,7 +8,7 @@ use beltrami_weights::DISTANCE_EPSILON;
 use wide::{CmpLt, f64x2};
 
 use super::rows::RowSweep;
-use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring, ring_for};
+use super::scatter::{Decline, Finished, Order, P4, RINGS, arch, in_ring, ring_for};
 
 /// A mesh's edges `[i, j]`, `i < j`, in the order a sweep scatters them: 8 bytes per
 /// edge and 8 per vertex.
@@ -84,12 +84,25 @@ pub(super) fn sweep_edges(
     );
     // A ring with room for a batch's rows besides the span: batches are then added at
     // once.
+    // Compiled for the widest vector instructions the processor has (the same bits in
+    // any).
+    let arch = arch();
     match ring_for(span, BATCH) {
-        Some(0) => in_ring::<{ RINGS[0] }>(span, |ring| scatter_edges(scatter, finished, ring)),
-        Some(1) => in_ring::<{ RINGS[1] }>(span, |ring| scatter_edges(scatter, finished, ring)),
-        Some(2) => in_ring::<{ RINGS[2] }>(span, |ring| scatter_edges(scatter, finished, ring)),
-        Some(3) => in_ring::<{ RINGS[3] }>(span, |ring| scatter_edges(scatter, finished, ring)),
-        Some(4) => in_ring::<{ RINGS[4] }>(span, |ring| scatter_edges(scatter, finished, ring)),
+        Some(0) => in_ring::<{ RINGS[0] }>(span, |ring| {
+            arch.dispatch(|| scatter_edges(scatter, finished, ring))
+        }),
+        Some(1) => in_ring::<{ RINGS[1] }>(span, |ring| {
+            arch.dispatch(|| scatter_edges(scatter, finished, ring))
+        }),
+        Some(2) => in_ring::<{ RINGS[2] }>(span, |ring| {
+            arch.dispatch(|| scatter_edges(scatter, finished, ring))
+        }),
+        Some(3) => in_ring::<{ RINGS[3] }>(span, |ring| {
+            arch.dispatch(|| scatter_edges(scatter, finished, ring))
+        }),
+        Some(4) => in_ring::<{ RINGS[4] }>(span, |ring| {
+            arch.dispatch(|| scatter_edges(scatter, finished, ring))
+        }),
         _ => panic!("a span of {span} is above MAX_SPAN"),
     }
 }
@@ -234,7 +247,7 @@ mod tests {
     use beltrami_weights::{InverseDistance, Laplacian, LaplacianOptions};
 
     use super::super::rows::tests::wobble;
-    use super::super::scatter::tests::{assert_step_of, bits, sweep_ranges};
+    use super::super::scatter::tests::{assert_step_of, bits, native_and_sse2, sweep_ranges};
     use super::{Decline, EdgeOrder, EdgeScatter, sweep_edges};
 
     /// The triangle sweep's cases and a cube of quads.
@@ -301,6 +314,21 @@ mod tests {
                 let (other, other_stuck) = sweep(&order, &x, &cuts, unit).unwrap();
                 assert_eq!(bits(&other), bits(&out));
                 assert_eq!(other_stuck, stuck);
+            }
+        }
+    }
+
+    /// The sweep compiled for the processor's widest vectors has the bits of its SSE2
+    /// version, split into ranges and units or not.
+    #[test]
+    fn the_bits_do_not_depend_on_the_vector_width() {
+        for (mesh, x) in cases() {
+            let n = mesh.n_vertices();
+            let order = order_of(&mesh, &x);
+            for (cuts, unit) in [(vec![0, n], 64), (vec![0, n / 3, n - 1, n], 7)] {
+                let (native, sse2) = native_and_sse2(|| sweep(&order, &x, &cuts, unit).unwrap());
+                assert_eq!(bits(&native.0), bits(&sse2.0));
+                assert_eq!(native.1, sse2.1);
             }
         }
     }

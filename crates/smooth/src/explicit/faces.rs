@@ -7,7 +7,7 @@ use beltrami_halfedge::geometry::DEGENERACY_RATIO;
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 
 use super::rows::RowSweep;
-use super::scatter::{Decline, Finished, Order, P4, RINGS, in_ring, ring_for};
+use super::scatter::{Decline, Finished, Order, P4, RINGS, arch, in_ring, ring_for};
 
 /// A mesh's triangles in the order a sweep scatters them (vertex indices in face order,
 /// rotated to start at the smallest): 12 bytes per triangle and 8 per vertex.
@@ -306,7 +306,9 @@ fn sweep_in_ring<const R: usize, const SCALED: bool>(
     finished: Finished<'_>,
 ) -> Result<(), Decline> {
     in_ring::<R>(scatter.sweep.span, |ring| {
-        scatter_in_ring::<R, SCALED>(scatter, finished, ring)
+        // Compiled for the widest vector instructions the processor has (the same
+        // bits in any).
+        arch().dispatch(|| scatter_in_ring::<R, SCALED>(scatter, finished, ring))
     })
 }
 
@@ -418,7 +420,9 @@ mod tests {
     use beltrami_weights::{Cotangent, Laplacian, LaplacianOptions};
 
     use super::super::rows::tests::wobble;
-    use super::super::scatter::tests::{assert_step_of, bits, cases, sweep_ranges};
+    use super::super::scatter::tests::{
+        assert_step_of, bits, cases, native_and_sse2, sweep_ranges,
+    };
     use super::{Decline, Scatter, TriangleOrder, cotangent_scale, sweep_triangles};
 
     /// The sweep over the ranges between consecutive `cuts` in units of `unit` rows
@@ -572,6 +576,25 @@ mod tests {
                 "{} against {z}",
                 p.z
             );
+        }
+    }
+
+    /// The sweep compiled for the processor's widest vectors has the bits of its SSE2
+    /// version, at unit scale and scaled.
+    #[test]
+    fn the_bits_do_not_depend_on_the_vector_width() {
+        for (mesh, x) in cases() {
+            let n = mesh.n_vertices();
+            let order = TriangleOrder::of_mesh(&mesh).unwrap();
+            let (native, sse2) = native_and_sse2(|| sweep(&order, &x, None, &[0, n], 64).unwrap());
+            assert_eq!(bits(&native.0), bits(&sse2.0));
+            assert_eq!(native.1, sse2.1);
+            let y: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(600)).collect();
+            let scale = cotangent_scale(&order, &y);
+            let (native, sse2) =
+                native_and_sse2(|| sweep(&order, &y, scale, &[0, n / 2, n], 7).unwrap());
+            assert_eq!(bits(&native.0), bits(&sse2.0));
+            assert_eq!(native.1, sse2.1);
         }
     }
 

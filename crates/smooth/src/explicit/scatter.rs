@@ -124,6 +124,18 @@ thread_local! {
     static RING: std::cell::RefCell<Vec<P4>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
+/// The instruction set a scattered sweep is compiled for, chosen at run time: the
+/// widest vector extension the processor has (AVX2, AVX-512) or plain SSE2. The sweeps
+/// do the same operations in the same order in any of them (no fused multiply-adds), so
+/// their bits do not depend on it (tested against SSE2).
+pub(super) fn arch() -> pulp::Arch {
+    #[cfg(test)]
+    if tests::SSE2_ONLY.with(std::cell::Cell::get) {
+        return pulp::Arch::Scalar;
+    }
+    pulp::Arch::new()
+}
+
 /// Runs `scatter` on this thread's ring of `R` open rows (all zero), and leaves the
 /// ring zero again: `scatter` returns the first row it did not finish, after which the
 /// `span + 1` rows its elements reached are cleared (all of them when it declined).
@@ -249,6 +261,21 @@ impl<'s> Finished<'s> {
 
 #[cfg(test)]
 pub(super) mod tests {
+    thread_local! {
+        /// [`arch`](super::arch) gives plain SSE2 on this thread while set.
+        pub(in super::super) static SSE2_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    }
+
+    /// `f` run with the sweeps compiled for the processor's widest vectors, then for
+    /// SSE2 alone.
+    pub(in super::super) fn native_and_sse2<T>(f: impl Fn() -> T) -> (T, T) {
+        let native = f();
+        SSE2_ONLY.with(|c| c.set(true));
+        let sse2 = f();
+        SSE2_ONLY.with(|c| c.set(false));
+        (native, sse2)
+    }
+
     /// The ring has room for a batch besides the span where one that large exists, and
     /// holds the span up to the largest.
     #[test]
