@@ -5,7 +5,7 @@
 
 use beltrami_halfedge::DVec3;
 use beltrami_weights::DISTANCE_EPSILON;
-use wide::{CmpLt, f64x2};
+use wide::f64x2;
 
 use super::rows::RowSweep;
 use super::scatter::{Decline, Finished, Order, P4, RINGS, arch, in_ring, ring_for};
@@ -162,39 +162,29 @@ fn scatter_edges<const R: usize>(
     } = *scatter;
     let (first, end) = (finished.first, finished.end);
     let start = (sweep.reach[first] as usize).min(first);
-    let eps = f64x2::splat(DISTANCE_EPSILON);
-    let one = f64x2::splat(1.0);
-    // All lanes true while every plain length so far was finite (NaN fails).
-    let inf = f64x2::splat(f64::INFINITY);
-    let mut finite = one.cmp_lt(inf);
+    // Every plain length so far was finite (NaN fails).
+    let mut finite = true;
     let edges = &sweep.elements[sweep.starts[start] as usize..sweep.starts[end] as usize];
     // The next row to finish.
     let mut v = start;
     let mut batches = edges.chunks(BATCH).peekable();
     while let Some(batch) = batches.next() {
-        // The weights of the batch's edges, two at a time (a short last pair repeats its
-        // edge). The distance is the geometry's plain length `sqrt(dx² + dy² + dz²)` of
+        // The weights of the batch's edges: the squared lengths, then the weights, each
+        // a loop over the whole batch that the compiler runs in as many lanes as the
+        // vector registers hold (the lanes past a short batch's end are 0 and unused).
+        // The distance is the geometry's plain length `sqrt(dx² + dy² + dz²)` of
         // `x_j − x_u` (the negation of `x_u − x_j`: the same squares, so the same bits
         // from either end). A length below the plain range gives the weight 1/ε
         // exactly, as the exact length does (both are far below ε's last bit); an
         // infinite one declines.
-        let mut w = [0.0; BATCH];
-        for (k, pair) in w
-            .chunks_exact_mut(2)
-            .enumerate()
-            .take(batch.len().div_ceil(2))
-        {
-            let e0 = batch[2 * k];
-            let e1 = batch[(2 * k + 1).min(batch.len() - 1)];
-            let (u0, j0) = (positions[e0[0] as usize], positions[e0[1] as usize]);
-            let (u1, j1) = (positions[e1[0] as usize], positions[e1[1] as usize]);
-            let dx = f64x2::new([j0.x, j1.x]) - f64x2::new([u0.x, u1.x]);
-            let dy = f64x2::new([j0.y, j1.y]) - f64x2::new([u0.y, u1.y]);
-            let dz = f64x2::new([j0.z, j1.z]) - f64x2::new([u0.z, u1.z]);
-            let len = (dx * dx + dy * dy + dz * dz).sqrt();
-            finite &= len.cmp_lt(inf);
-            pair.copy_from_slice(&(one / (len + eps)).to_array());
+        let mut squared = [0.0; BATCH];
+        for (q, &[u, j]) in squared.iter_mut().zip(batch) {
+            let (xu, xj) = (positions[u as usize], positions[j as usize]);
+            let (dx, dy, dz) = (xj.x - xu.x, xj.y - xu.y, xj.z - xu.z);
+            *q = dx * dx + dy * dy + dz * dz;
         }
+        finite &= squared.iter().fold(true, |ok, &q| ok & (q < f64::INFINITY));
+        let w: [f64; BATCH] = std::array::from_fn(|k| 1.0 / (squared[k].sqrt() + DISTANCE_EPSILON));
         // Rows whose edges have all been added are complete: every row before the
         // batch's first smaller vertex (finished after the previous batch, but before
         // the first). The rows open while the batch is added then lie between that
@@ -204,7 +194,7 @@ fn scatter_edges<const R: usize>(
         // the rows before each edge's smaller vertex.
         let (first_u, last_u) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
         finished.rows_until(ring, &mut v, first_u, |e| {
-            if finite.all() { e } else { Decline::Range }
+            if finite { e } else { Decline::Range }
         })?;
         let add = |ring: &mut [P4; R], u: usize, j: usize, w: f64| {
             let w = f64x2::splat(w);
@@ -220,25 +210,31 @@ fn scatter_edges<const R: usize>(
         } else {
             for (&[u, j], &w) in batch.iter().zip(&w) {
                 finished.rows_until(ring, &mut v, u as usize, |e| {
-                    if finite.all() { e } else { Decline::Range }
+                    if finite { e } else { Decline::Range }
                 })?;
                 add(ring, u as usize, j as usize, w);
             }
         }
         // The rows before the next batch's first smaller vertex are complete now.
         let next = batches.peek().map_or(end, |b| b[0][0] as usize);
-        finished.rows_until(ring, &mut v, next, |e| {
-            if finite.all() { e } else { Decline::Range }
-        })?;
+        finished.rows_until(
+            ring,
+            &mut v,
+            next,
+            |e| {
+                if finite { e } else { Decline::Range }
+            },
+        )?;
     }
-    finished.rows_until(ring, &mut v, end, |e| {
-        if finite.all() { e } else { Decline::Range }
-    })?;
-    if finite.all() {
-        Ok(end)
-    } else {
-        Err(Decline::Range)
-    }
+    finished.rows_until(
+        ring,
+        &mut v,
+        end,
+        |e| {
+            if finite { e } else { Decline::Range }
+        },
+    )?;
+    if finite { Ok(end) } else { Err(Decline::Range) }
 }
 
 #[cfg(test)]
