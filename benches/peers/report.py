@@ -238,7 +238,8 @@ def main():
               "| mesh | scheme | weights | threads | read | weights | updates | write | wall | updates ns/v-it |",
               "|---|---|---|---|---:|---:|---:|---:|---:|---:|"]
         for r in sorted(bel_rows, key=lambda r: (order.get(r["mesh"], 9), r.get("variant", ""), r["scheme"], r["weights"])):
-            note = {"_om": " (λ 0.5, fixed)", "_scatter": " (`--summation scatter`)"}
+            note = {"_om": " (λ 0.5, fixed)", "_scatter": " (`--summation scatter`)",
+                    "_nosync": " (`--no-sync`)"}
             L.append(f"| {r['mesh']} | {r['scheme']} | {r['weights']}{note.get(r.get('variant'), '')} | "
                      f"{r['threads']} | {r['read_seconds']:.3f} | {r['weights_seconds']:.3f} | {r['updates_seconds']:.3f} | "
                      f"{r['write_seconds']:.3f} | {r['wall_seconds']:.3f} | "

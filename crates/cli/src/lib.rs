@@ -69,10 +69,11 @@ struct GlobalArgs {
     /// Write outputs without flushing them to disk (fsync): faster, not safe against a
     /// power loss.
     ///
-    /// Outputs still replace their targets atomically, and a killed run leaves them
+    /// Outputs still replace their targets by a rename, and a killed run leaves them
     /// untouched, but a power loss or system crash soon after the run may leave an old,
-    /// empty or partial file. Saves about a millisecond per output on a local disk and
-    /// much more on network file systems: for many small runs into scratch space.
+    /// empty or partial file. On a network file system a write error that only the
+    /// flush would have reported (a full disk, a quota) may then go unnoticed: use it on
+    /// local scratch space, where it saves about a millisecond per output.
     #[arg(long, global = true, display_order = 1000)]
     no_sync: bool,
 }
@@ -287,7 +288,8 @@ fn remove_temporary_files_on_signal() {
 }
 
 /// Runs the CLI on `args` (the first is the program name) with the schemes of
-/// `registry`, printing to stdout and stderr, and returns the exit code.
+/// `registry`, printing to stdout and stderr, and returns the exit code. It sets the
+/// process-wide [`beltrami_io::set_flush_to_disk`] from `--no-sync` (on without it).
 pub fn run_with<I, T>(args: I, registry: &WeightRegistry) -> ExitCode
 where
     I: IntoIterator<Item = T>,
@@ -304,6 +306,7 @@ where
             Err(err) => return usage_error(&err),
         },
     };
+    // Process-wide: every call sets it from its own command line.
     beltrami_io::set_flush_to_disk(!cli.global.no_sync);
     let mut stdout = std::io::stdout().lock();
     let result = match &cli.command {

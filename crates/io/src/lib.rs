@@ -64,7 +64,8 @@
 //!   file's declared counts without reading its elements.
 //! - **Atomic writes.** [`write_mesh`], [`write_ply`], [`write_height_map`] and
 //!   [`write_bytes_atomic`] write a temporary file beside the target, flush it to
-//!   disk, rename it over the target and flush the directory; on any error the target is untouched and the temporary
+//!   disk, rename it over the target and flush the directory (the flushes unless
+//!   [`set_flush_to_disk`]`(false)`); on any error the target is untouched and the temporary
 //!   file removed, and a killed process leaves the old file or the new one, whole.
 //!   [`stage_mesh`], [`stage_ply`] and [`stage_bytes`] stop before the rename, so that
 //!   a command with several outputs replaces all of them or none

@@ -84,8 +84,7 @@ pub(super) fn sweep_edges(
     );
     // A ring with room for a batch's rows besides the span: batches are then added at
     // once.
-    // Compiled for the widest vector instructions the processor has (the same bits in
-    // any).
+    // Compiled for AVX2 where the processor has it (the same bits either way).
     let arch = arch();
     match ring_for(span, BATCH) {
         Some(0) => in_ring::<{ RINGS[0] }>(span, |ring| {
@@ -314,7 +313,7 @@ mod tests {
         }
     }
 
-    /// The sweep compiled for the processor's widest vectors has the bits of its SSE2
+    /// The sweep compiled for AVX2 (where the processor has it) has the bits of its SSE2
     /// version, split into ranges and units or not.
     #[test]
     fn the_bits_do_not_depend_on_the_vector_width() {

@@ -306,8 +306,7 @@ fn sweep_in_ring<const R: usize, const SCALED: bool>(
     finished: Finished<'_>,
 ) -> Result<(), Decline> {
     in_ring::<R>(scatter.sweep.span, |ring| {
-        // Compiled for the widest vector instructions the processor has (the same
-        // bits in any).
+        // Compiled for AVX2 where the processor has it (the same bits either way).
         arch().dispatch(|| scatter_in_ring::<R, SCALED>(scatter, finished, ring))
     })
 }
@@ -579,7 +578,7 @@ mod tests {
         }
     }
 
-    /// The sweep compiled for the processor's widest vectors has the bits of its SSE2
+    /// The sweep compiled for AVX2 (where the processor has it) has the bits of its SSE2
     /// version, at unit scale and scaled.
     #[test]
     fn the_bits_do_not_depend_on_the_vector_width() {

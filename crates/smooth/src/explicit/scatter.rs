@@ -124,8 +124,9 @@ thread_local! {
     static RING: std::cell::RefCell<Vec<P4>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// The instruction set a scattered sweep is compiled for, chosen at run time: the
-/// widest vector extension the processor has (AVX2, AVX-512) or plain SSE2. The sweeps
+/// The instruction set a scattered sweep is compiled for, chosen at run time: AVX2
+/// (with FMA, which the sweeps do not use) where the processor has it, else plain
+/// SSE2. The sweeps
 /// do the same operations in the same order in any of them (no fused multiply-adds), so
 /// their bits do not depend on it (tested against SSE2).
 pub(super) fn arch() -> pulp::Arch {
@@ -266,13 +267,22 @@ pub(super) mod tests {
         pub(in super::super) static SSE2_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     }
 
-    /// `f` run with the sweeps compiled for the processor's widest vectors, then for
+    /// `f` run with the sweeps compiled for AVX2 (where the processor has it), then for
     /// SSE2 alone.
+    /// The override is per thread: `f` must sweep on the calling thread.
     pub(in super::super) fn native_and_sse2<T>(f: impl Fn() -> T) -> (T, T) {
+        /// Clears the override when dropped, also when `f` panics.
+        struct Reset;
+        impl Drop for Reset {
+            fn drop(&mut self) {
+                SSE2_ONLY.with(|c| c.set(false));
+            }
+        }
         let native = f();
         SSE2_ONLY.with(|c| c.set(true));
+        let reset = Reset;
         let sse2 = f();
-        SSE2_ONLY.with(|c| c.set(false));
+        drop(reset);
         (native, sse2)
     }
 
