@@ -21,7 +21,7 @@ use std::io::Write;
 use std::process::ExitCode;
 
 use beltrami_weights::WeightRegistry;
-use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod compare;
 mod decimate;
@@ -194,46 +194,22 @@ type Augment = fn(clap::Command) -> clap::Command;
 /// line whose first argument names one of them is parsed by a command holding that
 /// subcommand alone ([`parse_lean`]).
 const SUBCOMMANDS: [(&str, Augment); 16] = [
-    ("info", <info::InfoArgs as clap::Args>::augment_args),
-    ("repair", <repair::RepairArgs as clap::Args>::augment_args),
-    ("smooth", <smooth::SmoothArgs as clap::Args>::augment_args),
-    ("render", <render::RenderArgs as clap::Args>::augment_args),
-    (
-        "compare",
-        <compare::CompareArgs as clap::Args>::augment_args,
-    ),
-    ("fit", <fit::FitArgs as clap::Args>::augment_args),
-    (
-        "residual",
-        <residual::ResidualArgs as clap::Args>::augment_args,
-    ),
-    (
-        "generate",
-        <generate::GenerateArgs as clap::Args>::augment_args,
-    ),
-    (
-        "subdivide",
-        <subdivide::SubdivideArgs as clap::Args>::augment_args,
-    ),
-    (
-        "delaunay",
-        <delaunay::DelaunayArgs as clap::Args>::augment_args,
-    ),
-    ("remesh", <remesh::RemeshArgs as clap::Args>::augment_args),
-    (
-        "fill-holes",
-        <fill_holes::FillHolesArgs as clap::Args>::augment_args,
-    ),
-    (
-        "decimate",
-        <decimate::DecimateArgs as clap::Args>::augment_args,
-    ),
-    (
-        "operator",
-        <operator::OperatorArgs as clap::Args>::augment_args,
-    ),
-    ("study", <study::StudyArgs as clap::Args>::augment_args),
-    ("schemes", <SchemesArgs as clap::Args>::augment_args),
+    ("info", info::InfoArgs::augment_args),
+    ("repair", repair::RepairArgs::augment_args),
+    ("smooth", smooth::SmoothArgs::augment_args),
+    ("render", render::RenderArgs::augment_args),
+    ("compare", compare::CompareArgs::augment_args),
+    ("fit", fit::FitArgs::augment_args),
+    ("residual", residual::ResidualArgs::augment_args),
+    ("generate", generate::GenerateArgs::augment_args),
+    ("subdivide", subdivide::SubdivideArgs::augment_args),
+    ("delaunay", delaunay::DelaunayArgs::augment_args),
+    ("remesh", remesh::RemeshArgs::augment_args),
+    ("fill-holes", fill_holes::FillHolesArgs::augment_args),
+    ("decimate", decimate::DecimateArgs::augment_args),
+    ("operator", operator::OperatorArgs::augment_args),
+    ("study", study::StudyArgs::augment_args),
+    ("schemes", SchemesArgs::augment_args),
 ];
 
 /// The command with only the subcommand `name` and its arguments (the same as in
@@ -242,7 +218,7 @@ const SUBCOMMANDS: [(&str, Augment); 16] = [
 fn lean_command(name: &str, registry: &WeightRegistry) -> Option<clap::Command> {
     let (name, augment) = SUBCOMMANDS.iter().find(|(n, _)| *n == name)?;
     let sub = with_scheme_list(augment(clap::Command::new(*name)), registry);
-    Some(<GlobalArgs as clap::Args>::augment_args(clap::Command::new("beltrami")).subcommand(sub))
+    Some(GlobalArgs::augment_args(clap::Command::new("beltrami")).subcommand(sub))
 }
 
 /// Parses a command line that names a subcommand and parses without error, help or
