@@ -168,9 +168,9 @@ fn schemes(
 /// The clap command with the schemes of `registry` listed in the help of
 /// `smooth --weights` and `study --weights`.
 fn command(registry: &WeightRegistry) -> clap::Command {
-    Cli::command()
-        .mut_subcommand("smooth", |c| with_scheme_list(c, registry))
-        .mut_subcommand("study", |c| with_scheme_list(c, registry))
+    // Every subcommand in its place (`mut_subcommand` would move the two to the end of
+    // the list that clap's errors print).
+    Cli::command().mut_subcommands(|c| with_scheme_list(c, registry))
 }
 
 /// `smooth` or `study` (any other subcommand is returned as it is) with the schemes
