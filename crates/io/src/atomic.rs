@@ -204,7 +204,7 @@ impl StagedFile {
 /// each directory once, after the last rename into it: a command writing its mesh and
 /// its report into one directory flushes that directory once instead of twice. (One
 /// by one, each file was durable before the next was renamed; here all are once the
-/// call returns.)
+/// call returns `Ok`, flushing on.)
 ///
 /// # Errors
 /// The index in `files` of the file that failed, with its error. When a rename fails,

@@ -126,7 +126,8 @@ thread_local! {
 
 /// The instruction set a scattered sweep is compiled for, chosen at run time: AVX2
 /// (with FMA, which the sweeps do not use) where the processor has it, else plain
-/// SSE2. The sweeps
+/// SSE2; AVX-512 where pulp's `x86-v4` feature is on, as in the workspace's test builds
+/// (through `beltrami-halfedge`'s bench). The sweeps
 /// do the same operations in the same order in any of them (no fused multiply-adds), so
 /// their bits do not depend on it (tested against SSE2).
 pub(super) fn arch() -> pulp::Arch {
