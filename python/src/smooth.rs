@@ -204,10 +204,11 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// - `summation`: `"rows"` (each vertex's weighted neighbours summed around its
 ///   one-ring, OpenMesh's bits; the default) or `"scatter"` (each triangle's
 ///   cotangents, or each edge's inverse distance, computed once and added into its
-///   vertices' sums: 9 to 30 % less time per iteration with inverse distances, 5 to
-///   21 % less with cotangents; the same results to rounding but not bit for bit; only for `weights="cotangent"`
-///   with `cotangent_negative="keep"` or `weights="distance"`, with `update="every"`,
-///   `normalize="sum"`, `method="explicit"`, no `preserve_volume`).
+///   vertices' sums: 22 to 47 % less time per iteration with inverse distances, 11
+///   to 36 % less with cotangents; the same results to rounding but not bit for bit;
+///   only for `weights="cotangent"` with `cotangent_negative="keep"` or
+///   `weights="distance"`, with `update="every"`, `normalize="sum"`,
+///   `method="explicit"`, no `preserve_volume`).
 /// - `time` (length²) or `cutoff` (Gaussian cut-off wavelength): diffuse for a
 ///   physical time instead of a count; `until_change`: stop once no vertex moves
 ///   farther than this.

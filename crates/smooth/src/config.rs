@@ -140,9 +140,9 @@ pub enum Summation {
     /// one square root and one division instead of one at each end. It needs weight-sum
     /// normalisation, weights recomputed every iteration ([`WeightUpdate::Every`]) and
     /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
-    /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 9 to
-    /// 30 % less time with inverse distances and 5 to 21 % less with cotangents
-    /// (docs/performance.md, ninth round). The results are [`Rows`](Self::Rows)' to
+    /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 22 to
+    /// 47 % less time with inverse distances and 11 to 36 % less with cotangents on the
+    /// paper's surfaces and the level-8 sphere (docs/performance.md, tenth round). The results are [`Rows`](Self::Rows)' to
     /// rounding, not bit for bit: each row is summed in another order (so the last bits
     /// also follow the internal vertex order, [`Reorder`]), and each cotangent rounds
     /// differently from the per-corner formula

@@ -69,8 +69,8 @@ pub(crate) struct SmoothArgs {
     /// How each vertex's weighted neighbours are summed: rows (around each vertex's
     /// one-ring, as OpenMesh does, with OpenMesh's bits; the default) or scatter (each
     /// triangle's three cotangents, or each edge's inverse distance, computed once and
-    /// added into its vertices' sums: 9 to 30 % less time per iteration with inverse
-    /// distances, 5 to 21 % less with cotangents; the same results to rounding but not
+    /// added into its vertices' sums: 22 to 47 % less time per iteration with inverse
+    /// distances, 11 to 36 % less with cotangents; the same results to rounding but not
     /// bit for bit). scatter applies to
     /// --weights cotangent (with --cotangent-negative keep) and --weights distance, with
     /// --update every, --normalize sum and --method explicit, without

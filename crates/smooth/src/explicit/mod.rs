@@ -263,15 +263,6 @@ fn compound_buffers(
     (copy(compound), copy(hc), push_back)
 }
 
-/// Whether `scheme` is one of the built-in schemes, whose rows the operator can
-/// recompute without the mesh ([`Laplacian::detach`]).
-fn built_in(scheme: &dyn WeightScheme) -> bool {
-    let any: &dyn std::any::Any = scheme;
-    any.is::<beltrami_weights::Uniform>()
-        || any.is::<beltrami_weights::InverseDistance>()
-        || any.is::<beltrami_weights::Cotangent>()
-}
-
 /// Whether a run's stale weights are computed inside the sweep: plain diffusion only
 /// (a compound step reads the operator between its sweeps).
 fn fuses(config: &SmoothConfig) -> bool {
@@ -515,7 +506,7 @@ impl<'a> Explicit<'a> {
         let store_later = !lean
             && mesh_given
             && config.duration.is_none()
-            && built_in(scheme)
+            && Laplacian::detaches(scheme)
             && mesh.is_triangle_mesh();
         let laplacian = if lean || store_later {
             Laplacian::new_without_weights(&mesh, &positions, scheme, config.laplacian)

@@ -204,6 +204,17 @@ impl Laplacian {
         true
     }
 
+    /// Whether [`detach`](Self::detach) can take `scheme` at all: one of this crate's
+    /// built-in schemes ([`Uniform`](crate::Uniform),
+    /// [`InverseDistance`](crate::InverseDistance), [`Cotangent`](crate::Cotangent)),
+    /// whose rows the operator recomputes without the mesh. A scheme of your own reads
+    /// the mesh. (`detach` may still decline for the mesh: polygon faces, repeated
+    /// neighbours.)
+    #[must_use]
+    pub fn detaches(scheme: &dyn WeightScheme) -> bool {
+        BuiltIn::of(scheme).is_some()
+    }
+
     /// Whether [`detach`](Self::detach) made the operator able to recompute its rows
     /// without the mesh.
     #[must_use]
