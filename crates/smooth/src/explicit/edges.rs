@@ -5,7 +5,6 @@
 
 use beltrami_halfedge::DVec3;
 use beltrami_weights::DISTANCE_EPSILON;
-use wide::f64x2;
 
 use super::rows::RowSweep;
 use super::scatter::{Decline, Finished, Order, P4, RINGS, arch, in_ring, ring_for};
@@ -109,43 +108,30 @@ pub(super) fn sweep_edges(
 /// Edges whose weights are computed together before they are scattered.
 const BATCH: usize = 32;
 
-/// A row's open sums in two pairs of lanes, `(Σ w·x, Σ w·y)` and `(Σ w·z, Σ w)`.
-#[derive(Clone, Copy)]
-struct Open {
-    xy: f64x2,
-    zw: f64x2,
-}
-
-impl Open {
-    #[inline(always)]
-    fn load(p: &P4) -> Self {
-        Self {
-            xy: f64x2::new([p[0], p[1]]),
-            zw: f64x2::new([p[2], p[3]]),
-        }
-    }
-
-    #[inline(always)]
-    fn to_p4(self) -> P4 {
-        let [a, b] = self.xy.to_array();
-        let [c, d] = self.zw.to_array();
-        [a, b, c, d]
-    }
-
-    /// `self + w · (p, 1)`, lane by lane (a multiplication, then an addition).
-    #[inline(always)]
-    fn add(self, w: f64x2, p: DVec3) -> Self {
-        Self {
-            xy: self.xy + w * f64x2::new([p.x, p.y]),
-            zw: self.zw + w * f64x2::new([p.z, 1.0]),
-        }
-    }
-}
-
-/// `acc += w · (p, 1)` in the ring.
+/// `(p, 1)`: a point widened so that the operation adding `w · p` to a row's sums adds
+/// `w` to its weight sum.
 #[inline(always)]
-fn add_to(acc: &mut P4, w: f64x2, p: DVec3) {
-    *acc = Open::load(acc).add(w, p).to_p4();
+fn widen(p: DVec3) -> P4 {
+    [p.x, p.y, p.z, 1.0]
+}
+
+/// `a + b`, lane by lane.
+#[inline(always)]
+fn sum(a: P4, b: P4) -> P4 {
+    std::array::from_fn(|l| a[l] + b[l])
+}
+
+/// `w · a`, lane by lane.
+#[inline(always)]
+fn times(w: f64, a: P4) -> P4 {
+    a.map(|x| w * x)
+}
+
+/// The reason to give for a decline: [`Decline::Range`] once a length was not finite
+/// (an overflowed square makes a weight sum non-finite too).
+#[inline(always)]
+fn blame(finite: bool) -> impl Fn(Decline) -> Decline {
+    move |e| if finite { e } else { Decline::Range }
 }
 
 /// The scatter of [`sweep_edges`] into `ring` (all zero, `R` > the span); returns the
@@ -168,22 +154,32 @@ fn scatter_edges<const R: usize>(
     let mut v = start;
     let mut batches = edges.chunks(BATCH).peekable();
     while let Some(batch) = batches.next() {
-        // The weights of the batch's edges: the squared lengths, then the weights, each
-        // a loop over the whole batch that the compiler runs in as many lanes as the
-        // vector registers hold (the lanes past a short batch's end are 0 and unused).
-        // The distance is the geometry's plain length `sqrt(dx² + dy² + dz²)` of
-        // `x_j − x_u` (the negation of `x_u − x_j`: the same squares, so the same bits
-        // from either end). A length below the plain range gives the weight 1/ε
-        // exactly, as the exact length does (both are far below ε's last bit); an
-        // infinite one declines.
-        let mut squared = [0.0; BATCH];
-        for (q, &[u, j]) in squared.iter_mut().zip(batch) {
-            let (xu, xj) = (positions[u as usize], positions[j as usize]);
-            let (dx, dy, dz) = (xj.x - xu.x, xj.y - xu.y, xj.z - xu.z);
-            *q = dx * dx + dy * dy + dz * dz;
+        // The batch's weights, four edges at a time: the squared lengths in registers,
+        // then their square roots and divisions together, in as many lanes as the
+        // vector registers hold (edges past a short batch's end repeat its last, and
+        // their weights are unused). The distance is the geometry's plain length
+        // `sqrt(dx² + dy² + dz²)` of `x_j − x_u` (the negation of `x_u − x_j`: the same
+        // squares, so the same bits from either end). A length below the plain range
+        // gives the weight 1/ε exactly, as the exact length does (both are far below
+        // ε's last bit); an infinite one declines. Whether every squared length is
+        // finite is tested in lanes: `q − q` is 0 for a finite `q`, NaN for an infinite
+        // or NaN one.
+        let last = batch.len() - 1;
+        let mut w = [0.0; BATCH];
+        let mut z = [0.0; 4];
+        for g in 0..BATCH / 4 {
+            let q: [f64; 4] = std::array::from_fn(|l| {
+                let [u, j] = batch[(4 * g + l).min(last)];
+                let (xu, xj) = (positions[u as usize], positions[j as usize]);
+                let (dx, dy, dz) = (xj.x - xu.x, xj.y - xu.y, xj.z - xu.z);
+                dx * dx + dy * dy + dz * dz
+            });
+            for l in 0..4 {
+                z[l] += q[l] - q[l];
+                w[4 * g + l] = 1.0 / (q[l].sqrt() + DISTANCE_EPSILON);
+            }
         }
-        finite &= squared.iter().fold(true, |ok, &q| ok & (q < f64::INFINITY));
-        let w: [f64; BATCH] = std::array::from_fn(|k| 1.0 / (squared[k].sqrt() + DISTANCE_EPSILON));
+        finite &= z.iter().all(|&z| z == 0.0);
         // Rows whose edges have all been added are complete: every row before the
         // batch's first smaller vertex (finished after the previous batch, but before
         // the first). The rows open while the batch is added then lie between that
@@ -191,51 +187,46 @@ fn scatter_edges<const R: usize>(
         // batch crosses a run of vertices without edges to higher ones, such as
         // isolated vertices) the batch is added at once, else edge by edge, finishing
         // the rows before each edge's smaller vertex.
-        let (first_u, last_u) = (batch[0][0] as usize, batch[batch.len() - 1][0] as usize);
-        finished.rows_until(ring, &mut v, first_u, |e| {
-            if finite { e } else { Decline::Range }
-        })?;
-        let add = |ring: &mut [P4; R], u: usize, j: usize, w: f64| {
-            let w = f64x2::splat(w);
-            let (xu, xj) = (positions[u], positions[j]);
-            add_to(&mut ring[u % R], w, xj);
-            add_to(&mut ring[j % R], w, xu);
-        };
+        let (first_u, last_u) = (batch[0][0] as usize, batch[last][0] as usize);
+        finished.rows_until(ring, &mut v, first_u, blame(finite))?;
         if last_u - first_u + sweep.span < R {
             debug_assert!(last_u + sweep.span < v + R);
+            // The row of the smaller vertex is summed in registers while its edges
+            // follow one another, and stored when the next vertex's edges begin: the
+            // same additions in the same order, without a store and a load of the
+            // same slot between two of them. Its edges' other ends are larger and
+            // within the span (so in other slots).
+            let mut at = first_u;
+            let mut open = ring[at % R];
+            let mut xu = widen(positions[at]);
             for (&[u, j], &w) in batch.iter().zip(&w) {
-                add(ring, u as usize, j as usize, w);
+                let (u, j) = (u as usize, j as usize);
+                if u != at {
+                    ring[at % R] = open;
+                    at = u;
+                    open = ring[at % R];
+                    xu = widen(positions[u]);
+                }
+                open = sum(open, times(w, widen(positions[j])));
+                let larger = &mut ring[j % R];
+                *larger = sum(*larger, times(w, xu));
             }
+            ring[at % R] = open;
         } else {
             for (&[u, j], &w) in batch.iter().zip(&w) {
-                finished.rows_until(ring, &mut v, u as usize, |e| {
-                    if finite { e } else { Decline::Range }
-                })?;
-                add(ring, u as usize, j as usize, w);
+                let (u, j) = (u as usize, j as usize);
+                finished.rows_until(ring, &mut v, u, blame(finite))?;
+                ring[u % R] = sum(ring[u % R], times(w, widen(positions[j])));
+                ring[j % R] = sum(ring[j % R], times(w, widen(positions[u])));
             }
         }
         // The rows before the next batch's first smaller vertex are complete now.
         let next = batches.peek().map_or(end, |b| b[0][0] as usize);
-        finished.rows_until(
-            ring,
-            &mut v,
-            next,
-            |e| {
-                if finite { e } else { Decline::Range }
-            },
-        )?;
+        finished.rows_until(ring, &mut v, next, blame(finite))?;
     }
-    finished.rows_until(
-        ring,
-        &mut v,
-        end,
-        |e| {
-            if finite { e } else { Decline::Range }
-        },
-    )?;
+    finished.rows_until(ring, &mut v, end, blame(finite))?;
     if finite { Ok(end) } else { Err(Decline::Range) }
 }
-
 #[cfg(test)]
 mod tests {
     use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId, primitives};
