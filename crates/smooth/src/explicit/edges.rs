@@ -162,7 +162,7 @@ fn scatter_edges<const R: usize>(
         // squares, so the same bits from either end). A length below the plain range
         // gives the weight 1/ε exactly, as the exact length does (both are far below
         // ε's last bit); an infinite one declines. Whether every squared length is
-        // finite is tested in lanes: `q − q` is 0 for a finite `q`, NaN for an infinite
+        // finite is tested in lanes: `0 · q` is 0 for a finite `q`, NaN for an infinite
         // or NaN one.
         let last = batch.len() - 1;
         let mut w = [0.0; BATCH];
@@ -175,7 +175,7 @@ fn scatter_edges<const R: usize>(
                 dx * dx + dy * dy + dz * dz
             });
             for l in 0..4 {
-                z[l] += q[l] - q[l];
+                z[l] += q[l] * 0.0;
                 w[4 * g + l] = 1.0 / (q[l].sqrt() + DISTANCE_EPSILON);
             }
         }
