@@ -102,6 +102,41 @@ fn reaches_the_target_exactly_and_keeps_the_topology() {
     }
 }
 
+/// A target at or above the vertex count collapses nothing, and the default run (fit
+/// included) gives the input back: the same faces, every position bit for bit.
+#[test]
+fn a_target_above_the_vertex_count_gives_the_input_back() {
+    let sphere = noisy_icosphere();
+    let mesh = sphere.mesh().unwrap();
+    let n = mesh.n_vertices();
+    for target in [n, n + 1, 10 * n] {
+        let (out, positions, report) = decimate(
+            &mesh,
+            &sphere.positions,
+            &DecimateOptions::default().vertices(target),
+        )
+        .unwrap();
+        assert_eq!(report.collapses, 0);
+        assert_eq!(report.fit_rounds, 0);
+        assert!(report.target_reached);
+        // The measurement's surface samples round (an output identical to the input).
+        assert!(report.hausdorff < 1e-12, "{}", report.hausdorff);
+        assert_eq!(out.n_vertices(), n);
+        let bits = |p: &[DVec3]| {
+            p.iter()
+                .map(|q| q.to_array().map(f64::to_bits))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&positions), bits(&sphere.positions));
+        let faces = |m: &HalfedgeMesh| {
+            m.faces()
+                .map(|f| m.triangle_vertices(f))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(faces(&out), faces(&mesh));
+    }
+}
+
 #[test]
 fn endpoint_placement_keeps_input_positions() {
     let p = noisy_icosphere();

@@ -220,8 +220,8 @@ pub struct DecimateOptions {
     /// input's triangles (inside the faces' error band), so distances measured at the
     /// vertices alone rise. Only with [`Placement::Optimal`] and without
     /// [`DecimateOptions::max_distance`] and [`DecimateOptions::max_normal_deviation`],
-    /// whose bounds follow collapses only; otherwise no fit is made. At most
-    /// [`MAX_FIT_ROUNDS`].
+    /// whose bounds follow collapses only; otherwise no fit is made. Nor when nothing was
+    /// collapsed: every vertex is then an input vertex. At most [`MAX_FIT_ROUNDS`].
     pub fit_rounds: usize,
 }
 
@@ -813,7 +813,11 @@ pub fn decimate_with_progress(
     };
     // The conversion compacts the live elements as a garbage collection would.
     let (out, mut out_positions) = edit.into_mesh()?;
-    let fit = if options.fits() && out.n_faces() > 0 {
+    // Without a collapse every vertex is an input vertex on the input's surface: a fit
+    // could only move it by rounding (a target at or above the vertex count returns the
+    // input's positions bit for bit).
+    let collapsed = out.n_vertices() < mesh.n_vertices();
+    let fit = if options.fits() && out.n_faces() > 0 && collapsed {
         Some(fit::fit_to_input(
             &out,
             &mut out_positions,
