@@ -117,7 +117,8 @@ fn a_target_above_the_vertex_count_gives_the_input_back() {
         )
         .unwrap();
         assert_eq!(report.collapses, 0);
-        assert_eq!(report.fit_rounds, 0);
+        assert_eq!((report.flips, report.fit_rounds), (0, 0));
+        assert_eq!((report.fit_rms_before, report.fit_rms_after), (0.0, 0.0));
         assert!(report.target_reached);
         // The measurement's surface samples round (an output identical to the input).
         assert!(report.hausdorff < 1e-12, "{}", report.hausdorff);
@@ -135,6 +136,28 @@ fn a_target_above_the_vertex_count_gives_the_input_back() {
         };
         assert_eq!(faces(&out), faces(&mesh));
     }
+}
+
+/// Below the vertex count, with an error bound no collapse meets: nothing is collapsed,
+/// so nothing is fitted either, and the positions come back bit for bit.
+#[test]
+fn a_bound_no_collapse_meets_leaves_the_positions_alone() {
+    let sphere = noisy_icosphere();
+    let mesh = sphere.mesh().unwrap();
+    let options = DecimateOptions::default()
+        .vertices(mesh.n_vertices() / 2)
+        .max_error(1e-300);
+    let (out, positions, report) = decimate(&mesh, &sphere.positions, &options).unwrap();
+    assert_eq!(report.collapses, 0);
+    assert_eq!(report.stop, DecimateStop::NoCollapseLeft);
+    assert_eq!(report.fit_rounds, 0);
+    assert_eq!(out.n_vertices(), mesh.n_vertices());
+    let bits = |p: &[DVec3]| {
+        p.iter()
+            .map(|q| q.to_array().map(f64::to_bits))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&positions), bits(&sphere.positions));
 }
 
 #[test]

@@ -87,7 +87,8 @@ pub(crate) struct DecimateArgs {
     /// triangles, keeping every triangle's orientation and shape (quality 0.3, or no
     /// worse); 0 turns it off (default 2, at most 100). No fit with --placement endpoint,
     /// --max-distance or --max-normal-deviation, so a count above 0 given with any of
-    /// them is refused.
+    /// them is refused; none either when nothing was collapsed (the report then says 0
+    /// rounds).
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     fit_rounds: Option<usize>,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint

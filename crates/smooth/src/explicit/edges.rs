@@ -227,6 +227,7 @@ fn scatter_edges<const R: usize>(
     finished.rows_until(ring, &mut v, end, blame(finite))?;
     if finite { Ok(end) } else { Err(Decline::Range) }
 }
+
 #[cfg(test)]
 mod tests {
     use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId, primitives};
@@ -410,9 +411,13 @@ mod tests {
                 sweep(&order, &huge, &[0, n], 64).err(),
                 Some(Decline::Range)
             );
-            let mut nan = x.clone();
-            nan[n / 2].x = f64::NAN;
-            assert_eq!(sweep(&order, &nan, &[0, n], 64).err(), Some(Decline::Range));
+            // A NaN in the middle, and at the last vertex (whose edges are in the last,
+            // short batch, whose lanes past its end repeat its last edge).
+            for at in [n / 2, n - 1] {
+                let mut nan = x.clone();
+                nan[at].x = f64::NAN;
+                assert_eq!(sweep(&order, &nan, &[0, n], 64).err(), Some(Decline::Range));
+            }
         }
     }
 }
