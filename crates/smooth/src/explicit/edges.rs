@@ -411,8 +411,7 @@ mod tests {
                 sweep(&order, &huge, &[0, n], 64).err(),
                 Some(Decline::Range)
             );
-            // A NaN in the middle, and at the last vertex (whose edges are in the last,
-            // short batch, whose lanes past its end repeat its last edge).
+            // A NaN in the middle, and at the last vertex (the last row finished).
             for at in [n / 2, n - 1] {
                 let mut nan = x.clone();
                 nan[at].x = f64::NAN;
