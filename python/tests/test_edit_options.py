@@ -158,3 +158,16 @@ def test_write_refuses_a_write_protected_file_without_force(ico, tmp_path):
         assert len(bt.read(target).vertices) == len(ico.vertices)
     finally:
         os.chmod(target, stat.S_IRUSR | stat.S_IWUSR)
+
+
+def test_write_without_sync_writes_the_same_bytes_and_no_temporary_file(ico, tmp_path):
+    parameter = inspect.signature(bt.write).parameters["sync"]
+    assert parameter.default is True and parameter.kind is inspect.Parameter.KEYWORD_ONLY
+    synced, unsynced = tmp_path / "synced.ply", tmp_path / "unsynced.ply"
+    bt.write(synced, ico)
+    bt.write(unsynced, ico, sync=False)
+    assert unsynced.read_bytes() == synced.read_bytes()
+    # Replacing a file without the flushes, too (the rename stays atomic).
+    bt.write(unsynced, bt.generate("sphere", level=1), sync=False)
+    assert len(bt.read(unsynced).vertices) == 42
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["synced.ply", "unsynced.ply"]

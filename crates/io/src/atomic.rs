@@ -89,10 +89,36 @@ pub fn set_flush_to_disk(flush: bool) {
     FLUSH.store(flush, Ordering::Relaxed);
 }
 
-/// Whether staged and atomic writes flush to disk ([`set_flush_to_disk`]).
+thread_local! {
+    /// This thread's choice, which overrides [`FLUSH`] while set ([`with_flush_to_disk`]).
+    static FLUSH_HERE: std::cell::Cell<Option<bool>> = const { std::cell::Cell::new(None) };
+}
+
+/// Runs `f` with this thread's staged and atomic writes flushing to disk or not, as
+/// `flush` says, whatever [`set_flush_to_disk`] set for the process (what `flush = false`
+/// gives up is said there). The thread's previous choice comes back when `f` returns or
+/// panics. For a choice per call, where the process-wide switch would reach other
+/// threads' writes too (Python's `write(..., sync=False)`); writes that `f` hands to
+/// other threads keep the process's setting.
+pub fn with_flush_to_disk<T>(flush: bool, f: impl FnOnce() -> T) -> T {
+    /// Puts the thread's previous choice back when dropped, also when `f` panics.
+    struct Restore(Option<bool>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            FLUSH_HERE.with(|here| here.set(self.0));
+        }
+    }
+    let _restore = Restore(FLUSH_HERE.with(|here| here.replace(Some(flush))));
+    f()
+}
+
+/// Whether staged and atomic writes flush to disk: this thread's choice inside
+/// [`with_flush_to_disk`], else the process's ([`set_flush_to_disk`]).
 #[must_use]
 pub fn flushes_to_disk() -> bool {
-    FLUSH.load(Ordering::Relaxed)
+    FLUSH_HERE
+        .with(std::cell::Cell::get)
+        .unwrap_or_else(|| FLUSH.load(Ordering::Relaxed))
 }
 
 fn live() -> MutexGuard<'static, Registry> {
@@ -639,6 +665,27 @@ pub fn write_bytes_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), Io
 
 #[cfg(test)]
 mod tests {
+    /// The choice holds inside the call only, nests, comes back after a panic, and does
+    /// not reach another thread. (The process-wide switch is left on: other tests of
+    /// this binary write files.)
+    #[test]
+    fn a_thread_s_choice_holds_inside_the_call_only() {
+        assert!(flushes_to_disk());
+        with_flush_to_disk(false, || {
+            assert!(!flushes_to_disk());
+            with_flush_to_disk(true, || assert!(flushes_to_disk()));
+            assert!(!flushes_to_disk());
+            let other = std::thread::spawn(flushes_to_disk).join().unwrap();
+            assert!(other, "another thread keeps the process's setting");
+        });
+        assert!(flushes_to_disk());
+        let panicked = std::panic::catch_unwind(|| {
+            with_flush_to_disk(false, || panic!("inside"));
+        });
+        assert!(panicked.is_err());
+        assert!(flushes_to_disk());
+    }
+
     use super::*;
 
     fn temporaries(dir: &Path) -> Vec<String> {

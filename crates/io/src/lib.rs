@@ -93,7 +93,7 @@ mod write;
 pub use atomic::{
     StagedDir, StagedFile, check_writable, commit_staged, flushes_to_disk, remove_staged_files,
     resolve_target, set_flush_to_disk, stage_bytes, stage_dir, stage_mesh, stage_ply, stage_with,
-    write_bytes_atomic,
+    with_flush_to_disk, write_bytes_atomic,
 };
 pub use beltrami_halfedge::MeshData;
 pub use beltrami_halfedge::PolygonList;

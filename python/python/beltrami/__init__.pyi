@@ -64,9 +64,12 @@ def write(
     *,
     ascii: bool = False,
     force: bool = False,
+    sync: bool = True,
 ) -> None:
     """Writes a mesh file; the format follows the extension. A write-protected file
-    is replaced only with `force=True` (PermissionError otherwise)."""
+    is replaced only with `force=True` (PermissionError otherwise). `sync=False` leaves
+    out the flushes to disk (the file is still replaced atomically; a power loss soon
+    after may leave the old or a partial file)."""
 
 def info(mesh: Mesh) -> dict[str, Any]:
     """Counts, topology and geometry, with the keys of `beltrami info --json`."""
