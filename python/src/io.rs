@@ -92,8 +92,8 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
 /// A write-protected file is replaced only with `force=True`, as the commands replace
 /// one only with `--force`.
 ///
-/// The file and its directory are flushed to disk (fsync) before and after the rename,
-/// so that the new file survives a power loss. `sync=False` leaves the flushes out, as
+/// The file is flushed to disk (fsync) before the rename and its directory after it, so
+/// that the new file survives a power loss. `sync=False` leaves the flushes out, as
 /// the commands' `--no-sync` does: the target is still replaced by a rename (an
 /// interrupted call leaves it untouched), but a power loss or operating-system crash
 /// soon after may leave the old file, an empty one or a partly written one there, and a
@@ -151,8 +151,10 @@ pub(crate) fn write(
             path.display()
         )));
     }
-    // The choice is this thread's, for this call only: other threads' writes keep
-    // flushing.
+    // The choice is this thread's (the pool worker `no_panic` runs the write on), for this
+    // call only: other threads' writes keep flushing. The write path starts no parallel
+    // work; if it did, a worker waiting inside it could run another queued call (a
+    // study's staged directory, say) under this choice.
     py.detach(|| {
         no_panic(|| {
             beltrami_io::with_flush_to_disk(sync, || match &attributes {

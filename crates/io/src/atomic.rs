@@ -665,27 +665,6 @@ pub fn write_bytes_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), Io
 
 #[cfg(test)]
 mod tests {
-    /// The choice holds inside the call only, nests, comes back after a panic, and does
-    /// not reach another thread. (The process-wide switch is left on: other tests of
-    /// this binary write files.)
-    #[test]
-    fn a_thread_s_choice_holds_inside_the_call_only() {
-        assert!(flushes_to_disk());
-        with_flush_to_disk(false, || {
-            assert!(!flushes_to_disk());
-            with_flush_to_disk(true, || assert!(flushes_to_disk()));
-            assert!(!flushes_to_disk());
-            let other = std::thread::spawn(flushes_to_disk).join().unwrap();
-            assert!(other, "another thread keeps the process's setting");
-        });
-        assert!(flushes_to_disk());
-        let panicked = std::panic::catch_unwind(|| {
-            with_flush_to_disk(false, || panic!("inside"));
-        });
-        assert!(panicked.is_err());
-        assert!(flushes_to_disk());
-    }
-
     use super::*;
 
     fn temporaries(dir: &Path) -> Vec<String> {
@@ -785,5 +764,26 @@ mod tests {
         check_writable(dir.path().join("out.ply")).unwrap();
         assert!(check_writable(dir.path()).is_err());
         assert!(temporaries(dir.path()).is_empty());
+    }
+
+    /// The choice holds inside the call only, nests, comes back after a panic, and does
+    /// not reach another thread. (The process-wide switch is left on: other tests of
+    /// this binary write files.)
+    #[test]
+    fn a_thread_s_choice_holds_inside_the_call_only() {
+        assert!(flushes_to_disk());
+        with_flush_to_disk(false, || {
+            assert!(!flushes_to_disk());
+            with_flush_to_disk(true, || assert!(flushes_to_disk()));
+            assert!(!flushes_to_disk());
+            let other = std::thread::spawn(flushes_to_disk).join().unwrap();
+            assert!(other, "another thread keeps the process's setting");
+        });
+        assert!(flushes_to_disk());
+        let panicked = std::panic::catch_unwind(|| {
+            with_flush_to_disk(false, || panic!("inside"));
+        });
+        assert!(panicked.is_err());
+        assert!(flushes_to_disk());
     }
 }
