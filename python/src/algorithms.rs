@@ -394,10 +394,11 @@ pub(crate) fn remesh<'py>(
 /// positions, as `decimate --plane-weights/--stabilizer`; `flip_tolerance` (default 0.2,
 /// 0 turns it off) lets edges be flipped towards valence 6 after the collapses where the
 /// surface moves by at most that fraction of the largest collapse error, as
-/// `decimate --flip-tolerance`; `fit_rounds` (default 2, 0 turns it off, at most 100) rounds of the
-/// final fit that moves the vertices to bring the surface closer to the input (none when
-/// nothing was collapsed), as `decimate --fit-rounds`; `distance=False` skips measuring the Hausdorff distance
-/// (the three `hausdorff` keys are then None), as `decimate --no-distance`;
+/// `decimate --flip-tolerance`; `fit_rounds` (default 2, 0 turns it off, at most 100)
+/// rounds of the final fit that moves the vertices to bring the surface closer to the
+/// input (none when nothing was collapsed), as `decimate --fit-rounds`; `distance=False`
+/// skips measuring the Hausdorff distance (the three `hausdorff` keys are then None), as
+/// `decimate --no-distance`;
 /// `progress=True` shows a tqdm bar of the collapses when tqdm is installed. `None`
 /// means the default. Returns
 /// `(Mesh, report)`, the report with the keys of `decimate --json` (without the file

@@ -142,10 +142,10 @@ pub enum Summation {
     /// plain explicit diffusion ([`Method::Laplacian`] without volume preservation);
     /// [`SmoothConfig::scatter_unmet`] says what is missing. An iteration takes 22 to
     /// 47 % less time with inverse distances and 11 to 36 % less with cotangents on the
-    /// paper's surfaces and the level-8 sphere (docs/performance.md, tenth round). The results are [`Rows`](Self::Rows)' to
-    /// rounding, not bit for bit: each row is summed in another order (so the last bits
-    /// also follow the internal vertex order, [`Reorder`]), and each cotangent rounds
-    /// differently from the per-corner formula
+    /// paper's surfaces and the level-8 sphere (docs/performance.md, tenth round). The
+    /// results are [`Rows`](Self::Rows)' to rounding, not bit for bit: each row is summed
+    /// in another order (so the last bits also follow the internal vertex order,
+    /// [`Reorder`]), and each cotangent rounds differently from the per-corner formula
     /// OpenMesh uses (an inverse-distance weight has the bits of the rows' weight). A
     /// run that amplifies rounding (negative weights on obtuse triangles over many
     /// iterations) can therefore end farther from OpenMesh's result than rounding.
