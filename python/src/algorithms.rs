@@ -645,8 +645,9 @@ fn refuse_blocked_decimate_steps(
 
 /// Hole filling (Liepa 2003), as `beltrami fill-holes`: each boundary loop of at most
 /// `max_loop_edges` edges (default 500) triangulated by minimum weight, refined to the
-/// surrounding density (`refine`) and faired with the rim fixed (`fair`). The loop with
-/// the longest perimeter is the outer boundary and stays open unless `fill_all`.
+/// surrounding density (`refine`) and faired with the rim fixed (`fair`). In each
+/// connected component the loop with the longest perimeter is that component's outer
+/// boundary and stays open unless `fill_all`.
 /// Returns `(Mesh, report)`: `loops`, `filled` and `skipped` (a dict per loop:
 /// `boundary_edges`, `perimeter`, and `faces_added`, `vertices_added`, `area`,
 /// `faired_order` or the `reason`), `faces_added`, `vertices_added`,

@@ -272,6 +272,90 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
     assert!(closed.is_closed());
 }
 
+/// Two open patches side by side, one with a hole and one without: each patch's outer
+/// boundary stays open (one per component), and only the hole is filled. With a single
+/// "largest loop" for the whole mesh, the second patch's rim was closed into a pillow.
+#[test]
+fn every_components_outer_boundary_stays_open() {
+    let lens = flens(&FLensParams {
+        nx: 24,
+        ny: 12,
+        ..FLensParams::default()
+    });
+    let center =
+        lens.positions.iter().fold(DVec3::ZERO, |s, &p| s + p) / lens.positions.len() as f64;
+    let radius = 0.15
+        * lens
+            .positions
+            .iter()
+            .map(|p| (p.x - center.x).abs())
+            .fold(0.0, f64::max);
+    let (holed, x) = cut(&lens, |f, p| {
+        f.iter().any(|&v| {
+            let q = p[v as usize];
+            (q.x - center.x).hypot(q.y - center.y) < radius
+        })
+    });
+    // The second patch: the whole lens, moved aside by twice its width (its rim is
+    // longer than the first patch's hole, shorter than nothing else).
+    let width = 3.0
+        * lens
+            .positions
+            .iter()
+            .map(|p| (p.x - center.x).abs())
+            .fold(0.0, f64::max);
+    let mut faces: Vec<Vec<u32>> = holed
+        .faces()
+        .map(|f| {
+            holed
+                .vertices_around_face(f)
+                .map(|v| v.index() as u32)
+                .collect()
+        })
+        .collect();
+    let offset = x.len() as u32;
+    faces.extend(
+        lens.faces
+            .iter()
+            .map(|f| f.iter().map(|&v| v + offset).collect::<Vec<u32>>()),
+    );
+    let mut positions = x.clone();
+    positions.extend(
+        lens.positions
+            .iter()
+            .map(|&p| p + DVec3::new(width, 0.0, 0.0)),
+    );
+    let two = HalfedgeMesh::from_polygons(positions.len(), &faces).unwrap();
+    assert_eq!(two.connected_components().count(), 2);
+    let rims: Vec<usize> = two.boundary_loops().map(|l| l.len()).collect();
+    assert_eq!(rims.len(), 3);
+    let (out, y, report) = fill_holes(&two, &positions, &FillOptions::default()).unwrap();
+    out.check_integrity().unwrap();
+    assert_eq!(report.filled.len(), 1);
+    assert_eq!(report.skipped.len(), 2);
+    assert!(
+        report
+            .skipped
+            .iter()
+            .all(|s| s.reason == SkipReason::OuterBoundary)
+    );
+    // The hole filled is the first patch's (the shortest loop); both rims stay open.
+    let hole = *rims.iter().min().unwrap();
+    assert_eq!(report.filled[0].boundary_edges, hole);
+    let mut left: Vec<usize> = out.boundary_loops().map(|l| l.len()).collect();
+    let mut rims_left: Vec<usize> = rims.iter().copied().filter(|&l| l != hole).collect();
+    left.sort_unstable();
+    rims_left.sort_unstable();
+    assert_eq!(left, rims_left);
+    assert_eq!(out.connected_components().count(), 2);
+    assert_eq!(&y[..positions.len()], &positions[..]);
+    // `fill_all` closes both rims as well.
+    let (closed, _, report) =
+        fill_holes(&two, &positions, &FillOptions::default().fill_all(true)).unwrap();
+    assert_eq!(report.filled.len(), 3);
+    assert!(closed.is_closed());
+}
+
 #[test]
 fn max_loop_edges_skips_a_big_hole_and_reports_it() {
     let ico = primitives::icosphere(3);

@@ -27,9 +27,9 @@ pub(crate) struct FillHolesArgs {
     /// costs O(n^3) in the number of edges of a loop.
     #[arg(long, allow_negative_numbers = true, value_name = "N")]
     max_loop_edges: Option<usize>,
-    /// Fill every loop, the one of the largest perimeter too (a closed part). Without
-    /// it, that loop is taken for the outer boundary of an open surface (a scan of an
-    /// open part) and left open.
+    /// Fill every loop, each component's one of the largest perimeter too (a closed
+    /// part). Without it, that loop is taken for the outer boundary of an open surface (a
+    /// scan of an open part) and left open, one per connected component.
     #[arg(long)]
     all: bool,
     /// Do not refine the patches: only the triangulation of each hole, no new vertex
@@ -217,34 +217,45 @@ fn summarise(
 /// a closed part a few per cent at most.
 const CLOSED_PART_SHARE: f64 = 0.05;
 
-/// The area the loop left open as the outer boundary spans (the length of its vector
+/// The area each loop left open as an outer boundary spans (the length of its vector
 /// area, `|Σ pᵢ × pᵢ₊₁| / 2`, the area of the flattest patch it can bound), as a share
-/// of the input's surface area; `None` when no loop was left open for that reason or
-/// the surface has no area.
+/// of its connected component's surface area: the smallest of these shares, or `None`
+/// when no loop was left open for that reason or a component has no area.
 fn outer_share(
     mesh: &beltrami_halfedge::HalfedgeMesh,
     positions: &[glam::DVec3],
     report: &FillReport,
 ) -> Option<f64> {
-    let outer = report
+    let outer: Vec<_> = report
         .skipped
         .iter()
-        .find(|s| s.reason == SkipReason::OuterBoundary)?;
-    let boundary = mesh
-        .boundary_loops()
-        .find(|l| l.first() == Some(&outer.halfedge))?;
+        .filter(|s| s.reason == SkipReason::OuterBoundary)
+        .map(|s| s.halfedge)
+        .collect();
+    if outer.is_empty() {
+        return None;
+    }
+    let components = mesh.connected_components();
+    let geometry = beltrami_halfedge::geometry::Geometry::new(mesh, positions).ok()?;
+    let mut area = vec![0.0; components.count()];
+    for f in mesh.faces() {
+        area[components.face_component[f] as usize] += geometry.face_area(f);
+    }
     let point = |h: &beltrami_halfedge::HalfedgeId| positions[mesh.to_vertex(*h).index()];
-    let spanned = boundary
-        .iter()
-        .zip(boundary.iter().cycle().skip(1))
-        .map(|(a, b)| point(a).cross(point(b)))
-        .sum::<glam::DVec3>()
-        .length()
-        / 2.0;
-    let area = beltrami_halfedge::geometry::Geometry::new(mesh, positions)
-        .ok()?
-        .surface_area();
-    (area > 0.0).then(|| spanned / area)
+    mesh.boundary_loops()
+        .filter(|l| l.first().is_some_and(|h| outer.contains(h)))
+        .map(|boundary| {
+            let spanned = boundary
+                .iter()
+                .zip(boundary.iter().cycle().skip(1))
+                .map(|(a, b)| point(a).cross(point(b)))
+                .sum::<glam::DVec3>()
+                .length()
+                / 2.0;
+            let whole = area[components.vertex_component[mesh.to_vertex(boundary[0])] as usize];
+            (whole > 0.0).then(|| spanned / whole)
+        })
+        .try_fold(f64::INFINITY, |least, share| share.map(|s| least.min(s)))
 }
 
 /// `; left N loops open: …`: the loops left open, by reason (empty when none).
@@ -253,13 +264,24 @@ fn outer_share(
 fn open_note(report: &FillReport, max_loop_edges: usize, outer_share: Option<f64>) -> String {
     let count = |reason: SkipReason| report.skipped.iter().filter(|s| s.reason == reason).count();
     let mut open = Vec::new();
-    if count(SkipReason::OuterBoundary) > 0 {
+    let outer = count(SkipReason::OuterBoundary);
+    if outer == 1 {
         open.push(match outer_share {
             Some(share) if share < CLOSED_PART_SHARE => format!(
                 "the largest loop, taken for the outer boundary of an open surface, though it spans only {:.2}% of the surface's area as a hole in a closed part does (--all fills it)",
                 100.0 * share
             ),
             _ => "the outer boundary (largest perimeter; --all fills it)".to_string(),
+        });
+    } else if outer > 1 {
+        open.push(match outer_share {
+            Some(share) if share < CLOSED_PART_SHARE => format!(
+                "the largest loop of each of {outer} components, taken for their outer boundaries, though one spans only {:.2}% of its component's area as a hole in a closed part does (--all fills them)",
+                100.0 * share
+            ),
+            _ => format!(
+                "the outer boundaries of {outer} components (each one's largest perimeter; --all fills them)"
+            ),
         });
     }
     let large = count(SkipReason::TooLarge);

@@ -135,6 +135,55 @@ fn a_closed_part_with_holes_is_told_that_all_fills_the_largest() {
     assert!(!text.contains("left "), "{text}");
 }
 
+/// Two flat grids side by side (two components, no hole): each keeps its rim, and the
+/// sentence says both were taken for outer boundaries.
+#[test]
+fn two_open_patches_keep_both_rims() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("two.off");
+    let out = dir.path().join("out.ply");
+    let n = 8;
+    let mut text = String::new();
+    let mut faces = Vec::new();
+    let per = (n + 1) * (n + 1);
+    for patch in 0..2 {
+        for j in 0..n {
+            for i in 0..n {
+                let a = patch * per + j * (n + 1) + i;
+                faces.push([a, a + 1, a + n + 2]);
+                faces.push([a, a + n + 2, a + n + 1]);
+            }
+        }
+    }
+    text.push_str(&format!("OFF\n{} {} 0\n", 2 * per, faces.len()));
+    for patch in 0..2 {
+        for j in 0..=n {
+            for i in 0..=n {
+                let x = i as f64 / n as f64 + 2.0 * patch as f64;
+                text.push_str(&format!("{x} {} 0\n", j as f64 / n as f64));
+            }
+        }
+    }
+    for [a, b, c] in faces {
+        text.push_str(&format!("3 {a} {b} {c}\n"));
+    }
+    fs::write(&input, text).unwrap();
+    let o = beltrami(&["fill-holes", s(&input), s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let first = String::from_utf8(o.stdout).unwrap();
+    let first = first.lines().next().unwrap().to_string();
+    assert!(first.starts_with("filled 0 holes of "), "{first}");
+    assert!(
+        first.contains(
+            "the outer boundaries of 2 components (each one's largest perimeter; --all fills them)"
+        ),
+        "{first}"
+    );
+    let summary = json(&["info", s(&out), "--json"]);
+    assert_eq!(summary["boundary_loops"], 2);
+    assert_eq!(summary["faces"], 2 * 2 * n * n);
+}
+
 #[test]
 fn options_change_what_is_filled() {
     let dir = tempfile::tempdir().unwrap();

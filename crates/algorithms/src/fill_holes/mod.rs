@@ -28,9 +28,11 @@
 //!    always positive definite, is used instead and the report says so.
 //!
 //! **Which loops.** A scan of an open part has one outer boundary that must not be
-//! closed. By default every loop is filled *except the one with the largest perimeter*
-//! (the outer boundary of an open surface; on a closed surface with holes, the largest
-//! hole); [`FillOptions::fill_all`] fills that one too, for a closed part. Loops of more
+//! closed. By default every loop is filled *except the one with the largest perimeter
+//! in each connected component* (the outer boundary of an open surface; on a closed
+//! surface with holes, the largest hole), so that a mesh of several open patches keeps
+//! every patch's outer boundary; [`FillOptions::fill_all`] fills those too, for a closed
+//! part. Loops of more
 //! than [`FillOptions::max_loop_edges`] edges are skipped, as are loops through a vertex
 //! with two boundary gaps and loops every triangulation of which would duplicate an
 //! edge or a face (the rim of a lone triangle); the report lists each skipped loop and
@@ -91,9 +93,9 @@ pub struct FillOptions {
     /// costs O(n³) time and O(n²) memory: 500 edges take about 2·10⁷ triangle weights
     /// and 4 MB, well under a second.
     pub max_loop_edges: usize,
-    /// Fill every loop, the one with the largest perimeter included (a closed part).
-    /// Default `false`: that loop is taken for the outer boundary of an open surface and
-    /// left open.
+    /// Fill every loop, the one with the largest perimeter in each connected component
+    /// included (a closed part). Default `false`: that loop is taken for the outer
+    /// boundary of an open surface and left open, one per component.
     pub fill_all: bool,
     /// Refine the patch to the rim's edge length (default `true`). Without refinement no
     /// vertex is added, so there is nothing to fair either.
@@ -129,7 +131,7 @@ impl FillOptions {
         self
     }
 
-    /// Fills the loop of the largest perimeter too (a closed part).
+    /// Fills each component's loop of the largest perimeter too (a closed part).
     #[must_use]
     pub fn fill_all(mut self, yes: bool) -> Self {
         self.fill_all = yes;
@@ -211,8 +213,8 @@ pub struct FilledHole {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SkipReason {
-    /// The loop of the largest perimeter, taken for the outer boundary of an open
-    /// surface (see [`FillOptions::fill_all`]).
+    /// The loop of the largest perimeter in its connected component, taken for the
+    /// outer boundary of an open surface (see [`FillOptions::fill_all`]).
     OuterBoundary,
     /// More edges than [`FillOptions::max_loop_edges`].
     TooLarge,
@@ -229,7 +231,7 @@ impl SkipReason {
     #[must_use]
     pub fn describe(self) -> &'static str {
         match self {
-            Self::OuterBoundary => "the outer boundary (largest perimeter)",
+            Self::OuterBoundary => "the outer boundary (its component's largest perimeter)",
             Self::TooLarge => "more edges than the limit",
             Self::NonManifoldVertex => "a vertex on two boundary loops",
             Self::NoManifoldTriangulation => "no triangulation without a duplicate edge or face",
@@ -461,8 +463,30 @@ fn fill_loop(
     })
 }
 
+/// Which of `loops` (with `perimeters`) are outer boundaries: in each connected
+/// component of `mesh`, the loop of the largest perimeter (the first of the longest, on a
+/// tie).
+fn outer_loops(mesh: &HalfedgeMesh, loops: &[Vec<HalfedgeId>], perimeters: &[f64]) -> Vec<bool> {
+    let components = mesh.connected_components();
+    // Per component, the longest loop so far.
+    let mut longest: Vec<Option<(usize, f64)>> = vec![None; components.count()];
+    for (i, (hole, &p)) in loops.iter().zip(perimeters).enumerate() {
+        let c = components.vertex_component[mesh.to_vertex(hole[0])] as usize;
+        match longest[c] {
+            Some((_, q)) if q >= p => {}
+            _ => longest[c] = Some((i, p)),
+        }
+    }
+    let mut outer = vec![false; loops.len()];
+    for (i, _) in longest.into_iter().flatten() {
+        outer[i] = true;
+    }
+    outer
+}
+
 /// Fills the holes of a triangle mesh: every boundary loop except the one of the
-/// largest perimeter (all of them with [`FillOptions::fill_all`]) and except those
+/// largest perimeter in each connected component (all of them with
+/// [`FillOptions::fill_all`]) and except those
 /// longer than [`FillOptions::max_loop_edges`] is closed by a minimum-weight
 /// triangulation, refined to the rim's edge length and faired. Returns the new mesh, its positions and a report of
 /// every loop, filled or skipped with the reason.
@@ -487,8 +511,9 @@ fn fill_loop(
 ///    (degenerate triangles), the uniform membrane is used and
 ///    [`FilledHole::fair_fallback`] says so.
 ///
-/// The loop of the largest perimeter is left open by default because a scan of an open
-/// part has exactly one outer boundary, which must not be closed; on a closed part set
+/// The loop of the largest perimeter in each connected component is left open by
+/// default because a scan of an open part has exactly one outer boundary, which must
+/// not be closed, and a mesh of several patches has one per patch; on a closed part set
 /// [`FillOptions::fill_all`].
 ///
 /// The input's vertices keep their ids and positions bit for bit; new vertices are
@@ -576,17 +601,9 @@ pub fn fill_holes_with_progress(
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let perimeters: Vec<f64> = loops.iter().map(|l| perimeter(&edit, l)).collect();
     let outer = if options.fill_all {
-        None
+        vec![false; loops.len()]
     } else {
-        // The first of the longest, on a tie.
-        perimeters
-            .iter()
-            .enumerate()
-            .fold(None, |best: Option<(usize, f64)>, (i, &p)| match best {
-                Some((_, q)) if q >= p => best,
-                _ => Some((i, p)),
-            })
-            .map(|(i, _)| i)
+        outer_loops(mesh, &loops, &perimeters)
     };
     let mut report = FillReport {
         loops: loops.len(),
@@ -603,7 +620,7 @@ pub fn fill_holes_with_progress(
             perimeter: perimeters[i],
             reason,
         };
-        if outer == Some(i) {
+        if outer[i] {
             report.skipped.push(skip(SkipReason::OuterBoundary));
             continue;
         }
