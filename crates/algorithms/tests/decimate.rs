@@ -580,6 +580,53 @@ fn decimation_commutes_with_scaling_by_a_power_of_two() {
     }
 }
 
+/// A part far from the origin (a machine's coordinates: 10⁷ away, with a size of
+/// about 1) decimates as it does at the origin: the quadrics are relative to the
+/// bounding box's centre. With absolute coordinates their constant terms (10¹⁴)
+/// rounded away every error below 10⁻², and the result was ten times farther from the
+/// input (and `max_quadric_error` 0).
+#[test]
+fn decimation_does_not_depend_on_where_the_part_lies() {
+    let p = noisy_flens();
+    let offset = DVec3::new(1.0e7, -3.0e6, 5.0e6);
+    let mut moved = p.clone();
+    for q in &mut moved.positions {
+        *q += offset;
+    }
+    for options in [
+        DecimateOptions::default(),
+        DecimateOptions::default().placement(Placement::Endpoint),
+        DecimateOptions::openmesh(),
+    ] {
+        let options = options.ratio(0.3);
+        let (_, pa, ra) = run(&p, &options);
+        let (_, pb, rb) = run(&moved, &options);
+        assert_eq!(ra.vertices_after, rb.vertices_after, "{options:?}");
+        assert!(ra.max_quadric_error > 0.0);
+        let relative = |a: f64, b: f64| (a - b).abs() / a.max(b);
+        assert!(
+            relative(ra.max_quadric_error, rb.max_quadric_error) < 0.05,
+            "{options:?}: {} at the origin, {} moved",
+            ra.max_quadric_error,
+            rb.max_quadric_error
+        );
+        assert!(
+            relative(ra.hausdorff, rb.hausdorff) < 0.05,
+            "{options:?}: {} at the origin, {} moved",
+            ra.hausdorff,
+            rb.hausdorff
+        );
+        // The same collapses, so the same vertices up to the rounding of the offset.
+        assert_eq!(pa.len(), pb.len());
+        let worst = pa
+            .iter()
+            .zip(&pb)
+            .map(|(a, b)| (*b - offset).distance(*a))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{options:?}: {worst}");
+    }
+}
+
 #[test]
 fn a_planar_grid_stays_planar_with_zero_error() {
     let p = primitives::grid(12, 12);

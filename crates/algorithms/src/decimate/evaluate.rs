@@ -53,6 +53,9 @@ pub(super) struct Decimator<'a> {
     pub(super) mesh: EditMesh,
     pub(super) options: &'a DecimateOptions,
     pub(super) input: &'a [DVec3],
+    /// The centre of the input's bounding box, which the quadrics are relative to (see
+    /// [`Quadric`]).
+    pub(super) origin: DVec3,
     pub(super) quadrics: Vec<Quadric>,
     /// The unit normal of every face when the decimation started (zero if degenerate).
     pub(super) input_normals: Vec<DVec3>,
@@ -100,11 +103,13 @@ impl<'a> Decimator<'a> {
         let nv = mesh.vertex_capacity();
         let nf = mesh.face_capacity();
         let nh = 2 * mesh.edge_capacity();
+        let origin = bounding_box_centre(input);
         let mut d = Self {
             mesh,
             options,
             input,
-            quadrics: vec![Quadric::default(); nv],
+            origin,
+            quadrics: vec![Quadric::zero(origin); nv],
             input_normals: vec![DVec3::ZERO; nf],
             cones: Vec::new(),
             points: Vec::new(),
@@ -172,7 +177,7 @@ impl<'a> Decimator<'a> {
                 } else {
                     1.0
                 };
-                let q = Quadric::plane(n, -n.dot(self.mesh.position(vs[0])), w);
+                let q = Quadric::plane_through(n, self.mesh.position(vs[0]), w, self.origin);
                 for v in vs {
                     self.quadrics[v.index()].add(&q);
                 }
@@ -184,7 +189,7 @@ impl<'a> Decimator<'a> {
     /// `w |x − p_v|²` added to every vertex's quadric (its plane weight unchanged).
     fn add_stabilizer(&mut self, w: f64) {
         for v in self.mesh.vertices() {
-            let pull = Quadric::point(self.mesh.position(v), w);
+            let pull = Quadric::point(self.mesh.position(v), w, self.origin);
             self.quadrics[v.index()].add(&pull);
         }
     }
@@ -221,7 +226,7 @@ impl<'a> Decimator<'a> {
                 } else {
                     BOUNDARY_WEIGHT
                 };
-                let q = Quadric::plane(m, -m.dot(self.mesh.position(a)), w);
+                let q = Quadric::plane_through(m, self.mesh.position(a), w, self.origin);
                 self.quadrics[a.index()].add(&q);
                 self.quadrics[b.index()].add(&q);
             }
@@ -666,4 +671,16 @@ fn place(
     } else {
         (p1, Some(e1))
     }
+}
+
+/// The centre of the bounding box of `points` (finite), halfway between its corners
+/// without overflow; the origin for a mesh without points.
+fn bounding_box_centre(points: &[DVec3]) -> DVec3 {
+    let Some(&first) = points.first() else {
+        return DVec3::ZERO;
+    };
+    let (lo, hi) = points
+        .iter()
+        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    0.5 * lo + 0.5 * hi
 }

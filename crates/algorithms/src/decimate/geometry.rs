@@ -5,8 +5,14 @@ use std::f64::consts::PI;
 use beltrami_halfedge::DVec3;
 use glam::DMat3;
 
-/// A symmetric 4 × 4 quadric `Q(x) = xᵀAx + 2bᵀx + c` with the total weight of its
-/// planes.
+/// A symmetric 4 × 4 quadric `Q(x) = yᵀAy + 2bᵀy + c` of `y = x − origin`, with the
+/// total weight of its planes.
+///
+/// The coefficients are kept relative to an origin near the mesh (its bounding box's
+/// centre) because `c` holds the square of each plane's offset from the origin: for a
+/// part of size 1 placed 10⁷ from the origin (a machine's coordinates) the terms of
+/// `Q(x)` are 10¹⁴ and their rounding (10⁻²) swamps errors of 10⁻⁶. Every quadric that
+/// is added to another must have the same origin.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Quadric {
     /// `A` as `xx, xy, xz, yy, yz, zz`.
@@ -14,10 +20,29 @@ pub(super) struct Quadric {
     pub(super) b: DVec3,
     pub(super) c: f64,
     pub(super) weight: f64,
+    /// The point the coefficients are relative to.
+    pub(super) origin: DVec3,
 }
 
 impl Quadric {
-    /// `w (n·x + d)²`.
+    /// The zero quadric relative to `origin`.
+    pub(super) fn zero(origin: DVec3) -> Self {
+        Self {
+            origin,
+            ..Self::default()
+        }
+    }
+
+    /// `w (n·(x − p))²`: the plane through `p` with unit normal `n`, relative to
+    /// `origin`.
+    pub(super) fn plane_through(n: DVec3, p: DVec3, w: f64, origin: DVec3) -> Self {
+        Self {
+            origin,
+            ..Self::plane(n, -n.dot(p - origin), w)
+        }
+    }
+
+    /// `w (n·x + d)²`, relative to the origin 0.
     pub(super) fn plane(n: DVec3, d: f64, w: f64) -> Self {
         Self {
             a: [
@@ -31,21 +56,25 @@ impl Quadric {
             b: n * (w * d),
             c: w * d * d,
             weight: w,
+            origin: DVec3::ZERO,
         }
     }
 
-    /// `w |x − p|²`, of plane weight 0 (a pull, not a plane: it does not count in the
-    /// mean of [`Quadric::rms`]).
-    pub(super) fn point(p: DVec3, w: f64) -> Self {
+    /// `w |x − p|²` relative to `origin`, of plane weight 0 (a pull, not a plane: it
+    /// does not count in the mean of [`Quadric::rms`]).
+    pub(super) fn point(p: DVec3, w: f64, origin: DVec3) -> Self {
+        let y = p - origin;
         Self {
             a: [w, 0.0, 0.0, w, 0.0, w],
-            b: -w * p,
-            c: w * p.length_squared(),
+            b: -w * y,
+            c: w * y.length_squared(),
             weight: 0.0,
+            origin,
         }
     }
 
     pub(super) fn add(&mut self, o: &Self) {
+        debug_assert_eq!(self.origin, o.origin, "quadrics of different origins");
         for (a, b) in self.a.iter_mut().zip(o.a) {
             *a += b;
         }
@@ -71,7 +100,8 @@ impl Quadric {
 
     /// `Q(p)`, clamped at 0 against rounding.
     pub(super) fn eval(&self, p: DVec3) -> f64 {
-        let q = p.dot(self.matrix() * p) + 2.0 * self.b.dot(p) + self.c;
+        let y = p - self.origin;
+        let q = y.dot(self.matrix() * y) + 2.0 * self.b.dot(y) + self.c;
         q.max(0.0)
     }
 
@@ -114,6 +144,7 @@ impl Quadric {
             c_xy * b.x + c_yy * b.y + c_yz * b.z,
             c_xz * b.x + c_yz * b.y + c_zz * b.z,
         ) / det;
+        let x = x + self.origin;
         x.is_finite().then_some(x)
     }
 }
