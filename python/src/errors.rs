@@ -5,6 +5,9 @@
 
 use std::io::ErrorKind;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
 
 use beltrami_halfedge::TopologyError;
 use beltrami_io::IoError;
@@ -58,25 +61,25 @@ pub(crate) fn nonnegative_opt<T: TryFrom<i128>>(
 }
 
 pyo3::create_exception!(
-    _beltrami,
+    beltrami,
     MeshError,
     PyValueError,
     "A mesh that is not a valid oriented 2-manifold, or arrays that do not describe one."
 );
 pyo3::create_exception!(
-    _beltrami,
+    beltrami,
     FormatError,
     PyValueError,
     "A mesh file that cannot be decoded (bad header, truncated data, unsupported extension)."
 );
 pyo3::create_exception!(
-    _beltrami,
+    beltrami,
     SmoothError,
     PyValueError,
     "Smoothing could not run (a bad option for this mesh) or had to stop (a non-finite position)."
 );
 pyo3::create_exception!(
-    _beltrami,
+    beltrami,
     MetricsError,
     PyValueError,
     "A measurement (fit, distance, residual) could not be computed."
@@ -125,11 +128,15 @@ pub(crate) fn metrics_error(e: &beltrami_metrics::MetricsError) -> PyErr {
 /// bug of the library, never bad input) into a `RuntimeError` instead of letting it
 /// unwind into Python.
 pub(crate) fn no_panic<T: Send>(f: impl FnOnce() -> PyResult<T> + Send) -> PyResult<T> {
-    let on_pool = || match pool() {
-        Some(pool) => pool.install(f),
-        None => f(),
-    };
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(on_pool)).unwrap_or_else(|payload| {
+    match pool() {
+        Some(pool) => pool.install(|| caught(f)),
+        None => caught(f),
+    }
+}
+
+/// `f()`, with a panic turned into a `RuntimeError`.
+fn caught<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
         let what = payload
             .downcast_ref::<&str>()
             .map(|s| (*s).to_string())
@@ -140,6 +147,60 @@ pub(crate) fn no_panic<T: Send>(f: impl FnOnce() -> PyResult<T> + Send) -> PyRes
         )))
     })
 }
+
+/// Runs `f` as [`no_panic`] does, without the GIL, while the calling thread looks for
+/// Ctrl-C every [`SIGNAL_INTERVAL`]: Python runs its signal handlers on the main
+/// thread only, so a look from the worker that runs `f` would see nothing. On a
+/// signal whose handler raises (`KeyboardInterrupt`, or a handler of the user's),
+/// `stop` is set for `f` to see between two of its steps, `f`'s end is waited for, and
+/// the handler's exception is returned instead of `f`'s result.
+///
+/// Called from a thread other than the main one, the looks find nothing, as for any
+/// Python code there.
+pub(crate) fn interruptible<T: Send>(
+    py: Python<'_>,
+    stop: &AtomicBool,
+    f: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
+    let mut interrupt = None;
+    let result = py.detach(|| {
+        let (done, ended) = mpsc::channel::<()>();
+        let mut out = None;
+        let work = |out: &mut Option<PyResult<T>>| {
+            *out = Some(caught(f));
+            drop(done);
+        };
+        let wait = |interrupt: &mut Option<PyErr>| {
+            while let Err(RecvTimeoutError::Timeout) = ended.recv_timeout(SIGNAL_INTERVAL) {
+                if interrupt.is_none()
+                    && let Err(e) = Python::attach(|py| py.check_signals())
+                {
+                    *interrupt = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+        };
+        match pool() {
+            Some(pool) => pool.in_place_scope(|scope| {
+                scope.spawn(|_| work(&mut out));
+                wait(&mut interrupt);
+            }),
+            None => std::thread::scope(|scope| {
+                scope.spawn(|| work(&mut out));
+                wait(&mut interrupt);
+            }),
+        }
+        out.unwrap_or_else(|| {
+            Err(PyRuntimeError::new_err(
+                "internal error in beltrami (please report it): the run ended without a result",
+            ))
+        })
+    });
+    interrupt.map_or(result, Err)
+}
+
+/// How often a run's calling thread looks for Ctrl-C ([`interruptible`]).
+pub(crate) const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 
 /// The thread pool every call of the package runs on, built on first use with rayon's
 /// default size (`RAYON_NUM_THREADS`, else the number of logical cores); `None` if it

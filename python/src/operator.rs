@@ -103,11 +103,13 @@ pub(crate) fn laplacian<'py>(
             Ok((data, indices, indptr))
         })
     });
-    let csr = csr?;
+    // The scheme's own exception first (and taken in any case, so that it is not
+    // raised by a later call): a failed Python scheme leaves NaN weights, which the
+    // operator then reports in less helpful terms.
     if let Some(e) = crate::scheme::take_failure(weights) {
         return Err(e);
     }
-    csr_matrix(py, csr, n)
+    csr_matrix(py, csr?, n)
 }
 
 /// The lumped mass matrix: the diagonal (N, N) `scipy.sparse` CSR matrix of vertex

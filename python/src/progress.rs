@@ -1,36 +1,41 @@
 //! What a long run calls back into Python from outside the GIL: a tqdm bar when asked
-//! for and installed, a look for Ctrl-C at most every [`SIGNAL_INTERVAL`], and, for
-//! `smooth`, the user's per-iteration callback. One type for `smooth`, `remesh` and
-//! `decimate`, so that every run stops on Ctrl-C the same way.
+//! for and installed, the stop that Ctrl-C sets ([`crate::errors::interruptible`]), and,
+//! for `smooth`, the user's per-iteration callback. One type for `smooth`, `remesh`,
+//! `decimate` and `fill_holes`, so that every run stops on Ctrl-C the same way.
 
 use std::ops::ControlFlow;
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// How often a run looks for Ctrl-C when nothing else takes the GIL.
-pub(crate) const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
-
-/// The bar, the signal clock and the first exception raised in a callback. The first
-/// exception (the bar's, the user's callback's, or `KeyboardInterrupt`) stops the run
-/// and is raised by [`finish`](Self::finish) instead of the run's own stop.
+/// The bar, the stop that Ctrl-C sets and the first exception raised in a callback.
+/// The first exception (the bar's or the user's callback's) stops the run and is raised
+/// by [`finish`](Self::finish) instead of the run's own stop; a `KeyboardInterrupt` is
+/// raised by [`crate::errors::interruptible`] instead of both.
 pub(crate) struct Progress {
     bar: Option<Py<PyAny>>,
     shown: usize,
     failure: Option<PyErr>,
-    last_signal_check: Instant,
+    /// Set by the calling thread when a signal handler raised.
+    stop: Arc<AtomicBool>,
 }
 
 impl Progress {
-    /// No bar yet; Ctrl-C is looked for from the first call on.
+    /// No bar yet, no stop.
     pub(crate) fn new() -> Self {
         Self {
             bar: None,
             shown: 0,
             failure: None,
-            last_signal_check: Instant::now(),
+            stop: Arc::default(),
         }
+    }
+
+    /// The stop [`crate::errors::interruptible`] sets on Ctrl-C (shared with this).
+    pub(crate) fn stop(&self) -> Arc<AtomicBool> {
+        Arc::clone(&self.stop)
     }
 
     /// Opens a bar of `total` steps named `desc` when `wanted` and tqdm is installed.
@@ -47,8 +52,8 @@ impl Progress {
         Ok(())
     }
 
-    /// Moves the bar to `done` of `total` and looks for Ctrl-C when due (called
-    /// without the GIL); `Break` once an exception is waiting.
+    /// Moves the bar to `done` of `total` (called without the GIL); `Break` once an
+    /// exception is waiting or Ctrl-C was pressed.
     pub(crate) fn show(&mut self, done: usize, total: usize) -> ControlFlow<()> {
         self.show_and_call(
             done,
@@ -68,21 +73,18 @@ impl Progress {
     where
         F: FnOnce(Python<'_>) -> PyResult<ControlFlow<()>>,
     {
-        if self.failure.is_some() {
+        if self.failure.is_some() || self.stop.load(Ordering::Relaxed) {
             return ControlFlow::Break(());
         }
-        let due = self.last_signal_check.elapsed() >= SIGNAL_INTERVAL;
         let moves = self.bar.is_some() && done > self.shown;
-        if !due && !moves && callback.is_none() {
+        if !moves && callback.is_none() {
             return ControlFlow::Continue(());
         }
         Python::attach(|py| {
-            let outcome = self
-                .call(py, done, total, due)
-                .and_then(|()| match callback {
-                    Some(callback) => callback(py),
-                    None => Ok(ControlFlow::Continue(())),
-                });
+            let outcome = self.call(py, done, total).and_then(|()| match callback {
+                Some(callback) => callback(py),
+                None => Ok(ControlFlow::Continue(())),
+            });
             outcome.unwrap_or_else(|e| {
                 self.failure = Some(e);
                 ControlFlow::Break(())
@@ -90,11 +92,7 @@ impl Progress {
         })
     }
 
-    fn call(&mut self, py: Python<'_>, done: usize, total: usize, due: bool) -> PyResult<()> {
-        if due {
-            self.last_signal_check = Instant::now();
-            py.check_signals()?;
-        }
+    fn call(&mut self, py: Python<'_>, done: usize, total: usize) -> PyResult<()> {
         if let Some(bar) = &self.bar
             && done > self.shown
         {
@@ -107,10 +105,11 @@ impl Progress {
     }
 
     /// Runs `work` without the GIL (and with panics turned into exceptions), under a
-    /// bar of `total` steps named `desc` when `wanted`; `work` gets this to call
-    /// [`show`](Self::show) or [`show_and_call`](Self::show_and_call). The first
-    /// exception of a callback (the bar's, the user's, `KeyboardInterrupt`) is raised
-    /// instead of `work`'s result.
+    /// bar of `total` steps named `desc` when `wanted`, stopping on Ctrl-C
+    /// ([`crate::errors::interruptible`]); `work` gets this to call
+    /// [`show`](Self::show) or [`show_and_call`](Self::show_and_call). The
+    /// `KeyboardInterrupt`, else the first exception of a callback (the bar's, the
+    /// user's), is raised instead of `work`'s result.
     pub(crate) fn run<T: Send>(
         py: Python<'_>,
         wanted: bool,
@@ -120,8 +119,20 @@ impl Progress {
     ) -> PyResult<T> {
         let mut progress = Self::new();
         progress.open_bar(py, wanted, total, desc)?;
-        let result = py.detach(|| crate::errors::no_panic(|| work(&mut progress)));
-        progress.finish(py)?;
+        let stop = progress.stop();
+        let result = crate::errors::interruptible(py, &stop, || work(&mut progress));
+        progress.finish_after(py, result)
+    }
+
+    /// Closes the bar and returns `result` of a run under [`crate::errors::interruptible`]:
+    /// its `KeyboardInterrupt` when Ctrl-C stopped the run, else the first exception of
+    /// a callback, else `result`.
+    pub(crate) fn finish_after<T>(self, py: Python<'_>, result: PyResult<T>) -> PyResult<T> {
+        let interrupted = self.stop.load(Ordering::Relaxed);
+        let failure = self.finish(py);
+        if !interrupted {
+            failure?;
+        }
         result
     }
 

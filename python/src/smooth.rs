@@ -15,7 +15,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 
-use crate::errors::{no_panic, smooth_error};
+use crate::errors::smooth_error;
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::weights::scheme;
@@ -312,8 +312,9 @@ pub(crate) fn smooth<'py>(
         )));
     }
     let mut observer = Progress::new();
-    let smoothed = py.detach(|| {
-        no_panic(|| {
+    let stop = observer.stop();
+    let smoothed = {
+        crate::errors::interruptible(py, &stop, || {
             let smoother = Smoother::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), config)
                 .map_err(|e| smooth_error(&e))?;
             let planned = check_planned_run(&smoother, options.max_iterations)?;
@@ -338,8 +339,8 @@ pub(crate) fn smooth<'py>(
             });
             result.map_err(|e| smooth_error(&e))
         })
-    });
-    observer.finish(py)?;
+    };
+    let smoothed = observer.finish_after(py, smoothed);
     if let Some(e) = crate::scheme::take_failure(&options.weights) {
         return Err(e);
     }

@@ -336,19 +336,58 @@ def test_fill_holes_progress_bar_changes_nothing(capsys):
     assert "fill_holes" in err and "2/2" in err
 
 
-def test_ctrl_c_stops_a_long_remesh():
-    # A pending Ctrl-C (as the terminal sends it) is seen within about a tenth of a
-    # second: the run stops long before its 5000 iterations (about 10 s), with
-    # KeyboardInterrupt.
-    import _thread
+@pytest.mark.parametrize("name", ["smooth", "remesh", "decimate"])
+def test_ctrl_c_stops_a_long_run(name):
+    # Ctrl-C 0.2 s into a run that takes 1 to 25 s: the run stops within about a tenth
+    # of a second with KeyboardInterrupt. Python runs signal handlers on the main thread
+    # only, and the run's work is on a worker, so the calling thread looks for them.
+    import os
+    import signal
+    import threading
     import time
 
-    mesh = bt.generate("sphere", level=4)
+    calls = {
+        "smooth": (lambda m: bt.smooth(m, iterations=20000), ("sphere", 6)),
+        "remesh": (lambda m: bt.remesh(m, iterations=1000), ("sphere", 5)),
+        "decimate": (lambda m: bt.decimate(m, ratio=0.01), ("sphere", 7)),
+    }
+    call, (surface, level) = calls[name]
+    mesh = bt.generate(surface, level=level)
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
     start = time.perf_counter()
+    timer.start()
     with pytest.raises(KeyboardInterrupt):
-        _thread.interrupt_main()
-        bt.remesh(mesh, iterations=5000)
-    assert time.perf_counter() - start < 3.0
+        call(mesh)
+    elapsed = time.perf_counter() - start
+    timer.join()
+    assert 0.2 <= elapsed < 0.7, elapsed
+
+
+def test_a_signal_handler_of_the_users_stops_a_run():
+    # A handler that raises (here a timeout by SIGALRM) stops the run with its exception,
+    # and the package works as before afterwards.
+    import signal
+    import time
+
+    class TookTooLong(Exception):
+        pass
+
+    def handler(signum, frame):
+        raise TookTooLong
+
+    mesh = bt.generate("sphere", level=6)
+    previous = signal.signal(signal.SIGALRM, handler)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.2)
+        start = time.perf_counter()
+        with pytest.raises(TookTooLong):
+            bt.smooth(mesh, iterations=20000)
+        assert time.perf_counter() - start < 0.7
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    smoothed, report = bt.smooth(mesh, iterations=3)
+    assert report["iterations"] == 3
 
 
 @pytest.mark.parametrize(

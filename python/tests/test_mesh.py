@@ -85,6 +85,18 @@ def test_mesh_error_is_a_value_error():
     assert issubclass(bt.SmoothError, ValueError)
 
 
+@pytest.mark.parametrize("name", ["MeshError", "FormatError", "SmoothError", "MetricsError"])
+def test_the_exceptions_pickle_as_the_packages_own(name):
+    # As a process pool or Dask sends them back from a worker: the class that comes back
+    # is the one `except bt.MeshError` catches.
+    import pickle
+
+    cls = getattr(bt, name)
+    assert cls.__module__ == "beltrami"
+    back = pickle.loads(pickle.dumps(cls("face 3 refers to vertex 9")))
+    assert type(back) is cls and str(back) == "face 3 refers to vertex 9"
+
+
 def test_non_manifold_edge_is_refused():
     v = np.vstack([TETRA_V, [[0.5, 0.5, -1.0]]])
     # Three faces on the edge 0-1.

@@ -61,6 +61,24 @@ def test_a_failing_scheme_raises_its_exception(sphere):
         bt.smooth(sphere, weights="broken")
 
 
+def test_the_operator_raises_the_schemes_exception_and_keeps_none_for_later(sphere):
+    # A scheme that fails once: bt.laplacian raises its exception (not a complaint about
+    # the NaN weights it left), and the next call, where it succeeds, raises nothing.
+    calls = [0]
+
+    def flaky(h):
+        calls[0] += 1
+        if calls[0] == 1:
+            raise RuntimeError("transient")
+        return np.ones(len(h["twin"]))
+
+    bt.register_weight("flaky", flaky)
+    with pytest.raises(RuntimeError, match="transient"):
+        bt.laplacian(sphere, weights="flaky")
+    smoothed, report = bt.smooth(sphere, weights="flaky", iterations=1)
+    assert report["iterations"] == 1
+
+
 def test_a_wrong_length_is_a_value_error(sphere):
     bt.register_weight("short", lambda h: np.ones(3))
     with pytest.raises(ValueError, match="returned 3 weights for 3840 halfedges"):
