@@ -140,7 +140,7 @@ fn summary<'py>(py: Python<'py>, mesh: &Mesh) -> PyResult<Bound<'py, PyDict>> {
 /// surface, spread uniformly by area (fixed seed), and the RMS distance of those points
 /// to the other surface each way (`surface_rms`, None without samples). `displacement` and the normal
 /// deviation need both meshes to share vertices and faces (None otherwise); `volume`
-/// needs both closed. `scalars` and `png` are always None (use `distances` and
+/// needs both closed (its `ratio` is None when the reference encloses no volume). `scalars` and `png` are always None (use `distances` and
 /// `write(..., scalars=...)`). Runs without the GIL.
 #[pyfunction]
 #[pyo3(signature = (mesh, reference, *, samples = None))]
@@ -223,7 +223,8 @@ pub(crate) fn compare<'py>(
             let v = PyDict::new(py);
             v.set_item("mesh", m)?;
             v.set_item("reference", r)?;
-            v.set_item("ratio", m / r)?;
+            // None when the reference encloses no volume (closed but flat).
+            v.set_item("ratio", Some(m / r).filter(|x| x.is_finite()))?;
             d.set_item("volume", v)?;
         }
         None => d.set_item("volume", py.None())?,

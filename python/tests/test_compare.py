@@ -54,6 +54,20 @@ def test_open_meshes_have_no_volume_and_samples_count():
     assert c["volume"] is None and c["hausdorff_samples"] == 1000
 
 
+def test_a_reference_of_no_volume_has_no_ratio():
+    # A closed tetrahedron squashed flat: no volume, so no ratio (None, not NaN or inf).
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.3, 0.3, 0]], float)
+    f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    flat = bt.Mesh(v, f)
+    lifted = v.copy()
+    lifted[3, 2] = 1.0
+    tetra = bt.Mesh(lifted, f)
+    for mesh in (flat, tetra):
+        volume = bt.compare(mesh, flat)["volume"]
+        assert volume["reference"] == 0.0 and volume["ratio"] is None
+    assert bt.compare(flat, tetra)["volume"]["ratio"] == 0.0
+
+
 def test_different_topologies_have_no_displacement():
     a, b = bt.generate("sphere", level=2), bt.generate("sphere", level=3)
     c = bt.compare(a, b)

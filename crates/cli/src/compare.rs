@@ -170,8 +170,8 @@ struct NormalAngles {
 struct Volumes {
     mesh: f64,
     reference: f64,
-    /// `mesh / reference`.
-    ratio: f64,
+    /// `mesh / reference`; `None` when the reference encloses no volume.
+    ratio: Option<f64>,
 }
 
 #[derive(Debug, Serialize)]
@@ -265,7 +265,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             .map(|(mesh, reference)| Volumes {
                 mesh,
                 reference,
-                ratio: mesh / reference,
+                ratio: volume_ratio(mesh, reference),
             }),
         area,
         scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
@@ -626,7 +626,8 @@ fn surface_rows(c: &Comparison, notes: &Notes) -> Vec<(&'static str, String)> {
                         "mesh {}, reference {}, ratio {}",
                         n(v.mesh),
                         n(v.reference),
-                        n(v.ratio)
+                        v.ratio
+                            .map_or_else(|| "- (the reference encloses no volume)".to_string(), n)
                     )
                 },
             ),
@@ -704,4 +705,10 @@ pub(crate) fn stage_scalar_ply(
         stage_ply(path, &data, &attributes, &WriteOptions::default())
     })?;
     Ok((path.display().to_string(), map.max))
+}
+
+/// `mesh / reference`, or `None` when that is not a finite number (a closed but flat
+/// reference encloses no volume).
+fn volume_ratio(mesh: f64, reference: f64) -> Option<f64> {
+    Some(mesh / reference).filter(|r| r.is_finite())
 }

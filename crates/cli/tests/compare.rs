@@ -254,6 +254,38 @@ fn open_meshes_have_no_volume_and_the_table_says_why() {
     assert_snapshot!(volume, @"  volume              - (grid.obj is open)");
 }
 
+/// A closed but flat reference (a tetrahedron squashed into its base plane) encloses no
+/// volume: the ratio is left out (null in the JSON), not printed as inf or NaN.
+#[test]
+fn a_reference_of_no_volume_has_no_volume_ratio() {
+    let dir = tempfile::tempdir().unwrap();
+    let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.3, 0.3, 0.0)];
+    let faces = beltrami_halfedge::PolygonList::from_triangles(&[
+        [0, 2, 1],
+        [0, 1, 3],
+        [0, 3, 2],
+        [1, 2, 3],
+    ]);
+    let flat = write(dir.path(), "flat.ply", positions.clone(), &faces);
+    let mut lifted = positions;
+    lifted[3].z = 1.0;
+    let tetra = write(dir.path(), "tetra.ply", lifted, &faces);
+    for mesh in [&flat, &tetra] {
+        let j = json(&["compare", s(mesh), s(&flat), "--json"]);
+        assert_eq!(j["volume"]["reference"], 0.0);
+        assert_eq!(j["volume"]["ratio"], Value::Null, "{j}");
+        let table = text(&["compare", s(mesh), s(&flat)], dir.path());
+        let volume = table.lines().find(|l| l.starts_with("  volume")).unwrap();
+        assert!(
+            volume.ends_with("ratio - (the reference encloses no volume)"),
+            "{volume}"
+        );
+    }
+    // Against the tetrahedron the ratio is there.
+    let j = json(&["compare", s(&flat), s(&tetra), "--json"]);
+    assert_eq!(j["volume"]["ratio"], 0.0);
+}
+
 #[test]
 fn scalars_ply_holds_the_library_signed_distances_and_a_diverging_colour_map() {
     let dir = tempfile::tempdir().unwrap();

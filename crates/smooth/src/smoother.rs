@@ -601,7 +601,13 @@ fn validate_method(
     }
     if let Some(duration) = config.duration {
         let t = duration.time();
-        if !(t >= 0.0 && t.is_finite()) {
+        // A cut-off's time is its square times a constant: a negative cut-off would pass
+        // as its absolute value.
+        let sign_ok = match duration {
+            DiffusionTime::Time(_) => true,
+            DiffusionTime::Cutoff(lc) => lc >= 0.0,
+        };
+        if !(sign_ok && t >= 0.0 && t.is_finite()) {
             return Err(SmoothError::InvalidDuration {
                 reason: match duration {
                     DiffusionTime::Time(_) => {

@@ -337,7 +337,11 @@ fn a_cutoff_wavelength_passes_half_the_amplitude() {
 #[test]
 fn invalid_durations_are_typed_errors() {
     let (mesh, x) = sphere(1);
-    for d in [DiffusionTime::Time(-1.0), DiffusionTime::Cutoff(f64::NAN)] {
+    for d in [
+        DiffusionTime::Time(-1.0),
+        DiffusionTime::Cutoff(f64::NAN),
+        DiffusionTime::Cutoff(-1.0),
+    ] {
         let err =
             Smoother::new(&mesh, &x, &Uniform, SmoothConfig::new(0.5, 1).duration(d)).unwrap_err();
         assert!(matches!(err, SmoothError::InvalidDuration { .. }), "{err}");
