@@ -149,8 +149,11 @@ fn quality_dict<'py>(
 /// `steps=0` an unchanged copy (the identity, as in a loop over the steps; the CLI
 /// refuses `--steps 0`, where writing the input unchanged is most likely a mistake).
 ///
-/// Raises `ValueError` for an unknown scheme or a negative `steps`, `MeshError` for a polygon mesh or a
-/// result too large for a mesh.
+/// Raises `ValueError` for an unknown scheme or a negative `steps`, `MeshError` for a
+/// polygon mesh or a result too large for a mesh, and `MemoryError`, before anything is
+/// allocated, for a result that would need more memory than the machine has available
+/// (`Scheme::BYTES_PER_FACE`, 256 bytes per face of the result, against `MemAvailable`
+/// plus free swap on Linux), naming the most steps that fit.
 #[pyfunction]
 #[pyo3(signature = (mesh, scheme = "loop", steps = 1))]
 pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) -> PyResult<Mesh> {
@@ -161,6 +164,17 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
             Scheme::ALL.map(Scheme::name).join(", ")
         )));
     };
+    let available = beltrami_io::available_memory();
+    if !scheme.fits(&mesh.mesh, steps, available, 0) && scheme.fits(&mesh.mesh, steps, None, 0) {
+        let faces = scheme.counts(&mesh.mesh, steps).faces;
+        let most = scheme.most_steps_that_fit(&mesh.mesh, steps, available, 0);
+        return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
+            "steps={steps} of {} subdivision would make {faces} faces, needing about {:.1} GB, more than the {:.1} GB this machine has available; at most steps={most} fits this mesh",
+            scheme.name(),
+            faces.saturating_mul(Scheme::BYTES_PER_FACE) as f64 / 1e9,
+            available.unwrap_or(0) as f64 / 1e9,
+        )));
+    }
     let (m, p) = py.detach(|| {
         no_panic(|| {
             scheme

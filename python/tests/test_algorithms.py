@@ -3,6 +3,8 @@ forms and the command line."""
 
 from __future__ import annotations
 
+import os
+
 import json
 import subprocess
 
@@ -66,6 +68,22 @@ def test_loop_subdivision_counts_and_kept_vertices(sphere):
     same = bt.subdivide(sphere, "loop", steps=0)
     assert np.array_equal(same.vertices, sphere.vertices)
     assert np.array_equal(same.faces, sphere.faces)
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/meminfo"), reason="the memory check reads /proc/meminfo")
+def test_a_subdivision_too_large_for_the_memory_is_refused_before_it_allocates():
+    # 13 Loop steps of the icosahedron: 1.3 billion faces, about 340 GB. Raised at once
+    # (no allocation, no killed interpreter), naming the most steps that fit.
+    import time
+
+    ico = bt.generate("sphere", level=0)
+    start = time.perf_counter()
+    with pytest.raises(MemoryError, match=r"steps=13 of loop subdivision would make 1342177280 faces.*at most steps=\d+ fits"):
+        bt.subdivide(ico, "loop", steps=13)
+    assert time.perf_counter() - start < 1.0
+    # Past what a mesh can hold at all: MeshError, as before.
+    with pytest.raises(bt.MeshError, match="a mesh holds at most"):
+        bt.subdivide(ico, "loop", steps=20)
 
 
 def test_delaunay_removes_negative_weights_of_a_plane():

@@ -90,6 +90,46 @@ impl Scheme {
         }
     }
 
+    /// Bytes a run holds at its peak per face of its result: the subdivided positions
+    /// and connectivity, the builder's sorted corners, the face list and a written copy,
+    /// with the coarse mesh beside them. Measured peaks, less the process's base: about
+    /// 200 bytes per face of a Loop result and 220 of a √3 result
+    /// (`docs/subdivision.md`).
+    pub const BYTES_PER_FACE: u64 = 256;
+
+    /// Whether `steps` steps on `mesh` make a mesh within the element limits and, when
+    /// `budget` is given, within `budget` bytes ([`Scheme::BYTES_PER_FACE`] per face of
+    /// the result, plus `base`).
+    #[must_use]
+    pub fn fits(self, mesh: &HalfedgeMesh, steps: usize, budget: Option<u64>, base: u64) -> bool {
+        let c = self.counts(mesh, steps);
+        let max = MAX_ELEMENTS as u64;
+        let elements = c.vertices <= max && c.halfedges() <= max && c.faces <= max;
+        elements
+            && budget.is_none_or(|b| {
+                c.faces
+                    .saturating_mul(Self::BYTES_PER_FACE)
+                    .saturating_add(base)
+                    <= b
+            })
+    }
+
+    /// The most steps, up to `steps`, that [`fit`](Self::fits) (0 when none does):
+    /// results only grow with the steps, so the first that does not fit ends the search.
+    #[must_use]
+    pub fn most_steps_that_fit(
+        self,
+        mesh: &HalfedgeMesh,
+        steps: usize,
+        budget: Option<u64>,
+        base: u64,
+    ) -> usize {
+        (1..=steps)
+            .take_while(|&s| self.fits(mesh, s, budget, base))
+            .last()
+            .unwrap_or(0)
+    }
+
     /// The element counts after `steps` steps of this scheme, computed from the counts
     /// alone (nothing is subdivided), saturating at `u64::MAX`. Exact for a triangle
     /// mesh: the counts of [`subdivide`](Self::subdivide)'s result are these.

@@ -259,6 +259,33 @@ fn errors_name_the_problem() {
     );
 }
 
+/// The size check both the command and the Python package run before subdividing:
+/// the bytes per face of the result against a budget, and the most steps that fit.
+#[test]
+fn the_size_check_finds_the_most_steps_that_fit() {
+    let tet = primitives::tetrahedron();
+    let mesh = tet.mesh().unwrap();
+    // After 1, 2, 3 steps, Loop: 16, 64, 256 faces; √3: 12, 36, 108.
+    let per = Scheme::BYTES_PER_FACE;
+    assert!(Scheme::Loop.fits(&mesh, 2, Some(64 * per), 0));
+    assert!(!Scheme::Loop.fits(&mesh, 2, Some(64 * per - 1), 0));
+    assert!(!Scheme::Loop.fits(&mesh, 2, Some(64 * per), 1));
+    assert_eq!(
+        Scheme::Loop.most_steps_that_fit(&mesh, 10, Some(64 * per), 0),
+        2
+    );
+    assert_eq!(
+        Scheme::Sqrt3.most_steps_that_fit(&mesh, 10, Some(108 * per), 0),
+        3
+    );
+    // No budget: only the element limit, which 20 Loop steps pass (4·4²⁰ faces).
+    assert!(Scheme::Loop.fits(&mesh, 14, None, 0));
+    assert!(!Scheme::Loop.fits(&mesh, 20, None, 0));
+    assert_eq!(Scheme::Loop.most_steps_that_fit(&mesh, 40, None, 0), 14);
+    // Nothing fits: 0.
+    assert_eq!(Scheme::Loop.most_steps_that_fit(&mesh, 5, Some(0), 0), 0);
+}
+
 #[test]
 fn zero_steps_return_the_input() {
     let tet = primitives::tetrahedron();

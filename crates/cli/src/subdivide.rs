@@ -58,44 +58,23 @@ impl SchemeArg {
     }
 }
 
-/// Bytes held at the peak of a step, per face of its result: the subdivided positions
-/// and connectivity, the builder's sorted corners, the face list and the written
-/// copy, with the coarse mesh beside them. Measured peaks, less the base: about 200
-/// bytes per face of a Loop result and 220 of a √3 result (`docs/subdivision.md`).
-const BYTES_PER_FACE: u64 = 256;
-
 /// The memory a run needs for a result of `faces` faces, in bytes.
 fn memory_needed(faces: u64) -> u64 {
     faces
-        .saturating_mul(BYTES_PER_FACE)
+        .saturating_mul(Scheme::BYTES_PER_FACE)
         .saturating_add(crate::memory::BASE_BYTES)
-}
-
-/// The memory the system says is available (`MemAvailable`), where it says so.
-fn memory_available() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib.saturating_mul(1024))
 }
 
 /// Refuses a `--steps` whose result would not fit in a mesh or in memory, naming the
 /// largest number of steps that fits.
 fn check_size(mesh: &HalfedgeMesh, scheme: Scheme, steps: u32) -> Result<MeshCounts, CliError> {
-    let available = memory_available();
-    let fits = |c: &MeshCounts| {
-        let max = MAX_ELEMENTS as u64;
-        let elements = c.vertices <= max && c.halfedges() <= max && c.faces <= max;
-        elements && available.is_none_or(|a| memory_needed(c.faces) <= a)
-    };
+    let available = beltrami_io::available_memory();
+    let base = crate::memory::BASE_BYTES;
     let counts = scheme.counts(mesh, steps as usize);
-    if fits(&counts) {
+    if scheme.fits(mesh, steps as usize, available, base) {
         return Ok(counts);
     }
-    let largest = (0..steps)
-        .rev()
-        .find(|&s| fits(&scheme.counts(mesh, s as usize)))
-        .unwrap_or(0);
+    let largest = scheme.most_steps_that_fit(mesh, steps as usize, available, base);
     let why = if counts.faces > MAX_ELEMENTS as u64 || counts.halfedges() > MAX_ELEMENTS as u64 {
         format!("more than the {MAX_ELEMENTS} a mesh holds")
     } else {

@@ -80,6 +80,7 @@ mod error;
 mod extension;
 mod format;
 mod height_map;
+mod memory;
 mod obj;
 mod off;
 mod ply;
@@ -100,6 +101,7 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use height_map::{GridStats, HeightMap, LengthUnit};
+pub use memory::{available_in_meminfo, available_memory};
 pub use read::{
     DeclaredCounts, declared_counts, read_height_map, read_height_map_from, read_mesh,
     read_mesh_from, read_mesh_from_with, read_mesh_with,
