@@ -212,6 +212,20 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
     outputs.check(&[&args.input], args.force)?;
     let loaded = load_repaired(&args.input, &args.read)?;
     let report = loaded.repair.clone().unwrap_or_default();
+    // STL keeps no vertex indices: a vertex split off keeps its position and is joined
+    // to its original again when the file is read, undoing the repair.
+    if !report.split_vertices.is_empty()
+        && beltrami_io::MeshFormat::from_path(&args.output).ok()
+            == Some(beltrami_io::MeshFormat::Stl)
+    {
+        return Err(CliError::Input {
+            path: args.output.clone(),
+            message: format!(
+                "an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
+                counted(report.split_vertices.len(), "vertex", "vertices")
+            ),
+        });
+    }
     let data = MeshData {
         positions: loaded.positions,
         faces: loaded.faces,

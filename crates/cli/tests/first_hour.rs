@@ -328,6 +328,17 @@ fn repair_writes_a_mesh_every_command_accepts() {
     .unwrap();
     assert_eq!(j["repairs"]["cut_edges"], serde_json::json!([[0, 1]]));
     assert_eq!(j["vertices"], 8);
+    // STL keeps no vertex indices: the copies the cut split off would be welded back on
+    // reading, so a repair into STL is refused, and no file is written.
+    let stl = d.join("repaired.stl");
+    let o = beltrami(&["repair", s(&input), s(&stl)]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, d);
+    assert_eq!(
+        line,
+        "error: repaired.stl: an STL file keeps no vertex indices, so the 2 vertices the repair split off would be joined again when it is read; write .ply, .obj or .off"
+    );
+    assert!(!stl.exists());
 }
 
 #[test]
