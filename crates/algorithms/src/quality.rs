@@ -288,24 +288,36 @@ fn shape_stats(mesh: &HalfedgeMesh, positions: &[DVec3]) -> (usize, Option<Shape
 
 /// The edge-length statistics (`None` without edges).
 fn edge_length_stats(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<EdgeLengthStats> {
-    let lengths: Vec<f64> = mesh
-        .edges()
-        .map(|e| {
-            let [a, b] = mesh.edge_vertices(e);
-            positions[a.index()].distance(positions[b.index()])
-        })
-        .collect();
+    // The geometry's lengths stay finite where the plain expression overflows (a mesh
+    // at 1e300); a mesh that does not form a geometry has no edge to measure.
+    let geometry = beltrami_halfedge::geometry::Geometry::new(mesh, positions).ok()?;
+    let lengths: Vec<f64> = mesh.edges().map(|e| geometry.edge_length(e)).collect();
     (!lengths.is_empty()).then(|| {
-        let n = lengths.len() as f64;
-        let mean = lengths.iter().sum::<f64>() / n;
-        let var = lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n;
-        EdgeLengthStats {
-            min: lengths.iter().copied().fold(f64::INFINITY, f64::min),
-            mean,
-            max: lengths.iter().copied().fold(0.0f64, f64::max),
-            cv: if mean > 0.0 { var.sqrt() / mean } else { 0.0 },
-        }
+        let min = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = lengths.iter().copied().fold(0.0f64, f64::max);
+        let (mean, cv) = match mean_and_cv(&lengths, 1.0) {
+            // Sums of lengths near the largest number overflow: the same sums of the
+            // lengths over the longest, scaled back (the spread needs no scaling back).
+            (mean, cv) if !(mean.is_finite() && cv.is_finite()) && max > 0.0 => {
+                let (mean, cv) = mean_and_cv(&lengths, max);
+                (mean * max, cv)
+            }
+            plain => plain,
+        };
+        EdgeLengthStats { min, mean, max, cv }
     })
+}
+
+/// The mean of `lengths / unit` and the coefficient of variation (0 for a zero mean).
+fn mean_and_cv(lengths: &[f64], unit: f64) -> (f64, f64) {
+    let n = lengths.len() as f64;
+    let mean = lengths.iter().map(|l| l / unit).sum::<f64>() / n;
+    let var = lengths
+        .iter()
+        .map(|l| (l / unit - mean).powi(2))
+        .sum::<f64>()
+        / n;
+    (mean, if mean > 0.0 { var.sqrt() / mean } else { 0.0 })
 }
 
 /// The valence histograms of the interior and the boundary vertices (isolated ones

@@ -55,6 +55,14 @@ fn a_grid_has_right_isosceles_triangles_and_regular_valences() {
     assert_eq!(q.negative_cotangent_edges, 0);
     let e = q.edge_length.unwrap();
     assert_eq!((e.min, e.max), (1.0, 2f64.sqrt()));
+    // The same grid at 1e300: the edge lengths and their spread stay finite and scale
+    // (the plain lengths' squares overflowed, and the mean's sum: inf and NaN).
+    let huge: Vec<DVec3> = grid.positions.iter().map(|p| *p * 1e300).collect();
+    let big = mesh_quality(&grid.mesh().unwrap(), &huge).unwrap();
+    let b = big.edge_length.unwrap();
+    assert_eq!((b.min, b.max), (1e300, 2f64.sqrt() * 1e300));
+    assert!((b.mean / 1e300 - e.mean).abs() < 1e-12 * e.mean, "{b:?}");
+    assert!((b.cv - e.cv).abs() < 1e-12, "{b:?} against {e:?}");
 }
 
 #[test]

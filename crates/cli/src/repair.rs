@@ -212,6 +212,22 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
     outputs.check(&[&args.input], args.force)?;
     let loaded = load_repaired(&args.input, &args.read)?;
     let report = loaded.repair.clone().unwrap_or_default();
+    if loaded.faces.is_empty() && loaded.input_counts.1 > 0 {
+        return Err(CliError::Input {
+            path: args.input.clone(),
+            message: format!(
+                "the repair left no face of the {}: every one was degenerate or a duplicate{}; nothing written",
+                counted(loaded.input_counts.1, "face", "faces"),
+                match args.read.merge_distance {
+                    Some(d) => format!(
+                        " once vertices closer than {} were merged (is --merge-distance in the mesh's unit?)",
+                        crate::text::number(d)
+                    ),
+                    None => String::new(),
+                }
+            ),
+        });
+    }
     // STL keeps no vertex indices: a vertex split off keeps its position and is joined
     // to its original again when the file is read, undoing the repair.
     if !report.split_vertices.is_empty()

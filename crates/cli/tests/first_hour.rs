@@ -363,6 +363,15 @@ fn near_duplicate_vertices_merge_with_a_distance() {
     assert_eq!(j["boundary_loops"], 1);
     let o = beltrami(&["repair", s(&soup), s(&out), "--merge-distance", "-1"]);
     assert_eq!(o.status.code(), Some(2));
+    // A distance in the wrong unit merges everything: nothing is left, nothing written.
+    let emptied = d.join("emptied.ply");
+    let o = beltrami(&["repair", s(&soup), s(&emptied), "--merge-distance", "1e300"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o, d),
+        "error: soup.obj: the repair left no face of the 2 faces: every one was degenerate or a duplicate once vertices closer than 1e300 were merged (is --merge-distance in the mesh's unit?); nothing written"
+    );
+    assert!(!emptied.exists());
 }
 
 // E. Messages and exit codes.
