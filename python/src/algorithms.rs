@@ -195,7 +195,8 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
 /// whose two triangles meet at a larger angle alone (features, curved regions);
 /// `max_flips` caps the flips (default ten per edge). Returns `(Mesh, report)` with the
 /// report's keys as `delaunay --json`: `flips`, `negative_before`, `negative_after`,
-/// `kept_by_dihedral`, `kept_by_topology`, `hit_flip_limit`, `max_deviation` (how far
+/// `kept_by_dihedral`, `kept_by_topology`, `kept_by_flip_limit`, `hit_flip_limit`,
+/// `max_deviation` (how far
 /// the surface moved, in the mesh's unit).
 ///
 /// Raises `ValueError` for a dihedral bound outside [0, 180], `MeshError` for a polygon
@@ -237,6 +238,7 @@ pub(crate) fn delaunay<'py>(
     d.set_item("negative_after", report.negative_after)?;
     d.set_item("kept_by_dihedral", report.kept_by_dihedral)?;
     d.set_item("kept_by_topology", report.kept_by_topology)?;
+    d.set_item("kept_by_flip_limit", report.kept_by_flip_limit)?;
     d.set_item("hit_flip_limit", report.hit_flip_limit)?;
     d.set_item("max_deviation", report.max_deviation)?;
     Ok((result_mesh(m, p), d))

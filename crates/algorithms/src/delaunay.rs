@@ -79,6 +79,9 @@ pub struct DelaunayReport {
     /// Of those left negative, how many could not be flipped: the flipped edge would
     /// already exist, or a triangle is degenerate.
     pub kept_by_topology: usize,
+    /// Of those left negative, how many could have been flipped but were left when the
+    /// flip limit stopped the run.
+    pub kept_by_flip_limit: usize,
     /// Whether the flip limit stopped the run.
     pub hit_flip_limit: bool,
     /// The distance between the input and output surfaces (in the positions' unit),
@@ -215,8 +218,10 @@ pub fn delaunay_flip(
             report.negative_after += 1;
             if !allowed(&edit, e) {
                 report.kept_by_dihedral += 1;
-            } else {
+            } else if !edit.is_flip_ok(e) {
                 report.kept_by_topology += 1;
+            } else {
+                report.kept_by_flip_limit += 1;
             }
         }
     }

@@ -97,7 +97,7 @@ fn the_dihedral_bound_keeps_curved_edges_and_bounds_the_change() {
     assert!(kept.kept_by_dihedral > 0);
     assert_eq!(
         kept.negative_after,
-        kept.kept_by_dihedral + kept.kept_by_topology
+        kept.kept_by_dihedral + kept.kept_by_topology + kept.kept_by_flip_limit
     );
     out.check_integrity().unwrap();
     // A zero bound flips only exactly flat pairs: none on a cylinder.
@@ -112,6 +112,14 @@ fn the_dihedral_bound_keeps_curved_edges_and_bounds_the_change() {
         .2;
     assert_eq!(limited.flips, 3);
     assert!(limited.hit_flip_limit);
+    // What the limit left is counted as such, not as unflippable.
+    assert!(limited.kept_by_flip_limit > 0);
+    assert_eq!(limited.kept_by_dihedral, 0);
+    assert_eq!(
+        limited.negative_after,
+        limited.kept_by_topology + limited.kept_by_flip_limit
+    );
+    assert!(limited.kept_by_topology <= free.negative_after);
 }
 
 #[test]

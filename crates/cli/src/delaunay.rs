@@ -54,6 +54,7 @@ struct Summary {
     negative_after: usize,
     kept_by_dihedral: usize,
     kept_by_topology: usize,
+    kept_by_flip_limit: usize,
     hit_flip_limit: bool,
     /// The distance between the input and output surfaces, in the mesh's unit.
     max_deviation: f64,
@@ -106,6 +107,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             negative_after: report.negative_after,
             kept_by_dihedral: report.kept_by_dihedral,
             kept_by_topology: report.kept_by_topology,
+            kept_by_flip_limit: report.kept_by_flip_limit,
             hit_flip_limit: report.hit_flip_limit,
             max_deviation: report.max_deviation,
             max_dihedral_degrees: args.max_dihedral,
@@ -128,7 +130,12 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             report.kept_by_topology
         ));
     }
-    if report.hit_flip_limit {
+    if report.kept_by_flip_limit > 0 {
+        kept.push(format!(
+            "{} left at the flip limit (--max-flips)",
+            report.kept_by_flip_limit
+        ));
+    } else if report.hit_flip_limit {
         kept.push("the flip limit was reached".to_string());
     }
     let kept = if kept.is_empty() {

@@ -85,6 +85,41 @@ fn the_dihedral_bound_keeps_edges_and_says_so() {
     let deviation = |v: &Value| v["max_deviation"].as_f64().unwrap();
     assert!(deviation(&bound) < deviation(&free));
     assert!(bound["kept_by_dihedral"].as_u64().unwrap() > 0);
+    // One flip allowed: the rest is left by the limit, not called unflippable.
+    let limited = beltrami(&[
+        "delaunay",
+        s(&input),
+        s(&out),
+        "--force",
+        "--max-flips",
+        "1",
+    ]);
+    let line = String::from_utf8(limited.stdout).unwrap();
+    assert!(
+        line.contains("left at the flip limit (--max-flips)"),
+        "{line}"
+    );
+    assert!(!line.contains("not flippable"), "{line}");
+    let limited: Value = serde_json::from_slice(
+        &beltrami(&[
+            "delaunay",
+            s(&input),
+            s(&out),
+            "--json",
+            "--force",
+            "--max-flips",
+            "1",
+        ])
+        .stdout,
+    )
+    .unwrap();
+    assert_eq!(limited["hit_flip_limit"], true);
+    assert_eq!(
+        limited["kept_by_flip_limit"].as_u64().unwrap()
+            + limited["kept_by_topology"].as_u64().unwrap(),
+        limited["negative_after"].as_u64().unwrap()
+    );
+    assert!(limited["kept_by_flip_limit"].as_u64().unwrap() > 0);
 }
 
 #[test]
