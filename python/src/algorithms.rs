@@ -387,6 +387,7 @@ pub(crate) fn remesh<'py>(
     d.set_item("boundary_edges", r.boundary_edges)?;
     d.set_item("corners", r.corners)?;
     d.set_item("hausdorff", r.hausdorff)?;
+    d.set_item("hausdorff_from_input", r.hausdorff_from_input)?;
     d.set_item("degenerate_faces_before", r.degenerate_faces_before)?;
     d.set_item("degenerate_faces", r.degenerate_faces)?;
     d.set_item("feature_angle_degrees", features)?;

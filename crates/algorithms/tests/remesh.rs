@@ -264,6 +264,38 @@ fn a_cube_remeshed_too_coarsely_is_refused_rather_than_drawn_together() {
     }
 }
 
+/// A tetrahedron without features: its vertices stay on its faces (`hausdorff` at
+/// rounding) while its corners are rounded off, which only the distance from the input's
+/// vertices shows, as `beltrami-metrics` measures it. With features nothing moves.
+#[test]
+fn the_distance_from_the_input_shows_corners_rounded_off() {
+    // The corner of a cube: three right angles at the origin (a regular tetrahedron is
+    // left as it is, its edges all of the target length).
+    let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    let mesh =
+        HalfedgeMesh::from_polygons(4, [[0u32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]).unwrap();
+    let (out, y, report) = remesh(&mesh, &positions, &RemeshOptions::default()).unwrap();
+    assert!(report.hausdorff < 1e-12, "{report:?}");
+    let index = SurfaceIndex::new(&out, &y).unwrap();
+    let from_input = index
+        .distances(&positions)
+        .unwrap()
+        .into_iter()
+        .fold(0.0, f64::max);
+    assert_eq!(report.hausdorff_from_input, from_input);
+    let edge = positions[0].distance(positions[1]);
+    assert!(
+        from_input > 0.2 * edge,
+        "{from_input} against an edge of {edge}"
+    );
+    let kept = RemeshOptions::default().feature_angle(45f64.to_radians());
+    let (_, _, report) = remesh(&mesh, &positions, &kept).unwrap();
+    assert!(
+        report.hausdorff < 1e-12 && report.hausdorff_from_input < 1e-12,
+        "{report:?}"
+    );
+}
+
 #[test]
 fn edges_approach_the_target_and_vary_far_less_than_the_input() {
     let (mesh, x) = jittered_grid(24, 24, 0.3, 7);

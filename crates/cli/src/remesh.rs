@@ -132,6 +132,9 @@ struct Summary {
     corners: usize,
     /// The largest distance from an output vertex to the input's triangles.
     hausdorff: f64,
+    /// The largest distance from an input vertex to the output's triangles (sharp edges
+    /// rounded off show here).
+    hausdorff_from_input: f64,
     /// Degenerate triangles (flat for their size, or shrunk to a point) of the input.
     degenerate_faces_before: usize,
     /// Degenerate triangles of the output.
@@ -257,6 +260,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         boundary_edges: report.boundary_edges,
         corners: report.corners,
         hausdorff: report.hausdorff,
+        hausdorff_from_input: report.hausdorff_from_input,
         degenerate_faces_before: report.degenerate_faces_before,
         degenerate_faces: report.degenerate_faces,
         feature_angle_degrees: args.features,
@@ -275,7 +279,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     writeln!(
         out,
-        "remeshed {} -> {}: {} vertices, {} faces -> {} vertices, {} faces; mean edge length {} (target {}), variation {} (was {}); vertices within {} of the input's triangles{}",
+        "remeshed {} -> {}: {} vertices, {} faces -> {} vertices, {} faces; mean edge length {} (target {}), variation {} (was {}); vertices within {} of the input's triangles{}, the input's vertices within {} of the result's",
         args.input.display(),
         args.output.display(),
         report.vertices_before,
@@ -292,6 +296,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         } else {
             ""
         },
+        number(report.hausdorff_from_input),
     )?;
     if let Some(a) = report.adaptive {
         let derived = [
