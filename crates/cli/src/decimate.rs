@@ -449,10 +449,15 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         seconds,
         seconds_measure,
     };
-    if args
-        .outputs
-        .write(&args.output, &mesh, positions, &summary, &quality, out)?
-    {
+    if args.outputs.write(
+        &args.output,
+        &mesh,
+        positions,
+        &summary,
+        &quality,
+        &loaded.repair_lines,
+        out,
+    )? {
         return Ok(());
     }
     for line in &loaded.repair_lines {

@@ -59,6 +59,8 @@ struct Summary {
     /// The distance between the input and output surfaces, in the mesh's unit.
     max_deviation: f64,
     max_dihedral_degrees: Option<f64>,
+    /// What `--repair` changed (and the reading's other notes), one line each.
+    notes: Vec<String>,
     seconds: f64,
 }
 
@@ -111,6 +113,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             hit_flip_limit: report.hit_flip_limit,
             max_deviation: report.max_deviation,
             max_dihedral_degrees: args.max_dihedral,
+            notes: loaded.repair_lines.clone(),
             seconds,
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;

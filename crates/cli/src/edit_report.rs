@@ -100,13 +100,15 @@ impl QualityChange {
 }
 
 /// The `--json` and `--report` document: the command's own summary with the quality
-/// before and after beside it.
+/// before and after beside it, and the notes the sentence would have had (what
+/// `--repair` changed, what `--lenient` ignored, the STL weld), one line each.
 #[derive(Debug, Serialize)]
 struct EditReport<'a, S: Serialize> {
     #[serde(flatten)]
     summary: &'a S,
     #[serde(flatten)]
     quality: &'a QualityChange,
+    notes: &'a [String],
 }
 
 /// The output options the editing commands share.
@@ -141,8 +143,10 @@ impl EditOutputArgs {
     }
 
     /// Writes the result mesh to `output` and, with `--report`, the JSON document
-    /// (`summary` with `quality`) as one staged write; with `--json` prints the
-    /// document. Returns whether it printed it (then the command prints nothing else).
+    /// (`summary` with `quality` and `notes`) as one staged write; with `--json` prints
+    /// the document. Returns whether it printed it (then the command prints nothing
+    /// else).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn write(
         &self,
         output: &Path,
@@ -150,10 +154,15 @@ impl EditOutputArgs {
         positions: Vec<DVec3>,
         summary: &impl Serialize,
         quality: &QualityChange,
+        notes: &[String],
         out: &mut impl Write,
     ) -> Result<bool, CliError> {
-        let mut json = serde_json::to_vec_pretty(&EditReport { summary, quality })
-            .map_err(std::io::Error::from)?;
+        let mut json = serde_json::to_vec_pretty(&EditReport {
+            summary,
+            quality,
+            notes,
+        })
+        .map_err(std::io::Error::from)?;
         json.push(b'\n');
         write_result_and_report(
             output,

@@ -142,10 +142,15 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         (&mesh, &positions),
     )?;
     let summary = summarise(args, &mesh, &report, options.max_loop_edges, seconds);
-    if args
-        .outputs
-        .write(&args.output, &mesh, positions, &summary, &quality, out)?
-    {
+    if args.outputs.write(
+        &args.output,
+        &mesh,
+        positions,
+        &summary,
+        &quality,
+        &loaded.repair_lines,
+        out,
+    )? {
         return Ok(());
     }
     for line in &loaded.repair_lines {

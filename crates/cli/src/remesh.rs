@@ -268,10 +268,15 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         smooth_projection: options.projection && options.smooth_projection,
         seconds,
     };
-    if args
-        .outputs
-        .write(&args.output, &mesh, positions, &summary, &quality, out)?
-    {
+    if args.outputs.write(
+        &args.output,
+        &mesh,
+        positions,
+        &summary,
+        &quality,
+        &loaded.repair_lines,
+        out,
+    )? {
         return Ok(());
     }
     for line in &loaded.repair_lines {

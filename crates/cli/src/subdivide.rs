@@ -109,6 +109,8 @@ struct Summary {
     edges: usize,
     faces: usize,
     seconds: f64,
+    /// What `--repair` changed (and the reading's other notes), one line each.
+    notes: Vec<String>,
 }
 
 /// Runs `beltrami subdivide`.
@@ -157,6 +159,7 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
             edges: fine.n_edges(),
             faces: fine.n_faces(),
             seconds,
+            notes: loaded.repair_lines.clone(),
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;

@@ -318,6 +318,29 @@ fn repair_writes_a_mesh_every_command_accepts() {
     // --repair on the reading command does the same in one step.
     let text = stdout(&["smooth", s(&input), s(&d.join("t.ply")), "--repair"]);
     assert!(text.contains("repaired: cut 1 non-manifold edge"), "{text}");
+    // With --json the editing commands say it in their `notes`.
+    for (command, extra) in [
+        ("remesh", None),
+        ("decimate", Some(["--ratio", "0.9"])),
+        ("fill-holes", None),
+        ("delaunay", None),
+        ("subdivide", None),
+    ] {
+        let output = d.join(format!("{command}.ply"));
+        let mut args = vec![command, s(&input), s(&output), "--repair", "--json"];
+        args.extend(extra.iter().flatten());
+        let j: serde_json::Value = serde_json::from_str(&stdout(&args)).unwrap();
+        let notes = j["notes"]
+            .as_array()
+            .unwrap_or_else(|| panic!("{command}: {j}"));
+        assert!(
+            notes.iter().any(|n| n
+                .as_str()
+                .unwrap()
+                .starts_with("repaired: cut 1 non-manifold edge")),
+            "{command}: {j}"
+        );
+    }
     // --json lists every element.
     let j: serde_json::Value = serde_json::from_str(&stdout(&[
         "repair",
