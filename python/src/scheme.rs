@@ -14,7 +14,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::weights::register;
+use crate::weights::{register, replace};
 
 /// A weight scheme whose weights a Python function computes.
 struct PythonScheme {
@@ -161,27 +161,50 @@ pub(crate) fn take_failure(name: &str) -> Option<PyErr> {
 /// tells the smoother that the weights never change, so they are computed once.
 ///
 /// The function runs with the GIL held; an exception raised in it stops the run and
-/// propagates. Raises `ValueError` when the name is taken or not lowercase letters,
-/// digits, `-` and `_`.
+/// propagates. Raises `TypeError` when `function` is not callable, `ValueError` when the
+/// name is not lowercase letters, digits, `-` and `_`, or is taken. `replace=True` puts
+/// the new function in the place of a scheme registered from Python under the same
+/// name (a notebook cell run again); a built-in scheme is never replaced.
 ///
 /// Example, the cotangent weights: `lambda h: 0.5 * (h["opposite_cotangent"] +
 /// h["opposite_cotangent"][h["twin"]])`.
 #[pyfunction]
-#[pyo3(signature = (name, function, *, description = "", depends_on_positions = true))]
+#[pyo3(signature = (name, function, *, description = "", depends_on_positions = true, replace = false))]
 pub(crate) fn register_weight(
+    py: Python<'_>,
     name: String,
     function: Py<PyAny>,
     description: &str,
     depends_on_positions: bool,
+    replace: bool,
 ) -> PyResult<()> {
+    if !function.bind(py).is_callable() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "the weight function must be callable (it is called with a dict of per-halfedge arrays), got {}",
+            function.bind(py).get_type().name()?
+        )));
+    }
     let failure = Slot::default();
-    register(PythonScheme {
+    let scheme = PythonScheme {
         name: name.clone(),
         description: description.to_string(),
         function,
         depends_on_positions,
         failure: Arc::clone(&failure),
-    })?;
+    };
+    let own = slots()
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .contains_key(&name);
+    if replace && own {
+        self::replace(scheme)?;
+    } else if replace && crate::weights::is_registered(&name)? {
+        return Err(PyValueError::new_err(format!(
+            "{name:?} is a built-in weight scheme; replace=True replaces only schemes registered from Python"
+        )));
+    } else {
+        register(scheme)?;
+    }
     slots()
         .lock()
         .unwrap_or_else(PoisonError::into_inner)

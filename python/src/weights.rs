@@ -60,3 +60,22 @@ pub(crate) fn register(scheme: impl WeightScheme + 'static) -> PyResult<()> {
         .register(scheme)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
+
+/// Whether a scheme is registered under `name`.
+pub(crate) fn is_registered(name: &str) -> PyResult<bool> {
+    Ok(registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .get(name)
+        .is_ok())
+}
+
+/// Puts `scheme` in the place of the registered scheme of the same name.
+pub(crate) fn replace(scheme: impl WeightScheme + 'static) -> PyResult<()> {
+    registry()?
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .replace(scheme)
+        .map(drop)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}

@@ -90,3 +90,29 @@ def test_names_are_checked():
         bt.register_weight("cotangent", python_cotangent)
     with pytest.raises(ValueError, match="invalid weight scheme name"):
         bt.register_weight("Bad Name", python_cotangent)
+
+
+def test_a_scheme_of_ones_own_is_replaced_when_asked(sphere):
+    # A notebook cell run again: the same name, a new function.
+    bt.register_weight("cell", lambda h: np.ones(len(h["twin"])))
+    with pytest.raises(ValueError, match="already registered"):
+        bt.register_weight("cell", lambda h: 2 * np.ones(len(h["twin"])))
+    seen = []
+
+    def second(h):
+        seen.append(True)
+        return 2 * np.ones(len(h["twin"]))
+
+    bt.register_weight("cell", second, replace=True)
+    bt.smooth(sphere, weights="cell", iterations=1)
+    assert seen
+    assert bt.weight_schemes().count("cell") == 1
+    # A built-in stays.
+    with pytest.raises(ValueError, match="built-in"):
+        bt.register_weight("cotangent", second, replace=True)
+
+
+def test_a_function_that_is_not_callable_is_refused_at_once():
+    with pytest.raises(TypeError, match="must be callable"):
+        bt.register_weight("not-callable", np.ones(3))
+    assert "not-callable" not in bt.weight_schemes()

@@ -50,15 +50,7 @@ impl WeightRegistry {
     /// lowercase ASCII letters, digits, `-` and `_`.
     pub fn register(&mut self, scheme: impl WeightScheme + 'static) -> Result<(), WeightError> {
         let name = scheme.name();
-        let valid = !name.is_empty()
-            && name
-                .bytes()
-                .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-' || b == b'_');
-        if !valid {
-            return Err(WeightError::InvalidSchemeName {
-                name: name.to_string(),
-            });
-        }
+        check_name(name)?;
         if self.schemes.iter().any(|s| s.name() == name) {
             return Err(WeightError::DuplicateScheme {
                 name: name.to_string(),
@@ -66,6 +58,43 @@ impl WeightRegistry {
         }
         self.schemes.push(Arc::new(scheme));
         Ok(())
+    }
+
+    /// Puts `scheme` in the place of the registered scheme of the same name (a new
+    /// version of one's own scheme, as a notebook cell run again registers it), keeping
+    /// its place in the order; returns the scheme replaced.
+    ///
+    /// # Errors
+    /// [`WeightError::UnknownScheme`] when no scheme has the name, listing the known
+    /// ones, and [`WeightError::InvalidSchemeName`] as [`register`](Self::register).
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_weights::{Cotangent, Uniform, WeightRegistry};
+    /// let mut registry = WeightRegistry::new();
+    /// registry.register(Uniform)?;
+    /// let old = registry.replace(Uniform)?;
+    /// assert_eq!(old.name(), "uniform");
+    /// assert_eq!(registry.names(), ["uniform"]);
+    /// assert!(registry.replace(Cotangent).is_err());
+    /// # Ok::<(), beltrami_weights::WeightError>(())
+    /// ```
+    pub fn replace(
+        &mut self,
+        scheme: impl WeightScheme + 'static,
+    ) -> Result<Arc<dyn WeightScheme>, WeightError> {
+        let name = scheme.name();
+        check_name(name)?;
+        let known = self.names().join(", ");
+        let slot = self
+            .schemes
+            .iter_mut()
+            .find(|s| s.name() == name)
+            .ok_or_else(|| WeightError::UnknownScheme {
+                name: name.to_string(),
+                known,
+            })?;
+        Ok(std::mem::replace(slot, Arc::new(scheme)))
     }
 
     /// The scheme called `name`.
@@ -92,6 +121,22 @@ impl WeightRegistry {
     /// The registered schemes, in registration order.
     pub fn iter(&self) -> impl Iterator<Item = &Arc<dyn WeightScheme>> {
         self.schemes.iter()
+    }
+}
+
+/// [`WeightError::InvalidSchemeName`] unless `name` is non-empty lowercase ASCII letters,
+/// digits, `-` and `_`.
+fn check_name(name: &str) -> Result<(), WeightError> {
+    let valid = !name.is_empty()
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-' || b == b'_');
+    if valid {
+        Ok(())
+    } else {
+        Err(WeightError::InvalidSchemeName {
+            name: name.to_string(),
+        })
     }
 }
 

@@ -229,6 +229,7 @@ def register_weight(
     *,
     description: str = "",
     depends_on_positions: bool = True,
+    replace: bool = False,
 ) -> None:
     """Registers a weight scheme computed by a vectorised Python function over halfedges."""
 
