@@ -197,20 +197,35 @@ pub fn delaunay_flip(
         negative_before,
         ..DelaunayReport::default()
     };
-    while let Some(e) = queue.pop_front() {
-        if !is_negative(&edit, e) || !allowed(&edit, e) || !edit.is_flip_ok(e) {
-            continue;
+    // An edge refused because its flipped diagonal existed may become flippable when
+    // that diagonal is flipped away elsewhere, without a flip next to it: once the queue
+    // is empty, the edges still to flip are queued again, until none is left.
+    loop {
+        while let Some(e) = queue.pop_front() {
+            if !is_negative(&edit, e) || !allowed(&edit, e) || !edit.is_flip_ok(e) {
+                continue;
+            }
+            if report.flips == limit {
+                report.hit_flip_limit = true;
+                break;
+            }
+            edit.flip_edge(e)?;
+            report.flips += 1;
+            flipped[e.index()] = true;
+            for h in e.halfedges() {
+                queue.push_back(edit.next(h).edge());
+                queue.push_back(edit.prev(h).edge());
+            }
         }
-        if report.flips == limit {
-            report.hit_flip_limit = true;
+        if report.hit_flip_limit {
             break;
         }
-        edit.flip_edge(e)?;
-        report.flips += 1;
-        flipped[e.index()] = true;
-        for h in e.halfedges() {
-            queue.push_back(edit.next(h).edge());
-            queue.push_back(edit.prev(h).edge());
+        queue.extend(
+            edit.edges()
+                .filter(|&e| is_negative(&edit, e) && allowed(&edit, e) && edit.is_flip_ok(e)),
+        );
+        if queue.is_empty() {
+            break;
         }
     }
     for e in edit.edges() {
@@ -221,6 +236,8 @@ pub fn delaunay_flip(
             } else if !edit.is_flip_ok(e) {
                 report.kept_by_topology += 1;
             } else {
+                // Flippable and allowed: only the limit leaves such an edge.
+                debug_assert!(report.hit_flip_limit);
                 report.kept_by_flip_limit += 1;
             }
         }

@@ -98,20 +98,23 @@ impl Scheme {
     pub const BYTES_PER_FACE: u64 = 256;
 
     /// Whether `steps` steps on `mesh` make a mesh within the element limits and, when
-    /// `budget` is given, within `budget` bytes ([`Scheme::BYTES_PER_FACE`] per face of
-    /// the result, plus `base`).
+    /// `budget` (bytes) is given, within it: [`Scheme::bytes_needed`] with `base` bytes
+    /// (the process's own) added.
     #[must_use]
     pub fn fits(self, mesh: &HalfedgeMesh, steps: usize, budget: Option<u64>, base: u64) -> bool {
         let c = self.counts(mesh, steps);
         let max = MAX_ELEMENTS as u64;
         let elements = c.vertices <= max && c.halfedges() <= max && c.faces <= max;
-        elements
-            && budget.is_none_or(|b| {
-                c.faces
-                    .saturating_mul(Self::BYTES_PER_FACE)
-                    .saturating_add(base)
-                    <= b
-            })
+        elements && budget.is_none_or(|b| Self::bytes_needed(c.faces, base) <= b)
+    }
+
+    /// The memory a run making `faces` faces needs, in bytes:
+    /// [`Scheme::BYTES_PER_FACE`] per face plus `base` (saturated at `u64::MAX`).
+    #[must_use]
+    pub fn bytes_needed(faces: u64, base: u64) -> u64 {
+        faces
+            .saturating_mul(Self::BYTES_PER_FACE)
+            .saturating_add(base)
     }
 
     /// The most steps, up to `steps`, that [`fit`](Self::fits) (0 when none does):
@@ -141,12 +144,13 @@ impl Scheme {
     /// three times the `B` boundary edges.
     ///
     /// # Complexity
-    /// O(H) for the boundary count, then O(steps).
+    /// O(H) for the boundary count, then O(steps), ending early once the counts stop
+    /// changing (saturated, or a mesh without faces).
     #[must_use]
     pub fn counts(self, mesh: &HalfedgeMesh, steps: usize) -> MeshCounts {
         let mut c = MeshCounts::of(mesh);
         for step in 0..steps {
-            c = match self {
+            let next = match self {
                 Scheme::Loop => MeshCounts {
                     vertices: c.vertices.saturating_add(c.edges),
                     edges: c
@@ -178,6 +182,12 @@ impl Scheme {
                     boundary_edges: c.boundary_edges.saturating_mul(3),
                 },
             };
+            // A count that no longer changes (no faces, or every count saturated) stays
+            // so under either scheme's steps: a huge `steps` ends here.
+            if next == c {
+                break;
+            }
+            c = next;
         }
         c
     }

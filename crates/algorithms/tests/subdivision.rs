@@ -278,7 +278,8 @@ fn the_size_check_finds_the_most_steps_that_fit() {
         Scheme::Sqrt3.most_steps_that_fit(&mesh, 10, Some(108 * per), 0),
         3
     );
-    // No budget: only the element limit, which 20 Loop steps pass (4·4²⁰ faces).
+    // No budget: only the element limit, which 14 Loop steps pass (4·4¹⁴ faces, three
+    // halfedges each, under u32::MAX) and 15 do not.
     assert!(Scheme::Loop.fits(&mesh, 14, None, 0));
     assert!(!Scheme::Loop.fits(&mesh, 20, None, 0));
     assert_eq!(Scheme::Loop.most_steps_that_fit(&mesh, 40, None, 0), 14);

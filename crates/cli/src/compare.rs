@@ -211,6 +211,9 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
     let reference_geometry = geometry(&reference).map_err(&on_reference)?;
     let mesh_volume = closed_volume(&mesh_geometry).map_err(&on_mesh)?;
     let reference_volume = closed_volume(&reference_geometry).map_err(&on_reference)?;
+    let reference_extent = reference_geometry
+        .bounding_box()
+        .map_or(0.0, |(lo, hi)| lo.distance(hi));
     notes.volume = match (mesh_volume, reference_volume) {
         (Some(_), Some(_)) => String::new(),
         (None, Some(_)) => format!("{} is open", args.mesh.display()),
@@ -265,7 +268,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
             .map(|(mesh, reference)| Volumes {
                 mesh,
                 reference,
-                ratio: volume_ratio(mesh, reference),
+                ratio: beltrami_metrics::measures::volume_ratio(mesh, reference, reference_extent),
             }),
         area,
         scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
@@ -705,10 +708,4 @@ pub(crate) fn stage_scalar_ply(
         stage_ply(path, &data, &attributes, &WriteOptions::default())
     })?;
     Ok((path.display().to_string(), map.max))
-}
-
-/// `mesh / reference`, or `None` when that is not a finite number (a closed but flat
-/// reference encloses no volume).
-fn volume_ratio(mesh: f64, reference: f64) -> Option<f64> {
-    Some(mesh / reference).filter(|r| r.is_finite())
 }

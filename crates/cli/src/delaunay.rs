@@ -23,11 +23,11 @@ pub(crate) struct DelaunayArgs {
     /// Leave an edge alone when its two triangles meet at more than this angle, in
     /// degrees (0 to 180): keeps feature edges and bounds how much a flip can change a
     /// curved surface. Default: no bound (on a curved scan, try 1 to 5).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, allow_negative_numbers = true, value_name = "DEG")]
     max_dihedral: Option<f64>,
     /// Stop after this many flips (default: ten per edge; a planar mesh never needs as
     /// many, a curved one could otherwise cycle).
-    #[arg(long, value_name = "N")]
+    #[arg(long, allow_negative_numbers = true, value_name = "N")]
     max_flips: Option<usize>,
     /// Print a JSON summary instead of the sentence.
     #[arg(long)]
@@ -78,6 +78,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     loaded.require_faces(&args.input, "delaunay")?;
     let mut options = DelaunayOptions::default();
     if let Some(d) = args.max_dihedral {

@@ -112,6 +112,7 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
     )?;
     args.outputs.check(&args.output, &args.input)?;
     let loaded = load(&args.input, &args.read)?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     loaded.require_faces(&args.input, "fill-holes")?;
     let mut options = FillOptions::default()
         .fill_all(args.all)
@@ -216,7 +217,7 @@ fn summarise(
     }
 }
 
-/// Below this share of the surface's area, the loop left open as the outer boundary
+/// Below this share of its component's area, a loop left open as an outer boundary
 /// looks like a hole of a closed part, and the summary says that `--all` fills it. The
 /// rim of an open scan spans most of its surface (a hemisphere's: half), a hole cut into
 /// a closed part a few per cent at most.
@@ -264,8 +265,8 @@ fn outer_share(
 }
 
 /// `; left N loops open: …`: the loops left open, by reason (empty when none).
-/// `outer_share` is the share of the surface's area the loop left open as the outer
-/// boundary spans ([`outer_share`]).
+/// `outer_share` is the smallest share of its component's area that a loop left open as
+/// an outer boundary spans ([`outer_share`]).
 fn open_note(report: &FillReport, max_loop_edges: usize, outer_share: Option<f64>) -> String {
     let count = |reason: SkipReason| report.skipped.iter().filter(|s| s.reason == reason).count();
     let mut open = Vec::new();

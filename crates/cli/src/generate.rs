@@ -58,7 +58,13 @@ pub(crate) struct GenerateArgs {
     #[arg(long, value_name = "N")]
     holes: Option<usize>,
     /// With --holes: the holes' radius as a multiple of the mean edge length.
-    #[arg(long, value_name = "R", default_value_t = 3.0, requires = "holes")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_name = "R",
+        default_value_t = 3.0,
+        requires = "holes"
+    )]
     hole_radius: f64,
     /// Also write the clean surface (the reference: without noise and without holes) to
     /// this file.

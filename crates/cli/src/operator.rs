@@ -135,6 +135,8 @@ struct Summary {
     /// Rows left zero: vertices that cannot move (weights summing to <= 0, zero area,
     /// isolated). Always 0 for the mass matrix.
     zero_rows: usize,
+    /// What `--repair` changed (and the reading's other notes), one line each.
+    notes: Vec<String>,
 }
 
 /// Runs `beltrami operator`.
@@ -262,6 +264,7 @@ fn write_result(
                 .then_some(args.vertex_area),
             cotangent_negative: laplacian.then_some(args.cotangent_negative),
             zero_rows,
+            notes: repair_lines.to_vec(),
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;

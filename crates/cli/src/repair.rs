@@ -76,6 +76,34 @@ impl From<&RepairReport> for RepairJson {
     }
 }
 
+/// Refuses an STL `output` of a mesh whose repair split vertices (cut non-manifold
+/// edges, pinched vertices, opened edges): STL keeps no vertex indices, so a copy split
+/// off, still at its original's position, is joined to it again when the file is read,
+/// undoing the repair. For the commands that keep the input's positions (`repair`,
+/// `fill-holes`, `delaunay`).
+///
+/// # Errors
+/// [`CliError::Input`] naming `output`, when it is an STL file and `repair` split
+/// vertices.
+pub(crate) fn refuse_stl_after_split(
+    output: &std::path::Path,
+    repair: Option<&RepairReport>,
+) -> Result<(), CliError> {
+    let Some(report) = repair.filter(|r| !r.split_vertices.is_empty()) else {
+        return Ok(());
+    };
+    if beltrami_io::MeshFormat::from_path(output).ok() != Some(beltrami_io::MeshFormat::Stl) {
+        return Ok(());
+    }
+    Err(CliError::Input {
+        path: output.to_path_buf(),
+        message: format!(
+            "an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
+            counted(report.split_vertices.len(), "vertex", "vertices")
+        ),
+    })
+}
+
 /// One line per kind of repair, naming the first elements: what `--repair` and
 /// `beltrami repair` print.
 pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
@@ -216,7 +244,7 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         return Err(CliError::Input {
             path: args.input.clone(),
             message: format!(
-                "the repair left no face of the {}: every one was degenerate or a duplicate{}; nothing written",
+                "the repair left none of the {}: every one was degenerate or a duplicate{}; nothing written",
                 counted(loaded.input_counts.1, "face", "faces"),
                 match args.read.merge_distance {
                     Some(d) => format!(
@@ -228,20 +256,7 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
             ),
         });
     }
-    // STL keeps no vertex indices: a vertex split off keeps its position and is joined
-    // to its original again when the file is read, undoing the repair.
-    if !report.split_vertices.is_empty()
-        && beltrami_io::MeshFormat::from_path(&args.output).ok()
-            == Some(beltrami_io::MeshFormat::Stl)
-    {
-        return Err(CliError::Input {
-            path: args.output.clone(),
-            message: format!(
-                "an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
-                counted(report.split_vertices.len(), "vertex", "vertices")
-            ),
-        });
-    }
+    refuse_stl_after_split(&args.output, Some(&report))?;
     let data = MeshData {
         positions: loaded.positions,
         faces: loaded.faces,

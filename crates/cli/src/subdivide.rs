@@ -60,9 +60,7 @@ impl SchemeArg {
 
 /// The memory a run needs for a result of `faces` faces, in bytes.
 fn memory_needed(faces: u64) -> u64 {
-    faces
-        .saturating_mul(Scheme::BYTES_PER_FACE)
-        .saturating_add(crate::memory::BASE_BYTES)
+    Scheme::bytes_needed(faces, crate::memory::BASE_BYTES)
 }
 
 /// Refuses a `--steps` whose result would not fit in a mesh or in memory, naming the

@@ -267,19 +267,29 @@ fn a_reference_of_no_volume_has_no_volume_ratio() {
         [1, 2, 3],
     ]);
     let flat = write(dir.path(), "flat.ply", positions.clone(), &faces);
+    // The same in a tilted plane, where its volume is not 0 but rounding (1e-17).
+    let tilt = |p: DVec3| DVec3::new(p.x, p.y, 0.3 * p.x + 0.7 * p.y + 0.1);
+    let tilted = write(
+        dir.path(),
+        "tilted.ply",
+        positions.iter().map(|&p| tilt(p)).collect(),
+        &faces,
+    );
     let mut lifted = positions;
     lifted[3].z = 1.0;
     let tetra = write(dir.path(), "tetra.ply", lifted, &faces);
-    for mesh in [&flat, &tetra] {
-        let j = json(&["compare", s(mesh), s(&flat), "--json"]);
-        assert_eq!(j["volume"]["reference"], 0.0);
-        assert_eq!(j["volume"]["ratio"], Value::Null, "{j}");
-        let table = text(&["compare", s(mesh), s(&flat)], dir.path());
-        let volume = table.lines().find(|l| l.starts_with("  volume")).unwrap();
-        assert!(
-            volume.ends_with("ratio - (the reference encloses no volume)"),
-            "{volume}"
-        );
+    for reference in [&flat, &tilted] {
+        for mesh in [&flat, &tetra] {
+            let j = json(&["compare", s(mesh), s(reference), "--json"]);
+            assert!(f(&j["volume"]["reference"]).abs() < 1e-15, "{j}");
+            assert_eq!(j["volume"]["ratio"], Value::Null, "{j}");
+            let table = text(&["compare", s(mesh), s(reference)], dir.path());
+            let volume = table.lines().find(|l| l.starts_with("  volume")).unwrap();
+            assert!(
+                volume.ends_with("ratio - (the reference encloses no volume)"),
+                "{volume}"
+            );
+        }
     }
     // Against the tetrahedron the ratio is there.
     let j = json(&["compare", s(&flat), s(&tetra), "--json"]);

@@ -362,6 +362,13 @@ fn repair_writes_a_mesh_every_command_accepts() {
         "error: repaired.stl: an STL file keeps no vertex indices, so the 2 vertices the repair split off would be joined again when it is read; write .ply, .obj or .off"
     );
     assert!(!stl.exists());
+    // The same for the commands that keep the input's positions.
+    for command in ["fill-holes", "delaunay"] {
+        let o = beltrami(&[command, s(&input), s(&stl), "--repair"]);
+        assert_eq!(o.status.code(), Some(1), "{command}");
+        assert!(error_line(&o, d).contains("an STL file keeps no vertex indices"));
+        assert!(!stl.exists());
+    }
 }
 
 #[test]
@@ -392,7 +399,7 @@ fn near_duplicate_vertices_merge_with_a_distance() {
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         error_line(&o, d),
-        "error: soup.obj: the repair left no face of the 2 faces: every one was degenerate or a duplicate once vertices closer than 1e300 were merged (is --merge-distance in the mesh's unit?); nothing written"
+        "error: soup.obj: the repair left none of the 2 faces: every one was degenerate or a duplicate once vertices closer than 1e300 were merged (is --merge-distance in the mesh's unit?); nothing written"
     );
     assert!(!emptied.exists());
 }

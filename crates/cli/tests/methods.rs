@@ -184,7 +184,7 @@ fn bad_method_parameters_are_one_line_errors() {
     assert_snapshot!(run(&["--method", "hc", "--hc-alpha", "2"], &input, 2), @"error: HC parameters must lie in [0, 1], got alpha = 2, beta = 0.6 (see 'beltrami smooth --help')");
     assert_snapshot!(run(&["--preserve-volume"], &open, 1), @"error: grid.ply: volume preservation needs a closed mesh, this one has 1 boundary loop; use the HC or Taubin method on open patches");
     assert_snapshot!(run(&["--time", "-1"], &input, 2), @"error: invalid diffusion time: the time must be finite and >= 0, got -1 (see 'beltrami smooth --help')");
-    assert_snapshot!(run(&["--cutoff", "-1"], &input, 2), @"error: invalid diffusion time: the cut-off must be finite and >= 0 and give a finite time, got -1 (time 0.0175576) (see 'beltrami smooth --help')");
+    assert_snapshot!(run(&["--cutoff", "-1"], &input, 2), @"error: invalid diffusion time: the cut-off must be finite and >= 0, got -1 (see 'beltrami smooth --help')");
     assert_snapshot!(run(&["--cutoff", "1e300"], &input, 2), @"error: invalid diffusion time: the cut-off must be finite and >= 0 and give a finite time, got 1e300 (time inf) (see 'beltrami smooth --help')");
     assert_snapshot!(run(&["--method", "hc", "--cutoff", "1"], &input, 2), @"error: --time and --cutoff apply to plain diffusion (--method explicit or implicit), not to --method hc (see 'beltrami --help')");
     assert_snapshot!(run(&["--until-change", "0"], &input, 2), @"error: the convergence threshold must be positive and finite, got 0 (see 'beltrami smooth --help')");

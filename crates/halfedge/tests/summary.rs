@@ -61,3 +61,13 @@ fn an_area_near_the_largest_f64_is_finite_and_one_beyond_it_infinite() {
     let s = Geometry::new(&mesh, &positions).unwrap().summary();
     assert_eq!(s.area, f64::INFINITY);
 }
+
+#[test]
+fn a_mesh_without_faces_is_not_closed_and_has_no_volume() {
+    let positions = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    let mesh = HalfedgeMesh::from_polygons(3, Vec::<[u32; 3]>::new()).unwrap();
+    let s = Geometry::new(&mesh, &positions).unwrap().summary();
+    assert_eq!((s.vertices, s.faces), (3, 0));
+    assert!(!s.closed);
+    assert_eq!(s.volume, None);
+}

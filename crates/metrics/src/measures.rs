@@ -66,6 +66,27 @@ pub fn closed_volume(geometry: &Geometry<'_>) -> Result<Option<f64>, MetricsErro
     }
 }
 
+/// `mesh / reference` of two enclosed volumes (unit³), or `None` when the reference
+/// encloses no volume: its magnitude at most `1e-12 · extent³` (`extent` the
+/// reference's bounding-box diagonal, in the same unit), where a closed but flat
+/// surface's volume, zero but for rounding, lies whatever plane it is in. A ratio
+/// against that rounding would be a number of 10¹⁶ meaning nothing.
+///
+/// # Examples
+/// ```
+/// use beltrami_metrics::measures::volume_ratio;
+/// assert_eq!(volume_ratio(0.5, 1.0, 2.0), Some(0.5));
+/// assert_eq!(volume_ratio(0.5, 3e-17, 1.0), None);
+/// assert_eq!(volume_ratio(0.5, 0.0, 1.0), None);
+/// ```
+#[must_use]
+pub fn volume_ratio(mesh: f64, reference: f64, extent: f64) -> Option<f64> {
+    let negligible = 1e-12 * extent * extent * extent;
+    (reference.abs() > negligible)
+        .then(|| mesh / reference)
+        .filter(|r| r.is_finite())
+}
+
 /// The total area of a mesh's faces, in unit² (compensated sum of the face areas; a thin
 /// wrapper of [`Geometry::surface_area`]).
 ///

@@ -613,6 +613,9 @@ fn validate_method(
                     DiffusionTime::Time(_) => {
                         format!("the time must be finite and >= 0, got {}", Short(t))
                     }
+                    DiffusionTime::Cutoff(lc) if lc.is_nan() || lc < 0.0 => {
+                        format!("the cut-off must be finite and >= 0, got {}", Short(lc))
+                    }
                     DiffusionTime::Cutoff(lc) => format!(
                         "the cut-off must be finite and >= 0 and give a finite time, got {} (time {})",
                         Short(lc),

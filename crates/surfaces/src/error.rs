@@ -12,8 +12,11 @@ pub enum SurfaceError {
         /// The name asked for.
         name: String,
     },
-    /// A negative or non-finite noise level.
-    #[error("the noise level must be finite and not negative, got sigma = {sigma}")]
+    /// A negative or non-finite noise level, or one that moves a position beyond the
+    /// largest number.
+    #[error(
+        "the noise level must be finite, not negative and leave every position finite, got sigma = {sigma}"
+    )]
     InvalidNoise {
         /// The σ in length units.
         sigma: f64,

@@ -39,8 +39,9 @@ pub struct CutHoles {
 /// platform.
 ///
 /// # Errors
-/// [`SurfaceError::InvalidHoles`] when `radius` is not positive and finite, or when
-/// fewer than `count` centres fit (after 200 draws per hole); a
+/// [`SurfaceError::InvalidHoles`] when `radius` is not positive and finite, when
+/// fewer than `count` centres fit (after 200 draws per hole), or when the holes would
+/// remove every face (a radius beyond a closed surface's size); a
 /// [`SurfaceError::Topology`] error when `data` is no valid mesh.
 pub fn cut_holes(
     data: &MeshData,
@@ -107,6 +108,11 @@ pub fn cut_holes(
             faces_removed += 1;
         }
     }
+    if faces.is_empty() && faces_removed > 0 {
+        return Err(invalid(format!(
+            "holes of radius {radius:.4} remove every face of this surface; ask for smaller holes"
+        )));
+    }
     let mut new_index = vec![u32::MAX; n];
     let mut kept = Vec::new();
     for (old, _) in used.iter().enumerate().filter(|(_, u)| **u) {
@@ -133,6 +139,14 @@ pub fn cut_holes(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_hole_larger_than_a_closed_surface_is_refused() {
+        let ball = crate::sphere(2).data;
+        let err = cut_holes(&ball, 1, 1e9, 1).unwrap_err();
+        assert!(err.to_string().contains("remove every face"), "{err}");
+        assert!(cut_holes(&ball, 1, 0.3, 1).is_ok());
+    }
 
     #[test]
     fn each_hole_is_a_new_boundary_loop() {

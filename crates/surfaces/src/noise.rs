@@ -77,7 +77,8 @@ pub enum NoiseLevel {
 /// Returns the noisy positions and σ in length units.
 ///
 /// # Errors
-/// [`SurfaceError::InvalidNoise`] for a negative or non-finite level;
+/// [`SurfaceError::InvalidNoise`] for a negative or non-finite level, or one so large
+/// that a noisy position overflows (σ near the largest number);
 /// [`SurfaceError::Topology`] when the positions do not match the mesh.
 ///
 /// # References
@@ -100,10 +101,13 @@ pub fn add_normal_noise(
     }
     let normals = geometry.vertex_normals(NormalWeighting::Area);
     let mut rng = NormalRng::new(seed);
-    let noisy = positions
+    let noisy: Vec<DVec3> = positions
         .iter()
         .zip(normals.as_slice())
         .map(|(&p, &n)| p + n * (sigma * rng.next_normal()))
         .collect();
+    if !noisy.iter().all(|p| p.is_finite()) {
+        return Err(SurfaceError::InvalidNoise { sigma });
+    }
     Ok((noisy, sigma))
 }

@@ -196,6 +196,12 @@ fn normal_noise_is_seeded_gaussian_along_normals() {
         add_normal_noise(&mesh, &s.positions, NoiseLevel::RelativeToMeanEdge(0.5), 5).unwrap();
     assert!((rel - 0.5 * g.mean_edge_length().unwrap()).abs() < 1e-15);
     assert!(add_normal_noise(&mesh, &s.positions, NoiseLevel::Absolute(-1.0), 5).is_err());
+    // A finite σ that moves a position beyond the largest number is refused too.
+    let err = add_normal_noise(&mesh, &s.positions, NoiseLevel::Absolute(1e308), 5).unwrap_err();
+    assert!(
+        err.to_string().contains("leave every position finite"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -103,7 +103,13 @@ impl<'a> Decimator<'a> {
         let nv = mesh.vertex_capacity();
         let nf = mesh.face_capacity();
         let nh = 2 * mesh.edge_capacity();
-        let origin = bounding_box_centre(input);
+        // The surface's box: an isolated vertex far away (a stray point of a scan at the
+        // machine's origin) would take the origin away from the part.
+        let origin = bounding_box_centre(
+            mesh.vertices()
+                .filter(|&v| !mesh.is_isolated(v))
+                .map(|v| input[v.index()]),
+        );
         let mut d = Self {
             mesh,
             options,
@@ -674,13 +680,11 @@ fn place(
 }
 
 /// The centre of the bounding box of `points` (finite), halfway between its corners
-/// without overflow; the origin for a mesh without points.
-fn bounding_box_centre(points: &[DVec3]) -> DVec3 {
-    let Some(&first) = points.first() else {
+/// without overflow; the origin for no points.
+fn bounding_box_centre(mut points: impl Iterator<Item = DVec3>) -> DVec3 {
+    let Some(first) = points.next() else {
         return DVec3::ZERO;
     };
-    let (lo, hi) = points
-        .iter()
-        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let (lo, hi) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
     0.5 * lo + 0.5 * hi
 }

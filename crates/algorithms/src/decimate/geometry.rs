@@ -8,8 +8,8 @@ use glam::DMat3;
 /// A symmetric 4 × 4 quadric `Q(x) = yᵀAy + 2bᵀy + c` of `y = x − origin`, with the
 /// total weight of its planes.
 ///
-/// The coefficients are kept relative to an origin near the mesh (its bounding box's
-/// centre) because `c` holds the square of each plane's offset from the origin: for a
+/// The coefficients are kept relative to an origin near the mesh (the centre of the
+/// bounding box of its vertices in a face) because `c` holds the square of each plane's offset from the origin: for a
 /// part of size 1 placed 10⁷ from the origin (a machine's coordinates) the terms of
 /// `Q(x)` are 10¹⁴ and their rounding (10⁻²) swamps errors of 10⁻⁶. Every quadric that
 /// is added to another must have the same origin.

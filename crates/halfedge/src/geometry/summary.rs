@@ -93,7 +93,8 @@ impl Geometry<'_> {
             bounding_box: self.bounding_box(),
             mean_edge_length: self.mean_edge_length(),
             area: self.unscaled_surface_area(),
-            volume: self.volume().ok(),
+            // A mesh without faces has no boundary either, but encloses nothing.
+            volume: self.volume().ok().filter(|_| mesh.n_faces() > 0),
         }
     }
 
