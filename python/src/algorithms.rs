@@ -164,6 +164,14 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
             Scheme::ALL.map(Scheme::name).join(", ")
         )));
     };
+    // As the library refuses it, before the memory is looked at.
+    if let Some(f) = mesh.mesh.faces().find(|&f| mesh.mesh.face_valence(f) != 3) {
+        return Err(MeshError::new_err(format!(
+            "face {} has {} vertices; subdivide needs a triangle mesh (triangulate it first)",
+            f.index(),
+            mesh.mesh.face_valence(f)
+        )));
+    }
     let available = beltrami_io::available_memory();
     if !scheme.fits(&mesh.mesh, steps, available, 0) && scheme.fits(&mesh.mesh, steps, None, 0) {
         let faces = scheme.counts(&mesh.mesh, steps).faces;
@@ -171,7 +179,7 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
         return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
             "steps={steps} of {} subdivision would make {faces} faces, needing about {:.1} GB, more than the {:.1} GB this machine has available; at most steps={most} fits this mesh",
             scheme.name(),
-            faces.saturating_mul(Scheme::BYTES_PER_FACE) as f64 / 1e9,
+            Scheme::bytes_needed(faces, 0) as f64 / 1e9,
             available.unwrap_or(0) as f64 / 1e9,
         )));
     }

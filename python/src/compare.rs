@@ -35,7 +35,9 @@ struct Comparison {
     sampled: Option<(SampledDistance, SampledDistance)>,
     displacement: Option<DistanceStats>,
     normals: Option<beltrami_metrics::normals::NormalDeviation>,
-    volumes: Option<(f64, f64)>,
+    /// The mesh's and the reference's enclosed volumes and their ratio (None when the
+    /// reference encloses none).
+    volumes: Option<(f64, f64, Option<f64>)>,
     areas: (f64, f64),
     index_build: f64,
     queries: f64,
@@ -99,7 +101,12 @@ fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, 
     };
     let mesh_geometry = Geometry::new(&mesh.mesh, &mesh.positions)?;
     let reference_geometry = Geometry::new(&reference.mesh, &reference.positions)?;
-    let volumes = closed_volume(&mesh_geometry)?.zip(closed_volume(&reference_geometry)?);
+    let extent = reference_geometry
+        .bounding_box()
+        .map_or(0.0, |(lo, hi)| lo.distance(hi));
+    let volumes = closed_volume(&mesh_geometry)?
+        .zip(closed_volume(&reference_geometry)?)
+        .map(|(m, r)| (m, r, beltrami_metrics::measures::volume_ratio(m, r, extent)));
     let areas = (
         surface_area(&mesh_geometry)?,
         surface_area(&reference_geometry)?,
@@ -219,12 +226,11 @@ pub(crate) fn compare<'py>(
         }
     }
     match c.volumes {
-        Some((m, r)) => {
+        Some((m, r, ratio)) => {
             let v = PyDict::new(py);
             v.set_item("mesh", m)?;
             v.set_item("reference", r)?;
-            // None when the reference encloses no volume (closed but flat).
-            v.set_item("ratio", Some(m / r).filter(|x| x.is_finite()))?;
+            v.set_item("ratio", ratio)?;
             d.set_item("volume", v)?;
         }
         None => d.set_item("volume", py.None())?,

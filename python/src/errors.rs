@@ -148,26 +148,37 @@ fn caught<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     })
 }
 
-/// Runs `f` as [`no_panic`] does, without the GIL, while the calling thread looks for
+/// Runs `f` on a worker of the package's thread pool without the GIL, with panics
+/// turned into `RuntimeError` (as [`no_panic`]), while the calling thread looks for
 /// Ctrl-C every [`SIGNAL_INTERVAL`]: Python runs its signal handlers on the main
 /// thread only, so a look from the worker that runs `f` would see nothing. On a
 /// signal whose handler raises (`KeyboardInterrupt`, or a handler of the user's),
-/// `stop` is set for `f` to see between two of its steps, `f`'s end is waited for, and
-/// the handler's exception is returned instead of `f`'s result.
+/// `stop` is set for `f` to see between two of its steps (or before it starts, when
+/// the pool was busy), `f`'s end is waited for, and the handler's exception is
+/// returned instead of `f`'s result.
 ///
-/// Called from a thread other than the main one, the looks find nothing, as for any
-/// Python code there.
+/// Called from another thread than Python's main one (where no handler runs), or from
+/// a worker of the pool (a run started inside another's callback: waiting there for a
+/// job queued behind it would never end), it runs `f` as [`no_panic`] does.
 pub(crate) fn interruptible<T: Send>(
     py: Python<'_>,
     stop: &AtomicBool,
     f: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
+    if rayon::current_thread_index().is_some() || !on_main_thread(py)? {
+        return py.detach(|| no_panic(f));
+    }
     let mut interrupt = None;
     let result = py.detach(|| {
         let (done, ended) = mpsc::channel::<()>();
         let mut out = None;
         let work = |out: &mut Option<PyResult<T>>| {
-            *out = Some(caught(f));
+            *out = Some(if stop.load(Ordering::Relaxed) {
+                // Interrupted while the job waited for a worker: not started.
+                Err(PyRuntimeError::new_err("stopped before it started"))
+            } else {
+                caught(f)
+            });
             drop(done);
         };
         let wait = |interrupt: &mut Option<PyErr>| {
@@ -197,6 +208,13 @@ pub(crate) fn interruptible<T: Send>(
         })
     });
     interrupt.map_or(result, Err)
+}
+
+/// Whether this is Python's main thread, the one signal handlers run on.
+fn on_main_thread(py: Python<'_>) -> PyResult<bool> {
+    let threading = py.import("threading")?;
+    let current = threading.call_method0("current_thread")?;
+    Ok(current.is(&threading.call_method0("main_thread")?))
 }
 
 /// How often a run's calling thread looks for Ctrl-C ([`interruptible`]).

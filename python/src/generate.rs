@@ -31,8 +31,10 @@ const MAX_SPHERE_LEVEL: u32 = 10;
 /// The same arguments give the same bits as the command line's file.
 ///
 /// Raises `ValueError` for an unknown surface or size, a negative count or seed, a
-/// level above 10 or for another surface than the sphere, `hole_radius` without
-/// `holes` or not positive, `holes` with `shuffle`, and more holes than fit.
+/// level above 10 or for another surface than the sphere, `size="small"` with a level,
+/// `hole_radius` without `holes` or not positive, `holes` with `shuffle`, more holes
+/// than fit or holes that remove the whole surface, and noise so large that a position
+/// overflows.
 #[pyfunction]
 #[pyo3(signature = (surface, *, noise = None, absolute_noise = false, seed = 1, level = None, shuffle = None, size = "paper", holes = None, hole_radius = None))]
 #[allow(clippy::too_many_arguments)]
@@ -67,6 +69,11 @@ pub(crate) fn generate(
         return Err(PyValueError::new_err(
             "holes and shuffle cannot be combined (cutting holes renumbers the vertices)",
         ));
+    }
+    if level.is_some() && size != "paper" {
+        return Err(PyValueError::new_err(format!(
+            "size={size:?} and level exclude each other: level sets the sphere's size"
+        )));
     }
     let size = match size {
         "paper" => Size::Paper,

@@ -10,7 +10,6 @@ use beltrami_io::{
 use numpy::PyReadonlyArray1;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use crate::errors::{io_error, no_panic, topology_error};
 use crate::mesh::Mesh;
@@ -101,7 +100,8 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
 /// for a full disk or a quota) goes unnoticed. For many small files into local scratch
 /// space; a flush costs about 0.3 ms on a local disk.
 ///
-/// Raises `FormatError` for an unsupported extension or bad scalars,
+/// Raises `FormatError` for an unsupported extension or bad scalars, or for an STL file
+/// of a mesh whose repair on reading split vertices (STL would join them again),
 /// `PermissionError` for a write-protected file without `force`, `OSError` when the
 /// file cannot be written.
 #[pyfunction]
@@ -110,7 +110,7 @@ pub(crate) fn write(
     py: Python<'_>,
     path: PathBuf,
     mesh: &Mesh,
-    scalars: Option<&Bound<'_, PyDict>>,
+    scalars: Option<&Bound<'_, PyAny>>,
     ascii: bool,
     force: bool,
     sync: bool,
@@ -118,6 +118,20 @@ pub(crate) fn write(
     if !force && std::fs::metadata(&path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
         return Err(pyo3::exceptions::PyPermissionError::new_err(format!(
             "{}: the file is write-protected (pass force=True to replace it)",
+            path.display()
+        )));
+    }
+    // STL keeps no vertex indices: the copies a repair on reading split off would be
+    // joined to their originals again when the file is read.
+    if let Some(split) = mesh
+        .repair
+        .as_ref()
+        .map(|r| r.split_vertices.len())
+        .filter(|&n| n > 0)
+        && MeshFormat::from_path(&path).ok() == Some(MeshFormat::Stl)
+    {
+        return Err(crate::errors::FormatError::new_err(format!(
+            "{}: an STL file keeps no vertex indices, so the {split} vertices the repair split off would be joined again when it is read; write .ply, .obj or .off",
             path.display()
         )));
     }
@@ -131,8 +145,16 @@ pub(crate) fn write(
         None => None,
         Some(scalars) => {
             let numpy = py.import("numpy")?;
-            let mut fields = Vec::with_capacity(scalars.len());
-            for (name, values) in scalars.iter() {
+            // Any mapping (a dict, a `MappingProxyType`, a pandas row's `to_dict()`):
+            // its items.
+            let items = scalars.call_method0("items").map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(
+                    "scalars must be a mapping from names to one value per vertex",
+                )
+            })?;
+            let mut fields = Vec::new();
+            for item in items.try_iter()? {
+                let (name, values): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item?.extract()?;
                 let name: String = name.extract()?;
                 let values = numpy.call_method1("ascontiguousarray", (values, "float64"))?;
                 let values = numpy.call_method1("ravel", (values,))?;
@@ -146,7 +168,7 @@ pub(crate) fn write(
         }
     };
     if attributes.is_some() && MeshFormat::from_path(&path).ok() != Some(MeshFormat::Ply) {
-        return Err(PyValueError::new_err(format!(
+        return Err(crate::errors::FormatError::new_err(format!(
             "{}: scalars are written to .ply files only",
             path.display()
         )));

@@ -16,9 +16,11 @@ use crate::errors::{MeshError, no_panic, topology_error};
 ///
 /// `Mesh(vertices, faces)` takes an (N, 3) array of coordinates (any real dtype,
 /// stored as float64) and an (M, k) array of vertex indices (any integer dtype,
-/// k ≥ 3; k = 3 for triangles). Raises `MeshError` naming the offending vertex or
-/// face when a coordinate is not finite, an index is out of range, or the faces do
-/// not form an oriented 2-manifold.
+/// k ≥ 3; k = 3 for triangles), or a list of faces of different sizes (as `faces`
+/// returns a mesh of triangles and quads); an empty list is no faces. Raises
+/// `MeshError` naming the offending vertex or face when a coordinate is not finite, an
+/// index is out of range, or the faces do not form an oriented 2-manifold. A mesh
+/// pickles (process pools, Dask) and copies as itself (it cannot change).
 ///
 /// What is copied: a C-contiguous float64 (N, 3) array is read in place and copied
 /// once, into the mesh's own positions (the half-edge structure owns its arrays, so
@@ -81,6 +83,9 @@ impl Mesh {
         }
     }
 }
+
+/// What `Mesh.__reduce__` returns: the class and its arguments, `(vertices, faces)`.
+type Reduced<'py> = (Bound<'py, PyAny>, (Bound<'py, PyAny>, Bound<'py, PyAny>));
 
 /// `numpy.ascontiguousarray(x, dtype)`.
 fn contiguous<'py>(x: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAny>> {
@@ -146,9 +151,39 @@ fn shape_of(x: &Bound<'_, PyAny>) -> String {
         .unwrap_or_else(|_| "?".to_string())
 }
 
-/// The faces of an (M, k) integer array, k ≥ 3, indices in `0..n_vertices`.
+/// The faces of an (M, k) integer array, k ≥ 3, or of a sequence of faces of any sizes
+/// (as [`Mesh::faces`] returns a polygon mesh's), indices in `0..n_vertices`. An empty
+/// sequence is no faces.
 fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> {
+    let numpy = x.py().import("numpy")?;
+    let is_array = x.is_instance(&numpy.getattr("ndarray")?)?;
+    if !is_array && x.len().is_ok_and(|n| n == 0) {
+        return Ok(PolygonList::new());
+    }
+    // A list of faces of different sizes: numpy cannot make an array of it.
+    if !is_array && numpy.call_method1("asarray", (x,)).is_err() {
+        let mut faces = PolygonList::new();
+        for (f, face) in x.try_iter()?.enumerate() {
+            let face = face?;
+            let row = face_row(&face, f, n_vertices)?;
+            if row.len() < 3 {
+                return Err(MeshError::new_err(format!(
+                    "face {f} has {} vertices; a face needs at least 3",
+                    row.len()
+                )));
+            }
+            faces.push(&row);
+        }
+        return Ok(faces);
+    }
     let kind = contiguous_kind(x)?;
+    let empty = numpy
+        .call_method1("size", (x,))?
+        .extract::<usize>()
+        .is_ok_and(|n| n == 0);
+    if empty {
+        return Ok(PolygonList::new());
+    }
     if !matches!(kind.as_str(), "i" | "u") {
         return Err(MeshError::new_err(format!(
             "faces must be an integer array, got dtype kind {kind:?}"
@@ -160,31 +195,68 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
             shape_of(x)
         ))
     };
-    // Unsigned values beyond i64 wrap to negatives here and are refused below.
-    let array = contiguous(x, "int64")?;
-    let array: PyReadonlyArray2<'_, i64> = array.extract().map_err(|_| bad_shape())?;
-    let (m, k) = (array.shape()[0], array.shape()[1]);
+    // Unsigned faces are read as unsigned, so that a value beyond i64 is named as it is.
+    let (m, k, values): (usize, usize, Vec<i128>) = if kind == "u" {
+        let array = contiguous(x, "uint64")?;
+        let array: PyReadonlyArray2<'_, u64> = array.extract().map_err(|_| bad_shape())?;
+        let (m, k) = (array.shape()[0], array.shape()[1]);
+        (
+            m,
+            k,
+            array.as_slice()?.iter().map(|&v| i128::from(v)).collect(),
+        )
+    } else {
+        let array = contiguous(x, "int64")?;
+        let array: PyReadonlyArray2<'_, i64> = array.extract().map_err(|_| bad_shape())?;
+        let (m, k) = (array.shape()[0], array.shape()[1]);
+        (
+            m,
+            k,
+            array.as_slice()?.iter().map(|&v| i128::from(v)).collect(),
+        )
+    };
     if k < 3 && m > 0 {
         return Err(bad_shape());
     }
-    let slice = array.as_slice()?;
     let mut faces = PolygonList::with_capacity(m, m * k);
     let mut face = Vec::with_capacity(k);
-    for (f, row) in slice.chunks_exact(k.max(1)).enumerate().take(m) {
+    for (f, row) in values.chunks_exact(k.max(1)).enumerate().take(m) {
         face.clear();
         for &v in row {
-            match u32::try_from(v) {
-                Ok(i) if (i as usize) < n_vertices => face.push(i),
-                _ => {
-                    return Err(MeshError::new_err(format!(
-                        "face {f} refers to vertex {v}, but there are only {n_vertices} vertices"
-                    )));
-                }
-            }
+            face.push(vertex_index(v, f, n_vertices)?);
         }
         faces.push(&face);
     }
     Ok(faces)
+}
+
+/// The vertex indices of face `f` given as a sequence of integers.
+fn face_row(face: &Bound<'_, PyAny>, f: usize, n_vertices: usize) -> PyResult<Vec<u32>> {
+    let numpy = face.py().import("numpy")?;
+    let row = numpy.call_method1("asarray", (face,))?;
+    let kind: String = row.getattr("dtype")?.getattr("kind")?.extract()?;
+    let ndim: usize = row.getattr("ndim")?.extract()?;
+    if ndim != 1 || !matches!(kind.as_str(), "i" | "u") {
+        return Err(MeshError::new_err(format!(
+            "face {f} must be a sequence of vertex indices (integers), got {}",
+            face.repr().map(|r| r.to_string()).unwrap_or_default()
+        )));
+    }
+    row.call_method0("tolist")?
+        .extract::<Vec<i128>>()?
+        .into_iter()
+        .map(|v| vertex_index(v, f, n_vertices))
+        .collect()
+}
+
+/// Index `v` of face `f`, checked against `n_vertices`.
+fn vertex_index(v: i128, f: usize, n_vertices: usize) -> PyResult<u32> {
+    match u32::try_from(v) {
+        Ok(i) if (i as usize) < n_vertices => Ok(i),
+        _ => Err(MeshError::new_err(format!(
+            "face {f} refers to vertex {v}, but there are only {n_vertices} vertices"
+        ))),
+    }
 }
 
 /// An (N, 3) float64 array of `positions`, read-only.
@@ -245,7 +317,9 @@ impl Mesh {
             let list = PyList::empty(py);
             for face in self.faces.iter() {
                 let face: Vec<i64> = face.iter().map(|&i| i64::from(i)).collect();
-                list.append(PyArray1::from_vec(py, face))?;
+                let face = PyArray1::from_vec(py, face);
+                read_only(&face)?;
+                list.append(face)?;
             }
             Ok(list.into_any())
         }
@@ -289,6 +363,26 @@ impl Mesh {
 
     fn __len__(&self) -> usize {
         self.mesh.n_vertices()
+    }
+
+    /// Pickles as `Mesh(vertices, faces)` (a process pool, Dask, `multiprocessing`);
+    /// the file it was read from and its repair report are not kept.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>, py: Python<'py>) -> PyResult<Reduced<'py>> {
+        let mesh = slf.get();
+        Ok((
+            slf.get_type().into_any(),
+            (mesh.vertices(py)?.into_any(), mesh.faces(py)?),
+        ))
+    }
+
+    /// The mesh itself: it cannot change, so a copy would be the same.
+    fn __copy__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    /// The mesh itself, as [`__copy__`](Self::__copy__).
+    fn __deepcopy__(slf: Py<Self>, _memo: &Bound<'_, PyAny>) -> Py<Self> {
+        slf
     }
 
     fn __repr__(&self) -> String {

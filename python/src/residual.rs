@@ -40,7 +40,10 @@ struct Computed {
 /// unknown form or quadrature, or an `smc` outside 0 to 100; `MetricsError` when the
 /// meshes differ in topology or the parameters cannot be computed.
 #[pyfunction]
-#[pyo3(signature = (measured, smoothed = None, *, form = None, quadrature = "lumped", remove_mean = false, smr = Vec::new(), smc = Vec::new()))]
+#[pyo3(
+    signature = (measured, smoothed = None, *, form = None, quadrature = "lumped", remove_mean = false, smr = Vec::new(), smc = Vec::new()),
+    text_signature = "(measured, smoothed=None, *, form=None, quadrature='lumped', remove_mean=False, smr=(), smc=())"
+)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn residual<'py>(
     py: Python<'py>,

@@ -13,7 +13,7 @@ use beltrami_smooth::{
 use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict};
+use pyo3::types::PyDict;
 
 use crate::errors::smooth_error;
 use crate::mesh::Mesh;
@@ -324,10 +324,9 @@ pub(crate) fn smooth<'py>(
                     let (index, stats) = (it.index, it.stats());
                     move |py: Python<'_>| {
                         let answer = callback.call1(py, (index, step_dict(py, index, &stats)?))?;
-                        let stop = answer
-                            .bind(py)
-                            .downcast::<PyBool>()
-                            .is_ok_and(|b| !b.is_true());
+                        // False, Python's or numpy's (`np.False_`, what a comparison
+                        // of arrays gives), stops; anything else, None included, goes on.
+                        let stop = answer.bind(py).extract::<bool>().is_ok_and(|b| !b);
                         Ok(if stop {
                             ControlFlow::Break(())
                         } else {
@@ -340,8 +339,12 @@ pub(crate) fn smooth<'py>(
             result.map_err(|e| smooth_error(&e))
         })
     };
+    let interrupted = stop.load(std::sync::atomic::Ordering::Relaxed);
     let smoothed = observer.finish_after(py, smoothed);
-    if let Some(e) = crate::scheme::take_failure(&options.weights) {
+    // Taken in any case (so that a later call does not raise it); Ctrl-C comes first.
+    if let Some(e) = crate::scheme::take_failure(&options.weights)
+        && !interrupted
+    {
         return Err(e);
     }
     let smoothed = smoothed?;

@@ -104,6 +104,9 @@ fn study_error(e: &StudyError) -> PyErr {
 /// when `out` cannot be written, and what a Python weight scheme raised. The study runs
 /// without the GIL (a Python scheme takes it for its calls) and cannot be interrupted
 /// before it ends.
+// The text signature's defaults (above `study`) are the library's.
+const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
+
 #[pyfunction]
 #[pyo3(signature = (
     out = PathBuf::from("study"),
@@ -128,7 +131,11 @@ fn study_error(e: &StudyError) -> PyErr {
     remesh_relative = None,
     no_remesh = false,
     no_scan_example = false,
-))]
+),
+// The defaults written out (an expression shows as `Ellipsis` in `inspect.signature`);
+// the assertions below keep them the library's.
+text_signature = "(out='study', *, surfaces=('flens', 'sphere', 'block', 'golfball'), weights=None, iterations=(10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 200), lam=0.8, noise=0.2, absolute_noise=False, seed=1, seeds=3, boundary='free', update='every', small=False, countermeasure_weights='cotangent', no_countermeasures=False, cotangent_negative='keep', normalize='sum', vertex_area='mixed', remesh=None, remesh_relative=None, no_remesh=False, no_scan_example=False)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn study<'py>(
     py: Python<'py>,
@@ -222,10 +229,16 @@ pub(crate) fn study<'py>(
             Ok((results.wall_time_s, written))
         })
     });
-    for name in &names {
-        if let Some(e) = crate::scheme::take_failure(name) {
-            return Err(e);
-        }
+    // Every scheme's failure is taken (the countermeasures' scheme's too), so that none
+    // is left for a later call to raise; the first is raised.
+    let first = names
+        .iter()
+        .map(String::as_str)
+        .chain((!no_countermeasures).then_some(countermeasure_weights))
+        .filter_map(crate::scheme::take_failure)
+        .reduce(|first, _| first);
+    if let Some(e) = first {
+        return Err(e);
     }
     let (wall_time_s, written) = written?;
 

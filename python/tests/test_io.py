@@ -51,8 +51,18 @@ def test_scalars_are_written_as_ply_properties(sphere, tmp_path):
 
 
 def test_scalars_need_a_ply_file(sphere, tmp_path):
-    with pytest.raises(ValueError, match="scalars are written to .ply files only"):
+    with pytest.raises(bt.FormatError, match="scalars are written to .ply files only"):
         bt.write(tmp_path / "a.obj", sphere, scalars={"d": np.zeros(sphere.n_vertices)})
+
+
+def test_scalars_may_be_any_mapping(sphere, tmp_path):
+    from types import MappingProxyType
+
+    values = np.arange(sphere.n_vertices, dtype=float)
+    bt.write(tmp_path / "a.ply", sphere, scalars=MappingProxyType({"d": values}))
+    assert b"property double d" in (tmp_path / "a.ply").read_bytes()[:400]
+    with pytest.raises(TypeError, match="must be a mapping"):
+        bt.write(tmp_path / "b.ply", sphere, scalars=[values])
 
 
 def test_scalars_of_the_wrong_length_are_a_format_error(sphere, tmp_path):
@@ -94,6 +104,12 @@ def test_non_manifold_file_is_a_mesh_error_and_repair_fixes_it(tmp_path):
         bt.read(path)
     mesh = bt.read(path, repair=True)
     assert bt.info(mesh)["repairs"]["cut_edges"] == [[0, 1]]
+    # STL would join the split copies again: refused; PLY keeps them.
+    with pytest.raises(bt.FormatError, match="an STL file keeps no vertex indices"):
+        bt.write(tmp_path / "fixed.stl", mesh)
+    assert not (tmp_path / "fixed.stl").exists()
+    bt.write(tmp_path / "fixed.ply", mesh)
+    assert bt.info(bt.read(tmp_path / "fixed.ply"))["vertices"] == mesh.n_vertices
 
 
 def test_weld_tolerance_is_checked(tmp_path):

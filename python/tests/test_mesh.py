@@ -137,3 +137,38 @@ def test_duck_typed_from_trimesh():
         faces = TETRA_F
 
     assert bt.from_trimesh(Shape()).n_faces == 4
+
+
+def test_a_polygon_mesh_round_trips_through_its_list_of_faces():
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], float)
+    mixed = bt.Mesh(v, [[0, 1, 2, 3], [1, 4, 2]])
+    faces = mixed.faces
+    assert [f.tolist() for f in faces] == [[0, 1, 2, 3], [1, 4, 2]]
+    assert not any(f.flags.writeable for f in faces)
+    again = bt.Mesh(mixed.vertices, faces)
+    assert [f.tolist() for f in again.faces] == [[0, 1, 2, 3], [1, 4, 2]]
+    with pytest.raises(bt.MeshError, match="face 1 has 2 vertices"):
+        bt.Mesh(v, [[0, 1, 2, 3], [1, 4]])
+    with pytest.raises(bt.MeshError, match="face 1 must be a sequence of vertex indices"):
+        bt.Mesh(v, [[0, 1, 2, 3], [1.5, 4, 2]])
+    with pytest.raises(bt.MeshError, match="face 1 refers to vertex 9"):
+        bt.Mesh(v, [[0, 1, 2, 3], [1, 9, 2]])
+
+
+def test_no_faces_and_unsigned_indices_beyond_int64():
+    points = bt.Mesh(TETRA_V, [])
+    assert points.n_faces == 0 and len(points.vertices) == 4
+    huge = np.array([[0, 1, 2], [0, 2, 2**64 - 1]], dtype=np.uint64)
+    with pytest.raises(bt.MeshError, match="face 1 refers to vertex 18446744073709551615"):
+        bt.Mesh(TETRA_V, huge)
+
+
+def test_a_mesh_pickles_and_copies():
+    import copy
+    import pickle
+
+    mesh = bt.Mesh(TETRA_V, TETRA_F)
+    back = pickle.loads(pickle.dumps(mesh))
+    assert np.array_equal(back.vertices, mesh.vertices)
+    assert np.array_equal(back.faces, mesh.faces)
+    assert copy.copy(mesh) is mesh and copy.deepcopy(mesh) is mesh

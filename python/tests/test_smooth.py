@@ -212,6 +212,11 @@ def test_observer_stops_the_run(sphere):
     assert report["stop"] == "observer"
     assert report["iterations"] == 3
     np.testing.assert_array_equal(out.vertices, full.vertices)
+    # numpy's False (a comparison's result) stops as Python's does.
+    out, report = bt.smooth(
+        sphere, iterations=50, on_iteration=lambda i, s: np.float64(s["max_displacement"]) > 1e9
+    )
+    assert report["stop"] == "observer" and report["iterations"] == 1
 
 
 def test_observer_returning_none_or_truthy_continues(sphere):

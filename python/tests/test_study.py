@@ -92,3 +92,23 @@ def test_bad_options_are_value_errors_before_anything_is_written(tmp_path):
     with pytest.raises(ValueError, match="does not write"):
         bt.study(foreign, **QUICK)
     assert (foreign / "mine.txt").read_text() == "keep"
+
+
+def test_every_signature_shows_its_real_defaults():
+    # help() and IDEs read inspect.signature: no default may show as Ellipsis.
+    import inspect
+
+    for name in dir(bt):
+        obj = getattr(bt, name)
+        if name.startswith("_") or not callable(obj) or isinstance(obj, type):
+            continue
+        try:
+            signature = inspect.signature(obj)
+        except (TypeError, ValueError):
+            continue
+        for p in signature.parameters.values():
+            assert p.default is not Ellipsis, f"{name}({p.name}=...)"
+    study = inspect.signature(bt.study).parameters
+    assert study["iterations"].default == (10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 200)
+    assert study["seeds"].default == 3
+    assert inspect.signature(bt.residual).parameters["smr"].default == ()
