@@ -233,8 +233,9 @@ fn sphere_caps_table() {
     }
 }
 
-#[test]
-fn the_outer_boundary_of_an_open_surface_stays_open() {
+/// A 24 × 12 lens with a round hole in its middle (a fifth of its width across), the
+/// lens itself, and the half-width it was measured with.
+fn holed_lens() -> (HalfedgeMesh, Vec<DVec3>, MeshData, f64) {
     let lens = flens(&FLensParams {
         nx: 24,
         ny: 12,
@@ -242,18 +243,24 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
     });
     let center =
         lens.positions.iter().fold(DVec3::ZERO, |s, &p| s + p) / lens.positions.len() as f64;
-    let radius = 0.15
-        * lens
-            .positions
-            .iter()
-            .map(|p| (p.x - center.x).abs())
-            .fold(0.0, f64::max);
+    let half_width = lens
+        .positions
+        .iter()
+        .map(|p| (p.x - center.x).abs())
+        .fold(0.0, f64::max);
+    let radius = 0.15 * half_width;
     let (open, x) = cut(&lens, |f, p| {
         f.iter().any(|&v| {
             let q = p[v as usize];
             (q.x - center.x).hypot(q.y - center.y) < radius
         })
     });
+    (open, x, lens.data, half_width)
+}
+
+#[test]
+fn the_outer_boundary_of_an_open_surface_stays_open() {
+    let (open, x, _, _) = holed_lens();
     assert_eq!(open.boundary_loops().count(), 2);
     let outer_edges = open.boundary_loops().map(|l| l.len()).max().unwrap();
     let (out, y, report) = fill_holes(&open, &x, &FillOptions::default()).unwrap();
@@ -277,33 +284,10 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
 /// "largest loop" for the whole mesh, the second patch's rim was closed into a pillow.
 #[test]
 fn every_components_outer_boundary_stays_open() {
-    let lens = flens(&FLensParams {
-        nx: 24,
-        ny: 12,
-        ..FLensParams::default()
-    });
-    let center =
-        lens.positions.iter().fold(DVec3::ZERO, |s, &p| s + p) / lens.positions.len() as f64;
-    let radius = 0.15
-        * lens
-            .positions
-            .iter()
-            .map(|p| (p.x - center.x).abs())
-            .fold(0.0, f64::max);
-    let (holed, x) = cut(&lens, |f, p| {
-        f.iter().any(|&v| {
-            let q = p[v as usize];
-            (q.x - center.x).hypot(q.y - center.y) < radius
-        })
-    });
+    let (holed, x, lens, half_width) = holed_lens();
     // The second patch: the whole lens, moved aside by twice its width (its rim is
     // longer than the first patch's hole, shorter than nothing else).
-    let width = 3.0
-        * lens
-            .positions
-            .iter()
-            .map(|p| (p.x - center.x).abs())
-            .fold(0.0, f64::max);
+    let width = 3.0 * half_width;
     let mut faces: Vec<Vec<u32>> = holed
         .faces()
         .map(|f| {
