@@ -150,7 +150,7 @@ fn quality_dict<'py>(
 /// refuses `--steps 0`, where writing the input unchanged is most likely a mistake).
 ///
 /// Raises `ValueError` for an unknown scheme or a negative `steps`, `MeshError` for a
-/// polygon mesh or a result too large for a mesh, and `MemoryError`, before anything is
+/// mesh without faces, a polygon mesh or a result too large for a mesh, and `MemoryError`, before anything is
 /// allocated, for a result that would need more memory than the machine has available
 /// (`Scheme::BYTES_PER_FACE`, 256 bytes per face of the result, against `MemAvailable`
 /// plus free swap on Linux), naming the most steps that fit.
@@ -164,7 +164,14 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
             Scheme::ALL.map(Scheme::name).join(", ")
         )));
     };
-    // As the library refuses it, before the memory is looked at.
+    // As the command refuses them, before the memory is looked at: a mesh without faces
+    // (nothing to subdivide, however many steps) and one that is not of triangles.
+    if mesh.mesh.n_faces() == 0 {
+        return Err(MeshError::new_err(format!(
+            "the mesh has {} vertices but no faces; subdivide needs a surface of triangles",
+            mesh.mesh.n_vertices()
+        )));
+    }
     if let Some(f) = mesh.mesh.faces().find(|&f| mesh.mesh.face_valence(f) != 3) {
         return Err(MeshError::new_err(format!(
             "face {} has {} vertices; subdivide needs a triangle mesh (triangulate it first)",

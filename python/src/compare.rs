@@ -101,9 +101,7 @@ fn measure(mesh: &Mesh, reference: &Mesh, samples: usize) -> Result<Comparison, 
     };
     let mesh_geometry = Geometry::new(&mesh.mesh, &mesh.positions)?;
     let reference_geometry = Geometry::new(&reference.mesh, &reference.positions)?;
-    let extent = reference_geometry
-        .bounding_box()
-        .map_or(0.0, |(lo, hi)| lo.distance(hi));
+    let extent = beltrami_metrics::measures::surface_extent(&reference_geometry);
     let volumes = closed_volume(&mesh_geometry)?
         .zip(closed_volume(&reference_geometry)?)
         .map(|(m, r)| (m, r, beltrami_metrics::measures::volume_ratio(m, r, extent)));

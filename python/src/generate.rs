@@ -70,11 +70,6 @@ pub(crate) fn generate(
             "holes and shuffle cannot be combined (cutting holes renumbers the vertices)",
         ));
     }
-    if level.is_some() && size != "paper" {
-        return Err(PyValueError::new_err(format!(
-            "size={size:?} and level exclude each other: level sets the sphere's size"
-        )));
-    }
     let size = match size {
         "paper" => Size::Paper,
         "small" => Size::Small,
@@ -84,6 +79,11 @@ pub(crate) fn generate(
             )));
         }
     };
+    if level.is_some() && size == Size::Small {
+        return Err(PyValueError::new_err(
+            "size='small' and level exclude each other: level sets the sphere's size",
+        ));
+    }
     let kind = match surface {
         "flens" => SurfaceKind::FLens,
         "sphere" => SurfaceKind::Sphere,

@@ -131,8 +131,13 @@ pub(crate) fn write(
         && MeshFormat::from_path(&path).ok() == Some(MeshFormat::Stl)
     {
         return Err(crate::errors::FormatError::new_err(format!(
-            "{}: an STL file keeps no vertex indices, so the {split} vertices the repair split off would be joined again when it is read; write .ply, .obj or .off",
-            path.display()
+            "{}: an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
+            path.display(),
+            if split == 1 {
+                "vertex".to_string()
+            } else {
+                format!("{split} vertices")
+            }
         )));
     }
     let options = WriteOptions::default().encoding(if ascii {

@@ -160,8 +160,14 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
     if !is_array && x.len().is_ok_and(|n| n == 0) {
         return Ok(PolygonList::new());
     }
-    // A list of faces of different sizes: numpy cannot make an array of it.
-    if !is_array && numpy.call_method1("asarray", (x,)).is_err() {
+    // A list of faces of different sizes: numpy cannot make an array of it (numpy
+    // 1.24 and later raise; earlier ones make an array of objects).
+    let ragged = !is_array
+        && numpy
+            .call_method1("asarray", (x,))
+            .and_then(|a| a.getattr("dtype")?.getattr("kind")?.extract::<String>())
+            .map_or(true, |kind| kind == "O");
+    if ragged {
         let mut faces = PolygonList::new();
         for (f, face) in x.try_iter()?.enumerate() {
             let face = face?;
@@ -177,11 +183,9 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
         return Ok(faces);
     }
     let kind = contiguous_kind(x)?;
-    let empty = numpy
-        .call_method1("size", (x,))?
-        .extract::<usize>()
-        .is_ok_and(|n| n == 0);
-    if empty {
+    // No faces: an (0, k) array, or an empty 1-D one (`np.array([])`, of any dtype).
+    let shape: Vec<usize> = numpy.call_method1("shape", (x,))?.extract()?;
+    if matches!(shape.as_slice(), [0] | [0, _]) {
         return Ok(PolygonList::new());
     }
     if !matches!(kind.as_str(), "i" | "u") {
@@ -233,6 +237,11 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
 /// The vertex indices of face `f` given as a sequence of integers.
 fn face_row(face: &Bound<'_, PyAny>, f: usize, n_vertices: usize) -> PyResult<Vec<u32>> {
     let numpy = face.py().import("numpy")?;
+    if face.len().is_ok_and(|n| n == 0) {
+        return Err(MeshError::new_err(format!(
+            "face {f} has 0 vertices; a face needs at least 3"
+        )));
+    }
     let row = numpy.call_method1("asarray", (face,))?;
     let kind: String = row.getattr("dtype")?.getattr("kind")?.extract()?;
     let ndim: usize = row.getattr("ndim")?.extract()?;

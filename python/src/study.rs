@@ -72,6 +72,9 @@ fn study_error(e: &StudyError) -> PyErr {
     }
 }
 
+// The defaults written out in `study`'s text signature are the library's.
+const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
+
 /// Runs the whole comparison study, as `beltrami study` does, and writes its report,
 /// tables, plots and renders into `out`.
 ///
@@ -104,9 +107,6 @@ fn study_error(e: &StudyError) -> PyErr {
 /// when `out` cannot be written, and what a Python weight scheme raised. The study runs
 /// without the GIL (a Python scheme takes it for its calls) and cannot be interrupted
 /// before it ends.
-// The text signature's defaults (above `study`) are the library's.
-const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
-
 #[pyfunction]
 #[pyo3(signature = (
     out = PathBuf::from("study"),
@@ -133,7 +133,7 @@ const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
     no_scan_example = false,
 ),
 // The defaults written out (an expression shows as `Ellipsis` in `inspect.signature`);
-// the assertions below keep them the library's.
+// the assertion above `study`'s documentation and a Python test keep them the library's.
 text_signature = "(out='study', *, surfaces=('flens', 'sphere', 'block', 'golfball'), weights=None, iterations=(10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 200), lam=0.8, noise=0.2, absolute_noise=False, seed=1, seeds=3, boundary='free', update='every', small=False, countermeasure_weights='cotangent', no_countermeasures=False, cotangent_negative='keep', normalize='sum', vertex_area='mixed', remesh=None, remesh_relative=None, no_remesh=False, no_scan_example=False)"
 )]
 #[allow(clippy::too_many_arguments)]

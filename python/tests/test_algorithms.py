@@ -472,3 +472,5 @@ def test_generate_refuses_what_would_make_no_mesh_or_no_numbers():
         bt.generate("sphere", level=3, holes=1, hole_radius=1e9)
     with pytest.raises(ValueError, match="exclude each other"):
         bt.generate("sphere", level=3, size="small")
+    with pytest.raises(ValueError, match="size must be 'paper' or 'small'"):
+        bt.generate("sphere", level=3, size="huge")

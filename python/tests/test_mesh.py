@@ -153,11 +153,19 @@ def test_a_polygon_mesh_round_trips_through_its_list_of_faces():
         bt.Mesh(v, [[0, 1, 2, 3], [1.5, 4, 2]])
     with pytest.raises(bt.MeshError, match="face 1 refers to vertex 9"):
         bt.Mesh(v, [[0, 1, 2, 3], [1, 9, 2]])
+    with pytest.raises(bt.MeshError, match="face 1 has 0 vertices"):
+        bt.Mesh(v, [[0, 1, 2, 3], []])
 
 
 def test_no_faces_and_unsigned_indices_beyond_int64():
     points = bt.Mesh(TETRA_V, [])
     assert points.n_faces == 0 and len(points.vertices) == 4
+    assert bt.Mesh(TETRA_V, np.zeros((0, 3), dtype=int)).n_faces == 0
+    # Rows without columns are not "no faces".
+    with pytest.raises(bt.MeshError, match="got shape"):
+        bt.Mesh(TETRA_V, np.zeros((4, 0), dtype=int))
+    with pytest.raises(bt.MeshError, match="no faces; subdivide needs a surface"):
+        bt.subdivide(points, "loop", steps=2**62)
     huge = np.array([[0, 1, 2], [0, 2, 2**64 - 1]], dtype=np.uint64)
     with pytest.raises(bt.MeshError, match="face 1 refers to vertex 18446744073709551615"):
         bt.Mesh(TETRA_V, huge)

@@ -108,6 +108,8 @@ def test_every_signature_shows_its_real_defaults():
             continue
         for p in signature.parameters.values():
             assert p.default is not Ellipsis, f"{name}({p.name}=...)"
+        # And a documentation of its own (a text signature alone is not help).
+        assert obj.__doc__ and len(obj.__doc__.strip()) > 40, name
     study = inspect.signature(bt.study).parameters
     assert study["iterations"].default == (10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 200)
     assert study["seeds"].default == 3

@@ -137,8 +137,10 @@ fn dihedral(mesh: &EditMesh, e: EdgeId) -> f64 {
 /// report.
 ///
 /// Lawson's algorithm: every interior edge is checked once, and the four edges around
-/// each flip are checked again. Boundary edges are never flipped, and neither is an
-/// edge whose flipped edge already exists. With [`DelaunayOptions::max_dihedral`],
+/// each flip are checked again; when none is left to check, the edges still to flip
+/// (refused before while their flipped edge existed) are checked again, until none is
+/// left or [`DelaunayOptions::max_flips`] stops the run. Boundary edges are never
+/// flipped, and neither is an edge whose flipped edge already exists. With [`DelaunayOptions::max_dihedral`],
 /// edges whose two triangles meet at a larger angle stay (features, curved regions).
 /// The vertex numbering is the input's; faces are renumbered (garbage collection after
 /// the flips keeps their order).

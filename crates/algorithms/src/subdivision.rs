@@ -182,8 +182,10 @@ impl Scheme {
                     boundary_edges: c.boundary_edges.saturating_mul(3),
                 },
             };
-            // A count that no longer changes (no faces, or every count saturated) stays
-            // so under either scheme's steps: a huge `steps` ends here.
+            // Counts that no longer change (no faces, or saturated) stay so under the
+            // following steps (of a saturated √3 result only the boundary count could
+            // still grow, and such a result is refused in any case): a huge `steps`
+            // ends here.
             if next == c {
                 break;
             }

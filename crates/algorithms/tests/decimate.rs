@@ -624,6 +624,18 @@ fn decimation_does_not_depend_on_where_the_part_lies() {
             .map(|(a, b)| (*b - offset).distance(*a))
             .fold(0.0, f64::max);
         assert!(worst < 1e-6, "{options:?}: {worst}");
+        // A stray point at the machine's origin (an isolated vertex) changes nothing:
+        // the quadrics' origin is the box of the vertices in a face.
+        let mut stray = moved.clone();
+        stray.positions.push(DVec3::ZERO);
+        let (_, _, rc) = run(&stray, &options);
+        assert_eq!(rc.vertices_after, rb.vertices_after + 1, "{options:?}");
+        assert!(
+            relative(rb.max_quadric_error, rc.max_quadric_error) < 1e-9,
+            "{options:?}: {} without the stray point, {} with it",
+            rb.max_quadric_error,
+            rc.max_quadric_error
+        );
     }
 }
 

@@ -233,7 +233,7 @@ fn sphere_caps_table() {
     }
 }
 
-/// A 24 × 12 lens with a round hole in its middle (a fifth of its width across), the
+/// A 24 × 12 lens with a round hole in its middle (0.15 of its width across), the
 /// lens itself, and the half-width it was measured with.
 fn holed_lens() -> (HalfedgeMesh, Vec<DVec3>, MeshData, f64) {
     let lens = flens(&FLensParams {
@@ -285,8 +285,8 @@ fn the_outer_boundary_of_an_open_surface_stays_open() {
 #[test]
 fn every_components_outer_boundary_stays_open() {
     let (holed, x, lens, half_width) = holed_lens();
-    // The second patch: the whole lens, moved aside by twice its width (its rim is
-    // longer than the first patch's hole, shorter than nothing else).
+    // The second patch: the whole lens, moved aside by one and a half widths (its rim as
+    // long as the first patch's, and longer than that patch's hole).
     let width = 3.0 * half_width;
     let mut faces: Vec<Vec<u32>> = holed
         .faces()

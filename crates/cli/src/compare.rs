@@ -211,9 +211,7 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
     let reference_geometry = geometry(&reference).map_err(&on_reference)?;
     let mesh_volume = closed_volume(&mesh_geometry).map_err(&on_mesh)?;
     let reference_volume = closed_volume(&reference_geometry).map_err(&on_reference)?;
-    let reference_extent = reference_geometry
-        .bounding_box()
-        .map_or(0.0, |(lo, hi)| lo.distance(hi));
+    let reference_extent = beltrami_metrics::measures::surface_extent(&reference_geometry);
     notes.volume = match (mesh_volume, reference_volume) {
         (Some(_), Some(_)) => String::new(),
         (None, Some(_)) => format!("{} is open", args.mesh.display()),

@@ -66,6 +66,23 @@ pub fn closed_volume(geometry: &Geometry<'_>) -> Result<Option<f64>, MetricsErro
     }
 }
 
+/// The diagonal of the bounding box of the vertices in a face (the surface's extent,
+/// in the positions' unit; isolated vertices, which enclose nothing, left out), 0 for a
+/// mesh without faces: the `extent` of [`volume_ratio`].
+#[must_use]
+pub fn surface_extent(geometry: &Geometry<'_>) -> f64 {
+    let (mesh, positions) = (geometry.mesh(), geometry.positions());
+    let mut on = mesh
+        .vertices()
+        .filter(|&v| !mesh.is_isolated(v))
+        .map(|v| positions[v.index()]);
+    let Some(first) = on.next() else {
+        return 0.0;
+    };
+    let (lo, hi) = on.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    lo.distance(hi)
+}
+
 /// `mesh / reference` of two enclosed volumes (unit³), or `None` when the reference
 /// encloses no volume: its magnitude at most `1e-12 · extent³` (`extent` the
 /// reference's bounding-box diagonal, in the same unit), where a closed but flat

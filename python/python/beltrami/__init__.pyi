@@ -69,7 +69,9 @@ def write(
     """Writes a mesh file; the format follows the extension. A write-protected file
     is replaced only with `force=True` (PermissionError otherwise). `sync=False` leaves
     out the flushes to disk (the file is still replaced atomically; a power loss soon
-    after may leave the old or a partial file)."""
+    after may leave the old or a partial file). `scalars` (any mapping) go to .ply files
+    only; FormatError otherwise, and for an STL file of a mesh whose repair on reading
+    split vertices (STL would join them again)."""
 
 def info(mesh: Mesh) -> dict[str, Any]:
     """Counts, topology and geometry, with the keys of `beltrami info --json`."""
@@ -96,7 +98,7 @@ def smooth(
     solver: Optional[Literal["cg", "cholesky"]] = None,
     pin: Optional[Sequence[int]] = None,
     preserve_volume: bool = False,
-    on_iteration: Optional[Callable[[int, dict[str, Any]], Optional[bool]]] = None,
+    on_iteration: Optional[Callable[[int, dict[str, Any]], Any]] = None,
     progress: bool = False,
     max_iterations: int = 1_000_000,
     step_stats: bool = True,
