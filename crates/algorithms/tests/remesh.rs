@@ -296,6 +296,36 @@ fn the_distance_from_the_input_shows_corners_rounded_off() {
     );
 }
 
+/// A sound square with a stray collinear triangle beside it: remeshing splits the flat
+/// triangle into more at any length, and the error says to remove it rather than to
+/// shorten the target length (which fails as well).
+#[test]
+fn the_inputs_own_flat_triangle_is_named_as_the_cause() {
+    let positions = vec![
+        DVec3::ZERO,
+        DVec3::X,
+        DVec3::Y,
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(5.0, 0.0, 0.0),
+    ];
+    let mesh = HalfedgeMesh::from_polygons(7, [[0u32, 1, 3], [0, 3, 2], [4, 5, 6]]).unwrap();
+    for options in [
+        RemeshOptions::default(),
+        RemeshOptions::default().edge_length(0.05),
+    ] {
+        let err = remesh(&mesh, &positions, &options).unwrap_err();
+        assert!(
+            matches!(err, RemeshError::Degenerate { input_faces: 1, .. }),
+            "{err:?}"
+        );
+        let text = err.to_string();
+        assert!(text.contains("remove them from the input"), "{text}");
+        assert!(!text.contains("use a shorter one"), "{text}");
+    }
+}
+
 #[test]
 fn edges_approach_the_target_and_vary_far_less_than_the_input() {
     let (mesh, x) = jittered_grid(24, 24, 0.3, 7);

@@ -421,8 +421,8 @@ algorithm_error! {
         /// whose tangential relaxation then draws them together). The run stops there;
         /// no mesh is returned.
         #[error(
-            "{faces} of the result's {total} faces would be degenerate (the input has {input_faces}): a target edge length of {} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one",
-            short(*.edge_length)
+            "{faces} of the result's {total} faces would be degenerate (the input has {input_faces}): {}",
+            degenerate_advice(*.input_faces, *.edge_length, *.diagonal)
         )]
         Degenerate {
             /// Degenerate faces of the result.
@@ -829,6 +829,30 @@ impl DegeneracyGuard {
             edge_length: self.edge_length,
             diagonal: self.diagonal,
         })
+    }
+}
+
+/// What the [`RemeshError::Degenerate`] message advises: a shorter target edge length,
+/// or, when the input has degenerate faces of its own, those first (remeshing splits a
+/// flat triangle into more flat ones at any length).
+fn degenerate_advice(input_faces: usize, edge_length: f64, diagonal: f64) -> String {
+    if input_faces > 0 {
+        let also = if edge_length > 0.05 * diagonal {
+            format!(
+                " (a target edge length of {} for a bounding box diagonal of {diagonal:.6} may be too long as well)",
+                short(edge_length)
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "the input's own degenerate faces (flat for their size, such as a stray collinear triangle) are split into more at any target length; remove them from the input{also}"
+        )
+    } else {
+        format!(
+            "a target edge length of {} is too long for this surface, whose bounding box diagonal is {diagonal:.6}; use a shorter one",
+            short(edge_length)
+        )
     }
 }
 
