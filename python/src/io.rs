@@ -123,21 +123,14 @@ pub(crate) fn write(
     }
     // STL keeps no vertex indices: the copies a repair on reading split off would be
     // joined to their originals again when the file is read.
-    if let Some(split) = mesh
-        .repair
-        .as_ref()
-        .map(|r| r.split_vertices.len())
-        .filter(|&n| n > 0)
-        && MeshFormat::from_path(&path).ok() == Some(MeshFormat::Stl)
+    let split = mesh.repair.as_ref().map_or(0, |r| r.split_vertices.len());
+    if let Some(message) = MeshFormat::from_path(&path)
+        .ok()
+        .and_then(|f| f.loses_split_vertices(split))
     {
         return Err(crate::errors::FormatError::new_err(format!(
-            "{}: an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
-            path.display(),
-            if split == 1 {
-                "vertex".to_string()
-            } else {
-                format!("{split} vertices")
-            }
+            "{}: {message}",
+            path.display()
         )));
     }
     let options = WriteOptions::default().encoding(if ascii {

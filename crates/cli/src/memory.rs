@@ -380,11 +380,6 @@ impl fmt::Display for Size {
     }
 }
 
-/// The memory this machine can give a new run, in bytes ([`beltrami_io::available_memory`]).
-pub(crate) fn available_bytes() -> Option<u64> {
-    beltrami_io::available_memory()
-}
-
 /// Which limit stops a run of `estimate` bytes, if any: `--max-memory` when given
 /// (the user's limit, even above what the machine has), otherwise the memory the
 /// machine has available. `None`: the run goes ahead.
@@ -405,7 +400,8 @@ pub(crate) fn exceeded_limit(
 pub(crate) enum Limit {
     /// `--max-memory`, in bytes.
     Given(u64),
-    /// The machine's available memory and free swap, in bytes ([`available_bytes`]).
+    /// The machine's available memory and free swap, in bytes
+    /// ([`beltrami_io::available_memory`]).
     Available(u64),
 }
 

@@ -89,19 +89,14 @@ pub(crate) fn refuse_stl_after_split(
     output: &std::path::Path,
     repair: Option<&RepairReport>,
 ) -> Result<(), CliError> {
-    let Some(report) = repair.filter(|r| !r.split_vertices.is_empty()) else {
-        return Ok(());
-    };
-    if beltrami_io::MeshFormat::from_path(output).ok() != Some(beltrami_io::MeshFormat::Stl) {
-        return Ok(());
+    let split = repair.map_or(0, |r| r.split_vertices.len());
+    match beltrami_io::MeshFormat::from_path(output).map(|f| f.loses_split_vertices(split)) {
+        Ok(Some(message)) => Err(CliError::Input {
+            path: output.to_path_buf(),
+            message,
+        }),
+        _ => Ok(()),
     }
-    Err(CliError::Input {
-        path: output.to_path_buf(),
-        message: format!(
-            "an STL file keeps no vertex indices, so the {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
-            counted(report.split_vertices.len(), "vertex", "vertices")
-        ),
-    })
 }
 
 /// One line per kind of repair, naming the first elements: what `--repair` and

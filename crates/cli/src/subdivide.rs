@@ -58,11 +58,6 @@ impl SchemeArg {
     }
 }
 
-/// The memory a run needs for a result of `faces` faces, in bytes.
-fn memory_needed(faces: u64) -> u64 {
-    Scheme::bytes_needed(faces, crate::memory::BASE_BYTES)
-}
-
 /// Refuses a `--steps` whose result would not fit in a mesh or in memory, naming the
 /// largest number of steps that fits.
 fn check_size(mesh: &HalfedgeMesh, scheme: Scheme, steps: u32) -> Result<MeshCounts, CliError> {
@@ -78,7 +73,7 @@ fn check_size(mesh: &HalfedgeMesh, scheme: Scheme, steps: u32) -> Result<MeshCou
     } else {
         format!(
             "needing about {} of memory, more than the {} available",
-            Size(memory_needed(counts.faces)),
+            Size(Scheme::bytes_needed(counts.faces, base)),
             Size(available.unwrap_or(0))
         )
     };

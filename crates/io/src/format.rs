@@ -42,6 +42,29 @@ impl MeshFormat {
     pub fn is_height_map(self) -> bool {
         matches!(self, Self::X3p | Self::Sdf)
     }
+
+    /// Why a mesh whose repair split `split_vertices` vertices off (cut non-manifold
+    /// edges, pinched vertices, opened edges) cannot be written in this format, or
+    /// `None` when it can: STL keeps no vertex indices, so a copy split off, still at its
+    /// original's position, is joined to it again when the file is read, undoing the
+    /// repair. The one message of the commands and the Python package.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_io::MeshFormat;
+    /// assert!(MeshFormat::Stl.loses_split_vertices(2).unwrap().contains("the 2 vertices"));
+    /// assert_eq!(MeshFormat::Stl.loses_split_vertices(0), None);
+    /// assert_eq!(MeshFormat::Ply.loses_split_vertices(2), None);
+    /// ```
+    #[must_use]
+    pub fn loses_split_vertices(self, split_vertices: usize) -> Option<String> {
+        (self == Self::Stl && split_vertices > 0).then(|| {
+            format!(
+                "an STL file keeps no vertex indices, so the {split_vertices} {} the repair split off would be joined again when it is read; write .ply, .obj or .off",
+                if split_vertices == 1 { "vertex" } else { "vertices" }
+            )
+        })
+    }
 }
 
 impl fmt::Display for MeshFormat {

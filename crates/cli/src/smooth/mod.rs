@@ -376,7 +376,7 @@ fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
 /// as a run too large for the machine.
 fn check_memory(args: &SmoothArgs, estimate: &MemoryEstimate, exact: bool) -> Result<(), CliError> {
     let available = if args.max_memory.is_none() && exact {
-        memory::available_bytes()
+        beltrami_io::available_memory()
     } else {
         None
     };
