@@ -103,7 +103,8 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
 /// Raises `FormatError` for an unsupported extension or bad scalars, or for an STL file
 /// of a mesh whose repair on reading split vertices (STL would join them again),
 /// `PermissionError` for a write-protected file without `force`, `OSError` when the
-/// file cannot be written.
+/// file cannot be written. Warns (`UserWarning`) when an STL file leaves out vertices
+/// in no face: STL stores triangles only.
 #[pyfunction]
 #[pyo3(signature = (path, mesh, scalars = None, *, ascii = false, force = false, sync = true))]
 pub(crate) fn write(
@@ -132,6 +133,25 @@ pub(crate) fn write(
             "{}: {message}",
             path.display()
         )));
+    }
+    // STL stores triangles only: say so when a vertex in no face is left out.
+    let in_no_face = mesh
+        .mesh
+        .vertices()
+        .filter(|&v| mesh.mesh.is_isolated(v))
+        .count();
+    if let Some(note) = MeshFormat::from_path(&path)
+        .ok()
+        .and_then(|f| f.drops_vertices_in_no_face(in_no_face))
+    {
+        let message = std::ffi::CString::new(format!("{}: {note}", path.display()))
+            .unwrap_or_else(|_| c"an STL file stores triangles only".to_owned());
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
     }
     let options = WriteOptions::default().encoding(if ascii {
         Encoding::Ascii

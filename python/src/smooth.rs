@@ -186,8 +186,8 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// positions, and a dict with the keys of the command line's `--report` JSON
 /// (`input`, `output`, `vertices`, `faces`, `parameters`, `iterations`, `stop`,
 /// `max_stuck_vertices`, `scattered_sweeps`, `seconds`, `steps`, and `implicit` for the
-/// implicit method); `seconds` holds `weights` and `updates` (no file is read or
-/// written).
+/// implicit method) but the command's `notes` about its files; `seconds` holds
+/// `weights` and `updates` (no file is read or written).
 ///
 /// The options and their defaults are those of `beltrami smooth`:
 ///

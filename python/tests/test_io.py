@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -110,6 +112,19 @@ def test_non_manifold_file_is_a_mesh_error_and_repair_fixes_it(tmp_path):
     assert not (tmp_path / "fixed.stl").exists()
     bt.write(tmp_path / "fixed.ply", mesh)
     assert bt.info(bt.read(tmp_path / "fixed.ply"))["vertices"] == mesh.n_vertices
+
+
+def test_stl_warns_about_vertices_in_no_face(tmp_path):
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]], dtype=float)
+    mesh = bt.Mesh(vertices, np.array([[0, 1, 2]]))
+    with pytest.warns(UserWarning, match="the 1 vertex in no face is not written"):
+        bt.write(tmp_path / "a.stl", mesh)
+    assert bt.read(tmp_path / "a.stl").n_vertices == 3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bt.write(tmp_path / "a.ply", mesh)
+        bt.write(tmp_path / "b.stl", bt.Mesh(vertices[:3], np.array([[0, 1, 2]])))
+    assert bt.read(tmp_path / "a.ply").n_vertices == 4
 
 
 def test_weld_tolerance_is_checked(tmp_path):

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::{Outputs, write_result};
+use crate::output::{Outputs, notes_for_output, write_result};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami delaunay`.
@@ -97,6 +97,7 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
+    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
     write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {
@@ -114,14 +115,14 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             hit_flip_limit: report.hit_flip_limit,
             max_deviation: report.max_deviation,
             max_dihedral_degrees: args.max_dihedral,
-            notes: loaded.repair_lines.clone(),
+            notes,
             seconds,
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in &notes {
         writeln!(out, "{line}")?;
     }
     let mut kept = Vec::new();

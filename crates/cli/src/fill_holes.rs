@@ -12,7 +12,7 @@ use serde::Serialize;
 use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::refuse_height_map_output;
+use crate::output::{notes_for_output, refuse_height_map_output};
 use crate::text::{counted, number};
 
 /// Arguments of `beltrami fill-holes`.
@@ -143,18 +143,19 @@ pub(crate) fn run(args: &FillHolesArgs, out: &mut impl Write) -> Result<(), CliE
         (&mesh, &positions),
     )?;
     let summary = summarise(args, &mesh, &report, options.max_loop_edges, seconds);
+    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &loaded.repair_lines,
+        &notes,
         out,
     )? {
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in &notes {
         writeln!(out, "{line}")?;
     }
     let share = outer_share(&loaded.mesh, &loaded.positions, &report);

@@ -319,14 +319,20 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
         && loaded.repair.is_none()
         && !loaded.mesh.is_closed()
         && loaded.mesh.connected_components().count() > 1
-        && let Some((n, d)) = coincident_vertices(&loaded.positions, &loaded.faces)
+        && let Some(c) = coincident_vertices(&loaded.positions, &loaded.faces)
     {
-        loaded.repair_lines.push(format!(
-            "note: {} within {} of another, so the surface is in pieces along them (texture seams, an exporter's duplicates?); --repair --merge-distance {} joins them",
-            counted(n, "vertex lies", "vertices lie"),
-            number(d),
-            number(d)
-        ));
+        let lie = counted(c.vertices, "vertex lies", "vertices lie");
+        let d = number(c.distance);
+        loaded.repair_lines.push(if c.non_manifold_if_merged {
+            // Joining them would undo a repair: say why they are apart instead.
+            format!(
+                "note: {lie} within {d} of another, so the surface is in pieces along them; joined, they would make it non-manifold (an edge of more than two faces or a pinched vertex, which `repair` splits apart), so leave them apart"
+            )
+        } else {
+            format!(
+                "note: {lie} within {d} of another, so the surface is in pieces along them (texture seams, an exporter's duplicates?); --repair --merge-distance {d} joins them"
+            )
+        });
     }
     let quality = if args.quality {
         Some(measure_quality(args, &loaded)?)

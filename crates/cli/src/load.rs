@@ -105,16 +105,32 @@ fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f
 }
 
 /// Vertices within a millionth of the bounding-box diagonal of another (rounded up to
-/// one significant digit): the number a merge would join and the distance, or `None`
-/// when there are none. A mesh split at texture seams or written by a CAD exporter
-/// has them; the surface then falls apart into pieces along them.
-pub(crate) fn coincident_vertices(
-    positions: &[DVec3],
-    faces: &PolygonList,
-) -> Option<(usize, f64)> {
+/// one significant digit), or `None` when there are none. A mesh split at texture seams
+/// or written by a CAD exporter has them; the surface then falls apart into pieces
+/// along them. So does a mesh that `repair` cut along a non-manifold edge or split at
+/// a pinched vertex, whose copies a merge would join again.
+pub(crate) fn coincident_vertices(positions: &[DVec3], faces: &PolygonList) -> Option<Coincident> {
     let (report, distance) = merge_trial(positions, faces)?;
     let merged = report.merged_vertices.len();
-    (merged > 0).then_some((merged, distance))
+    (merged > 0).then_some(Coincident {
+        vertices: merged,
+        distance,
+        non_manifold_if_merged: !(report.cut_edges.is_empty()
+            && report.split_vertices.is_empty()
+            && report.opened_edges.is_empty()),
+    })
+}
+
+/// What [`coincident_vertices`] found.
+pub(crate) struct Coincident {
+    /// The number of vertices a merge would join.
+    pub(crate) vertices: usize,
+    /// The merge distance, in the positions' unit.
+    pub(crate) distance: f64,
+    /// Whether the merged surface would be non-manifold (an edge of more than two faces,
+    /// a pinched vertex, faces of opposite orientation across an edge): copies that
+    /// `repair` split off.
+    pub(crate) non_manifold_if_merged: bool,
 }
 
 /// The repair report of merging within the suggested distance, and the distance.

@@ -88,6 +88,27 @@ pub(crate) fn write_result_and_report(
     staged.commit()
 }
 
+/// The notes a command prints before its sentence and puts in its JSON: the load's
+/// `lines` (what `--repair` changed, what `--lenient` ignored), then what OUTPUT's format
+/// leaves out of `mesh` (an STL file: the vertices in no face).
+pub(crate) fn notes_for_output(
+    output: &Path,
+    lines: &[String],
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+) -> Vec<String> {
+    let mut notes = lines.to_vec();
+    let dropped = beltrami_io::MeshFormat::from_path(output)
+        .ok()
+        .and_then(|format| {
+            format
+                .drops_vertices_in_no_face(mesh.vertices().filter(|&v| mesh.is_isolated(v)).count())
+        });
+    if let Some(note) = dropped {
+        notes.push(format!("note: {note}"));
+    }
+    notes
+}
+
 pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
         return false;

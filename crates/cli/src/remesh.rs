@@ -10,7 +10,7 @@ use serde::Serialize;
 use crate::edit_report::{EditOutputArgs, QualityChange};
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
-use crate::output::refuse_height_map_output;
+use crate::output::{notes_for_output, refuse_height_map_output};
 use crate::text::{counted, exact, number};
 
 /// Arguments of `beltrami remesh`.
@@ -268,18 +268,19 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         smooth_projection: options.projection && options.smooth_projection,
         seconds,
     };
+    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &loaded.repair_lines,
+        &notes,
         out,
     )? {
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in &notes {
         writeln!(out, "{line}")?;
     }
     writeln!(

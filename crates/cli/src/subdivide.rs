@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load};
 use crate::memory::Size;
-use crate::output::{Outputs, refuse_height_map_output, write_result};
+use crate::output::{Outputs, notes_for_output, refuse_height_map_output, write_result};
 use crate::text::counted;
 
 /// Arguments of `beltrami subdivide`.
@@ -137,6 +137,7 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
             message: e.to_string(),
         })?;
     let seconds = start.elapsed().as_secs_f64();
+    let notes = notes_for_output(&args.output, &loaded.repair_lines, &fine);
     write_result(&args.output, &fine, positions, args.ascii)?;
 
     if args.json {
@@ -152,13 +153,13 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
             edges: fine.n_edges(),
             faces: fine.n_faces(),
             seconds,
-            notes: loaded.repair_lines.clone(),
+            notes,
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in &notes {
         writeln!(out, "{line}")?;
     }
     writeln!(

@@ -369,6 +369,23 @@ fn repair_writes_a_mesh_every_command_accepts() {
         assert!(error_line(&o, d).contains("an STL file keeps no vertex indices"));
         assert!(!stl.exists());
     }
+    // `info` of a repaired open fan (three triangles on one edge) sees the split copies
+    // beside their originals and does not advise a merge that would undo the repair.
+    let fan = d.join("fan.off");
+    std::fs::write(
+        &fan,
+        "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 -1 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n",
+    )
+    .unwrap();
+    let repaired = d.join("fan.ply");
+    stdout(&["repair", s(&fan), s(&repaired)]);
+    let table = stdout(&["info", s(&repaired)]);
+    assert!(
+        table.contains(
+            "note: 2 vertices lie within 3e-6 of another, so the surface is in pieces along them; joined, they would make it non-manifold"
+        ) && !table.contains("--merge-distance"),
+        "{table}"
+    );
 }
 
 #[test]
@@ -860,4 +877,72 @@ fn scan_fill_remesh_smooth_residual_each_step_helps() {
         sq > 0.5 * sigma && sq < 1.2 * sigma,
         "Sq {sq}, sigma {sigma}"
     );
+}
+
+/// An STL file stores triangles only: a vertex in no face is not written, and every
+/// command that writes one says so (in its sentence's notes, `--json` and `--report`),
+/// while PLY keeps it without a note.
+#[test]
+fn stl_output_says_it_leaves_out_vertices_in_no_face() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = d.join("stray.ply");
+    std::fs::write(
+        &input,
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty double x\nproperty double y\nproperty double z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 5 5\n3 0 1 2\n3 1 3 2\n",
+    )
+    .unwrap();
+    let note = "note: an STL file stores triangles only: the 1 vertex in no face is not written (.ply, .obj and .off keep them)";
+    for (command, extra) in [
+        ("smooth", &[][..]),
+        ("subdivide", &[][..]),
+        ("delaunay", &[][..]),
+        ("fill-holes", &[][..]),
+        ("remesh", &["--edge-length", "0.5"][..]),
+        ("decimate", &["--ratio", "0.9"][..]),
+    ] {
+        let stl = d.join(format!("{command}.stl"));
+        let mut args = vec![command, s(&input), s(&stl)];
+        args.extend_from_slice(extra);
+        let text = stdout(&args);
+        assert!(text.lines().any(|l| l == note), "{command}: {text}");
+        let written = beltrami_io::read_mesh(&stl).unwrap();
+        assert!(
+            written.positions.iter().all(|p| p.x < 2.0),
+            "{command}: the stray vertex was written"
+        );
+        let ply = d.join(format!("{command}.ply"));
+        let mut args = vec![command, s(&input), s(&ply)];
+        args.extend_from_slice(extra);
+        let text = stdout(&args);
+        assert!(!text.contains("STL"), "{command}: {text}");
+        assert!(
+            beltrami_io::read_mesh(&ply)
+                .unwrap()
+                .positions
+                .iter()
+                .any(|p| p.x == 5.0),
+            "{command}: PLY lost the stray vertex"
+        );
+        if command == "smooth" {
+            let report = d.join("smooth.json");
+            let args = [
+                command,
+                s(&input),
+                s(&stl),
+                "--report",
+                s(&report),
+                "--force",
+            ];
+            stdout(&args);
+            let j: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+            assert_eq!(j["notes"], serde_json::json!([note]), "{j}");
+        } else {
+            let mut args = vec![command, s(&input), s(&stl), "--json", "--force"];
+            args.extend_from_slice(extra);
+            let j: serde_json::Value = serde_json::from_str(&stdout(&args)).unwrap();
+            assert_eq!(j["notes"], serde_json::json!([note]), "{command}: {j}");
+        }
+    }
 }

@@ -331,11 +331,22 @@ fn directory_of(path: &Path) -> PathBuf {
 /// long computation, so that a typo in a directory name fails at once.
 ///
 /// # Errors
-/// [`IoError::Io`] naming what failed: the directory does not exist or is not a
-/// directory, or a file cannot be created in it (permissions, read-only file
-/// system, full disk).
+/// [`IoError::Io`] naming what failed: the path ends in a slash (a directory's name),
+/// the directory does not exist or is not a directory, or a file cannot be created in
+/// it (permissions, read-only file system, full disk).
 pub fn check_writable(path: impl AsRef<Path>) -> Result<(), IoError> {
     let path = path.as_ref();
+    // `out.ply/` names a directory, which no file can replace; the rename at the end
+    // would fail after all the work.
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Err(IoError::Io {
+            operation: "write the output",
+            source: std::io::Error::other(
+                "a path ending in a slash names a directory; give a file name",
+            ),
+        });
+    }
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
     match fs::metadata(&dir) {
@@ -763,6 +774,16 @@ mod tests {
         assert!(!e.contains(".beltrami-"), "{e}");
         check_writable(dir.path().join("out.ply")).unwrap();
         assert!(check_writable(dir.path()).is_err());
+        assert!(temporaries(dir.path()).is_empty());
+    }
+
+    /// `out.ply/` names a directory: refused before any work, not at the final rename.
+    #[test]
+    fn check_writable_refuses_a_trailing_slash() {
+        let dir = tempfile::tempdir().unwrap();
+        let slash = format!("{}/out.ply/", dir.path().display());
+        let e = check_writable(&slash).unwrap_err().to_string();
+        assert!(e.contains("names a directory"), "{e}");
         assert!(temporaries(dir.path()).is_empty());
     }
 

@@ -65,6 +65,33 @@ impl MeshFormat {
             )
         })
     }
+
+    /// What writing a mesh with `vertices_in_no_face` vertices that no face uses in this
+    /// format leaves out, or `None` when nothing is left out: an STL file stores
+    /// triangles only, so such vertices are not written (PLY, OBJ and OFF keep them).
+    /// The one note of the commands and the Python package.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_io::MeshFormat;
+    /// let note = MeshFormat::Stl.drops_vertices_in_no_face(1).unwrap();
+    /// assert!(note.contains("the 1 vertex in no face is not written"));
+    /// assert_eq!(MeshFormat::Stl.drops_vertices_in_no_face(0), None);
+    /// assert_eq!(MeshFormat::Ply.drops_vertices_in_no_face(3), None);
+    /// ```
+    #[must_use]
+    pub fn drops_vertices_in_no_face(self, vertices_in_no_face: usize) -> Option<String> {
+        (self == Self::Stl && vertices_in_no_face > 0).then(|| {
+            let (noun, verb) = if vertices_in_no_face == 1 {
+                ("vertex", "is")
+            } else {
+                ("vertices", "are")
+            };
+            format!(
+                "an STL file stores triangles only: the {vertices_in_no_face} {noun} in no face {verb} not written (.ply, .obj and .off keep them)"
+            )
+        })
+    }
 }
 
 impl fmt::Display for MeshFormat {

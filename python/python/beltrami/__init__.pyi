@@ -71,7 +71,8 @@ def write(
     out the flushes to disk (the file is still replaced atomically; a power loss soon
     after may leave the old or a partial file). `scalars` (any mapping) go to .ply files
     only; FormatError otherwise, and for an STL file of a mesh whose repair on reading
-    split vertices (STL would join them again)."""
+    split vertices (STL would join them again). An STL file stores triangles only: a
+    UserWarning says when vertices in no face are left out."""
 
 def info(mesh: Mesh) -> dict[str, Any]:
     """Counts, topology and geometry, with the keys of `beltrami info --json`."""

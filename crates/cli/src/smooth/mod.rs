@@ -14,7 +14,7 @@ use beltrami_weights::{CotangentKernel, WeightScheme};
 use crate::error::CliError;
 use crate::load::{LoadedMesh, load_checked_keeping};
 use crate::memory::{self, LARGE_RUN_VERTICES, MemoryEstimate};
-use crate::output::{Outputs, Staged, refuse_height_map_output};
+use crate::output::{Outputs, Staged, notes_for_output, refuse_height_map_output};
 use crate::text::{number, plural};
 
 mod args;
@@ -72,6 +72,7 @@ pub(crate) fn run(
     // the same list), so the list as read is not kept through the run.
     faces.release();
     let shape = Shape::of(&mesh);
+    let notes = notes_for_output(&args.output, &repair_lines, &mesh);
     let before = Before::of(&mesh, &positions, kept);
     let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
@@ -96,22 +97,14 @@ pub(crate) fn run(
             parse: parse_seconds,
             build: build_seconds,
         };
-        let report = build_report(args, &data, r, read, write_seconds);
+        let report = build_report(args, &data, r, read, write_seconds, &notes);
         let mut json = serde_json::to_vec_pretty(&report).map_err(std::io::Error::from)?;
         json.push(b'\n');
         staged.push(path, |path| stage_bytes(path, &json))?;
     }
     staged.commit()?;
 
-    write_summary(
-        out,
-        args,
-        &repair_lines,
-        shape,
-        data.positions.len(),
-        r,
-        &change,
-    )?;
+    write_summary(out, args, &notes, shape, data.positions.len(), r, &change)?;
     Ok(())
 }
 
@@ -198,18 +191,18 @@ fn choose_kernel(
     }
 }
 
-/// The lines on standard output: the load's notes, what the run did, the diffusion time
+/// The lines on standard output: the notes (the load's, the output format's), what the run did, the diffusion time
 /// and the vertices that could not move.
 fn write_summary(
     out: &mut impl Write,
     args: &SmoothArgs,
-    repair_lines: &[String],
+    notes: &[String],
     shape: Shape,
     n_vertices: usize,
     r: &SmoothReport,
     change: &Change,
 ) -> Result<(), CliError> {
-    for line in repair_lines {
+    for line in notes {
         writeln!(out, "{line}")?;
     }
     let boundary = if shape.closed {

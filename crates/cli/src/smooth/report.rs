@@ -26,6 +26,9 @@ pub(crate) struct Report<'a> {
     pub(crate) max_stuck_vertices: usize,
     /// Iterations summed element by element (`--summation scatter`; 0 otherwise).
     pub(crate) scattered_sweeps: usize,
+    /// The lines printed before the sentence: what `--repair` changed, what `--lenient`
+    /// ignored, what OUTPUT's format leaves out.
+    pub(crate) notes: Vec<String>,
     pub(crate) seconds: Seconds,
     pub(crate) steps: Vec<Step>,
     /// Solver figures of --method implicit.
@@ -112,6 +115,7 @@ pub(crate) fn build_report<'a>(
     r: &SmoothReport,
     read: ReadSeconds,
     write: f64,
+    notes: &[String],
 ) -> Report<'a> {
     Report {
         input: args.input.display().to_string(),
@@ -149,6 +153,7 @@ pub(crate) fn build_report<'a>(
         stop: r.stop.name(),
         max_stuck_vertices: r.max_stuck_vertices,
         scattered_sweeps: r.scattered_sweeps,
+        notes: notes.to_vec(),
         seconds: Seconds {
             read: read.total,
             parse: read.parse,
