@@ -5,9 +5,9 @@
 use beltrami_algorithms::quality::ASPECT_RATIO_BINS;
 use beltrami_algorithms::{
     AdaptiveSizing, BlockedBy, DecimateError, DecimateOptions, DecimateStop, DelaunayError,
-    DelaunayOptions, FillError, FillOptions, MeshQuality, Placement, QualityError, RemeshError,
-    RemeshOptions, Scheme, SkipReason, SubdivisionError, delaunay_flip, flipped_faces,
-    mesh_quality,
+    DelaunayOptions, FillError, FillOptions, FlatError, FlatOptions, MeshQuality, Placement,
+    QualityError, RemeshError, RemeshOptions, Scheme, SkipReason, SubdivisionError, delaunay_flip,
+    flipped_faces, mesh_quality,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use pyo3::exceptions::PyValueError;
@@ -256,6 +256,58 @@ pub(crate) fn delaunay<'py>(
     d.set_item("kept_by_flip_limit", report.kept_by_flip_limit)?;
     d.set_item("hit_flip_limit", report.hit_flip_limit)?;
     d.set_item("max_deviation", report.max_deviation)?;
+    Ok((result_mesh(m, p), d))
+}
+
+/// Removes flat triangles (zero-area slivers: a corner on the opposite edge, two corners
+/// at one point), as `beltrami repair --flat-faces`: a cap's longest edge is flipped (on
+/// the boundary the cap is deleted), a needle's zero-length edge collapsed, a flat
+/// triangle alone deleted; none of these moves the surface. `max_height_ratio`: a
+/// triangle is flat when its height is at most this share of its longest edge (default
+/// 1e-12, the triangles cotangent weights treat as absent; in [0, 1)). `max_move` (in the
+/// mesh's unit, default 0): the longest distance a collapse may move a vertex where no
+/// flip or deletion removes a sliver. Returns `(Mesh, report)` with the report's keys as
+/// `repair --flat-faces --json`'s `flat_triangles`: `before`, `after` (flat triangles
+/// left), `flips`, `deleted`, `collapses`, `max_move` (how far a collapse moved a vertex),
+/// and `vertex_origin` (for each output vertex, the input vertex it is).
+///
+/// Raises `ValueError` for a ratio outside [0, 1) or a negative or NaN `max_move`,
+/// `MeshError` for a polygon mesh.
+#[pyfunction]
+#[pyo3(signature = (mesh, max_height_ratio = 1e-12, max_move = 0.0))]
+pub(crate) fn remove_flat_triangles<'py>(
+    py: Python<'py>,
+    mesh: &Mesh,
+    max_height_ratio: f64,
+    max_move: f64,
+) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let options = FlatOptions::default()
+        .max_height_ratio(max_height_ratio)
+        .max_move(max_move);
+    let (m, p, report) = py.detach(|| {
+        no_panic(|| {
+            beltrami_algorithms::remove_flat_triangles(&mesh.mesh, &mesh.positions, options)
+                .map_err(|e| match e {
+                    FlatError::NotTriangle { face, len } => MeshError::new_err(format!(
+                        "face {face} has {len} vertices; remove_flat_triangles needs a triangle mesh (triangulate it first)"
+                    )),
+                    FlatError::Options { reason } => PyValueError::new_err(reason),
+                    FlatError::Topology(e) => topology_error(None, &e),
+                    e => MeshError::new_err(e.to_string()),
+                })
+        })
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("before", report.flat_before)?;
+    d.set_item("after", report.flat_after)?;
+    d.set_item("flips", report.flips)?;
+    d.set_item("deleted", report.deleted)?;
+    d.set_item("collapses", report.collapses)?;
+    d.set_item("max_move", report.max_move)?;
+    d.set_item(
+        "vertex_origin",
+        numpy::PyArray1::from_vec(py, report.vertex_origin.iter().map(|&i| i as i64).collect()),
+    )?;
     Ok((result_mesh(m, p), d))
 }
 

@@ -52,6 +52,7 @@ fn _beltrami(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::quality, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::remove_flat_triangles, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::remesh, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::decimate, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::fill_holes, m)?)?;

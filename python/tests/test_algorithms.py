@@ -103,6 +103,28 @@ def test_delaunay_removes_negative_weights_of_a_plane():
         bt.delaunay(jittered, max_dihedral=200.0)
 
 
+def test_remove_flat_triangles_flips_a_cap():
+    # A square whose diagonal carries a vertex at its midpoint, closed by a cap.
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]], dtype=float)
+    capped = bt.Mesh(v, np.array([[0, 1, 4], [1, 2, 4], [0, 2, 3], [0, 4, 2]]))
+    assert bt.info(capped)["degenerate_faces"] == 1
+    clean, report = bt.remove_flat_triangles(capped)
+    assert (report["before"], report["after"], report["flips"], report["max_move"]) == (1, 0, 1, 0.0)
+    assert bt.info(clean)["degenerate_faces"] == 0
+    np.testing.assert_array_equal(clean.vertices, v[report["vertex_origin"]])
+    assert bt.info(clean)["area"] == pytest.approx(1.0, abs=1e-15)
+    # A sound mesh comes back as it was.
+    same, report = bt.remove_flat_triangles(clean)
+    np.testing.assert_array_equal(same.faces, clean.faces)
+    assert report["before"] == 0
+    with pytest.raises(ValueError, match=r"\[0, 1\)"):
+        bt.remove_flat_triangles(capped, max_height_ratio=1.0)
+    with pytest.raises(ValueError, match=">= 0"):
+        bt.remove_flat_triangles(capped, max_move=-1.0)
+    with pytest.raises(bt.MeshError, match="needs a triangle mesh"):
+        bt.remove_flat_triangles(bt.Mesh(v[:4], [[0, 1, 2, 3]]))
+
+
 def run(cli, *args):
     done = subprocess.run([str(cli), *map(str, args)], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr

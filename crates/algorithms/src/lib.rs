@@ -20,6 +20,9 @@
 //! - [`fill_holes`]: hole filling after Liepa (2003): each boundary loop but the outer
 //!   one closed by a minimum-weight triangulation, refined to the rim's density and
 //!   faired;
+//! - [`remove_flat_triangles`]: caps and needles (zero-area slivers) removed by edge
+//!   flips, boundary deletions and short collapses (Botsch et al. 2010, as CGAL's
+//!   `remove_degenerate_faces`), leaving the surface where it is;
 //! - [`mesh_quality`] and [`flipped_faces`] (module [`quality`]): angles, aspect
 //!   ratios, edge lengths, valences and negative cotangent weights, the figures every
 //!   algorithm here is judged by.
@@ -51,6 +54,7 @@ mod decimate;
 mod delaunay;
 mod error;
 mod fill_holes;
+mod flat_triangles;
 pub mod quality;
 mod remesh;
 pub mod subdivision;
@@ -66,6 +70,7 @@ pub use fill_holes::{
     FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole,
     fill_hole, fill_holes, fill_holes_with_progress,
 };
+pub use flat_triangles::{FlatError, FlatOptions, FlatReport, remove_flat_triangles};
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
     AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, FOLD_ANGLE,

@@ -324,6 +324,18 @@ fn the_inputs_own_flat_triangle_is_named_as_the_cause() {
         assert!(text.contains("remove them from the input"), "{text}");
         assert!(!text.contains("use a shorter one"), "{text}");
     }
+    // As the error says: without the flat triangle, the square remeshes.
+    let (clean, x, report) = beltrami_algorithms::remove_flat_triangles(
+        &mesh,
+        &positions,
+        beltrami_algorithms::FlatOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        (report.flat_after, report.deleted, clean.n_faces()),
+        (0, 1, 2)
+    );
+    remesh(&clean, &x, &RemeshOptions::default()).unwrap();
 }
 
 #[test]

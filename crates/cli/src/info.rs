@@ -340,6 +340,15 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
         None
     };
     let summary = summarise(args, &loaded, quality);
+    if !args.json && summary.degenerate_faces > 0 && summary.triangle_mesh {
+        loaded.repair_lines.push(format!(
+            "note: {} of zero area (flat for their size): cotangent weights treat {} as absent and remeshing splits {} into more; `beltrami repair {} OUT --flat-faces` removes flat triangles without moving the surface",
+            counted(summary.degenerate_faces, "face is", "faces are"),
+            if summary.degenerate_faces == 1 { "it" } else { "them" },
+            if summary.degenerate_faces == 1 { "it" } else { "them" },
+            args.mesh.display()
+        ));
+    }
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;

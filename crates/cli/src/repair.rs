@@ -4,13 +4,14 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+use beltrami_algorithms::{FlatError, FlatOptions, FlatReport, remove_flat_triangles};
 use beltrami_halfedge::RepairReport;
 use beltrami_io::MeshData;
 use serde::Serialize;
 
-use crate::error::CliError;
+use crate::error::{CliError, not_triangles};
 use crate::load::{ReadArgs, load_repaired};
-use crate::output::{Outputs, Staged};
+use crate::output::{Outputs, Staged, notes_for_output};
 use crate::text::counted;
 
 /// Arguments of `beltrami repair`.
@@ -29,8 +30,61 @@ pub(crate) struct RepairArgs {
     /// Replace OUTPUT even when it is the input or write-protected.
     #[arg(long)]
     force: bool,
+    /// Also remove flat triangles (zero-area slivers: a corner on the opposite edge, or
+    /// two corners at one point) by flipping their longest edge, deleting them on the
+    /// boundary, or collapsing an edge of length zero: edits that leave the surface
+    /// where it is. A triangle mesh only.
+    #[arg(long)]
+    flat_faces: bool,
+    /// With --flat-faces: a triangle is flat when its height is at most this share of
+    /// its longest edge (default 1e-12, the triangles cotangent weights treat as
+    /// absent; larger values take near-slivers too). In [0, 1).
+    #[arg(
+        long,
+        value_name = "RATIO",
+        requires = "flat_faces",
+        allow_negative_numbers = true
+    )]
+    flat_ratio: Option<f64>,
+    /// With --flat-faces: let a collapse move a vertex by up to this distance (in the
+    /// mesh's unit) where no flip or deletion removes a sliver (default 0: nothing
+    /// moves). The vertex's other triangles move with it.
+    #[arg(
+        long,
+        value_name = "DISTANCE",
+        requires = "flat_faces",
+        allow_negative_numbers = true
+    )]
+    flat_max_move: Option<f64>,
     #[command(flatten)]
     read: ReadArgs,
+}
+
+/// What `repair --json` prints of `--flat-faces`.
+#[derive(Debug, Serialize)]
+struct FlatJson {
+    /// Flat triangles before and left after.
+    before: usize,
+    after: usize,
+    /// Edges flipped (caps), caps deleted on the boundary, edges collapsed (needles).
+    flips: usize,
+    deleted: usize,
+    collapses: usize,
+    /// The longest distance a collapse moved a vertex.
+    max_move: f64,
+}
+
+impl From<&FlatReport> for FlatJson {
+    fn from(r: &FlatReport) -> Self {
+        Self {
+            before: r.flat_before,
+            after: r.flat_after,
+            flips: r.flips,
+            deleted: r.deleted,
+            collapses: r.collapses,
+            max_move: r.max_move,
+        }
+    }
 }
 
 /// What `repair --json` prints: every repair, per element, in the input's indices.
@@ -206,6 +260,44 @@ pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
     lines
 }
 
+/// The lines of `--flat-faces`: what removed the flat triangles, and those left.
+fn describe_flat(f: &FlatReport) -> Vec<String> {
+    let mut lines = Vec::new();
+    let removed = f.flat_before - f.flat_after;
+    if removed > 0 {
+        let mut how = Vec::new();
+        if f.flips > 0 {
+            how.push(counted(f.flips, "edge flipped", "edges flipped"));
+        }
+        if f.deleted > 0 {
+            how.push(format!(
+                "{} on the boundary deleted",
+                counted(f.deleted, "cap", "caps")
+            ));
+        }
+        if f.collapses > 0 {
+            how.push(format!(
+                "{} (vertices moved by at most {})",
+                counted(f.collapses, "edge collapsed", "edges collapsed"),
+                crate::text::number(f.max_move)
+            ));
+        }
+        lines.push(format!(
+            "repaired: removed {} ({})",
+            counted(removed, "flat triangle", "flat triangles"),
+            how.join(", ")
+        ));
+    }
+    if f.flat_after > 0 {
+        lines.push(format!(
+            "note: {} left: no flip, deletion or collapse within --flat-max-move removes {} without folding a triangle over; --flat-max-move DISTANCE lets a collapse move a vertex that far",
+            counted(f.flat_after, "flat triangle", "flat triangles"),
+            if f.flat_after == 1 { "it" } else { "them" }
+        ));
+    }
+    lines
+}
+
 /// At most 10 items, comma-separated, then "and N more".
 fn list<T: std::fmt::Display>(items: impl ExactSizeIterator<Item = T>) -> String {
     let n = items.len();
@@ -226,6 +318,10 @@ struct Summary {
     vertices: usize,
     faces: usize,
     repairs: RepairJson,
+    /// With `--flat-faces`: what removing the flat triangles did; null without it.
+    flat_triangles: Option<FlatJson>,
+    /// The lines printed before the sentence (what the output format leaves out).
+    notes: Vec<String>,
 }
 
 /// Runs `beltrami repair`.
@@ -252,9 +348,42 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         });
     }
     refuse_stl_after_split(&args.output, Some(&report))?;
-    let data = MeshData {
-        positions: loaded.positions,
-        faces: loaded.faces,
+    let mut lines = loaded.repair_lines.clone();
+    let (data, flat) = if args.flat_faces {
+        let mut options = FlatOptions::default();
+        if let Some(r) = args.flat_ratio {
+            options = options.max_height_ratio(r);
+        }
+        if let Some(d) = args.flat_max_move {
+            options = options.max_move(d);
+        }
+        let (mesh, positions, flat) = remove_flat_triangles(
+            &loaded.mesh,
+            &loaded.positions,
+            options,
+        )
+        .map_err(|e| match e {
+            FlatError::Options { reason } => CliError::Usage(format!("--flat-faces: {reason}")),
+            FlatError::NotTriangle { face, len } => CliError::Input {
+                path: args.input.clone(),
+                message: not_triangles("--flat-faces", face, len),
+            },
+            e => CliError::Input {
+                path: args.input.clone(),
+                message: e.to_string(),
+            },
+        })?;
+        lines.extend(describe_flat(&flat));
+        lines = notes_for_output(&args.output, &lines, &mesh);
+        let faces = mesh.to_polygons();
+        (MeshData { positions, faces }, Some(flat))
+    } else {
+        lines = notes_for_output(&args.output, &lines, &loaded.mesh);
+        let data = MeshData {
+            positions: loaded.positions,
+            faces: loaded.faces,
+        };
+        (data, None)
     };
     let mut staged = Staged::new();
     staged.push_mesh(&args.output, &data, args.ascii)?;
@@ -268,17 +397,33 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
             vertices: data.positions.len(),
             faces: data.faces.len(),
             repairs: RepairJson::from(&report),
+            flat_triangles: flat.as_ref().map(FlatJson::from),
+            notes: lines,
         };
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
         return Ok(());
     }
-    for line in &loaded.repair_lines {
+    for line in &lines {
         writeln!(out, "{line}")?;
     }
+    let flat_text = flat.as_ref().map_or_else(String::new, |f| {
+        format!(
+            "{}{} of {} removed",
+            if report.is_empty() { "" } else { "; " },
+            f.flat_before - f.flat_after,
+            counted(f.flat_before, "flat triangle", "flat triangles")
+        )
+    });
+    // With --flat-faces alone, "no repair needed" would contradict the flat triangles.
+    let topology = if report.is_empty() && flat.is_some() {
+        String::new()
+    } else {
+        report.to_string()
+    };
     writeln!(
         out,
-        "repaired {} ({}, {}): {report} -> {} ({}, {})",
+        "repaired {} ({}, {}): {topology}{flat_text} -> {} ({}, {})",
         args.input.display(),
         counted(loaded.input_counts.0, "vertex", "vertices"),
         counted(loaded.input_counts.1, "face", "faces"),

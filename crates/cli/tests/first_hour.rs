@@ -946,3 +946,81 @@ fn stl_output_says_it_leaves_out_vertices_in_no_face() {
         }
     }
 }
+
+/// A square closed by a cap (a vertex on the diagonal, a zero-area triangle): `info`
+/// names it and the command that removes it; `repair --flat-faces` flips it away without
+/// moving the surface; its options are checked; a polygon mesh is refused.
+#[test]
+fn repair_removes_flat_triangles() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cap = d.join("cap.obj");
+    std::fs::write(
+        &cap,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 0\nf 1 2 5\nf 2 3 5\nf 1 3 4\nf 1 5 3\n",
+    )
+    .unwrap();
+    let table = stdout(&["info", s(&cap)]);
+    assert!(
+        table.contains("note: 1 face is of zero area") && table.contains("--flat-faces"),
+        "{table}"
+    );
+    let out = d.join("clean.ply");
+    let text = stdout(&["repair", s(&cap), s(&out), "--flat-faces"]);
+    assert_eq!(
+        text.lines().collect::<Vec<_>>(),
+        [
+            "repaired: removed 1 flat triangle (1 edge flipped)".to_string(),
+            format!(
+                "repaired {} (5 vertices, 4 faces): 1 of 1 flat triangle removed -> {} (5 vertices, 4 faces)",
+                cap.display(),
+                out.display()
+            )
+        ]
+    );
+    let j = info(&out, &[]);
+    assert_eq!(
+        (j["degenerate_faces"].as_u64(), j["area"].as_f64()),
+        (Some(0), Some(1.0))
+    );
+    assert!(!stdout(&["info", s(&out)]).contains("zero area"));
+    let j: serde_json::Value = serde_json::from_str(&stdout(&[
+        "repair",
+        s(&cap),
+        s(&out),
+        "--flat-faces",
+        "--json",
+        "--force",
+    ]))
+    .unwrap();
+    assert_eq!(
+        j["flat_triangles"],
+        serde_json::json!({"before": 1, "after": 0, "flips": 1, "deleted": 0, "collapses": 0, "max_move": 0.0})
+    );
+    // Without --flat-faces the cap stays, and the JSON says null.
+    let j: serde_json::Value =
+        serde_json::from_str(&stdout(&["repair", s(&cap), s(&out), "--json", "--force"])).unwrap();
+    assert_eq!(j["flat_triangles"], serde_json::Value::Null);
+    assert_eq!(info(&out, &[])["degenerate_faces"], 1);
+    // Usage errors: the options need --flat-faces and their ranges.
+    for args in [
+        vec!["--flat-ratio", "1e-3"],
+        vec!["--flat-faces", "--flat-ratio", "1"],
+        vec!["--flat-faces", "--flat-max-move", "-1"],
+    ] {
+        let mut all = vec!["repair", s(&cap), s(&out), "--force"];
+        all.extend(args.iter().copied());
+        let o = beltrami(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+    }
+    // A polygon mesh: one clear line.
+    let quad = d.join("quad.obj");
+    std::fs::write(&quad, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    let o = beltrami(&["repair", s(&quad), s(&d.join("q.ply")), "--flat-faces"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        error_line(&o, d),
+        "error: quad.obj: face 0 has 4 vertices; --flat-faces needs a triangle mesh (triangulate it first)"
+    );
+    assert!(!d.join("q.ply").exists());
+}

@@ -161,6 +161,13 @@ def delaunay(
 ) -> tuple[Mesh, dict[str, Any]]:
     """Edge flips until no cotangent weight is negative, as `beltrami delaunay --json`."""
 
+def remove_flat_triangles(
+    mesh: Mesh, max_height_ratio: float = 1e-12, max_move: float = 0.0
+) -> tuple[Mesh, dict[str, Any]]:
+    """Flat triangles (caps, needles) removed by flips, deletions and zero-length
+    collapses, as `beltrami repair --flat-faces --json` (its `flat_triangles`), with
+    `vertex_origin`."""
+
 def remesh(
     mesh: Mesh,
     edge_length: Optional[float] = None,

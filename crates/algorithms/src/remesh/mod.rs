@@ -846,7 +846,7 @@ fn degenerate_advice(input_faces: usize, edge_length: f64, diagonal: f64) -> Str
             String::new()
         };
         format!(
-            "the input's own degenerate faces (flat for their size, such as a stray collinear triangle) are split into more at any target length; remove them from the input{also}"
+            "the input's own degenerate faces (flat for their size, such as a stray collinear triangle) are split into more at any target length; remove them from the input first (`remove_flat_triangles`; on the command line `beltrami repair IN OUT --flat-faces`){also}"
         )
     } else {
         format!(

@@ -1,0 +1,404 @@
+//! Removal of flat triangles: triangles whose height is a vanishing part of their longest
+//! edge (three collinear corners, a corner on the opposite edge, two or three corners at
+//! one point), by edits that leave the surface where it is.
+//!
+//! Scans and CAD exports carry such slivers: a T-junction closed by a zero-area
+//! triangle, a vertex welded twice. Their angles are 0° and 180°, so their cotangent
+//! weights are unbounded (the Laplacian treats them as absent and their vertices may
+//! not move), their normals are undefined, and remeshing splits one into more. Each is
+//! removed by the edit its shape calls for, as CGAL's `remove_degenerate_faces` does:
+//!
+//! - a **cap** (one corner on the opposite, longest edge): that edge is flipped, which
+//!   replaces the cap and its neighbour by two triangles covering the same area (the cap
+//!   has none), so the surface does not move; on the boundary, where there is no
+//!   neighbour, the cap is deleted when its middle corner can become a boundary vertex
+//!   (the boundary then runs through that corner, along the same line); a flat
+//!   triangle alone, a component of no area, is deleted with its corners;
+//! - a **needle** (two corners at one point): its shortest edge, of length 0, is
+//!   collapsed into the endpoint on the boundary (either otherwise), when no triangle
+//!   around it folds over or becomes flat. With [`FlatOptions::max_move`] a longer edge
+//!   may be collapsed too (a cap whose flip would make another flat triangle or fold),
+//!   moving one vertex by up to that distance.
+//!
+//! # References
+//! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
+//!   A K Peters 2010, section 4.3 (caps and needles, removed by a flip and a collapse).
+//! - CGAL, Polygon Mesh Processing, `remove_degenerate_faces` (the same two edits, with
+//!   the boundary cases).
+
+use std::collections::VecDeque;
+
+use beltrami_halfedge::geometry::DEGENERACY_RATIO;
+use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, TopologyError};
+
+use crate::error::{algorithm_error, check_finite, check_mesh, short};
+
+/// The settings of [`remove_flat_triangles`].
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::FlatOptions;
+/// let options = FlatOptions::default().max_height_ratio(1e-9);
+/// assert_eq!(options.max_height_ratio, 1e-9);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct FlatOptions {
+    /// A triangle is flat when its height over its longest edge is at most this share
+    /// of that edge (twice its area at most `max_height_ratio × longest²`). Default
+    /// [`DEGENERACY_RATIO`] (10⁻¹²), the triangles cotangent weights treat as absent;
+    /// larger values also take near-slivers, whose cotangents are large but finite. In
+    /// `[0, 1)`.
+    pub max_height_ratio: f64,
+    /// The longest distance a collapse may move a vertex, in the positions' unit
+    /// (default 0: only edges of zero length are collapsed, and the surface does not
+    /// move). A flat triangle that neither a flip nor a deletion removes (its longest edge
+    /// already has a diagonal, or its neighbour is flat too) then stays, unless a
+    /// collapse of its shortest edge within this distance does; such a collapse moves
+    /// the vertex's other triangles with it.
+    pub max_move: f64,
+}
+
+impl Default for FlatOptions {
+    fn default() -> Self {
+        Self {
+            max_height_ratio: DEGENERACY_RATIO,
+            max_move: 0.0,
+        }
+    }
+}
+
+impl FlatOptions {
+    /// Sets the largest height ratio of a flat triangle.
+    #[must_use]
+    pub fn max_height_ratio(mut self, ratio: f64) -> Self {
+        self.max_height_ratio = ratio;
+        self
+    }
+
+    /// Sets the longest distance a collapse may move a vertex.
+    #[must_use]
+    pub fn max_move(mut self, distance: f64) -> Self {
+        self.max_move = distance;
+        self
+    }
+}
+
+/// What [`remove_flat_triangles`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct FlatReport {
+    /// Flat triangles of the input.
+    pub flat_before: usize,
+    /// Flat triangles left: no flip, deletion or collapse within
+    /// [`FlatOptions::max_move`] could remove them without folding a triangle over or
+    /// changing the topology.
+    pub flat_after: usize,
+    /// Edges flipped (caps).
+    pub flips: usize,
+    /// Caps on the boundary, and flat triangles alone, deleted.
+    pub deleted: usize,
+    /// Edges collapsed (needles).
+    pub collapses: usize,
+    /// The longest distance a collapse moved a vertex, in the positions' unit (0 without
+    /// collapses).
+    pub max_move: f64,
+    /// For each output vertex, the input vertex it is (vertices are renumbered in order
+    /// when collapses remove some).
+    pub vertex_origin: Vec<usize>,
+}
+
+algorithm_error! {
+    /// Why [`remove_flat_triangles`] could not run. Every variant names the offending
+    /// element or value.
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[non_exhaustive]
+    pub enum FlatError for "removing flat triangles" {
+        /// An edit the checks allowed was refused: a defect of this crate, reported
+        /// rather than panicking.
+        #[error("the edited mesh is not valid: {0}")]
+        Edit(#[from] beltrami_halfedge::EditError),
+        /// The input or the result did not convert between the frozen and the editable
+        /// mesh.
+        #[error("{0}")]
+        Topology(#[from] TopologyError),
+    }
+}
+
+/// Removes the flat triangles of a triangle mesh (zero-area slivers, which scans and CAD
+/// exports carry; their cotangent weights are unbounded and remeshing splits each into
+/// more): caps, whose middle corner lies on the longest edge, by flipping that edge (or,
+/// on the boundary, by deleting them; a flat triangle alone is deleted too), needles,
+/// two corners at one point, by collapsing their shortest edge. Flips, deletions and collapses of zero-length
+/// edges leave every point of the surface where it was; with [`FlatOptions::max_move`]
+/// a collapse may move one vertex by up to that distance ([`FlatReport::max_move`] says
+/// how far they did), and only when the edits that move nothing are stuck. An edit is
+/// made only when no triangle it creates or moves is flat or turned over against its
+/// neighbours, and the topology is kept (closed stays closed, the genus and the boundary
+/// loops stay; only a flat triangle alone, a component of no area, is deleted), so a few
+/// triangles may stay flat ([`FlatReport::flat_after`]). Isolated vertices are kept.
+///
+/// Returns the mesh, its positions (the input's, less collapsed vertices, renumbered in
+/// order; [`FlatReport::vertex_origin`] maps them back) and the report. A mesh without
+/// flat triangles comes back unchanged.
+///
+/// # References
+/// - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
+///   A K Peters 2010, section 4.3 (caps and needles, removed by a flip and a collapse).
+/// - CGAL, Polygon Mesh Processing, `remove_degenerate_faces` (the same edits, with the
+///   boundary cases).
+///
+/// # Errors
+/// [`FlatError::PositionCount`] when `positions` does not match the mesh;
+/// [`FlatError::NotTriangle`] when a face is not a triangle;
+/// [`FlatError::NonFinite`] for a non-finite position;
+/// [`FlatError::Options`] for a height ratio outside `[0, 1)` or a negative or NaN
+/// longest move.
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{remove_flat_triangles, FlatOptions};
+/// use beltrami_halfedge::{DVec3, HalfedgeMesh};
+///
+/// // A square whose diagonal carries a vertex at its midpoint, closed by a cap.
+/// let positions = vec![
+///     DVec3::new(0.0, 0.0, 0.0),
+///     DVec3::new(1.0, 0.0, 0.0),
+///     DVec3::new(1.0, 1.0, 0.0),
+///     DVec3::new(0.0, 1.0, 0.0),
+///     DVec3::new(0.5, 0.5, 0.0),
+/// ];
+/// let faces = [[0u32, 1, 4], [1, 2, 4], [0, 2, 3], [0, 4, 2]];
+/// let mesh = HalfedgeMesh::from_polygons(positions.len(), faces)?;
+/// let (out, out_positions, report) =
+///     remove_flat_triangles(&mesh, &positions, FlatOptions::default())?;
+/// assert_eq!((report.flat_before, report.flat_after, report.flips), (1, 0, 1));
+/// assert_eq!(out_positions, positions); // a flip moves nothing
+/// assert_eq!(out.n_faces(), 4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn remove_flat_triangles(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: FlatOptions,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, FlatReport), FlatError> {
+    check_mesh(mesh, positions)?;
+    check_finite(positions)?;
+    let ratio = options.max_height_ratio;
+    if !(0.0..1.0).contains(&ratio) {
+        return Err(FlatError::Options {
+            reason: format!(
+                "the largest height ratio of a flat triangle must be in [0, 1), got {}",
+                short(ratio)
+            ),
+        });
+    }
+    if options.max_move.is_nan() || options.max_move < 0.0 {
+        return Err(FlatError::Options {
+            reason: format!(
+                "the longest move of a collapse must be >= 0, got {}",
+                short(options.max_move)
+            ),
+        });
+    }
+    let mut edit = EditMesh::from_mesh(mesh, positions)?;
+    let flat_faces = |m: &EditMesh| m.faces().filter(|&f| is_flat(m, f, ratio)).collect();
+    let mut queue: VecDeque<FaceId> = flat_faces(&edit);
+    let mut report = FlatReport {
+        flat_before: queue.len(),
+        ..FlatReport::default()
+    };
+    if queue.is_empty() {
+        report.vertex_origin = (0..mesh.n_vertices()).collect();
+        return Ok((mesh.clone(), positions.to_vec(), report));
+    }
+    // Every edit removes a flat triangle or replaces it by sound ones; the bound only
+    // guards against a cycle of flips on a pathological input.
+    let mut budget = 10 * edit.n_faces() + 100;
+    // First the edits that move nothing (flips, deletions, collapses of zero-length
+    // edges), as long as they make progress: a cap beside a needle can be flipped once
+    // the needle is gone. Only when they are stuck may a collapse move a vertex, after
+    // which the edits that move nothing go first again. A face no edit could fix is
+    // tried again once the queue has gone round.
+    let mut allow_move = false;
+    while budget > 0 && !queue.is_empty() {
+        let mut progress = false;
+        while let Some(f) = queue.pop_front() {
+            if budget == 0 {
+                break;
+            }
+            if !edit.is_live_face(f) || !is_flat(&edit, f, ratio) {
+                continue;
+            }
+            let max_move = if allow_move { options.max_move } else { 0.0 };
+            if let Some(touched) = fix(&mut edit, f, ratio, max_move, &mut report)? {
+                budget -= 1;
+                progress = true;
+                queue.extend(touched);
+                if allow_move {
+                    break;
+                }
+            }
+        }
+        queue = flat_faces(&edit);
+        if progress {
+            allow_move = false;
+        } else if allow_move {
+            break;
+        } else {
+            allow_move = true;
+        }
+    }
+    report.flat_after = queue.len();
+    let vertex_live: Vec<bool> = (0..edit.vertex_capacity())
+        .map(|i| edit.is_live_vertex(beltrami_halfedge::VertexId::new(i as u32)))
+        .collect();
+    report.vertex_origin = (0..vertex_live.len()).filter(|&i| vertex_live[i]).collect();
+    let (out, out_positions) = edit.into_mesh()?;
+    Ok((out, out_positions, report))
+}
+
+/// Whether live triangle `f` is flat: twice its area at most `ratio × longest²`.
+fn is_flat(mesh: &EditMesh, f: FaceId, ratio: f64) -> bool {
+    let [a, b, c] = corners(mesh, mesh.face_halfedge(f));
+    flat(a, b, c, ratio)
+}
+
+/// Whether the triangle `(a, b, c)` is flat.
+fn flat(a: DVec3, b: DVec3, c: DVec3, ratio: f64) -> bool {
+    let longest = (b - a)
+        .length_squared()
+        .max((c - b).length_squared())
+        .max((a - c).length_squared());
+    (b - a).cross(c - a).length() <= ratio * longest
+}
+
+/// The positions of the corners of the triangle of `h`: from, to, and the third.
+fn corners(mesh: &EditMesh, h: HalfedgeId) -> [DVec3; 3] {
+    [
+        mesh.position(mesh.from_vertex(h)),
+        mesh.position(mesh.to_vertex(h)),
+        mesh.position(mesh.to_vertex(mesh.next(h))),
+    ]
+}
+
+/// Removes flat triangle `f` by one edit, if one is allowed (a collapse only when it
+/// moves a vertex by at most `max_move`). Returns the faces to look at again, or `None` when
+/// no edit was made.
+fn fix(
+    mesh: &mut EditMesh,
+    f: FaceId,
+    ratio: f64,
+    max_move: f64,
+    report: &mut FlatReport,
+) -> Result<Option<Vec<FaceId>>, FlatError> {
+    let h0 = mesh.face_halfedge(f);
+    let hs = [h0, mesh.next(h0), mesh.prev(h0)];
+    let length = |h: HalfedgeId| {
+        mesh.position(mesh.from_vertex(h))
+            .distance(mesh.position(mesh.to_vertex(h)))
+    };
+    let mut by_length = hs;
+    by_length.sort_by(|&x, &y| length(x).total_cmp(&length(y)));
+    let [shortest, _, longest] = by_length;
+
+    // A flat triangle alone (a component of no area): deleted, with its corners.
+    if hs.iter().all(|&h| mesh.is_boundary_halfedge(h.twin())) {
+        mesh.delete_face(f)?;
+        report.deleted += 1;
+        return Ok(Some(Vec::new()));
+    }
+    // A cap: flip the longest edge, or delete the cap on the boundary.
+    let twin = longest.twin();
+    if mesh.is_boundary_halfedge(twin) {
+        let middle = mesh.to_vertex(mesh.next(longest));
+        if !mesh.is_boundary_vertex(middle) {
+            let neighbours = faces_around(mesh, middle);
+            mesh.delete_face(f)?;
+            report.deleted += 1;
+            return Ok(Some(neighbours));
+        }
+    } else if flip_is_sound(mesh, longest, ratio) {
+        mesh.flip_edge(longest.edge())?;
+        report.flips += 1;
+        let mut touched = vec![f];
+        touched.extend(mesh.face(twin));
+        for h in [longest, twin] {
+            for k in [mesh.next(h), mesh.prev(h)] {
+                touched.extend(mesh.face(k.twin()));
+            }
+        }
+        return Ok(Some(touched));
+    }
+
+    // A needle (or a cap that could not be flipped): collapse the shortest edge that
+    // folds nothing, into its endpoint on the boundary.
+    for h in [shortest, by_length[1]] {
+        for g in [h, h.twin()] {
+            let (from, to) = (mesh.from_vertex(g), mesh.to_vertex(g));
+            if mesh.is_boundary_vertex(from) && !mesh.is_boundary_vertex(to) {
+                continue;
+            }
+            if !mesh.is_collapse_ok(g) || !collapse_is_sound(mesh, g, ratio) {
+                continue;
+            }
+            let moved = mesh.position(from).distance(mesh.position(to));
+            if moved > max_move {
+                continue;
+            }
+            let kept = mesh.collapse_edge(g)?;
+            report.collapses += 1;
+            report.max_move = report.max_move.max(moved);
+            return Ok(Some(faces_around(mesh, kept)));
+        }
+    }
+    Ok(None)
+}
+
+/// The live faces around `v`.
+fn faces_around(mesh: &EditMesh, v: beltrami_halfedge::VertexId) -> Vec<FaceId> {
+    mesh.halfedges_around_vertex(v)
+        .filter_map(|h| mesh.face(h))
+        .collect()
+}
+
+/// Whether flipping the edge of `h` (interior) is allowed and makes two triangles that
+/// are not flat and face the way the neighbour across the edge does.
+fn flip_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
+    if !mesh.is_flip_ok(h.edge()) {
+        return false;
+    }
+    let twin = h.twin();
+    let [v0, v1, a] = corners(mesh, h);
+    let b = mesh.position(mesh.to_vertex(mesh.next(twin)));
+    // The neighbour (v1, v0, b) gives the side the surface faces.
+    let reference = (v0 - v1).cross(b - v1);
+    // The flip makes (a, b, v1) and (b, a, v0).
+    [[a, b, v1], [b, a, v0]]
+        .iter()
+        .all(|&[p, q, r]| !flat(p, q, r, ratio) && (q - p).cross(r - p).dot(reference) > 0.0)
+}
+
+/// Whether collapsing `h` (moving its start onto its end) leaves every triangle around
+/// the start that survives neither flat nor turned over.
+fn collapse_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
+    let (from, to) = (mesh.from_vertex(h), mesh.to_vertex(h));
+    let target = mesh.position(to);
+    mesh.halfedges_around_vertex(from).all(|g| {
+        let Some(_) = mesh.face(g) else {
+            return true;
+        };
+        let (b, c) = (mesh.to_vertex(g), mesh.to_vertex(mesh.next(g)));
+        // The triangles at the edge itself disappear.
+        if b == to || c == to {
+            return true;
+        }
+        let (p, q, r) = (mesh.position(from), mesh.position(b), mesh.position(c));
+        let before = (q - p).cross(r - p);
+        let after = (q - target).cross(r - target);
+        // A triangle that was flat (another sliver) may stay so; a sound one must stay
+        // sound and face the same way.
+        let was_flat = flat(p, q, r, ratio);
+        was_flat || (!flat(target, q, r, ratio) && after.dot(before) > 0.0)
+    })
+}
