@@ -114,6 +114,20 @@ pub(crate) fn topology_error(path: Option<&Path>, e: &TopologyError) -> PyErr {
     })
 }
 
+/// [`topology_error`] for faces given by the user (`Mesh(...)`, `read`), saying to pass
+/// `repair=True` when the repair fixes the problem.
+pub(crate) fn repairable_error(path: Option<&Path>, e: &TopologyError) -> PyErr {
+    let hint = if e.is_repairable() {
+        " (pass repair=True to repair it)"
+    } else {
+        ""
+    };
+    MeshError::new_err(match path {
+        Some(path) => format!("{}: {e}{hint}", path.display()),
+        None => format!("{e}{hint}"),
+    })
+}
+
 /// A smoothing error: `SmoothError`, whose message is the library's.
 pub(crate) fn smooth_error(e: &beltrami_smooth::SmoothError) -> PyErr {
     SmoothError::new_err(e.to_string())

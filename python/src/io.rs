@@ -71,7 +71,13 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
         (data.positions, data.faces, None)
     };
     let mesh = beltrami_halfedge::HalfedgeMesh::from_polygon_list(positions.len(), &faces)
-        .map_err(|e| topology_error(Some(path), &e))?;
+        .map_err(|e| {
+            if fix {
+                topology_error(Some(path), &e)
+            } else {
+                crate::errors::repairable_error(Some(path), &e)
+            }
+        })?;
     Ok(Mesh {
         positions,
         faces: std::sync::Arc::new(faces),

@@ -3,13 +3,13 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, RepairReport};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, PolygonList, RepairOptions, RepairReport};
 use beltrami_io::{MeshData, MeshFormat};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 
-use crate::errors::{MeshError, no_panic, topology_error};
+use crate::errors::{MeshError, no_panic, repairable_error, topology_error};
 
 /// A triangle (or polygon) mesh: vertex positions, faces and their half-edge
 /// connectivity, validated when built.
@@ -19,8 +19,12 @@ use crate::errors::{MeshError, no_panic, topology_error};
 /// k ≥ 3; k = 3 for triangles), or a list of faces of different sizes (as `faces`
 /// returns a mesh of triangles and quads); an empty list is no faces. Raises
 /// `MeshError` naming the offending vertex or face when a coordinate is not finite, an
-/// index is out of range, or the faces do not form an oriented 2-manifold. A mesh
-/// pickles (process pools, Dask) and copies as itself (it cannot change).
+/// index is out of range, or the faces do not form an oriented 2-manifold.
+/// `Mesh(vertices, faces, repair=True)` repairs the faces instead, as `read(path,
+/// repair=True)` does (drops degenerate and duplicate faces, cuts non-manifold edges,
+/// re-orients, splits pinched vertices, removes vertices no face uses; `info(mesh)`
+/// then lists what changed, in the input's indices). A mesh pickles (process pools,
+/// Dask) and copies as itself (it cannot change).
 ///
 /// What is copied: a C-contiguous float64 (N, 3) array is read in place and copied
 /// once, into the mesh's own positions (the half-edge structure owns its arrays, so
@@ -295,14 +299,39 @@ use pyo3::types::IntoPyDict;
 #[pymethods]
 impl Mesh {
     #[new]
+    #[pyo3(signature = (vertices, faces, *, repair = false))]
     fn new(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
+        repair: bool,
     ) -> PyResult<Self> {
         let positions = vertices_from(vertices)?;
         let faces = faces_from(faces, positions.len())?;
-        Self::build(py, positions, faces, None)
+        if !repair {
+            let mesh = py.detach(|| {
+                no_panic(|| {
+                    HalfedgeMesh::from_polygon_list(positions.len(), &faces)
+                        .map_err(|e| repairable_error(None, &e))
+                })
+            })?;
+            return Ok(Self {
+                positions,
+                faces: Arc::new(faces),
+                mesh: Arc::new(mesh),
+                source: None,
+                repair: None,
+            });
+        }
+        let repaired = py.detach(|| {
+            no_panic(|| {
+                beltrami_halfedge::repair(&positions, &faces, &RepairOptions::new())
+                    .map_err(|e| topology_error(None, &e))
+            })
+        })?;
+        let mut mesh = Self::build(py, repaired.positions, repaired.faces, None)?;
+        mesh.repair = Some(repaired.report);
+        Ok(mesh)
     }
 
     /// The vertex coordinates, an (N, 3) float64 array (a read-only copy).

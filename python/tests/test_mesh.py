@@ -105,6 +105,33 @@ def test_non_manifold_edge_is_refused():
         bt.Mesh(v, f)
 
 
+def test_repair_true_repairs_what_read_would():
+    v = np.vstack([TETRA_V, [[0.5, 0.5, -1.0]]])
+    f = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    # The error says how to get past it; an index out of range has no such hint.
+    with pytest.raises(bt.MeshError, match=r"\(pass repair=True to repair it\)$"):
+        bt.Mesh(v, f)
+    with pytest.raises(bt.MeshError) as bad_index:
+        bt.Mesh(v, [[0, 1, 9]])
+    assert "repair=True" not in str(bad_index.value)
+    mesh = bt.Mesh(v, f, repair=True)
+    repairs = bt.info(mesh)["repairs"]
+    assert repairs["cut_edges"] == [[0, 1]]
+    assert mesh.n_faces == 3 and mesh.n_vertices > len(v)
+    # The same as reading the file with repair=True.
+    class Shape:
+        vertices = v
+        faces = f
+
+    same = bt.from_trimesh(Shape(), repair=True)
+    np.testing.assert_array_equal(same.faces, mesh.faces)
+    np.testing.assert_array_equal(same.vertices, mesh.vertices)
+    # A sound mesh is unchanged by it, and says there was nothing to repair.
+    sound = bt.Mesh(TETRA_V, TETRA_F, repair=True)
+    np.testing.assert_array_equal(sound.faces, TETRA_F)
+    assert not any(bt.info(sound)["repairs"].values())
+
+
 def test_repr_names_the_counts():
     assert repr(bt.Mesh(TETRA_V, TETRA_F)) == "Mesh(4 vertices, 4 faces)"
 

@@ -330,7 +330,7 @@ fn topology_error(
     positions: &[DVec3],
     faces: &PolygonList,
 ) -> CliError {
-    let repairable = !read.repair && is_repairable(&source);
+    let repairable = !read.repair && source.is_repairable();
     let merge_helps = read.merge_distance.is_none()
         && matches!(
             source,
@@ -469,19 +469,5 @@ pub(crate) fn height_map_note(path: &Path, grid: &HeightMapReport) -> String {
             format!("; left out (holes) {}", left_out.join(" and "))
         },
         unit = grid.unit,
-    )
-}
-
-/// Whether `beltrami repair` (and `--repair`) fixes `e`: every topological problem of
-/// a face list with valid indices.
-fn is_repairable(e: &TopologyError) -> bool {
-    matches!(
-        e,
-        TopologyError::FaceTooSmall { .. }
-            | TopologyError::RepeatedVertex { .. }
-            | TopologyError::NonManifoldEdge { .. }
-            | TopologyError::InconsistentOrientation { .. }
-            | TopologyError::NonManifoldVertex { .. }
-            | TopologyError::NonOrientable { .. }
     )
 }

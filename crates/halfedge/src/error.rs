@@ -123,6 +123,35 @@ pub enum TopologyError {
     },
 }
 
+impl TopologyError {
+    /// Whether [`repair`](crate::repair) fixes this problem: every topological problem
+    /// of a face list with valid indices (a face of fewer than three vertices, a vertex
+    /// repeated in a face, a non-manifold edge or vertex, an inconsistent orientation, a
+    /// non-orientable surface). Indices out of range, counts and non-finite positions
+    /// are not.
+    ///
+    /// # Examples
+    /// ```
+    /// use beltrami_halfedge::HalfedgeMesh;
+    /// let bow_tie = HalfedgeMesh::from_polygons(5, [[0u32, 1, 2], [0, 3, 4]]).unwrap_err();
+    /// assert!(bow_tie.is_repairable());
+    /// let out_of_range = HalfedgeMesh::from_polygons(3, [[0u32, 1, 5]]).unwrap_err();
+    /// assert!(!out_of_range.is_repairable());
+    /// ```
+    #[must_use]
+    pub fn is_repairable(&self) -> bool {
+        matches!(
+            self,
+            Self::FaceTooSmall { .. }
+                | Self::RepeatedVertex { .. }
+                | Self::NonManifoldEdge { .. }
+                | Self::InconsistentOrientation { .. }
+                | Self::NonManifoldVertex { .. }
+                | Self::NonOrientable { .. }
+        )
+    }
+}
+
 fn join(items: &[usize]) -> String {
     items
         .iter()

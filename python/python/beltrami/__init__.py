@@ -85,14 +85,15 @@ __all__ = [
 ]
 
 
-def from_trimesh(mesh: Any) -> Mesh:
+def from_trimesh(mesh: Any, *, repair: bool = False) -> Mesh:
     """A ``Mesh`` from a ``trimesh.Trimesh`` (or anything with ``vertices`` and ``faces``).
 
     The vertices and faces are copied as they are: trimesh's own processing (merging,
     removing degenerate faces) is whatever the Trimesh object was built with.
-    Raises ``MeshError`` when the faces are not an oriented 2-manifold.
+    Raises ``MeshError`` when the faces are not an oriented 2-manifold, unless
+    ``repair=True``, which repairs them as ``Mesh(..., repair=True)`` does.
     """
-    return Mesh(mesh.vertices, mesh.faces)
+    return Mesh(mesh.vertices, mesh.faces, repair=repair)
 
 
 def to_trimesh(mesh: Mesh) -> Any:
@@ -107,17 +108,18 @@ def to_trimesh(mesh: Mesh) -> Any:
     )
 
 
-def from_open3d(mesh: Any) -> Mesh:
+def from_open3d(mesh: Any, *, repair: bool = False) -> Mesh:
     """A ``Mesh`` from an ``open3d.geometry.TriangleMesh`` (its ``vertices`` and ``triangles``).
 
     Duck-typed: anything whose ``vertices`` and ``triangles`` numpy can read as (N, 3)
     and (M, 3) arrays works; Open3D itself is not imported. Open3D's vectors are copied
     once into the mesh (``numpy.asarray`` of them is a view). Raises ``MeshError`` when
-    the triangles are not an oriented 2-manifold.
+    the triangles are not an oriented 2-manifold, unless ``repair=True``, which repairs
+    them as ``Mesh(..., repair=True)`` does.
     """
     import numpy as np
 
-    return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.triangles))
+    return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.triangles), repair=repair)
 
 
 def to_open3d(mesh: Mesh) -> Any:
@@ -158,13 +160,14 @@ def to_pyvista(mesh: Mesh) -> Any:
     return pyvista.PolyData(mesh.vertices, cells.astype(np.int64))
 
 
-def from_pyvista(mesh: Any) -> Mesh:
+def from_pyvista(mesh: Any, *, repair: bool = False) -> Mesh:
     """A ``Mesh`` from a ``pyvista.PolyData`` (its ``points`` and flat ``faces`` cell array).
 
     Duck-typed: anything with ``points`` ((N, 3)) and ``faces`` (``[k, v0, …, k, …]``)
     works; PyVista itself is not imported. Lines, vertices and strips of the PolyData
     are ignored. Raises ``MeshError`` for a cell array that does not parse or faces
-    that are no oriented 2-manifold.
+    that are no oriented 2-manifold (``repair=True`` repairs those, as
+    ``Mesh(..., repair=True)`` does).
     """
     import numpy as np
 
@@ -183,7 +186,7 @@ def from_pyvista(mesh: Any) -> Mesh:
             " (PolyData.triangulate())"
         )
     faces = np.stack(rows) if rows else np.zeros((0, 3), dtype=np.int64)
-    return Mesh(np.asarray(mesh.points), faces)
+    return Mesh(np.asarray(mesh.points), faces, repair=repair)
 
 
 def _triangles(mesh: Mesh) -> Any:

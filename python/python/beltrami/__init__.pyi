@@ -26,7 +26,11 @@ class MetricsError(ValueError):
 class Mesh:
     """Vertex positions, faces and their half-edge connectivity, validated when built."""
 
-    def __init__(self, vertices: npt.ArrayLike, faces: npt.ArrayLike) -> None: ...
+    def __init__(
+        self, vertices: npt.ArrayLike, faces: npt.ArrayLike, *, repair: bool = False
+    ) -> None:
+        """`repair=True` repairs the faces (as `read(path, repair=True)`) instead of
+        raising MeshError for a non-manifold or inconsistently oriented face list."""
     @property
     def vertices(self) -> npt.NDArray[np.float64]:
         """The (N, 3) coordinates (a read-only copy)."""
@@ -246,13 +250,13 @@ def register_weight(
 def weight_schemes() -> list[str]:
     """The names of the registered weight schemes."""
 
-def from_trimesh(mesh: Any) -> Mesh:
+def from_trimesh(mesh: Any, *, repair: bool = False) -> Mesh:
     """A Mesh from a trimesh.Trimesh (anything with vertices and faces)."""
 
 def to_trimesh(mesh: Mesh) -> Any:
     """A trimesh.Trimesh with the mesh's vertices and faces, unprocessed."""
 
-def from_open3d(mesh: Any) -> Mesh:
+def from_open3d(mesh: Any, *, repair: bool = False) -> Mesh:
     """A Mesh from an open3d.geometry.TriangleMesh."""
 
 def to_open3d(mesh: Mesh) -> Any:
@@ -261,7 +265,7 @@ def to_open3d(mesh: Mesh) -> Any:
 def to_pyvista(mesh: Mesh) -> Any:
     """A pyvista.PolyData with the mesh's vertices and faces."""
 
-def from_pyvista(mesh: Any) -> Mesh:
+def from_pyvista(mesh: Any, *, repair: bool = False) -> Mesh:
     """A Mesh from a pyvista.PolyData (its points and flat faces cell array)."""
 
 def study(
