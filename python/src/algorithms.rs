@@ -264,14 +264,18 @@ pub(crate) fn delaunay<'py>(
 /// the boundary the cap is deleted), a needle's zero-length edge collapsed, a flat
 /// triangle alone deleted; none of these moves the surface. `max_height_ratio`: a
 /// triangle is flat when its height is at most this share of its longest edge (default
-/// 1e-12, the triangles cotangent weights treat as absent; in [0, 1)). `max_move` (in the
-/// mesh's unit, default 0): the longest distance a collapse may move a vertex where no
-/// flip or deletion removes a sliver. Returns `(Mesh, report)` with the report's keys as
-/// `repair --flat-faces --json`'s `flat_triangles`: `before`, `after` (flat triangles
-/// left), `flips`, `deleted`, `collapses`, `max_move` (how far a collapse moved a vertex),
-/// and `vertex_origin` (for each output vertex, the input vertex it is).
+/// 1e-12, the triangles cotangent weights treat as absent; at most 0.1; larger values
+/// take near-slivers, whose flip or deletion moves the surface by up to their height).
+/// `max_move` (in the mesh's unit, default 0): the longest distance a collapse may move
+/// a vertex where no flip or deletion removes a sliver. The tests do not depend on the
+/// mesh's unit. Returns `(Mesh, report)` with the report's keys as `repair --flat-faces
+/// --json`'s `flat_triangles`: `before`, `after` (flat triangles left), `flips`,
+/// `deleted` (caps on the boundary), `alone` (flat triangles alone), `collapses`,
+/// `max_move` (how far a collapse moved a vertex), `max_height` (how far flips and
+/// deletions moved the surface at most), and `vertex_origin` (for each output vertex,
+/// the input vertex it is).
 ///
-/// Raises `ValueError` for a ratio outside [0, 1) or a negative or NaN `max_move`,
+/// Raises `ValueError` for a ratio outside [0, 0.1] or a negative or NaN `max_move`,
 /// `MeshError` for a polygon mesh.
 #[pyfunction]
 #[pyo3(signature = (mesh, max_height_ratio = 1e-12, max_move = 0.0))]
@@ -302,8 +306,10 @@ pub(crate) fn remove_flat_triangles<'py>(
     d.set_item("after", report.flat_after)?;
     d.set_item("flips", report.flips)?;
     d.set_item("deleted", report.deleted)?;
+    d.set_item("alone", report.alone)?;
     d.set_item("collapses", report.collapses)?;
     d.set_item("max_move", report.max_move)?;
+    d.set_item("max_height", report.max_height)?;
     d.set_item(
         "vertex_origin",
         numpy::PyArray1::from_vec(py, report.vertex_origin.iter().map(|&i| i as i64).collect()),

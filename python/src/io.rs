@@ -146,19 +146,9 @@ pub(crate) fn write(
         .vertices()
         .filter(|&v| mesh.mesh.is_isolated(v))
         .count();
-    if let Some(note) = MeshFormat::from_path(&path)
+    let dropped = MeshFormat::from_path(&path)
         .ok()
-        .and_then(|f| f.drops_vertices_in_no_face(in_no_face))
-    {
-        let message = std::ffi::CString::new(format!("{}: {note}", path.display()))
-            .unwrap_or_else(|_| c"an STL file stores triangles only".to_owned());
-        PyErr::warn(
-            py,
-            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-            &message,
-            1,
-        )?;
-    }
+        .and_then(|f| f.drops_vertices_in_no_face(in_no_face));
     let options = WriteOptions::default().encoding(if ascii {
         Encoding::Ascii
     } else {
@@ -209,5 +199,17 @@ pub(crate) fn write(
             })
             .map_err(|e| io_error(&path, &e))
         })
-    })
+    })?;
+    // Said once the file is written (a failed write has nothing to warn about).
+    if let Some(note) = dropped {
+        let message = std::ffi::CString::new(format!("{}: {note}", path.display()))
+            .unwrap_or_else(|_| c"an STL file stores triangles only".to_owned());
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    Ok(())
 }

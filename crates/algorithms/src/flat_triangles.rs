@@ -15,21 +15,21 @@
 //!   (the boundary then runs through that corner, along the same line); a flat
 //!   triangle alone, a component of no area, is deleted with its corners;
 //! - a **needle** (two corners at one point): its shortest edge, of length 0, is
-//!   collapsed into the endpoint on the boundary (either otherwise), when no triangle
-//!   around it folds over or becomes flat. With [`FlatOptions::max_move`] a longer edge
-//!   may be collapsed too (a cap whose flip would make another flat triangle or fold),
-//!   moving one vertex by up to that distance.
+//!   collapsed into the endpoint on the boundary (either otherwise). With
+//!   [`FlatOptions::max_move`] a longer edge may be collapsed too (a cap whose flip would
+//!   make another flat triangle or fold), moving one vertex by up to that distance, when
+//!   no triangle around it folds over or turns against its neighbours.
 //!
-//! # References
-//! - M. Botsch, L. Kobbelt, M. Pauly, P. Alliez, B. Lévy, *Polygon Mesh Processing*,
-//!   A K Peters 2010, section 4.3 (caps and needles, removed by a flip and a collapse).
-//! - CGAL, Polygon Mesh Processing, `remove_degenerate_faces` (the same two edits, with
-//!   the boundary cases).
+//! Every test is made on each triangle's edge vectors divided by their largest
+//! component, so that what counts as flat, and which edit is allowed, does not depend on
+//! the unit: a mesh in metres of 10⁻¹⁷⁰ or 10³⁰⁰ gives the same edits as in millimetres.
 
 use std::collections::VecDeque;
 
 use beltrami_halfedge::geometry::DEGENERACY_RATIO;
-use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, TopologyError};
+use beltrami_halfedge::{
+    DVec3, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, TopologyError, VertexId,
+};
 
 use crate::error::{algorithm_error, check_finite, check_mesh, short};
 
@@ -47,8 +47,9 @@ pub struct FlatOptions {
     /// A triangle is flat when its height over its longest edge is at most this share
     /// of that edge (twice its area at most `max_height_ratio × longest²`). Default
     /// [`DEGENERACY_RATIO`] (10⁻¹²), the triangles cotangent weights treat as absent;
-    /// larger values also take near-slivers, whose cotangents are large but finite. In
-    /// `[0, 1)`.
+    /// larger values also take near-slivers, whose cotangents are large but finite, and
+    /// whose flip or deletion then moves the surface by up to their height
+    /// ([`FlatReport::max_height`]). In `[0, MAX_HEIGHT_RATIO]`.
     pub max_height_ratio: f64,
     /// The longest distance a collapse may move a vertex, in the positions' unit
     /// (default 0: only edges of zero length are collapsed, and the surface does not
@@ -68,7 +69,38 @@ impl Default for FlatOptions {
     }
 }
 
+/// The largest [`FlatOptions::max_height_ratio`]: a tenth, a cap whose largest angle is
+/// about 157°. Beyond it sound triangles would count as flat (an equilateral one has a
+/// ratio of 0.87).
+pub const MAX_HEIGHT_RATIO: f64 = 0.1;
+
 impl FlatOptions {
+    /// Checks the options: [`FlatError::Options`] for a height ratio outside
+    /// `[0, MAX_HEIGHT_RATIO]` or a negative or NaN longest move.
+    ///
+    /// # Errors
+    /// [`FlatError::Options`], naming the option.
+    pub fn check(&self) -> Result<(), FlatError> {
+        let ratio = self.max_height_ratio;
+        if !(0.0..=MAX_HEIGHT_RATIO).contains(&ratio) {
+            return Err(FlatError::Options {
+                reason: format!(
+                    "the largest height ratio of a flat triangle must be between 0 and {MAX_HEIGHT_RATIO}, got {}",
+                    short(ratio)
+                ),
+            });
+        }
+        if self.max_move.is_nan() || self.max_move < 0.0 {
+            return Err(FlatError::Options {
+                reason: format!(
+                    "the longest move of a collapse must be >= 0, got {}",
+                    short(self.max_move)
+                ),
+            });
+        }
+        Ok(())
+    }
+
     /// Sets the largest height ratio of a flat triangle.
     #[must_use]
     pub fn max_height_ratio(mut self, ratio: f64) -> Self {
@@ -96,13 +128,19 @@ pub struct FlatReport {
     pub flat_after: usize,
     /// Edges flipped (caps).
     pub flips: usize,
-    /// Caps on the boundary, and flat triangles alone, deleted.
+    /// Caps on the boundary deleted.
     pub deleted: usize,
+    /// Flat triangles alone (components of their own) deleted.
+    pub alone: usize,
     /// Edges collapsed (needles).
     pub collapses: usize,
     /// The longest distance a collapse moved a vertex, in the positions' unit (0 without
-    /// collapses).
+    /// collapses, and for collapses of zero-length edges).
     pub max_move: f64,
+    /// The largest height of a triangle flipped away or deleted, in the positions' unit:
+    /// those edits moved the surface by at most this (within rounding of 0 at the
+    /// default height ratio).
+    pub max_height: f64,
     /// For each output vertex, the input vertex it is (vertices are renumbered in order
     /// when collapses remove some).
     pub vertex_origin: Vec<usize>,
@@ -152,8 +190,7 @@ algorithm_error! {
 /// [`FlatError::PositionCount`] when `positions` does not match the mesh;
 /// [`FlatError::NotTriangle`] when a face is not a triangle;
 /// [`FlatError::NonFinite`] for a non-finite position;
-/// [`FlatError::Options`] for a height ratio outside `[0, 1)` or a negative or NaN
-/// longest move.
+/// [`FlatError::Options`] for options [`FlatOptions::check`] refuses.
 ///
 /// # Examples
 /// ```
@@ -184,26 +221,12 @@ pub fn remove_flat_triangles(
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, FlatReport), FlatError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
+    options.check()?;
     let ratio = options.max_height_ratio;
-    if !(0.0..1.0).contains(&ratio) {
-        return Err(FlatError::Options {
-            reason: format!(
-                "the largest height ratio of a flat triangle must be in [0, 1), got {}",
-                short(ratio)
-            ),
-        });
-    }
-    if options.max_move.is_nan() || options.max_move < 0.0 {
-        return Err(FlatError::Options {
-            reason: format!(
-                "the longest move of a collapse must be >= 0, got {}",
-                short(options.max_move)
-            ),
-        });
-    }
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
-    let flat_faces = |m: &EditMesh| m.faces().filter(|&f| is_flat(m, f, ratio)).collect();
-    let mut queue: VecDeque<FaceId> = flat_faces(&edit);
+    let flat_faces =
+        |m: &EditMesh| -> Vec<FaceId> { m.faces().filter(|&f| is_flat(m, f, ratio)).collect() };
+    let mut queue: VecDeque<FaceId> = flat_faces(&edit).into();
     let mut report = FlatReport {
         flat_before: queue.len(),
         ..FlatReport::default()
@@ -216,44 +239,49 @@ pub fn remove_flat_triangles(
     // guards against a cycle of flips on a pathological input.
     let mut budget = 10 * edit.n_faces() + 100;
     // First the edits that move nothing (flips, deletions, collapses of zero-length
-    // edges), as long as they make progress: a cap beside a needle can be flipped once
-    // the needle is gone. Only when they are stuck may a collapse move a vertex, after
-    // which the edits that move nothing go first again. A face no edit could fix is
-    // tried again once the queue has gone round.
-    let mut allow_move = false;
-    while budget > 0 && !queue.is_empty() {
-        let mut progress = false;
+    // edges), as long as any applies: a cap beside a needle can be flipped once the
+    // needle is gone. The faces they cannot fix wait in `stuck`; only when nothing else
+    // is left may a collapse move a vertex (one at a time), after which the faces it
+    // touched go through the edits that move nothing first again. Each edit queues the
+    // faces around it, so a face waits only until something next to it changes.
+    let mut stuck: VecDeque<FaceId> = VecDeque::new();
+    'edits: while budget > 0 {
         while let Some(f) = queue.pop_front() {
             if budget == 0 {
-                break;
+                break 'edits;
             }
             if !edit.is_live_face(f) || !is_flat(&edit, f, ratio) {
                 continue;
             }
-            let max_move = if allow_move { options.max_move } else { 0.0 };
-            if let Some(touched) = fix(&mut edit, f, ratio, max_move, &mut report)? {
-                budget -= 1;
-                progress = true;
-                queue.extend(touched);
-                if allow_move {
-                    break;
+            match fix(&mut edit, f, ratio, 0.0, &mut report)? {
+                Some(touched) => {
+                    budget -= 1;
+                    queue.extend(touched);
                 }
+                None => stuck.push_back(f),
             }
         }
-        queue = flat_faces(&edit);
-        if progress {
-            allow_move = false;
-        } else if allow_move {
+        if options.max_move == 0.0 {
             break;
-        } else {
-            allow_move = true;
+        }
+        loop {
+            let Some(f) = stuck.pop_front() else {
+                break 'edits;
+            };
+            if !edit.is_live_face(f) || !is_flat(&edit, f, ratio) {
+                continue;
+            }
+            if let Some(touched) = fix(&mut edit, f, ratio, options.max_move, &mut report)? {
+                budget -= 1;
+                queue.extend(touched);
+                continue 'edits;
+            }
         }
     }
-    report.flat_after = queue.len();
-    let vertex_live: Vec<bool> = (0..edit.vertex_capacity())
-        .map(|i| edit.is_live_vertex(beltrami_halfedge::VertexId::new(i as u32)))
+    report.flat_after = flat_faces(&edit).len();
+    report.vertex_origin = (0..edit.vertex_capacity())
+        .filter(|&i| edit.is_live_vertex(VertexId::new(i as u32)))
         .collect();
-    report.vertex_origin = (0..vertex_live.len()).filter(|&i| vertex_live[i]).collect();
     let (out, out_positions) = edit.into_mesh()?;
     Ok((out, out_positions, report))
 }
@@ -264,13 +292,62 @@ fn is_flat(mesh: &EditMesh, f: FaceId, ratio: f64) -> bool {
     flat(a, b, c, ratio)
 }
 
-/// Whether the triangle `(a, b, c)` is flat.
+/// The largest absolute coordinate of `vectors` (0 for zero vectors; not finite when a
+/// difference overflowed).
+fn magnitude(vectors: &[DVec3]) -> f64 {
+    vectors
+        .iter()
+        .map(|v| v.abs().max_element())
+        .fold(0.0, f64::max)
+}
+
+/// The edge vectors `b − a` and `c − a` of a triangle divided by the largest coordinate
+/// of its three edges, and that coordinate: the scale-free shape the tests below use.
+/// `None` when the corners coincide or a difference overflowed.
+fn shape(a: DVec3, b: DVec3, c: DVec3) -> Option<(DVec3, DVec3, f64)> {
+    let (u, v) = (b - a, c - a);
+    let m = magnitude(&[u, v, c - b]);
+    (m > 0.0 && m.is_finite()).then(|| (u / m, v / m, m))
+}
+
+/// Whether the triangle `(a, b, c)` is flat: twice its area at most `ratio` times its
+/// longest edge squared, at any scale. Three corners at one point are flat; a triangle
+/// whose edge overflows is not (nothing can be decided about it).
 fn flat(a: DVec3, b: DVec3, c: DVec3, ratio: f64) -> bool {
-    let longest = (b - a)
+    let Some((u, v, _)) = shape(a, b, c) else {
+        return a == b && b == c;
+    };
+    let longest = u
         .length_squared()
-        .max((c - b).length_squared())
-        .max((a - c).length_squared());
-    (b - a).cross(c - a).length() <= ratio * longest
+        .max(v.length_squared())
+        .max((v - u).length_squared());
+    u.cross(v).length() <= ratio * longest
+}
+
+/// The height of the triangle `(a, b, c)` over its longest edge (0 for coincident
+/// corners), at any scale.
+fn height(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let Some((u, v, m)) = shape(a, b, c) else {
+        return 0.0;
+    };
+    let longest = u.length().max(v.length()).max((v - u).length());
+    m * u.cross(v).length() / longest
+}
+
+/// A normal of the triangle `(a, b, c)` (its direction; the length is of no meaning),
+/// zero when the corners coincide, at any scale.
+fn normal(a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    shape(a, b, c).map_or(DVec3::ZERO, |(u, v, _)| u.cross(v))
+}
+
+/// The length of `d` without overflow or underflow of its squares.
+fn length(d: DVec3) -> f64 {
+    let m = d.abs().max_element();
+    if m > 0.0 && m.is_finite() {
+        m * (d / m).length()
+    } else {
+        m
+    }
 }
 
 /// The positions of the corners of the triangle of `h`: from, to, and the third.
@@ -294,18 +371,20 @@ fn fix(
 ) -> Result<Option<Vec<FaceId>>, FlatError> {
     let h0 = mesh.face_halfedge(f);
     let hs = [h0, mesh.next(h0), mesh.prev(h0)];
-    let length = |h: HalfedgeId| {
-        mesh.position(mesh.from_vertex(h))
-            .distance(mesh.position(mesh.to_vertex(h)))
+    let edge_length = |h: HalfedgeId| {
+        length(mesh.position(mesh.to_vertex(h)) - mesh.position(mesh.from_vertex(h)))
     };
     let mut by_length = hs;
-    by_length.sort_by(|&x, &y| length(x).total_cmp(&length(y)));
+    by_length.sort_by(|&x, &y| edge_length(x).total_cmp(&edge_length(y)));
     let [shortest, _, longest] = by_length;
+    let [a, b, c] = corners(mesh, h0);
+    let h = height(a, b, c);
 
     // A flat triangle alone (a component of no area): deleted, with its corners.
-    if hs.iter().all(|&h| mesh.is_boundary_halfedge(h.twin())) {
+    if hs.iter().all(|&g| mesh.is_boundary_halfedge(g.twin())) {
         mesh.delete_face(f)?;
-        report.deleted += 1;
+        report.alone += 1;
+        report.max_height = report.max_height.max(h);
         return Ok(Some(Vec::new()));
     }
     // A cap: flip the longest edge, or delete the cap on the boundary.
@@ -316,11 +395,13 @@ fn fix(
             let neighbours = faces_around(mesh, middle);
             mesh.delete_face(f)?;
             report.deleted += 1;
+            report.max_height = report.max_height.max(h);
             return Ok(Some(neighbours));
         }
     } else if flip_is_sound(mesh, longest, ratio) {
         mesh.flip_edge(longest.edge())?;
         report.flips += 1;
+        report.max_height = report.max_height.max(h);
         let mut touched = vec![f];
         touched.extend(mesh.face(twin));
         for h in [longest, twin] {
@@ -342,7 +423,7 @@ fn fix(
             if !mesh.is_collapse_ok(g) || !collapse_is_sound(mesh, g, ratio) {
                 continue;
             }
-            let moved = mesh.position(from).distance(mesh.position(to));
+            let moved = length(mesh.position(to) - mesh.position(from));
             if moved > max_move {
                 continue;
             }
@@ -372,33 +453,45 @@ fn flip_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
     let [v0, v1, a] = corners(mesh, h);
     let b = mesh.position(mesh.to_vertex(mesh.next(twin)));
     // The neighbour (v1, v0, b) gives the side the surface faces.
-    let reference = (v0 - v1).cross(b - v1);
+    let reference = normal(v1, v0, b);
     // The flip makes (a, b, v1) and (b, a, v0).
     [[a, b, v1], [b, a, v0]]
         .iter()
-        .all(|&[p, q, r]| !flat(p, q, r, ratio) && (q - p).cross(r - p).dot(reference) > 0.0)
+        .all(|&[p, q, r]| !flat(p, q, r, ratio) && normal(p, q, r).dot(reference) > 0.0)
 }
 
 /// Whether collapsing `h` (moving its start onto its end) leaves every triangle around
-/// the start that survives neither flat nor turned over.
+/// the start that survives either flat or sound and facing the way its neighbours do: a
+/// triangle sound before keeps its side, and every sound one afterwards faces the side
+/// of the sound triangles around the start before (a flat one moved must not open
+/// folded over). A collapse that moves nothing changes no triangle's shape.
 fn collapse_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
     let (from, to) = (mesh.from_vertex(h), mesh.to_vertex(h));
-    let target = mesh.position(to);
-    mesh.halfedges_around_vertex(from).all(|g| {
-        let Some(_) = mesh.face(g) else {
-            return true;
-        };
-        let (b, c) = (mesh.to_vertex(g), mesh.to_vertex(mesh.next(g)));
+    let (start, target) = (mesh.position(from), mesh.position(to));
+    if start == target {
+        return true;
+    }
+    // The triangles around the start that survive: (start, b, c).
+    let survivors: Vec<(DVec3, DVec3)> = mesh
+        .halfedges_around_vertex(from)
+        .filter(|&g| mesh.face(g).is_some())
+        .map(|g| (mesh.to_vertex(g), mesh.to_vertex(mesh.next(g))))
         // The triangles at the edge itself disappear.
-        if b == to || c == to {
+        .filter(|&(b, c)| b != to && c != to)
+        .map(|(b, c)| (mesh.position(b), mesh.position(c)))
+        .collect();
+    let unit = |n: DVec3| n.try_normalize().unwrap_or(DVec3::ZERO);
+    let side: DVec3 = survivors
+        .iter()
+        .filter(|&&(q, r)| !flat(start, q, r, ratio))
+        .map(|&(q, r)| unit(normal(start, q, r)))
+        .sum();
+    survivors.iter().all(|&(q, r)| {
+        if flat(target, q, r, ratio) {
             return true;
         }
-        let (p, q, r) = (mesh.position(from), mesh.position(b), mesh.position(c));
-        let before = (q - p).cross(r - p);
-        let after = (q - target).cross(r - target);
-        // A triangle that was flat (another sliver) may stay so; a sound one must stay
-        // sound and face the same way.
-        let was_flat = flat(p, q, r, ratio);
-        was_flat || (!flat(target, q, r, ratio) && after.dot(before) > 0.0)
+        let after = normal(target, q, r);
+        let kept_side = flat(start, q, r, ratio) || after.dot(normal(start, q, r)) > 0.0;
+        kept_side && after.dot(side) > 0.0
     })
 }

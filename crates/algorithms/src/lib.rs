@@ -70,7 +70,9 @@ pub use fill_holes::{
     FairWeights, FillError, FillOptions, FillReport, FilledHole, SkipReason, SkippedHole,
     fill_hole, fill_holes, fill_holes_with_progress,
 };
-pub use flat_triangles::{FlatError, FlatOptions, FlatReport, remove_flat_triangles};
+pub use flat_triangles::{
+    FlatError, FlatOptions, FlatReport, MAX_HEIGHT_RATIO, remove_flat_triangles,
+};
 pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
     AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, FOLD_ANGLE,

@@ -332,8 +332,9 @@ fn the_inputs_own_flat_triangle_is_named_as_the_cause() {
     )
     .unwrap();
     assert_eq!(
-        (report.flat_after, report.deleted, clean.n_faces()),
-        (0, 1, 2)
+        (report.flat_after, report.alone, clean.n_faces()),
+        (0, 1, 2),
+        "{report:?}"
     );
     remesh(&clean, &x, &RemeshOptions::default()).unwrap();
 }

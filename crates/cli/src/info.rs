@@ -322,15 +322,23 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
         && let Some(c) = coincident_vertices(&loaded.positions, &loaded.faces)
     {
         let lie = counted(c.vertices, "vertex lies", "vertices lie");
-        let d = number(c.distance);
-        loaded.repair_lines.push(if c.non_manifold_if_merged {
+        let (them, d) = (
+            if c.vertices == 1 { "it" } else { "them" },
+            number(c.distance),
+        );
+        loaded.repair_lines.push(if c.rejoined == 0 {
+            format!(
+                "note: {lie} within {d} of another, so the surface is in pieces along {them} (texture seams, an exporter's duplicates?); --repair --merge-distance {d} joins {them}"
+            )
+        } else if c.rejoined >= c.vertices {
             // Joining them would undo a repair: say why they are apart instead.
             format!(
-                "note: {lie} within {d} of another, so the surface is in pieces along them; joined, they would make it non-manifold (an edge of more than two faces or a pinched vertex, which `repair` splits apart), so leave them apart"
+                "note: {lie} within {d} of another, so the surface is in pieces along {them}; joined, they would make it non-manifold (an edge of more than two faces or a pinched vertex, which `repair` splits apart), so leave {them} apart"
             )
         } else {
             format!(
-                "note: {lie} within {d} of another, so the surface is in pieces along them (texture seams, an exporter's duplicates?); --repair --merge-distance {d} joins them"
+                "note: {lie} within {d} of another, so the surface is in pieces along {them}; --repair --merge-distance {d} joins them where the surface stays manifold ({} would be split apart again)",
+                c.rejoined
             )
         });
     }
@@ -342,11 +350,11 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
     let summary = summarise(args, &loaded, quality);
     if !args.json && summary.degenerate_faces > 0 && summary.triangle_mesh {
         loaded.repair_lines.push(format!(
-            "note: {} of zero area (flat for their size): cotangent weights treat {} as absent and remeshing splits {} into more; `beltrami repair {} OUT --flat-faces` removes flat triangles without moving the surface",
+            "note: {} of zero area (flat for {} size): cotangent weights treat {it} as absent and remeshing splits {it} into more; `beltrami repair {} OUT --flat-faces` removes flat triangles without moving the surface",
             counted(summary.degenerate_faces, "face is", "faces are"),
-            if summary.degenerate_faces == 1 { "it" } else { "them" },
-            if summary.degenerate_faces == 1 { "it" } else { "them" },
-            args.mesh.display()
+            if summary.degenerate_faces == 1 { "its" } else { "their" },
+            args.mesh.display(),
+            it = if summary.degenerate_faces == 1 { "it" } else { "them" },
         ));
     }
     if args.json {

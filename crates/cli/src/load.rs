@@ -112,12 +112,14 @@ fn near_duplicates(positions: &[DVec3], faces: &PolygonList) -> Option<(usize, f
 pub(crate) fn coincident_vertices(positions: &[DVec3], faces: &PolygonList) -> Option<Coincident> {
     let (report, distance) = merge_trial(positions, faces)?;
     let merged = report.merged_vertices.len();
+    // The repair after the merge splits the copies whose joining made the surface
+    // non-manifold again (a pinched vertex, an edge of more than two faces): one new
+    // vertex each.
+    let rejoined = report.split_vertices.len();
     (merged > 0).then_some(Coincident {
         vertices: merged,
         distance,
-        non_manifold_if_merged: !(report.cut_edges.is_empty()
-            && report.split_vertices.is_empty()
-            && report.opened_edges.is_empty()),
+        rejoined,
     })
 }
 
@@ -127,10 +129,10 @@ pub(crate) struct Coincident {
     pub(crate) vertices: usize,
     /// The merge distance, in the positions' unit.
     pub(crate) distance: f64,
-    /// Whether the merged surface would be non-manifold (an edge of more than two faces,
-    /// a pinched vertex, faces of opposite orientation across an edge): copies that
-    /// `repair` split off.
-    pub(crate) non_manifold_if_merged: bool,
+    /// About how many of them the repair after the merge would split apart again
+    /// (joined, they make the surface non-manifold: copies that `repair` split off); 0
+    /// when the merge leaves a manifold surface.
+    pub(crate) rejoined: usize,
 }
 
 /// The repair report of merging within the suggested distance, and the distance.

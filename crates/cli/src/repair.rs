@@ -32,13 +32,14 @@ pub(crate) struct RepairArgs {
     force: bool,
     /// Also remove flat triangles (zero-area slivers: a corner on the opposite edge, or
     /// two corners at one point) by flipping their longest edge, deleting them on the
-    /// boundary, or collapsing an edge of length zero: edits that leave the surface
-    /// where it is. A triangle mesh only.
+    /// boundary (or alone), or collapsing an edge of length zero: edits that leave the
+    /// surface where it is. A triangle mesh only.
     #[arg(long)]
     flat_faces: bool,
     /// With --flat-faces: a triangle is flat when its height is at most this share of
     /// its longest edge (default 1e-12, the triangles cotangent weights treat as
-    /// absent; larger values take near-slivers too). In [0, 1).
+    /// absent). Larger values take near-slivers too, whose flip or deletion moves the
+    /// surface by up to their height (reported). At most 0.1.
     #[arg(
         long,
         value_name = "RATIO",
@@ -66,12 +67,17 @@ struct FlatJson {
     /// Flat triangles before and left after.
     before: usize,
     after: usize,
-    /// Edges flipped (caps), caps deleted on the boundary, edges collapsed (needles).
+    /// Edges flipped (caps), caps deleted on the boundary, flat triangles alone
+    /// deleted, edges collapsed (needles).
     flips: usize,
     deleted: usize,
+    alone: usize,
     collapses: usize,
     /// The longest distance a collapse moved a vertex.
     max_move: f64,
+    /// The largest height of a triangle flipped away or deleted: how far those edits
+    /// moved the surface at most.
+    max_height: f64,
 }
 
 impl From<&FlatReport> for FlatJson {
@@ -81,8 +87,33 @@ impl From<&FlatReport> for FlatJson {
             after: r.flat_after,
             flips: r.flips,
             deleted: r.deleted,
+            alone: r.alone,
             collapses: r.collapses,
             max_move: r.max_move,
+            max_height: r.max_height,
+        }
+    }
+}
+
+impl RepairArgs {
+    /// The options of `--flat-faces`, checked (a usage error before anything is read).
+    fn flat_options(&self) -> Result<Option<FlatOptions>, CliError> {
+        if !self.flat_faces {
+            return Ok(None);
+        }
+        let mut options = FlatOptions::default();
+        if let Some(r) = self.flat_ratio {
+            options = options.max_height_ratio(r);
+        }
+        if let Some(d) = self.flat_max_move {
+            options = options.max_move(d);
+        }
+        match options.check() {
+            Ok(()) => Ok(Some(options)),
+            Err(FlatError::Options { reason }) => {
+                Err(CliError::Usage(format!("--flat-faces: {reason}")))
+            }
+            Err(e) => Err(CliError::Usage(e.to_string())),
         }
     }
 }
@@ -261,7 +292,9 @@ pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
 }
 
 /// The lines of `--flat-faces`: what removed the flat triangles, and those left.
-fn describe_flat(f: &FlatReport) -> Vec<String> {
+/// `ratio_given`: whether `--flat-ratio` was (then how far flips and deletions moved the
+/// surface is said); `max_move`: `--flat-max-move`.
+fn describe_flat(f: &FlatReport, ratio_given: bool, max_move: Option<f64>) -> Vec<String> {
     let mut lines = Vec::new();
     let removed = f.flat_before - f.flat_after;
     if removed > 0 {
@@ -275,11 +308,29 @@ fn describe_flat(f: &FlatReport) -> Vec<String> {
                 counted(f.deleted, "cap", "caps")
             ));
         }
-        if f.collapses > 0 {
+        if f.alone > 0 {
+            how.push(format!(
+                "{} deleted",
+                counted(f.alone, "triangle alone", "triangles alone")
+            ));
+        }
+        if f.collapses > 0 && f.max_move == 0.0 {
+            how.push(counted(
+                f.collapses,
+                "zero-length edge collapsed",
+                "zero-length edges collapsed",
+            ));
+        } else if f.collapses > 0 {
             how.push(format!(
                 "{} (vertices moved by at most {})",
                 counted(f.collapses, "edge collapsed", "edges collapsed"),
                 crate::text::number(f.max_move)
+            ));
+        }
+        if ratio_given && f.max_height > 0.0 {
+            how.push(format!(
+                "the surface moved by at most {} where near-slivers were flipped or deleted",
+                crate::text::number(f.max_height)
             ));
         }
         lines.push(format!(
@@ -289,10 +340,20 @@ fn describe_flat(f: &FlatReport) -> Vec<String> {
         ));
     }
     if f.flat_after > 0 {
+        let (it, within, advice) = (
+            if f.flat_after == 1 { "it" } else { "them" },
+            max_move.map_or(String::new(), |d| {
+                format!(" within --flat-max-move {}", crate::text::number(d))
+            }),
+            if max_move.is_some() {
+                "a larger --flat-max-move lets a collapse move a vertex farther"
+            } else {
+                "--flat-max-move DISTANCE lets a collapse move a vertex that far"
+            },
+        );
         lines.push(format!(
-            "note: {} left: no flip, deletion or collapse within --flat-max-move removes {} without folding a triangle over; --flat-max-move DISTANCE lets a collapse move a vertex that far",
+            "note: {} left: no flip, deletion or collapse{within} removes {it} without folding a triangle over; {advice}",
             counted(f.flat_after, "flat triangle", "flat triangles"),
-            if f.flat_after == 1 { "it" } else { "them" }
         ));
     }
     lines
@@ -326,6 +387,7 @@ struct Summary {
 
 /// Runs `beltrami repair`.
 pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliError> {
+    let flat_options = args.flat_options()?;
     let mut outputs = Outputs::new();
     outputs.add(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
@@ -349,14 +411,7 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     refuse_stl_after_split(&args.output, Some(&report))?;
     let mut lines = loaded.repair_lines.clone();
-    let (data, flat) = if args.flat_faces {
-        let mut options = FlatOptions::default();
-        if let Some(r) = args.flat_ratio {
-            options = options.max_height_ratio(r);
-        }
-        if let Some(d) = args.flat_max_move {
-            options = options.max_move(d);
-        }
+    let (data, flat) = if let Some(options) = flat_options {
         let (mesh, positions, flat) = remove_flat_triangles(
             &loaded.mesh,
             &loaded.positions,
@@ -373,7 +428,25 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
                 message: e.to_string(),
             },
         })?;
-        lines.extend(describe_flat(&flat));
+        if mesh.n_faces() == 0 {
+            return Err(CliError::Input {
+                path: args.input.clone(),
+                message: format!(
+                    "removing the flat triangles left no face: every one of the {} was flat{}; nothing written",
+                    counted(loaded.mesh.n_faces(), "triangle", "triangles"),
+                    if args.flat_ratio.is_some() {
+                        " at this --flat-ratio"
+                    } else {
+                        ""
+                    }
+                ),
+            });
+        }
+        lines.extend(describe_flat(
+            &flat,
+            args.flat_ratio.is_some(),
+            args.flat_max_move,
+        ));
         lines = notes_for_output(&args.output, &lines, &mesh);
         let faces = mesh.to_polygons();
         (MeshData { positions, faces }, Some(flat))
@@ -408,12 +481,16 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         writeln!(out, "{line}")?;
     }
     let flat_text = flat.as_ref().map_or_else(String::new, |f| {
-        format!(
-            "{}{} of {} removed",
-            if report.is_empty() { "" } else { "; " },
-            f.flat_before - f.flat_after,
-            counted(f.flat_before, "flat triangle", "flat triangles")
-        )
+        let sep = if report.is_empty() { "" } else { "; " };
+        if f.flat_before == 0 {
+            format!("{sep}no flat triangles")
+        } else {
+            format!(
+                "{sep}{} of {} removed",
+                f.flat_before - f.flat_after,
+                counted(f.flat_before, "flat triangle", "flat triangles")
+            )
+        }
     });
     // With --flat-faces alone, "no repair needed" would contradict the flat triangles.
     let topology = if report.is_empty() && flat.is_some() {

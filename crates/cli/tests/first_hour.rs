@@ -386,6 +386,23 @@ fn repair_writes_a_mesh_every_command_accepts() {
         ) && !table.contains("--merge-distance"),
         "{table}"
     );
+    // A seam (two squares side by side, their shared edge written twice) beside two
+    // triangles touching at a corner: the merge is advised for the seam, and the corner
+    // is said to come apart again.
+    let mixed = d.join("mixed.obj");
+    std::fs::write(
+        &mixed,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 5 5 0\nv 6 5 0\nv 5 6 0\nv 5 5 0\nv 4 5 0\nv 5 4 0\nf 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\nf 9 10 11\nf 12 13 14\n",
+    )
+    .unwrap();
+    let table = stdout(&["info", s(&mixed)]);
+    assert!(
+        table.contains("note: 3 vertices lie within")
+            && table.contains(
+                "joins them where the surface stays manifold (1 would be split apart again)"
+            ),
+        "{table}"
+    );
 }
 
 #[test]
@@ -995,7 +1012,7 @@ fn repair_removes_flat_triangles() {
     .unwrap();
     assert_eq!(
         j["flat_triangles"],
-        serde_json::json!({"before": 1, "after": 0, "flips": 1, "deleted": 0, "collapses": 0, "max_move": 0.0})
+        serde_json::json!({"before": 1, "after": 0, "flips": 1, "deleted": 0, "alone": 0, "collapses": 0, "max_move": 0.0, "max_height": 0.0})
     );
     // Without --flat-faces the cap stays, and the JSON says null.
     let j: serde_json::Value =
@@ -1003,16 +1020,31 @@ fn repair_removes_flat_triangles() {
     assert_eq!(j["flat_triangles"], serde_json::Value::Null);
     assert_eq!(info(&out, &[])["degenerate_faces"], 1);
     // Usage errors: the options need --flat-faces and their ranges.
+    // They are checked before the input is read (a missing input is not named).
     for args in [
         vec!["--flat-ratio", "1e-3"],
-        vec!["--flat-faces", "--flat-ratio", "1"],
+        vec!["--flat-faces", "--flat-ratio", "0.2"],
         vec!["--flat-faces", "--flat-max-move", "-1"],
     ] {
-        let mut all = vec!["repair", s(&cap), s(&out), "--force"];
-        all.extend(args.iter().copied());
-        let o = beltrami(&all);
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        for input in [cap.clone(), d.join("missing.obj")] {
+            let mut all = vec!["repair", s(&input), s(&out), "--force"];
+            all.extend(args.iter().copied());
+            let o = beltrami(&all);
+            assert_eq!(o.status.code(), Some(2), "{args:?}");
+        }
     }
+    // A mesh of slivers only: removing them would leave nothing, which is refused.
+    let slivers = d.join("slivers.obj");
+    std::fs::write(&slivers, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    let o = beltrami(&[
+        "repair",
+        s(&slivers),
+        s(&d.join("none.ply")),
+        "--flat-faces",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(error_line(&o, d).contains("left no face"));
+    assert!(!d.join("none.ply").exists());
     // A polygon mesh: one clear line.
     let quad = d.join("quad.obj");
     std::fs::write(&quad, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();

@@ -317,6 +317,21 @@ pub fn resolve_target(path: impl AsRef<Path>) -> Result<PathBuf, IoError> {
     })
 }
 
+/// Refuses `out.ply/`: a path ending in a slash names a directory, which no file can
+/// replace (the rename at the end of a write would fail, after all the work).
+fn refuse_directory_name(path: &Path) -> Result<(), IoError> {
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Err(IoError::Io {
+            operation: "write the output",
+            source: std::io::Error::other(
+                "a path ending in a slash names a directory; give a file name",
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// The directory a file at `path` lives in (`.` for a bare file name).
 fn directory_of(path: &Path) -> PathBuf {
     match path.parent() {
@@ -336,17 +351,7 @@ fn directory_of(path: &Path) -> PathBuf {
 /// it (permissions, read-only file system, full disk).
 pub fn check_writable(path: impl AsRef<Path>) -> Result<(), IoError> {
     let path = path.as_ref();
-    // `out.ply/` names a directory, which no file can replace; the rename at the end
-    // would fail after all the work.
-    let text = path.as_os_str().to_string_lossy();
-    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
-        return Err(IoError::Io {
-            operation: "write the output",
-            source: std::io::Error::other(
-                "a path ending in a slash names a directory; give a file name",
-            ),
-        });
-    }
+    refuse_directory_name(path)?;
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
     match fs::metadata(&dir) {
@@ -412,6 +417,7 @@ pub fn stage_with(
     write: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
 ) -> Result<StagedFile, IoError> {
     let path = path.as_ref();
+    refuse_directory_name(path)?;
     let target = resolve_target(path)?;
     let dir = directory_of(&target);
     let mut registry = live();
