@@ -276,7 +276,7 @@ pub(crate) fn delaunay<'py>(
 /// the input vertex it is).
 ///
 /// Raises `ValueError` for a ratio outside [0, 0.1] or a negative or NaN `max_move`,
-/// `MeshError` for a polygon mesh.
+/// `MeshError` for a polygon mesh or when no face would be left (every triangle flat).
 #[pyfunction]
 #[pyo3(signature = (mesh, max_height_ratio = 1e-12, max_move = 0.0))]
 pub(crate) fn remove_flat_triangles<'py>(
@@ -301,6 +301,17 @@ pub(crate) fn remove_flat_triangles<'py>(
                 })
         })
     })?;
+    if m.n_faces() == 0 && mesh.mesh.n_faces() > 0 {
+        return Err(MeshError::new_err(format!(
+            "removing the flat triangles left no face: every one of the {} {} was flat",
+            mesh.mesh.n_faces(),
+            if mesh.mesh.n_faces() == 1 {
+                "triangle"
+            } else {
+                "triangles"
+            }
+        )));
+    }
     let d = PyDict::new(py);
     d.set_item("before", report.flat_before)?;
     d.set_item("after", report.flat_after)?;

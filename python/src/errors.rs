@@ -128,6 +128,26 @@ pub(crate) fn repairable_error(path: Option<&Path>, e: &TopologyError) -> PyErr 
     })
 }
 
+/// `MeshError` when a repair left none of `before` faces (every one degenerate or a
+/// duplicate), as the command line's `repair` refuses to write such a mesh.
+pub(crate) fn refuse_empty_repair(
+    path: Option<&Path>,
+    before: usize,
+    after: usize,
+) -> PyResult<()> {
+    if before == 0 || after > 0 {
+        return Ok(());
+    }
+    let message = format!(
+        "the repair left none of the {before} {}: every one was degenerate or a duplicate",
+        if before == 1 { "face" } else { "faces" }
+    );
+    Err(MeshError::new_err(match path {
+        Some(path) => format!("{}: {message}", path.display()),
+        None => message,
+    }))
+}
+
 /// A smoothing error: `SmoothError`, whose message is the library's.
 pub(crate) fn smooth_error(e: &beltrami_smooth::SmoothError) -> PyErr {
     SmoothError::new_err(e.to_string())

@@ -66,6 +66,7 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
     let (positions, faces, report) = if fix {
         let repaired = repair(&data.positions, &data.faces, &RepairOptions::new())
             .map_err(|e| topology_error(Some(path), &e))?;
+        crate::errors::refuse_empty_repair(Some(path), data.faces.len(), repaired.faces.len())?;
         (repaired.positions, repaired.faces, Some(repaired.report))
     } else {
         (data.positions, data.faces, None)

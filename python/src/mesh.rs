@@ -21,9 +21,10 @@ use crate::errors::{MeshError, no_panic, repairable_error, topology_error};
 /// `MeshError` naming the offending vertex or face when a coordinate is not finite, an
 /// index is out of range, or the faces do not form an oriented 2-manifold.
 /// `Mesh(vertices, faces, repair=True)` repairs the faces instead, as `read(path,
-/// repair=True)` does (drops degenerate and duplicate faces, cuts non-manifold edges,
-/// re-orients, splits pinched vertices, removes vertices no face uses; `info(mesh)`
-/// then lists what changed, in the input's indices). A mesh pickles (process pools,
+/// repair=True)` does (drops degenerate and duplicate faces, those of one or two
+/// vertices too, cuts non-manifold edges, re-orients, splits pinched vertices, removes
+/// vertices no face uses; `info(mesh)` then lists what changed, in the input's indices),
+/// and raises `MeshError` only when the repair leaves no face. A mesh pickles (process pools,
 /// Dask) and copies as itself (it cannot change).
 ///
 /// What is copied: a C-contiguous float64 (N, 3) array is read in place and copied
@@ -158,7 +159,7 @@ fn shape_of(x: &Bound<'_, PyAny>) -> String {
 /// The faces of an (M, k) integer array, k ≥ 3, or of a sequence of faces of any sizes
 /// (as [`Mesh::faces`] returns a polygon mesh's), indices in `0..n_vertices`. An empty
 /// sequence is no faces.
-fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> {
+fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize, short_ok: bool) -> PyResult<PolygonList> {
     let numpy = x.py().import("numpy")?;
     let is_array = x.is_instance(&numpy.getattr("ndarray")?)?;
     if !is_array && x.len().is_ok_and(|n| n == 0) {
@@ -176,7 +177,9 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
         for (f, face) in x.try_iter()?.enumerate() {
             let face = face?;
             let row = face_row(&face, f, n_vertices)?;
-            if row.len() < 3 {
+            // With a repair, a face of one or two vertices is dropped, as the repair of a
+            // file drops it.
+            if row.len() < 3 && !short_ok {
                 return Err(MeshError::new_err(format!(
                     "face {f} has {} vertices; a face needs at least 3",
                     row.len()
@@ -223,7 +226,7 @@ fn faces_from(x: &Bound<'_, PyAny>, n_vertices: usize) -> PyResult<PolygonList> 
             array.as_slice()?.iter().map(|&v| i128::from(v)).collect(),
         )
     };
-    if k < 3 && m > 0 {
+    if (k < 3 && m > 0 && !short_ok) || k == 0 {
         return Err(bad_shape());
     }
     let mut faces = PolygonList::with_capacity(m, m * k);
@@ -307,7 +310,7 @@ impl Mesh {
         repair: bool,
     ) -> PyResult<Self> {
         let positions = vertices_from(vertices)?;
-        let faces = faces_from(faces, positions.len())?;
+        let faces = faces_from(faces, positions.len(), repair)?;
         if !repair {
             let mesh = py.detach(|| {
                 no_panic(|| {
@@ -329,6 +332,7 @@ impl Mesh {
                     .map_err(|e| topology_error(None, &e))
             })
         })?;
+        crate::errors::refuse_empty_repair(None, faces.len(), repaired.faces.len())?;
         let mut mesh = Self::build(py, repaired.positions, repaired.faces, None)?;
         mesh.repair = Some(repaired.report);
         Ok(mesh)

@@ -124,6 +124,10 @@ def test_remove_flat_triangles_flips_a_cap():
         bt.remove_flat_triangles(capped, max_move=-1.0)
     with pytest.raises(bt.MeshError, match="needs a triangle mesh"):
         bt.remove_flat_triangles(bt.Mesh(v[:4], [[0, 1, 2, 3]]))
+    # A mesh of one flat triangle would be left without faces: refused, as the command does.
+    line = bt.Mesh(np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0]], dtype=float), [[0, 1, 2]])
+    with pytest.raises(bt.MeshError, match="left no face"):
+        bt.remove_flat_triangles(line)
 
 
 def run(cli, *args):

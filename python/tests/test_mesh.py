@@ -126,10 +126,20 @@ def test_repair_true_repairs_what_read_would():
     same = bt.from_trimesh(Shape(), repair=True)
     np.testing.assert_array_equal(same.faces, mesh.faces)
     np.testing.assert_array_equal(same.vertices, mesh.vertices)
-    # A sound mesh is unchanged by it, and says there was nothing to repair.
-    sound = bt.Mesh(TETRA_V, TETRA_F, repair=True)
+    # A sound mesh keeps its faces; a vertex no face uses goes, as read(repair=True)
+    # removes it.
+    sound = bt.Mesh(np.vstack([TETRA_V, [[9.0, 9.0, 9.0]]]), TETRA_F, repair=True)
     np.testing.assert_array_equal(sound.faces, TETRA_F)
-    assert not any(bt.info(sound)["repairs"].values())
+    assert sound.n_vertices == 4
+    assert bt.info(sound)["repairs"]["removed_vertices"] == [4]
+    # A face of two vertices is dropped by the repair, named without it.
+    with pytest.raises(bt.MeshError, match="face 1 has 2 vertices"):
+        bt.Mesh(TETRA_V, [[0, 1, 2], [1, 3]])
+    dropped = bt.Mesh(TETRA_V, [[0, 1, 2], [1, 3]], repair=True)
+    assert dropped.n_faces == 1
+    # A repair that leaves no face is refused.
+    with pytest.raises(bt.MeshError, match="left none of the 1 face"):
+        bt.Mesh(TETRA_V, [[0, 0, 1]], repair=True)
 
 
 def test_repr_names_the_counts():

@@ -55,8 +55,8 @@ pub struct FlatOptions {
     /// (default 0: only edges of zero length are collapsed, and the surface does not
     /// move). A flat triangle that neither a flip nor a deletion removes (its longest edge
     /// already has a diagonal, or its neighbour is flat too) then stays, unless a
-    /// collapse of its shortest edge within this distance does; such a collapse moves
-    /// the vertex's other triangles with it.
+    /// collapse of one of its two shorter edges within this distance does (the shortest
+    /// first); such a collapse moves the vertex's other triangles with it.
     pub max_move: f64,
 }
 
@@ -142,7 +142,7 @@ pub struct FlatReport {
     /// default height ratio).
     pub max_height: f64,
     /// For each output vertex, the input vertex it is (vertices are renumbered in order
-    /// when collapses remove some).
+    /// when collapses, or deletions of flat triangles alone, remove some).
     pub vertex_origin: Vec<usize>,
 }
 
@@ -420,7 +420,11 @@ fn fix(
             if mesh.is_boundary_vertex(from) && !mesh.is_boundary_vertex(to) {
                 continue;
             }
-            if !mesh.is_collapse_ok(g) || !collapse_is_sound(mesh, g, ratio) {
+            // A tetrahedron collapsed would be a closed pair of triangles back to back.
+            if !mesh.is_collapse_ok(g)
+                || mesh.collapse_flattens_tetrahedron(g)
+                || !collapse_is_sound(mesh, g, ratio)
+            {
                 continue;
             }
             let moved = length(mesh.position(to) - mesh.position(from));
@@ -461,10 +465,11 @@ fn flip_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
 }
 
 /// Whether collapsing `h` (moving its start onto its end) leaves every triangle around
-/// the start that survives either flat or sound and facing the way its neighbours do: a
-/// triangle sound before keeps its side, and every sound one afterwards faces the side
-/// of the sound triangles around the start before (a flat one moved must not open
-/// folded over). A collapse that moves nothing changes no triangle's shape.
+/// the start that survives either flat (if it was) or sound and facing the way its
+/// neighbours do: a triangle sound before stays sound and keeps its side, and every sound
+/// one afterwards faces the side of the sound triangles around the start before (a flat
+/// one moved must not open folded over). A collapse that moves nothing changes no
+/// triangle's shape.
 fn collapse_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
     let (from, to) = (mesh.from_vertex(h), mesh.to_vertex(h));
     let (start, target) = (mesh.position(from), mesh.position(to));
@@ -487,11 +492,14 @@ fn collapse_is_sound(mesh: &EditMesh, h: HalfedgeId, ratio: f64) -> bool {
         .map(|&(q, r)| unit(normal(start, q, r)))
         .sum();
     survivors.iter().all(|&(q, r)| {
+        let was_flat = flat(start, q, r, ratio);
+        // A flat triangle may stay flat (it is removed later); a sound one may not
+        // become flat.
         if flat(target, q, r, ratio) {
-            return true;
+            return was_flat;
         }
         let after = normal(target, q, r);
-        let kept_side = flat(start, q, r, ratio) || after.dot(normal(start, q, r)) > 0.0;
+        let kept_side = was_flat || after.dot(normal(start, q, r)) > 0.0;
         kept_side && after.dot(side) > 0.0
     })
 }

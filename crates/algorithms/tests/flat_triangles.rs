@@ -172,8 +172,9 @@ fn check(
             report
         );
     }
+    // A collapse removes one vertex, a triangle alone its three.
     prop_assert_eq!(
-        out.n_vertices() + report.collapses,
+        out.n_vertices() + report.collapses + 3 * report.alone,
         mesh.n_vertices(),
         "{:?}",
         report
@@ -291,7 +292,7 @@ fn sound_meshes_are_unchanged_and_points_are_needles() {
     assert_eq!(out.n_vertices(), mesh.n_vertices());
 }
 
-/// A larger ratio takes near-slivers too; ratios outside [0, 1) are refused.
+/// A larger ratio takes near-slivers too; ratios outside [0, 0.1] are refused.
 #[test]
 fn the_height_ratio_is_an_option() {
     let p = primitives::grid(3, 3);
@@ -332,4 +333,68 @@ fn the_height_ratio_is_an_option() {
         report.max_height > 0.9e-3 && report.max_height <= 1e-3,
         "{report:?}"
     );
+}
+
+/// A cap whose longest edge is on the boundary and whose middle corner is on the boundary
+/// too cannot be deleted (the corner would be pinched) nor flipped: it stays, and the
+/// surface with it; a collapse allowed to move removes it without folding anything.
+#[test]
+fn a_boundary_cap_with_its_middle_on_the_boundary() {
+    // The cap (0, 2, 1), vertex 1 halfway along the boundary edge 0-2, and beside it
+    // across the edge 0-1 the triangle (0, 1, 3); vertex 1 is on the boundary (edges 1-2
+    // and 1-3 have one face each).
+    let x = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+    ];
+    let mesh = HalfedgeMesh::from_polygons(4, [[0u32, 2, 1], [0, 1, 3]]).unwrap();
+    assert!(mesh.is_boundary_vertex(VertexId::new(1)));
+    assert_eq!(flat_count(&mesh, &x), 1);
+    let (out, y, report) = remove_flat_triangles(&mesh, &x, FlatOptions::default()).unwrap();
+    assert_eq!(
+        (
+            report.flat_after,
+            report.deleted,
+            report.flips,
+            report.collapses
+        ),
+        (1, 0, 0, 0),
+        "{report:?}"
+    );
+    assert_eq!((out.n_faces(), y), (2, x.clone()));
+    // Moving vertex 2 onto vertex 1 (or 1 onto 2), along the boundary, removes the cap.
+    let (out, y, report) =
+        remove_flat_triangles(&mesh, &x, FlatOptions::default().max_move(1.0)).unwrap();
+    assert_eq!((report.flat_after, report.collapses), (0, 1), "{report:?}");
+    assert_eq!(report.max_move, 1.0);
+    assert_eq!(out.n_faces(), 1);
+    assert_eq!(folds(&out, &y), 0);
+    assert!(
+        report.vertex_origin == [0, 1, 3] || report.vertex_origin == [0, 2, 3],
+        "{report:?}"
+    );
+}
+
+/// A flat triangle alone (a component of its own) is deleted with its corners; the
+/// rest of the mesh stays as it was.
+#[test]
+fn a_flat_triangle_alone_is_deleted() {
+    let p = primitives::grid(2, 2);
+    let n = p.positions.len() as u32;
+    let mut x = p.positions.clone();
+    x.extend([
+        DVec3::new(5.0, 0.0, 0.0),
+        DVec3::new(6.0, 0.0, 0.0),
+        DVec3::new(7.0, 0.0, 0.0),
+    ]);
+    let mut faces: Vec<Vec<u32>> = p.faces.iter().map(<[u32]>::to_vec).collect();
+    faces.push(vec![n, n + 1, n + 2]);
+    let mesh = HalfedgeMesh::from_polygons(x.len(), &faces).unwrap();
+    let (out, y, report) = remove_flat_triangles(&mesh, &x, FlatOptions::default()).unwrap();
+    assert_eq!((report.alone, report.flat_after), (1, 0), "{report:?}");
+    assert_eq!(out.n_faces(), p.faces.len());
+    assert_eq!(y, p.positions);
+    assert_eq!(report.vertex_origin, (0..n as usize).collect::<Vec<_>>());
 }

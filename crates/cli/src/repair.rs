@@ -296,7 +296,7 @@ pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
 /// surface is said); `max_move`: `--flat-max-move`.
 fn describe_flat(f: &FlatReport, ratio_given: bool, max_move: Option<f64>) -> Vec<String> {
     let mut lines = Vec::new();
-    let removed = f.flat_before - f.flat_after;
+    let removed = f.flat_before.saturating_sub(f.flat_after);
     if removed > 0 {
         let mut how = Vec::new();
         if f.flips > 0 {
@@ -487,7 +487,7 @@ pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliErro
         } else {
             format!(
                 "{sep}{} of {} removed",
-                f.flat_before - f.flat_after,
+                f.flat_before.saturating_sub(f.flat_after),
                 counted(f.flat_before, "flat triangle", "flat triangles")
             )
         }

@@ -317,15 +317,20 @@ pub fn resolve_target(path: impl AsRef<Path>) -> Result<PathBuf, IoError> {
     })
 }
 
-/// Refuses `out.ply/`: a path ending in a slash names a directory, which no file can
-/// replace (the rename at the end of a write would fail, after all the work).
+/// Refuses `out.ply/` (and `out.ply/.`, `..`): a path ending in a slash, `.` or `..`
+/// names a directory, which no file can replace (the rename at the end of a write would
+/// fail, after all the work).
 fn refuse_directory_name(path: &Path) -> Result<(), IoError> {
     let text = path.as_os_str().to_string_lossy();
-    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+    let last = text
+        .rsplit(['/', std::path::MAIN_SEPARATOR])
+        .next()
+        .unwrap_or("");
+    if last.is_empty() || last == "." || last == ".." {
         return Err(IoError::Io {
             operation: "write the output",
             source: std::io::Error::other(
-                "a path ending in a slash names a directory; give a file name",
+                "a path ending in a slash, `.` or `..` names a directory; give a file name",
             ),
         });
     }
@@ -787,9 +792,12 @@ mod tests {
     #[test]
     fn check_writable_refuses_a_trailing_slash() {
         let dir = tempfile::tempdir().unwrap();
-        let slash = format!("{}/out.ply/", dir.path().display());
-        let e = check_writable(&slash).unwrap_err().to_string();
-        assert!(e.contains("names a directory"), "{e}");
+        for name in ["out.ply/", "out.ply/.", "out.ply/..", "."] {
+            let slash = format!("{}/{name}", dir.path().display());
+            let e = check_writable(&slash).unwrap_err().to_string();
+            assert!(e.contains("names a directory"), "{name}: {e}");
+        }
+        check_writable(dir.path().join("out.ply")).unwrap();
         assert!(temporaries(dir.path()).is_empty());
     }
 

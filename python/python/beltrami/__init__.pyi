@@ -169,8 +169,8 @@ def remove_flat_triangles(
     mesh: Mesh, max_height_ratio: float = 1e-12, max_move: float = 0.0
 ) -> tuple[Mesh, dict[str, Any]]:
     """Flat triangles (caps, needles) removed by flips, deletions and zero-length
-    collapses, as `beltrami repair --flat-faces --json` (its `flat_triangles`), with
-    `vertex_origin`."""
+    collapses (with `max_move`, collapses that move a vertex up to that far), as
+    `beltrami repair --flat-faces --json` (its `flat_triangles`), with `vertex_origin`."""
 
 def remesh(
     mesh: Mesh,
