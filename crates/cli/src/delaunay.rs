@@ -97,7 +97,20 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             },
         })?;
     let seconds = start.elapsed().as_secs_f64();
-    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    let mut notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    // A flat triangle has no cotangent weight to make non-negative, and no flip here
+    // removes it: say which command does.
+    let flat = beltrami_halfedge::geometry::Geometry::new(&mesh, &positions).map_or(0, |g| {
+        mesh.faces().filter(|&f| g.is_degenerate_face(f)).count()
+    });
+    if flat > 0 {
+        notes.push(format!(
+            "note: {} of zero area left (flat for {} size), whose cotangent weights are absent; `beltrami repair {} FIXED --flat-faces` removes flat triangles without moving the surface",
+            counted(flat, "face", "faces"),
+            if flat == 1 { "its" } else { "their" },
+            args.output.display()
+        ));
+    }
     write_result(&args.output, &mesh, positions, args.ascii)?;
 
     if args.json {

@@ -1001,6 +1001,15 @@ fn repair_removes_flat_triangles() {
         (Some(0), Some(1.0))
     );
     assert!(!stdout(&["info", s(&out)]).contains("zero area"));
+    // `delaunay` flips no flat triangle (it has no cotangent weight) and says so.
+    let flipped = d.join("flipped.ply");
+    let text = stdout(&["delaunay", s(&cap), s(&flipped)]);
+    assert!(
+        text.contains("note: 1 face of zero area left (flat for its size)")
+            && text.contains("--flat-faces"),
+        "{text}"
+    );
+    assert!(!stdout(&["delaunay", s(&out), s(&flipped), "--force"]).contains("zero area"));
     let j: serde_json::Value = serde_json::from_str(&stdout(&[
         "repair",
         s(&cap),
