@@ -328,6 +328,37 @@ pub(crate) fn remove_flat_triangles<'py>(
     Ok((result_mesh(m, p), d))
 }
 
+/// The vertex index pairs of a (K, 2) integer array (`remesh`'s `feature_edges`).
+fn edge_pairs(x: &Bound<'_, PyAny>) -> PyResult<Vec<[u32; 2]>> {
+    let numpy = x.py().import("numpy")?;
+    let array = numpy.call_method1("asarray", (x,))?;
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    let bad = || {
+        PyValueError::new_err(format!(
+            "feature_edges must be a (K, 2) array of vertex indices, got shape {shape:?} of dtype kind {kind:?}"
+        ))
+    };
+    if !(matches!(kind.as_str(), "i" | "u") && (matches!(shape.as_slice(), [_, 2] | [0]))) {
+        return Err(bad());
+    }
+    let values: Vec<i128> = array.call_method0("ravel")?.call_method0("tolist")?.extract()?;
+    values
+        .chunks_exact(2)
+        .enumerate()
+        .map(|(row, pair)| {
+            let index = |v: i128| {
+                u32::try_from(v).map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "feature_edges row {row}: vertex index {v} is not a vertex of the mesh"
+                    ))
+                })
+            };
+            Ok([index(pair[0])?, index(pair[1])?])
+        })
+        .collect()
+}
+
 fn algorithm_error(what: &str, e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(format!("{what}: {e}"))
 }
@@ -372,16 +403,20 @@ impl<'py> FromPyObject<'py> for Adaptive {
 /// `remesh --adaptive` does: a quarter and four times the mean edge length, and the error
 /// that keeps the mean edge length at the median curvature; the report's `min_edge`,
 /// `max_edge` and `approx_error` give the values used);
-/// `features` (degrees) keeps edges sharper than that as curves; the boundary is always
-/// kept; `progress=True` shows a tqdm bar of the iterations when tqdm is installed.
+/// `features` (degrees) keeps edges sharper than that as curves; `feature_edges`, a (K,
+/// 2) array of vertex index pairs (the edge between each pair), keeps those edges as
+/// curves too, for creases no angle finds (`remesh --feature-edges`); the boundary is
+/// always kept; `progress=True` shows a tqdm bar of the iterations when tqdm is
+/// installed.
 /// Returns `(Mesh, report)`, the report with the keys of `remesh --json` (without the
 /// file names and `seconds`).
 ///
-/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh, a target too
-/// small for the surface (too many triangles) or as long as the surface itself (the
-/// result would have faces of no area).
+/// Raises `ValueError` for bad options or a pair of `feature_edges` that is not an edge
+/// (naming its row), `MeshError` for a polygon mesh, a target too small for the surface
+/// (too many triangles) or as long as the surface itself (the result would have faces
+/// of no area).
 #[pyfunction]
-#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, projection = true, smooth_projection = true, progress = false))]
+#[pyo3(signature = (mesh, edge_length = None, *, edge_length_relative = None, adaptive = None, iterations = 10, features = None, feature_edges = None, projection = true, smooth_projection = true, progress = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn remesh<'py>(
     py: Python<'py>,
@@ -391,10 +426,12 @@ pub(crate) fn remesh<'py>(
     adaptive: Option<Adaptive>,
     iterations: i128,
     features: Option<f64>,
+    feature_edges: Option<&Bound<'py, PyAny>>,
     projection: bool,
     smooth_projection: bool,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    let given_edges = feature_edges.map(edge_pairs).transpose()?;
     let adaptive = match adaptive {
         None | Some(Adaptive::Flag(false)) => None,
         Some(Adaptive::Flag(true)) => Some(AdaptiveSizing::default()),
@@ -437,14 +474,26 @@ pub(crate) fn remesh<'py>(
         options = options.feature_angle(deg.to_radians());
     }
     let (m, p, r) = Progress::run(py, progress, iterations, "remesh", |bar| {
-        beltrami_algorithms::remesh_with_progress(
-            &mesh.mesh,
-            &mesh.positions,
-            &options,
-            |done, total| bar.show(done, total),
-        )
+        let show = |done, total| bar.show(done, total);
+        match &given_edges {
+            Some(pairs) => beltrami_algorithms::remesh_with_feature_edges(
+                &mesh.mesh,
+                &mesh.positions,
+                pairs,
+                &options,
+                show,
+            ),
+            None => beltrami_algorithms::remesh_with_progress(
+                &mesh.mesh,
+                &mesh.positions,
+                &options,
+                show,
+            ),
+        }
         .map_err(|e| match e {
-            RemeshError::Options { .. } => PyValueError::new_err(e.to_string()),
+            RemeshError::Options { .. } | RemeshError::FeatureEdge { .. } => {
+                PyValueError::new_err(e.to_string())
+            }
             e => algorithm_error("remesh", e),
         })
     })?;
@@ -467,6 +516,7 @@ pub(crate) fn remesh<'py>(
     d.set_item("mean_edge_length", r.mean_edge_length)?;
     d.set_item("edge_length_cv", r.edge_length_cv)?;
     d.set_item("feature_edges", r.feature_edges)?;
+    d.set_item("given_feature_edges", r.given_feature_edges)?;
     d.set_item("fold_edges", r.fold_edges)?;
     d.set_item("boundary_edges", r.boundary_edges)?;
     d.set_item("corners", r.corners)?;

@@ -198,6 +198,46 @@ def test_remesh_evens_out_the_edges(sphere):
     assert "solid" in outcomes and "refused" in outcomes, outcomes
 
 
+def test_remesh_keeps_given_feature_edges():
+    # A flat 8 x 8 grid, interior vertices pushed about in the plane (those on y = 4
+    # along it only): only the given edges keep the line y = 4.
+    n = 8
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1))
+    v = np.column_stack([i.ravel(), j.ravel(), np.zeros(i.size)]).astype(float)
+    k = np.arange(len(v))
+    inner = (v[:, 0] > 0) & (v[:, 0] < n) & (v[:, 1] > 0) & (v[:, 1] < n)
+    v[inner, 0] += 0.3 * ((k[inner] * 7 % 5) / 5.0 - 0.4)
+    off_line = inner & (v[:, 1] != 4)
+    v[off_line, 1] += 0.3 * ((k[off_line] * 3 % 7) / 7.0 - 0.4)
+    vid = lambda a, b: b * (n + 1) + a  # noqa: E731
+    faces = []
+    for b_ in range(n):
+        for a_ in range(n):
+            faces += [[vid(a_, b_), vid(a_ + 1, b_), vid(a_ + 1, b_ + 1)],
+                      [vid(a_, b_), vid(a_ + 1, b_ + 1), vid(a_, b_ + 1)]]
+    grid = bt.Mesh(v, np.array(faces))
+    line = np.array([[vid(a_, 4), vid(a_ + 1, 4)] for a_ in range(n)])
+
+    def covered(m):
+        x, f = m.vertices, m.faces
+        e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+        e = np.unique(e, axis=0)
+        on = (x[e[:, 0], 1] == 4.0) & (x[e[:, 1], 1] == 4.0)
+        return np.linalg.norm(x[e[on, 0]] - x[e[on, 1]], axis=1).sum()
+
+    out, report = bt.remesh(grid, 1.3, feature_edges=line)
+    assert report["given_feature_edges"] == n and report["feature_edges"] == 0
+    assert covered(out) == pytest.approx(8.0, abs=1e-9)
+    free, report = bt.remesh(grid, 1.3)
+    assert report["given_feature_edges"] == 0 and covered(free) < 7.0
+    with pytest.raises(ValueError, match="feature edge 1 .* no edge joins them"):
+        bt.remesh(grid, 1.3, feature_edges=[line[0], [0, 20]])
+    with pytest.raises(ValueError, match=r"\(K, 2\) array"):
+        bt.remesh(grid, 1.3, feature_edges=[0, 1, 2])
+    with pytest.raises(ValueError, match="row 0: vertex index -1"):
+        bt.remesh(grid, 1.3, feature_edges=[[-1, 0]])
+
+
 def test_remesh_adaptive_derives_what_is_not_given():
     sphere = bt.generate("sphere", level=3)
     # All three derived: a sphere has one curvature, so its density stays.

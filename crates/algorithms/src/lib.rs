@@ -77,6 +77,7 @@ pub use quality::{MeshQuality, QualityError, flipped_faces, mesh_quality};
 pub use remesh::{
     AdaptiveLengths, AdaptiveSizing, DEFAULT_CORNER_ANGLE, EdgeLength, FOLD_ANGLE,
     MAX_REMESH_FACES, MAX_REMESH_ITERATIONS, MIN_EXTENT_SHARE, RemeshError, RemeshIteration,
-    RemeshOptions, RemeshReport, SMOOTH_ANGLE, remesh, remesh_with_progress,
+    RemeshOptions, RemeshReport, SMOOTH_ANGLE, remesh, remesh_with_feature_edges,
+    remesh_with_progress,
 };
 pub use subdivision::{MeshCounts, Scheme, loop_subdivide, sqrt3_subdivide};

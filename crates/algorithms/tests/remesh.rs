@@ -1190,3 +1190,78 @@ fn folded_feature_edges_are_counted_as_folds() {
     assert!(report.fold_edges > 0, "{report:?}");
     assert_eq!(report.fold_edges, report.feature_edges, "{report:?}");
 }
+
+/// Feature edges given by the caller: the middle line of a flat grid, which no angle
+/// finds, is kept as a chain of edges covering its whole length, which it is not
+/// without them; a pair that is not an edge is refused by its position.
+#[test]
+fn given_feature_edges_are_kept_as_a_curve() {
+    use beltrami_algorithms::remesh_with_feature_edges;
+    let mut grid = primitives::grid(8, 8);
+    // Interior vertices pushed about in the plane (those on the line along it only), so
+    // that nothing but the given edges keeps the line.
+    for (i, p) in grid.positions.iter_mut().enumerate() {
+        if p.x > 0.0 && p.x < 8.0 && p.y > 0.0 && p.y < 8.0 {
+            p.x += 0.3 * ((i * 7 % 5) as f64 / 5.0 - 0.4);
+            if p.y != 4.0 {
+                p.y += 0.3 * ((i * 3 % 7) as f64 / 7.0 - 0.4);
+            }
+        }
+    }
+    let mesh = grid.mesh().unwrap();
+    let on_line = |p: DVec3| (p.y - 4.0).abs() < 1e-12;
+    let line: Vec<[u32; 2]> = mesh
+        .edges()
+        .map(|e| mesh.edge_vertices(e).map(|v| v.index() as u32))
+        .filter(|[a, b]| {
+            on_line(grid.positions[*a as usize]) && on_line(grid.positions[*b as usize])
+        })
+        .collect();
+    assert_eq!(line.len(), 8);
+    // The length of the output's edges lying on the line.
+    let covered = |out: &HalfedgeMesh, x: &[DVec3]| -> f64 {
+        out.edges()
+            .map(|e| out.edge_vertices(e).map(|v| x[v.index()]))
+            .filter(|[a, b]| on_line(*a) && on_line(*b))
+            .map(|[a, b]| a.distance(b))
+            .sum()
+    };
+    let options = RemeshOptions::default().relative_edge_length(1.3);
+    let go = |_, _| std::ops::ControlFlow::Continue(());
+    let (out, x, report) =
+        remesh_with_feature_edges(&mesh, &grid.positions, &line, &options, go).unwrap();
+    assert_eq!((report.given_feature_edges, report.feature_edges), (8, 0));
+    assert!(
+        (covered(&out, &x) - 8.0).abs() < 1e-9,
+        "{}",
+        covered(&out, &x)
+    );
+    EditMesh::from_mesh(&out, &x)
+        .unwrap()
+        .check_integrity()
+        .unwrap();
+    assert_eq!(out.euler_characteristic(), mesh.euler_characteristic());
+    let (free, y, _) = remesh(&mesh, &grid.positions, &options).unwrap();
+    assert!(covered(&free, &y) < 7.0, "{}", covered(&free, &y));
+    // The same pairs reversed name the same edges.
+    let reversed: Vec<[u32; 2]> = line.iter().map(|&[a, b]| [b, a]).collect();
+    let (out2, x2, _) =
+        remesh_with_feature_edges(&mesh, &grid.positions, &reversed, &options, go).unwrap();
+    assert_eq!((out2, x2), (out, x));
+    // Pairs that are no edge: refused before any work, by position.
+    for (pairs, why) in [
+        (
+            vec![line[0], [0, 81]],
+            "vertex 81 is out of range (81 vertices)",
+        ),
+        (vec![line[0], line[1], [0, 80]], "no edge joins them"),
+    ] {
+        let e =
+            remesh_with_feature_edges(&mesh, &grid.positions, &pairs, &options, go).unwrap_err();
+        assert!(
+            matches!(&e, RemeshError::FeatureEdge { index, .. } if *index == pairs.len() - 1),
+            "{e:?}"
+        );
+        assert!(e.to_string().ends_with(why), "{e}");
+    }
+}

@@ -4,7 +4,9 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_algorithms::{AdaptiveSizing, RemeshError, RemeshOptions, remesh_with_progress};
+use beltrami_algorithms::{
+    AdaptiveSizing, RemeshError, RemeshOptions, remesh_with_feature_edges, remesh_with_progress,
+};
 use serde::Serialize;
 
 use crate::edit_report::{EditOutputArgs, QualityChange};
@@ -82,6 +84,13 @@ pub(crate) struct RemeshArgs {
     /// boundary is kept in any case).
     #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
     features: Option<f64>,
+    /// Also keep these edges as feature curves, for creases no angle finds (a datum
+    /// line, the seam between two materials, a gentle fillet's border): a text file with
+    /// one edge per line, the 0-based indices of its two vertices in INPUT as read (with
+    /// --repair, in the repaired mesh, as `beltrami repair` writes it); `#` starts a
+    /// comment.
+    #[arg(long, value_name = "FILE")]
+    feature_edges: Option<PathBuf>,
     /// Do not project the vertices back onto the input surface (they then move only
     /// within their tangent planes, and a curved surface shrinks slightly).
     #[arg(long)]
@@ -126,6 +135,8 @@ struct Summary {
     mean_edge_length: f64,
     edge_length_cv: f64,
     feature_edges: usize,
+    /// Interior edges given by --feature-edges (0 without it).
+    given_feature_edges: usize,
     /// Feature edges whose triangles fold back onto each other (above 150°).
     fold_edges: usize,
     boundary_edges: usize,
@@ -199,6 +210,47 @@ fn options(args: &RemeshArgs) -> Result<RemeshOptions, CliError> {
     Ok(options)
 }
 
+/// Reads a `--feature-edges` file: one edge per line, two 0-based vertex indices;
+/// blank lines and `#` comments are skipped. Returns the pairs and the line (1-based)
+/// of each.
+///
+/// # Errors
+/// [`CliError::Io`] when the file cannot be read; [`CliError::Input`] naming the line
+/// that is not two indices.
+fn read_feature_edges(path: &std::path::Path) -> Result<(Vec<[u32; 2]>, Vec<usize>), CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
+        path: path.to_path_buf(),
+        source: beltrami_io::IoError::Io {
+            operation: "read the feature edges",
+            source,
+        },
+    })?;
+    let (mut pairs, mut lines) = (Vec::new(), Vec::new());
+    for (number, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let pair = match fields.as_slice() {
+            [a, b] => a.parse::<u32>().ok().zip(b.parse::<u32>().ok()),
+            _ => None,
+        };
+        let Some((a, b)) = pair else {
+            return Err(CliError::Input {
+                path: path.to_path_buf(),
+                message: format!(
+                    "line {}: expected two vertex indices (0-based integers), got {line:?}",
+                    number + 1
+                ),
+            });
+        };
+        pairs.push([a, b]);
+        lines.push(number + 1);
+    }
+    Ok((pairs, lines))
+}
+
 /// Runs `beltrami remesh`.
 pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliError> {
     let options = options(args)?;
@@ -208,17 +260,43 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         "remeshing makes new vertices off the grid",
     )?;
     args.outputs.check(&args.output, &args.input)?;
+    let given = args
+        .feature_edges
+        .as_ref()
+        .map(|path| read_feature_edges(path))
+        .transpose()?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
     let start = std::time::Instant::now();
     // A bar on a terminal for meshes whose iterations take a noticeable time (about a
     // tenth of a second each from 100 000 faces on two cores).
     let long = loaded.mesh.n_faces() >= 100_000;
-    let result = crate::progress::with_bar(options.iterations, "iterations", long, |show| {
-        remesh_with_progress(&loaded.mesh, &loaded.positions, &options, show)
-    });
+    let result =
+        crate::progress::with_bar(
+            options.iterations,
+            "iterations",
+            long,
+            |show| match &given {
+                Some((pairs, _)) => remesh_with_feature_edges(
+                    &loaded.mesh,
+                    &loaded.positions,
+                    pairs,
+                    &options,
+                    show,
+                ),
+                None => remesh_with_progress(&loaded.mesh, &loaded.positions, &options, show),
+            },
+        );
     let (mesh, positions, report) = result.map_err(|e| match e {
         RemeshError::Options { reason } => CliError::Usage(reason),
+        RemeshError::FeatureEdge { index, a, b, why } => CliError::Input {
+            path: args.feature_edges.clone().unwrap_or_default(),
+            message: format!(
+                "line {}: {a} {b} is not an edge of {}: {why}",
+                given.as_ref().map_or(0, |(_, lines)| lines[index]),
+                args.input.display()
+            ),
+        },
         RemeshError::NotTriangle { face, len } => CliError::Input {
             path: args.input.clone(),
             message: not_triangles("remesh", face, len),
@@ -256,6 +334,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         mean_edge_length: report.mean_edge_length,
         edge_length_cv: report.edge_length_cv,
         feature_edges: report.feature_edges,
+        given_feature_edges: report.given_feature_edges,
         fold_edges: report.fold_edges,
         boundary_edges: report.boundary_edges,
         corners: report.corners,
@@ -329,6 +408,23 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     }
     if let Some(note) = degenerate_note(&report) {
         writeln!(out, "{note}")?;
+    }
+    if let Some(path) = &args.feature_edges {
+        writeln!(
+            out,
+            "features: {} given in {} kept as feature curves{}",
+            counted(
+                report.given_feature_edges,
+                "interior edge",
+                "interior edges"
+            ),
+            path.display(),
+            if args.features.is_none() {
+                format!(", {} corners fixed", report.corners)
+            } else {
+                String::new()
+            }
+        )?;
     }
     if let Some(angle) = args.features {
         let interior = loaded.mesh.n_edges() - report.boundary_edges;

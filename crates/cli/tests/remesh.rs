@@ -561,3 +561,135 @@ fn negative_and_out_of_range_numbers_get_the_options_own_message() {
     assert!(line.contains("a target edge length of 1e-300"), "{line}");
     assert!(!line.contains("inf"), "{line}");
 }
+
+/// `--feature-edges FILE`: the middle line of a flat, jittered grid is kept as edges
+/// covering its whole length (it is not without the file); a line that is not two
+/// indices, or a pair that is no edge, is one clear error naming its line.
+#[test]
+fn feature_edges_from_a_file_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An 8 × 8 grid of unit cells, interior vertices pushed about in the plane (those
+    // on the line y = 4 along it only).
+    let n = 8usize;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (mut x, mut y) = (i as f64, j as f64);
+            let k = j * (n + 1) + i;
+            if i > 0 && i < n && j > 0 && j < n {
+                x += 0.3 * ((k * 7 % 5) as f64 / 5.0 - 0.4);
+                if j != 4 {
+                    y += 0.3 * ((k * 3 % 7) as f64 / 7.0 - 0.4);
+                }
+            }
+            obj.push_str(&format!("v {x} {y} 0\n"));
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            obj.push_str(&format!(
+                "f {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1)
+            ));
+            obj.push_str(&format!(
+                "f {} {} {}\n",
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            ));
+        }
+    }
+    let input = d.join("grid.obj");
+    fs::write(&input, obj).unwrap();
+    let mut edges = String::from("# the line y = 4, as 0-based vertex pairs\n");
+    for i in 0..n {
+        edges.push_str(&format!("{} {}\n", id(i, 4) - 1, id(i + 1, 4) - 1));
+    }
+    let file = d.join("line.txt");
+    fs::write(&file, edges).unwrap();
+    let covered = |path: &Path| -> f64 {
+        let m = read_mesh(path).unwrap();
+        let mut sum = 0.0;
+        for face in m.faces.iter() {
+            for k in 0..3 {
+                let (a, b) = (
+                    m.positions[face[k] as usize],
+                    m.positions[face[(k + 1) % 3] as usize],
+                );
+                if a.y == 4.0 && b.y == 4.0 {
+                    // Each interior edge is seen from both sides.
+                    sum += 0.5 * a.distance(b);
+                }
+            }
+        }
+        sum
+    };
+    let out = d.join("out.ply");
+    let j = json(&[
+        "remesh",
+        s(&input),
+        s(&out),
+        "--edge-length",
+        "1.3",
+        "--feature-edges",
+        s(&file),
+        "--json",
+    ]);
+    assert_eq!(j["given_feature_edges"], 8, "{j}");
+    assert!((covered(&out) - 8.0).abs() < 1e-9, "{}", covered(&out));
+    let text = String::from_utf8(
+        beltrami(&[
+            "remesh",
+            s(&input),
+            s(&out),
+            "--edge-length",
+            "1.3",
+            "--feature-edges",
+            s(&file),
+            "--force",
+        ])
+        .stdout,
+    )
+    .unwrap();
+    assert!(
+        text.contains("features: 8 interior edges given in") && text.contains("corners fixed"),
+        "{text}"
+    );
+    let free = d.join("free.ply");
+    beltrami(&["remesh", s(&input), s(&free), "--edge-length", "1.3"]);
+    assert!(covered(&free) < 7.0, "{}", covered(&free));
+    // Bad files: one line, exit 1, nothing written.
+    for (content, expected) in [
+        (
+            "0 1\n0 x\n",
+            "line 2: expected two vertex indices (0-based integers), got \"0 x\"",
+        ),
+        (
+            "# c\n\n0 20\n",
+            "line 3: 0 20 is not an edge of grid.obj: no edge joins them",
+        ),
+        (
+            "0 1 2\n",
+            "line 1: expected two vertex indices (0-based integers), got \"0 1 2\"",
+        ),
+        (
+            "0 99\n",
+            "line 1: 0 99 is not an edge of grid.obj: vertex 99 is out of range (81 vertices)",
+        ),
+    ] {
+        fs::write(&file, content).unwrap();
+        let bad = d.join("bad.ply");
+        let o = beltrami(&["remesh", s(&input), s(&bad), "--feature-edges", s(&file)]);
+        assert_eq!(o.status.code(), Some(1), "{content}");
+        assert_eq!(
+            error_line(&o, d),
+            format!("error: line.txt: {expected}"),
+            "{content}"
+        );
+        assert!(!bad.exists());
+    }
+}

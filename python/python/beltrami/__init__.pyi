@@ -180,6 +180,7 @@ def remesh(
     adaptive: Union[bool, tuple[Optional[float], Optional[float], Optional[float]], None] = None,
     iterations: int = 10,
     features: Optional[float] = None,
+    feature_edges: Optional[npt.ArrayLike] = None,
     projection: bool = True,
     smooth_projection: bool = True,
     progress: bool = False,

@@ -45,6 +45,8 @@ pub const FOLD_ANGLE: f64 = 5.0 * std::f64::consts::PI / 6.0;
 pub(super) struct Detected {
     /// Interior edges whose dihedral angle exceeds the feature angle.
     pub(super) feature_edges: usize,
+    /// Interior edges the caller gave as features (whether or not sharp).
+    pub(super) given_edges: usize,
     /// Those of them whose triangles fold back onto each other (dihedral angle above
     /// [`FOLD_ANGLE`]).
     pub(super) fold_edges: usize,
@@ -54,18 +56,21 @@ pub(super) struct Detected {
     pub(super) corners: usize,
 }
 
-/// Flags the feature edges (interior edges sharper than `feature_angle`, and every
-/// boundary edge) and the corners: vertices with one or more than two feature edges, and
-/// vertices whose two feature edges turn by more than `corner_angle`.
+/// Flags the feature edges (interior edges sharper than `feature_angle`, those `given`
+/// flags (indexed by edge; empty for none), and every boundary edge) and the corners:
+/// vertices with one or more than two feature edges, and vertices whose two feature
+/// edges turn by more than `corner_angle`.
 pub(super) fn detect(
     mesh: &mut EditMesh,
     feature: EdgeProperty<bool>,
     corner: VertexProperty<bool>,
     feature_angle: Option<f64>,
     corner_angle: f64,
+    given: &[bool],
 ) -> Detected {
     let mut found = Detected {
         feature_edges: 0,
+        given_edges: 0,
         fold_edges: 0,
         boundary_edges: 0,
         corners: 0,
@@ -75,15 +80,19 @@ pub(super) fn detect(
         let flag = if mesh.is_boundary_edge(e) {
             found.boundary_edges += 1;
             true
-        } else if let Some(a) = feature_angle
-            && let angle = dihedral(mesh, e)
-            && angle > a
-        {
-            found.feature_edges += 1;
-            found.fold_edges += usize::from(angle > FOLD_ANGLE);
-            true
         } else {
-            false
+            let is_given = given.get(e.index()).copied().unwrap_or(false);
+            found.given_edges += usize::from(is_given);
+            let sharp = feature_angle.is_some_and(|a| {
+                let angle = dihedral(mesh, e);
+                let sharp = angle > a;
+                if sharp {
+                    found.feature_edges += 1;
+                    found.fold_edges += usize::from(angle > FOLD_ANGLE);
+                }
+                sharp
+            });
+            sharp || is_given
         };
         mesh.set(feature, e, flag);
     }

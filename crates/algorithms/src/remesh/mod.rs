@@ -73,7 +73,7 @@ use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
 use beltrami_halfedge::geometry::DEGENERACY_RATIO;
-use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError};
+use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
@@ -340,6 +340,9 @@ pub struct RemeshReport {
     pub edge_length_cv: f64,
     /// Interior edges of the input found sharper than the feature angle.
     pub feature_edges: usize,
+    /// Interior edges of the input given as features by the caller
+    /// ([`remesh_with_feature_edges`]), sharp or not.
+    pub given_feature_edges: usize,
     /// Those of the feature edges whose two triangles fold back onto each other (a
     /// dihedral angle above [`FOLD_ANGLE`], 150°): on a scan these are folded slivers,
     /// which stay in the output as feature curves, folds and all.
@@ -453,6 +456,19 @@ algorithm_error! {
             diagonal: f64,
             /// The (mean) target edge length.
             edge_length: f64,
+        },
+        /// A pair of [`remesh_with_feature_edges`] is not an edge of the input: a vertex
+        /// index out of range, or two vertices no edge joins.
+        #[error("feature edge {index} ({a}, {b}) is not an edge of the mesh: {why}")]
+        FeatureEdge {
+            /// The pair's position in the list (0-based).
+            index: usize,
+            /// Its first vertex.
+            a: u64,
+            /// Its second vertex.
+            b: u64,
+            /// `"vertex N is out of range (M vertices)"` or `"no edge joins them"`.
+            why: String,
         },
         /// The progress closure of [`remesh_with_progress`] asked to stop.
         #[error("remeshing was stopped after {done} of {total} iterations")]
@@ -645,6 +661,91 @@ pub fn remesh_with_progress(
     options: &RemeshOptions,
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
+    remesh_inner(mesh, positions, options, &[], progress)
+}
+
+/// [`remesh_with_progress`] with feature edges given by the caller: each pair `[a, b]`
+/// of `feature_edges` names the edge between input vertices `a` and `b` (in either
+/// order), which is kept as a feature curve like an edge sharper than
+/// [`RemeshOptions::feature_angle`] (never flipped or collapsed across; its vertices
+/// move only along it and are projected onto the input's feature edges; corners where
+/// other than two feature edges meet or the curve turns by more than the feature angle,
+/// or [`DEFAULT_CORNER_ANGLE`] without one). This is the edge attribute a caller sets
+/// for creases no angle finds: a gentle fillet's border, a measured part's datum line,
+/// the seam between two materials. The given edges and the sharp ones are kept alike;
+/// boundary edges are kept in any case. [`RemeshReport::given_feature_edges`] counts the
+/// interior edges given.
+///
+/// # Errors
+/// As for [`remesh_with_progress`], and [`RemeshError::FeatureEdge`] for a pair that is
+/// not an edge of `mesh` (checked before any work).
+///
+/// # Examples
+/// ```
+/// use beltrami_algorithms::{remesh_with_feature_edges, RemeshOptions};
+/// use beltrami_halfedge::primitives;
+///
+/// // A flat 8 × 8 grid (unit cells) with its middle row of edges, y = 4, given as a
+/// // feature line.
+/// let grid = primitives::grid(8, 8);
+/// let mesh = grid.mesh()?;
+/// let on_line = |p: &beltrami_halfedge::DVec3| (p.y - 4.0).abs() < 1e-12;
+/// let line: Vec<[u32; 2]> = mesh
+///     .edges()
+///     .map(|e| mesh.edge_vertices(e).map(|v| v.index() as u32))
+///     .filter(|[a, b]| on_line(&grid.positions[*a as usize]) && on_line(&grid.positions[*b as usize]))
+///     .collect();
+/// let options = RemeshOptions::default().relative_edge_length(1.5);
+/// let (out, x, report) =
+///     remesh_with_feature_edges(&mesh, &grid.positions, &line, &options, |_, _| {
+///         std::ops::ControlFlow::Continue(())
+///     })?;
+/// assert_eq!(report.given_feature_edges, line.len());
+/// // The line is still a chain of edges of the result.
+/// let kept = out
+///     .edges()
+///     .filter(|&e| out.edge_vertices(e).iter().all(|v| on_line(&x[v.index()])))
+///     .count();
+/// assert!(kept >= 4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn remesh_with_feature_edges(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    feature_edges: &[[u32; 2]],
+    options: &RemeshOptions,
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
+    check_mesh(mesh, positions)?;
+    let n = mesh.n_vertices();
+    let mut given = vec![false; mesh.n_edges()];
+    for (index, &[a, b]) in feature_edges.iter().enumerate() {
+        let refuse = |why: String| RemeshError::FeatureEdge {
+            index,
+            a: u64::from(a),
+            b: u64::from(b),
+            why,
+        };
+        if let Some(&v) = [a, b].iter().find(|&&v| v as usize >= n) {
+            return Err(refuse(format!("vertex {v} is out of range ({n} vertices)")));
+        }
+        let h = mesh
+            .find_halfedge(VertexId::new(a), VertexId::new(b))
+            .ok_or_else(|| refuse("no edge joins them".to_string()))?;
+        given[h.edge().index()] = true;
+    }
+    remesh_inner(mesh, positions, options, &given, progress)
+}
+
+/// [`remesh_with_progress`] with `given` feature edges (indexed by edge; empty for
+/// none).
+fn remesh_inner(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &RemeshOptions,
+    given: &[bool],
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
@@ -666,6 +767,7 @@ pub fn remesh_with_progress(
         corner,
         options.feature_angle,
         corner_angle,
+        given,
     );
     let curves = curves::CurveIndex::new(&edit, feature);
     let phong = (options.projection && options.smooth_projection).then(|| {
@@ -715,6 +817,7 @@ pub fn remesh_with_progress(
         mean_edge_length_before: mean_before,
         edge_length_cv_before: cv_before,
         feature_edges: found.feature_edges,
+        given_feature_edges: found.given_edges,
         fold_edges: found.fold_edges,
         boundary_edges: found.boundary_edges,
         corners: found.corners,
