@@ -334,15 +334,24 @@ fn edge_pairs(x: &Bound<'_, PyAny>) -> PyResult<Vec<[u32; 2]>> {
     let array = numpy.call_method1("asarray", (x,))?;
     let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    // No pairs: `[]` (which numpy makes a float array) or any empty array.
+    if shape.iter().product::<usize>() == 0 && matches!(shape.as_slice(), [0] | [0, 2]) {
+        return Ok(Vec::new());
+    }
     let bad = || {
+        let shape: Vec<String> = shape.iter().map(ToString::to_string).collect();
         PyValueError::new_err(format!(
-            "feature_edges must be a (K, 2) array of vertex indices, got shape {shape:?} of dtype kind {kind:?}"
+            "feature_edges must be a (K, 2) array of vertex indices (integers), got shape ({}) of dtype kind {kind:?}",
+            shape.join(", ")
         ))
     };
-    if !(matches!(kind.as_str(), "i" | "u") && (matches!(shape.as_slice(), [_, 2] | [0]))) {
+    if !(matches!(kind.as_str(), "i" | "u") && matches!(shape.as_slice(), [_, 2])) {
         return Err(bad());
     }
-    let values: Vec<i128> = array.call_method0("ravel")?.call_method0("tolist")?.extract()?;
+    let values: Vec<i128> = array
+        .call_method0("ravel")?
+        .call_method0("tolist")?
+        .extract()?;
     values
         .chunks_exact(2)
         .enumerate()

@@ -236,6 +236,9 @@ def test_remesh_keeps_given_feature_edges():
         bt.remesh(grid, 1.3, feature_edges=[0, 1, 2])
     with pytest.raises(ValueError, match="row 0: vertex index -1"):
         bt.remesh(grid, 1.3, feature_edges=[[-1, 0]])
+    # No pairs at all: as without the argument.
+    _, report = bt.remesh(grid, 1.3, feature_edges=[])
+    assert report["given_feature_edges"] == 0
 
 
 def test_remesh_adaptive_derives_what_is_not_given():

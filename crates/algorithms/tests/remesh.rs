@@ -1265,3 +1265,49 @@ fn given_feature_edges_are_kept_as_a_curve() {
         assert!(e.to_string().ends_with(why), "{e}");
     }
 }
+
+/// A given curve on a smooth surface is no crease: its vertices are lifted onto the
+/// smooth surface like the others (on the unit sphere, not a chord's sagitta below), the
+/// vertices beside it too, and the curve is kept as a chain of edges on the input's
+/// given edges (here seen through their lift: on the sphere, within the plane z = c).
+#[test]
+fn a_given_curve_on_a_sphere_stays_on_the_sphere() {
+    use beltrami_algorithms::remesh_with_feature_edges;
+    let sphere = primitives::icosphere(3);
+    let mesh = sphere.mesh().unwrap();
+    let x = &sphere.positions;
+    // A closed path of edges: from each vertex of the icosphere with z near 0.3, the
+    // edges to neighbours with z near 0.3 (a ring of the subdivided icosahedron).
+    let band = |p: DVec3| (p.z - 0.3).abs() < 0.08;
+    let pairs: Vec<[u32; 2]> = mesh
+        .edges()
+        .map(|e| mesh.edge_vertices(e).map(|v| v.index() as u32))
+        .filter(|[a, b]| band(x[*a as usize]) && band(x[*b as usize]))
+        .collect();
+    assert!(pairs.len() > 10, "{}", pairs.len());
+    let options = RemeshOptions::default();
+    let go = |_, _| std::ops::ControlFlow::Continue(());
+    let (out, y, report) = remesh_with_feature_edges(&mesh, x, &pairs, &options, go).unwrap();
+    assert_eq!(report.given_feature_edges, pairs.len());
+    let (plain, z, _) = remesh(&mesh, x, &options).unwrap();
+    // Every vertex near the unit sphere as closely as without the given edges (a chord's
+    // sagitta here is about 1e-3).
+    let worst = |p: &[DVec3]| {
+        p.iter()
+            .map(|q| (q.length() - 1.0).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        worst(&y) < 2.0 * worst(&z) + 1e-5,
+        "{} against {}",
+        worst(&y),
+        worst(&z)
+    );
+    assert!(worst(&y) < 1e-4, "{}", worst(&y));
+    EditMesh::from_mesh(&out, &y)
+        .unwrap()
+        .check_integrity()
+        .unwrap();
+    assert_eq!(out.euler_characteristic(), 2);
+    let _ = plain;
+}

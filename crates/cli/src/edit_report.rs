@@ -135,11 +135,16 @@ impl EditOutputArgs {
     /// Checks OUTPUT and the `--report` file against each other and the input, before
     /// any work (see [`Outputs::check`]).
     pub(crate) fn check(&self, output: &Path, input: &PathBuf) -> Result<(), CliError> {
+        self.check_inputs(output, &[input])
+    }
+
+    /// [`check`](Self::check) against several input files (INPUT and a file of options).
+    pub(crate) fn check_inputs(&self, output: &Path, inputs: &[&PathBuf]) -> Result<(), CliError> {
         let mut outputs = Outputs::new();
         outputs
             .add(output, "OUTPUT")
             .add_opt(self.report.as_ref(), "--report");
-        outputs.check(&[input], self.force)
+        outputs.check(inputs, self.force)
     }
 
     /// Writes the result mesh to `output` and, with `--report`, the JSON document

@@ -86,9 +86,10 @@ pub(crate) struct RemeshArgs {
     features: Option<f64>,
     /// Also keep these edges as feature curves, for creases no angle finds (a datum
     /// line, the seam between two materials, a gentle fillet's border): a text file with
-    /// one edge per line, the 0-based indices of its two vertices in INPUT as read (with
-    /// --repair, in the repaired mesh, as `beltrami repair` writes it); `#` starts a
-    /// comment.
+    /// one edge per line, the 0-based indices of its two vertices in INPUT as read; `#`
+    /// starts a comment. With --repair, refused when the repair renumbers the vertices.
+    /// Edges that are not sharp stay smooth: the surface runs across them as without
+    /// them.
     #[arg(long, value_name = "FILE")]
     feature_edges: Option<PathBuf>,
     /// Do not project the vertices back onto the input surface (they then move only
@@ -259,7 +260,9 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         "remesh",
         "remeshing makes new vertices off the grid",
     )?;
-    args.outputs.check(&args.output, &args.input)?;
+    let mut inputs = vec![&args.input];
+    inputs.extend(args.feature_edges.as_ref());
+    args.outputs.check_inputs(&args.output, &inputs)?;
     let given = args
         .feature_edges
         .as_ref()
@@ -267,6 +270,19 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         .transpose()?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
+    // The pairs name INPUT's vertices: a repair that renumbers them would make them name
+    // other edges.
+    if given.is_some()
+        && let Some(r) = &loaded.repair
+        && !(r.merged_vertices.is_empty()
+            && r.removed_vertices.is_empty()
+            && r.split_vertices.is_empty())
+    {
+        return Err(CliError::Input {
+            path: args.input.clone(),
+            message: "--repair renumbered the vertices (merged, removed or split some), so --feature-edges would name other edges; repair the mesh first with `beltrami repair` and give the edges in the repaired file's numbering".to_string(),
+        });
+    }
     let start = std::time::Instant::now();
     // A bar on a terminal for meshes whose iterations take a noticeable time (about a
     // tenth of a second each from 100 000 faces on two cores).
@@ -409,32 +425,19 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     if let Some(note) = degenerate_note(&report) {
         writeln!(out, "{note}")?;
     }
-    if let Some(path) = &args.feature_edges {
-        writeln!(
-            out,
-            "features: {} given in {} kept as feature curves{}",
-            counted(
-                report.given_feature_edges,
-                "interior edge",
-                "interior edges"
-            ),
-            path.display(),
-            if args.features.is_none() {
-                format!(", {} corners fixed", report.corners)
-            } else {
-                String::new()
-            }
-        )?;
-    }
     if let Some(angle) = args.features {
         let interior = loaded.mesh.n_edges() - report.boundary_edges;
         writeln!(
             out,
-            "features: {} of {} interior edges sharper than {}° kept as feature curves, {} corners fixed",
+            "features: {} of {} interior edges sharper than {}° kept as feature curves{}",
             report.feature_edges,
             interior,
             number(angle),
-            report.corners,
+            if args.feature_edges.is_none() {
+                format!(", {} corners fixed", report.corners)
+            } else {
+                String::new()
+            },
         )?;
         if let Some(note) = fold_note(&report) {
             writeln!(out, "{note}")?;
@@ -446,6 +449,19 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
                 number(angle),
             )?;
         }
+    }
+    if let Some(path) = &args.feature_edges {
+        writeln!(
+            out,
+            "features: {} given in {} kept as feature curves, {} corners fixed",
+            counted(
+                report.given_feature_edges,
+                "interior edge",
+                "interior edges"
+            ),
+            path.display(),
+            report.corners
+        )?;
     }
     quality.write_table(out)?;
     Ok(())

@@ -662,6 +662,39 @@ fn feature_edges_from_a_file_are_kept() {
     let free = d.join("free.ply");
     beltrami(&["remesh", s(&input), s(&free), "--edge-length", "1.3"]);
     assert!(covered(&free) < 7.0, "{}", covered(&free));
+    // The file cannot be the OUTPUT; with --repair that renumbers the vertices the
+    // pairs would name other edges: refused.
+    let named = d.join("line.obj");
+    fs::copy(&file, &named).unwrap();
+    let o = beltrami(&["remesh", s(&input), s(&named), "--feature-edges", s(&named)]);
+    assert!(!o.status.success());
+    assert!(
+        error_line(&o, d).contains("line.obj"),
+        "{}",
+        error_line(&o, d)
+    );
+    assert_eq!(fs::read(&named).unwrap(), fs::read(&file).unwrap());
+    let stray = d.join("stray.obj");
+    fs::write(
+        &stray,
+        format!("{}v 9 9 9\n", fs::read_to_string(&input).unwrap()),
+    )
+    .unwrap();
+    let o = beltrami(&[
+        "remesh",
+        s(&stray),
+        s(&d.join("r.ply")),
+        "--feature-edges",
+        s(&file),
+        "--repair",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        error_line(&o, d).contains("--repair renumbered the vertices"),
+        "{}",
+        error_line(&o, d)
+    );
+    assert!(!d.join("r.ply").exists());
     // Bad files: one line, exit 1, nothing written.
     for (content, expected) in [
         (

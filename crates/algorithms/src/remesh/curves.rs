@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use beltrami_halfedge::edit::{EdgeProperty, VertexProperty};
-use beltrami_halfedge::{DVec3, EdgeId, EditMesh, HalfedgeId, VertexId};
+use beltrami_halfedge::{DVec3, EdgeId, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, VertexId};
 
 /// The angle between the normals of the two triangles of interior edge `e`, radians
 /// (0 for a flat pair, 0 for a degenerate triangle).
@@ -129,17 +129,55 @@ pub(super) struct CurveIndex {
     /// The range of occupied cells, to end the ring search.
     lo: [i64; 3],
     hi: [i64; 3],
+    /// For a segment that is no crease of the smooth surface (a feature edge given by
+    /// the caller, not sharp): an input face beside it, that face's vertices (in
+    /// [`HalfedgeMesh::triangle_vertices`](beltrami_halfedge::HalfedgeMesh::triangle_vertices)
+    /// order) and the corners of the segment's two ends among them, so that a point on
+    /// it can be lifted onto the smooth surface. `None` for creases.
+    smooth: Vec<Option<SmoothSegment>>,
+}
+
+/// See [`CurveIndex::smooth`].
+#[derive(Clone, Copy)]
+pub(super) struct SmoothSegment {
+    pub(super) face: FaceId,
+    pub(super) vertices: [VertexId; 3],
+    /// The corners of the segment's first and second end.
+    pub(super) ends: [usize; 2],
 }
 
 impl CurveIndex {
-    /// Indexes the feature edges of `mesh`.
-    pub(super) fn new(mesh: &EditMesh, feature: EdgeProperty<bool>) -> Self {
-        let segments: Vec<[DVec3; 2]> = mesh
-            .edges()
-            .filter(|&e| *mesh.get(feature, e))
-            .map(|e| {
+    /// Indexes the feature edges of `mesh` (the editable copy of `input`, with its ids);
+    /// `crease(e)` says whether feature edge `e` is a crease of the smooth surface.
+    pub(super) fn new(
+        mesh: &EditMesh,
+        input: &HalfedgeMesh,
+        feature: EdgeProperty<bool>,
+        crease: impl Fn(EdgeId) -> bool,
+    ) -> Self {
+        let edges: Vec<EdgeId> = mesh.edges().filter(|&e| *mesh.get(feature, e)).collect();
+        let segments: Vec<[DVec3; 2]> = edges
+            .iter()
+            .map(|&e| {
                 let [a, b] = mesh.edge_vertices(e);
                 [mesh.position(a), mesh.position(b)]
+            })
+            .collect();
+        let smooth = edges
+            .iter()
+            .map(|&e| {
+                if crease(e) {
+                    return None;
+                }
+                let [a, b] = input.edge_vertices(e);
+                let face = e.halfedges().into_iter().find_map(|h| input.face(h))?;
+                let vertices = input.triangle_vertices(face);
+                let at = |v: VertexId| vertices.iter().position(|&w| w == v);
+                Some(SmoothSegment {
+                    face,
+                    vertices,
+                    ends: [at(a)?, at(b)?],
+                })
             })
             .collect();
         let total: f64 = segments.iter().map(|[a, b]| a.distance(*b)).sum();
@@ -151,6 +189,7 @@ impl CurveIndex {
         };
         let mut index = Self {
             segments,
+            smooth,
             cell,
             cells: HashMap::new(),
             lo: [i64::MAX; 3],
@@ -183,9 +222,12 @@ impl CurveIndex {
     /// Rings of cells around `p`'s cell are searched outwards until the best distance is
     /// smaller than the distance to the next ring. Ties go to the smaller segment index,
     /// so the answer is deterministic.
-    pub(super) fn closest_point(&self, p: DVec3) -> DVec3 {
+    ///
+    /// With the point, for a point on a segment that is no crease, that segment's face
+    /// and the point's barycentric weights in it.
+    pub(super) fn closest(&self, p: DVec3) -> (DVec3, Option<(SmoothSegment, [f64; 3])>) {
         if self.segments.is_empty() {
-            return p;
+            return (p, None);
         }
         let c = self.key(p);
         let mut best = (f64::INFINITY, u32::MAX, p);
@@ -220,7 +262,21 @@ impl CurveIndex {
                 }
             }
         }
-        best.2
+        let (_, i, q) = best;
+        let smooth = self.smooth.get(i as usize).copied().flatten().map(|s| {
+            let [a, b] = self.segments[i as usize];
+            let d = b - a;
+            let t = if d.length_squared() > 0.0 {
+                ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let mut weights = [0.0; 3];
+            weights[s.ends[0]] = 1.0 - t;
+            weights[s.ends[1]] = t;
+            (s, weights)
+        });
+        (q, smooth)
     }
 }
 

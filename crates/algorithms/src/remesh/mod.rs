@@ -73,7 +73,7 @@ use std::ops::ControlFlow;
 
 use beltrami_halfedge::edit::VertexProperty;
 use beltrami_halfedge::geometry::DEGENERACY_RATIO;
-use beltrami_halfedge::{DVec3, EditMesh, FaceId, HalfedgeMesh, TopologyError, VertexId};
+use beltrami_halfedge::{DVec3, EdgeId, EditMesh, FaceId, HalfedgeMesh, TopologyError, VertexId};
 use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
@@ -769,11 +769,25 @@ fn remesh_inner(
         corner_angle,
         given,
     );
-    let curves = curves::CurveIndex::new(&edit, feature);
-    let phong = (options.projection && options.smooth_projection).then(|| {
+    // A given edge that is not sharp (a datum line on a smooth surface) is no crease:
+    // the smooth surface runs across it as it does without it, and its vertices are
+    // lifted onto that surface as the others are.
+    let given_only = |e: EdgeId| {
+        given.get(e.index()).copied().unwrap_or(false)
+            && !mesh.is_boundary_edge(e)
+            && !options
+                .feature_angle
+                .is_some_and(|a| curves::dihedral(&edit, e) > a)
+    };
+    let crease: Vec<bool> = {
         let flags = edit.values(feature);
-        PhongSurface::new(mesh, positions, |e| flags[e.index()])
-    });
+        mesh.edges()
+            .map(|e| flags[e.index()] && !given_only(e))
+            .collect()
+    };
+    let curves = curves::CurveIndex::new(&edit, mesh, feature, |e| crease[e.index()]);
+    let phong = (options.projection && options.smooth_projection)
+        .then(|| PhongSurface::new(mesh, positions, |e| crease[e.index()]));
     let index = SurfaceIndex::new(mesh, positions)?;
     // Lengths far beyond the surface's extent act alike (every edge is short, no edge
     // long); capped, their squares (the relaxation's weights) stay finite.

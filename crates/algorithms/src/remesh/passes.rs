@@ -97,7 +97,17 @@ impl Remesher<'_> {
         }
         let p = self.mesh.position(v);
         if self.features_at(v) > 0 {
-            return Ok(Some((self.curves.closest_point(p), None)));
+            let (q, smooth) = self.curves.closest(p);
+            // On a given curve that is no crease, lifted onto the smooth surface as the
+            // vertices off it are.
+            let lifted = match (&self.phong, self.surface, smooth) {
+                (Some(phong), Some(surface), Some((s, weights))) => {
+                    let corners = s.vertices.map(|w| surface.positions()[w.index()]);
+                    phong.lift(s.face, s.vertices, corners, weights, q)
+                }
+                _ => q,
+            };
+            return Ok(Some((lifted, None)));
         }
         self.surface_projection(p)
     }
