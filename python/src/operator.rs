@@ -72,6 +72,7 @@ pub(crate) fn laplacian<'py>(
     };
     let negative = crate::study::negative_weights(cotangent_negative)?;
     let scheme = scheme(weights)?;
+    let failure = crate::scheme::failure_slot(weights);
     let n = mesh.mesh.n_vertices();
     let csr = py.detach(|| {
         no_panic(|| {
@@ -106,7 +107,7 @@ pub(crate) fn laplacian<'py>(
     // The scheme's own exception first (and taken in any case, so that it is not
     // raised by a later call): a failed Python scheme leaves NaN weights, which the
     // operator then reports in less helpful terms.
-    if let Some(e) = crate::scheme::take_failure(weights) {
+    if let Some(e) = crate::scheme::take(failure.as_ref()) {
         return Err(e);
     }
     csr_matrix(py, csr?, n)

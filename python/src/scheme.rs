@@ -27,7 +27,7 @@ struct PythonScheme {
 }
 
 /// Where a Python scheme leaves the exception its function raised.
-type Slot = Arc<Mutex<Option<PyErr>>>;
+pub(crate) type Slot = Arc<Mutex<Option<PyErr>>>;
 
 /// The exception slots of the Python schemes, by name.
 fn slots() -> &'static Mutex<HashMap<String, Slot>> {
@@ -135,11 +135,21 @@ impl WeightScheme for PythonScheme {
     }
 }
 
-/// The first exception the Python scheme `name` raised since the last call, if any.
-pub(crate) fn take_failure(name: &str) -> Option<PyErr> {
-    let slots = slots().lock().unwrap_or_else(PoisonError::into_inner);
-    let slot = slots.get(name)?;
-    slot.lock().unwrap_or_else(PoisonError::into_inner).take()
+/// Where the Python scheme `name` leaves its exception (`None` for a built-in scheme).
+/// A run takes it with the scheme, before it starts, and reads it with [`take`] after
+/// it: a scheme replaced meanwhile (`register_weight(..., replace=True)` from another
+/// thread) gets a new slot, and the run must read the one its scheme writes.
+pub(crate) fn failure_slot(name: &str) -> Option<Slot> {
+    slots()
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .get(name)
+        .cloned()
+}
+
+/// The first exception left in `slot` since it was last read, if any.
+pub(crate) fn take(slot: Option<&Slot>) -> Option<PyErr> {
+    slot?.lock().unwrap_or_else(PoisonError::into_inner).take()
 }
 
 /// Registers a weight scheme computed by a Python function, under `name`.

@@ -296,6 +296,7 @@ pub(crate) fn smooth<'py>(
         step_stats,
     };
     let scheme = scheme(&options.weights)?;
+    let failure = crate::scheme::failure_slot(&options.weights);
     options.check_combination(solver.is_some())?;
     if mesh.mesh.n_faces() == 0 {
         return Err(crate::errors::MeshError::new_err(format!(
@@ -342,7 +343,7 @@ pub(crate) fn smooth<'py>(
     let interrupted = stop.load(std::sync::atomic::Ordering::Relaxed);
     let smoothed = observer.finish_after(py, smoothed);
     // Taken in any case (so that a later call does not raise it); Ctrl-C comes first.
-    if let Some(e) = crate::scheme::take_failure(&options.weights)
+    if let Some(e) = crate::scheme::take(failure.as_ref())
         && !interrupted
     {
         return Err(e);

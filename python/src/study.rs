@@ -220,6 +220,13 @@ pub(crate) fn study<'py>(
         .iter()
         .map(|s| s.name().to_string())
         .collect();
+    // The slots of the schemes this run holds (see `failure_slot`).
+    let failures: Vec<_> = names
+        .iter()
+        .map(String::as_str)
+        .chain((!no_countermeasures).then_some(countermeasure_weights))
+        .map(crate::scheme::failure_slot)
+        .collect();
     let written = py.detach(|| {
         no_panic(|| {
             let results = run_study(&config, &mut |_| {}).map_err(|e| study_error(&e))?;
@@ -231,11 +238,9 @@ pub(crate) fn study<'py>(
     });
     // Every scheme's failure is taken (the countermeasures' scheme's too), so that none
     // is left for a later call to raise; the first is raised.
-    let first = names
+    let first = failures
         .iter()
-        .map(String::as_str)
-        .chain((!no_countermeasures).then_some(countermeasure_weights))
-        .filter_map(crate::scheme::take_failure)
+        .filter_map(|slot| crate::scheme::take(slot.as_ref()))
         .reduce(|first, _| first);
     if let Some(e) = first {
         return Err(e);

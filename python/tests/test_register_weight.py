@@ -116,3 +116,36 @@ def test_a_function_that_is_not_callable_is_refused_at_once():
     with pytest.raises(TypeError, match="must be callable"):
         bt.register_weight("not-callable", np.ones(3))
     assert "not-callable" not in bt.weight_schemes()
+
+
+def test_a_run_raises_its_own_schemes_exception_when_replaced_meanwhile(sphere):
+    # The scheme's function waits inside the run until the main thread has replaced the
+    # scheme, then raises: the run must raise that exception, not report the NaN weights
+    # it left (the replacement's slot is empty).
+    import threading
+
+    inside, replaced = threading.Event(), threading.Event()
+
+    def failing(h):
+        inside.set()
+        replaced.wait(10)
+        raise ArithmeticError("the first version failed")
+
+    bt.register_weight("race_scheme", failing, replace=True)
+    seen = []
+
+    def run():
+        try:
+            bt.smooth(sphere, weights="race_scheme", iterations=1)
+        except Exception as e:  # noqa: BLE001
+            seen.append(e)
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    assert inside.wait(10)
+    bt.register_weight("race_scheme", lambda h: np.ones(len(h["from_vertex"])), replace=True)
+    replaced.set()
+    worker.join(10)
+    assert len(seen) == 1 and isinstance(seen[0], ArithmeticError), seen
+    # The replacement works, and nothing is left over for it to raise.
+    bt.smooth(sphere, weights="race_scheme", iterations=1)
