@@ -142,14 +142,9 @@ pub(crate) fn write(
         )));
     }
     // STL stores triangles only: say so when a vertex in no face is left out.
-    let in_no_face = mesh
-        .mesh
-        .vertices()
-        .filter(|&v| mesh.mesh.is_isolated(v))
-        .count();
     let dropped = MeshFormat::from_path(&path)
         .ok()
-        .and_then(|f| f.drops_vertices_in_no_face(in_no_face));
+        .and_then(|f| f.drops_vertices_in_no_face(mesh.mesh.n_isolated_vertices()));
     let options = WriteOptions::default().encoding(if ascii {
         Encoding::Ascii
     } else {

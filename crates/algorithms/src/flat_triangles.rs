@@ -26,7 +26,7 @@
 
 use std::collections::VecDeque;
 
-use beltrami_halfedge::geometry::DEGENERACY_RATIO;
+use beltrami_halfedge::geometry::{DEGENERACY_RATIO, distance};
 use beltrami_halfedge::{
     DVec3, EditMesh, FaceId, HalfedgeId, HalfedgeMesh, TopologyError, VertexId,
 };
@@ -340,16 +340,6 @@ fn normal(a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
     shape(a, b, c).map_or(DVec3::ZERO, |(u, v, _)| u.cross(v))
 }
 
-/// The length of `d` without overflow or underflow of its squares.
-fn length(d: DVec3) -> f64 {
-    let m = d.abs().max_element();
-    if m > 0.0 && m.is_finite() {
-        m * (d / m).length()
-    } else {
-        m
-    }
-}
-
 /// The positions of the corners of the triangle of `h`: from, to, and the third.
 fn corners(mesh: &EditMesh, h: HalfedgeId) -> [DVec3; 3] {
     [
@@ -372,7 +362,10 @@ fn fix(
     let h0 = mesh.face_halfedge(f);
     let hs = [h0, mesh.next(h0), mesh.prev(h0)];
     let edge_length = |h: HalfedgeId| {
-        length(mesh.position(mesh.to_vertex(h)) - mesh.position(mesh.from_vertex(h)))
+        distance(
+            mesh.position(mesh.from_vertex(h)),
+            mesh.position(mesh.to_vertex(h)),
+        )
     };
     let mut by_length = hs;
     by_length.sort_by(|&x, &y| edge_length(x).total_cmp(&edge_length(y)));
@@ -427,7 +420,7 @@ fn fix(
             {
                 continue;
             }
-            let moved = length(mesh.position(to) - mesh.position(from));
+            let moved = distance(mesh.position(from), mesh.position(to));
             if moved > max_move {
                 continue;
             }

@@ -504,11 +504,7 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         report.vertices_before,
         report.vertices_after,
     )?;
-    let isolated = loaded
-        .mesh
-        .vertices()
-        .filter(|&v| loaded.mesh.is_isolated(v))
-        .count();
+    let isolated = loaded.mesh.n_isolated_vertices();
     if isolated > 0 {
         writeln!(
             out,

@@ -99,10 +99,7 @@ pub(crate) fn notes_for_output(
     let mut notes = lines.to_vec();
     let dropped = beltrami_io::MeshFormat::from_path(output)
         .ok()
-        .and_then(|format| {
-            format
-                .drops_vertices_in_no_face(mesh.vertices().filter(|&v| mesh.is_isolated(v)).count())
-        });
+        .and_then(|format| format.drops_vertices_in_no_face(mesh.n_isolated_vertices()));
     if let Some(note) = dropped {
         notes.push(format!("note: {note}"));
     }

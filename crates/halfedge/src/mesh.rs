@@ -81,6 +81,15 @@ impl HalfedgeMesh {
         self.f_he.len()
     }
 
+    /// The number of isolated vertices (in no edge, so in no face).
+    ///
+    /// # Complexity
+    /// O(V).
+    #[must_use]
+    pub fn n_isolated_vertices(&self) -> usize {
+        self.v_out.iter().filter(|&&h| h == INVALID).count()
+    }
+
     /// All vertex handles in index order.
     pub fn vertices(&self) -> IdRange<VertexId> {
         IdRange::new(self.n_vertices())

@@ -716,7 +716,17 @@ pub fn remesh_with_feature_edges(
     options: &RemeshOptions,
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    check_mesh(mesh, positions)?;
+    remesh_inner(mesh, positions, options, feature_edges, progress)
+}
+
+/// The edges `feature_edges` name (pairs of vertices of `mesh`), flagged by edge id.
+///
+/// # Errors
+/// [`RemeshError::FeatureEdge`] for the first pair that is not an edge.
+fn given_edges(mesh: &HalfedgeMesh, feature_edges: &[[u32; 2]]) -> Result<Vec<bool>, RemeshError> {
+    if feature_edges.is_empty() {
+        return Ok(Vec::new());
+    }
     let n = mesh.n_vertices();
     let mut given = vec![false; mesh.n_edges()];
     for (index, &[a, b]) in feature_edges.iter().enumerate() {
@@ -734,20 +744,21 @@ pub fn remesh_with_feature_edges(
             .ok_or_else(|| refuse("no edge joins them".to_string()))?;
         given[h.edge().index()] = true;
     }
-    remesh_inner(mesh, positions, options, &given, progress)
+    Ok(given)
 }
 
-/// [`remesh_with_progress`] with `given` feature edges (indexed by edge; empty for
-/// none).
+/// [`remesh_with_progress`] with the given `feature_edges` (vertex pairs; none for
+/// `&[]`).
 fn remesh_inner(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     options: &RemeshOptions,
-    given: &[bool],
+    feature_edges: &[[u32; 2]],
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
+    let given = given_edges(mesh, feature_edges)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);
     let total_area: f64 = edit.faces().map(|f| face_area(&edit, f)).sum();
@@ -767,7 +778,7 @@ fn remesh_inner(
         corner,
         options.feature_angle,
         corner_angle,
-        given,
+        &given,
     );
     // A given edge that is not sharp (a datum line on a smooth surface) is no crease:
     // the smooth surface runs across it as it does without it, and its vertices are

@@ -88,7 +88,7 @@ impl Geometry<'_> {
                 _ => None,
             },
             component_genus,
-            isolated_vertices: mesh.vertices().filter(|&v| mesh.is_isolated(v)).count(),
+            isolated_vertices: mesh.n_isolated_vertices(),
             degenerate_faces: mesh.faces().filter(|&f| self.is_degenerate_face(f)).count(),
             bounding_box: self.bounding_box(),
             mean_edge_length: self.mean_edge_length(),
