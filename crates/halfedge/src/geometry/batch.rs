@@ -169,6 +169,156 @@ impl Geometry<'_> {
             scalar(t, o);
         }
     }
+
+    /// The cotangents of the triangles `triangles`, as
+    /// [`triangle_cotangents_into`](Self::triangle_cotangents_into) computes them (the
+    /// same bits), laid out in blocks of [`BLOCK`] triangles: the cotangent opposite the
+    /// halfedge ending at the `k`-th vertex of triangle `t` is
+    /// `out[`[`blocked_index`]`(t, k)]`, `3 × BLOCK` values per block (a short last
+    /// block's unused values are 0). Four triangles at a time in lane arrays, compiled
+    /// for AVX2 where the processor has it (chosen at run time; the same operations in
+    /// the same order, no fused multiply-adds, so the same bits either way); sequential,
+    /// so that a caller can run it on chunks of whole blocks in parallel.
+    ///
+    /// # Panics
+    /// If `out.len() != 3 * BLOCK * triangles.len().div_ceil(BLOCK)` or a vertex is out
+    /// of bounds.
+    pub fn triangle_cotangents_blocked_into(&self, triangles: &[[VertexId; 3]], out: &mut [f64]) {
+        assert_eq!(
+            out.len(),
+            3 * BLOCK * triangles.len().div_ceil(BLOCK),
+            "three cotangents per triangle, whole blocks"
+        );
+        pulp::Arch::new().dispatch(BlockedCotangents {
+            positions: self.positions,
+            triangles,
+            out,
+        });
+    }
+}
+
+/// Triangles per block of [`Geometry::triangle_cotangents_blocked_into`]: four lanes,
+/// one AVX2 register per coordinate where the processor has it.
+pub const BLOCK: usize = 4;
+
+/// Where [`Geometry::triangle_cotangents_blocked_into`] puts the cotangent opposite the
+/// halfedge ending at the `k`-th vertex (`k < 3`) of triangle `t`.
+#[inline]
+pub const fn blocked_index(t: usize, k: usize) -> usize {
+    3 * BLOCK * (t / BLOCK) + BLOCK * k + t % BLOCK
+}
+
+/// [`Geometry::triangle_cotangents_blocked_into`]'s work, for [`pulp::Arch::dispatch`]:
+/// a type rather than a closure, so that its body is compiled inside the dispatched
+/// function (a closure's body may stay a function of its own, compiled for the
+/// baseline).
+struct BlockedCotangents<'a> {
+    positions: &'a [DVec3],
+    triangles: &'a [[VertexId; 3]],
+    out: &'a mut [f64],
+}
+
+impl pulp::WithSimd for BlockedCotangents<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let Self {
+            positions,
+            triangles,
+            out,
+        } = self;
+        for (tris, out) in triangles.chunks(BLOCK).zip(out.chunks_exact_mut(3 * BLOCK)) {
+            let mut p = [[[0.0; BLOCK]; 3]; 3];
+            // A short last block repeats its last triangle.
+            for l in 0..BLOCK {
+                for (p, v) in p.iter_mut().zip(&tris[l.min(tris.len() - 1)]) {
+                    let q = positions[v.index()];
+                    p[0][l] = q.x;
+                    p[1][l] = q.y;
+                    p[2][l] = q.z;
+                }
+            }
+            let (cots, plain) = triangle_cotangents_array(&p);
+            if plain {
+                for (o, c) in out.chunks_exact_mut(BLOCK).zip(cots) {
+                    o.copy_from_slice(&c);
+                }
+            } else {
+                for (l, t) in tris.iter().enumerate() {
+                    let [a, b, c] = t.map(|v| positions[v.index()]);
+                    for (k, c) in triangle_cotangents(a, b, c).into_iter().enumerate() {
+                        out[BLOCK * k + l] = c;
+                    }
+                }
+            }
+            for o in out.chunks_exact_mut(BLOCK) {
+                o[tris.len()..].fill(0.0);
+            }
+        }
+    }
+}
+
+/// [`triangle_cotangents_lanes`] for [`BLOCK`] triangles whose corners are
+/// `p[corner][coordinate][lane]`, operation by operation, in lane arrays: the
+/// cotangents opposite the halfedges ending at `p0`, `p1`, `p2`, and whether every
+/// lane's three edge vectors are plain (else the values are meaningless).
+#[inline(always)]
+fn triangle_cotangents_array(p: &[[[f64; BLOCK]; 3]; 3]) -> ([[f64; BLOCK]; 3], bool) {
+    type W = [f64; BLOCK];
+    let sub = |a: &[W; 3], b: &[W; 3]| -> [W; 3] {
+        std::array::from_fn(|k| std::array::from_fn(|l| a[k][l] - b[k][l]))
+    };
+    // glam's `DVec3::dot` and `DVec3::cross`, operation by operation (see `lanes.rs`).
+    let dot = |a: &[W; 3], b: &[W; 3]| -> W {
+        std::array::from_fn(|l| a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l])
+    };
+    let cross = |a: &[W; 3], b: &[W; 3]| -> [W; 3] {
+        [
+            std::array::from_fn(|l| a[1][l] * b[2][l] - b[1][l] * a[2][l]),
+            std::array::from_fn(|l| a[2][l] * b[0][l] - b[2][l] * a[0][l]),
+            std::array::from_fn(|l| a[0][l] * b[1][l] - b[0][l] * a[1][l]),
+        ]
+    };
+    let s1 = sub(&p[1], &p[0]);
+    let s2 = sub(&p[2], &p[0]);
+    let e = sub(&p[2], &p[1]);
+    let (q1, q2, qe) = (dot(&s1, &s1), dot(&s2, &s2), dot(&e, &e));
+    // Plain edges, from the squared lengths (see `in_range`); a NaN is not plain.
+    let in_range = |q: f64| (SQUARED_LO..SQUARED_HI).contains(&q);
+    let plain = (0..BLOCK).fold(true, |all, l| {
+        all & in_range(q1[l]) & in_range(q2[l]) & in_range(qe[l])
+    });
+    // In plain lanes the squared lengths are finite, so `max` is `fast_max`.
+    let limit: W = std::array::from_fn(|l| DEGENERACY_RATIO * q1[l].max(q2[l]).max(qe[l]));
+    let length = |x: [W; 3]| -> W { dot(&x, &x).map(f64::sqrt) };
+    // The corners of `triangle_cotangents_lanes`: at p0 (s1, s2), at p1 (e, −s1), at
+    // p2 (−s2, −e).
+    let (cross0, cross1, cross2) = (
+        length(cross(&s1, &s2)),
+        length(cross(&e, &s1)),
+        length(cross(&s2, &e)),
+    );
+    let (d0, d1, d2) = (dot(&s1, &s2), dot(&e, &s1), dot(&s2, &e));
+    // `cot_lanes`: `dot / cross` where `cross > limit` and the quotient is finite, +0
+    // elsewhere.
+    let cot = |dot: W, cross: W| -> W {
+        std::array::from_fn(|l| {
+            let c = dot[l] / cross[l];
+            if (cross[l] > limit[l]) & (c.abs() < f64::INFINITY) {
+                c
+            } else {
+                0.0
+            }
+        })
+    };
+    let c0 = cot(d0, cross0);
+    // `0 − d`, as the lanes' negation (`wide`'s `Neg`) computes it: +0 where the dot
+    // product cancels to +0 (a right angle), as the corner's own `u · v` does; a sign
+    // flip would give −0 there.
+    let c1 = cot(d1.map(|d| 0.0 - d), cross1);
+    let c2 = cot(d2, cross2);
+    ([c1, c2, c0], plain)
 }
 
 /// The distances from `origin` to the points `positions[j]` for `j` in `targets` (vertex
@@ -563,6 +713,13 @@ mod tests {
             DVec3::splat(1.5e308),
             DVec3::new(1e308, -1e308, 0.0),
         ]);
+        // Right angles whose dot products are exact zeros, at each corner: the sign
+        // of a zero cotangent is the corner's own.
+        let right = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0)];
+        for k in 0..3 {
+            out.push(std::array::from_fn(|c| right[(c + k) % 3]));
+            out.push(std::array::from_fn(|c| -right[(c + k) % 3]));
+        }
         out
     }
 
@@ -622,6 +779,49 @@ mod tests {
         let mut all = vec![[f64::NAN; 3]; mesh.n_faces()];
         geometry.face_cotangents_into(&mut all).unwrap();
         assert_eq!(bits(all.as_flattened()), bits(&want));
+    }
+
+    /// The blocked layout has the per-face query's bits at `blocked_index` for every
+    /// slice (each start and length: every short last block, every mix of plain,
+    /// degenerate and rescaled lanes in a block), zeros in a short last block's unused
+    /// lanes, and the same bits compiled for the baseline (SSE2) as for the widest
+    /// registers the processor has.
+    #[test]
+    fn blocked_cotangents_have_the_bits_of_the_per_face_query() {
+        let tris = triangles();
+        let (mesh, positions, order) = soup(&tris);
+        let geometry = Geometry::new(&mesh, &positions).unwrap();
+        let want: Vec<f64> = mesh
+            .faces()
+            .flat_map(|f| {
+                let t = geometry.face_opposite_cotangents(f).unwrap();
+                [t[0].1, t[1].1, t[2].1]
+            })
+            .collect();
+        for start in 0..order.len() {
+            for len in (0..=9).chain([order.len() - start]) {
+                let Some(slice) = order.get(start..start + len) else {
+                    continue;
+                };
+                let n = 3 * BLOCK * len.div_ceil(BLOCK);
+                let mut out = vec![f64::NAN; n];
+                geometry.triangle_cotangents_blocked_into(slice, &mut out);
+                let mut baseline = vec![f64::NAN; n];
+                pulp::Arch::Scalar.dispatch(BlockedCotangents {
+                    positions: &positions,
+                    triangles: slice,
+                    out: &mut baseline,
+                });
+                assert_eq!(bits(&out), bits(&baseline), "{start}+{len}");
+                let mut expected = vec![0.0; n];
+                for t in 0..len {
+                    for k in 0..3 {
+                        expected[blocked_index(t, k)] = want[3 * (start + t) + k];
+                    }
+                }
+                assert_eq!(bits(&out), bits(&expected), "{start}+{len}");
+            }
+        }
     }
 
     /// Every corner's cotangent is its own: rotating a triangle's vertex list (so that

@@ -143,10 +143,12 @@ pub fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
     [1.0 - s - t, s, t]
 }
 
-pub use batch::{distances_into, distances_with, ring_cotangents_with};
+pub use batch::{BLOCK, blocked_index, distances_into, distances_with, ring_cotangents_with};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
-pub use triangles::{TriangleGeometry, triangle_cotangents_into, vertex_area_share};
+pub use triangles::{
+    TriangleGeometry, triangle_cotangents_blocked_into, triangle_cotangents_into, vertex_area_share,
+};
 
 use crate::error::TopologyError;
 use crate::ids::{FaceId, VertexId};

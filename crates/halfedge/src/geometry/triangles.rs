@@ -215,6 +215,27 @@ pub fn triangle_cotangents_into(positions: &[DVec3], triangles: &[[VertexId; 3]]
     geometry.triangle_cotangents_into(triangles, out);
 }
 
+/// [`triangle_cotangents_into`] in blocks of [`BLOCK`](super::BLOCK) triangles: the bits of
+/// [`Geometry::triangle_cotangents_blocked_into`] (the cotangent opposite the halfedge
+/// ending at the `k`-th vertex of triangle `t` at
+/// [`blocked_index`](super::blocked_index)`(t, k)`), for a
+/// caller that holds a triangle list but no mesh.
+///
+/// # Panics
+/// If `out.len() != 3 * BLOCK * triangles.len().div_ceil(BLOCK)`, or a vertex has no
+/// position.
+pub fn triangle_cotangents_blocked_into(
+    positions: &[DVec3],
+    triangles: &[[VertexId; 3]],
+    out: &mut [f64],
+) {
+    let geometry = Geometry {
+        mesh: &NO_MESH,
+        positions,
+    };
+    geometry.triangle_cotangents_blocked_into(triangles, out);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,7 +1,7 @@
 //! The cotangent kernel's per-face data: each triangle's cotangents once per refresh,
 //! gathered into the row slots.
 
-use beltrami_halfedge::geometry::triangle_cotangents_into;
+use beltrami_halfedge::geometry::{BLOCK, blocked_index, triangle_cotangents_blocked_into};
 use beltrami_halfedge::{DVec3, FaceId, HalfedgeMesh, VertexId};
 use rayon::prelude::*;
 
@@ -9,7 +9,8 @@ use super::layout::slot_values;
 use crate::PAR_CHUNK;
 
 /// The cotangent kernel's per-face data: cotangents are computed once per triangle,
-/// in parallel, into `face_cots`, then every row slot gathers its two.
+/// in parallel, into `face_cots` (in blocks of [`BLOCK`] triangles, see
+/// [`blocked_index`]), then every row slot gathers its two.
 #[derive(Clone, Debug)]
 pub(super) struct CotangentPlan {
     /// Vertex ids of each triangle in face order, triangles sorted by their smallest
@@ -20,7 +21,7 @@ pub(super) struct CotangentPlan {
     /// boundary halfedge or a face that is not a triangle.
     pub(super) slot_cots: Vec<[u32; 2]>,
     /// The three cotangents of each triangle (opposite the halfedges ending at its
-    /// first, second and third vertex), then one 0.
+    /// first, second and third vertex), in blocks of [`BLOCK`] triangles, then one 0.
     pub(super) face_cots: Vec<f64>,
 }
 
@@ -34,6 +35,7 @@ const FACE_CHUNK: usize = 4096;
 fn face_chunk(n: usize) -> usize {
     n.div_ceil(4 * rayon::current_num_threads().max(1))
         .clamp(256, FACE_CHUNK)
+        .next_multiple_of(BLOCK)
 }
 
 impl CotangentPlan {
@@ -70,11 +72,12 @@ impl CotangentPlan {
             counts[i] += counts[i - 1];
         }
         let n_triangles = counts[mesh.n_vertices()] as usize;
-        let sentinel = u32::try_from(3 * n_triangles).ok()?;
+        let n_cots = 3 * BLOCK * n_triangles.div_ceil(BLOCK);
+        let sentinel = u32::try_from(n_cots).ok()?;
         let mut triangles = vec![[VertexId::new(0); 3]; n_triangles];
         // Where the cotangent opposite each halfedge lands in `face_cots` (the sentinel
         // for a boundary halfedge or a face that is not a triangle): triangle `p`'s
-        // halfedges in face order take `3p`, `3p + 1`, `3p + 2`.
+        // halfedges in face order take `blocked_index(p, 0..3)`.
         let mut cot_of = vec![sentinel; mesh.n_halfedges()];
         for (f, &k) in keys.iter().enumerate() {
             if k != u32::MAX {
@@ -85,9 +88,10 @@ impl CotangentPlan {
                 let h1 = mesh.next(h0);
                 let h2 = mesh.next(h1);
                 triangles[p as usize] = [h0, h1, h2].map(|h| mesh.to_vertex(h));
-                cot_of[h0.index()] = 3 * p;
-                cot_of[h1.index()] = 3 * p + 1;
-                cot_of[h2.index()] = 3 * p + 2;
+                let at = |k| blocked_index(p as usize, k) as u32;
+                cot_of[h0.index()] = at(0);
+                cot_of[h1.index()] = at(1);
+                cot_of[h2.index()] = at(2);
             }
         }
         drop(keys);
@@ -99,7 +103,7 @@ impl CotangentPlan {
         Some(Self {
             triangles,
             slot_cots,
-            face_cots: vec![0.0; 3 * n_triangles + 1],
+            face_cots: vec![0.0; n_cots + 1],
         })
     }
 
@@ -116,9 +120,10 @@ impl CotangentPlan {
     pub(super) fn refresh(&mut self, positions: &[DVec3]) {
         let n = self.triangles.len();
         let chunk = face_chunk(n);
-        self.face_cots[..3 * n]
+        let n_cots = self.face_cots.len() - 1;
+        self.face_cots[..n_cots]
             .par_chunks_mut(3 * chunk)
             .zip(self.triangles.par_chunks(chunk))
-            .for_each(|(out, tris)| triangle_cotangents_into(positions, tris, out));
+            .for_each(|(out, tris)| triangle_cotangents_blocked_into(positions, tris, out));
     }
 }
