@@ -197,6 +197,56 @@ impl Geometry<'_> {
     }
 }
 
+/// Each squared length `q` in `squared` replaced by `f(√q)`, four at a time in lane
+/// arrays compiled for AVX2 where the processor has it (chosen at run time; the same
+/// operations either way); returns whether every length was plain: at least
+/// `sqrt(f64::MIN_POSITIVE)` and finite. Where it was, `√q` of a squared length `q =
+/// v · v` (glam's `DVec3::length_squared` of `v = x_j − x_i`) is
+/// [`distance`](super::distance)`(x_i, x_j)` bit for bit, so `f(√q)` is what
+/// [`distances_with`] stores; where it was not, the values are meaningless and the
+/// caller computes the distances with [`distances_with`] (which rescales them). For a
+/// caller that computes a block of rows' squared lengths first and then their weights
+/// in full registers.
+pub fn lengths_with<F>(squared: &mut [f64], f: F) -> bool
+where
+    F: Fn(f64) -> f64,
+{
+    pulp::Arch::new().dispatch(Lengths { squared, f })
+}
+
+/// [`lengths_with`]'s work, for [`pulp::Arch::dispatch`] (a type rather than a closure,
+/// as [`BlockedCotangents`]).
+struct Lengths<'a, F> {
+    squared: &'a mut [f64],
+    f: F,
+}
+
+impl<F: Fn(f64) -> f64> pulp::WithSimd for Lengths<'_, F> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) -> bool {
+        let Self { squared, f } = self;
+        let plain = |l: f64| (SQRT_MIN..f64::INFINITY).contains(&l);
+        let mut quads = squared.chunks_exact_mut(BLOCK);
+        let mut all = [true; BLOCK];
+        for q in &mut quads {
+            let len: [f64; BLOCK] = std::array::from_fn(|l| q[l].sqrt());
+            for l in 0..BLOCK {
+                all[l] &= plain(len[l]);
+                q[l] = f(len[l]);
+            }
+        }
+        let mut tail = true;
+        for q in quads.into_remainder() {
+            let len = q.sqrt();
+            tail &= plain(len);
+            *q = f(len);
+        }
+        tail & all.iter().all(|&p| p)
+    }
+}
+
 /// Triangles per block of [`Geometry::triangle_cotangents_blocked_into`]: four lanes,
 /// one AVX2 register per coordinate where the processor has it.
 pub const BLOCK: usize = 4;
@@ -1093,6 +1143,47 @@ mod tests {
             }
         }
         assert!(mixed_sixes > 0);
+    }
+
+    /// `f` of the square roots of squared lengths has the bits of `f` of the geometry's
+    /// distance where every length is plain, and says so; one length that is not
+    /// (coincident points, 1e-160 apart, beyond 1e154, NaN, infinite) anywhere in a
+    /// slice of any length makes it say not; the bits do not depend on the vector width.
+    #[test]
+    fn lengths_with_are_the_distances_where_plain() {
+        let mut rng = Rng(31);
+        let mut positions: Vec<DVec3> = (0..40).map(|_| rng.point()).collect();
+        let xi = positions[0];
+        let odd = [
+            xi,
+            xi + DVec3::new(0.0, 1e-160, 0.0),
+            DVec3::splat(1e300),
+            DVec3::new(0.0, 0.0, f64::NAN),
+            DVec3::new(f64::NEG_INFINITY, 0.0, 0.0),
+        ];
+        positions.extend(odd);
+        let f = |d: f64| 1.0 / (d + 1e-12);
+        for start in 1..positions.len() {
+            for len in 0..=9 {
+                let Some(points) = positions.get(start..start + len) else {
+                    continue;
+                };
+                let mut q: Vec<f64> = points.iter().map(|&p| (p - xi).length_squared()).collect();
+                let mut baseline = q.clone();
+                let plain = lengths_with(&mut q, f);
+                let base_plain = pulp::Arch::Scalar.dispatch(Lengths {
+                    squared: &mut baseline,
+                    f,
+                });
+                assert_eq!(plain, base_plain, "{start}+{len}");
+                assert_eq!(bits(&q), bits(&baseline), "{start}+{len}");
+                assert_eq!(plain, len == 0 || start + len <= 40, "{start}+{len}");
+                if plain {
+                    let want: Vec<f64> = points.iter().map(|&p| f(distance(xi, p))).collect();
+                    assert_eq!(bits(&q), bits(&want), "{start}+{len}");
+                }
+            }
+        }
     }
 
     /// The parallel vertex areas are the per-vertex query's, for both kinds.

@@ -143,7 +143,9 @@ pub fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
     [1.0 - s - t, s, t]
 }
 
-pub use batch::{BLOCK, blocked_index, distances_into, distances_with, ring_cotangents_with};
+pub use batch::{
+    BLOCK, blocked_index, distances_into, distances_with, lengths_with, ring_cotangents_with,
+};
 pub use normals::NormalWeighting;
 pub use summary::MeshSummary;
 pub use triangles::{

@@ -46,7 +46,7 @@ impl RowTally {
 /// A row of six, the most common on a triangle mesh, is summed without a loop (the same
 /// additions in the same order).
 #[inline(always)]
-fn row_sum_of(w: &[f64]) -> f64 {
+pub(super) fn row_sum_of(w: &[f64]) -> f64 {
     if let Ok(six) = <&[f64; 6]>::try_from(w) {
         return six.iter().fold(-0.0, |s, &w| s + w);
     }

@@ -2,7 +2,7 @@
 //! positions, one row at a time, for an integrator that applies each row as soon as it
 //! has it instead of storing every weight (see [`FreshRows`]).
 
-use beltrami_halfedge::geometry::{Geometry, distance, vertex_area_share};
+use beltrami_halfedge::geometry::{Geometry, distance, lengths_with, vertex_area_share};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use rayon::prelude::*;
 
@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use super::assembly::{
     RowKernel, Rows, cotangent_row_kernel, fill_cotangent, fill_cotangent_ring,
-    fill_inverse_distance, fill_uniform, row_pass, row_scale,
+    fill_inverse_distance, fill_uniform, row_pass, row_scale, row_sum_of,
 };
 use super::layout::{NO_TRIANGLE, corner_code, slot_corners};
 use super::options::{CotangentKernel, NegativeWeights, Normalization};
@@ -504,8 +504,12 @@ impl FreshRows<'_> {
         })
     }
 
-    /// [`block`](Self::block) of inverse-distance rows: a function of its own, small
-    /// enough for the distance kernel to be inlined into its loop.
+    /// [`block`](Self::block) of inverse-distance rows: every slot's squared length
+    /// first, then all the block's weights at once in full vector registers
+    /// ([`lengths_with`]), then each row's sum; the bits of
+    /// [`fill_inverse_distance`] (the geometry's distance, `1 / (d + ε)`, the sum in row
+    /// order), which computes the block row by row instead when a length is not plain
+    /// (coincident vertices, coordinates beyond 1e±154).
     #[inline(never)]
     fn inverse_distance_block(
         &self,
@@ -516,9 +520,31 @@ impl FreshRows<'_> {
         scales: &mut [f64],
     ) -> bool {
         let nb = self.neighbours;
-        self.block_as(first, weights, scales, |i, s, w| {
-            fill_inverse_distance::<2>(negative, positions, i, &nb[s..], w)
-        })
+        let bounds = &self.offsets[first..=first + scales.len()];
+        let base = bounds[0] as usize;
+        let mut a = 0;
+        for (i, &end) in (first..).zip(&bounds[1..]) {
+            let b = end as usize - base;
+            let xi = positions[i];
+            for (w, &j) in weights[a..b].iter_mut().zip(&nb[base + a..base + b]) {
+                *w = (positions[j as usize] - xi).length_squared();
+            }
+            a = b;
+        }
+        let eps = crate::DISTANCE_EPSILON;
+        // `negative.apply`, written out per policy, as in `fill_inverse_distance`.
+        let plain = match negative {
+            NegativeWeights::Keep => lengths_with(weights, |d| 1.0 / (d + eps)),
+            NegativeWeights::Clamp => lengths_with(weights, |d| (1.0 / (d + eps)).max(0.0)),
+            NegativeWeights::Abs => lengths_with(weights, |d| (1.0 / (d + eps)).abs()),
+        };
+        if plain {
+            self.block_as(first, weights, scales, |_, _, w| row_sum_of(w))
+        } else {
+            self.block_as(first, weights, scales, |i, s, w| {
+                fill_inverse_distance::<2>(negative, positions, i, &nb[s..], w)
+            })
+        }
     }
 
     /// [`block`](Self::block) with the kernel's fill `fill(i, first_slot, weights)`.
