@@ -1,5 +1,5 @@
 //! Whole-mesh and batched queries: vertex areas and face cotangents in parallel with
-//! fixed chunks, triangle cotangents and distances two at a time in SIMD lanes.
+//! fixed chunks, triangle cotangents and distances two or four at a time in SIMD lanes.
 //!
 //! Every value here has the bits of the per-element query it batches
 //! ([`Geometry::vertex_area`], [`Geometry::face_opposite_cotangents`],
@@ -154,7 +154,11 @@ impl Geometry<'_> {
                 z: Lanes::from(z),
             };
             let ([c1, c2, c0], plain) = triangle_cotangents_lanes(v(p[0]), v(p[1]), v(p[2]));
-            if plain.all() {
+            // A zero cotangent may have the wrong sign (see `cot_lanes`): its triangle goes
+            // through the kernel.
+            let zero = Lanes::splat(0.0);
+            let exact = !(c1.cmp_eq(zero) | c2.cmp_eq(zero) | c0.cmp_eq(zero));
+            if (plain & exact).all() {
                 let (c1, c2, c0) = (c1.to_array(), c2.to_array(), c0.to_array());
                 for (l, o) in out.chunks_exact_mut(3).enumerate() {
                     o.copy_from_slice(&[c1[l], c2[l], c0[l]]);
@@ -304,6 +308,20 @@ impl pulp::WithSimd for BlockedCotangents<'_> {
             }
             for o in out.chunks_exact_mut(BLOCK) {
                 o[tris.len()..].fill(0.0);
+            }
+        }
+        // A zero cotangent from the lanes may have the wrong sign (see `cot_lanes`): its
+        // triangle goes through the kernel. Zeros are rare (right angles, degenerate
+        // triangles, a short last block's padding), so they are looked for after the
+        // lanes, in one pass that does not hold up theirs (a test inside the loop cost
+        // 6 % of a cotangent run).
+        if out.iter().fold(false, |z, &c| z | (c == 0.0)) {
+            for (i, out) in out.iter_mut().enumerate() {
+                let t = i / (3 * BLOCK) * BLOCK + i % BLOCK;
+                if *out == 0.0 && t < triangles.len() {
+                    let [a, b, c] = triangles[t].map(|v| positions[v.index()]);
+                    *out = triangle_cotangents(a, b, c)[i / BLOCK % 3];
+                }
             }
         }
     }
@@ -564,7 +582,8 @@ pub fn ring_cotangents_with<P, F>(
             }
             let (alpha, beta) = if !is_triangle(t) {
                 (0.0, 0.0)
-            } else if plain & (1 << l) != 0 {
+            } else if plain & (1 << l) != 0 && at_b[l] != 0.0 && at_a[l] != 0.0 {
+                // (A zero may have the wrong sign, see `cot_lanes`: the kernel's instead.)
                 (at_b[l], at_a[l])
             } else {
                 let (a, b) = (p[l], p[l + 1]);
@@ -600,7 +619,8 @@ fn ring_corners_lanes(o: V3<Lanes>, a: V3<Lanes>, b: V3<Lanes>) -> (Lanes, Lanes
     // `triangle_cotangents_lanes`).
     let limit = Lanes::splat(DEGENERACY_RATIO) * qa.fast_max(qb).fast_max(qe);
     // Corner at b: u = o − b = −db, v = a − b = −e, so u · v = db · e and u × v = db × e
-    // bit for bit (each product of two negated factors is the product of the factors).
+    // (each product of two negated factors is the product of the factors) up to the
+    // signs of zeros, which the caller takes from the kernel (see `cot_lanes`).
     let xb = db.cross(e);
     let at_b = cot_lanes(db.dot(e), xb.dot(xb).sqrt(), limit);
     // Corner at a: u = o − a = −da, v = b − a = e: u · v = −(da · e), |u × v| = |da × e|.
@@ -655,12 +675,13 @@ fn triangle_cotangents_lanes(p0: V3<Lanes>, p1: V3<Lanes>, p2: V3<Lanes>) -> ([L
     // Corner 0 at p0: u = s1, v = s2.
     let x0 = s1.cross(s2);
     let cross0 = x0.dot(x0).sqrt();
-    // Corner 1 at p1: u = p2 − p1 = e, v = p0 − p1 = −s1. Negation is exact, so
-    // u · v = −(e · s1) and u × v = −(e × s1) bit for bit; the length ignores the sign.
+    // Corner 1 at p1: u = p2 − p1 = e, v = p0 − p1 = −s1 (up to the signs of zeros):
+    // u · v = −(e · s1) where it is not zero (see `cot_lanes`), and |u × v| = |e × s1|.
     let x1 = e.cross(s1);
     let cross1 = x1.dot(x1).sqrt();
-    // Corner 2 at p2: u = p0 − p2 = −s2, v = p1 − p2 = −e: exactly the products of s2
-    // and e (each product of two negated factors is the product of the factors).
+    // Corner 2 at p2: u = p0 − p2 = −s2, v = p1 − p2 = −e: the products of s2 and e
+    // (each product of two negated factors is the product of the factors), up to the
+    // signs of zeros.
     let x2 = s2.cross(e);
     let cross2 = x2.dot(x2).sqrt();
     let c0 = cot_lanes(s1.dot(s2), cross0, limit);
@@ -672,6 +693,17 @@ fn triangle_cotangents_lanes(p0: V3<Lanes>, p1: V3<Lanes>, p2: V3<Lanes>) -> ([L
 /// `Corner::cot` lane by lane, in plain lanes: `dot / cross` where `cross > limit`
 /// (`DEGENERACY_RATIO` times the longest squared edge; false for NaN) and the quotient
 /// is finite, +0 elsewhere.
+///
+/// A zero from the lanes is computed again by the per-corner kernel, by every caller. The
+/// lanes take corners 1 and 2's products from three shared edge vectors (`s1 = p1 −
+/// p0`, `s2 = p2 − p0`, `e = p2 − p1`) rather than from each corner's own (`p0 − p1`
+/// and so on), exact up to signs: each own vector is the negated shared one, except that
+/// `x − x` is +0 in both orders. So a nonzero dot product is the corner's own bit for
+/// bit, but one whose terms are all zeros takes its sign from them and may come out −0
+/// where the corner's own is +0, or the reverse (a right angle out of a coordinate plane,
+/// `[(1,0,0), (0,1,1), (0,0,0)]`), and a weight −0 where OpenMesh's is +0. Zeros are
+/// rare, so they go through the kernel instead of every corner taking its own vectors
+/// (which cost 5 to 10 % of a cotangent run).
 #[inline(always)]
 fn cot_lanes(dot: Lanes, cross: Lanes, limit: Lanes) -> Lanes {
     let c = dot / cross;
@@ -763,12 +795,28 @@ mod tests {
             DVec3::splat(1.5e308),
             DVec3::new(1e308, -1e308, 0.0),
         ]);
-        // Right angles whose dot products are exact zeros, at each corner: the sign
-        // of a zero cotangent is the corner's own.
-        let right = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0)];
-        for k in 0..3 {
-            out.push(std::array::from_fn(|c| right[(c + k) % 3]));
-            out.push(std::array::from_fn(|c| -right[(c + k) % 3]));
+        // Right angles whose dot products are exact zeros: every ordered triangle of
+        // three points of {−1, 0, 1}³ that are not on a line, in and out of the
+        // coordinate planes (where a zero's sign depends on which point an edge vector
+        // subtracts): the sign of a zero cotangent is the corner's own.
+        let point = |k: usize| {
+            DVec3::new(
+                (k % 3) as f64 - 1.0,
+                (k / 3 % 3) as f64 - 1.0,
+                (k / 9) as f64 - 1.0,
+            )
+        };
+        for a in 0..27 {
+            for b in (0..27).filter(|&b| b != a) {
+                for c in (0..27).filter(|&c| c != a && c != b) {
+                    let t = [point(a), point(b), point(c)];
+                    if (t[1] - t[0]).cross(t[2] - t[0]) != DVec3::ZERO
+                        && (a + 3 * b + 7 * c) % 13 == 0
+                    {
+                        out.push(t);
+                    }
+                }
+            }
         }
         out
     }
@@ -1184,6 +1232,56 @@ mod tests {
                 }
             }
         }
+        // A length of 1e-160 (not a coincident point) is below the plain range.
+        let mut tiny = [DVec3::new(0.0, 1e-160, 0.0).length_squared(), 1.0, 4.0, 9.0];
+        assert!(!lengths_with(&mut tiny, f));
+        let mut fine = [DVec3::new(0.0, 1e-150, 0.0).length_squared(), 1.0, 4.0, 9.0];
+        assert!(lengths_with(&mut fine, f));
+    }
+
+    /// On closed fans of three triangles with right angles in and out of the coordinate
+    /// planes, each slot's two cotangents have the bits, signs of zeros included, of
+    /// the kernel's corners summed in the kernel's order.
+    #[test]
+    fn ring_cotangents_keep_the_signs_of_the_corners_own_zeros() {
+        let point = |k: usize| {
+            DVec3::new(
+                (k % 3) as f64 - 1.0,
+                (k / 3 % 3) as f64 - 1.0,
+                (k / 9) as f64 - 1.0,
+            )
+        };
+        let mut zeros = 0;
+        for o in [0, 4, 13, 22] {
+            for k in 0..27 * 27 * 27 {
+                let ring = [k % 27, k / 27 % 27, k / 729];
+                if ring.contains(&o)
+                    || ring[0] == ring[1]
+                    || ring[1] == ring[2]
+                    || ring[0] == ring[2]
+                {
+                    continue;
+                }
+                let (origin, q) = (point(o), ring.map(point));
+                let positions: Vec<DVec3> = q.to_vec();
+                let mut out = [f64::NAN; 3];
+                ring_cotangents_with(origin, &positions, &[0, 1, 2], |_| true, &mut out, |c| c);
+                // Slot t: the angle at q[t + 1] in (o, q[t], q[t + 1]) and the angle at
+                // q[t − 1] in (o, q[t − 1], q[t]).
+                let want: [f64; 3] = std::array::from_fn(|t| {
+                    let (prev, next) = (q[(t + 2) % 3], q[(t + 1) % 3]);
+                    kernel::corner_cotangent(next, origin, q[t])
+                        + kernel::corner_cotangent(prev, origin, q[t])
+                });
+                zeros += want.iter().filter(|&&w| w == 0.0).count();
+                assert_eq!(
+                    out.map(f64::to_bits),
+                    want.map(f64::to_bits),
+                    "{origin} {q:?}"
+                );
+            }
+        }
+        assert!(zeros > 0);
     }
 
     /// The parallel vertex areas are the per-vertex query's, for both kinds.

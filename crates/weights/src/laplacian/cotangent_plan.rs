@@ -17,8 +17,9 @@ pub(super) struct CotangentPlan {
     /// vertex id (so that a chunk of triangles reads nearby positions).
     pub(super) triangles: Vec<[VertexId; 3]>,
     /// Per row slot (halfedge `h`), the indices in `face_cots` of the cotangents
-    /// opposite `h` and opposite its twin; `3 × triangles.len()` (the trailing 0) for a
-    /// boundary halfedge or a face that is not a triangle.
+    /// opposite `h` and opposite its twin ([`blocked_index`]); the index of the trailing
+    /// 0 (`3 × BLOCK × ⌈triangles / BLOCK⌉`) for a boundary halfedge or a face that is
+    /// not a triangle.
     pub(super) slot_cots: Vec<[u32; 2]>,
     /// The three cotangents of each triangle (opposite the halfedges ending at its
     /// first, second and third vertex), in blocks of [`BLOCK`] triangles, then one 0.
@@ -31,7 +32,8 @@ const FACE_CHUNK: usize = 4096;
 /// Triangles per parallel work unit of the cotangent kernel over `n` triangles:
 /// [`FACE_CHUNK`], or on a mesh too small for four of them per thread, a quarter of each
 /// thread's share (at least 256), so that a small mesh's triangles are shared by the
-/// threads. Each triangle's cotangents are computed alone, so the chunks change no bit.
+/// threads; a multiple of [`BLOCK`], so that the chunks are whole blocks of the table.
+/// Each triangle's cotangents are computed alone, so the chunks change no bit.
 fn face_chunk(n: usize) -> usize {
     n.div_ceil(4 * rayon::current_num_threads().max(1))
         .clamp(256, FACE_CHUNK)

@@ -522,6 +522,8 @@ impl FreshRows<'_> {
         let nb = self.neighbours;
         let bounds = &self.offsets[first..=first + scales.len()];
         let base = bounds[0] as usize;
+        // The block's slots only (a longer buffer's tail is not the block's).
+        let weights = &mut weights[..bounds[scales.len()] as usize - base];
         let mut a = 0;
         for (i, &end) in (first..).zip(&bounds[1..]) {
             let b = end as usize - base;
