@@ -841,6 +841,18 @@ mod tests {
         (mesh, positions, order)
     }
 
+    /// The per-face query's three cotangents of every face, in face order.
+    fn per_face_cotangents(geometry: &Geometry<'_>) -> Vec<f64> {
+        geometry
+            .mesh
+            .faces()
+            .flat_map(|f| {
+                let t = geometry.face_opposite_cotangents(f).unwrap();
+                [t[0].1, t[1].1, t[2].1]
+            })
+            .collect()
+    }
+
     fn bits(x: &[f64]) -> Vec<u64> {
         x.iter().map(|x| x.to_bits()).collect()
     }
@@ -850,16 +862,9 @@ mod tests {
     /// and so does the whole-mesh query.
     #[test]
     fn batched_cotangents_have_the_bits_of_the_per_face_query() {
-        let tris = triangles();
-        let (mesh, positions, order) = soup(&tris);
+        let (mesh, positions, order) = soup(&triangles());
         let geometry = Geometry::new(&mesh, &positions).unwrap();
-        let want: Vec<f64> = mesh
-            .faces()
-            .flat_map(|f| {
-                let t = geometry.face_opposite_cotangents(f).unwrap();
-                [t[0].1, t[1].1, t[2].1]
-            })
-            .collect();
+        let want = per_face_cotangents(&geometry);
         for start in 0..order.len() {
             for len in (0..=9).chain([order.len() - start]) {
                 let Some(slice) = order.get(start..start + len) else {
@@ -886,16 +891,9 @@ mod tests {
     /// registers the processor has.
     #[test]
     fn blocked_cotangents_have_the_bits_of_the_per_face_query() {
-        let tris = triangles();
-        let (mesh, positions, order) = soup(&tris);
+        let (mesh, positions, order) = soup(&triangles());
         let geometry = Geometry::new(&mesh, &positions).unwrap();
-        let want: Vec<f64> = mesh
-            .faces()
-            .flat_map(|f| {
-                let t = geometry.face_opposite_cotangents(f).unwrap();
-                [t[0].1, t[1].1, t[2].1]
-            })
-            .collect();
+        let want = per_face_cotangents(&geometry);
         for start in 0..order.len() {
             for len in (0..=9).chain([order.len() - start]) {
                 let Some(slice) = order.get(start..start + len) else {
