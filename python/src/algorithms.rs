@@ -483,22 +483,13 @@ pub(crate) fn remesh<'py>(
         options = options.feature_angle(deg.to_radians());
     }
     let (m, p, r) = Progress::run(py, progress, iterations, "remesh", |bar| {
-        let show = |done, total| bar.show(done, total);
-        match &given_edges {
-            Some(pairs) => beltrami_algorithms::remesh_with_feature_edges(
-                &mesh.mesh,
-                &mesh.positions,
-                pairs,
-                &options,
-                show,
-            ),
-            None => beltrami_algorithms::remesh_with_progress(
-                &mesh.mesh,
-                &mesh.positions,
-                &options,
-                show,
-            ),
-        }
+        beltrami_algorithms::remesh_with_feature_edges(
+            &mesh.mesh,
+            &mesh.positions,
+            given_edges.as_deref().unwrap_or_default(),
+            &options,
+            |done, total| bar.show(done, total),
+        )
         .map_err(|e| match e {
             RemeshError::Options { .. } | RemeshError::FeatureEdge { .. } => {
                 PyValueError::new_err(e.to_string())

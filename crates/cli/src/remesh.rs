@@ -4,9 +4,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use beltrami_algorithms::{
-    AdaptiveSizing, RemeshError, RemeshOptions, remesh_with_feature_edges, remesh_with_progress,
-};
+use beltrami_algorithms::{AdaptiveSizing, RemeshError, RemeshOptions, remesh_with_feature_edges};
 use serde::Serialize;
 
 use crate::edit_report::{EditOutputArgs, QualityChange};
@@ -287,22 +285,12 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     // A bar on a terminal for meshes whose iterations take a noticeable time (about a
     // tenth of a second each from 100 000 faces on two cores).
     let long = loaded.mesh.n_faces() >= 100_000;
-    let result =
-        crate::progress::with_bar(
-            options.iterations,
-            "iterations",
-            long,
-            |show| match &given {
-                Some((pairs, _)) => remesh_with_feature_edges(
-                    &loaded.mesh,
-                    &loaded.positions,
-                    pairs,
-                    &options,
-                    show,
-                ),
-                None => remesh_with_progress(&loaded.mesh, &loaded.positions, &options, show),
-            },
-        );
+    let pairs = given
+        .as_ref()
+        .map_or(&[][..], |(pairs, _)| pairs.as_slice());
+    let result = crate::progress::with_bar(options.iterations, "iterations", long, |show| {
+        remesh_with_feature_edges(&loaded.mesh, &loaded.positions, pairs, &options, show)
+    });
     let (mesh, positions, report) = result.map_err(|e| match e {
         RemeshError::Options { reason } => CliError::Usage(reason),
         RemeshError::FeatureEdge { index, a, b, why } => CliError::Input {

@@ -661,7 +661,7 @@ pub fn remesh_with_progress(
     options: &RemeshOptions,
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    remesh_inner(mesh, positions, options, &[], progress)
+    remesh_with_feature_edges(mesh, positions, &[], options, progress)
 }
 
 /// [`remesh_with_progress`] with feature edges given by the caller: each pair `[a, b]`
@@ -674,7 +674,7 @@ pub fn remesh_with_progress(
 /// for creases no angle finds: a gentle fillet's border, a measured part's datum line,
 /// the seam between two materials. The given edges and the sharp ones are kept alike;
 /// boundary edges are kept in any case. [`RemeshReport::given_feature_edges`] counts the
-/// interior edges given.
+/// interior edges given. With no pairs this is [`remesh_with_progress`].
 ///
 /// # Errors
 /// As for [`remesh_with_progress`], and [`RemeshError::FeatureEdge`] for a pair that is
@@ -714,46 +714,6 @@ pub fn remesh_with_feature_edges(
     positions: &[DVec3],
     feature_edges: &[[u32; 2]],
     options: &RemeshOptions,
-    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
-) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
-    remesh_inner(mesh, positions, options, feature_edges, progress)
-}
-
-/// The edges `feature_edges` name (pairs of vertices of `mesh`), flagged by edge id.
-///
-/// # Errors
-/// [`RemeshError::FeatureEdge`] for the first pair that is not an edge.
-fn given_edges(mesh: &HalfedgeMesh, feature_edges: &[[u32; 2]]) -> Result<Vec<bool>, RemeshError> {
-    if feature_edges.is_empty() {
-        return Ok(Vec::new());
-    }
-    let n = mesh.n_vertices();
-    let mut given = vec![false; mesh.n_edges()];
-    for (index, &[a, b]) in feature_edges.iter().enumerate() {
-        let refuse = |why: String| RemeshError::FeatureEdge {
-            index,
-            a: u64::from(a),
-            b: u64::from(b),
-            why,
-        };
-        if let Some(&v) = [a, b].iter().find(|&&v| v as usize >= n) {
-            return Err(refuse(format!("vertex {v} is out of range ({n} vertices)")));
-        }
-        let h = mesh
-            .find_halfedge(VertexId::new(a), VertexId::new(b))
-            .ok_or_else(|| refuse("no edge joins them".to_string()))?;
-        given[h.edge().index()] = true;
-    }
-    Ok(given)
-}
-
-/// [`remesh_with_progress`] with the given `feature_edges` (vertex pairs; none for
-/// `&[]`).
-fn remesh_inner(
-    mesh: &HalfedgeMesh,
-    positions: &[DVec3],
-    options: &RemeshOptions,
-    feature_edges: &[[u32; 2]],
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
@@ -866,6 +826,34 @@ fn remesh_inner(
     let (out, out_positions) = edit.into_mesh()?;
     measure_result(&out, &out_positions, (mesh, positions), &index, &mut report)?;
     Ok((out, out_positions, report))
+}
+
+/// The edges `feature_edges` name (pairs of vertices of `mesh`), flagged by edge id.
+///
+/// # Errors
+/// [`RemeshError::FeatureEdge`] for the first pair that is not an edge.
+fn given_edges(mesh: &HalfedgeMesh, feature_edges: &[[u32; 2]]) -> Result<Vec<bool>, RemeshError> {
+    if feature_edges.is_empty() {
+        return Ok(Vec::new());
+    }
+    let n = mesh.n_vertices();
+    let mut given = vec![false; mesh.n_edges()];
+    for (index, &[a, b]) in feature_edges.iter().enumerate() {
+        let refuse = |why: String| RemeshError::FeatureEdge {
+            index,
+            a: u64::from(a),
+            b: u64::from(b),
+            why,
+        };
+        if let Some(&v) = [a, b].iter().find(|&&v| v as usize >= n) {
+            return Err(refuse(format!("vertex {v} is out of range ({n} vertices)")));
+        }
+        let h = mesh
+            .find_halfedge(VertexId::new(a), VertexId::new(b))
+            .ok_or_else(|| refuse("no edge joins them".to_string()))?;
+        given[h.edge().index()] = true;
+    }
+    Ok(given)
 }
 
 /// The multiple of the extent of the input's triangles (their bounding box diagonal) at
