@@ -279,7 +279,9 @@ def test_the_gil_is_released_while_smoothing(sphere):
     t = threading.Thread(target=tick)
     t.start()
     try:
-        bt.smooth(big, iterations=30)
+        # Long enough (tens of milliseconds) that the ticker runs many times however fast
+        # the sweeps get.
+        bt.smooth(big, iterations=300)
     finally:
         stop.set()
         t.join()
