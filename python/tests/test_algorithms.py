@@ -349,6 +349,27 @@ def test_decimate_plane_weights_and_stabilizer(sphere):
         bt.decimate(sphere, ratio=0.25, openmesh=True, stabilizer=0.001)
 
 
+@pytest.mark.parametrize("power", [-500, 500])
+def test_the_editing_calls_give_the_same_result_far_from_unit_size(sphere, power):
+    """A mesh times 2**power gives the unit-size result times 2**power, bit for bit."""
+    scale = 2.0**power
+    far = bt.Mesh(sphere.vertices * scale, sphere.faces)
+    holed = bt.generate("sphere", level=3, holes=2)
+    holed_far = bt.Mesh(holed.vertices * scale, holed.faces)
+    for call, unit_mesh, far_mesh, length in [
+        (lambda m: bt.decimate(m, ratio=0.3), sphere, far, "hausdorff"),
+        (lambda m: bt.remesh(m, iterations=2), sphere, far, "mean_edge_length"),
+        (lambda m: bt.fill_holes(m, fill_all=True), holed, holed_far, None),
+    ]:
+        (a, ra), (b, rb) = call(unit_mesh), call(far_mesh)
+        np.testing.assert_array_equal(b.faces, a.faces)
+        np.testing.assert_array_equal(b.vertices, a.vertices * scale)
+        if length:
+            assert rb[length] == ra[length] * scale
+    quality = bt.quality(far)
+    assert quality["min_angle_degrees"] == bt.quality(sphere)["min_angle_degrees"]
+
+
 def test_fill_holes_closes_a_cut_sphere():
     whole = bt.generate("sphere", level=3)
     centre = whole.vertices[0]

@@ -27,6 +27,12 @@
 //!   ratios, edge lengths, valences and negative cotangent weights, the figures every
 //!   algorithm here is judged by.
 //!
+//! [`remesh`], [`decimate`], [`fill_holes`] and the quality figures give the same result
+//! in any unit: a mesh whose largest coordinate lies outside `2^-40..=2^40` is run at a
+//! power of two times its size, which is exact, and the result and the report's lengths
+//! are scaled back, so that the result is the unit-size one times that power of two, bit
+//! for bit (`tests/scale.rs`, from `2^-1000` to `2^1000`).
+//!
 //! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T`
 //! (positions within 1e-12 of the bounding-box diagonal, the same triangles);
 //! `docs/subdivision.md` in the repository has the rules, the numbering of the new
@@ -57,6 +63,7 @@ mod fill_holes;
 mod flat_triangles;
 pub mod quality;
 mod remesh;
+mod scale;
 pub mod subdivision;
 mod valence;
 

@@ -30,6 +30,7 @@
 use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh};
 
 use crate::error::{InputProblem, check_finite, check_mesh};
+use crate::scale::Scale;
 
 /// The upper ends of the aspect-ratio histogram's bins: `[1, 1.5)`, `[1.5, 2)`,
 /// `[2, 3)`, `[3, 5)`, `[5, 10)` and `[10, ∞)`.
@@ -230,11 +231,28 @@ fn positions_of(mesh: &HalfedgeMesh, positions: &[DVec3], h: HalfedgeId) -> [DVe
 /// ```
 pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQuality, QualityError> {
     check(mesh, positions)?;
+    // Far from unit size, measured at a power of two times the size, where squared
+    // lengths and cross products neither underflow nor overflow (`crate::scale`); only
+    // the edge lengths carry the unit.
+    if let Some(scale) = Scale::of(positions) {
+        let mut quality = measure(mesh, &scale.positions(positions));
+        if let Some(lengths) = &mut quality.edge_length {
+            lengths.min = scale.length_back(lengths.min);
+            lengths.mean = scale.length_back(lengths.mean);
+            lengths.max = scale.length_back(lengths.max);
+        }
+        return Ok(quality);
+    }
+    Ok(measure(mesh, positions))
+}
+
+/// [`mesh_quality`] at the positions' own size (checked).
+fn measure(mesh: &HalfedgeMesh, positions: &[DVec3]) -> MeshQuality {
     let (degenerate_faces, shape) = shape_stats(mesh, positions);
     let edge_length = edge_length_stats(mesh, positions);
     let (valence_histogram, boundary_valence_histogram, regular_share) = valence_stats(mesh);
     let (interior_edges, negative_cotangent_edges) = cotangent_signs(mesh, positions);
-    Ok(MeshQuality {
+    MeshQuality {
         faces: mesh.n_faces(),
         degenerate_faces,
         shape,
@@ -244,7 +262,7 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
         regular_share,
         interior_edges,
         negative_cotangent_edges,
-    })
+    }
 }
 
 /// The number of degenerate triangles, and the angle and aspect-ratio statistics of
@@ -405,6 +423,16 @@ pub fn flipped_faces(
 ) -> Result<usize, QualityError> {
     check(mesh, positions)?;
     check(mesh, reference)?;
+    // Far from unit size, both at a power of two times their size, where the normals'
+    // products neither underflow nor overflow (`crate::scale`).
+    let scaled;
+    let (positions, reference) = match Scale::of(positions.iter().chain(reference)) {
+        Some(scale) => {
+            scaled = (scale.positions(positions), scale.positions(reference));
+            (&scaled.0[..], &scaled.1[..])
+        }
+        None => (positions, reference),
+    };
     let normal = |p: [DVec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]);
     Ok(mesh
         .faces()

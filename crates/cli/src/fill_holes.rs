@@ -242,6 +242,22 @@ fn outer_share(
     if outer.is_empty() {
         return None;
     }
+    // A share does not depend on the unit: a mesh far from unit size is measured at a
+    // power of two times its size (exact), where the squares in the areas neither
+    // underflow nor overflow.
+    let largest = positions
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0_f64, f64::max);
+    let unit: Vec<glam::DVec3>;
+    let positions = if largest.is_normal() && !(1e-12..=1e12).contains(&largest) {
+        let k = -(largest.log2().floor() as i32);
+        let factor = 2f64.powi(k.clamp(-1022, 1022));
+        unit = positions.iter().map(|&p| p * factor).collect();
+        &unit[..]
+    } else {
+        positions
+    };
     let components = mesh.connected_components();
     let geometry = beltrami_halfedge::geometry::Geometry::new(mesh, positions).ok()?;
     let mut area = vec![0.0; components.count()];

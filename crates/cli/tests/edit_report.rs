@@ -221,3 +221,106 @@ fn an_output_of_no_known_format_is_refused_before_any_work() {
         assert!(!out.exists(), "{command}");
     }
 }
+
+/// The three commands on a mesh far from unit size (the holed sphere times 2^±400):
+/// each runs, and its figures are the unit-size run's scaled, lengths by 2^k, areas by
+/// 2^2k, angles and shares unchanged (before the runs' own scaling decimation collapsed
+/// nothing at 2^-400 and failed at 2^400, remeshing failed at both, and the angles of
+/// the quality table were blank). The output meshes are the unit-size ones times 2^k.
+#[test]
+fn far_from_unit_size_the_figures_are_the_unit_sizes_scaled() {
+    use beltrami_io::read_mesh;
+    let dir = tempfile::tempdir().unwrap();
+    let unit = dir.path().join("holed.ply");
+    let o = beltrami(&[
+        "generate",
+        "sphere",
+        s(&unit),
+        "--level",
+        "4",
+        "--holes",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mesh = read_mesh(&unit).unwrap();
+    // Each command, its options, and the JSON pointers of its lengths and its areas.
+    type Run<'a> = (&'a str, &'a [&'a str], &'a [&'a str], &'a [&'a str]);
+    let runs: [Run; 3] = [
+        (
+            "decimate",
+            &["--ratio", "0.3"],
+            &["/hausdorff", "/fit_rms_after", "/max_quadric_error"],
+            &[],
+        ),
+        (
+            "remesh",
+            &["--iterations", "3"],
+            &["/target_edge_length", "/mean_edge_length", "/hausdorff"],
+            &[],
+        ),
+        (
+            "fill-holes",
+            &["--all"],
+            &["/filled/0/perimeter", "/filled/1/perimeter"],
+            &["/filled/0/area", "/filled/1/area"],
+        ),
+    ];
+    for k in [-400, 400] {
+        let scale = 2f64.powi(k);
+        let positions = mesh.positions.iter().map(|&p| p * scale).collect();
+        let far = common::write(
+            dir.path(),
+            &format!("far{k}.ply"),
+            positions,
+            mesh.faces.clone(),
+        );
+        for (command, options, lengths, areas) in runs {
+            let run = |input: &Path, out: &str| {
+                let out = dir.path().join(out);
+                let mut args = vec![command, s(input), s(&out), "--json", "--force"];
+                args.extend_from_slice(options);
+                (json(&args), read_mesh(&out).unwrap())
+            };
+            let (a, mesh_a) = run(&unit, "unit.ply");
+            let (b, mesh_b) = run(&far, "far.ply");
+            let what = format!("{command} at 2^{k}");
+            let at = |v: &Value, key: &str| {
+                common::f(v.pointer(key).unwrap_or_else(|| panic!("{what}: {key}")))
+            };
+            for key in lengths {
+                assert_eq!(at(&b, key), at(&a, key) * scale, "{what}: {key}");
+            }
+            for key in areas {
+                assert_eq!(at(&b, key), at(&a, key) * scale * scale, "{what}: {key}");
+            }
+            for key in ["quality_before", "quality_after"] {
+                for angle in [
+                    "min_angle_degrees",
+                    "mean_min_angle_degrees",
+                    "max_aspect_ratio",
+                ] {
+                    assert!(b[key][angle].is_f64(), "{what}: {key}.{angle}: {}", b[key]);
+                    assert_eq!(b[key][angle], a[key][angle], "{what}: {key}.{angle}");
+                }
+            }
+            assert_eq!(mesh_b.faces, mesh_a.faces, "{what}");
+            let expected: Vec<_> = mesh_a.positions.iter().map(|&p| p * scale).collect();
+            assert_eq!(mesh_b.positions, expected, "{what}");
+        }
+        // The loop left open is told to span the same share of the surface (its vector
+        // area over the surface's, which underflowed to 0 % at 2^-400).
+        let share = |input: &Path| {
+            let out = dir.path().join("open.ply");
+            let o = beltrami(&["fill-holes", s(input), s(&out), "--force"]);
+            let text = String::from_utf8(o.stdout).unwrap();
+            text.split("spans only ")
+                .nth(1)
+                .and_then(|t| t.split('%').next())
+                .unwrap_or_else(|| panic!("{text}"))
+                .to_owned()
+        };
+        let (a, b) = (share(&unit), share(&far));
+        assert!(a.parse::<f64>().unwrap() > 0.0, "{a}");
+        assert_eq!(b, a, "2^{k}");
+    }
+}

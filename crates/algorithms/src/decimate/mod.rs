@@ -61,6 +61,7 @@ use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff};
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
+use crate::scale::Scale;
 
 /// The weight of a boundary constraint plane per unit of squared edge length (the face
 /// planes are weighted by area, the same unit).
@@ -629,7 +630,65 @@ pub struct DecimateReport {
     pub hausdorff_from_input: f64,
 }
 
+impl DecimateOptions {
+    /// These options for a run at `scale`: the lengths in the positions' unit scaled.
+    fn scaled(&self, scale: &Scale) -> Self {
+        Self {
+            max_error: self.max_error.map(|x| scale.length(x)),
+            max_distance: self.max_distance.map(|x| scale.length(x)),
+            ..*self
+        }
+    }
+}
+
 impl DecimateReport {
+    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
+    /// that a new one is not left unscaled.
+    fn scaled_back(self, scale: &Scale) -> Self {
+        let Self {
+            vertices_before,
+            faces_before,
+            vertices_after,
+            faces_after,
+            target_vertices,
+            collapses,
+            refused,
+            keyings,
+            flips,
+            stop,
+            target_reached,
+            max_quadric_error,
+            fit_rounds,
+            fit_rms_before,
+            fit_rms_after,
+            distance_measured,
+            hausdorff,
+            hausdorff_to_input,
+            hausdorff_from_input,
+        } = self;
+        let back = |x| scale.length_back(x);
+        Self {
+            vertices_before,
+            faces_before,
+            vertices_after,
+            faces_after,
+            target_vertices,
+            collapses,
+            refused,
+            keyings,
+            flips,
+            stop,
+            target_reached,
+            max_quadric_error: back(max_quadric_error),
+            fit_rounds,
+            fit_rms_before: back(fit_rms_before),
+            fit_rms_after: back(fit_rms_after),
+            distance_measured,
+            hausdorff: back(hausdorff),
+            hausdorff_to_input: back(hausdorff_to_input),
+            hausdorff_from_input: back(hausdorff_from_input),
+        }
+    }
     /// Measures the Hausdorff distance between the decimation's `output` and its
     /// `input` (each a mesh and its positions) into the report, as [`decimate`] does
     /// unless [`DecimateOptions::measure_distance`] is off: over the vertices plus one
@@ -640,6 +699,24 @@ impl DecimateReport {
     /// [`DecimateError::Metrics`] when a mesh cannot be indexed (a position count that
     /// does not match, a non-finite position).
     pub fn measure_distance(
+        &mut self,
+        input: (&HalfedgeMesh, &[DVec3]),
+        output: (&HalfedgeMesh, &[DVec3]),
+    ) -> Result<(), DecimateError> {
+        // Far from unit size both are measured at the input's scale (`crate::scale`).
+        if let Some(scale) = Scale::of(input.1) {
+            let (x, y) = (scale.positions(input.1), scale.positions(output.1));
+            self.measure_distance_at_scale((input.0, &x), (output.0, &y))?;
+            self.hausdorff = scale.length_back(self.hausdorff);
+            self.hausdorff_to_input = scale.length_back(self.hausdorff_to_input);
+            self.hausdorff_from_input = scale.length_back(self.hausdorff_from_input);
+            return Ok(());
+        }
+        self.measure_distance_at_scale(input, output)
+    }
+
+    /// [`measure_distance`](Self::measure_distance) at the positions' own size.
+    fn measure_distance_at_scale(
         &mut self,
         input: (&HalfedgeMesh, &[DVec3]),
         output: (&HalfedgeMesh, &[DVec3]),
@@ -789,6 +866,22 @@ pub fn decimate_with_progress(
     }
     check_finite(positions)?;
     options.validate()?;
+    let Some(scale) = Scale::of(positions) else {
+        return decimate_at_scale(mesh, positions, options, progress);
+    };
+    // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
+    let x = scale.positions(positions);
+    let (out, x, report) = decimate_at_scale(mesh, &x, &options.scaled(&scale), progress)?;
+    Ok((out, scale.restore(x), report.scaled_back(&scale)))
+}
+
+/// [`decimate_with_progress`] at the positions' own size (checked).
+fn decimate_at_scale(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &DecimateOptions,
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, DecimateReport), DecimateError> {
     let target = options.target_count(mesh.n_vertices());
     let edit = EditMesh::from_mesh(mesh, positions)?;
     let mut decimator = Decimator::new(edit, options, positions);

@@ -58,6 +58,7 @@ use std::ops::ControlFlow;
 use beltrami_halfedge::{DVec3, EditError, EditMesh, HalfedgeId, HalfedgeMesh, TopologyError};
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
+use crate::scale::Scale;
 
 use fair::FairFailure;
 use refine::Patch;
@@ -311,6 +312,69 @@ algorithm_error! {
 }
 
 /// The length of a boundary loop.
+impl FillReport {
+    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
+    /// that a new one is not left unscaled.
+    fn scaled_back(self, scale: &Scale) -> Self {
+        let Self {
+            loops,
+            filled,
+            skipped,
+            faces_added,
+            vertices_added,
+        } = self;
+        let filled = filled
+            .into_iter()
+            .map(|hole| {
+                let FilledHole {
+                    halfedge,
+                    boundary_edges,
+                    perimeter,
+                    faces_added,
+                    vertices_added,
+                    area,
+                    faired_order,
+                    fair_fallback,
+                } = hole;
+                FilledHole {
+                    halfedge,
+                    boundary_edges,
+                    perimeter: scale.length_back(perimeter),
+                    faces_added,
+                    vertices_added,
+                    area: scale.area_back(area),
+                    faired_order,
+                    fair_fallback,
+                }
+            })
+            .collect();
+        let skipped = skipped
+            .into_iter()
+            .map(|hole| {
+                let SkippedHole {
+                    halfedge,
+                    boundary_edges,
+                    perimeter,
+                    reason,
+                } = hole;
+                SkippedHole {
+                    halfedge,
+                    boundary_edges,
+                    perimeter: scale.length_back(perimeter),
+                    reason,
+                }
+            })
+            .collect();
+        Self {
+            loops,
+            filled,
+            skipped,
+            faces_added,
+            vertices_added,
+        }
+    }
+}
+
 fn perimeter(mesh: &EditMesh, hole: &[HalfedgeId]) -> f64 {
     hole.iter()
         .map(|&h| {
@@ -592,11 +656,27 @@ pub fn fill_holes_with_progress(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     options: &FillOptions,
-    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, FillReport), FillError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     options.validate()?;
+    let Some(scale) = Scale::of(positions) else {
+        return fill_holes_at_scale(mesh, positions, options, progress);
+    };
+    // Run at the mesh's scale (`crate::scale`); the options hold no length.
+    let x = scale.positions(positions);
+    let (out, x, report) = fill_holes_at_scale(mesh, &x, options, progress)?;
+    Ok((out, scale.restore(x), report.scaled_back(&scale)))
+}
+
+/// [`fill_holes_with_progress`] at the positions' own size (checked).
+fn fill_holes_at_scale(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: &FillOptions,
+    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, FillReport), FillError> {
     let loops: Vec<Vec<HalfedgeId>> = mesh.boundary_loops().collect();
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let perimeters: Vec<f64> = loops.iter().map(|l| perimeter(&edit, l)).collect();

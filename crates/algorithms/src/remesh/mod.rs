@@ -78,6 +78,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
 use crate::error::{about_count, algorithm_error, check_finite, check_mesh, short};
+use crate::scale::Scale;
 
 pub use curves::FOLD_ANGLE;
 use passes::Remesher;
@@ -507,6 +508,135 @@ fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
 
 /// Checks the options against the input and returns the target edge length (the
 /// input's mean edge length for adaptive sizing, replaced by the sizing field's mean).
+impl RemeshOptions {
+    /// These options for a run at `scale`: the lengths in the positions' unit scaled.
+    fn scaled(&self, scale: &Scale) -> Self {
+        let edge_length = match self.edge_length {
+            EdgeLength::Absolute(l) => EdgeLength::Absolute(scale.length(l)),
+            EdgeLength::Relative(r) => EdgeLength::Relative(r),
+            EdgeLength::Adaptive(AdaptiveSizing {
+                min_edge,
+                max_edge,
+                approx_error,
+            }) => EdgeLength::Adaptive(AdaptiveSizing {
+                min_edge: min_edge.map(|x| scale.length(x)),
+                max_edge: max_edge.map(|x| scale.length(x)),
+                approx_error: approx_error.map(|x| scale.length(x)),
+            }),
+        };
+        Self {
+            edge_length,
+            ..*self
+        }
+    }
+}
+
+impl RemeshReport {
+    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
+    /// that a new one is not left unscaled.
+    fn scaled_back(self, scale: &Scale) -> Self {
+        let Self {
+            target_edge_length,
+            adaptive,
+            iterations,
+            splits,
+            collapses,
+            flips,
+            cap_flips,
+            vertices_before,
+            faces_before,
+            vertices,
+            faces,
+            mean_edge_length_before,
+            edge_length_cv_before,
+            mean_edge_length,
+            edge_length_cv,
+            feature_edges,
+            given_feature_edges,
+            fold_edges,
+            boundary_edges,
+            corners,
+            hausdorff,
+            hausdorff_from_input,
+            degenerate_faces_before,
+            degenerate_faces,
+        } = self;
+        let back = |x| scale.length_back(x);
+        Self {
+            target_edge_length: back(target_edge_length),
+            adaptive: adaptive.map(|a| AdaptiveLengths {
+                min_edge: back(a.min_edge),
+                max_edge: back(a.max_edge),
+                approx_error: back(a.approx_error),
+            }),
+            iterations,
+            splits,
+            collapses,
+            flips,
+            cap_flips,
+            vertices_before,
+            faces_before,
+            vertices,
+            faces,
+            mean_edge_length_before: back(mean_edge_length_before),
+            edge_length_cv_before,
+            mean_edge_length: back(mean_edge_length),
+            edge_length_cv,
+            feature_edges,
+            given_feature_edges,
+            fold_edges,
+            boundary_edges,
+            corners,
+            hausdorff: back(hausdorff),
+            hausdorff_from_input: back(hausdorff_from_input),
+            degenerate_faces_before,
+            degenerate_faces,
+        }
+    }
+}
+
+impl RemeshError {
+    /// The error of a run at `scale`, its lengths in the caller's unit.
+    fn scaled_back(self, scale: &Scale) -> Self {
+        let back = |x| scale.length_back(x);
+        match self {
+            Self::TooManyFaces {
+                edge_length,
+                predicted,
+                max,
+            } => Self::TooManyFaces {
+                edge_length: back(edge_length),
+                predicted,
+                max,
+            },
+            Self::Degenerate {
+                faces,
+                input_faces,
+                total,
+                edge_length,
+                diagonal,
+            } => Self::Degenerate {
+                faces,
+                input_faces,
+                total,
+                edge_length: back(edge_length),
+                diagonal: back(diagonal),
+            },
+            Self::Shrunk {
+                extent,
+                diagonal,
+                edge_length,
+            } => Self::Shrunk {
+                extent: back(extent),
+                diagonal: back(diagonal),
+                edge_length: back(edge_length),
+            },
+            // The others carry no length.
+            e => e,
+        }
+    }
+}
+
 fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshError> {
     let bad = |reason: String| Err(RemeshError::Options { reason });
     let target = match options.edge_length {
@@ -718,6 +848,41 @@ pub fn remesh_with_feature_edges(
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
+    let Some(scale) = Scale::of(positions) else {
+        return remesh_at_scale(mesh, positions, feature_edges, options, progress);
+    };
+    // The options are checked as given (their lengths, in the caller's unit, are what
+    // an error names), then run at the mesh's scale (`crate::scale`).
+    target_length(options, 1.0)?;
+    let x = scale.positions(positions);
+    let (out, x, report) =
+        remesh_at_scale(mesh, &x, feature_edges, &options.scaled(&scale), progress)
+            .map_err(|e| e.scaled_back(&scale))?;
+    let mut report = report.scaled_back(&scale);
+    // The lengths given, as given: one the run's numbers could not hold was clamped
+    // (`Scale::length`), and would not come back.
+    match options.edge_length {
+        EdgeLength::Absolute(l) => report.target_edge_length = l,
+        EdgeLength::Adaptive(given) => {
+            if let Some(used) = &mut report.adaptive {
+                used.min_edge = given.min_edge.unwrap_or(used.min_edge);
+                used.max_edge = given.max_edge.unwrap_or(used.max_edge);
+                used.approx_error = given.approx_error.unwrap_or(used.approx_error);
+            }
+        }
+        EdgeLength::Relative(_) => {}
+    }
+    Ok((out, scale.restore(x), report))
+}
+
+/// [`remesh_with_feature_edges`] at the positions' own size.
+fn remesh_at_scale(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    feature_edges: &[[u32; 2]],
+    options: &RemeshOptions,
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     let given = given_edges(mesh, feature_edges)?;
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let (mean_before, cv_before) = edge_length_stats(&edit);

@@ -1,0 +1,175 @@
+//! Meshes far from unit size, run at a power of two times their size.
+//!
+//! Remeshing, decimation and hole filling compute squared lengths, areas, quadrics (up
+//! to fourth powers of the coordinates) and closest points. Far from unit size these
+//! leave the range of normal numbers: before this scaling, decimation changed its result
+//! from coordinates of about 2⁻¹⁰⁰ and 2¹⁵⁰ on and collapsed nothing from 2⁻³⁰⁰,
+//! remeshing called a sphere of size 2⁻³⁰⁰ flat and refused one of size 2²⁰⁰ (the
+//! closest-point index takes coordinates up to 10⁶⁰), and hole filling filled no hole
+//! of a sphere of size 2³⁰⁰. Multiplying every coordinate by a power of two is exact, and
+//! so is every sum, difference, product, quotient and square root of the scaled numbers
+//! while they stay normal: a mesh whose largest coordinate lies outside
+//! [`2⁻⁴⁰, 2⁴⁰`](UNSCALED) is run at `2^k` times its size, with `k` bringing that
+//! coordinate into `[1, 2)`, and its results are scaled back, so that the result is the
+//! unit-size run's times `2^-k`, bit for bit. Inside that range the positions are used as
+//! they are.
+//!
+//! The scaled run reads lengths given in the positions' unit (a target edge length, a
+//! bound on the error) scaled alike, and its reports' lengths and areas are scaled back.
+//! Only the largest coordinate counts: a small part far from the origin keeps the
+//! precision its coordinates have.
+
+use beltrami_halfedge::DVec3;
+
+/// The range of the largest absolute coordinate inside which a mesh is used at its own
+/// size: well inside the range where the algorithms' results scale exactly with the
+/// mesh (measured from 2⁻⁶⁰ to 2¹⁰⁰).
+pub(crate) const UNSCALED: std::ops::RangeInclusive<f64> =
+    9.094_947_017_729_282e-13..=1_099_511_627_776.0;
+
+/// The power of two a run multiplies its positions by, and its inverse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Scale {
+    /// `2^k`: positions and lengths into the run.
+    to_run: f64,
+    /// `2^-k`: positions and lengths out of it.
+    back: f64,
+}
+
+/// `2^k` for `k` in `-1022..=1023`: a normal number, exactly.
+fn power_of_two(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+impl Scale {
+    /// The scale for a mesh at `positions` (finite), `None` when its largest absolute
+    /// coordinate lies in [`UNSCALED`] or is zero (every vertex at the origin: nothing to
+    /// scale).
+    pub(crate) fn of<'a>(positions: impl IntoIterator<Item = &'a DVec3>) -> Option<Self> {
+        let largest = positions
+            .into_iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0_f64, f64::max);
+        if largest == 0.0 || !largest.is_finite() || UNSCALED.contains(&largest) {
+            return None;
+        }
+        // The binary exponent of `largest` (of its leading bit for a subnormal), then the
+        // `k` that brings it to 0, limited so that `2^k` and `2^-k` are both normal.
+        let bits = largest.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let exponent = if biased == 0 {
+            // Subnormal: 2^-1074 times the mantissa.
+            -1074 + (63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32)
+        } else {
+            biased - 1023
+        };
+        let k = (-exponent).clamp(-1022, 1022);
+        Some(Self {
+            to_run: power_of_two(k),
+            back: power_of_two(-k),
+        })
+    }
+
+    /// The positions at the run's size.
+    pub(crate) fn positions(&self, positions: &[DVec3]) -> Vec<DVec3> {
+        positions.iter().map(|&p| p * self.to_run).collect()
+    }
+
+    /// The run's positions at the caller's size, in place.
+    pub(crate) fn restore(&self, mut positions: Vec<DVec3>) -> Vec<DVec3> {
+        for p in &mut positions {
+            *p *= self.back;
+        }
+        positions
+    }
+
+    /// A length given in the caller's unit, in the run's: positive and finite stays so
+    /// (a length the run's numbers cannot hold becomes the nearest they can), anything
+    /// else is scaled as it is.
+    pub(crate) fn length(&self, x: f64) -> f64 {
+        let y = x * self.to_run;
+        if x.is_finite() && x > 0.0 {
+            y.clamp(f64::MIN_POSITIVE, f64::MAX)
+        } else {
+            y
+        }
+    }
+
+    /// A length the run reports, in the caller's unit.
+    pub(crate) fn length_back(&self, x: f64) -> f64 {
+        x * self.back
+    }
+
+    /// An area the run reports, in the caller's unit.
+    pub(crate) fn area_back(&self, x: f64) -> f64 {
+        x * self.back * self.back
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_range_is_two_to_the_minus_and_plus_forty() {
+        assert_eq!(*UNSCALED.start(), 2f64.powi(-40));
+        assert_eq!(*UNSCALED.end(), 2f64.powi(40));
+    }
+
+    #[test]
+    fn positions_in_the_range_are_used_as_they_are() {
+        for x in [2f64.powi(-40), 1e-6, 1.0, 3.5e9, 2f64.powi(40)] {
+            assert_eq!(Scale::of(&[DVec3::new(0.0, -x, 0.5 * x)]), None, "{x}");
+        }
+        assert_eq!(Scale::of(&[DVec3::ZERO]), None);
+        assert_eq!(Scale::of(&[]), None);
+    }
+
+    /// The largest coordinate goes into [1, 2) and back, exactly, from subnormal
+    /// coordinates to the largest finite ones (where the limit on `k` leaves it a little
+    /// outside).
+    #[test]
+    fn the_largest_coordinate_goes_to_one_and_back() {
+        for x in [
+            2f64.powi(-41),
+            1e-20,
+            1e-300,
+            f64::MIN_POSITIVE,
+            1e-310,
+            5e-324,
+            2f64.powi(41) * 1.5,
+            1e100,
+            1e300,
+            f64::MAX,
+        ] {
+            let p = [DVec3::new(-x, 0.25 * x, 0.0), DVec3::new(0.5 * x, x, -x)];
+            let scale = Scale::of(&p).unwrap_or_else(|| panic!("{x} is scaled"));
+            let run = scale.positions(&p);
+            let largest = run[1].y;
+            if (1e-300..=1e300).contains(&x) {
+                assert!((1.0..2.0).contains(&largest), "{x} -> {largest}");
+            } else {
+                assert!(
+                    largest.is_normal() && (2f64.powi(-60)..4.0).contains(&largest),
+                    "{x} -> {largest}"
+                );
+            }
+            assert_eq!(scale.restore(run), p, "{x}");
+        }
+    }
+
+    #[test]
+    fn lengths_and_areas_scale_by_the_power_and_its_square() {
+        let scale = Scale::of(&[DVec3::new(3.0 * 2f64.powi(100), 0.0, 0.0)]).unwrap();
+        assert_eq!(scale.length(2f64.powi(90)), 2f64.powi(-11));
+        assert_eq!(scale.length_back(0.75), 0.75 * 2f64.powi(101));
+        assert_eq!(scale.area_back(0.75), 0.75 * 2f64.powi(202));
+        // A positive finite length stays positive and finite in the run.
+        let tiny = Scale::of(&[DVec3::new(1e-300, 0.0, 0.0)]).unwrap();
+        assert_eq!(tiny.length(f64::MAX), f64::MAX);
+        let huge = Scale::of(&[DVec3::new(1e300, 0.0, 0.0)]).unwrap();
+        assert_eq!(huge.length(5e-324), f64::MIN_POSITIVE);
+        assert!(huge.length(-1.0) < 0.0 && huge.length(f64::NAN).is_nan());
+    }
+}

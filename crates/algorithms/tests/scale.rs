@@ -1,0 +1,440 @@
+//! Remeshing, decimation and hole filling give the same result at any size: a mesh
+//! multiplied by a power of two `2^k` gives the unit-size result times `2^k`, bit for bit
+//! (vertices, faces and every length of the report), from `2^-1000` to `2^1000`.
+//! Without the runs' own scaling these failed from about `2^±100` on (decimation changed
+//! its result, then collapsed nothing; remeshing called a small sphere flat and refused a
+//! large one; hole filling filled nothing).
+
+use beltrami_algorithms::{
+    DecimateOptions, DecimateReport, FillOptions, FillReport, RemeshError, RemeshOptions,
+    RemeshReport, decimate, fill_holes, remesh, remesh_with_feature_edges,
+};
+use beltrami_halfedge::{DVec3, HalfedgeMesh, MeshData, PolygonList, primitives};
+use beltrami_testkit::fixtures::jittered_icosphere;
+
+/// The exponents tried: inside and outside the range a mesh is used at its own size
+/// (`2^-40..=2^40`), up to where the unit sphere's coordinates stay normal numbers.
+const POWERS: [i32; 10] = [-1000, -600, -300, -100, -41, 41, 100, 300, 600, 1000];
+
+fn scaled(x: &[DVec3], s: f64) -> Vec<DVec3> {
+    x.iter().map(|&p| p * s).collect()
+}
+
+fn faces(mesh: &HalfedgeMesh) -> Vec<[u32; 3]> {
+    mesh.faces()
+        .map(|f| mesh.triangle_vertices(f).map(|v| v.raw()))
+        .collect()
+}
+
+/// The same faces, and positions that are `base`'s times `s` to the bit.
+fn assert_same_result(
+    what: &str,
+    (mesh, x): (&HalfedgeMesh, &[DVec3]),
+    (base, y): (&HalfedgeMesh, &[DVec3]),
+    s: f64,
+) {
+    assert_eq!(faces(mesh), faces(base), "{what}: faces");
+    assert_eq!(x, scaled(y, s), "{what}: positions");
+}
+
+/// The level-3 icosphere, every coordinate jittered by up to a fifth of an edge.
+fn sphere() -> (HalfedgeMesh, Vec<DVec3>) {
+    let sphere = jittered_icosphere(3);
+    (sphere.mesh().unwrap(), sphere.positions)
+}
+
+fn remesh_lengths(r: &RemeshReport) -> [f64; 5] {
+    [
+        r.target_edge_length,
+        r.mean_edge_length_before,
+        r.mean_edge_length,
+        r.hausdorff,
+        r.hausdorff_from_input,
+    ]
+}
+
+fn remesh_counts(r: &RemeshReport) -> [usize; 8] {
+    [
+        r.splits,
+        r.collapses,
+        r.flips,
+        r.vertices,
+        r.faces,
+        r.feature_edges,
+        r.corners,
+        r.degenerate_faces,
+    ]
+}
+
+#[test]
+fn remeshing_gives_the_same_result_at_any_size() {
+    let (mesh, x) = sphere();
+    let cube = primitives::cube();
+    let cube_mesh = cube.mesh().unwrap();
+    let cases: [(&str, &HalfedgeMesh, &[DVec3], RemeshOptions); 5] = [
+        ("default", &mesh, &x, RemeshOptions::default().iterations(3)),
+        ("faceted", &mesh, &x, {
+            let mut o = RemeshOptions::default().iterations(3);
+            o.smooth_projection = false;
+            o
+        }),
+        (
+            "absolute length",
+            &mesh,
+            &x,
+            RemeshOptions::default().edge_length(0.2).iterations(3),
+        ),
+        (
+            "adaptive",
+            &mesh,
+            &x,
+            RemeshOptions::default()
+                .adaptive(0.05, 0.4, 0.004)
+                .iterations(3),
+        ),
+        (
+            "cube with features",
+            &cube_mesh,
+            &cube.positions,
+            RemeshOptions::default()
+                .edge_length(0.3)
+                .feature_angle(45f64.to_radians())
+                .iterations(3),
+        ),
+    ];
+    for (name, mesh, x, options) in cases {
+        let (base, y, report) = remesh(mesh, x, &options).unwrap();
+        assert!(report.splits + report.collapses > 0, "{name}: remeshed");
+        for k in POWERS {
+            let s = 2f64.powi(k);
+            let o = match options.edge_length {
+                beltrami_algorithms::EdgeLength::Absolute(l) => options.edge_length(l * s),
+                beltrami_algorithms::EdgeLength::Adaptive(a) => options.adaptive(
+                    a.min_edge.unwrap() * s,
+                    a.max_edge.unwrap() * s,
+                    a.approx_error.unwrap() * s,
+                ),
+                _ => options,
+            };
+            let what = format!("{name}, 2^{k}");
+            let (out, z, r) =
+                remesh(mesh, &scaled(x, s), &o).unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_same_result(&what, (&out, &z), (&base, &y), s);
+            assert_eq!(remesh_counts(&r), remesh_counts(&report), "{what}");
+            assert_eq!(
+                remesh_lengths(&r),
+                remesh_lengths(&report).map(|l| l * s),
+                "{what}"
+            );
+            assert_eq!(r.edge_length_cv, report.edge_length_cv, "{what}");
+            if let Some(a) = report.adaptive {
+                let b = r.adaptive.unwrap();
+                assert_eq!(
+                    [b.min_edge, b.max_edge, b.approx_error],
+                    [a.min_edge * s, a.max_edge * s, a.approx_error * s],
+                    "{what}"
+                );
+            }
+        }
+    }
+    // Given feature edges (indices) need no scaling.
+    let line: Vec<[u32; 2]> = mesh
+        .edges()
+        .map(|e| mesh.edge_vertices(e).map(|v| v.raw()))
+        .filter(|[a, b]| x[*a as usize].z.abs() < 0.3 && x[*b as usize].z.abs() < 0.3)
+        .take(20)
+        .collect();
+    let options = RemeshOptions::default().iterations(2);
+    let go = |x: &[DVec3]| {
+        remesh_with_feature_edges(&mesh, x, &line, &options, |_, _| {
+            std::ops::ControlFlow::Continue(())
+        })
+        .unwrap()
+    };
+    let (base, y, _) = go(&x);
+    for k in [-500, 500] {
+        let s = 2f64.powi(k);
+        let (out, z, _) = go(&scaled(&x, s));
+        assert_same_result(&format!("given edges, 2^{k}"), (&out, &z), (&base, &y), s);
+    }
+}
+
+/// The errors name lengths in the caller's unit, and the options are checked as given.
+#[test]
+fn remeshing_errors_name_the_callers_lengths_at_any_size() {
+    let (mesh, x) = sphere();
+    let s = 2f64.powi(-700);
+    let tiny = scaled(&x, s);
+    // A target far too short for the surface: the error names the length given.
+    let length = 1e-5 * s;
+    match remesh(&mesh, &tiny, &RemeshOptions::default().edge_length(length)) {
+        Err(RemeshError::TooManyFaces { edge_length, .. }) => assert_eq!(edge_length, length),
+        other => panic!("{other:?}"),
+    }
+    // A target far too long: the surface would shrink or degenerate (the remeshing
+    // tests' cases); the lengths are the caller's.
+    // A square with a stray collinear triangle beside it fails as degenerate at any
+    // length (as in the remeshing tests).
+    let flat = MeshData::new(
+        vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(5.0, 0.0, 0.0),
+        ],
+        PolygonList::from_triangles(&[[0, 1, 3], [0, 3, 2], [4, 5, 6]]),
+    );
+    let (mut shrunk, mut degenerate) = (0, 0);
+    for (surface, length) in [
+        (primitives::icosphere(2), 5.0),
+        (primitives::torus(1.0, 0.4, 24, 12), 5.0),
+        (flat, 0.05),
+    ] {
+        let m = surface.mesh().unwrap();
+        let unit = remesh(
+            &m,
+            &surface.positions,
+            &RemeshOptions::default().edge_length(length),
+        );
+        let small = remesh(
+            &m,
+            &scaled(&surface.positions, s),
+            &RemeshOptions::default().edge_length(length * s),
+        );
+        match (unit, small) {
+            (
+                Err(RemeshError::Shrunk {
+                    extent: e1,
+                    diagonal: d1,
+                    edge_length: l1,
+                }),
+                Err(RemeshError::Shrunk {
+                    extent: e2,
+                    diagonal: d2,
+                    edge_length: l2,
+                }),
+            ) => {
+                assert_eq!([e2, d2, l2], [e1 * s, d1 * s, l1 * s]);
+                shrunk += 1;
+            }
+            (
+                Err(RemeshError::Degenerate {
+                    edge_length: l1,
+                    diagonal: d1,
+                    faces: f1,
+                    ..
+                }),
+                Err(RemeshError::Degenerate {
+                    edge_length: l2,
+                    diagonal: d2,
+                    faces: f2,
+                    ..
+                }),
+            ) => {
+                assert_eq!((f2, [l2, d2]), (f1, [l1 * s, d1 * s]));
+                degenerate += 1;
+            }
+            (Ok((a, x, _)), Ok((b, y, _))) => assert_same_result("coarse", (&b, &y), (&a, &x), s),
+            other => panic!("{other:?}"),
+        }
+    }
+    assert!(
+        shrunk > 0 && degenerate > 0,
+        "shrunk {shrunk}, degenerate {degenerate}"
+    );
+    // A length that is no length is refused with the value given, not a scaled one.
+    let message = remesh(&mesh, &tiny, &RemeshOptions::default().edge_length(-2.5))
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("got -2.5"), "{message}");
+    // A positive length whose scaled value would overflow is still a length: far
+    // beyond the surface's extent it is capped as at unit size.
+    let options = RemeshOptions::default().edge_length(1e300).iterations(1);
+    let (base, y, unit) = remesh(&mesh, &x, &options).unwrap();
+    let s = 2f64.powi(-1000);
+    let (out, z, report) = remesh(&mesh, &scaled(&x, s), &options).unwrap();
+    assert_same_result("1e300 at 2^-1000", (&out, &z), (&base, &y), s);
+    assert_eq!(report.target_edge_length, 1e300);
+    assert_eq!(unit.target_edge_length, 1e300);
+}
+
+fn decimate_lengths(r: &DecimateReport) -> [f64; 6] {
+    [
+        r.max_quadric_error,
+        r.fit_rms_before,
+        r.fit_rms_after,
+        r.hausdorff,
+        r.hausdorff_to_input,
+        r.hausdorff_from_input,
+    ]
+}
+
+#[test]
+fn decimation_gives_the_same_result_at_any_size() {
+    let (mesh, x) = sphere();
+    let bounded = |e: f64, d: f64| {
+        DecimateOptions::default()
+            .ratio(0.1)
+            .max_error(e)
+            .max_distance(d)
+    };
+    let cases = [
+        ("default", DecimateOptions::default().ratio(0.2), None),
+        // Bounds that stop the run before its target: unscaled they would stop it
+        // elsewhere.
+        ("bounded", bounded(0.004, 0.02), Some((0.004, 0.02))),
+    ];
+    for (name, options, bounds) in cases {
+        let (base, y, report) = decimate(&mesh, &x, &options).unwrap();
+        assert!(report.collapses > 0 && report.distance_measured, "{name}");
+        if bounds.is_some() {
+            assert!(!report.target_reached, "{name}: the bounds stop it");
+        }
+        for k in POWERS {
+            let s = 2f64.powi(k);
+            let o = bounds.map_or(options, |(e, d)| bounded(e * s, d * s));
+            let what = format!("{name}, 2^{k}");
+            let (out, z, r) =
+                decimate(&mesh, &scaled(&x, s), &o).unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_same_result(&what, (&out, &z), (&base, &y), s);
+            assert_eq!(
+                (r.collapses, r.flips, r.fit_rounds, r.refused, r.stop),
+                (
+                    report.collapses,
+                    report.flips,
+                    report.fit_rounds,
+                    report.refused,
+                    report.stop
+                ),
+                "{what}"
+            );
+            assert_eq!(
+                decimate_lengths(&r),
+                decimate_lengths(&report).map(|l| l * s),
+                "{what}"
+            );
+            // Measured afterwards, at the caller's size.
+            let mut later = DecimateReport::default();
+            later
+                .measure_distance((&mesh, &scaled(&x, s)), (&out, &z))
+                .unwrap();
+            assert_eq!(later.hausdorff, report.hausdorff * s, "{what}");
+        }
+    }
+}
+
+/// The sphere with its caps above `z = 0.75` and below `z = -0.8` cut off.
+fn holed_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
+    let sphere = jittered_icosphere(3);
+    let kept: Vec<[u32; 3]> = sphere
+        .faces
+        .iter()
+        .filter(|f| {
+            f.iter().all(|&v| {
+                let z = sphere.positions[v as usize].z;
+                (-0.8..0.75).contains(&z)
+            })
+        })
+        .map(|f| [f[0], f[1], f[2]])
+        .collect();
+    let data = MeshData::new(sphere.positions.clone(), PolygonList::from_triangles(&kept));
+    let (mesh, x) = (data.mesh().unwrap(), data.positions);
+    assert_eq!(mesh.boundary_loops().count(), 2);
+    (mesh, x)
+}
+
+fn fill_lengths(r: &FillReport) -> Vec<[f64; 2]> {
+    r.filled.iter().map(|h| [h.perimeter, h.area]).collect()
+}
+
+#[test]
+fn hole_filling_gives_the_same_result_at_any_size() {
+    let (mesh, x) = holed_sphere();
+    for (name, options) in [
+        ("default", FillOptions::default().fill_all(true)),
+        ("one loop left open", FillOptions::default()),
+        (
+            "harmonic",
+            FillOptions::default().fill_all(true).fair_order(1),
+        ),
+    ] {
+        let (base, y, report) = fill_holes(&mesh, &x, &options).unwrap();
+        assert!(report.vertices_added > 0, "{name}");
+        for k in POWERS {
+            let s = 2f64.powi(k);
+            let what = format!("{name}, 2^{k}");
+            let (out, z, r) = fill_holes(&mesh, &scaled(&x, s), &options)
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_same_result(&what, (&out, &z), (&base, &y), s);
+            assert_eq!(
+                (r.loops, r.faces_added, r.vertices_added, r.skipped.len()),
+                (
+                    report.loops,
+                    report.faces_added,
+                    report.vertices_added,
+                    report.skipped.len()
+                ),
+                "{what}"
+            );
+            let expected: Vec<[f64; 2]> = fill_lengths(&report)
+                .iter()
+                .map(|[p, a]| [p * s, a * s * s])
+                .collect();
+            assert_eq!(fill_lengths(&r), expected, "{what}");
+            let perimeters =
+                |r: &FillReport| -> Vec<f64> { r.skipped.iter().map(|h| h.perimeter).collect() };
+            assert_eq!(
+                perimeters(&r),
+                perimeters(&report)
+                    .iter()
+                    .map(|p| p * s)
+                    .collect::<Vec<_>>(),
+                "{what}"
+            );
+        }
+    }
+}
+
+#[test]
+fn quality_figures_are_the_same_at_any_size() {
+    use beltrami_algorithms::{flipped_faces, mesh_quality};
+    let (mesh, x) = sphere();
+    let unit = mesh_quality(&mesh, &x).unwrap();
+    let mut moved = x.clone();
+    moved[5] = -moved[5];
+    let flipped = flipped_faces(&mesh, &moved, &x).unwrap();
+    assert!(flipped > 0);
+    for k in POWERS {
+        let s = 2f64.powi(k);
+        let q = mesh_quality(&mesh, &scaled(&x, s)).unwrap();
+        let (a, b) = (q.edge_length.unwrap(), unit.edge_length.unwrap());
+        assert_eq!(
+            [a.min, a.mean, a.max],
+            [b.min * s, b.mean * s, b.max * s],
+            "2^{k}"
+        );
+        assert_eq!(a.cv, b.cv, "2^{k}");
+        assert_eq!(q.shape, unit.shape, "2^{k}");
+        assert_eq!(
+            (
+                q.degenerate_faces,
+                q.negative_cotangent_edges,
+                q.regular_share
+            ),
+            (
+                unit.degenerate_faces,
+                unit.negative_cotangent_edges,
+                unit.regular_share
+            ),
+            "2^{k}"
+        );
+        assert_eq!(
+            flipped_faces(&mesh, &scaled(&moved, s), &scaled(&x, s)).unwrap(),
+            flipped,
+            "2^{k}"
+        );
+    }
+}
