@@ -353,8 +353,12 @@ def test_decimate_plane_weights_and_stabilizer(sphere):
 def test_the_editing_calls_give_the_same_result_far_from_unit_size(sphere, power):
     """A mesh times 2**power gives the unit-size result times 2**power, bit for bit."""
     scale = 2.0**power
+    # References at 0.75 of the unit size, so that the far runs, brought to [1, 2), are
+    # computed at another size than theirs.
+    sphere = bt.Mesh(sphere.vertices * 0.75, sphere.faces)
     far = bt.Mesh(sphere.vertices * scale, sphere.faces)
     holed = bt.generate("sphere", level=3, holes=2)
+    holed = bt.Mesh(holed.vertices * 0.75, holed.faces)
     holed_far = bt.Mesh(holed.vertices * scale, holed.faces)
     for call, unit_mesh, far_mesh, length in [
         (lambda m: bt.decimate(m, ratio=0.3), sphere, far, "hausdorff"),

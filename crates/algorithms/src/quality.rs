@@ -27,7 +27,7 @@
 //! - A. I. Bobenko, B. A. Springborn, "A discrete Laplace–Beltrami operator for
 //!   simplicial surfaces", Discrete & Computational Geometry 38, 2007.
 
-use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh};
+use beltrami_halfedge::{DVec3, HalfedgeId, HalfedgeMesh, VertexId};
 
 use crate::error::{InputProblem, check_finite, check_mesh};
 use crate::scale::Scale;
@@ -234,7 +234,7 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
     // Far from unit size, measured at a power of two times the size, where squared
     // lengths and cross products neither underflow nor overflow (`crate::scale`); only
     // the edge lengths carry the unit.
-    if let Some(scale) = Scale::of(positions) {
+    if let Some(scale) = Scale::of_mesh(mesh, positions) {
         let mut quality = measure(mesh, &scale.positions(positions));
         if let Some(lengths) = &mut quality.edge_length {
             lengths.min = scale.length_back(lengths.min);
@@ -416,17 +416,23 @@ fn cotangent_signs(mesh: &HalfedgeMesh, positions: &[DVec3]) -> (usize, usize) {
 /// assert!(flipped_faces(&mesh, &moved, &grid.positions)? > 0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn flipped_faces(
+pub fn flipped_faces<'a>(
     mesh: &HalfedgeMesh,
-    positions: &[DVec3],
-    reference: &[DVec3],
+    positions: &'a [DVec3],
+    reference: &'a [DVec3],
 ) -> Result<usize, QualityError> {
     check(mesh, positions)?;
     check(mesh, reference)?;
     // Far from unit size, both at a power of two times their size, where the normals'
     // products neither underflow nor overflow (`crate::scale`).
     let scaled;
-    let (positions, reference) = match Scale::of(positions.iter().chain(reference)) {
+    let in_faces = |x: &'a [DVec3]| {
+        x.iter()
+            .enumerate()
+            .filter(|&(i, _)| !mesh.is_isolated(VertexId::new(i as u32)))
+            .map(|(_, p)| p)
+    };
+    let (positions, reference) = match Scale::of(in_faces(positions).chain(in_faces(reference))) {
         Some(scale) => {
             scaled = (scale.positions(positions), scale.positions(reference));
             (&scaled.0[..], &scaled.1[..])

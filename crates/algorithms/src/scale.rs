@@ -19,7 +19,7 @@
 //! Only the largest coordinate counts: a small part far from the origin keeps the
 //! precision its coordinates have.
 
-use beltrami_halfedge::DVec3;
+use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 
 /// The range of the largest absolute coordinate inside which a mesh is used at its own
 /// size: well inside the range where the algorithms' results scale exactly with the
@@ -43,9 +43,22 @@ fn power_of_two(k: i32) -> f64 {
 }
 
 impl Scale {
-    /// The scale for a mesh at `positions` (finite), `None` when its largest absolute
-    /// coordinate lies in [`UNSCALED`] or is zero (every vertex at the origin: nothing to
-    /// scale).
+    /// The scale for `mesh` at `positions` (finite, one per vertex): from the largest
+    /// absolute coordinate of the vertices in a face (an isolated vertex far away, a
+    /// stray point of a scan, is no part of the surface and does not shrink it). `None`
+    /// when that coordinate lies in [`UNSCALED`] or is zero (nothing to scale).
+    pub(crate) fn of_mesh(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<Self> {
+        Self::of(
+            positions
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| !mesh.is_isolated(VertexId::new(i as u32)))
+                .map(|(_, p)| p),
+        )
+    }
+
+    /// The scale for the points `positions` (finite): from their largest absolute
+    /// coordinate, `None` when it lies in [`UNSCALED`] or is zero.
     pub(crate) fn of<'a>(positions: impl IntoIterator<Item = &'a DVec3>) -> Option<Self> {
         let largest = positions
             .into_iter()
@@ -85,14 +98,16 @@ impl Scale {
     }
 
     /// A length given in the caller's unit, in the run's: positive and finite stays so
-    /// (a length the run's numbers cannot hold becomes the nearest they can), anything
-    /// else is scaled as it is.
+    /// (one that underflows to 0 becomes the smallest positive number, one that
+    /// overflows the largest finite one), anything else is scaled as it is.
     pub(crate) fn length(&self, x: f64) -> f64 {
         let y = x * self.to_run;
-        if x.is_finite() && x > 0.0 {
-            y.clamp(f64::MIN_POSITIVE, f64::MAX)
-        } else {
+        if !(x.is_finite() && x > 0.0) {
             y
+        } else if y == 0.0 {
+            f64::from_bits(1)
+        } else {
+            y.min(f64::MAX)
         }
     }
 
@@ -169,7 +184,11 @@ mod tests {
         let tiny = Scale::of(&[DVec3::new(1e-300, 0.0, 0.0)]).unwrap();
         assert_eq!(tiny.length(f64::MAX), f64::MAX);
         let huge = Scale::of(&[DVec3::new(1e300, 0.0, 0.0)]).unwrap();
-        assert_eq!(huge.length(5e-324), f64::MIN_POSITIVE);
+        // A subnormal length stays as it is; one that underflows becomes the smallest.
+        let subnormal = huge.length(1e-10);
+        assert!(subnormal > 0.0 && !subnormal.is_normal());
+        assert_eq!(subnormal, 1e-10 * 2f64.powi(-996));
+        assert_eq!(huge.length(1e-300), f64::from_bits(1));
         assert!(huge.length(-1.0) < 0.0 && huge.length(f64::NAN).is_nan());
     }
 }

@@ -1,13 +1,17 @@
 //! Remeshing, decimation and hole filling give the same result at any size: a mesh
 //! multiplied by a power of two `2^k` gives the unit-size result times `2^k`, bit for bit
-//! (vertices, faces and every length of the report), from `2^-1000` to `2^1000`.
+//! (vertices, faces and every length of the report), from `2^-1000` to `2^1000`. The
+//! reference meshes are not at the size the runs scale to (their largest coordinate
+//! outside `[1, 2)`: 0.6, 0.7, 3), so that the runs at `2^k` times their size, brought
+//! to `[1, 2)`, are computed at another size than the reference's and the comparison
+//! holds the algorithms themselves to exact scaling, not only the scaling around them.
 //! Without the runs' own scaling these failed from about `2^±100` on (decimation changed
 //! its result, then collapsed nothing; remeshing called a small sphere flat and refused a
 //! large one; hole filling filled nothing).
 
 use beltrami_algorithms::{
     DecimateOptions, DecimateReport, FillOptions, FillReport, RemeshError, RemeshOptions,
-    RemeshReport, decimate, fill_holes, remesh, remesh_with_feature_edges,
+    RemeshReport, decimate, fill_holes, mesh_quality, remesh, remesh_with_feature_edges,
 };
 use beltrami_halfedge::{DVec3, HalfedgeMesh, MeshData, PolygonList, primitives};
 use beltrami_testkit::fixtures::jittered_icosphere;
@@ -37,10 +41,17 @@ fn assert_same_result(
     assert_eq!(x, scaled(y, s), "{what}: positions");
 }
 
-/// The level-3 icosphere, every coordinate jittered by up to a fifth of an edge.
+/// The level-3 icosphere, every coordinate jittered by up to a fifth of an edge, at
+/// 0.6 of its size (largest coordinate 0.61: run at twice that when scaled).
 fn sphere() -> (HalfedgeMesh, Vec<DVec3>) {
     let sphere = jittered_icosphere(3);
-    (sphere.mesh().unwrap(), sphere.positions)
+    let x = scaled(&sphere.positions, 0.6);
+    assert!((0.5..1.0).contains(&largest(&x)));
+    (sphere.mesh().unwrap(), x)
+}
+
+fn largest(x: &[DVec3]) -> f64 {
+    x.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max)
 }
 
 fn remesh_lengths(r: &RemeshReport) -> [f64; 5] {
@@ -71,6 +82,8 @@ fn remeshing_gives_the_same_result_at_any_size() {
     let (mesh, x) = sphere();
     let cube = primitives::cube();
     let cube_mesh = cube.mesh().unwrap();
+    // At three times its size (largest coordinate 3: run at half that when scaled).
+    let cube_x = scaled(&cube.positions, 3.0);
     let cases: [(&str, &HalfedgeMesh, &[DVec3], RemeshOptions); 5] = [
         ("default", &mesh, &x, RemeshOptions::default().iterations(3)),
         ("faceted", &mesh, &x, {
@@ -95,9 +108,9 @@ fn remeshing_gives_the_same_result_at_any_size() {
         (
             "cube with features",
             &cube_mesh,
-            &cube.positions,
+            &cube_x,
             RemeshOptions::default()
-                .edge_length(0.3)
+                .edge_length(0.9)
                 .feature_angle(45f64.to_radians())
                 .iterations(3),
         ),
@@ -188,20 +201,17 @@ fn remeshing_errors_name_the_callers_lengths_at_any_size() {
         PolygonList::from_triangles(&[[0, 1, 3], [0, 3, 2], [4, 5, 6]]),
     );
     let (mut shrunk, mut degenerate) = (0, 0);
-    for (surface, length) in [
-        (primitives::icosphere(2), 5.0),
-        (primitives::torus(1.0, 0.4, 24, 12), 5.0),
-        (flat, 0.05),
+    for (surface, size, length) in [
+        (primitives::icosphere(2), 0.7, 3.5),
+        (primitives::torus(1.0, 0.4, 24, 12), 0.7, 3.5),
+        (flat, 1.0, 0.05),
     ] {
         let m = surface.mesh().unwrap();
-        let unit = remesh(
-            &m,
-            &surface.positions,
-            &RemeshOptions::default().edge_length(length),
-        );
+        let x = scaled(&surface.positions, size);
+        let unit = remesh(&m, &x, &RemeshOptions::default().edge_length(length));
         let small = remesh(
             &m,
-            &scaled(&surface.positions, s),
+            &scaled(&x, s),
             &RemeshOptions::default().edge_length(length * s),
         );
         match (unit, small) {
@@ -245,6 +255,23 @@ fn remeshing_errors_name_the_callers_lengths_at_any_size() {
         shrunk > 0 && degenerate > 0,
         "shrunk {shrunk}, degenerate {degenerate}"
     );
+    // A length whose run value is subnormal is still named as given.
+    let huge = scaled(&x, 2f64.powi(1000));
+    match remesh(&mesh, &huge, &RemeshOptions::default().edge_length(1e-10)) {
+        Err(RemeshError::TooManyFaces { edge_length, .. }) => assert_eq!(edge_length, 1e-10),
+        other => panic!("{other:?}"),
+    }
+    // The checks come in the same order at any size: a pair that is no edge is named
+    // before the options' length.
+    let bad = RemeshOptions::default().edge_length(-1.0);
+    let no_edge = |x: &[DVec3]| {
+        remesh_with_feature_edges(&mesh, x, &[[0, 1_000_000]], &bad, |_, _| {
+            std::ops::ControlFlow::Continue(())
+        })
+        .map(|_| ())
+    };
+    assert!(matches!(no_edge(&x), Err(RemeshError::FeatureEdge { .. })));
+    assert_eq!(no_edge(&tiny), no_edge(&x));
     // A length that is no length is refused with the value given, not a scaled one.
     let message = remesh(&mesh, &tiny, &RemeshOptions::default().edge_length(-2.5))
         .unwrap_err()
@@ -326,7 +353,8 @@ fn decimation_gives_the_same_result_at_any_size() {
     }
 }
 
-/// The sphere with its caps above `z = 0.75` and below `z = -0.8` cut off.
+/// The sphere of [`sphere`] (before its scaling to 0.6) with its caps above `z = 0.75`
+/// and below `z = -0.8` cut off, at 0.6 of its size.
 fn holed_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
     let sphere = jittered_icosphere(3);
     let kept: Vec<[u32; 3]> = sphere
@@ -341,7 +369,7 @@ fn holed_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
         .map(|f| [f[0], f[1], f[2]])
         .collect();
     let data = MeshData::new(sphere.positions.clone(), PolygonList::from_triangles(&kept));
-    let (mesh, x) = (data.mesh().unwrap(), data.positions);
+    let (mesh, x) = (data.mesh().unwrap(), scaled(&data.positions, 0.6));
     assert_eq!(mesh.boundary_loops().count(), 2);
     (mesh, x)
 }
@@ -400,7 +428,7 @@ fn hole_filling_gives_the_same_result_at_any_size() {
 
 #[test]
 fn quality_figures_are_the_same_at_any_size() {
-    use beltrami_algorithms::{flipped_faces, mesh_quality};
+    use beltrami_algorithms::flipped_faces;
     let (mesh, x) = sphere();
     let unit = mesh_quality(&mesh, &x).unwrap();
     let mut moved = x.clone();
@@ -437,4 +465,39 @@ fn quality_figures_are_the_same_at_any_size() {
             "2^{k}"
         );
     }
+}
+
+/// A stray vertex far away (in no face: a scan's outlier at the machine's origin)
+/// does not decide the size a run is computed at: the surface's result is the one
+/// without it, at any distance.
+#[test]
+fn an_isolated_vertex_far_away_changes_nothing() {
+    let (mesh, x) = sphere();
+    let data = MeshData::new(
+        x.iter()
+            .copied()
+            .chain([DVec3::new(1e20, 0.0, 0.0)])
+            .collect(),
+        mesh.to_polygons(),
+    );
+    let stray = data.mesh().unwrap();
+    assert_eq!(stray.n_vertices(), mesh.n_vertices() + 1);
+    let mut near = data.positions.clone();
+    near[x.len()] = DVec3::new(0.25, 0.0, 0.0);
+    let options = DecimateOptions::default().ratio(0.2);
+    let (a, ya, ra) = decimate(&stray, &data.positions, &options).unwrap();
+    let (b, yb, rb) = decimate(&stray, &near, &options).unwrap();
+    assert!(ra.collapses > 0);
+    assert_eq!(faces(&a), faces(&b));
+    let moved = ya.iter().zip(&yb).filter(|(p, q)| p != q).count();
+    assert_eq!(moved, 1, "only the stray vertex differs");
+    assert_eq!(ra.hausdorff, rb.hausdorff);
+    let options = RemeshOptions::default().iterations(2);
+    let (a, ya, _) = remesh(&stray, &data.positions, &options).unwrap();
+    let (b, yb, _) = remesh(&stray, &near, &options).unwrap();
+    assert_eq!(faces(&a), faces(&b));
+    let moved = ya.iter().zip(&yb).filter(|(p, q)| p != q).count();
+    assert_eq!(moved, 1, "only the stray vertex differs");
+    let shape = |y: &[DVec3]| mesh_quality(&stray, y).unwrap().shape;
+    assert_eq!(shape(&data.positions), shape(&near));
 }

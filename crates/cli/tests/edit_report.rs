@@ -242,7 +242,18 @@ fn far_from_unit_size_the_figures_are_the_unit_sizes_scaled() {
         "3",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let mesh = read_mesh(&unit).unwrap();
+    // The reference at 0.75 of the unit sphere's size, so that the runs far from unit
+    // size, brought to [1, 2), are computed at another size than the reference's.
+    let mut mesh = read_mesh(&unit).unwrap();
+    for p in &mut mesh.positions {
+        *p *= 0.75;
+    }
+    let unit = common::write(
+        dir.path(),
+        "reference.ply",
+        mesh.positions.clone(),
+        mesh.faces.clone(),
+    );
     // Each command, its options, and the JSON pointers of its lengths and its areas.
     type Run<'a> = (&'a str, &'a [&'a str], &'a [&'a str], &'a [&'a str]);
     let runs: [Run; 3] = [

@@ -123,6 +123,20 @@ pub enum SmoothError {
     /// Volume preservation asked of an implicit run.
     #[error("volume preservation is not available for implicit smoothing")]
     VolumeNotImplicit,
+    /// The mesh is too far from unit size for the implicit step, which computes
+    /// squared lengths (vertex areas, the solver's norms): beyond coordinates of about
+    /// 2^±500 those leave the range of numbers, and the step would be wrong or refused
+    /// as not positive definite. The largest coordinate must lie in
+    /// [`IMPLICIT_COORDINATES`](crate::IMPLICIT_COORDINATES) (2⁻⁴⁸⁰ to 2⁴⁸⁰, about
+    /// 10^±144); the explicit methods have no such limit.
+    #[error(
+        "implicit smoothing needs the largest coordinate between 2^-480 and 2^480 (about 3.2e-145 and 3.1e144) in absolute value, as its areas are squared lengths; this mesh's is {}: express it in another unit",
+        Short(*.largest)
+    )]
+    ImplicitScale {
+        /// The largest absolute coordinate of the mesh.
+        largest: f64,
+    },
     /// The implicit smoother has no curve boundary mode.
     #[error(
         "boundary mode 'curve' is not available for implicit smoothing (use 'fixed' or 'free')"

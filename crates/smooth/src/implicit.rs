@@ -144,6 +144,13 @@ impl<'a> Implicit<'a> {
         };
         let mut config = config;
         let start = Instant::now();
+        let largest = positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0_f64, f64::max);
+        if largest != 0.0 && !crate::IMPLICIT_COORDINATES.contains(&largest) {
+            return Err(SmoothError::ImplicitScale { largest });
+        }
         let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)?;
         let fixed = fixed_vertices(&mesh, &config);
         if let Some(duration) = config.duration {

@@ -59,6 +59,14 @@ pub use config::{
     SmoothConfig, Statistics, Summation, TAUBIN_LAMBDA, TAUBIN_PASS_BAND, WeightUpdate,
 };
 pub use error::SmoothError;
+
+/// The range of the largest absolute coordinate a mesh may have for implicit smoothing,
+/// 2⁻⁴⁸⁰ to 2⁴⁸⁰ (about 10^±144): the implicit step computes vertex areas and
+/// norms, squared lengths, which beyond about 2^±500 leave the range of numbers
+/// ([`SmoothError::ImplicitScale`]). Inside it, the step gives the same result at any
+/// size up to rounding. A mesh at the origin alone (all coordinates zero) is not refused.
+pub const IMPLICIT_COORDINATES: std::ops::RangeInclusive<f64> =
+    3.203_332_952_292_961_5e-145..=3.121_748_550_315_992_2e144;
 pub use report::{
     IterationView, SmoothReport, Smoothed, SolveStats, SolverReport, StepStats, StopReason,
 };

@@ -873,3 +873,43 @@ fn dirichlet_couplings_give_the_same_bits_on_any_thread_count_and_match_cholesky
         );
     }
 }
+
+/// Far from unit size the implicit step's squared lengths leave the range of numbers:
+/// beyond `IMPLICIT_COORDINATES` (2^±480) the run is refused with the typed error that
+/// names the largest coordinate (at 2^±520 it was wrong by a tenth of the size, or
+/// refused as not positive definite); inside it the result scales with the mesh.
+#[test]
+fn far_from_unit_size_the_implicit_step_is_refused_with_the_reason() {
+    let (mesh, x) = noisy(primitives::icosphere(3), 0.02);
+    let config = implicit(0.5, 2);
+    let unit = smooth(&mesh, &x, &Cotangent, config.clone())
+        .unwrap()
+        .positions;
+    for k in [-1000, -520, 520, 1000] {
+        let s = 2f64.powi(k);
+        let far: Vec<DVec3> = x.iter().map(|&p| p * s).collect();
+        match smooth(&mesh, &far, &Cotangent, config.clone()) {
+            Err(e @ SmoothError::ImplicitScale { largest }) => {
+                assert_eq!(largest, max_abs(&far), "2^{k}");
+                assert!(e.to_string().contains("another unit"), "{e}");
+            }
+            other => panic!("2^{k}: {other:?}"),
+        }
+    }
+    for k in [-400, 400] {
+        let s = 2f64.powi(k);
+        let far: Vec<DVec3> = x.iter().map(|&p| p * s).collect();
+        let y = smooth(&mesh, &far, &Cotangent, config.clone())
+            .unwrap()
+            .positions;
+        let back: Vec<DVec3> = y.iter().map(|&p| p / s).collect();
+        assert!(
+            max_diff(&back, &unit) <= 1e-14,
+            "2^{k}: {}",
+            max_diff(&back, &unit)
+        );
+    }
+    // Explicit smoothing has no such limit.
+    let far: Vec<DVec3> = x.iter().map(|&p| p * 2f64.powi(1000)).collect();
+    assert!(smooth(&mesh, &far, &Cotangent, SmoothConfig::new(0.5, 2)).is_ok());
+}

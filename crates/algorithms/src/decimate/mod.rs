@@ -704,7 +704,7 @@ impl DecimateReport {
         output: (&HalfedgeMesh, &[DVec3]),
     ) -> Result<(), DecimateError> {
         // Far from unit size both are measured at the input's scale (`crate::scale`).
-        if let Some(scale) = Scale::of(input.1) {
+        if let Some(scale) = Scale::of_mesh(input.0, input.1) {
             let (x, y) = (scale.positions(input.1), scale.positions(output.1));
             self.measure_distance_at_scale((input.0, &x), (output.0, &y))?;
             self.hausdorff = scale.length_back(self.hausdorff);
@@ -866,7 +866,7 @@ pub fn decimate_with_progress(
     }
     check_finite(positions)?;
     options.validate()?;
-    let Some(scale) = Scale::of(positions) else {
+    let Some(scale) = Scale::of_mesh(mesh, positions) else {
         return decimate_at_scale(mesh, positions, options, progress);
     };
     // Run at the mesh's scale (`crate::scale`), the options' lengths with it.

@@ -311,7 +311,6 @@ algorithm_error! {
     }
 }
 
-/// The length of a boundary loop.
 impl FillReport {
     /// The report of a run at `scale`, in the caller's unit. Every field is named, so
     /// that a new one is not left unscaled.
@@ -375,6 +374,7 @@ impl FillReport {
     }
 }
 
+/// The length of a boundary loop.
 fn perimeter(mesh: &EditMesh, hole: &[HalfedgeId]) -> f64 {
     hole.iter()
         .map(|&h| {
@@ -661,7 +661,7 @@ pub fn fill_holes_with_progress(
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     options.validate()?;
-    let Some(scale) = Scale::of(positions) else {
+    let Some(scale) = Scale::of_mesh(mesh, positions) else {
         return fill_holes_at_scale(mesh, positions, options, progress);
     };
     // Run at the mesh's scale (`crate::scale`); the options hold no length.

@@ -506,8 +506,6 @@ fn edge_length_stats(mesh: &EditMesh) -> (f64, f64) {
     (mean, cv)
 }
 
-/// Checks the options against the input and returns the target edge length (the
-/// input's mean edge length for adaptive sizing, replaced by the sizing field's mean).
 impl RemeshOptions {
     /// These options for a run at `scale`: the lengths in the positions' unit scaled.
     fn scaled(&self, scale: &Scale) -> Self {
@@ -596,16 +594,31 @@ impl RemeshReport {
 }
 
 impl RemeshError {
-    /// The error of a run at `scale`, its lengths in the caller's unit.
-    fn scaled_back(self, scale: &Scale) -> Self {
-        let back = |x| scale.length_back(x);
+    /// The error of a run at `scale` with `options` (as the caller gave them), its
+    /// lengths in the caller's unit: a target length given is named as given (scaled, it
+    /// may have been clamped, see `Scale::length`), and invalid options are described
+    /// with the values given.
+    fn scaled_back(self, scale: &Scale, options: &RemeshOptions) -> Self {
+        let given = match options.edge_length {
+            EdgeLength::Absolute(l) => Some(l),
+            _ => None,
+        };
+        let back = |x| given.unwrap_or_else(|| scale.length_back(x));
         match self {
+            // The scaled options are valid exactly when the given ones are.
+            Self::Options { .. } => target_length(options, 1.0).err().unwrap_or(self),
             Self::TooManyFaces {
                 edge_length,
                 predicted,
                 max,
             } => Self::TooManyFaces {
-                edge_length: back(edge_length),
+                // The smallest target: the given one, adaptive sizing's smallest given.
+                edge_length: match options.edge_length {
+                    EdgeLength::Adaptive(AdaptiveSizing {
+                        min_edge: Some(m), ..
+                    }) => m,
+                    _ => back(edge_length),
+                },
                 predicted,
                 max,
             },
@@ -620,15 +633,15 @@ impl RemeshError {
                 input_faces,
                 total,
                 edge_length: back(edge_length),
-                diagonal: back(diagonal),
+                diagonal: scale.length_back(diagonal),
             },
             Self::Shrunk {
                 extent,
                 diagonal,
                 edge_length,
             } => Self::Shrunk {
-                extent: back(extent),
-                diagonal: back(diagonal),
+                extent: scale.length_back(extent),
+                diagonal: scale.length_back(diagonal),
                 edge_length: back(edge_length),
             },
             // The others carry no length.
@@ -637,6 +650,8 @@ impl RemeshError {
     }
 }
 
+/// Checks the options against the input and returns the target edge length (the
+/// input's mean edge length for adaptive sizing, replaced by the sizing field's mean).
 fn target_length(options: &RemeshOptions, mean_edge: f64) -> Result<f64, RemeshError> {
     let bad = |reason: String| Err(RemeshError::Options { reason });
     let target = match options.edge_length {
@@ -848,16 +863,14 @@ pub fn remesh_with_feature_edges(
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
-    let Some(scale) = Scale::of(positions) else {
+    let Some(scale) = Scale::of_mesh(mesh, positions) else {
         return remesh_at_scale(mesh, positions, feature_edges, options, progress);
     };
-    // The options are checked as given (their lengths, in the caller's unit, are what
-    // an error names), then run at the mesh's scale (`crate::scale`).
-    target_length(options, 1.0)?;
+    // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
     let x = scale.positions(positions);
     let (out, x, report) =
         remesh_at_scale(mesh, &x, feature_edges, &options.scaled(&scale), progress)
-            .map_err(|e| e.scaled_back(&scale))?;
+            .map_err(|e| e.scaled_back(&scale, options))?;
     let mut report = report.scaled_back(&scale);
     // The lengths given, as given: one the run's numbers could not hold was clamped
     // (`Scale::length`), and would not come back.
