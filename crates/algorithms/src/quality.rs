@@ -235,7 +235,7 @@ pub fn mesh_quality(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Result<MeshQual
     // lengths and cross products neither underflow nor overflow (`crate::scale`); only
     // the edge lengths carry the unit.
     if let Some(scale) = Scale::of_mesh(mesh, positions) {
-        let mut quality = measure(mesh, &scale.positions(positions));
+        let mut quality = measure(mesh, &scale.mesh_positions(mesh, positions));
         if let Some(lengths) = &mut quality.edge_length {
             lengths.min = scale.length_back(lengths.min);
             lengths.mean = scale.length_back(lengths.mean);

@@ -16,8 +16,10 @@
 //!
 //! The scaled run reads lengths given in the positions' unit (a target edge length, a
 //! bound on the error) scaled alike, and its reports' lengths and areas are scaled back.
-//! Only the largest coordinate counts: a small part far from the origin keeps the
-//! precision its coordinates have.
+//! Only the largest coordinate of the vertices in a face counts: a small part far from
+//! the origin keeps the precision its coordinates have, and an isolated vertex (a stray
+//! point of a scan, which the algorithms leave where it is) neither sets the size nor is
+//! scaled: it comes back with its own bits.
 
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 
@@ -36,6 +38,29 @@ pub(crate) struct Scale {
     back: f64,
 }
 
+/// The largest absolute coordinate of the points (0 for none).
+fn largest<'a>(points: impl Iterator<Item = (usize, &'a DVec3)>) -> f64 {
+    points
+        .map(|(_, p)| p.abs().max_element())
+        .fold(0.0_f64, f64::max)
+}
+
+/// The binary exponent of `x` (positive, finite): of its leading bit for a subnormal; 0
+/// for 0.
+fn exponent(x: f64) -> i32 {
+    if x == 0.0 {
+        return 0;
+    }
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        // Subnormal: 2^-1074 times the mantissa.
+        -1074 + (63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32)
+    } else {
+        biased - 1023
+    }
+}
+
 /// `2^k` for `k` in `-1022..=1023`: a normal number, exactly.
 fn power_of_two(k: i32) -> f64 {
     debug_assert!((-1022..=1023).contains(&k));
@@ -48,40 +73,80 @@ impl Scale {
     /// stray point of a scan, is no part of the surface and does not shrink it). `None`
     /// when that coordinate lies in [`UNSCALED`] or is zero (nothing to scale).
     pub(crate) fn of_mesh(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<Self> {
-        Self::of(
-            positions
-                .iter()
-                .enumerate()
-                .filter(|&(i, _)| !mesh.is_isolated(VertexId::new(i as u32)))
-                .map(|(_, p)| p),
-        )
+        let in_face = |i: usize| !mesh.is_isolated(VertexId::new(i as u32));
+        let surface = largest(positions.iter().enumerate().filter(|&(i, _)| in_face(i)));
+        Self::power(surface).map(Self::with_power)
+    }
+
+    /// `mesh`'s positions at the run's size: the vertices in a face scaled, the
+    /// isolated ones (no part of the surface, and left where they are by every algorithm
+    /// here) at the origin, so that one at another magnitude than the surface neither
+    /// overflows nor loses its bits; [`restore_mesh`](Self::restore_mesh) puts them back.
+    pub(crate) fn mesh_positions(&self, mesh: &HalfedgeMesh, positions: &[DVec3]) -> Vec<DVec3> {
+        positions
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                if mesh.is_isolated(VertexId::new(i as u32)) {
+                    DVec3::ZERO
+                } else {
+                    p * self.to_run
+                }
+            })
+            .collect()
+    }
+
+    /// The run's positions of `out` at the caller's size, its isolated vertices at the
+    /// positions of `input`'s (`mesh` and its positions), taken in order: the
+    /// algorithms keep the isolated vertices, in their order, and make none.
+    ///
+    /// # Panics
+    /// If `out` has another number of isolated vertices than `input` (a defect).
+    pub(crate) fn restore_mesh(
+        &self,
+        (mesh, positions): (&HalfedgeMesh, &[DVec3]),
+        out: &HalfedgeMesh,
+        run: Vec<DVec3>,
+    ) -> Vec<DVec3> {
+        let mut isolated = (0..positions.len())
+            .filter(|&i| mesh.is_isolated(VertexId::new(i as u32)))
+            .map(|i| positions[i]);
+        let mut run = self.restore(run);
+        for (i, p) in run.iter_mut().enumerate() {
+            if out.is_isolated(VertexId::new(i as u32)) {
+                *p = isolated
+                    .next()
+                    .expect("the result has no more isolated vertices than the input");
+            }
+        }
+        assert!(
+            isolated.next().is_none(),
+            "the result keeps the input's isolated vertices"
+        );
+        run
     }
 
     /// The scale for the points `positions` (finite): from their largest absolute
     /// coordinate, `None` when it lies in [`UNSCALED`] or is zero.
     pub(crate) fn of<'a>(positions: impl IntoIterator<Item = &'a DVec3>) -> Option<Self> {
-        let largest = positions
-            .into_iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0_f64, f64::max);
+        Self::power(largest(positions.into_iter().enumerate())).map(Self::with_power)
+    }
+
+    /// The `k` that brings `largest` into `[1, 2)`, limited so that `2^k` and `2^-k`
+    /// are both normal; `None` when `largest` lies in [`UNSCALED`], is zero or is not
+    /// finite.
+    fn power(largest: f64) -> Option<i32> {
         if largest == 0.0 || !largest.is_finite() || UNSCALED.contains(&largest) {
             return None;
         }
-        // The binary exponent of `largest` (of its leading bit for a subnormal), then the
-        // `k` that brings it to 0, limited so that `2^k` and `2^-k` are both normal.
-        let bits = largest.to_bits();
-        let biased = ((bits >> 52) & 0x7ff) as i32;
-        let exponent = if biased == 0 {
-            // Subnormal: 2^-1074 times the mantissa.
-            -1074 + (63 - (bits & ((1 << 52) - 1)).leading_zeros() as i32)
-        } else {
-            biased - 1023
-        };
-        let k = (-exponent).clamp(-1022, 1022);
-        Some(Self {
+        Some((-exponent(largest)).clamp(-1022, 1022))
+    }
+
+    fn with_power(k: i32) -> Self {
+        Self {
             to_run: power_of_two(k),
             back: power_of_two(-k),
-        })
+        }
     }
 
     /// The positions at the run's size.

@@ -501,3 +501,105 @@ fn an_isolated_vertex_far_away_changes_nothing() {
     let shape = |y: &[DVec3]| mesh_quality(&stray, y).unwrap().shape;
     assert_eq!(shape(&data.positions), shape(&near));
 }
+
+/// A stray point at another magnitude than a surface far from unit size comes back as
+/// it was, and the surface's result is still the unit-size one scaled (the run's power
+/// of two is lowered so that the stray point stays finite).
+#[test]
+fn a_stray_point_beside_a_surface_far_from_unit_size_comes_back_as_it_was() {
+    let (mesh, x) = sphere();
+    let s = 2f64.powi(-990);
+    let strays = [DVec3::new(1e10, -3.0, 0.5), DVec3::new(1e-300, 0.0, 0.0)];
+    let with = |surface: &[DVec3], strays: &[DVec3]| {
+        MeshData::new(
+            surface.iter().chain(strays).copied().collect(),
+            mesh.to_polygons(),
+        )
+    };
+    let unit = with(&x, &[DVec3::new(0.25, 0.0, 0.0), DVec3::new(0.5, 0.0, 0.0)]);
+    let far = with(&scaled(&x, s), &strays);
+    let (unit_mesh, far_mesh) = (unit.mesh().unwrap(), far.mesh().unwrap());
+    let n = x.len();
+    let options = DecimateOptions::default().ratio(0.2);
+    let (a, ya, _) = decimate(&unit_mesh, &unit.positions, &options).unwrap();
+    let (b, yb, _) = decimate(&far_mesh, &far.positions, &options).unwrap();
+    assert_eq!(faces(&a), faces(&b));
+    let m = ya.len() - 2;
+    assert_eq!(yb[..m], scaled(&ya[..m], s)[..], "decimate: the surface");
+    assert_eq!(yb[m..], strays, "decimate: the strays");
+    let options = RemeshOptions::default().iterations(2);
+    let (a, ya, _) = remesh(&unit_mesh, &unit.positions, &options).unwrap();
+    let (b, yb, _) = remesh(&far_mesh, &far.positions, &options).unwrap();
+    assert_eq!(faces(&a), faces(&b));
+    // The strays keep their order among the vertices kept, before the new ones.
+    let isolated: Vec<usize> = (0..yb.len())
+        .filter(|&i| b.is_isolated(beltrami_halfedge::VertexId::new(i as u32)))
+        .collect();
+    assert_eq!(isolated.len(), 2);
+    for (i, (p, q)) in yb.iter().zip(&ya).enumerate() {
+        if isolated.contains(&i) {
+            continue;
+        }
+        assert_eq!(*p, *q * s, "remesh: surface vertex {i}");
+    }
+    assert_eq!(
+        isolated.iter().map(|&i| yb[i]).collect::<Vec<_>>(),
+        strays,
+        "remesh: the strays"
+    );
+    assert_eq!(n + 2, far.positions.len());
+    // Hole filling keeps the input's vertices first, the strays among them.
+    let (holed, hx) = holed_sphere();
+    let data = |surface: &[DVec3], strays: &[DVec3]| {
+        MeshData::new(
+            surface.iter().chain(strays).copied().collect(),
+            holed.to_polygons(),
+        )
+    };
+    let unit = data(
+        &hx,
+        &[DVec3::new(0.25, 0.0, 0.0), DVec3::new(0.5, 0.0, 0.0)],
+    );
+    let far = data(&scaled(&hx, s), &strays);
+    let options = FillOptions::default().fill_all(true);
+    let (a, ya, _) = fill_holes(&unit.mesh().unwrap(), &unit.positions, &options).unwrap();
+    let (b, yb, _) = fill_holes(&far.mesh().unwrap(), &far.positions, &options).unwrap();
+    assert_eq!(faces(&a), faces(&b));
+    let k = hx.len();
+    assert_eq!(yb[k..k + 2], strays, "fill-holes: the strays");
+    assert_eq!(yb[..k], scaled(&ya[..k], s)[..], "fill-holes: the input");
+    assert_eq!(
+        yb[k + 2..],
+        scaled(&ya[k + 2..], s)[..],
+        "fill-holes: the patches"
+    );
+}
+
+/// Options wrong in a way that scaling to the edge of the range of numbers would hide
+/// (two lengths beyond it become one) are still refused as at unit size, and an
+/// adaptive run's error names the sizing field's smallest length as at unit size.
+#[test]
+fn adaptive_lengths_far_from_unit_size_are_checked_and_named_as_given() {
+    let (mesh, x) = sphere();
+    let s = 1e-300;
+    let tiny = scaled(&x, s);
+    let swapped = RemeshOptions::default().adaptive(1e300, 1e299, 1e-3);
+    for y in [&x, &tiny] {
+        let message = remesh(&mesh, y, &swapped).unwrap_err().to_string();
+        assert!(message.contains("exceeds the largest"), "{message}");
+    }
+    // A tolerance so fine that the field's smallest length (the chord of that
+    // tolerance, about 7e-5, above the smallest length allowed) makes too many faces.
+    let s = 2f64.powi(-700);
+    let fine = |s: f64| RemeshOptions::default().adaptive(1e-9 * s, 1e-4 * s, 1e-9 * s);
+    let length = |y: &[DVec3], o: &RemeshOptions| match remesh(&mesh, y, o) {
+        Err(RemeshError::TooManyFaces { edge_length, .. }) => edge_length,
+        other => panic!("{other:?}"),
+    };
+    let unit = length(&x, &fine(1.0));
+    assert!(
+        unit > 1e-6,
+        "the field's smallest, not the smallest allowed: {unit}"
+    );
+    assert_eq!(length(&scaled(&x, s), &fine(s)), unit * s);
+}

@@ -144,6 +144,7 @@ impl<'a> Implicit<'a> {
         };
         let mut config = config;
         let start = Instant::now();
+        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)?;
         let largest = positions
             .iter()
             .map(|p| p.abs().max_element())
@@ -151,7 +152,6 @@ impl<'a> Implicit<'a> {
         if largest != 0.0 && !crate::IMPLICIT_COORDINATES.contains(&largest) {
             return Err(SmoothError::ImplicitScale { largest });
         }
-        let laplacian = Laplacian::new(&mesh, &positions, scheme, config.laplacian)?;
         let fixed = fixed_vertices(&mesh, &config);
         if let Some(duration) = config.duration {
             let moves: Vec<bool> = fixed.iter().map(|f| !f).collect();

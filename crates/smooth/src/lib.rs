@@ -63,8 +63,10 @@ pub use error::SmoothError;
 /// The range of the largest absolute coordinate a mesh may have for implicit smoothing,
 /// 2⁻⁴⁸⁰ to 2⁴⁸⁰ (about 10^±144): the implicit step computes vertex areas and
 /// norms, squared lengths, which beyond about 2^±500 leave the range of numbers
-/// ([`SmoothError::ImplicitScale`]). Inside it, the step gives the same result at any
-/// size up to rounding. A mesh at the origin alone (all coordinates zero) is not refused.
+/// ([`SmoothError::ImplicitScale`]). Inside it the step scales with the mesh (tested at
+/// 2^±400 to 1e-14 relative), as long as its edges are not so much shorter than its
+/// largest coordinate that their squares leave the range themselves. A mesh at the origin
+/// alone (all coordinates zero) is not refused.
 pub const IMPLICIT_COORDINATES: std::ops::RangeInclusive<f64> =
     3.203_332_952_292_961_5e-145..=3.121_748_550_315_992_2e144;
 pub use report::{

@@ -141,6 +141,8 @@ impl<'a> Smoother<'a> {
     /// [`SmoothError::InvalidUntilChange`]; [`SmoothError::PinnedOutOfRange`];
     /// [`SmoothError::NonFiniteInput`]; [`SmoothError::Weights`] when the positions do
     /// not match the mesh or the scheme gives a non-finite weight;
+    /// [`SmoothError::ImplicitScale`] for an implicit run on a mesh whose largest
+    /// coordinate lies outside [`IMPLICIT_COORDINATES`](crate::IMPLICIT_COORDINATES);
     /// [`SmoothError::Factorization`] when the implicit analysis cannot be done (out
     /// of memory).
     pub fn new(

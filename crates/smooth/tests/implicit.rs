@@ -880,6 +880,10 @@ fn dirichlet_couplings_give_the_same_bits_on_any_thread_count_and_match_cholesky
 /// refused as not positive definite); inside it the result scales with the mesh.
 #[test]
 fn far_from_unit_size_the_implicit_step_is_refused_with_the_reason() {
+    assert_eq!(
+        beltrami_smooth::IMPLICIT_COORDINATES,
+        2f64.powi(-480)..=2f64.powi(480)
+    );
     let (mesh, x) = noisy(primitives::icosphere(3), 0.02);
     let config = implicit(0.5, 2);
     let unit = smooth(&mesh, &x, &Cotangent, config.clone())

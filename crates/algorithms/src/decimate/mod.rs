@@ -705,7 +705,8 @@ impl DecimateReport {
     ) -> Result<(), DecimateError> {
         // Far from unit size both are measured at the input's scale (`crate::scale`).
         if let Some(scale) = Scale::of_mesh(input.0, input.1) {
-            let (x, y) = (scale.positions(input.1), scale.positions(output.1));
+            let x = scale.mesh_positions(input.0, input.1);
+            let y = scale.mesh_positions(output.0, output.1);
             self.measure_distance_at_scale((input.0, &x), (output.0, &y))?;
             self.hausdorff = scale.length_back(self.hausdorff);
             self.hausdorff_to_input = scale.length_back(self.hausdorff_to_input);
@@ -870,9 +871,10 @@ pub fn decimate_with_progress(
         return decimate_at_scale(mesh, positions, options, progress);
     };
     // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
-    let x = scale.positions(positions);
+    let x = scale.mesh_positions(mesh, positions);
     let (out, x, report) = decimate_at_scale(mesh, &x, &options.scaled(&scale), progress)?;
-    Ok((out, scale.restore(x), report.scaled_back(&scale)))
+    let x = scale.restore_mesh((mesh, positions), &out, x);
+    Ok((out, x, report.scaled_back(&scale)))
 }
 
 /// [`decimate_with_progress`] at the positions' own size (checked).

@@ -665,9 +665,10 @@ pub fn fill_holes_with_progress(
         return fill_holes_at_scale(mesh, positions, options, progress);
     };
     // Run at the mesh's scale (`crate::scale`); the options hold no length.
-    let x = scale.positions(positions);
+    let x = scale.mesh_positions(mesh, positions);
     let (out, x, report) = fill_holes_at_scale(mesh, &x, options, progress)?;
-    Ok((out, scale.restore(x), report.scaled_back(&scale)))
+    let x = scale.restore_mesh((mesh, positions), &out, x);
+    Ok((out, x, report.scaled_back(&scale)))
 }
 
 /// [`fill_holes_with_progress`] at the positions' own size (checked).

@@ -596,8 +596,8 @@ impl RemeshReport {
 impl RemeshError {
     /// The error of a run at `scale` with `options` (as the caller gave them), its
     /// lengths in the caller's unit: a target length given is named as given (scaled, it
-    /// may have been clamped, see `Scale::length`), and invalid options are described
-    /// with the values given.
+    /// may have been clamped, see `Scale::length`). (Invalid options are found in the
+    /// caller's values, see [`remesh_at_scale`].)
     fn scaled_back(self, scale: &Scale, options: &RemeshOptions) -> Self {
         let given = match options.edge_length {
             EdgeLength::Absolute(l) => Some(l),
@@ -605,18 +605,17 @@ impl RemeshError {
         };
         let back = |x| given.unwrap_or_else(|| scale.length_back(x));
         match self {
-            // The scaled options are valid exactly when the given ones are.
-            Self::Options { .. } => target_length(options, 1.0).err().unwrap_or(self),
             Self::TooManyFaces {
                 edge_length,
                 predicted,
                 max,
             } => Self::TooManyFaces {
-                // The smallest target: the given one, adaptive sizing's smallest given.
+                // The smallest target: the given one, or adaptive sizing's smallest
+                // given where the sizing field reached it.
                 edge_length: match options.edge_length {
                     EdgeLength::Adaptive(AdaptiveSizing {
                         min_edge: Some(m), ..
-                    }) => m,
+                    }) if edge_length == scale.length(m) => m,
                     _ => back(edge_length),
                 },
                 predicted,
@@ -864,13 +863,13 @@ pub fn remesh_with_feature_edges(
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        return remesh_at_scale(mesh, positions, feature_edges, options, progress);
+        return remesh_at_scale(mesh, positions, feature_edges, (options, options), progress);
     };
     // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
-    let x = scale.positions(positions);
-    let (out, x, report) =
-        remesh_at_scale(mesh, &x, feature_edges, &options.scaled(&scale), progress)
-            .map_err(|e| e.scaled_back(&scale, options))?;
+    let x = scale.mesh_positions(mesh, positions);
+    let run = options.scaled(&scale);
+    let (out, x, report) = remesh_at_scale(mesh, &x, feature_edges, (&run, options), progress)
+        .map_err(|e| e.scaled_back(&scale, options))?;
     let mut report = report.scaled_back(&scale);
     // The lengths given, as given: one the run's numbers could not hold was clamped
     // (`Scale::length`), and would not come back.
@@ -885,15 +884,19 @@ pub fn remesh_with_feature_edges(
         }
         EdgeLength::Relative(_) => {}
     }
-    Ok((out, scale.restore(x), report))
+    let x = scale.restore_mesh((mesh, positions), &out, x);
+    Ok((out, x, report))
 }
 
-/// [`remesh_with_feature_edges`] at the positions' own size.
+/// [`remesh_with_feature_edges`] at the positions' own size, with `options` at that
+/// size and `caller`, the caller's, checked where a run at the caller's size checks them
+/// (a length scaled to the edge of the range of numbers may no longer show what was
+/// wrong with it: two lengths beyond it become one).
 fn remesh_at_scale(
     mesh: &HalfedgeMesh,
     positions: &[DVec3],
     feature_edges: &[[u32; 2]],
-    options: &RemeshOptions,
+    (options, caller): (&RemeshOptions, &RemeshOptions),
     progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     let given = given_edges(mesh, feature_edges)?;
@@ -906,6 +909,7 @@ fn remesh_at_scale(
     if !is_positive(total_area) {
         return Err(RemeshError::NoArea);
     }
+    target_length(caller, mean_before)?;
     let target = target_length(options, mean_before)?;
     let feature = edit.add_edge_property("remesh:feature", false)?;
     let corner = edit.add_vertex_property("remesh:corner", false)?;
