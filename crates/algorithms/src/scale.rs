@@ -38,6 +38,11 @@ pub(crate) struct Scale {
     back: f64,
 }
 
+/// Where a run holds an isolated vertex ([`Scale::mesh_positions`]): far from the run's
+/// surface (within a few units of the origin) and within the closest-point index's
+/// range of coordinates (10⁶⁰).
+const TAG: f64 = 1e50;
+
 /// The largest absolute coordinate of the points (0 for none).
 fn largest<'a>(points: impl Iterator<Item = (usize, &'a DVec3)>) -> f64 {
     points
@@ -80,15 +85,19 @@ impl Scale {
 
     /// `mesh`'s positions at the run's size: the vertices in a face scaled, the
     /// isolated ones (no part of the surface, and left where they are by every algorithm
-    /// here) at the origin, so that one at another magnitude than the surface neither
-    /// overflows nor loses its bits; [`restore_mesh`](Self::restore_mesh) puts them back.
+    /// here) not, so that one at another magnitude than the surface neither overflows
+    /// nor loses its bits: the `j`-th of them is at `(TAG, j, 0)` in the run, a point no
+    /// surface vertex of the run (all within a few units of the origin) is at, and
+    /// [`restore_mesh`](Self::restore_mesh) puts it back where it was.
     pub(crate) fn mesh_positions(&self, mesh: &HalfedgeMesh, positions: &[DVec3]) -> Vec<DVec3> {
+        let mut j = 0.0;
         positions
             .iter()
             .enumerate()
             .map(|(i, &p)| {
                 if mesh.is_isolated(VertexId::new(i as u32)) {
-                    DVec3::ZERO
+                    j += 1.0;
+                    DVec3::new(TAG, j - 1.0, 0.0)
                 } else {
                     p * self.to_run
                 }
@@ -96,34 +105,28 @@ impl Scale {
             .collect()
     }
 
-    /// The run's positions of `out` at the caller's size, its isolated vertices at the
-    /// positions of `input`'s (`mesh` and its positions), taken in order: the
-    /// algorithms keep the isolated vertices, in their order, and make none.
-    ///
-    /// # Panics
-    /// If `out` has another number of isolated vertices than `input` (a defect).
+    /// The run's positions at the caller's size: each vertex scaled back, but an
+    /// isolated vertex of `input` (`mesh` and its positions), found by the position
+    /// [`mesh_positions`](Self::mesh_positions) gave it, at its own position.
     pub(crate) fn restore_mesh(
         &self,
         (mesh, positions): (&HalfedgeMesh, &[DVec3]),
-        out: &HalfedgeMesh,
         run: Vec<DVec3>,
     ) -> Vec<DVec3> {
-        let mut isolated = (0..positions.len())
+        let isolated: Vec<DVec3> = (0..positions.len())
             .filter(|&i| mesh.is_isolated(VertexId::new(i as u32)))
-            .map(|i| positions[i]);
-        let mut run = self.restore(run);
-        for (i, p) in run.iter_mut().enumerate() {
-            if out.is_isolated(VertexId::new(i as u32)) {
-                *p = isolated
-                    .next()
-                    .expect("the result has no more isolated vertices than the input");
-            }
-        }
-        assert!(
-            isolated.next().is_none(),
-            "the result keeps the input's isolated vertices"
-        );
-        run
+            .map(|i| positions[i])
+            .collect();
+        run.into_iter()
+            .map(|p| {
+                let j = p.y as usize;
+                if p.x == TAG && p.z == 0.0 && j as f64 == p.y && j < isolated.len() {
+                    isolated[j]
+                } else {
+                    p * self.back
+                }
+            })
+            .collect()
     }
 
     /// The scale for the points `positions` (finite): from their largest absolute
@@ -154,7 +157,9 @@ impl Scale {
         positions.iter().map(|&p| p * self.to_run).collect()
     }
 
-    /// The run's positions at the caller's size, in place.
+    /// The run's positions at the caller's size, in place (the tests' inverse of
+    /// [`positions`](Self::positions)).
+    #[cfg(test)]
     pub(crate) fn restore(&self, mut positions: Vec<DVec3>) -> Vec<DVec3> {
         for p in &mut positions {
             *p *= self.back;
@@ -237,6 +242,37 @@ mod tests {
             }
             assert_eq!(scale.restore(run), p, "{x}");
         }
+    }
+
+    /// Isolated vertices are not scaled: held at their tags in the run, they come back
+    /// with their own bits wherever the run put them in its numbering (one at the tag
+    /// position itself among them), while the surface's are scaled back.
+    #[test]
+    fn isolated_vertices_come_back_as_they_were() {
+        let mesh = HalfedgeMesh::from_polygons(5, [[0u32, 1, 2]]).unwrap();
+        let s = 2f64.powi(-500);
+        let x = [
+            DVec3::new(s, 0.0, 0.0),
+            DVec3::new(0.0, 1.5 * s, 0.0),
+            DVec3::new(0.0, 0.0, -s),
+            DVec3::new(TAG, 0.0, 0.0),
+            DVec3::new(1e10, -2.0, 5.0),
+        ];
+        let scale = Scale::of_mesh(&mesh, &x).unwrap();
+        let run = scale.mesh_positions(&mesh, &x);
+        assert_eq!(run[1], DVec3::new(0.0, 1.5, 0.0));
+        assert_eq!(
+            run[3..],
+            [DVec3::new(TAG, 0.0, 0.0), DVec3::new(TAG, 1.0, 0.0)]
+        );
+        let moved = vec![run[4], run[0], run[3], run[1] * 2.0, run[2]];
+        let back = scale.restore_mesh((&mesh, &x), moved);
+        assert_eq!(back, [x[4], x[0], x[3], x[1] * 2.0, x[2]]);
+        // Without isolated vertices in the face's range, their magnitude sets nothing.
+        assert_eq!(
+            Scale::of_mesh(&mesh, &[DVec3::ONE, DVec3::X, DVec3::Y, x[3], x[4]]),
+            None
+        );
     }
 
     #[test]

@@ -873,7 +873,7 @@ pub fn decimate_with_progress(
     // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
     let x = scale.mesh_positions(mesh, positions);
     let (out, x, report) = decimate_at_scale(mesh, &x, &options.scaled(&scale), progress)?;
-    let x = scale.restore_mesh((mesh, positions), &out, x);
+    let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, report.scaled_back(&scale)))
 }
 

@@ -667,7 +667,7 @@ pub fn fill_holes_with_progress(
     // Run at the mesh's scale (`crate::scale`); the options hold no length.
     let x = scale.mesh_positions(mesh, positions);
     let (out, x, report) = fill_holes_at_scale(mesh, &x, options, progress)?;
-    let x = scale.restore_mesh((mesh, positions), &out, x);
+    let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, report.scaled_back(&scale)))
 }
 

@@ -884,7 +884,7 @@ pub fn remesh_with_feature_edges(
         }
         EdgeLength::Relative(_) => {}
     }
-    let x = scale.restore_mesh((mesh, positions), &out, x);
+    let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, report))
 }
 
