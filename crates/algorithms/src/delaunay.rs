@@ -25,6 +25,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 
 use crate::error::{DelaunayError, check_finite, check_mesh};
 use crate::quality::{NEGATIVE_COT_TOLERANCE, corner_cot};
+use crate::scale::Scale;
 
 /// The settings of [`delaunay_flip`].
 ///
@@ -187,6 +188,23 @@ pub fn delaunay_flip(
             ),
         });
     }
+    // Far from unit size, at a power of two times it (`crate::scale`): the cotangents'
+    // products would leave the range of numbers and hide the negative weights.
+    if let Some(scale) = Scale::of_mesh(mesh, positions) {
+        let x = scale.mesh_positions(mesh, positions);
+        let (out, x, mut report) = flip_at_scale(mesh, &x, options)?;
+        report.max_deviation = scale.length_back(report.max_deviation);
+        return Ok((out, scale.restore_mesh((mesh, positions), x), report));
+    }
+    flip_at_scale(mesh, positions, options)
+}
+
+/// [`delaunay_flip`] at the positions' own size (checked).
+fn flip_at_scale(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    options: DelaunayOptions,
+) -> Result<(HalfedgeMesh, Vec<DVec3>, DelaunayReport), DelaunayError> {
     let mut edit = EditMesh::from_mesh(mesh, positions)?;
     let negative_before = edit.edges().filter(|&e| is_negative(&edit, e)).count();
     let limit = options.max_flips.unwrap_or(10 * edit.n_edges());

@@ -27,8 +27,8 @@
 //!   ratios, edge lengths, valences and negative cotangent weights, the figures every
 //!   algorithm here is judged by.
 //!
-//! [`remesh`], [`decimate`], [`fill_holes`] and the quality figures give the same result
-//! in any unit: a mesh whose largest coordinate lies outside `2^-40..=2^40` is run at a
+//! [`remesh`], [`decimate`], [`fill_holes`], [`delaunay_flip`] and the quality figures
+//! give the same result in any unit ([`remove_flat_triangles`] does by itself): a mesh whose largest coordinate lies outside `2^-40..=2^40` is run at a
 //! power of two times its size, which is exact, and the result and the report's lengths
 //! are scaled back, so that the result is the unit-size one times that power of two, bit
 //! for bit (`tests/scale.rs`, from `2^-1000` to `2^1000`).

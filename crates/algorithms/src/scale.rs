@@ -1,12 +1,14 @@
 //! Meshes far from unit size, run at a power of two times their size.
 //!
-//! Remeshing, decimation and hole filling compute squared lengths, areas, quadrics (up
-//! to fourth powers of the coordinates) and closest points. Far from unit size these
+//! Remeshing, decimation, hole filling, Delaunay flips and the quality figures compute
+//! squared lengths, areas, cotangents, quadrics (up to fourth powers of the coordinates)
+//! and closest points. Far from unit size these
 //! leave the range of normal numbers: before this scaling, decimation changed its result
 //! from coordinates of about 2⁻¹⁰⁰ and 2¹⁵⁰ on and collapsed nothing from 2⁻³⁰⁰,
 //! remeshing called a sphere of size 2⁻³⁰⁰ flat and refused one of size 2²⁰⁰ (the
 //! closest-point index takes coordinates up to 10⁶⁰), and hole filling filled no hole
-//! of a sphere of size 2³⁰⁰. Multiplying every coordinate by a power of two is exact, and
+//! of a sphere of size 2³⁰⁰, and the Delaunay flips found no negative weight at 2^±300.
+//! Multiplying every coordinate by a power of two is exact, and
 //! so is every sum, difference, product, quotient and square root of the scaled numbers
 //! while they stay normal: a mesh whose largest coordinate lies outside
 //! [`2⁻⁴⁰, 2⁴⁰`](UNSCALED) is run at `2^k` times its size, with `k` bringing that

@@ -603,3 +603,81 @@ fn adaptive_lengths_far_from_unit_size_are_checked_and_named_as_given() {
     );
     assert_eq!(length(&scaled(&x, s), &fine(s)), unit * s);
 }
+
+/// The sphere of [`sphere`] with a cap (vertex 2 of face 10 moved onto the midpoint of
+/// the face's other two) and a needle (the vertices of face 40's first edge 1e-14 of
+/// their distance apart).
+fn flawed_sphere() -> (HalfedgeMesh, Vec<DVec3>) {
+    let (mesh, mut x) = sphere();
+    let cap = mesh
+        .triangle_vertices(beltrami_halfedge::FaceId::new(10))
+        .map(|v| v.index());
+    x[cap[2]] = 0.5 * (x[cap[0]] + x[cap[1]]);
+    let needle = mesh
+        .triangle_vertices(beltrami_halfedge::FaceId::new(40))
+        .map(|v| v.index());
+    x[needle[1]] = x[needle[0]] + (x[needle[1]] - x[needle[0]]) * 1e-14;
+    (mesh, x)
+}
+
+#[test]
+fn delaunay_flips_and_flat_triangle_removal_give_the_same_result_at_any_size() {
+    use beltrami_algorithms::{DelaunayOptions, FlatOptions, delaunay_flip, remove_flat_triangles};
+    let (mesh, x) = flawed_sphere();
+    let (base, y, report) = delaunay_flip(&mesh, &x, DelaunayOptions::default()).unwrap();
+    assert!(report.flips > 0 && report.max_deviation > 0.0);
+    for k in POWERS.into_iter().chain([1020]) {
+        let s = 2f64.powi(k);
+        let (out, z, r) = delaunay_flip(&mesh, &scaled(&x, s), DelaunayOptions::default()).unwrap();
+        assert_same_result(&format!("delaunay, 2^{k}"), (&out, &z), (&base, &y), s);
+        assert_eq!(
+            (
+                r.flips,
+                r.negative_before,
+                r.negative_after,
+                r.max_deviation
+            ),
+            (
+                report.flips,
+                report.negative_before,
+                report.negative_after,
+                report.max_deviation * s
+            ),
+            "delaunay, 2^{k}"
+        );
+    }
+    // A longest move that takes the needle (its edge about 1e-15 long), scaled with the
+    // mesh. (The flatness test and the edits scale exactly without a scaled run: no
+    // product of four coordinates, and the cotangents are not used.)
+    let options = |s: f64| FlatOptions::default().max_move(1e-13 * s);
+    let (base, y, report) = remove_flat_triangles(&mesh, &x, options(1.0)).unwrap();
+    assert!(report.flips > 0 && report.collapses > 0, "{report:?}");
+    // Up to coordinates of 1e307, whose squares overflow.
+    for k in POWERS.into_iter().chain([1020]) {
+        let s = 2f64.powi(k);
+        let (out, z, r) = remove_flat_triangles(&mesh, &scaled(&x, s), options(s)).unwrap();
+        assert_same_result(&format!("flat, 2^{k}"), (&out, &z), (&base, &y), s);
+        assert_eq!(
+            (
+                r.flat_before,
+                r.flat_after,
+                r.flips,
+                r.collapses,
+                &r.vertex_origin
+            ),
+            (
+                report.flat_before,
+                report.flat_after,
+                report.flips,
+                report.collapses,
+                &report.vertex_origin
+            ),
+            "flat, 2^{k}"
+        );
+        assert_eq!(
+            [r.max_move, r.max_height],
+            [report.max_move * s, report.max_height * s],
+            "flat, 2^{k}"
+        );
+    }
+}
