@@ -25,7 +25,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 
 use crate::error::{DelaunayError, check_finite, check_mesh};
 use crate::quality::{NEGATIVE_COT_TOLERANCE, corner_cot};
-use crate::scale::Scale;
+use crate::scale::at_unit_size;
 
 /// The settings of [`delaunay_flip`].
 ///
@@ -190,13 +190,15 @@ pub fn delaunay_flip(
     }
     // Far from unit size, at a power of two times it (`crate::scale`): the cotangents'
     // products would leave the range of numbers and hide the negative weights.
-    if let Some(scale) = Scale::of_mesh(mesh, positions) {
-        let x = scale.mesh_positions(mesh, positions);
-        let (out, x, mut report) = flip_at_scale(mesh, &x, options)?;
-        report.max_deviation = scale.length_back(report.max_deviation);
-        return Ok((out, scale.restore_mesh((mesh, positions), x), report));
-    }
-    flip_at_scale(mesh, positions, options)
+    at_unit_size(
+        mesh,
+        positions,
+        |x, _| flip_at_scale(mesh, x, options),
+        |mut report, scale| {
+            report.max_deviation = scale.length_back(report.max_deviation);
+            report
+        },
+    )
 }
 
 /// [`delaunay_flip`] at the positions' own size (checked).

@@ -31,6 +31,32 @@ use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 pub(crate) const UNSCALED: std::ops::RangeInclusive<f64> =
     9.094_947_017_729_282e-13..=1_099_511_627_776.0;
 
+/// An algorithm's result: the new mesh, its positions and a report.
+pub(crate) type Edited<R> = (HalfedgeMesh, Vec<DVec3>, R);
+
+/// Runs `run` (an editing algorithm on `mesh`) at a power of two times the size of
+/// `positions` when they are far from unit size ([`Scale::of_mesh`]), or at their own:
+/// `run` gets the positions to use and the scale (`None`: the caller's own size), for
+/// the lengths among its options; the result comes back at the caller's size (its
+/// isolated vertices with their own bits), its report through `back`.
+///
+/// # Errors
+/// `run`'s.
+pub(crate) fn at_unit_size<R, E>(
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    run: impl FnOnce(&[DVec3], Option<&Scale>) -> Result<Edited<R>, E>,
+    back: impl FnOnce(R, &Scale) -> R,
+) -> Result<Edited<R>, E> {
+    let Some(scale) = Scale::of_mesh(mesh, positions) else {
+        return run(positions, None);
+    };
+    let x = scale.mesh_positions(mesh, positions);
+    let (out, x, report) = run(&x, Some(&scale))?;
+    let x = scale.restore_mesh((mesh, positions), x);
+    Ok((out, x, back(report, &scale)))
+}
+
 /// The power of two a run multiplies its positions by, and its inverse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Scale {

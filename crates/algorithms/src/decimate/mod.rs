@@ -61,7 +61,7 @@ use beltrami_metrics::MetricsError;
 use beltrami_metrics::distance::{HausdorffSampling, SurfaceIndex, hausdorff};
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
-use crate::scale::Scale;
+use crate::scale::{Scale, at_unit_size};
 
 /// The weight of a boundary constraint plane per unit of squared edge length (the face
 /// planes are weighted by area, the same unit).
@@ -867,14 +867,17 @@ pub fn decimate_with_progress(
     }
     check_finite(positions)?;
     options.validate()?;
-    let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        return decimate_at_scale(mesh, positions, options, progress);
-    };
-    // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
-    let x = scale.mesh_positions(mesh, positions);
-    let (out, x, report) = decimate_at_scale(mesh, &x, &options.scaled(&scale), progress)?;
-    let x = scale.restore_mesh((mesh, positions), x);
-    Ok((out, x, report.scaled_back(&scale)))
+    // Far from unit size, at a power of two times it (`crate::scale`), the options'
+    // lengths with it.
+    at_unit_size(
+        mesh,
+        positions,
+        |x, scale| {
+            let run = scale.map_or(*options, |scale| options.scaled(scale));
+            decimate_at_scale(mesh, x, &run, progress)
+        },
+        DecimateReport::scaled_back,
+    )
 }
 
 /// [`decimate_with_progress`] at the positions' own size (checked).

@@ -58,7 +58,7 @@ use std::ops::ControlFlow;
 use beltrami_halfedge::{DVec3, EditError, EditMesh, HalfedgeId, HalfedgeMesh, TopologyError};
 
 use crate::error::{algorithm_error, check_finite, check_mesh};
-use crate::scale::Scale;
+use crate::scale::{Scale, at_unit_size};
 
 use fair::FairFailure;
 use refine::Patch;
@@ -661,14 +661,14 @@ pub fn fill_holes_with_progress(
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
     options.validate()?;
-    let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        return fill_holes_at_scale(mesh, positions, options, progress);
-    };
-    // Run at the mesh's scale (`crate::scale`); the options hold no length.
-    let x = scale.mesh_positions(mesh, positions);
-    let (out, x, report) = fill_holes_at_scale(mesh, &x, options, progress)?;
-    let x = scale.restore_mesh((mesh, positions), x);
-    Ok((out, x, report.scaled_back(&scale)))
+    // Far from unit size, at a power of two times it (`crate::scale`); the options hold
+    // no length.
+    at_unit_size(
+        mesh,
+        positions,
+        |x, _| fill_holes_at_scale(mesh, x, options, progress),
+        FillReport::scaled_back,
+    )
 }
 
 /// [`fill_holes_with_progress`] at the positions' own size (checked).

@@ -78,7 +78,7 @@ use beltrami_metrics::distance::SurfaceIndex;
 use rayon::prelude::*;
 
 use crate::error::{about_count, algorithm_error, check_finite, check_mesh, short};
-use crate::scale::Scale;
+use crate::scale::{Scale, at_unit_size};
 
 pub use curves::FOLD_ANGLE;
 use passes::Remesher;
@@ -530,9 +530,11 @@ impl RemeshOptions {
 }
 
 impl RemeshReport {
-    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
-    /// that a new one is not left unscaled.
-    fn scaled_back(self, scale: &Scale) -> Self {
+    /// The report of a run at `scale` with `options` (as the caller gave them), in the
+    /// caller's unit. Every field is named, so that a new one is not left unscaled; the
+    /// lengths given come back as given (one the run's numbers could not hold was
+    /// clamped, see `Scale::length`).
+    fn scaled_back(self, scale: &Scale, options: &RemeshOptions) -> Self {
         let Self {
             target_edge_length,
             adaptive,
@@ -560,7 +562,7 @@ impl RemeshReport {
             degenerate_faces,
         } = self;
         let back = |x| scale.length_back(x);
-        Self {
+        let mut report = Self {
             target_edge_length: back(target_edge_length),
             adaptive: adaptive.map(|a| AdaptiveLengths {
                 min_edge: back(a.min_edge),
@@ -589,7 +591,19 @@ impl RemeshReport {
             hausdorff_from_input: back(hausdorff_from_input),
             degenerate_faces_before,
             degenerate_faces,
+        };
+        match options.edge_length {
+            EdgeLength::Absolute(l) => report.target_edge_length = l,
+            EdgeLength::Adaptive(given) => {
+                if let Some(used) = &mut report.adaptive {
+                    used.min_edge = given.min_edge.unwrap_or(used.min_edge);
+                    used.max_edge = given.max_edge.unwrap_or(used.max_edge);
+                    used.approx_error = given.approx_error.unwrap_or(used.approx_error);
+                }
+            }
+            EdgeLength::Relative(_) => {}
         }
+        report
     }
 }
 
@@ -862,30 +876,21 @@ pub fn remesh_with_feature_edges(
 ) -> Result<(HalfedgeMesh, Vec<DVec3>, RemeshReport), RemeshError> {
     check_mesh(mesh, positions)?;
     check_finite(positions)?;
-    let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        return remesh_at_scale(mesh, positions, feature_edges, (options, options), progress);
-    };
-    // Run at the mesh's scale (`crate::scale`), the options' lengths with it.
-    let x = scale.mesh_positions(mesh, positions);
-    let run = options.scaled(&scale);
-    let (out, x, report) = remesh_at_scale(mesh, &x, feature_edges, (&run, options), progress)
-        .map_err(|e| e.scaled_back(&scale, options))?;
-    let mut report = report.scaled_back(&scale);
-    // The lengths given, as given: one the run's numbers could not hold was clamped
-    // (`Scale::length`), and would not come back.
-    match options.edge_length {
-        EdgeLength::Absolute(l) => report.target_edge_length = l,
-        EdgeLength::Adaptive(given) => {
-            if let Some(used) = &mut report.adaptive {
-                used.min_edge = given.min_edge.unwrap_or(used.min_edge);
-                used.max_edge = given.max_edge.unwrap_or(used.max_edge);
-                used.approx_error = given.approx_error.unwrap_or(used.approx_error);
+    // Far from unit size, at a power of two times it (`crate::scale`), the options'
+    // lengths with it.
+    at_unit_size(
+        mesh,
+        positions,
+        |x, scale| match scale {
+            None => remesh_at_scale(mesh, x, feature_edges, (options, options), progress),
+            Some(scale) => {
+                let run = options.scaled(scale);
+                remesh_at_scale(mesh, x, feature_edges, (&run, options), progress)
+                    .map_err(|e| e.scaled_back(scale, options))
             }
-        }
-        EdgeLength::Relative(_) => {}
-    }
-    let x = scale.restore_mesh((mesh, positions), x);
-    Ok((out, x, report))
+        },
+        |report, scale| report.scaled_back(scale, options),
+    )
 }
 
 /// [`remesh_with_feature_edges`] at the positions' own size, with `options` at that
