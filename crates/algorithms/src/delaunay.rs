@@ -190,7 +190,7 @@ pub fn delaunay_flip(
     }
     // Far from unit size, at a power of two times it (`crate::scale`): the cotangents'
     // products would leave the range of numbers and hide the negative weights.
-    at_unit_size(
+    let (out, _, report) = at_unit_size(
         mesh,
         positions,
         |x, _| flip_at_scale(mesh, x, options),
@@ -198,7 +198,11 @@ pub fn delaunay_flip(
             report.max_deviation = scale.length_back(report.max_deviation);
             report
         },
-    )
+    )?;
+    // A flip moves no vertex: the input's positions, with their bits (a run far from
+    // unit size scales them there and back, which rounds a coordinate that becomes
+    // subnormal on the way).
+    Ok((out, positions.to_vec(), report))
 }
 
 /// [`delaunay_flip`] at the positions' own size (checked).

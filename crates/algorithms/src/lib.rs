@@ -28,10 +28,11 @@
 //!   algorithm here is judged by.
 //!
 //! [`remesh`], [`decimate`], [`fill_holes`], [`delaunay_flip`] and the quality figures
-//! give the same result in any unit ([`remove_flat_triangles`] does by itself): a mesh whose largest coordinate lies outside `2^-40..=2^40` is run at a
-//! power of two times its size, which is exact, and the result and the report's lengths
-//! are scaled back, so that the result is the unit-size one times that power of two, bit
-//! for bit (`tests/scale.rs`, from `2^-1000` to `2^1000`).
+//! give the same result in any unit ([`remove_flat_triangles`] does by itself): a mesh
+//! whose largest coordinate lies outside `2^-40..=2^40` is run at a power of two times
+//! its size, which is exact, and the result and the report's lengths are scaled back, so
+//! that the result is the unit-size one times that power of two, bit for bit
+//! (`tests/scale.rs`, from `2^-1000` to `2^1000`).
 //!
 //! The subdivision schemes match OpenMesh's `Subdivider::Uniform::LoopT` and `Sqrt3T`
 //! (positions within 1e-12 of the bounding-box diagonal, the same triangles);

@@ -13,7 +13,9 @@
 //! while they stay normal: a mesh whose largest coordinate lies outside
 //! [`2⁻⁴⁰, 2⁴⁰`](UNSCALED) is run at `2^k` times its size, with `k` bringing that
 //! coordinate into `[1, 2)`, and its results are scaled back, so that the result is the
-//! unit-size run's times `2^-k`, bit for bit. Inside that range the positions are used as
+//! unit-size run's times `2^-k`, bit for bit (but for a coordinate so much smaller than
+//! the largest that it is subnormal in the run, which comes back rounded; the algorithms
+//! that keep input positions copy those back). Inside that range the positions are used as
 //! they are.
 //!
 //! The scaled run reads lengths given in the positions' unit (a target edge length, a
@@ -21,7 +23,8 @@
 //! Only the largest coordinate of the vertices in a face counts: a small part far from
 //! the origin keeps the precision its coordinates have, and an isolated vertex (a stray
 //! point of a scan, which the algorithms leave where it is) neither sets the size nor is
-//! scaled: it comes back with its own bits.
+//! scaled: it comes back with its own bits. Nor is one so far beyond a surface at its own
+//! size (past 2^100) that the closest-point index would refuse it.
 
 use beltrami_halfedge::{DVec3, HalfedgeMesh, VertexId};
 
@@ -49,12 +52,40 @@ pub(crate) fn at_unit_size<R, E>(
     back: impl FnOnce(R, &Scale) -> R,
 ) -> Result<Edited<R>, E> {
     let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        return run(positions, None);
+        if largest_isolated(mesh, positions) <= STRAY {
+            return run(positions, None);
+        }
+        // A surface at its own size beside a stray point far beyond it (past the
+        // closest-point index's range, say): the stray point is held at its tag.
+        let x = ONE.mesh_positions(mesh, positions);
+        let (out, x, report) = run(&x, None)?;
+        return Ok((out, ONE.restore_mesh((mesh, positions), x), report));
     };
     let x = scale.mesh_positions(mesh, positions);
     let (out, x, report) = run(&x, Some(&scale))?;
     let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, back(report, &scale)))
+}
+
+/// The largest coordinate an isolated vertex may have for a run at the mesh's own size
+/// to use it as it is (2^100); beyond it the vertex is held at its tag
+/// ([`Scale::mesh_positions`]).
+const STRAY: f64 = 1.267_650_600_228_229_4e30;
+
+/// The scale of a run at the mesh's own size.
+const ONE: Scale = Scale {
+    to_run: 1.0,
+    back: 1.0,
+};
+
+/// The largest absolute coordinate of `mesh`'s isolated vertices (0 without any).
+fn largest_isolated(mesh: &HalfedgeMesh, positions: &[DVec3]) -> f64 {
+    largest(
+        positions
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| mesh.is_isolated(VertexId::new(i as u32))),
+    )
 }
 
 /// The power of two a run multiplies its positions by, and its inverse.

@@ -351,6 +351,16 @@ fn decimation_gives_the_same_result_at_any_size() {
             assert_eq!(later.hausdorff, report.hausdorff * s, "{what}");
         }
     }
+    // Positions that do not match the mesh are refused, far from unit size too.
+    let mut longer = scaled(&x, 2f64.powi(300));
+    longer.push(DVec3::ZERO);
+    let (out, y, _) = decimate(&mesh, &x, &DecimateOptions::default().ratio(0.3)).unwrap();
+    let mut later = DecimateReport::default();
+    assert!(
+        later
+            .measure_distance((&mesh, &longer), (&out, &y))
+            .is_err()
+    );
 }
 
 /// The sphere of [`sphere`] (before its scaling to 0.6) with its caps above `z = 0.75`
@@ -680,4 +690,39 @@ fn delaunay_flips_and_flat_triangle_removal_give_the_same_result_at_any_size() {
             "flat, 2^{k}"
         );
     }
+}
+
+/// A stray point beyond the closest-point index's range (1e60) beside a surface at its
+/// own size is held aside as well: remeshing, decimation and the Delaunay flips run, and
+/// it comes back as it was. The algorithms that keep input positions keep their bits
+/// even where a scaled run rounds them (a coordinate subnormal at the run's size).
+#[test]
+fn stray_points_far_away_and_tiny_coordinates_keep_their_bits() {
+    use beltrami_algorithms::{DelaunayOptions, delaunay_flip};
+    let (mesh, x) = flawed_sphere();
+    let stray = DVec3::new(1e70, 0.0, -1e70);
+    let data = MeshData::new(
+        x.iter().copied().chain([stray]).collect(),
+        mesh.to_polygons(),
+    );
+    let m = data.mesh().unwrap();
+    let (_, y, _) = remesh(&m, &data.positions, &RemeshOptions::default().iterations(1)).unwrap();
+    assert!(y.contains(&stray));
+    let (_, y, _) = decimate(&m, &data.positions, &DecimateOptions::default().ratio(0.3)).unwrap();
+    assert!(y.contains(&stray));
+    let (_, y, r) = delaunay_flip(&m, &data.positions, DelaunayOptions::default()).unwrap();
+    assert!(r.flips > 0);
+    assert_eq!(y, data.positions);
+    // A surface at 2^1000 with a coordinate near zero, subnormal at the run's size.
+    let s = 2f64.powi(1000);
+    let mut far = scaled(&x, s);
+    far[0].y = 1e-300;
+    let (_, y, _) = delaunay_flip(&mesh, &far, DelaunayOptions::default()).unwrap();
+    assert_eq!(y, far);
+    let (holed, hx) = holed_sphere();
+    let mut far = scaled(&hx, s);
+    far[0].y = 1e-300;
+    let (_, y, r) = fill_holes(&holed, &far, &FillOptions::default().fill_all(true)).unwrap();
+    assert!(r.vertices_added > 0);
+    assert_eq!(y[..far.len()], far[..]);
 }

@@ -93,7 +93,9 @@ impl Default for DecimateTarget {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Placement {
     /// The kept vertex stays where it is (OpenMesh's `ModQuadricT`): the output's
-    /// vertices are a subset of the input's, bit for bit.
+    /// vertices are a subset of the input's, bit for bit (on a mesh far from unit size,
+    /// whose run is scaled there and back, but for coordinates more than 2^1000 times
+    /// smaller than the largest, which come back rounded).
     Endpoint,
     /// The default. The kept vertex moves to the minimiser of the summed quadric (Garland and
     /// Heckbert's optimal placement, solving the 3 × 3 system). When that system is
@@ -703,8 +705,13 @@ impl DecimateReport {
         input: (&HalfedgeMesh, &[DVec3]),
         output: (&HalfedgeMesh, &[DVec3]),
     ) -> Result<(), DecimateError> {
-        // Far from unit size both are measured at the input's scale (`crate::scale`).
-        if let Some(scale) = Scale::of_mesh(input.0, input.1) {
+        // Far from unit size both are measured at the input's scale (`crate::scale`);
+        // positions that do not match their mesh are refused as at any size.
+        let matching = |(mesh, x): (&HalfedgeMesh, &[DVec3])| mesh.n_vertices() == x.len();
+        if let Some(scale) = (matching(input) && matching(output))
+            .then(|| Scale::of_mesh(input.0, input.1))
+            .flatten()
+        {
             let x = scale.mesh_positions(input.0, input.1);
             let y = scale.mesh_positions(output.0, output.1);
             self.measure_distance_at_scale((input.0, &x), (output.0, &y))?;

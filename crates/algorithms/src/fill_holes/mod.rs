@@ -663,12 +663,17 @@ pub fn fill_holes_with_progress(
     options.validate()?;
     // Far from unit size, at a power of two times it (`crate::scale`); the options hold
     // no length.
-    at_unit_size(
+    let (out, mut x, report) = at_unit_size(
         mesh,
         positions,
         |x, _| fill_holes_at_scale(mesh, x, options, progress),
         FillReport::scaled_back,
-    )
+    )?;
+    // The input's vertices keep their ids and positions, with their bits (a run far from
+    // unit size scales them there and back, which rounds a coordinate that becomes
+    // subnormal on the way).
+    x[..positions.len()].copy_from_slice(positions);
+    Ok((out, x, report))
 }
 
 /// [`fill_holes_with_progress`] at the positions' own size (checked).
