@@ -89,7 +89,7 @@ pub enum SmoothError {
     VolumeWithPinned,
     /// The enclosed volume is zero, negative or not finite, so it cannot be preserved.
     #[error(
-        "the enclosed volume is {volume} in iteration {iteration}; volume preservation needs a positive volume (outward-oriented faces)"
+        "the enclosed volume is {volume} in iteration {iteration}; volume preservation needs a positive, finite volume: outward-oriented faces, and coordinates within about 1e-100 to 1e100 (a volume is a cube of lengths)"
     )]
     DegenerateVolume {
         /// The signed volume.

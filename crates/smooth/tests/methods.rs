@@ -201,6 +201,43 @@ fn volume_preservation_needs_a_closed_mesh_without_pins() {
     )
     .unwrap_err();
     assert_eq!(err, SmoothError::VolumeWithPinned);
+    // An inside-out sphere, and spheres whose volume the numbers cannot hold (it
+    // underflows to 0 at 2^-400 and overflows at 2^400): refused, and the message says
+    // what it needs.
+    let inverted: Vec<DVec3> = x.iter().map(|&p| -p).collect();
+    for (y, volume) in [
+        (inverted, None),
+        (x.iter().map(|&p| p * 2f64.powi(-400)).collect(), Some(0.0)),
+        (
+            x.iter().map(|&p| p * 2f64.powi(400)).collect(),
+            Some(f64::INFINITY),
+        ),
+    ] {
+        let err = Smoother::new(
+            &mesh,
+            &y,
+            &Uniform,
+            SmoothConfig::new(0.5, 1).preserve_volume(true),
+        )
+        .unwrap_err();
+        let SmoothError::DegenerateVolume {
+            volume: v,
+            iteration: 0,
+        } = err
+        else {
+            panic!("{err:?}");
+        };
+        if let Some(volume) = volume {
+            assert_eq!(v, volume);
+        } else {
+            assert!(v < 0.0, "{v}");
+        }
+        let text = err.to_string();
+        assert!(
+            text.contains("outward-oriented faces") && text.contains("1e-100 to 1e100"),
+            "{text}"
+        );
+    }
 }
 
 #[test]
