@@ -51,17 +51,16 @@ pub(crate) fn at_unit_size<R, E>(
     run: impl FnOnce(&[DVec3], Option<&Scale>) -> Result<Edited<R>, E>,
     back: impl FnOnce(R, &Scale) -> R,
 ) -> Result<Edited<R>, E> {
-    let Some(scale) = Scale::of_mesh(mesh, positions) else {
-        if largest_isolated(mesh, positions) <= STRAY {
-            return run(positions, None);
-        }
-        // A surface at its own size beside a stray point far beyond it (past the
-        // closest-point index's range, say): the stray point is held at its tag.
-        let x = ONE.mesh_positions(mesh, positions);
-        let (out, x, report) = run(&x, None)?;
-        return Ok((out, ONE.restore_mesh((mesh, positions), x), report));
+    let Some(scale) = Scale::for_run(mesh, positions) else {
+        return run(positions, None);
     };
     let x = scale.mesh_positions(mesh, positions);
+    if scale == ONE {
+        // A surface at its own size beside a stray point far beyond it: only the stray
+        // point is held aside.
+        let (out, x, report) = run(&x, None)?;
+        return Ok((out, ONE.restore_mesh((mesh, positions), x), report));
+    }
     let (out, x, report) = run(&x, Some(&scale))?;
     let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, back(report, &scale)))
@@ -132,6 +131,15 @@ fn power_of_two(k: i32) -> f64 {
 }
 
 impl Scale {
+    /// The scale a run on `mesh` at `positions` takes: [`of_mesh`](Self::of_mesh)'s, or
+    /// the mesh's own size with its isolated vertices held at their tags
+    /// ([`mesh_positions`](Self::mesh_positions)) when one lies beyond 2^100 (past the
+    /// closest-point index's range, say); `None`: the positions as they are.
+    pub(crate) fn for_run(mesh: &HalfedgeMesh, positions: &[DVec3]) -> Option<Self> {
+        Self::of_mesh(mesh, positions)
+            .or_else(|| (largest_isolated(mesh, positions) > STRAY).then_some(ONE))
+    }
+
     /// The scale for `mesh` at `positions` (finite, one per vertex): from the largest
     /// absolute coordinate of the vertices in a face (an isolated vertex far away, a
     /// stray point of a scan, is no part of the surface and does not shrink it). `None`

@@ -708,8 +708,15 @@ fn stray_points_far_away_and_tiny_coordinates_keep_their_bits() {
     let m = data.mesh().unwrap();
     let (_, y, _) = remesh(&m, &data.positions, &RemeshOptions::default().iterations(1)).unwrap();
     assert!(y.contains(&stray));
-    let (_, y, _) = decimate(&m, &data.positions, &DecimateOptions::default().ratio(0.3)).unwrap();
+    let (out, y, report) =
+        decimate(&m, &data.positions, &DecimateOptions::default().ratio(0.3)).unwrap();
     assert!(y.contains(&stray));
+    // Measured afterwards as the command does, the same distance.
+    let mut later = DecimateReport::default();
+    later
+        .measure_distance((&m, &data.positions), (&out, &y))
+        .unwrap();
+    assert_eq!(later.hausdorff, report.hausdorff);
     let (_, y, r) = delaunay_flip(&m, &data.positions, DelaunayOptions::default()).unwrap();
     assert!(r.flips > 0);
     assert_eq!(y, data.positions);

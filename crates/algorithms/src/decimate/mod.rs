@@ -709,7 +709,7 @@ impl DecimateReport {
         // positions that do not match their mesh are refused as at any size.
         let matching = |(mesh, x): (&HalfedgeMesh, &[DVec3])| mesh.n_vertices() == x.len();
         if let Some(scale) = (matching(input) && matching(output))
-            .then(|| Scale::of_mesh(input.0, input.1))
+            .then(|| Scale::for_run(input.0, input.1))
             .flatten()
         {
             let x = scale.mesh_positions(input.0, input.1);
