@@ -54,13 +54,9 @@ pub(crate) fn at_unit_size<R, E>(
     let Some(scale) = Scale::for_run(mesh, positions) else {
         return run(positions, None);
     };
+    // (At the mesh's own size, `ONE`, only the isolated vertices are held aside: every
+    // length multiplied by 1 is itself.)
     let x = scale.mesh_positions(mesh, positions);
-    if scale == ONE {
-        // A surface at its own size beside a stray point far beyond it: only the stray
-        // point is held aside.
-        let (out, x, report) = run(&x, None)?;
-        return Ok((out, ONE.restore_mesh((mesh, positions), x), report));
-    }
     let (out, x, report) = run(&x, Some(&scale))?;
     let x = scale.restore_mesh((mesh, positions), x);
     Ok((out, x, back(report, &scale)))

@@ -644,53 +644,43 @@ impl DecimateOptions {
 }
 
 impl DecimateReport {
-    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
-    /// that a new one is not left unscaled.
-    fn scaled_back(self, scale: &Scale) -> Self {
+    /// The report of a run at `scale`, in the caller's unit. The pattern names every
+    /// field (`_` for those without a unit), so that a new one is not left unscaled.
+    fn scaled_back(mut self, scale: &Scale) -> Self {
         let Self {
-            vertices_before,
-            faces_before,
-            vertices_after,
-            faces_after,
-            target_vertices,
-            collapses,
-            refused,
-            keyings,
-            flips,
-            stop,
-            target_reached,
+            vertices_before: _,
+            faces_before: _,
+            vertices_after: _,
+            faces_after: _,
+            target_vertices: _,
+            collapses: _,
+            refused: _,
+            keyings: _,
+            flips: _,
+            stop: _,
+            target_reached: _,
             max_quadric_error,
-            fit_rounds,
+            fit_rounds: _,
             fit_rms_before,
             fit_rms_after,
-            distance_measured,
+            distance_measured: _,
             hausdorff,
             hausdorff_to_input,
             hausdorff_from_input,
-        } = self;
-        let back = |x| scale.length_back(x);
-        Self {
-            vertices_before,
-            faces_before,
-            vertices_after,
-            faces_after,
-            target_vertices,
-            collapses,
-            refused,
-            keyings,
-            flips,
-            stop,
-            target_reached,
-            max_quadric_error: back(max_quadric_error),
-            fit_rounds,
-            fit_rms_before: back(fit_rms_before),
-            fit_rms_after: back(fit_rms_after),
-            distance_measured,
-            hausdorff: back(hausdorff),
-            hausdorff_to_input: back(hausdorff_to_input),
-            hausdorff_from_input: back(hausdorff_from_input),
+        } = &mut self;
+        for length in [
+            max_quadric_error,
+            fit_rms_before,
+            fit_rms_after,
+            hausdorff,
+            hausdorff_to_input,
+            hausdorff_from_input,
+        ] {
+            *length = scale.length_back(*length);
         }
+        self
     }
+
     /// Measures the Hausdorff distance between the decimation's `output` and its
     /// `input` (each a mesh and its positions) into the report, as [`decimate`] does
     /// unless [`DecimateOptions::measure_distance`] is off: over the vertices plus one

@@ -312,65 +312,41 @@ algorithm_error! {
 }
 
 impl FillReport {
-    /// The report of a run at `scale`, in the caller's unit. Every field is named, so
-    /// that a new one is not left unscaled.
-    fn scaled_back(self, scale: &Scale) -> Self {
+    /// The report of a run at `scale`, in the caller's unit (perimeters and areas). The
+    /// patterns name every field (`_` for those without a unit), so that a new one is
+    /// not left unscaled.
+    fn scaled_back(mut self, scale: &Scale) -> Self {
         let Self {
-            loops,
+            loops: _,
             filled,
             skipped,
-            faces_added,
-            vertices_added,
-        } = self;
-        let filled = filled
-            .into_iter()
-            .map(|hole| {
-                let FilledHole {
-                    halfedge,
-                    boundary_edges,
-                    perimeter,
-                    faces_added,
-                    vertices_added,
-                    area,
-                    faired_order,
-                    fair_fallback,
-                } = hole;
-                FilledHole {
-                    halfedge,
-                    boundary_edges,
-                    perimeter: scale.length_back(perimeter),
-                    faces_added,
-                    vertices_added,
-                    area: scale.area_back(area),
-                    faired_order,
-                    fair_fallback,
-                }
-            })
-            .collect();
-        let skipped = skipped
-            .into_iter()
-            .map(|hole| {
-                let SkippedHole {
-                    halfedge,
-                    boundary_edges,
-                    perimeter,
-                    reason,
-                } = hole;
-                SkippedHole {
-                    halfedge,
-                    boundary_edges,
-                    perimeter: scale.length_back(perimeter),
-                    reason,
-                }
-            })
-            .collect();
-        Self {
-            loops,
-            filled,
-            skipped,
-            faces_added,
-            vertices_added,
+            faces_added: _,
+            vertices_added: _,
+        } = &mut self;
+        for hole in filled {
+            let FilledHole {
+                halfedge: _,
+                boundary_edges: _,
+                perimeter,
+                faces_added: _,
+                vertices_added: _,
+                area,
+                faired_order: _,
+                fair_fallback: _,
+            } = hole;
+            *perimeter = scale.length_back(*perimeter);
+            *area = scale.area_back(*area);
         }
+        for hole in skipped {
+            let SkippedHole {
+                halfedge: _,
+                boundary_edges: _,
+                perimeter,
+                reason: _,
+            } = hole;
+            *perimeter = scale.length_back(*perimeter);
+        }
+        self
     }
 }
 

@@ -531,71 +531,53 @@ impl RemeshOptions {
 
 impl RemeshReport {
     /// The report of a run at `scale` with `options` (as the caller gave them), in the
-    /// caller's unit. Every field is named, so that a new one is not left unscaled; the
-    /// lengths given come back as given (one the run's numbers could not hold was
-    /// clamped, see `Scale::length`).
-    fn scaled_back(self, scale: &Scale, options: &RemeshOptions) -> Self {
+    /// caller's unit. The pattern names every field (`_` for those without a unit), so
+    /// that a new one is not left unscaled; the lengths given come back as given (one the
+    /// run's numbers could not hold was clamped, see `Scale::length`).
+    fn scaled_back(mut self, scale: &Scale, options: &RemeshOptions) -> Self {
         let Self {
             target_edge_length,
             adaptive,
-            iterations,
-            splits,
-            collapses,
-            flips,
-            cap_flips,
-            vertices_before,
-            faces_before,
-            vertices,
-            faces,
+            iterations: _,
+            splits: _,
+            collapses: _,
+            flips: _,
+            cap_flips: _,
+            vertices_before: _,
+            faces_before: _,
+            vertices: _,
+            faces: _,
             mean_edge_length_before,
-            edge_length_cv_before,
+            edge_length_cv_before: _,
             mean_edge_length,
-            edge_length_cv,
-            feature_edges,
-            given_feature_edges,
-            fold_edges,
-            boundary_edges,
-            corners,
+            edge_length_cv: _,
+            feature_edges: _,
+            given_feature_edges: _,
+            fold_edges: _,
+            boundary_edges: _,
+            corners: _,
             hausdorff,
             hausdorff_from_input,
-            degenerate_faces_before,
-            degenerate_faces,
-        } = self;
-        let back = |x| scale.length_back(x);
-        let mut report = Self {
-            target_edge_length: back(target_edge_length),
-            adaptive: adaptive.map(|a| AdaptiveLengths {
-                min_edge: back(a.min_edge),
-                max_edge: back(a.max_edge),
-                approx_error: back(a.approx_error),
-            }),
-            iterations,
-            splits,
-            collapses,
-            flips,
-            cap_flips,
-            vertices_before,
-            faces_before,
-            vertices,
-            faces,
-            mean_edge_length_before: back(mean_edge_length_before),
-            edge_length_cv_before,
-            mean_edge_length: back(mean_edge_length),
-            edge_length_cv,
-            feature_edges,
-            given_feature_edges,
-            fold_edges,
-            boundary_edges,
-            corners,
-            hausdorff: back(hausdorff),
-            hausdorff_from_input: back(hausdorff_from_input),
-            degenerate_faces_before,
-            degenerate_faces,
-        };
+            degenerate_faces_before: _,
+            degenerate_faces: _,
+        } = &mut self;
+        let used = adaptive
+            .as_mut()
+            .map(|a| [&mut a.min_edge, &mut a.max_edge, &mut a.approx_error]);
+        let lengths = [
+            target_edge_length,
+            mean_edge_length_before,
+            mean_edge_length,
+            hausdorff,
+            hausdorff_from_input,
+        ];
+        for length in lengths.into_iter().chain(used.into_iter().flatten()) {
+            *length = scale.length_back(*length);
+        }
         match options.edge_length {
-            EdgeLength::Absolute(l) => report.target_edge_length = l,
+            EdgeLength::Absolute(l) => self.target_edge_length = l,
             EdgeLength::Adaptive(given) => {
-                if let Some(used) = &mut report.adaptive {
+                if let Some(used) = &mut self.adaptive {
                     used.min_edge = given.min_edge.unwrap_or(used.min_edge);
                     used.max_edge = given.max_edge.unwrap_or(used.max_edge);
                     used.approx_error = given.approx_error.unwrap_or(used.approx_error);
@@ -603,7 +585,7 @@ impl RemeshReport {
             }
             EdgeLength::Relative(_) => {}
         }
-        report
+        self
     }
 }
 
