@@ -205,17 +205,29 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
     Ok(result_mesh(m, p))
 }
 
+/// `MeshError` for a mesh without faces, as the commands refuse one (`what` names the
+/// operation in the message).
+fn require_faces(mesh: &Mesh, what: &str) -> PyResult<()> {
+    if mesh.mesh.n_faces() == 0 {
+        return Err(MeshError::new_err(format!(
+            "the mesh has {} vertices but no faces; {what} needs a surface of triangles",
+            mesh.mesh.n_vertices()
+        )));
+    }
+    Ok(())
+}
+
 /// Flips edges until no cotangent weight is negative (a Delaunay mesh on the same
 /// vertices), as `beltrami delaunay`. `max_dihedral` (degrees, 0 to 180) leaves edges
 /// whose two triangles meet at a larger angle alone (features, curved regions);
 /// `max_flips` caps the flips (default ten per edge). Returns `(Mesh, report)` with the
-/// report's keys as `delaunay --json`: `flips`, `negative_before`, `negative_after`,
-/// `kept_by_dihedral`, `kept_by_topology`, `kept_by_flip_limit`, `hit_flip_limit`,
-/// `max_deviation` (how far
-/// the surface moved, in the mesh's unit).
+/// report's keys as `delaunay --json`: `vertices`, `faces`, `flips`, `negative_before`,
+/// `negative_after`, `kept_by_dihedral`, `kept_by_topology`, `kept_by_flip_limit`,
+/// `hit_flip_limit`, `max_deviation` (how far the surface moved, in the mesh's unit) and
+/// `max_dihedral_degrees` (the bound given, or None).
 ///
 /// Raises `ValueError` for a dihedral bound outside [0, 180], `MeshError` for a polygon
-/// mesh.
+/// mesh or one without faces.
 #[pyfunction]
 #[pyo3(signature = (mesh, max_dihedral = None, max_flips = None))]
 pub(crate) fn delaunay<'py>(
@@ -224,6 +236,7 @@ pub(crate) fn delaunay<'py>(
     max_dihedral: Option<f64>,
     max_flips: Option<i128>,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    require_faces(mesh, "delaunay")?;
     let mut options = DelaunayOptions::default();
     if let Some(d) = max_dihedral {
         if !(0.0..=180.0).contains(&d) {
@@ -248,6 +261,8 @@ pub(crate) fn delaunay<'py>(
         })
     })?;
     let d = PyDict::new(py);
+    d.set_item("vertices", m.n_vertices())?;
+    d.set_item("faces", m.n_faces())?;
     d.set_item("flips", report.flips)?;
     d.set_item("negative_before", report.negative_before)?;
     d.set_item("negative_after", report.negative_after)?;
@@ -256,6 +271,7 @@ pub(crate) fn delaunay<'py>(
     d.set_item("kept_by_flip_limit", report.kept_by_flip_limit)?;
     d.set_item("hit_flip_limit", report.hit_flip_limit)?;
     d.set_item("max_deviation", report.max_deviation)?;
+    d.set_item("max_dihedral_degrees", max_dihedral)?;
     Ok((result_mesh(m, p), d))
 }
 
@@ -276,7 +292,8 @@ pub(crate) fn delaunay<'py>(
 /// the input vertex it is).
 ///
 /// Raises `ValueError` for a ratio outside [0, 0.1] or a negative or NaN `max_move`,
-/// `MeshError` for a polygon mesh or when no face would be left (every triangle flat).
+/// `MeshError` for a polygon mesh, one without faces, or when no face would be left
+/// (every triangle flat).
 #[pyfunction]
 #[pyo3(signature = (mesh, max_height_ratio = 1e-12, max_move = 0.0))]
 pub(crate) fn remove_flat_triangles<'py>(
@@ -285,6 +302,7 @@ pub(crate) fn remove_flat_triangles<'py>(
     max_height_ratio: f64,
     max_move: f64,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    require_faces(mesh, "remove_flat_triangles")?;
     let options = FlatOptions::default()
         .max_height_ratio(max_height_ratio)
         .max_move(max_move);
@@ -809,7 +827,8 @@ fn refuse_blocked_decimate_steps(
 /// `progress=True` shows a tqdm bar of the boundary loops when tqdm is installed; Ctrl-C
 /// stops the run between two loops with `KeyboardInterrupt`.
 ///
-/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh.
+/// Raises `ValueError` for bad options, `MeshError` for a polygon mesh or one without
+/// faces.
 #[pyfunction]
 #[pyo3(signature = (mesh, *, max_loop_edges = None, fill_all = false, refine = true, fair = true, progress = false))]
 pub(crate) fn fill_holes<'py>(
@@ -821,6 +840,7 @@ pub(crate) fn fill_holes<'py>(
     fair: bool,
     progress: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    require_faces(mesh, "fill_holes")?;
     let mut options = FillOptions::default()
         .fill_all(fill_all)
         .refine(refine)

@@ -70,6 +70,7 @@ fn repairs<'py>(py: Python<'py>, r: &RepairReport) -> PyResult<Bound<'py, PyDict
             .collect::<Vec<_>>(),
     )?;
     d.set_item("shortened_faces", r.shortened_faces.clone())?;
+    d.set_item("triangulated_faces", r.triangulated_faces.clone())?;
     d.set_item("cut_edges", pairs(&r.cut_edges))?;
     d.set_item("opened_edges", pairs(&r.opened_edges))?;
     d.set_item("flipped_faces", r.flipped_faces.clone())?;

@@ -156,6 +156,9 @@ def test_quality_and_algorithms_match_the_cli(cli, tmp_path):
     np.testing.assert_array_equal(flipped.faces, bt.read(out).faces)
     for key in ("flips", "negative_before", "negative_after", "kept_by_dihedral"):
         assert report[key] == summary[key]
+    # The same keys as the command's, but those about its run (files, notes, timing).
+    assert set(report) == set(summary) - {"input", "output", "notes", "seconds"}
+    assert report == {k: summary[k] for k in report}
 
 
 def test_remesh_evens_out_the_edges(sphere):

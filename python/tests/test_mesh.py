@@ -203,6 +203,15 @@ def test_no_faces_and_unsigned_indices_beyond_int64():
         bt.Mesh(TETRA_V, np.zeros((4, 0), dtype=int))
     with pytest.raises(bt.MeshError, match="no faces; subdivide needs a surface"):
         bt.subdivide(points, "loop", steps=2**62)
+    # Every editing call refuses a mesh without faces, as the commands do.
+    for call, name in [
+        (lambda m: bt.fill_holes(m), "fill_holes"),
+        (lambda m: bt.delaunay(m), "delaunay"),
+        (lambda m: bt.remove_flat_triangles(m), "remove_flat_triangles"),
+    ]:
+        for empty in (points, bt.Mesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=int))):
+            with pytest.raises(bt.MeshError, match=f"no faces; {name} needs a surface"):
+                call(empty)
     huge = np.array([[0, 1, 2], [0, 2, 2**64 - 1]], dtype=np.uint64)
     with pytest.raises(bt.MeshError, match="face 1 refers to vertex 18446744073709551615"):
         bt.Mesh(TETRA_V, huge)

@@ -359,6 +359,7 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
     args.outputs.check(&args.output, &args.input)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "decimate")?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     let input_error = |e: DecimateError| CliError::Input {
         path: args.input.clone(),
         message: match e {
@@ -450,13 +451,24 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         seconds_measure,
     };
     let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    // Printed after the summary line, and in the report's `notes` too.
+    let isolated = loaded.mesh.n_isolated_vertices();
+    let isolated_note = (isolated > 0).then(|| {
+        format!(
+            "note: the input has {} in no face; {it} kept as {it} and counted in the vertex counts and the target (--repair removes them)",
+            crate::text::counted(isolated, "isolated vertex", "isolated vertices"),
+            it = crate::text::plural(isolated, "it is", "they are"),
+        )
+    });
+    let mut all_notes = notes.clone();
+    all_notes.extend(isolated_note.iter().cloned());
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &notes,
+        &all_notes,
         out,
     )? {
         return Ok(());
@@ -504,14 +516,8 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         report.vertices_before,
         report.vertices_after,
     )?;
-    let isolated = loaded.mesh.n_isolated_vertices();
-    if isolated > 0 {
-        writeln!(
-            out,
-            "note: the input has {} in no face; {} kept as they are and counted in the vertex counts and the target (--repair removes them)",
-            crate::text::counted(isolated, "isolated vertex", "isolated vertices"),
-            crate::text::plural(isolated, "it is", "they are"),
-        )?;
+    if let Some(note) = &isolated_note {
+        writeln!(out, "{note}")?;
     }
     quality.write_table(out)?;
     Ok(())

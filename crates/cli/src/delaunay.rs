@@ -74,8 +74,13 @@ pub(crate) fn run(args: &DelaunayArgs, out: &mut impl Write) -> Result<(), CliEr
             number(d)
         )));
     }
+    crate::output::refuse_height_map_output(
+        &args.output,
+        "delaunay",
+        "the flips change the triangles, and a height map keeps only the grid's own",
+    )?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs.add_mesh(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
     crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;

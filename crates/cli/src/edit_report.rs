@@ -125,8 +125,9 @@ pub(crate) struct EditOutputArgs {
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT (or the --report file) even when it is the input or
-    /// write-protected.
+    /// Replace OUTPUT even when it is the input (an edit in place), and OUTPUT or the
+    /// --report file even when it is write-protected. No output ever replaces another
+    /// input (a file of feature edges), and the report never replaces the input.
     #[arg(long)]
     force: bool,
 }
@@ -142,7 +143,7 @@ impl EditOutputArgs {
     pub(crate) fn check_inputs(&self, output: &Path, inputs: &[&PathBuf]) -> Result<(), CliError> {
         let mut outputs = Outputs::new();
         outputs
-            .add(output, "OUTPUT")
+            .add_mesh(output, "OUTPUT")
             .add_opt(self.report.as_ref(), "--report");
         outputs.check(inputs, self.force)
     }

@@ -64,7 +64,7 @@ pub(crate) enum CliError {
 /// needs a triangle mesh.
 pub(crate) fn not_triangles(command: &str, face: impl fmt::Display, len: usize) -> String {
     format!(
-        "face {face} has {len} vertices; {command} needs a triangle mesh (triangulate it first)"
+        "face {face} has {len} vertices; {command} needs a triangle mesh (--repair --triangulate splits the polygons into triangles)"
     )
 }
 

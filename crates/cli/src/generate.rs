@@ -134,7 +134,7 @@ pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliEr
     let seed = args.seed.unwrap_or(1);
     let mut outputs = Outputs::new();
     outputs
-        .add(&args.output, "OUTPUT")
+        .add_mesh(&args.output, "OUTPUT")
         .add_opt(args.clean.as_ref(), "--clean");
     outputs.check(&[], args.force)?;
     let surface = match (args.surface, args.level) {

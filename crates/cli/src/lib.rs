@@ -83,8 +83,8 @@ enum Command {
     /// Print counts, topology and geometry of a mesh (PLY, STL, OBJ or OFF).
     Info(info::InfoArgs),
     /// Write a mesh every command accepts (non-manifold edges cut, pinched vertices
-    /// split, faces re-oriented, degenerate and duplicate faces dropped) and say what
-    /// changed.
+    /// split, faces re-oriented, degenerate and duplicate faces dropped; polygons split
+    /// into triangles with --triangulate) and say what changed.
     Repair(repair::RepairArgs),
     /// Smooth a mesh by Laplacian diffusion, x <- x + lambda * L x.
     Smooth(smooth::SmoothArgs),

@@ -34,6 +34,12 @@ pub(crate) struct ReadArgs {
     /// default.
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub(crate) merge_distance: Option<f64>,
+    /// With --repair (and in `repair`): also split every face of more than three
+    /// corners into triangles, by ear clipping in its own plane (a quadrilateral along
+    /// its shorter diagonal inside it), for the commands that need triangles. The
+    /// vertices stay as they are.
+    #[arg(long)]
+    pub(crate) triangulate: bool,
     /// Read a PLY file that holds more than its header declares (extra values on a
     /// line, data after the last element) for what the header declares, or an X3P
     /// file whose checksums do not match, and say what was ignored, instead of
@@ -64,11 +70,14 @@ impl ReadArgs {
     /// The repair a load applies: `None` without `--repair`; a usage error for
     /// `--merge-distance` without it.
     fn load_repair_options(&self) -> Result<Option<RepairOptions>, CliError> {
-        match (self.repair, self.merge_distance) {
-            (true, _) => Ok(Some(self.repair_options()?)),
-            (false, None) => Ok(None),
-            (false, Some(_)) => Err(CliError::Usage(
+        match (self.repair, self.merge_distance, self.triangulate) {
+            (true, _, _) => Ok(Some(self.repair_options()?)),
+            (false, None, false) => Ok(None),
+            (false, Some(_), _) => Err(CliError::Usage(
                 "--merge-distance applies with --repair (or in 'beltrami repair')".into(),
+            )),
+            (false, None, true) => Err(CliError::Usage(
+                "--triangulate applies with --repair (or in 'beltrami repair')".into(),
             )),
         }
     }
@@ -82,7 +91,9 @@ impl ReadArgs {
                 "--merge-distance must be a finite distance >= 0, got {d}"
             )));
         }
-        Ok(RepairOptions::new().merge_distance(self.merge_distance))
+        Ok(RepairOptions::new()
+            .merge_distance(self.merge_distance)
+            .triangulate(self.triangulate))
     }
 }
 

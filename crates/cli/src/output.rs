@@ -23,6 +23,23 @@ use beltrami_io::{
 
 use crate::error::CliError;
 
+/// A usage error (exit 2) when `path` has no extension a mesh can be written in, found
+/// before anything is read (for the commands that may write every format, height maps
+/// included when the mesh is one).
+pub(crate) fn refuse_unknown_output(path: &Path, command: &str) -> Result<(), CliError> {
+    match beltrami_io::MeshFormat::from_path(path) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(CliError::Usage(format!(
+            "{}: {} for the output; {command} writes .ply, .stl, .obj, .off, .x3p or .sdf",
+            path.display(),
+            path.extension().map_or_else(
+                || "no file extension".to_string(),
+                |e| format!("unsupported file extension {:?}", e.to_string_lossy())
+            ),
+        ))),
+    }
+}
+
 /// Whether `a` and `b` name the same existing file: the same path after resolving
 /// symbolic links and `..`, or (on Unix) the same inode on the same device, which also
 /// catches hard links. A path that does not exist names no input.
@@ -147,24 +164,42 @@ fn same_destination(a: &Path, b: &Path) -> bool {
     same_file(a, b) || destination(a) == destination(b)
 }
 
-/// Fails with [`CliError::OverwritesInput`] when `output` is one of `inputs` and
-/// `force` is not set. Call it before reading anything, so that a refused run changes
-/// nothing.
+/// Fails when the output `output`, named by `option`, is one of `inputs` (the command's
+/// mesh first, then files its options read): [`CliError::OverwritesInput`] for the
+/// command's result mesh (`mesh_output`) naming the first input without `force` (an
+/// edit in place, which `force` allows); [`CliError::Usage`] for every other output
+/// naming an input, with or without `force` (a report, an image or a mesh replacing a
+/// file of options or a second mesh is never what was meant). Call it before reading
+/// anything, so that a refused run changes nothing.
 pub(crate) fn check_not_input(
     output: &Path,
+    option: &str,
+    mesh_output: bool,
     inputs: &[&PathBuf],
     force: bool,
 ) -> Result<(), CliError> {
-    if force {
-        return Ok(());
+    for (k, input) in inputs.iter().enumerate() {
+        if !same_file(output, input) {
+            continue;
+        }
+        let in_place = k == 0 && mesh_output;
+        if in_place && force {
+            continue;
+        }
+        return Err(if in_place {
+            CliError::OverwritesInput {
+                output: output.to_path_buf(),
+                input: (*input).clone(),
+            }
+        } else {
+            CliError::Usage(format!(
+                "{}: {option} is the input file {}, which it would replace (--force lets only the result mesh replace the input mesh); give {option} a file of its own",
+                output.display(),
+                input.display()
+            ))
+        });
     }
-    match inputs.iter().find(|input| same_file(output, input)) {
-        Some(input) => Err(CliError::OverwritesInput {
-            output: output.to_path_buf(),
-            input: (*input).clone(),
-        }),
-        None => Ok(()),
-    }
+    Ok(())
 }
 
 /// Whether `path` (the target of a symbolic link) is an existing file without write
@@ -175,10 +210,11 @@ fn write_protected(path: &Path) -> bool {
 }
 
 /// The outputs of one command, with the option that names each (`OUTPUT`,
-/// `--report`, …), checked together before any work.
+/// `--report`, …) and whether it is the command's result mesh (which `--force` lets
+/// replace the input mesh), checked together before any work.
 #[derive(Debug, Default)]
 pub(crate) struct Outputs {
-    entries: Vec<(PathBuf, &'static str)>,
+    entries: Vec<(PathBuf, &'static str, bool)>,
 }
 
 impl Outputs {
@@ -189,7 +225,14 @@ impl Outputs {
 
     /// Adds the output `path`, named by `option` in messages.
     pub(crate) fn add(&mut self, path: &Path, option: &'static str) -> &mut Self {
-        self.entries.push((path.to_path_buf(), option));
+        self.entries.push((path.to_path_buf(), option, false));
+        self
+    }
+
+    /// Adds the command's result mesh `path`, named by `option` in messages: with
+    /// `--force` it may replace the input mesh (an edit in place).
+    pub(crate) fn add_mesh(&mut self, path: &Path, option: &'static str) -> &mut Self {
+        self.entries.push((path.to_path_buf(), option, true));
         self
     }
 
@@ -208,8 +251,8 @@ impl Outputs {
     /// [`CliError::OverwritesInput`] and [`CliError::WriteProtected`] without
     /// `force`; [`CliError::Io`] for an output that cannot be written.
     pub(crate) fn check(&self, inputs: &[&PathBuf], force: bool) -> Result<(), CliError> {
-        for (i, (a, option_a)) in self.entries.iter().enumerate() {
-            for (b, option_b) in &self.entries[..i] {
+        for (i, (a, option_a, _)) in self.entries.iter().enumerate() {
+            for (b, option_b, _) in &self.entries[..i] {
                 if same_destination(a, b) {
                     return Err(CliError::Usage(format!(
                         "{option_b} and {option_a} name the same file {}; each output needs its own file",
@@ -218,10 +261,10 @@ impl Outputs {
                 }
             }
         }
-        for (path, _) in &self.entries {
-            check_not_input(path, inputs, force)?;
+        for (path, option, mesh) in &self.entries {
+            check_not_input(path, option, *mesh, inputs, force)?;
         }
-        for (path, _) in &self.entries {
+        for (path, _, _) in &self.entries {
             check_writable(path).map_err(|source| CliError::Io {
                 path: path.clone(),
                 source,
@@ -312,9 +355,39 @@ mod tests {
             std::os::unix::fs::symlink(&a, &soft).unwrap();
             assert!(same_file(&a, &soft));
         }
-        assert!(check_not_input(&hard, &[&b, &a], false).is_err());
-        assert!(check_not_input(&hard, &[&b, &a], true).is_ok());
-        assert!(check_not_input(&b, &[&a], false).is_ok());
+        // OUTPUT may replace INPUT with --force (an edit in place), and nothing else
+        // may replace an input: not another output, not OUTPUT replacing a second
+        // input (a reference mesh, a file of feature edges).
+        assert!(matches!(
+            check_not_input(&hard, "OUTPUT", true, &[&a, &b], false),
+            Err(CliError::OverwritesInput { .. })
+        ));
+        assert!(check_not_input(&hard, "OUTPUT", true, &[&a, &b], true).is_ok());
+        for force in [false, true] {
+            let usage = |r: Result<(), CliError>| matches!(r, Err(CliError::Usage(_)));
+            assert!(usage(check_not_input(
+                &hard,
+                "OUTPUT",
+                true,
+                &[&b, &a],
+                force
+            )));
+            assert!(usage(check_not_input(
+                &hard,
+                "--report",
+                false,
+                &[&a, &b],
+                force
+            )));
+            assert!(usage(check_not_input(
+                &hard,
+                "--report",
+                false,
+                &[&b, &a],
+                force
+            )));
+        }
+        assert!(check_not_input(&b, "OUTPUT", true, &[&a], false).is_ok());
     }
 
     #[test]

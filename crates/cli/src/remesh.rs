@@ -268,6 +268,7 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         .transpose()?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "remesh")?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     // The pairs name INPUT's vertices: a repair that renumbers them would make them name
     // other edges.
     if given.is_some()
@@ -352,13 +353,28 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         seconds,
     };
     let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    // The notes printed after the summary line, in the report's `notes` too.
+    let interior = loaded.mesh.n_edges() - report.boundary_edges;
+    let degenerate = degenerate_note(&report);
+    let fold = args.features.and_then(|_| fold_note(&report));
+    let every = args
+        .features
+        .filter(|_| interior > 0 && report.feature_edges == interior)
+        .map(|angle| {
+            format!(
+                "note: every interior edge is sharper than --features {}°, so every edge is kept and no vertex off a feature is left to move; a larger angle (such as 45) keeps only the sharp edges, and no --features keeps none",
+                number(angle),
+            )
+        });
+    let mut all_notes = notes.clone();
+    all_notes.extend([&degenerate, &fold, &every].into_iter().flatten().cloned());
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &notes,
+        &all_notes,
         out,
     )? {
         return Ok(());
@@ -410,11 +426,10 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
             },
         )?;
     }
-    if let Some(note) = degenerate_note(&report) {
+    if let Some(note) = &degenerate {
         writeln!(out, "{note}")?;
     }
     if let Some(angle) = args.features {
-        let interior = loaded.mesh.n_edges() - report.boundary_edges;
         writeln!(
             out,
             "features: {} of {} interior edges sharper than {}° kept as feature curves{}",
@@ -427,15 +442,8 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
                 String::new()
             },
         )?;
-        if let Some(note) = fold_note(&report) {
+        for note in [&fold, &every].into_iter().flatten() {
             writeln!(out, "{note}")?;
-        }
-        if interior > 0 && report.feature_edges == interior {
-            writeln!(
-                out,
-                "note: every interior edge is sharper than --features {}°, so every edge is kept and no vertex off a feature is left to move; a larger angle (such as 45) keeps only the sharp edges, and no --features keeps none",
-                number(angle),
-            )?;
         }
     }
     if let Some(path) = &args.feature_edges {

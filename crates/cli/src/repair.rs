@@ -129,6 +129,8 @@ pub(crate) struct RepairJson {
     pub(crate) dropped_duplicate_faces: Vec<[usize; 2]>,
     /// Faces that listed a vertex twice in a row, kept with it once.
     pub(crate) shortened_faces: Vec<usize>,
+    /// Faces of more than three corners split into triangles (`--triangulate`).
+    pub(crate) triangulated_faces: Vec<usize>,
     /// `[a, b]`: edges of more than two faces, cut into manifold sheets.
     pub(crate) cut_edges: Vec<[u32; 2]>,
     /// `[a, b]`: edges opened to make a component orientable or to untangle sheets.
@@ -152,6 +154,7 @@ impl From<&RepairReport> for RepairJson {
                 .map(|&(a, b)| [a, b])
                 .collect(),
             shortened_faces: r.shortened_faces.clone(),
+            triangulated_faces: r.triangulated_faces.clone(),
             cut_edges: r.cut_edges.iter().map(|&(a, b)| [a, b]).collect(),
             opened_edges: r.opened_edges.iter().map(|&(a, b)| [a, b]).collect(),
             flipped_faces: r.flipped_faces.clone(),
@@ -164,8 +167,11 @@ impl From<&RepairReport> for RepairJson {
 /// Refuses an STL `output` of a mesh whose repair split vertices (cut non-manifold
 /// edges, pinched vertices, opened edges): STL keeps no vertex indices, so a copy split
 /// off, still at its original's position, is joined to it again when the file is read,
-/// undoing the repair. For the commands that keep the input's positions (`repair`,
-/// `fill-holes`, `delaunay`).
+/// undoing the repair. For every command that writes a mesh after `--repair`: those
+/// that keep the input's positions (`repair`, `fill-holes`, `delaunay`) and those that
+/// keep the boundary's (`remesh`, `decimate`, `subdivide` keep the split copies where
+/// they are; `smooth` with its default fixed boundary too), where the copies stay
+/// together.
 ///
 /// # Errors
 /// [`CliError::Input`] naming `output`, when it is an STL file and `repair` split
@@ -240,6 +246,14 @@ pub(crate) fn describe(r: &RepairReport) -> Vec<String> {
             counted(r.shortened_faces.len(), "face", "faces")
         ),
         format!("input faces {}", list(r.shortened_faces.iter())),
+    );
+    line(
+        r.triangulated_faces.len(),
+        format!(
+            "split {} into triangles",
+            counted(r.triangulated_faces.len(), "polygon", "polygons")
+        ),
+        format!("input faces {}", list(r.triangulated_faces.iter())),
     );
     line(
         r.cut_edges.len(),
@@ -388,8 +402,9 @@ struct Summary {
 /// Runs `beltrami repair`.
 pub(crate) fn run(args: &RepairArgs, out: &mut impl Write) -> Result<(), CliError> {
     let flat_options = args.flat_options()?;
+    crate::output::refuse_unknown_output(&args.output, "repair")?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs.add_mesh(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load_repaired(&args.input, &args.read)?;
     let report = loaded.repair.clone().unwrap_or_default();

@@ -242,7 +242,10 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     };
     check_material_ratio_args(args)?;
     let mut outputs = Outputs::new();
-    outputs.add_opt(args.scalars.as_ref(), "--scalars");
+    // The residual mesh is the command's result: --force lets it replace MEASURED.
+    if let Some(path) = &args.scalars {
+        outputs.add_mesh(path, "--scalars");
+    }
     let mut inputs = vec![&args.measured];
     inputs.extend(args.smoothed.as_ref());
     outputs.check(&inputs, args.force)?;

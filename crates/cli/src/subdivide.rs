@@ -114,10 +114,11 @@ pub(crate) fn run(args: &SubdivideArgs, out: &mut impl Write) -> Result<(), CliE
         "subdivision moves the vertices and adds new ones",
     )?;
     let mut outputs = Outputs::new();
-    outputs.add(&args.output, "OUTPUT");
+    outputs.add_mesh(&args.output, "OUTPUT");
     outputs.check(&[&args.input], args.force)?;
     let loaded = load(&args.input, &args.read)?;
     loaded.require_faces(&args.input, "subdivide")?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     let scheme = args.scheme.scheme();
     let mesh = &loaded.mesh;
     if let Some(f) = mesh.faces().find(|&f| mesh.face_valence(f) != 3) {

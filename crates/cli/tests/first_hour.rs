@@ -23,6 +23,11 @@ fn fixture(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// Whether `text` has `line` as one of its lines.
+fn text_has(text: &str, line: &str) -> bool {
+    text.lines().any(|l| l == line)
+}
+
 fn stdout(args: &[&str]) -> String {
     let out = beltrami(args);
     assert!(
@@ -362,9 +367,19 @@ fn repair_writes_a_mesh_every_command_accepts() {
         "error: repaired.stl: an STL file keeps no vertex indices, so the 2 vertices the repair split off would be joined again when it is read; write .ply, .obj or .off"
     );
     assert!(!stl.exists());
-    // The same for the commands that keep the input's positions.
-    for command in ["fill-holes", "delaunay"] {
-        let o = beltrami(&[command, s(&input), s(&stl), "--repair"]);
+    // The same for every command that writes a mesh after --repair: they keep the
+    // input's positions, or at least the boundary's, where the copies lie.
+    for (command, extra) in [
+        ("fill-holes", None),
+        ("delaunay", None),
+        ("remesh", None),
+        ("decimate", Some("--ratio=0.5")),
+        ("subdivide", None),
+        ("smooth", None),
+    ] {
+        let mut args = vec![command, s(&input), s(&stl), "--repair"];
+        args.extend(extra);
+        let o = beltrami(&args);
         assert_eq!(o.status.code(), Some(1), "{command}");
         assert!(error_line(&o, d).contains("an STL file keeps no vertex indices"));
         assert!(!stl.exists());
@@ -959,7 +974,16 @@ fn stl_output_says_it_leaves_out_vertices_in_no_face() {
             let mut args = vec![command, s(&input), s(&stl), "--json", "--force"];
             args.extend_from_slice(extra);
             let j: serde_json::Value = serde_json::from_str(&stdout(&args)).unwrap();
-            assert_eq!(j["notes"], serde_json::json!([note]), "{command}: {j}");
+            // Decimation also notes the isolated vertex it keeps, after the summary line
+            // and in the report.
+            let mut notes = vec![note.to_string()];
+            if command == "decimate" {
+                notes.push("note: the input has 1 isolated vertex in no face; it is kept as it is and counted in the vertex counts and the target (--repair removes them)".into());
+                let mut plain = vec![command, s(&input), s(&stl), "--force"];
+                plain.extend_from_slice(extra);
+                assert!(text_has(&stdout(&plain), &notes[1]), "{command}");
+            }
+            assert_eq!(j["notes"], serde_json::json!(notes), "{command}: {j}");
         }
     }
 }
@@ -1061,7 +1085,61 @@ fn repair_removes_flat_triangles() {
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         error_line(&o, d),
-        "error: quad.obj: face 0 has 4 vertices; --flat-faces needs a triangle mesh (triangulate it first)"
+        "error: quad.obj: face 0 has 4 vertices; --flat-faces needs a triangle mesh (--repair --triangulate splits the polygons into triangles)"
     );
     assert!(!d.join("q.ply").exists());
+}
+
+/// A quad mesh (the cube of `cube_quads.obj`) for the commands that need triangles:
+/// `repair --triangulate` splits each quad into two triangles on the same vertices,
+/// `--repair --triangulate` does it on reading, and `--triangulate` alone is a usage
+/// error, as `--merge-distance` alone is.
+#[test]
+fn polygons_are_split_into_triangles_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let quads = fixture("cube_quads.obj");
+    let triangles = d.join("cube.ply");
+    let text = stdout(&["repair", s(&quads), s(&triangles), "--triangulate"]);
+    assert!(
+        text.contains("repaired: split 6 polygons into triangles (input faces 0, 1, 2, 3, 4, 5)"),
+        "{text}"
+    );
+    let mesh = beltrami_io::read_mesh(&triangles).unwrap();
+    let original = beltrami_io::read_mesh(&quads).unwrap();
+    assert_eq!(mesh.positions, original.positions);
+    assert_eq!(mesh.faces.len(), 12);
+    assert!(mesh.faces.is_triangles());
+    // Each quad's two triangles use its four corners, wound as it is.
+    for (f, quad) in original.faces.iter().enumerate() {
+        let pair: Vec<&[u32]> = mesh.faces.iter().skip(2 * f).take(2).collect();
+        let corners: std::collections::BTreeSet<u32> = pair.concat().into_iter().collect();
+        assert_eq!(corners, quad.iter().copied().collect(), "face {f}");
+    }
+    let info = stdout(&["info", s(&triangles), "--json"]);
+    let j: serde_json::Value = serde_json::from_str(&info).unwrap();
+    assert_eq!(j["closed"], true, "{j}");
+    let j: serde_json::Value = serde_json::from_str(&stdout(&[
+        "repair",
+        s(&quads),
+        s(&d.join("j.ply")),
+        "--triangulate",
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(
+        j["repairs"]["triangulated_faces"],
+        serde_json::json!([0, 1, 2, 3, 4, 5])
+    );
+    // On reading, for a command that needs triangles.
+    let out = d.join("fine.ply");
+    let o = beltrami(&["subdivide", s(&quads), s(&out), "--repair", "--triangulate"]);
+    assert!(o.status.success(), "{}", error_line(&o, d));
+    assert_eq!(beltrami_io::read_mesh(&out).unwrap().faces.len(), 48);
+    let o = beltrami(&["subdivide", s(&quads), s(&d.join("x.ply")), "--triangulate"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        error_line(&o, d),
+        "error: --triangulate applies with --repair (or in 'beltrami repair') (see 'beltrami --help')"
+    );
 }

@@ -98,6 +98,12 @@ fn the_table_says_what_the_grid_became() {
     }
 }
 
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+}
+
 #[test]
 fn a_repaired_height_map_is_written_back_as_one() {
     let dir = tempfile::tempdir().unwrap();
@@ -166,6 +172,29 @@ fn height_map_outputs_that_cannot_be_written_are_refused_in_one_line() {
         "{line}"
     );
     assert!(!dir.path().join("sphere.x3p").exists());
+    // Nor one whose vertices happen to lie on a grid but whose faces are not the
+    // grid's (a tetrahedron's four corners on a 2 × 2 grid): the file would read back
+    // as two triangles.
+    let tetrahedron = fixture("tetrahedron_ascii.ply");
+    let tet = dir.path().join("tet.x3p");
+    let out = beltrami(&["repair", s(&tetrahedron), s(&tet)]);
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out, dir.path());
+    assert!(
+        line.starts_with("error: tet.x3p: not a height map: ")
+            && line.contains("is not one of the grid's triangles"),
+        "{line}"
+    );
+    assert!(!tet.exists());
+    // And delaunay, whose flips change the triangles, refuses a height-map OUTPUT
+    // before reading anything.
+    let out = beltrami(&["delaunay", s(&x3p), s(&dir.path().join("d.x3p"))]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        error_line(&out, dir.path()).contains("delaunay cannot write"),
+        "{}",
+        error_line(&out, dir.path())
+    );
 }
 
 #[test]

@@ -81,9 +81,18 @@ fn compare_and_residual_refuse_to_overwrite_their_inputs() {
     assert!(out.status.success());
     let (before_a, before_b) = (fs::read(&a).unwrap(), fs::read(&b).unwrap());
 
-    let out = beltrami(&["compare", s(&a), s(&b), "--scalars", s(&b)]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_snapshot!(error_line(&out, dir.path()), @"error: b.ply: refusing to overwrite the input file b.ply (pass --force to replace it)");
+    // compare's --scalars is no result mesh of MESH: it never replaces an input, and
+    // --force does not change that.
+    for force in [&[][..], &["--force"][..]] {
+        let mut args = vec!["compare", s(&a), s(&b), "--scalars", s(&b)];
+        args.extend_from_slice(force);
+        let out = beltrami(&args);
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(
+            error_line(&out, dir.path()),
+            "error: b.ply: --scalars is the input file b.ply, which it would replace (--force lets only the result mesh replace the input mesh); give --scalars a file of its own (see 'beltrami --help')"
+        );
+    }
     let out = beltrami(&["residual", s(&a), s(&b), "--out", s(&a)]);
     assert_eq!(out.status.code(), Some(2));
     assert_snapshot!(error_line(&out, dir.path()), @"error: a.ply: refusing to overwrite the input file a.ply (pass --force to replace it)");

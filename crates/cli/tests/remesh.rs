@@ -674,6 +674,29 @@ fn feature_edges_from_a_file_are_kept() {
         error_line(&o, d)
     );
     assert_eq!(fs::read(&named).unwrap(), fs::read(&file).unwrap());
+    // Nor can the report, or OUTPUT, replace it with --force (which lets only the
+    // result mesh replace INPUT): exit 2, the file untouched.
+    for args in [
+        ["--report", s(&named), "--force"],
+        ["--force", "--iterations", "1"],
+    ] {
+        let out = if args[0] == "--report" {
+            d.join("elsewhere.ply")
+        } else {
+            named.clone()
+        };
+        let mut line = vec!["remesh", s(&input), s(&out), "--feature-edges", s(&named)];
+        line.extend(args);
+        let o = beltrami(&line);
+        assert_eq!(o.status.code(), Some(2), "{}", error_line(&o, d));
+        assert!(
+            error_line(&o, d).contains("is the input file"),
+            "{}",
+            error_line(&o, d)
+        );
+        assert_eq!(fs::read(&named).unwrap(), fs::read(&file).unwrap());
+        assert!(!d.join("elsewhere.ply").exists());
+    }
     let stray = d.join("stray.obj");
     fs::write(
         &stray,

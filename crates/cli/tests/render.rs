@@ -418,8 +418,9 @@ fn bad_input_and_usage_fail_with_one_line() {
     let before = std::fs::read(&noisy).unwrap();
     assert_eq!(
         failure(&["render", sphere, sphere], d, 2),
-        "error: noisy.ply: refusing to overwrite the input file noisy.ply \
-         (pass --force to replace it)"
+        "error: noisy.ply: OUT is the input file noisy.ply, which it would replace (--force \
+         lets only the result mesh replace the input mesh); give OUT a file of its own (see \
+         'beltrami --help')"
     );
     assert_eq!(
         failure(
@@ -427,8 +428,9 @@ fn bad_input_and_usage_fail_with_one_line() {
             d,
             2
         ),
-        "error: clean.ply: refusing to overwrite the input file clean.ply \
-         (pass --force to replace it)"
+        "error: clean.ply: OUT is the input file clean.ply, which it would replace (--force \
+         lets only the result mesh replace the input mesh); give OUT a file of its own (see \
+         'beltrami --help')"
     );
     assert_eq!(
         failure(&["render", sphere, s(&d.join("out.ply"))], d, 2),
@@ -437,20 +439,21 @@ fn bad_input_and_usage_fail_with_one_line() {
     );
     let link = d.join("link.png");
     std::fs::hard_link(&noisy, &link).unwrap();
-    assert_eq!(
-        failure(&["render", sphere, s(&link)], d, 2),
-        "error: link.png: refusing to overwrite the input file noisy.ply \
-         (pass --force to replace it)"
-    );
+    // A picture never replaces an input, also through a link and with --force (which
+    // lets only a command's result mesh replace its input mesh).
+    for force in [&[][..], &["--force"][..]] {
+        let mut args = vec!["render", sphere, s(&link)];
+        args.extend_from_slice(force);
+        assert_eq!(
+            failure(&args, d, 2),
+            "error: link.png: OUT is the input file noisy.ply, which it would replace \
+             (--force lets only the result mesh replace the input mesh); give OUT a file of \
+             its own (see 'beltrami --help')"
+        );
+    }
     assert_eq!(std::fs::read(&noisy).unwrap(), before);
+    assert_eq!(std::fs::read(&link).unwrap(), before);
     assert!(!out.exists());
-    // With --force the link is replaced by the picture; the mesh stays.
-    run(
-        &["render", sphere, s(&link), "--force", "--size", "64x48"],
-        d,
-    );
-    png(&link, 64, 48);
-    assert_eq!(std::fs::read(&noisy).unwrap(), before);
     // --scalar and --distance-to exclude each other.
     let line = failure(
         &[

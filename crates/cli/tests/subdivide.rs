@@ -176,7 +176,7 @@ fn a_quad_mesh_is_refused_naming_the_face() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         error_line(&out, &fixtures()),
-        "error: cube_quads.obj: face 0 has 4 vertices; subdivide needs a triangle mesh (triangulate it first)"
+        "error: cube_quads.obj: face 0 has 4 vertices; subdivide needs a triangle mesh (--repair --triangulate splits the polygons into triangles)"
     );
     assert!(!output.exists());
 }
@@ -233,4 +233,41 @@ fn the_input_is_not_overwritten_without_force() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(read_mesh(&input).unwrap().faces.len(), 4 * 320);
+}
+
+/// Under an address-space limit (`ulimit -v`, as a batch system sets one) the memory
+/// check counts what the limit leaves, not the machine's free memory: a subdivision
+/// that would not fit is refused in one line naming the steps that fit (exit 2, as
+/// for `--steps` beyond the machine), where it used to abort with an allocation failure
+/// and a backtrace.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_address_space_limit_is_the_memory_available() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fixtures().join("icosphere_2.ply");
+    let output = dir.path().join("fine.ply");
+    // 162 vertices × 4^9 ≈ 42 million: gigabytes, under a 1.5 GB limit.
+    let script = format!(
+        "ulimit -v 1500000 && exec {} subdivide {} {} --steps 9",
+        env!("CARGO_BIN_EXE_beltrami"),
+        s(&input),
+        s(&output)
+    );
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    // What the limit leaves: below 1.5 GB (1.4 GiB), where the machine has more.
+    let available = stderr
+        .split("more than the ")
+        .nth(1)
+        .and_then(|rest| rest.split(" GiB available").next())
+        .and_then(|n| n.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("{stderr}"));
+    assert!(available < 1.4, "{stderr}");
+    assert!(stderr.contains("at most --steps"), "{stderr}");
+    assert!(!output.exists());
 }

@@ -84,6 +84,7 @@ mod release;
 pub mod reorder;
 mod repair;
 mod text;
+mod triangulate;
 
 pub use boundary::BoundaryLoops;
 pub use build::{BuildOptions, BuildReport, MAX_ELEMENTS, VertexSplit};
@@ -104,3 +105,4 @@ pub use raw::RawConnectivity;
 pub use release::release;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use text::{exact_number, short_number};
+pub use triangulate::triangulate_polygon;

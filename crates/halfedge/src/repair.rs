@@ -43,6 +43,7 @@ pub struct RepairOptions {
     drop_unreferenced: bool,
     cut_non_orientable: bool,
     orient_outward: bool,
+    triangulate: bool,
 }
 
 impl Default for RepairOptions {
@@ -54,6 +55,7 @@ impl Default for RepairOptions {
             drop_unreferenced: true,
             cut_non_orientable: true,
             orient_outward: true,
+            triangulate: false,
         }
     }
 }
@@ -109,6 +111,17 @@ impl RepairOptions {
     #[must_use]
     pub fn orient_outward(mut self, yes: bool) -> Self {
         self.orient_outward = yes;
+        self
+    }
+
+    /// Split every face of more than three corners into triangles (default `false`),
+    /// by ear clipping in its own plane ([`triangulate_polygon`](crate::triangulate_polygon):
+    /// a quadrilateral along its shorter diagonal inside it), after the degenerate
+    /// faces are dropped: the editing algorithms, which need triangles, then accept the
+    /// mesh. The vertices stay as they are.
+    #[must_use]
+    pub fn triangulate(mut self, yes: bool) -> Self {
+        self.triangulate = yes;
         self
     }
 
@@ -223,6 +236,9 @@ pub struct RepairReport {
     /// before it (a zero-length edge, often made by merging; e.g. `[a, b, c, c]`) was
     /// removed.
     pub shortened_faces: Vec<usize>,
+    /// Faces of more than three corners split into triangles (with
+    /// [`RepairOptions::triangulate`]), by input face.
+    pub triangulated_faces: Vec<usize>,
     /// `(face, earlier)`: face dropped because it lists the same cycle of vertices as
     /// the earlier kept face, in either orientation (after merging and shortening). Two
     /// copies of a triangle wound opposite ways are a zero-volume sliver pair: the first
@@ -263,6 +279,7 @@ impl RepairReport {
         self.merged_vertices.is_empty()
             && self.dropped_degenerate_faces.is_empty()
             && self.shortened_faces.is_empty()
+            && self.triangulated_faces.is_empty()
             && self.dropped_duplicate_faces.is_empty()
             && self.cut_edges.is_empty()
             && self.opened_edges.is_empty()
@@ -291,6 +308,12 @@ impl fmt::Display for RepairReport {
                 "dropped",
             ),
             (self.shortened_faces.len(), "face", "faces", "shortened"),
+            (
+                self.triangulated_faces.len(),
+                "face",
+                "faces",
+                "triangulated",
+            ),
             (
                 self.cut_edges.len(),
                 "non-manifold edge",
@@ -336,7 +359,8 @@ impl fmt::Display for RepairReport {
 ///    default);
 /// 2. **shorten** faces with a corner repeating the previous corner's vertex, and
 ///    **drop degenerate** faces (fewer than three distinct vertices, or a vertex that
-///    comes back);
+///    comes back); with [`RepairOptions::triangulate`], **split** every face of more
+///    than three corners into triangles;
 /// 3. **drop duplicate** faces: the same cycle of vertices as an earlier face, either
 ///    way round; the earliest copy is kept;
 /// 4. **cut non-manifold edges**: the faces on an edge shared by more than two faces
@@ -358,7 +382,7 @@ impl fmt::Display for RepairReport {
 /// 7. **drop unreferenced** vertices ([`RepairOptions::drop_unreferenced`]), numbering
 ///    the others compactly in input order.
 ///
-/// Only step 1 looks at positions; the result does not depend on the number of
+/// Only step 1 and the triangulation look at positions; the result does not depend on the number of
 /// threads. An input that needs no repair is returned unchanged, with an empty report.
 ///
 /// # Errors
@@ -402,8 +426,13 @@ pub fn repair(
     // 1. Merge.
     let target = merge_step(positions, options.merge_distance, &mut report);
 
-    // 2. Shorten and drop degenerate faces.
+    // 2. Shorten and drop degenerate faces; split polygons into triangles when asked.
     let (list, origin) = clean_faces(faces, &target, &mut report);
+    let (list, origin) = if options.triangulate {
+        triangulate_faces(positions, &list, origin, &mut report)
+    } else {
+        (list, origin)
+    };
 
     // 3. Drop duplicates.
     let (list, origin) = drop_duplicates(&list, &origin, &mut report);
@@ -785,6 +814,38 @@ fn clean_faces(
         origin.push(f);
     }
     (list, origin)
+}
+
+/// Step 2b: every face of more than three corners split into triangles (see
+/// [`triangulate_polygon`](crate::triangulate_polygon)), each triangle with its
+/// polygon's input face as origin.
+fn triangulate_faces(
+    positions: &[DVec3],
+    list: &PolygonList,
+    origin: Vec<usize>,
+    report: &mut RepairReport,
+) -> (PolygonList, Vec<usize>) {
+    if list.is_triangles() {
+        return (list.clone(), origin);
+    }
+    let mut out = PolygonList::with_capacity(list.len(), list.n_corners());
+    let mut out_origin = Vec::with_capacity(list.len());
+    let mut triangles = Vec::new();
+    for (face, &f) in list.iter().zip(&origin) {
+        if face.len() == 3 {
+            out.push(face);
+            out_origin.push(f);
+            continue;
+        }
+        triangles.clear();
+        crate::triangulate_polygon(positions, face, &mut triangles);
+        for t in &triangles {
+            out.push(t);
+            out_origin.push(f);
+        }
+        report.triangulated_faces.push(f);
+    }
+    (out, out_origin)
 }
 
 /// Step 3: drops every face that lists the same cycle of vertices as an earlier one,

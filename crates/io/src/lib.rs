@@ -101,7 +101,7 @@ pub use beltrami_halfedge::PolygonList;
 pub use error::IoError;
 pub use format::{Encoding, MeshFormat, Precision, VertexAttributes, WriteOptions};
 pub use height_map::{GridStats, HeightMap, LengthUnit};
-pub use memory::{available_in_meminfo, available_memory};
+pub use memory::{address_space_left, available_in_meminfo, available_memory};
 pub use read::{
     DeclaredCounts, declared_counts, read_height_map, read_height_map_from, read_mesh,
     read_mesh_from, read_mesh_from_with, read_mesh_with,

@@ -23,7 +23,10 @@
 //! boundary, so the faces of a part with features stay flat up to the feature curves
 //! (their corners' normals are the face normal). A triangle whose corner normals differ
 //! by more than [`SMOOTH_ANGLE`] spans a sharp edge that was not asked for as a feature,
-//! and is not lifted: the flat faces of a CAD part stay flat with or without features.
+//! and is not lifted: a cube's faces stay flat without features. A flat triangle at a
+//! vertex of a sharp edge that is not a feature, whose averaged normal leans less than
+//! that from the face's (the rim of a hole through a block), is lifted by the lean:
+//! machined parts are remeshed with features (docs/remeshing.md).
 //! The triangle's own normal plays no part, so a scan's folded slivers are lifted with
 //! their neighbours.
 //!

@@ -51,12 +51,13 @@ pub(crate) fn run(
     )?;
     let mut outputs = Outputs::new();
     outputs
-        .add(&args.output, "OUTPUT")
+        .add_mesh(&args.output, "OUTPUT")
         .add_opt(args.report.as_ref(), "--report");
     outputs.check(&[&args.input], args.force)?;
     let t0 = Instant::now();
     let (loaded, kept, kernel) = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
+    crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     let read_seconds = t0.elapsed().as_secs_f64();
     let LoadedMesh {
         mesh,

@@ -109,8 +109,10 @@ impl HeightMap {
     /// of the vertices' distinct x and y values; the grid starts at the origin when
     /// the lowest x (or y) is a whole number of spacings from it (so a map read by
     /// [`HeightMap::to_mesh`] keeps its invalid leading rows and columns), else at the
-    /// lowest x (y). Faces are not looked at. A mesh written from a height map and
-    /// smoothed in z only (positions moved along z) is still one.
+    /// lowest x (y). The faces must be the grid's own triangulation, the one
+    /// [`HeightMap::to_mesh`] makes (which reading the file gives back), and every
+    /// vertex in one of them: a height map stores the heights only. A mesh written
+    /// from a height map and smoothed in z only (positions moved along z) is still one.
     ///
     /// # Examples
     /// ```
@@ -128,7 +130,9 @@ impl HeightMap {
     /// [`IoError::NotAGrid`] for a mesh without vertices, with non-finite
     /// coordinates, with fewer than two distinct x or y values, with a vertex off
     /// the grid, or with two vertices on one grid point (a surface that folds over
-    /// the xy plane, a closed surface).
+    /// the xy plane, a closed surface); for faces other than the grid's triangles (a
+    /// face that is not one of them, a cell with four vertices without its two
+    /// triangles) and for a vertex in no face.
     pub fn from_mesh(mesh: &MeshData, unit: LengthUnit) -> Result<Self, IoError> {
         let not_a_grid = |reason: String| IoError::NotAGrid { reason };
         let positions = &mesh.positions;
@@ -169,7 +173,79 @@ impl HeightMap {
             owner[k] = u32::try_from(v).unwrap_or(u32::MAX - 1);
             z[k] = p.z;
         }
+        check_grid_faces(mesh, nx, ny, &owner).map_err(|reason| {
+            not_a_grid(format!(
+                "{reason}; a height map keeps the heights only, and reading it back makes the grid's own triangles (write .ply, .obj or .off to keep the faces)"
+            ))
+        })?;
         Self::new(nx, ny, x_axis.spacing, y_axis.spacing, z, unit)
+    }
+}
+
+/// Whether the faces of `mesh`, whose vertex on grid point `k` is `owner[k]`
+/// (`u32::MAX` for none), are the triangles [`HeightMap::to_mesh`] makes of that grid,
+/// each once, and every vertex is in one of them; else what differs.
+fn check_grid_faces(mesh: &MeshData, nx: usize, ny: usize, owner: &[u32]) -> Result<(), String> {
+    // Each triangle rotated to start at its smallest vertex (its orientation kept).
+    let rotated = |t: [u32; 3]| {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+    };
+    let mut grid = Vec::new();
+    let mut in_a_face = vec![false; mesh.positions.len()];
+    for j in 0..ny.saturating_sub(1) {
+        for i in 0..nx.saturating_sub(1) {
+            let [a, b, c, d] = [
+                owner[i + nx * j],
+                owner[i + 1 + nx * j],
+                owner[i + 1 + nx * (j + 1)],
+                owner[i + nx * (j + 1)],
+            ];
+            if [a, b, c, d].contains(&u32::MAX) {
+                continue;
+            }
+            grid.push((rotated([a, b, c]), (i, j)));
+            grid.push((rotated([a, c, d]), (i, j)));
+            for v in [a, b, c, d] {
+                in_a_face[v as usize] = true;
+            }
+        }
+    }
+    if let Some(v) = in_a_face.iter().position(|&used| !used) {
+        return Err(format!(
+            "vertex {v} is a corner of no grid cell whose four corners are vertices"
+        ));
+    }
+    let mut faces = Vec::with_capacity(mesh.faces.len());
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let &[a, b, c] = face else {
+            return Err(format!("face {f} has {} vertices", face.len()));
+        };
+        faces.push((rotated([a, b, c]), f));
+    }
+    grid.sort_unstable();
+    faces.sort_unstable();
+    let (mut g, mut m) = (grid.iter().peekable(), faces.iter().peekable());
+    loop {
+        match (g.peek(), m.peek()) {
+            (None, None) => return Ok(()),
+            (Some(&&(t, _)), Some(&&(u, _))) if t == u => {
+                g.next();
+                m.next();
+            }
+            (Some(&&(t, (i, j))), next) if next.is_none_or(|&&(u, _)| t < u) => {
+                return Err(format!(
+                    "the grid cell at point ({i}, {j}) has four vertices but not its triangle {t:?}"
+                ));
+            }
+            (_, Some(&&(u, f))) => {
+                return Err(format!(
+                    "face {f} ({}, {}, {}) is not one of the grid's triangles (two per cell, split from point (i, j) to (i + 1, j + 1), counter-clockwise seen from +z)",
+                    u[0], u[1], u[2]
+                ));
+            }
+            (Some(_), None) => unreachable!("matched above"),
+        }
     }
 }
 
@@ -273,6 +349,51 @@ mod tests {
         for (a, b) in back.z.iter().zip(&map.z) {
             assert_eq!(a.to_bits(), b.to_bits());
         }
+    }
+
+    /// A mesh on the grid with other triangles than the grid's (the other diagonal, a
+    /// missing triangle, a face twice, a vertex in no face) is no height map: reading it
+    /// back would give other faces.
+    #[test]
+    fn the_faces_must_be_the_grids_triangles() {
+        let map = HeightMap::new(3, 3, 1.0, 1.0, vec![0.0; 9], LengthUnit::Metre).unwrap();
+        let (mesh, _) = map.to_mesh();
+        assert!(HeightMap::from_mesh(&mesh, LengthUnit::Metre).is_ok());
+        let faces: Vec<Vec<u32>> = mesh.faces.iter().map(<[u32]>::to_vec).collect();
+        let on = |positions: Vec<DVec3>, faces: &[Vec<u32>]| {
+            let mut list = PolygonList::new();
+            for f in faces {
+                list.push(f);
+            }
+            HeightMap::from_mesh(&MeshData::new(positions, list), LengthUnit::Metre)
+        };
+        let with = |faces: &[Vec<u32>]| on(mesh.positions.clone(), faces);
+        // Rotated, each triangle is the same face.
+        let rotated: Vec<Vec<u32>> = faces.iter().map(|f| vec![f[1], f[2], f[0]]).collect();
+        assert!(with(&rotated).is_ok());
+        // The first cell (points 0, 1, 4, 3) split along its other diagonal.
+        assert_eq!(faces[..2], [vec![0, 1, 4], vec![0, 4, 3]]);
+        let mut other = faces.clone();
+        other[0] = vec![0, 1, 3];
+        other[1] = vec![1, 4, 3];
+        let e = with(&other).unwrap_err().to_string();
+        assert!(e.contains("is not one of the grid's triangles"), "{e}");
+        // Reversed (normals down).
+        let reversed: Vec<Vec<u32>> = faces.iter().map(|f| vec![f[0], f[2], f[1]]).collect();
+        assert!(with(&reversed).is_err());
+        // A triangle missing, or twice.
+        let e = with(&faces[1..]).unwrap_err().to_string();
+        assert!(e.contains("has four vertices but not its triangle"), "{e}");
+        let mut twice = faces.clone();
+        twice.push(faces[0].clone());
+        assert!(with(&twice).is_err());
+        // A vertex in no whole cell: point (2, 1) of a grid without point (2, 0).
+        let square = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0)];
+        let positions = square.map(|(x, y)| DVec3::new(x, y, 0.0)).to_vec();
+        let e = on(positions, &[vec![0, 1, 3], vec![0, 3, 2]])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("vertex 4 is a corner of no grid cell"), "{e}");
     }
 
     #[test]
