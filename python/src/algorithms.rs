@@ -23,7 +23,7 @@ use crate::progress::Progress;
 fn quality_error(e: &QualityError) -> PyErr {
     match e {
         QualityError::NotTriangle { face, len } => MeshError::new_err(format!(
-            "face {face} has {len} vertices; quality needs a triangle mesh (triangulate it first)"
+            "face {face} has {len} vertices; quality needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)"
         )),
         e => MeshError::new_err(e.to_string()),
     }
@@ -174,7 +174,7 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
     }
     if let Some(f) = mesh.mesh.faces().find(|&f| mesh.mesh.face_valence(f) != 3) {
         return Err(MeshError::new_err(format!(
-            "face {} has {} vertices; subdivide needs a triangle mesh (triangulate it first)",
+            "face {} has {} vertices; subdivide needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)",
             f.index(),
             mesh.mesh.face_valence(f)
         )));
@@ -196,7 +196,7 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
                 .subdivide(&mesh.mesh, &mesh.positions, steps)
                 .map_err(|e| match e {
                     SubdivisionError::NotTriangle { face, len } => MeshError::new_err(format!(
-                        "face {face} has {len} vertices; subdivide needs a triangle mesh (triangulate it first)"
+                        "face {face} has {len} vertices; subdivide needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)"
                     )),
                     e => MeshError::new_err(e.to_string()),
                 })
@@ -253,7 +253,7 @@ pub(crate) fn delaunay<'py>(
         no_panic(|| {
             delaunay_flip(&mesh.mesh, &mesh.positions, options).map_err(|e| match e {
                 DelaunayError::NotTriangle { face, len } => MeshError::new_err(format!(
-                    "face {face} has {len} vertices; delaunay needs a triangle mesh (triangulate it first)"
+                    "face {face} has {len} vertices; delaunay needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)"
                 )),
                 DelaunayError::Topology(e) => topology_error(None, &e),
                 e => MeshError::new_err(e.to_string()),
@@ -311,7 +311,7 @@ pub(crate) fn remove_flat_triangles<'py>(
             beltrami_algorithms::remove_flat_triangles(&mesh.mesh, &mesh.positions, options)
                 .map_err(|e| match e {
                     FlatError::NotTriangle { face, len } => MeshError::new_err(format!(
-                        "face {face} has {len} vertices; remove_flat_triangles needs a triangle mesh (triangulate it first)"
+                        "face {face} has {len} vertices; remove_flat_triangles needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)"
                     )),
                     FlatError::Options { reason } => PyValueError::new_err(reason),
                     FlatError::Topology(e) => topology_error(None, &e),

@@ -267,3 +267,14 @@ fn pool() -> Option<&'static rayon::ThreadPool> {
     POOL.get_or_init(|| rayon::ThreadPoolBuilder::new().build().ok())
         .as_ref()
 }
+
+/// `ValueError` for `triangulate=True` without `repair=True`, as the commands refuse
+/// `--triangulate` without `--repair`.
+pub(crate) fn triangulate_needs_repair(repair: bool, triangulate: bool) -> PyResult<()> {
+    if triangulate && !repair {
+        return Err(PyValueError::new_err(
+            "triangulate=True applies with repair=True",
+        ));
+    }
+    Ok(())
+}

@@ -36,14 +36,16 @@ const MAX_WELD_TOLERANCE: f64 = 0.01;
 /// `FormatError` when it cannot be decoded and `MeshError` when its faces are not an
 /// oriented 2-manifold. The file is read without holding the GIL.
 #[pyfunction]
-#[pyo3(signature = (path, *, weld_tolerance = 1e-6, lenient = false, repair = false))]
+#[pyo3(signature = (path, *, weld_tolerance = 1e-6, lenient = false, repair = false, triangulate = false))]
 pub(crate) fn read(
     py: Python<'_>,
     path: PathBuf,
     weld_tolerance: f64,
     lenient: bool,
     repair: bool,
+    triangulate: bool,
 ) -> PyResult<Mesh> {
+    crate::errors::triangulate_needs_repair(repair, triangulate)?;
     let weld = if weld_tolerance == 0.0 {
         Weld::Exact
     } else {
@@ -57,14 +59,19 @@ pub(crate) fn read(
         )));
     }
     let options = ReadOptions::new().weld(weld).lenient(lenient);
-    py.detach(|| no_panic(|| read_inner(&path, &options, repair)))
+    let fix = repair.then(|| RepairOptions::new().triangulate(triangulate));
+    py.detach(|| no_panic(|| read_inner(&path, &options, fix.as_ref())))
 }
 
-fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyResult<Mesh> {
+fn read_inner(
+    path: &std::path::Path,
+    options: &ReadOptions,
+    fix: Option<&RepairOptions>,
+) -> PyResult<Mesh> {
     let format = MeshFormat::from_path(path).map_err(|e| io_error(path, &e))?;
     let (data, _report) = read_mesh_with(path, options).map_err(|e| io_error(path, &e))?;
-    let (positions, faces, report) = if fix {
-        let repaired = repair(&data.positions, &data.faces, &RepairOptions::new())
+    let (positions, faces, report) = if let Some(fix) = fix {
+        let repaired = repair(&data.positions, &data.faces, fix)
             .map_err(|e| topology_error(Some(path), &e))?;
         crate::errors::refuse_empty_repair(Some(path), data.faces.len(), repaired.faces.len())?;
         (repaired.positions, repaired.faces, Some(repaired.report))
@@ -73,7 +80,7 @@ fn read_inner(path: &std::path::Path, options: &ReadOptions, fix: bool) -> PyRes
     };
     let mesh = beltrami_halfedge::HalfedgeMesh::from_polygon_list(positions.len(), &faces)
         .map_err(|e| {
-            if fix {
+            if fix.is_some() {
                 topology_error(Some(path), &e)
             } else {
                 crate::errors::repairable_error(Some(path), &e)

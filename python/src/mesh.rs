@@ -302,13 +302,15 @@ use pyo3::types::IntoPyDict;
 #[pymethods]
 impl Mesh {
     #[new]
-    #[pyo3(signature = (vertices, faces, *, repair = false))]
+    #[pyo3(signature = (vertices, faces, *, repair = false, triangulate = false))]
     fn new(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
         repair: bool,
+        triangulate: bool,
     ) -> PyResult<Self> {
+        crate::errors::triangulate_needs_repair(repair, triangulate)?;
         let positions = vertices_from(vertices)?;
         let faces = faces_from(faces, positions.len(), repair)?;
         if !repair {
@@ -328,8 +330,12 @@ impl Mesh {
         }
         let repaired = py.detach(|| {
             no_panic(|| {
-                beltrami_halfedge::repair(&positions, &faces, &RepairOptions::new())
-                    .map_err(|e| topology_error(None, &e))
+                beltrami_halfedge::repair(
+                    &positions,
+                    &faces,
+                    &RepairOptions::new().triangulate(triangulate),
+                )
+                .map_err(|e| topology_error(None, &e))
             })
         })?;
         crate::errors::refuse_empty_repair(None, faces.len(), repaired.faces.len())?;

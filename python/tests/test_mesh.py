@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import numpy as np
 import pytest
 
 import beltrami as bt
+
+FIXTURES = pathlib.Path(__file__).resolve().parents[2] / "fixtures"
 
 TETRA_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 TETRA_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
@@ -226,3 +230,24 @@ def test_a_mesh_pickles_and_copies():
     assert np.array_equal(back.vertices, mesh.vertices)
     assert np.array_equal(back.faces, mesh.faces)
     assert copy.copy(mesh) is mesh and copy.deepcopy(mesh) is mesh
+
+
+def test_polygons_are_split_into_triangles_with_the_repair():
+    cube = str(FIXTURES / "cube_quads.obj")
+    quads = bt.read(cube)
+    assert quads.n_faces == 6
+    for mesh in (
+        bt.read(cube, repair=True, triangulate=True),
+        bt.Mesh(quads.vertices, quads.faces, repair=True, triangulate=True),
+    ):
+        assert mesh.n_faces == 12 and mesh.faces.shape == (12, 3)
+        np.testing.assert_array_equal(mesh.vertices, quads.vertices)
+        assert bt.info(mesh)["repairs"]["triangulated_faces"] == [0, 1, 2, 3, 4, 5]
+        assert bt.info(mesh)["closed"]
+        bt.subdivide(mesh)  # a command that needs triangles takes it
+    with pytest.raises(ValueError, match="triangulate=True applies with repair=True"):
+        bt.read(cube, triangulate=True)
+    with pytest.raises(ValueError, match="triangulate=True applies with repair=True"):
+        bt.Mesh(quads.vertices, quads.faces, triangulate=True)
+    with pytest.raises(bt.MeshError, match="triangulate=True"):
+        bt.subdivide(quads)

@@ -55,8 +55,8 @@ pub(crate) struct CompareArgs {
     /// over whole faces) (N up to 10 million).
     #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
-    /// Replace the --scalars or --png file even when it is MESH or REFERENCE or
-    /// write-protected.
+    /// Replace the --scalars or --png file even when it is write-protected. They never
+    /// replace MESH or REFERENCE.
     #[arg(long)]
     force: bool,
     #[command(flatten)]

@@ -63,8 +63,14 @@ pub(crate) enum CliError {
 /// The one line for a face that is not a triangle, given to a command (or option) that
 /// needs a triangle mesh.
 pub(crate) fn not_triangles(command: &str, face: impl fmt::Display, len: usize) -> String {
+    // Inside `repair` (its --flat-faces) the flag alone; elsewhere with --repair.
+    let flags = if command == "--flat-faces" {
+        "--triangulate"
+    } else {
+        "--repair --triangulate"
+    };
     format!(
-        "face {face} has {len} vertices; {command} needs a triangle mesh (--repair --triangulate splits the polygons into triangles)"
+        "face {face} has {len} vertices; {command} needs a triangle mesh ({flags} splits the polygons into triangles)"
     )
 }
 
@@ -221,7 +227,7 @@ impl fmt::Display for CliError {
                 ),
                 Limit::Available(available) => write!(
                     f,
-                    "{}: the run needs {estimate}, more than the {} of memory this machine has available (pass --max-memory SIZE to run it anyway)",
+                    "{}: the run needs {estimate}, more than the {} of memory available to it (pass --max-memory SIZE to run it anyway)",
                     path.display(),
                     Size(*available)
                 ),

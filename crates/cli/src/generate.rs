@@ -131,6 +131,10 @@ fn stage(
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
     check_args(args)?;
+    crate::output::refuse_unknown_output(&args.output, "generate")?;
+    if let Some(clean) = &args.clean {
+        crate::output::refuse_unknown_output(clean, "generate")?;
+    }
     let seed = args.seed.unwrap_or(1);
     let mut outputs = Outputs::new();
     outputs

@@ -53,7 +53,7 @@ pub(crate) struct OperatorArgs {
     /// Print a JSON summary instead of the sentence.
     #[arg(long)]
     json: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT even when it is write-protected. It never replaces the input.
     #[arg(long)]
     force: bool,
     #[command(flatten)]

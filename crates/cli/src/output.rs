@@ -247,9 +247,11 @@ impl Outputs {
     /// Runs every check of the module documentation against `inputs`.
     ///
     /// # Errors
-    /// [`CliError::Usage`] for two outputs naming one file;
-    /// [`CliError::OverwritesInput`] and [`CliError::WriteProtected`] without
-    /// `force`; [`CliError::Io`] for an output that cannot be written.
+    /// [`CliError::Usage`] for two outputs naming one file, and for an output naming
+    /// an input other than the result mesh naming the input mesh (with or without
+    /// `force`, see [`check_not_input`]); [`CliError::OverwritesInput`] for the result
+    /// mesh naming the input mesh and [`CliError::WriteProtected`], without `force`;
+    /// [`CliError::Io`] for an output that cannot be written.
     pub(crate) fn check(&self, inputs: &[&PathBuf], force: bool) -> Result<(), CliError> {
         for (i, (a, option_a, _)) in self.entries.iter().enumerate() {
             for (b, option_b, _) in &self.entries[..i] {

@@ -55,7 +55,7 @@ pub(crate) struct RenderArgs {
     /// colour bar), at most 33 554 432 pixels in all.
     #[arg(long, value_name = "WxH", default_value = "1200x900", value_parser = parse_size)]
     size: ImageSize,
-    /// Replace OUT.png even when it is MESH or REF or write-protected.
+    /// Replace OUT.png even when it is write-protected. It never replaces MESH or REF.
     #[arg(long)]
     force: bool,
     #[command(flatten)]

@@ -27,7 +27,7 @@ pub(crate) struct RepairArgs {
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT even when it is the input (an edit in place) or write-protected.
     #[arg(long)]
     force: bool,
     /// Also remove flat triangles (zero-area slivers: a corner on the opposite edge, or

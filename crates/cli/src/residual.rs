@@ -85,8 +85,8 @@ pub(crate) struct ResidualArgs {
     /// reference surface.
     #[arg(long)]
     remove_mean: bool,
-    /// Replace the --scalars file even when it is MEASURED or SMOOTHED or
-    /// write-protected.
+    /// Replace the --scalars file even when it is MEASURED (an edit in place) or
+    /// write-protected. It never replaces SMOOTHED.
     #[arg(long)]
     force: bool,
     #[command(flatten)]
@@ -336,9 +336,19 @@ fn residual_and_reference(args: &ResidualArgs, measured: LoadedMesh) -> Result<R
             let pair = pair_subject(&args.measured, smoothed_path);
             // Checked here so that the message names the meshes in the order given.
             check_same_topology(&measured.mesh, &smoothed.mesh).map_err(|source| {
-                CliError::Metrics {
-                    subject: pair.clone(),
-                    source,
+                if args.read.triangulate {
+                    // Each mesh's polygons were split by its own shape.
+                    CliError::Input {
+                        path: smoothed_path.clone(),
+                        message: format!(
+                            "{source}; --triangulate splits each mesh's polygons by its own shape, so the two can differ: triangulate MEASURED once with `beltrami repair --triangulate` and smooth that"
+                        ),
+                    }
+                } else {
+                    CliError::Metrics {
+                        subject: pair.clone(),
+                        source,
+                    }
                 }
             })?;
             let measured_geometry = Geometry::new(&measured.mesh, &measured.positions)

@@ -36,7 +36,7 @@ pub(crate) struct SubdivideArgs {
     /// Write PLY (and STL) as ascii text instead of binary.
     #[arg(long)]
     ascii: bool,
-    /// Replace OUTPUT even when it is the input or write-protected.
+    /// Replace OUTPUT even when it is the input (an edit in place) or write-protected.
     #[arg(long)]
     force: bool,
     #[command(flatten)]

@@ -1085,7 +1085,7 @@ fn repair_removes_flat_triangles() {
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         error_line(&o, d),
-        "error: quad.obj: face 0 has 4 vertices; --flat-faces needs a triangle mesh (--repair --triangulate splits the polygons into triangles)"
+        "error: quad.obj: face 0 has 4 vertices; --flat-faces needs a triangle mesh (--triangulate splits the polygons into triangles)"
     );
     assert!(!d.join("q.ply").exists());
 }
@@ -1115,6 +1115,13 @@ fn polygons_are_split_into_triangles_on_request() {
         let pair: Vec<&[u32]> = mesh.faces.iter().skip(2 * f).take(2).collect();
         let corners: std::collections::BTreeSet<u32> = pair.concat().into_iter().collect();
         assert_eq!(corners, quad.iter().copied().collect(), "face {f}");
+        // Wound as the quad: each triangle's corners come in the quad's cyclic order.
+        for t in pair {
+            let at = |v: u32| quad.iter().position(|&q| q == v).unwrap();
+            let (a, b, c) = (at(t[0]), at(t[1]), at(t[2]));
+            let steps = (b + 4 - a) % 4 + (c + 4 - b) % 4 + (a + 4 - c) % 4;
+            assert_eq!(steps, 4, "face {f}: triangle {t:?} of quad {quad:?}");
+        }
     }
     let info = stdout(&["info", s(&triangles), "--json"]);
     let j: serde_json::Value = serde_json::from_str(&info).unwrap();

@@ -172,17 +172,16 @@ fn height_map_outputs_that_cannot_be_written_are_refused_in_one_line() {
         "{line}"
     );
     assert!(!dir.path().join("sphere.x3p").exists());
-    // Nor one whose vertices happen to lie on a grid but whose faces are not the
-    // grid's (a tetrahedron's four corners on a 2 × 2 grid): the file would read back
-    // as two triangles.
+    // Nor one whose vertices happen to lie on a grid but whose faces do not tile its
+    // cell once, facing up (a tetrahedron's four corners on a 2 × 2 grid): the file
+    // would read back as two triangles.
     let tetrahedron = fixture("tetrahedron_ascii.ply");
     let tet = dir.path().join("tet.x3p");
     let out = beltrami(&["repair", s(&tetrahedron), s(&tet)]);
     assert_eq!(out.status.code(), Some(1));
     let line = error_line(&out, dir.path());
     assert!(
-        line.starts_with("error: tet.x3p: not a height map: ")
-            && line.contains("is not one of the grid's triangles"),
+        line.starts_with("error: tet.x3p: not a height map: ") && line.contains("faces down"),
         "{line}"
     );
     assert!(!tet.exists());

@@ -116,8 +116,8 @@ impl RepairOptions {
 
     /// Split every face of more than three corners into triangles (default `false`),
     /// by ear clipping in its own plane ([`triangulate_polygon`](crate::triangulate_polygon):
-    /// a quadrilateral along its shorter diagonal inside it), after the degenerate
-    /// faces are dropped: the editing algorithms, which need triangles, then accept the
+    /// a quadrilateral along its shorter diagonal inside it), after the degenerate and
+    /// duplicate faces are dropped: the editing algorithms, which need triangles, then accept the
     /// mesh. The vertices stay as they are.
     #[must_use]
     pub fn triangulate(mut self, yes: bool) -> Self {
@@ -206,7 +206,8 @@ impl Repaired {
 ///
 /// Every input face is either kept ([`face_origin`](Self::face_origin)), dropped as
 /// degenerate or dropped as a duplicate: output faces + degenerate + duplicate = input
-/// faces.
+/// faces, where a face split into triangles ([`triangulated_faces`](Self::triangulated_faces))
+/// counts once (its triangles share its input face in `face_origin`).
 ///
 /// # Examples
 /// ```
@@ -359,10 +360,10 @@ impl fmt::Display for RepairReport {
 ///    default);
 /// 2. **shorten** faces with a corner repeating the previous corner's vertex, and
 ///    **drop degenerate** faces (fewer than three distinct vertices, or a vertex that
-///    comes back); with [`RepairOptions::triangulate`], **split** every face of more
-///    than three corners into triangles;
+///    comes back);
 /// 3. **drop duplicate** faces: the same cycle of vertices as an earlier face, either
-///    way round; the earliest copy is kept;
+///    way round; the earliest copy is kept; then, with [`RepairOptions::triangulate`],
+///    **split** every face of more than three corners into triangles;
 /// 4. **cut non-manifold edges**: the faces on an edge shared by more than two faces
 ///    are paired into sheets, in input order: the earliest face not yet paired takes
 ///    the earliest later one that traverses the edge the other way; failing that, the
@@ -426,16 +427,18 @@ pub fn repair(
     // 1. Merge.
     let target = merge_step(positions, options.merge_distance, &mut report);
 
-    // 2. Shorten and drop degenerate faces; split polygons into triangles when asked.
+    // 2. Shorten and drop degenerate faces.
     let (list, origin) = clean_faces(faces, &target, &mut report);
+
+    // 3. Drop duplicates.
+    let (list, origin) = drop_duplicates(&list, &origin, &mut report);
+    // 3b. Split polygons into triangles when asked: after the duplicates are dropped
+    // (two copies of a polygon are one polygon however their lists start).
     let (list, origin) = if options.triangulate {
         triangulate_faces(positions, &list, origin, &mut report)
     } else {
         (list, origin)
     };
-
-    // 3. Drop duplicates.
-    let (list, origin) = drop_duplicates(&list, &origin, &mut report);
 
     // 4. Pair the faces of each edge.
     let corners = Corners::new(&list);
@@ -672,6 +675,8 @@ fn finish_report(
         .map(|(f, _)| origin[f])
         .collect();
     report.flipped_faces.sort_unstable();
+    // A polygon split into triangles is flipped as a whole: one entry per input face.
+    report.flipped_faces.dedup();
     report.vertex_map = target
         .iter()
         .map(|&t| Some(final_id[t as usize]).filter(|&id| id != INVALID))
@@ -816,7 +821,7 @@ fn clean_faces(
     (list, origin)
 }
 
-/// Step 2b: every face of more than three corners split into triangles (see
+/// Step 3b: every face of more than three corners split into triangles (see
 /// [`triangulate_polygon`](crate::triangulate_polygon)), each triangle with its
 /// polygon's input face as origin.
 fn triangulate_faces(

@@ -893,6 +893,53 @@ mod random {
             }
         }
 
+        /// With triangulation: every output face is a triangle on corners of its input
+        /// face, each kept input face gives its corners − 2 triangles (one when it was
+        /// a triangle), every input face is accounted once, the lists name each face
+        /// once, and the faces build.
+        #[test]
+        fn random_soups_repair_into_triangles(
+            (positions, faces) in soup(),
+            merge in merge_option(),
+        ) {
+            let faces: PolygonList = faces.iter().map(Vec::as_slice).collect();
+            let options = RepairOptions::new().merge_distance(merge).triangulate(true);
+            let repaired = repair(&positions, &faces, &options).unwrap();
+            let report = &repaired.report;
+            let mesh = repaired.mesh().expect("the repaired faces build");
+            mesh.check_integrity().expect("integrity");
+            prop_assert!(repaired.faces.is_triangles());
+            let mut target: Vec<u32> = (0..positions.len() as u32).collect();
+            for &(v, t) in &report.merged_vertices {
+                target[v as usize] = t;
+            }
+            let source = output_sources(&repaired);
+            let mut kept = report.face_origin.clone();
+            prop_assert!(kept.windows(2).all(|w| w[0] <= w[1]));
+            kept.dedup();
+            prop_assert_eq!(
+                kept.len() + report.dropped_degenerate_faces.len() + report.dropped_duplicate_faces.len(),
+                faces.len()
+            );
+            for &f in &kept {
+                let corners = cleaned(faces.get(f).unwrap(), &target).expect("kept");
+                let n = report.face_origin.iter().filter(|&&g| g == f).count();
+                prop_assert_eq!(n, corners.len() - 2, "input face {}", f);
+                prop_assert_eq!(report.triangulated_faces.contains(&f), corners.len() > 3);
+            }
+            for (o, t) in repaired.faces.iter().enumerate() {
+                let f = report.face_origin[o];
+                let corners = cleaned(faces.get(f).unwrap(), &target).unwrap();
+                prop_assert!(t.iter().all(|&v| corners.contains(&source[v as usize])));
+            }
+            for list in [&report.flipped_faces, &report.triangulated_faces] {
+                prop_assert!(list.windows(2).all(|w| w[0] < w[1]), "{:?}", list);
+            }
+            let mut duplicates: Vec<usize> = report.dropped_duplicate_faces.iter().map(|&(f, _)| f).collect();
+            duplicates.dedup();
+            prop_assert_eq!(duplicates.len(), report.dropped_duplicate_faces.len());
+        }
+
         /// A subset of a grid's triangles that already builds comes back unchanged.
         #[test]
         fn valid_grid_subsets_are_unchanged(keep in proptest::collection::vec(any::<bool>(), 2 * 4 * 4)) {
@@ -908,5 +955,33 @@ mod random {
                 prop_assert!(!repaired.report.split_vertices.is_empty());
             }
         }
+    }
+}
+
+/// A quad listed twice from different corners is one duplicate, with triangulation as
+/// without: the copies are compared as polygons, before they are split.
+#[test]
+fn a_duplicate_quad_is_dropped_before_the_split() {
+    let cube = primitives::cube_quads();
+    let mut faces = cube.faces.clone();
+    let first: Vec<u32> = cube.faces.get(0).unwrap().to_vec();
+    faces.push(&[first[2], first[3], first[0], first[1]]);
+    for triangulate in [false, true] {
+        let options = RepairOptions::new().triangulate(triangulate);
+        let repaired = repair(&cube.positions, &faces, &options).unwrap();
+        assert_eq!(repaired.report.dropped_duplicate_faces, [(6, 0)]);
+        assert!(repaired.report.cut_edges.is_empty());
+        assert_eq!(repaired.faces.len(), if triangulate { 12 } else { 6 });
+        let mesh = repaired.mesh().unwrap();
+        assert!(mesh.is_closed());
+        assert_eq!(mesh.n_vertices(), 8);
+        assert_eq!(
+            repaired.report.to_string(),
+            if triangulate {
+                "1 duplicate face dropped, 6 faces triangulated"
+            } else {
+                "1 duplicate face dropped"
+            }
+        );
     }
 }

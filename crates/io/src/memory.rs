@@ -4,10 +4,10 @@
 /// The memory this machine can give a new run, in bytes: `MemAvailable` plus `SwapFree`
 /// of `/proc/meminfo` (Linux), lowered to what the process's own limits leave — its
 /// address-space limit (`ulimit -v`, `/proc/self/limits`) less the address space it
-/// uses (`VmSize` of `/proc/self/status`), and its control group's memory limit
-/// (`memory.max` less `memory.current` in cgroup v2, `memory.limit_in_bytes` less
-/// `memory.usage_in_bytes` in v1), as in a container — or `None` where `/proc/meminfo`
-/// is missing or unreadable (then callers check nothing by default).
+/// uses (`VmSize` of `/proc/self/status`), and its control group's memory limit less
+/// the memory in use, reclaimable page cache not counted (cgroup v2 and v1, as in a
+/// container or a batch job) — or `None` where `/proc/meminfo` is missing or
+/// unreadable (then callers check nothing by default).
 ///
 /// Read by hand: the numbers are one line each in text files, which no dependency is
 /// needed for.
@@ -45,28 +45,65 @@ pub fn address_space_left(limits: &str, status: &str) -> Option<u64> {
     Some(limit.saturating_sub(size))
 }
 
-/// What the memory limit of the process's control group leaves, in bytes: cgroup v2
-/// (`memory.max` and `memory.current` in the group named by the `0::` line of
-/// `/proc/self/cgroup`), else v1 (`memory.limit_in_bytes` and `memory.usage_in_bytes`
-/// of the memory controller); `None` without a limit (`max`, or v1's huge default) or
-/// where the files cannot be read. `read` reads a file's text.
+/// What the memory limit of the process's control group leaves, in bytes: the limit
+/// less the memory in use, page cache the kernel can reclaim (`inactive_file`) not
+/// counted as used — cgroup v2 (`memory.max`, `memory.current` and `memory.stat` of the
+/// group named by the `0::` line of `/proc/self/cgroup`), else v1 (`memory.limit_in_bytes`,
+/// `memory.usage_in_bytes` and `total_inactive_file` of the memory controller's group,
+/// or of the hierarchy's root where that group is not mounted, as in a container);
+/// `None` without a limit (`max`, or v1's huge default) or where the files cannot be
+/// read. `read` reads a file's text. A parent group's lower limit is not seen: the
+/// figure can only be too large, so no run is refused for it.
 fn cgroup_memory_left(read: &dyn Fn(&str) -> Option<String>) -> Option<u64> {
     let number = |text: Option<String>| -> Option<u64> { text?.trim().parse().ok() };
+    let stat = |path: &str, key: &str| -> u64 {
+        read(path)
+            .and_then(|text| {
+                text.lines().find_map(|l| {
+                    let (name, value) = l.split_once(' ')?;
+                    (name == key).then(|| value.trim().parse().ok())?
+                })
+            })
+            .unwrap_or(0)
+    };
+    let left = |limit: u64, usage: u64, reclaimable: u64| {
+        limit.saturating_sub(usage.saturating_sub(reclaimable))
+    };
     let groups = read("/proc/self/cgroup").unwrap_or_default();
     if let Some(path) = groups.lines().find_map(|l| l.strip_prefix("0::")) {
         let dir = format!("/sys/fs/cgroup{}", path.trim_end_matches('/'));
         if let Some(max) = number(read(&format!("{dir}/memory.max"))) {
             let current = number(read(&format!("{dir}/memory.current"))).unwrap_or(0);
-            return Some(max.saturating_sub(current));
+            let inactive = stat(&format!("{dir}/memory.stat"), "inactive_file");
+            return Some(left(max, current, inactive));
         }
     }
-    let limit = number(read("/sys/fs/cgroup/memory/memory.limit_in_bytes"))?;
-    // v1 writes a page-rounded i64::MAX when there is no limit.
-    if limit >= 1 << 60 {
-        return None;
+    // v1: the memory controller's line, `N:memory:/path` (or with other controllers).
+    let own = groups.lines().find_map(|l| {
+        let mut parts = l.splitn(3, ':');
+        let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+        controllers
+            .split(',')
+            .any(|c| c == "memory")
+            .then(|| path.trim_end_matches('/').to_string())
+    });
+    let dirs = own
+        .map(|p| format!("/sys/fs/cgroup/memory{p}"))
+        .into_iter()
+        .chain(["/sys/fs/cgroup/memory".to_string()]);
+    for dir in dirs {
+        let Some(limit) = number(read(&format!("{dir}/memory.limit_in_bytes"))) else {
+            continue;
+        };
+        // v1 writes a page-rounded i64::MAX when there is no limit.
+        if limit >= 1 << 60 {
+            return None;
+        }
+        let usage = number(read(&format!("{dir}/memory.usage_in_bytes"))).unwrap_or(0);
+        let inactive = stat(&format!("{dir}/memory.stat"), "total_inactive_file");
+        return Some(left(limit, usage, inactive));
     }
-    let usage = number(read("/sys/fs/cgroup/memory/memory.usage_in_bytes")).unwrap_or(0);
-    Some(limit.saturating_sub(usage))
+    None
 }
 
 /// `N kB` in bytes.
@@ -126,34 +163,68 @@ mod tests {
     }
 
     #[test]
-    fn a_control_groups_limit_less_its_usage() {
-        let files = |v2: Option<(&'static str, &'static str)>,
-                     v1: Option<(&'static str, &'static str)>| {
-            move |path: &str| -> Option<String> {
-                match path {
-                    "/proc/self/cgroup" => Some(
-                        if v2.is_some() {
-                            "0::/box\n"
-                        } else {
-                            "4:memory:/box\n"
-                        }
-                        .to_string(),
-                    ),
-                    "/sys/fs/cgroup/box/memory.max" => v2.map(|(max, _)| max.to_string()),
-                    "/sys/fs/cgroup/box/memory.current" => {
-                        v2.map(|(_, current)| current.to_string())
-                    }
-                    "/sys/fs/cgroup/memory/memory.limit_in_bytes" => v1.map(|(l, _)| l.to_string()),
-                    "/sys/fs/cgroup/memory/memory.usage_in_bytes" => v1.map(|(_, u)| u.to_string()),
-                    _ => None,
-                }
-            }
+    fn a_control_groups_limit_less_its_usage_less_reclaimable_cache() {
+        use std::collections::HashMap;
+        let with = |files: &[(&str, &str)]| {
+            let files: HashMap<String, String> = files
+                .iter()
+                .map(|(p, t)| ((*p).to_string(), (*t).to_string()))
+                .collect();
+            cgroup_memory_left(&move |path: &str| files.get(path).cloned())
         };
-        let left = |v2, v1| cgroup_memory_left(&files(v2, v1));
-        assert_eq!(left(Some(("1000000\n", "250000\n")), None), Some(750_000));
-        assert_eq!(left(Some(("max\n", "250000\n")), None), None);
-        assert_eq!(left(None, Some(("2000000", "500000"))), Some(1_500_000));
-        assert_eq!(left(None, Some(("9223372036854771712", "500000"))), None);
-        assert_eq!(left(None, None), None);
+        // v2: a limit of 1 000 000, 400 000 in use of which 150 000 inactive page cache.
+        let v2 = [
+            ("/proc/self/cgroup", "0::/box\n"),
+            ("/sys/fs/cgroup/box/memory.max", "1000000\n"),
+            ("/sys/fs/cgroup/box/memory.current", "400000\n"),
+            (
+                "/sys/fs/cgroup/box/memory.stat",
+                "anon 200000\nfile 200000\ninactive_file 150000\nactive_file 50000\n",
+            ),
+        ];
+        assert_eq!(with(&v2), Some(750_000));
+        let mut unlimited = v2;
+        unlimited[1].1 = "max\n";
+        assert_eq!(with(&unlimited), None);
+        // In a container's namespace the group is the root.
+        let root = [
+            ("/proc/self/cgroup", "0::/\n"),
+            ("/sys/fs/cgroup/memory.max", "2000000\n"),
+            ("/sys/fs/cgroup/memory.current", "500000\n"),
+        ];
+        assert_eq!(with(&root), Some(1_500_000));
+        // v1: the memory controller's own group, with other controllers on its line.
+        let v1 = [
+            ("/proc/self/cgroup", "5:cpu,cpuacct:/a\n4:memory:/job/7\n"),
+            (
+                "/sys/fs/cgroup/memory/job/7/memory.limit_in_bytes",
+                "2000000",
+            ),
+            (
+                "/sys/fs/cgroup/memory/job/7/memory.usage_in_bytes",
+                "900000",
+            ),
+            (
+                "/sys/fs/cgroup/memory/job/7/memory.stat",
+                "cache 800000\ntotal_inactive_file 400000\n",
+            ),
+        ];
+        assert_eq!(with(&v1), Some(1_500_000));
+        // A group that is not mounted where its path says (a container): the root's.
+        let mounted_at_root = [
+            ("/proc/self/cgroup", "4:memory,hugetlb:/docker/abc\n"),
+            ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "1000000"),
+            ("/sys/fs/cgroup/memory/memory.usage_in_bytes", "250000"),
+        ];
+        assert_eq!(with(&mounted_at_root), Some(750_000));
+        let no_limit = [
+            ("/proc/self/cgroup", "4:memory:/\n"),
+            (
+                "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                "9223372036854771712",
+            ),
+        ];
+        assert_eq!(with(&no_limit), None);
+        assert_eq!(with(&[]), None);
     }
 }

@@ -193,5 +193,8 @@ def _triangles(mesh: Mesh) -> Any:
     """The faces as an (M, 3) array; ``MeshError`` for a polygon mesh."""
     faces = mesh.faces
     if isinstance(faces, list) or faces.shape[1] != 3:
-        raise MeshError("the mesh has polygon faces; triangulate it first")
+        raise MeshError(
+            "the mesh has polygon faces; "
+            "Mesh(vertices, faces, repair=True, triangulate=True) splits them into triangles"
+        )
     return faces

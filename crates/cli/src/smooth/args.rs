@@ -141,14 +141,15 @@ pub(crate) struct SmoothArgs {
     /// Write PLY output as ascii text instead of binary (STL likewise).
     #[arg(long)]
     pub(crate) ascii: bool,
-    /// Replace OUT (or the --report file) even when it is the input file or
-    /// write-protected.
+    /// Replace OUT even when it is the input file (an edit in place), and OUT or the
+    /// --report file even when write-protected. No other output replaces an input.
     #[arg(long)]
     pub(crate) force: bool,
     /// Fail before building the mesh when the run is estimated to need more memory
     /// than this: bytes, or with a binary unit K, M, G, T (512M, 2G, 1.5G). Without
-    /// it, a run stops when its estimate exceeds the memory the machine has available
-    /// (Linux: MemAvailable plus free swap); a size given here overrides that.
+    /// it, a run stops when its estimate exceeds the memory available to it (Linux:
+    /// MemAvailable plus free swap, within the process's address-space limit and its
+    /// control group's memory limit); a size given here overrides that.
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub(crate) max_memory: Option<u64>,
     /// Print the estimated memory and the planned iterations of the run on stderr

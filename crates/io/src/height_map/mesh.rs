@@ -109,10 +109,12 @@ impl HeightMap {
     /// of the vertices' distinct x and y values; the grid starts at the origin when
     /// the lowest x (or y) is a whole number of spacings from it (so a map read by
     /// [`HeightMap::to_mesh`] keeps its invalid leading rows and columns), else at the
-    /// lowest x (y). The faces must be the grid's own triangulation, the one
-    /// [`HeightMap::to_mesh`] makes (which reading the file gives back), and every
-    /// vertex in one of them: a height map stores the heights only. A mesh written
-    /// from a height map and smoothed in z only (positions moved along z) is still one.
+    /// lowest x (y). The faces must tile the grid's whole cells — each cell whose four
+    /// corners are vertices covered once, by two triangles on either diagonal or by one
+    /// quadrilateral, counter-clockwise seen from +z — and every vertex must be in one:
+    /// a height map stores the heights only, and reading it back splits each cell from
+    /// `(i, j)` to `(i + 1, j + 1)` ([`HeightMap::to_mesh`]). A mesh written from a
+    /// height map and smoothed in z only (positions moved along z) is still one.
     ///
     /// # Examples
     /// ```
@@ -130,9 +132,9 @@ impl HeightMap {
     /// [`IoError::NotAGrid`] for a mesh without vertices, with non-finite
     /// coordinates, with fewer than two distinct x or y values, with a vertex off
     /// the grid, or with two vertices on one grid point (a surface that folds over
-    /// the xy plane, a closed surface); for faces other than the grid's triangles (a
-    /// face that is not one of them, a cell with four vertices without its two
-    /// triangles) and for a vertex in no face.
+    /// the xy plane, a closed surface); for faces that do not tile the whole cells (a
+    /// face across cells or in a cell without its four corners, one facing down, a cell
+    /// with four vertices not covered once) and for a vertex in no whole cell.
     pub fn from_mesh(mesh: &MeshData, unit: LengthUnit) -> Result<Self, IoError> {
         let not_a_grid = |reason: String| IoError::NotAGrid { reason };
         let positions = &mesh.positions;
@@ -175,7 +177,7 @@ impl HeightMap {
         }
         check_grid_faces(mesh, nx, ny, &owner).map_err(|reason| {
             not_a_grid(format!(
-                "{reason}; a height map keeps the heights only, and reading it back makes the grid's own triangles (write .ply, .obj or .off to keep the faces)"
+                "{reason}; a height map keeps the heights of whole grid cells only (write .ply, .obj or .off to keep these faces)"
             ))
         })?;
         Self::new(nx, ny, x_axis.spacing, y_axis.spacing, z, unit)
@@ -183,70 +185,118 @@ impl HeightMap {
 }
 
 /// Whether the faces of `mesh`, whose vertex on grid point `k` is `owner[k]`
-/// (`u32::MAX` for none), are the triangles [`HeightMap::to_mesh`] makes of that grid,
-/// each once, and every vertex is in one of them; else what differs.
+/// (`u32::MAX` for none), tile the grid's whole cells — each cell whose four corners are
+/// vertices covered once, by its two triangles on either diagonal or by one
+/// quadrilateral, counter-clockwise seen from +z, and no other face — and every vertex
+/// is in one of them; else what differs. Such a mesh is its heights: read back, each
+/// cell is split from `(i, j)` to `(i + 1, j + 1)` ([`HeightMap::to_mesh`]).
 fn check_grid_faces(mesh: &MeshData, nx: usize, ny: usize, owner: &[u32]) -> Result<(), String> {
-    // Each triangle rotated to start at its smallest vertex (its orientation kept).
-    let rotated = |t: [u32; 3]| {
-        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
-        [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-    };
-    let mut grid = Vec::new();
-    let mut in_a_face = vec![false; mesh.positions.len()];
-    for j in 0..ny.saturating_sub(1) {
-        for i in 0..nx.saturating_sub(1) {
-            let [a, b, c, d] = [
-                owner[i + nx * j],
-                owner[i + 1 + nx * j],
-                owner[i + 1 + nx * (j + 1)],
-                owner[i + nx * (j + 1)],
-            ];
-            if [a, b, c, d].contains(&u32::MAX) {
+    let mut point = vec![(0usize, 0usize); mesh.positions.len()];
+    for (k, &v) in owner.iter().enumerate() {
+        if v != u32::MAX {
+            point[v as usize] = (k % nx, k / nx);
+        }
+    }
+    let has = |i: usize, j: usize| owner[i + nx * j] != u32::MAX;
+    let whole =
+        |i: usize, j: usize| has(i, j) && has(i + 1, j) && has(i + 1, j + 1) && has(i, j + 1);
+    let (cx, cy) = (nx.saturating_sub(1), ny.saturating_sub(1));
+    // Per cell, which of its faces were seen: the triangles (a b c), (a c d) of the
+    // diagonal a–c, (a b d), (b c d) of b–d, and the quadrilateral (a b c d), with a, b, c,
+    // d its corners counter-clockwise from (i, j).
+    let mut cover = vec![0u8; cx * cy];
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let named = || {
+            let list: Vec<String> = face.iter().map(u32::to_string).collect();
+            format!("face {f} ({})", list.join(", "))
+        };
+        if !(3..=4).contains(&face.len()) {
+            return Err(format!("face {f} has {} vertices", face.len()));
+        }
+        let points: Vec<(usize, usize)> = face.iter().map(|&v| point[v as usize]).collect();
+        let i = points.iter().map(|p| p.0).min().unwrap_or(0);
+        let j = points.iter().map(|p| p.1).min().unwrap_or(0);
+        if i >= cx || j >= cy || points.iter().any(|p| p.0 > i + 1 || p.1 > j + 1) {
+            return Err(format!("{} spans more than one grid cell", named()));
+        }
+        if !whole(i, j) {
+            return Err(format!(
+                "{} lies in the grid cell at point ({i}, {j}), which lacks a corner",
+                named()
+            ));
+        }
+        // The corners' places around the cell, counter-clockwise from (i, j).
+        let place: Vec<u8> = points
+            .iter()
+            .map(|&(x, y)| match (x - i, y - j) {
+                (0, 0) => 0,
+                (1, 0) => 1,
+                (1, 1) => 2,
+                _ => 3,
+            })
+            .collect();
+        let k = place.len();
+        let start = (0..k).min_by_key(|&m| place[m]).unwrap_or(0);
+        let rotated: Vec<u8> = (0..k).map(|m| place[(start + m) % k]).collect();
+        let bit = match rotated[..] {
+            [0, 1, 2] => 0,
+            [0, 2, 3] => 1,
+            [0, 1, 3] => 2,
+            [1, 2, 3] => 3,
+            [0, 1, 2, 3] => 4,
+            _ => {
+                return Err(format!(
+                    "{} faces down (clockwise seen from +z; a height map's faces face up)",
+                    named()
+                ));
+            }
+        };
+        let seen = &mut cover[i + cx * j];
+        if *seen & (1 << bit) != 0 {
+            return Err(format!(
+                "{} repeats a face of the grid cell at point ({i}, {j})",
+                named()
+            ));
+        }
+        *seen |= 1 << bit;
+    }
+    for j in 0..cy {
+        for i in 0..cx {
+            if !whole(i, j) {
                 continue;
             }
-            grid.push((rotated([a, b, c]), (i, j)));
-            grid.push((rotated([a, c, d]), (i, j)));
-            for v in [a, b, c, d] {
-                in_a_face[v as usize] = true;
+            match cover[i + cx * j] {
+                0b00011 | 0b01100 | 0b10000 => {}
+                0 => {
+                    return Err(format!(
+                        "the grid cell at point ({i}, {j}) has four vertices but no face"
+                    ));
+                }
+                _ => {
+                    return Err(format!(
+                        "the faces of the grid cell at point ({i}, {j}) do not cover it once (two triangles on one diagonal, or one quadrilateral)"
+                    ));
+                }
             }
         }
     }
-    if let Some(v) = in_a_face.iter().position(|&used| !used) {
+    // Every vertex is a corner of a whole cell, which faces cover.
+    let mut in_a_cell = vec![false; mesh.positions.len()];
+    for j in 0..cy {
+        for i in 0..cx {
+            if whole(i, j) {
+                for (x, y) in [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)] {
+                    in_a_cell[owner[x + nx * y] as usize] = true;
+                }
+            }
+        }
+    }
+    if let Some(v) = in_a_cell.iter().position(|&used| !used) {
         return Err(format!(
             "vertex {v} is a corner of no grid cell whose four corners are vertices"
         ));
     }
-    let mut faces = Vec::with_capacity(mesh.faces.len());
-    for (f, face) in mesh.faces.iter().enumerate() {
-        let &[a, b, c] = face else {
-            return Err(format!("face {f} has {} vertices", face.len()));
-        };
-        faces.push((rotated([a, b, c]), f));
-    }
-    grid.sort_unstable();
-    faces.sort_unstable();
-    let (mut g, mut m) = (grid.iter().peekable(), faces.iter().peekable());
-    loop {
-        match (g.peek(), m.peek()) {
-            (None, None) => return Ok(()),
-            (Some(&&(t, _)), Some(&&(u, _))) if t == u => {
-                g.next();
-                m.next();
-            }
-            (Some(&&(t, (i, j))), next) if next.is_none_or(|&&(u, _)| t < u) => {
-                return Err(format!(
-                    "the grid cell at point ({i}, {j}) has four vertices but not its triangle {t:?}"
-                ));
-            }
-            (_, Some(&&(u, f))) => {
-                return Err(format!(
-                    "face {f} ({}, {}, {}) is not one of the grid's triangles (two per cell, split from point (i, j) to (i + 1, j + 1), counter-clockwise seen from +z)",
-                    u[0], u[1], u[2]
-                ));
-            }
-            (Some(_), None) => unreachable!("matched above"),
-        }
-    }
+    Ok(())
 }
 
 fn off_grid(vertex: usize, name: &str, value: f64, axis: &Axis) -> IoError {
@@ -351,11 +401,11 @@ mod tests {
         }
     }
 
-    /// A mesh on the grid with other triangles than the grid's (the other diagonal, a
-    /// missing triangle, a face twice, a vertex in no face) is no height map: reading it
-    /// back would give other faces.
+    /// A mesh on the grid is a height map when its faces tile the whole cells once,
+    /// facing up, on either diagonal or as quadrilaterals; not with a face across cells,
+    /// facing down, a triangle missing or twice, or a vertex in no whole cell.
     #[test]
-    fn the_faces_must_be_the_grids_triangles() {
+    fn the_faces_must_tile_the_grids_cells() {
         let map = HeightMap::new(3, 3, 1.0, 1.0, vec![0.0; 9], LengthUnit::Metre).unwrap();
         let (mesh, _) = map.to_mesh();
         assert!(HeightMap::from_mesh(&mesh, LengthUnit::Metre).is_ok());
@@ -368,32 +418,47 @@ mod tests {
             HeightMap::from_mesh(&MeshData::new(positions, list), LengthUnit::Metre)
         };
         let with = |faces: &[Vec<u32>]| on(mesh.positions.clone(), faces);
+        let error = |faces: &[Vec<u32>]| with(faces).unwrap_err().to_string();
         // Rotated, each triangle is the same face.
         let rotated: Vec<Vec<u32>> = faces.iter().map(|f| vec![f[1], f[2], f[0]]).collect();
         assert!(with(&rotated).is_ok());
-        // The first cell (points 0, 1, 4, 3) split along its other diagonal.
+        // The first cell (points 0, 1, 4, 3) split along its other diagonal, or as a quad.
         assert_eq!(faces[..2], [vec![0, 1, 4], vec![0, 4, 3]]);
         let mut other = faces.clone();
         other[0] = vec![0, 1, 3];
         other[1] = vec![1, 4, 3];
-        let e = with(&other).unwrap_err().to_string();
-        assert!(e.contains("is not one of the grid's triangles"), "{e}");
+        assert!(with(&other).is_ok());
+        let mut quad = faces[1..].to_vec();
+        quad[0] = vec![0, 1, 4, 3];
+        assert!(with(&quad).is_ok());
+        // Two triangles of different diagonals do not cover the cell once.
+        let mut crossed = faces.clone();
+        crossed[1] = vec![0, 1, 3];
+        assert!(error(&crossed).contains("do not cover it once"));
         // Reversed (normals down).
         let reversed: Vec<Vec<u32>> = faces.iter().map(|f| vec![f[0], f[2], f[1]]).collect();
-        assert!(with(&reversed).is_err());
+        assert!(error(&reversed).contains("faces down"));
+        // Across two cells.
+        let mut across = faces.clone();
+        across[0] = vec![0, 2, 8];
+        assert!(error(&across).contains("spans more than one grid cell"));
         // A triangle missing, or twice.
-        let e = with(&faces[1..]).unwrap_err().to_string();
-        assert!(e.contains("has four vertices but not its triangle"), "{e}");
+        assert!(error(&faces[1..]).contains("do not cover it once"));
         let mut twice = faces.clone();
         twice.push(faces[0].clone());
-        assert!(with(&twice).is_err());
+        assert!(error(&twice).contains("repeats a face"));
         // A vertex in no whole cell: point (2, 1) of a grid without point (2, 0).
         let square = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0)];
         let positions = square.map(|(x, y)| DVec3::new(x, y, 0.0)).to_vec();
-        let e = on(positions, &[vec![0, 1, 3], vec![0, 3, 2]])
+        let e = on(positions.clone(), &[vec![0, 1, 3], vec![0, 3, 2]])
             .unwrap_err()
             .to_string();
         assert!(e.contains("vertex 4 is a corner of no grid cell"), "{e}");
+        // And a face in that cell, which lacks a corner.
+        let e = on(positions, &[vec![0, 1, 3], vec![0, 3, 2], vec![1, 4, 3]])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("which lacks a corner"), "{e}");
     }
 
     #[test]
