@@ -103,9 +103,14 @@ def test_duck_typed_inputs_need_no_package(sphere):
     with pytest.raises(bt.MeshError, match="cell array"):
         bt.from_pyvista(Broken())
 
+    # Faces of different sizes (a triangle beside a quad, sharing the edge 0-2) are
+    # kept as they are, or split into triangles with the repair.
     class Mixed:
-        points = np.zeros((5, 3))
+        points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 1, 0], [-1, 0, 0]], dtype=float)
         faces = np.array([3, 0, 1, 2, 4, 0, 2, 3, 4])
 
-    with pytest.raises(bt.MeshError, match="different sizes"):
-        bt.from_pyvista(Mixed())
+    mixed = bt.from_pyvista(Mixed())
+    assert mixed.n_faces == 2 and [len(f) for f in mixed.faces] == [3, 4]
+    split = bt.from_pyvista(Mixed(), repair=True, triangulate=True)
+    assert split.n_faces == 3 and split.faces.shape == (3, 3)
+    assert bt.info(split)["repairs"]["triangulated_faces"] == [1]

@@ -85,7 +85,7 @@ __all__ = [
 ]
 
 
-def from_trimesh(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_trimesh(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A ``Mesh`` from a ``trimesh.Trimesh`` (or anything with ``vertices`` and ``faces``).
 
     The vertices and faces are copied as they are: trimesh's own processing (merging,
@@ -93,7 +93,7 @@ def from_trimesh(mesh: Any, *, repair: bool = False) -> Mesh:
     Raises ``MeshError`` when the faces are not an oriented 2-manifold, unless
     ``repair=True``, which repairs them as ``Mesh(..., repair=True)`` does.
     """
-    return Mesh(mesh.vertices, mesh.faces, repair=repair)
+    return Mesh(mesh.vertices, mesh.faces, repair=repair, triangulate=triangulate)
 
 
 def to_trimesh(mesh: Mesh) -> Any:
@@ -108,7 +108,7 @@ def to_trimesh(mesh: Mesh) -> Any:
     )
 
 
-def from_open3d(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_open3d(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A ``Mesh`` from an ``open3d.geometry.TriangleMesh`` (its ``vertices`` and ``triangles``).
 
     Duck-typed: anything whose ``vertices`` and ``triangles`` numpy can read as (N, 3)
@@ -119,7 +119,9 @@ def from_open3d(mesh: Any, *, repair: bool = False) -> Mesh:
     """
     import numpy as np
 
-    return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.triangles), repair=repair)
+    return Mesh(
+        np.asarray(mesh.vertices), np.asarray(mesh.triangles), repair=repair, triangulate=triangulate
+    )
 
 
 def to_open3d(mesh: Mesh) -> Any:
@@ -160,14 +162,15 @@ def to_pyvista(mesh: Mesh) -> Any:
     return pyvista.PolyData(mesh.vertices, cells.astype(np.int64))
 
 
-def from_pyvista(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_pyvista(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A ``Mesh`` from a ``pyvista.PolyData`` (its ``points`` and flat ``faces`` cell array).
 
     Duck-typed: anything with ``points`` ((N, 3)) and ``faces`` (``[k, v0, …, k, …]``)
     works; PyVista itself is not imported. Lines, vertices and strips of the PolyData
-    are ignored. Raises ``MeshError`` for a cell array that does not parse or faces
-    that are no oriented 2-manifold (``repair=True`` repairs those, as
-    ``Mesh(..., repair=True)`` does).
+    are ignored; faces of different sizes are kept as they are (``repair=True,
+    triangulate=True`` splits them into triangles, as ``Mesh`` does). Raises
+    ``MeshError`` for a cell array that does not parse or faces that are no oriented
+    2-manifold (``repair=True`` repairs those, as ``Mesh(..., repair=True)`` does).
     """
     import numpy as np
 
@@ -181,12 +184,10 @@ def from_pyvista(mesh: Any, *, repair: bool = False) -> Mesh:
         rows.append(cells[i + 1 : i + 1 + k])
         i += 1 + k
     if any(len(r) != len(rows[0]) for r in rows):
-        raise MeshError(
-            "the PolyData mixes faces of different sizes; triangulate it first"
-            " (PolyData.triangulate())"
-        )
-    faces = np.stack(rows) if rows else np.zeros((0, 3), dtype=np.int64)
-    return Mesh(np.asarray(mesh.points), faces, repair=repair)
+        faces: Any = [r.tolist() for r in rows]
+    else:
+        faces = np.stack(rows) if rows else np.zeros((0, 3), dtype=np.int64)
+    return Mesh(np.asarray(mesh.points), faces, repair=repair, triangulate=triangulate)
 
 
 def _triangles(mesh: Mesh) -> Any:

@@ -134,9 +134,11 @@ impl HeightMap {
     /// the grid, or with two vertices on one grid point (a surface that folds over
     /// the xy plane, a closed surface); for faces that do not tile the whole cells (a
     /// face across cells or in a cell without its four corners, one facing down, a cell
-    /// with four vertices not covered once) and for a vertex in no whole cell.
+    /// with four vertices not covered once) and for a vertex in no whole cell;
+    /// [`IoError::FaceIndexOutOfRange`] for a face naming a vertex that does not exist.
     pub fn from_mesh(mesh: &MeshData, unit: LengthUnit) -> Result<Self, IoError> {
         let not_a_grid = |reason: String| IoError::NotAGrid { reason };
+        crate::validate::check_faces(mesh, None)?;
         let positions = &mesh.positions;
         if positions.is_empty() {
             return Err(not_a_grid("the mesh has no vertices".into()));
@@ -459,6 +461,26 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("which lacks a corner"), "{e}");
+    }
+
+    /// A face naming a vertex that does not exist is a typed error, not a panic.
+    #[test]
+    fn a_face_index_out_of_range_is_an_error() {
+        let map = HeightMap::new(2, 2, 1.0, 1.0, vec![0.0; 4], LengthUnit::Metre).unwrap();
+        let (mut mesh, _) = map.to_mesh();
+        mesh.faces.push(&[0, 1, 9]);
+        let e = HeightMap::from_mesh(&mesh, LengthUnit::Metre).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                IoError::FaceIndexOutOfRange {
+                    face: 2,
+                    index: 9,
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 
     #[test]
