@@ -166,12 +166,7 @@ pub(crate) fn subdivide(py: Python<'_>, mesh: &Mesh, scheme: &str, steps: i128) 
     };
     // As the command refuses them, before the memory is looked at: a mesh without faces
     // (nothing to subdivide, however many steps) and one that is not of triangles.
-    if mesh.mesh.n_faces() == 0 {
-        return Err(MeshError::new_err(format!(
-            "the mesh has {} vertices but no faces; subdivide needs a surface of triangles",
-            mesh.mesh.n_vertices()
-        )));
-    }
+    require_faces(mesh, "subdivide")?;
     if let Some(f) = mesh.mesh.faces().find(|&f| mesh.mesh.face_valence(f) != 3) {
         return Err(MeshError::new_err(format!(
             "face {} has {} vertices; subdivide needs a triangle mesh (bt.Mesh(vertices, faces, repair=True, triangulate=True) splits the polygons into triangles)",

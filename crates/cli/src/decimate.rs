@@ -450,7 +450,8 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
         seconds,
         seconds_measure,
     };
-    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    let mut notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    let early = notes.len();
     // Printed after the summary line, and in the report's `notes` too.
     let isolated = loaded.mesh.n_isolated_vertices();
     let isolated_note = (isolated > 0).then(|| {
@@ -460,20 +461,19 @@ pub(crate) fn run(args: &DecimateArgs, out: &mut impl Write) -> Result<(), CliEr
             it = crate::text::plural(isolated, "it is", "they are"),
         )
     });
-    let mut all_notes = notes.clone();
-    all_notes.extend(isolated_note.iter().cloned());
+    notes.extend(isolated_note.iter().cloned());
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &all_notes,
+        &notes,
         out,
     )? {
         return Ok(());
     }
-    for line in &notes {
+    for line in &notes[..early] {
         writeln!(out, "{line}")?;
     }
     let target = if report.target_vertices > report.vertices_before {

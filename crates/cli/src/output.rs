@@ -29,20 +29,27 @@ use crate::error::CliError;
 pub(crate) fn refuse_unknown_output(path: &Path, command: &str) -> Result<(), CliError> {
     match beltrami_io::MeshFormat::from_path(path) {
         Ok(_) => Ok(()),
-        Err(_) => Err(CliError::Usage(format!(
-            "{}: {} for the output; {command} writes .ply, .stl, .obj, .off, .x3p or .sdf",
-            path.display(),
-            path.extension().map_or_else(
-                || "no file extension".to_string(),
-                |e| format!("unsupported file extension {:?}", e.to_string_lossy())
-            ),
-        ))),
+        Err(_) => Err(unknown_output(
+            path,
+            command,
+            ".ply, .stl, .obj, .off, .x3p or .sdf",
+        )),
     }
 }
 
-/// Whether `a` and `b` name the same existing file: the same path after resolving
-/// symbolic links and `..`, or (on Unix) the same inode on the same device, which also
-/// catches hard links. A path that does not exist names no input.
+/// The usage error for an output `path` of no known format, naming what `command`
+/// writes (`formats`).
+fn unknown_output(path: &Path, command: &str, formats: &str) -> CliError {
+    CliError::Usage(format!(
+        "{}: {} for the output; {command} writes {formats}",
+        path.display(),
+        path.extension().map_or_else(
+            || "no file extension".to_string(),
+            |e| format!("unsupported file extension {:?}", e.to_string_lossy())
+        ),
+    ))
+}
+
 /// Refuses, before any work, an OUTPUT whose extension names no format (the error the
 /// write would give after the run) and an OUTPUT named `.x3p` or `.sdf` for a command
 /// whose result is no height map (its vertices leave the input's grid): `why` says what
@@ -62,14 +69,7 @@ pub(crate) fn refuse_height_map_output(
         Ok(_) => Ok(()),
         // A bad OUTPUT name is a usage error (exit 2), as a height-map name is, and the
         // list is of what this command writes.
-        Err(_) => Err(CliError::Usage(format!(
-            "{}: {} for the output; {command} writes .ply, .stl, .obj or .off",
-            path.display(),
-            path.extension().map_or_else(
-                || "no file extension".to_string(),
-                |e| format!("unsupported file extension {:?}", e.to_string_lossy())
-            ),
-        ))),
+        Err(_) => Err(unknown_output(path, command, ".ply, .stl, .obj or .off")),
     }
 }
 
@@ -123,6 +123,9 @@ pub(crate) fn notes_for_output(
     notes
 }
 
+/// Whether `a` and `b` name the same existing file: the same path after resolving
+/// symbolic links and `..`, or (on Unix) the same inode on the same device, which also
+/// catches hard links. A path that does not exist names no input.
 pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
         return false;

@@ -352,8 +352,10 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
         smooth_projection: options.projection && options.smooth_projection,
         seconds,
     };
-    let notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
-    // The notes printed after the summary line, in the report's `notes` too.
+    let mut notes = notes_for_output(&args.output, &loaded.repair_lines, &mesh);
+    // Those printed before the summary line; the rest (below) after it, and all of
+    // them in the report's `notes`.
+    let early = notes.len();
     let interior = loaded.mesh.n_edges() - report.boundary_edges;
     let degenerate = degenerate_note(&report);
     let fold = args.features.and_then(|_| fold_note(&report));
@@ -366,20 +368,19 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
                 number(angle),
             )
         });
-    let mut all_notes = notes.clone();
-    all_notes.extend([&degenerate, &fold, &every].into_iter().flatten().cloned());
+    notes.extend([&degenerate, &fold, &every].into_iter().flatten().cloned());
     if args.outputs.write(
         &args.output,
         &mesh,
         positions,
         &summary,
         &quality,
-        &all_notes,
+        &notes,
         out,
     )? {
         return Ok(());
     }
-    for line in &notes {
+    for line in &notes[..early] {
         writeln!(out, "{line}")?;
     }
     writeln!(

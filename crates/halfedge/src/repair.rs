@@ -435,7 +435,7 @@ pub fn repair(
     // 3b. Split polygons into triangles when asked: after the duplicates are dropped
     // (two copies of a polygon are one polygon however their lists start).
     let (list, origin) = if options.triangulate {
-        triangulate_faces(positions, &list, origin, &mut report)
+        triangulate_faces(positions, list, origin, &mut report)
     } else {
         (list, origin)
     };
@@ -826,12 +826,12 @@ fn clean_faces(
 /// polygon's input face as origin.
 fn triangulate_faces(
     positions: &[DVec3],
-    list: &PolygonList,
+    list: PolygonList,
     origin: Vec<usize>,
     report: &mut RepairReport,
 ) -> (PolygonList, Vec<usize>) {
     if list.is_triangles() {
-        return (list.clone(), origin);
+        return (list, origin);
     }
     let mut out = PolygonList::with_capacity(list.len(), list.n_corners());
     let mut out_origin = Vec::with_capacity(list.len());
