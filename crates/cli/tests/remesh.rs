@@ -749,3 +749,68 @@ fn feature_edges_from_a_file_are_kept() {
         assert!(!bad.exists());
     }
 }
+
+/// Without `--features` the remesher rounds sharp edges off. When the input's sharp
+/// edges run on in chains (a machined part's, not the scattered ones noise makes), the
+/// command says so and names the option; a run that fails for it (the 8-vertex cube at
+/// its own mean edge length shrinks) names it in its error line.
+#[test]
+fn a_machined_parts_edges_get_a_note_and_noise_gets_none() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = fixtures().join("cube_ascii.ply");
+    let out = dir.path().join("out.ply");
+    let note = "of the input's edges are sharper than 60° and run on in chains";
+
+    let o = beltrami(&["remesh", s(&cube), s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    let line = error_line(&o, dir.path());
+    assert!(line.contains("would shrink to"), "{line}");
+    assert!(
+        line.contains("keep the input's 12 edges sharper than 60°") && line.contains("--features 45"),
+        "{line}"
+    );
+    assert!(!out.exists());
+    // With --features the error (if any) gives no such advice, and the run keeps them.
+    let o = beltrami(&["remesh", s(&cube), s(&out), "--features", "45"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains(note));
+
+    let o = beltrami(&["remesh", s(&cube), s(&out), "--edge-length", "0.25", "--force"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!("note: 12 {note}")) && stdout.contains("--features 45 keeps them"),
+        "{stdout}"
+    );
+    let summary = json(&[
+        "remesh",
+        s(&cube),
+        s(&out),
+        "--edge-length",
+        "0.25",
+        "--force",
+        "--json",
+    ]);
+    let notes = summary["notes"].as_array().expect("notes");
+    assert!(notes.iter().any(|n| n.as_str().is_some_and(|n| n.contains(note))), "{summary}");
+
+    // A machined part with noise still has its chains; noisy smooth surfaces have none.
+    let block = dir.path().join("block.ply");
+    let o = beltrami(&["generate", "block", s(&block), "--noise", "0.2"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sphere = dir.path().join("sphere.ply");
+    let o = beltrami(&["generate", "sphere", s(&sphere), "--level", "4", "--noise", "0.2"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (input, expected) in [
+        (block, true),
+        (sphere, false),
+        (fixtures().join("noisy_icosphere_4.ply"), false),
+        (fixtures().join("noisy_torus_36x12.ply"), false),
+        (fixtures().join("icosphere_2.ply"), false),
+    ] {
+        let o = beltrami(&["remesh", s(&input), s(&out), "--force"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(stdout.contains(note), expected, "{}: {stdout}", input.display());
+    }
+}
