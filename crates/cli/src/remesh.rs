@@ -539,7 +539,11 @@ fn crease_edges(
     let chained = mesh
         .edges()
         .filter(|e| sharp[e.index()])
-        .filter(|&e| mesh.edge_vertices(e).iter().all(|v| at_vertex[v.index()] >= 2))
+        .filter(|&e| {
+            mesh.edge_vertices(e)
+                .iter()
+                .all(|v| at_vertex[v.index()] >= 2)
+        })
         .count();
     (chained >= 3 && 5 * chained >= n_sharp).then_some(chained)
 }

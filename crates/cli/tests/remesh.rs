@@ -766,7 +766,8 @@ fn a_machined_parts_edges_get_a_note_and_noise_gets_none() {
     let line = error_line(&o, dir.path());
     assert!(line.contains("would shrink to"), "{line}");
     assert!(
-        line.contains("keep the input's 12 edges sharper than 60°") && line.contains("--features 45"),
+        line.contains("keep the input's 12 edges sharper than 60°")
+            && line.contains("--features 45"),
         "{line}"
     );
     assert!(!out.exists());
@@ -775,7 +776,14 @@ fn a_machined_parts_edges_get_a_note_and_noise_gets_none() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!String::from_utf8_lossy(&o.stdout).contains(note));
 
-    let o = beltrami(&["remesh", s(&cube), s(&out), "--edge-length", "0.25", "--force"]);
+    let o = beltrami(&[
+        "remesh",
+        s(&cube),
+        s(&out),
+        "--edge-length",
+        "0.25",
+        "--force",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -792,14 +800,27 @@ fn a_machined_parts_edges_get_a_note_and_noise_gets_none() {
         "--json",
     ]);
     let notes = summary["notes"].as_array().expect("notes");
-    assert!(notes.iter().any(|n| n.as_str().is_some_and(|n| n.contains(note))), "{summary}");
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.as_str().is_some_and(|n| n.contains(note))),
+        "{summary}"
+    );
 
     // A machined part with noise still has its chains; noisy smooth surfaces have none.
     let block = dir.path().join("block.ply");
     let o = beltrami(&["generate", "block", s(&block), "--noise", "0.2"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let sphere = dir.path().join("sphere.ply");
-    let o = beltrami(&["generate", "sphere", s(&sphere), "--level", "4", "--noise", "0.2"]);
+    let o = beltrami(&[
+        "generate",
+        "sphere",
+        s(&sphere),
+        "--level",
+        "4",
+        "--noise",
+        "0.2",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for (input, expected) in [
         (block, true),
@@ -811,6 +832,11 @@ fn a_machined_parts_edges_get_a_note_and_noise_gets_none() {
         let o = beltrami(&["remesh", s(&input), s(&out), "--force"]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let stdout = String::from_utf8_lossy(&o.stdout);
-        assert_eq!(stdout.contains(note), expected, "{}: {stdout}", input.display());
+        assert_eq!(
+            stdout.contains(note),
+            expected,
+            "{}: {stdout}",
+            input.display()
+        );
     }
 }
