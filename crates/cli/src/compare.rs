@@ -53,7 +53,7 @@ pub(crate) struct CompareArgs {
     /// by area (fixed seed), not only from the vertices, and the RMS distance of those
     /// points to the other surface each way ("surface rms", Metro's area-weighted error
     /// over whole faces) (N up to 10 million).
-    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    #[arg(long, allow_hyphen_values = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     samples: Option<u64>,
     /// Replace the --scalars or --png file even when it is write-protected. They never
     /// replace MESH or REFERENCE.
@@ -102,6 +102,9 @@ struct Comparison {
     scalars: Option<Scalars>,
     /// The `--png` image, or null.
     png: Option<String>,
+    /// What reading the files did besides reading them (a lenient read's skipped
+    /// lines, `--weld`, `--repair`), one line each, naming the file; empty when nothing.
+    notes: Vec<String>,
     /// Wall-clock seconds of each phase (JSON only).
     seconds: Seconds,
 }
@@ -271,6 +274,11 @@ pub(crate) fn run(args: &CompareArgs, out: &mut impl Write) -> Result<(), CliErr
         area,
         scalars: scalars.map(|(file, color_range)| Scalars { file, color_range }),
         png: args.png.as_ref().map(|p| p.display().to_string()),
+        notes: [
+            mesh.read_notes(&args.mesh, true),
+            reference.read_notes(&args.reference, true),
+        ]
+        .concat(),
         seconds: Seconds {
             read,
             index_build: d.index_build,
@@ -498,6 +506,9 @@ fn write_table(c: &Comparison, notes: &Notes, out: &mut impl Write) -> std::io::
     }
     if let Some(png) = &c.png {
         writeln!(out, "image of the signed distances -> {png}")?;
+    }
+    for line in &c.notes {
+        writeln!(out, "{line}")?;
     }
     Ok(())
 }

@@ -23,7 +23,7 @@ pub(crate) struct DecimateArgs {
     /// The decimated mesh (.ply, .stl, .obj or .off by extension).
     output: PathBuf,
     /// Keep this many vertices (give this or --ratio).
-    #[arg(long, allow_negative_numbers = true, value_name = "N")]
+    #[arg(long, allow_hyphen_values = true, value_name = "N")]
     vertices: Option<usize>,
     /// Keep this fraction of the vertices, in (0, 1] (give this or --vertices).
     #[arg(long, allow_hyphen_values = true, value_name = "R")]
@@ -89,7 +89,7 @@ pub(crate) struct DecimateArgs {
     /// --max-distance or --max-normal-deviation, so a count above 0 given with any of
     /// them is refused; none either when nothing was collapsed (the report then says 0
     /// rounds).
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     fit_rounds: Option<usize>,
     /// OpenMesh's plain quadric decimation (DecimaterT with ModQuadricT): endpoint
     /// placement, no shape penalty, area-weighted planes, no stabilizer, no flips and no

@@ -23,11 +23,11 @@ pub(crate) struct DelaunayArgs {
     /// Leave an edge alone when its two triangles meet at more than this angle, in
     /// degrees (0 to 180): keeps feature edges and bounds how much a flip can change a
     /// curved surface. Default: no bound (on a curved scan, try 1 to 5).
-    #[arg(long, allow_negative_numbers = true, value_name = "DEG")]
+    #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
     max_dihedral: Option<f64>,
     /// Stop after this many flips (default: ten per edge; a planar mesh never needs as
     /// many, a curved one could otherwise cycle).
-    #[arg(long, allow_negative_numbers = true, value_name = "N")]
+    #[arg(long, allow_hyphen_values = true, value_name = "N")]
     max_flips: Option<usize>,
     /// Print a JSON summary instead of the sentence.
     #[arg(long)]

@@ -25,7 +25,7 @@ pub(crate) struct FillHolesArgs {
     output: PathBuf,
     /// Leave loops of more edges open (at least 3; default 500). The triangulation
     /// costs O(n^3) in the number of edges of a loop.
-    #[arg(long, allow_negative_numbers = true, value_name = "N")]
+    #[arg(long, allow_hyphen_values = true, value_name = "N")]
     max_loop_edges: Option<usize>,
     /// Fill every loop, each component's one of the largest perimeter too (a closed
     /// part). Without it, that loop is taken for the outer boundary of an open surface (a

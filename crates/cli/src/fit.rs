@@ -61,6 +61,9 @@ struct FitSummary {
     plane_rms: Option<f64>,
     iterations: usize,
     converged: bool,
+    /// What reading the file did besides reading it (a height map's grid, a lenient
+    /// read's skipped lines, `--weld`, `--repair`), one line each; empty when nothing.
+    notes: Vec<String>,
 }
 
 /// Runs `beltrami fit`.
@@ -94,6 +97,7 @@ pub(crate) fn run(args: &FitArgs, out: &mut impl Write) -> Result<(), CliError> 
             plane_rms: None,
             iterations,
             converged,
+            notes: loaded.read_notes(&args.mesh, false),
         }
     };
     let summary = match args.shape {
@@ -198,6 +202,9 @@ fn write_table(s: &FitSummary, out: &mut impl Write) -> std::io::Result<()> {
     ));
     for (key, value) in rows {
         writeln!(out, "{key:<21} {value}")?;
+    }
+    for line in &s.notes {
+        writeln!(out, "{line}")?;
     }
     Ok(())
 }

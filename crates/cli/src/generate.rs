@@ -32,7 +32,7 @@ pub(crate) struct GenerateArgs {
     /// Add Gaussian noise along the vertex normals with this standard deviation, as a
     /// multiple of the mean edge length (as in `study`), or in the surface's length
     /// unit with --absolute-noise.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     noise: Option<f64>,
     /// Read --noise in the surface's length unit instead of as a multiple of the mean
     /// edge length.
@@ -60,7 +60,7 @@ pub(crate) struct GenerateArgs {
     /// With --holes: the holes' radius as a multiple of the mean edge length.
     #[arg(
         long,
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         value_name = "R",
         default_value_t = 3.0,
         requires = "holes"

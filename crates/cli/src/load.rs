@@ -26,13 +26,13 @@ pub(crate) struct ReadArgs {
     /// diagonal into one vertex (CAD exporters write 2.7e-16 where 0 was meant), or 0
     /// to weld identical coordinates only (at most 0.01). Indexed formats (PLY, OBJ,
     /// OFF) are read as they are.
-    #[arg(long, value_name = "FRACTION", default_value_t = Weld::DEFAULT_RELATIVE, allow_negative_numbers = true)]
+    #[arg(long, value_name = "FRACTION", default_value_t = Weld::DEFAULT_RELATIVE, allow_hyphen_values = true)]
     pub(crate) weld_tolerance: f64,
     /// With --repair (and in `repair`): first merge vertices closer than this distance,
     /// in the mesh's length unit, into the lowest-numbered one (coincident vertices a
     /// CAD exporter wrote 1e-16 apart, seams of a mesh split for texturing). Off by
     /// default.
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub(crate) merge_distance: Option<f64>,
     /// With --repair (and in `repair`): also split every face of more than three
     /// corners into triangles, by ear clipping in its own plane (a quadrilateral along
@@ -183,8 +183,6 @@ pub(crate) struct LoadedMesh {
     pub(crate) repair: Option<RepairReport>,
     /// One line per kind of repair made, for the command's output.
     pub(crate) repair_lines: Vec<String>,
-    /// For a height map (X3P, SDF): its grid and the points left out.
-    pub(crate) height_map: Option<HeightMapReport>,
     /// Wall time of reading and decoding the file, in seconds.
     pub(crate) parse_seconds: f64,
     /// Wall time of building and validating the half-edge connectivity, in seconds.
@@ -192,6 +190,24 @@ pub(crate) struct LoadedMesh {
 }
 
 impl LoadedMesh {
+    /// The lines saying what reading `path` did besides reading it (its height-map grid,
+    /// what a lenient read skipped, what `--weld` merged, what `--repair` changed), for a
+    /// command that reports on the file as read. With `name_file` (a command reading two
+    /// meshes) every line that does not name the file already starts with it.
+    pub(crate) fn read_notes(&self, path: &Path, name_file: bool) -> Vec<String> {
+        let shown = path.display().to_string();
+        self.repair_lines
+            .iter()
+            .map(|line| {
+                if name_file && !line.contains(&shown) {
+                    format!("{shown}: {line}")
+                } else {
+                    line.clone()
+                }
+            })
+            .collect()
+    }
+
     /// Fails with [`CliError::NoFaces`] for a mesh without faces (points only, a
     /// wireframe, an empty file), which `command` cannot work on.
     pub(crate) fn require_faces(&self, path: &Path, command: &'static str) -> Result<(), CliError> {
@@ -326,7 +342,6 @@ fn load_inner(
         input_counts,
         repair: report,
         repair_lines,
-        height_map: read_report.height_map,
         parse_seconds,
         build_seconds,
     };

@@ -180,6 +180,7 @@ pub(crate) fn check_not_input(
     mesh_output: bool,
     inputs: &[&PathBuf],
     force: bool,
+    has_result_mesh: bool,
 ) -> Result<(), CliError> {
     for (k, input) in inputs.iter().enumerate() {
         if !same_file(output, input) {
@@ -196,9 +197,14 @@ pub(crate) fn check_not_input(
             }
         } else {
             CliError::Usage(format!(
-                "{}: {option} is the input file {}, which it would replace (--force lets only the result mesh replace the input mesh); give {option} a file of its own",
+                "{}: {option} is the input file {}, which it would replace{}; give {option} a file of its own",
                 output.display(),
-                input.display()
+                input.display(),
+                if has_result_mesh {
+                    " (--force lets only the result mesh replace the input mesh)"
+                } else {
+                    ""
+                }
             ))
         });
     }
@@ -266,8 +272,9 @@ impl Outputs {
                 }
             }
         }
+        let has_result_mesh = self.entries.iter().any(|(_, _, mesh)| *mesh);
         for (path, option, mesh) in &self.entries {
-            check_not_input(path, option, *mesh, inputs, force)?;
+            check_not_input(path, option, *mesh, inputs, force, has_result_mesh)?;
         }
         for (path, _, _) in &self.entries {
             check_writable(path).map_err(|source| CliError::Io {
@@ -364,10 +371,10 @@ mod tests {
         // may replace an input: not another output, not OUTPUT replacing a second
         // input (a reference mesh, a file of feature edges).
         assert!(matches!(
-            check_not_input(&hard, "OUTPUT", true, &[&a, &b], false),
+            check_not_input(&hard, "OUTPUT", true, &[&a, &b], false, true),
             Err(CliError::OverwritesInput { .. })
         ));
-        assert!(check_not_input(&hard, "OUTPUT", true, &[&a, &b], true).is_ok());
+        assert!(check_not_input(&hard, "OUTPUT", true, &[&a, &b], true, true).is_ok());
         for force in [false, true] {
             let usage = |r: Result<(), CliError>| matches!(r, Err(CliError::Usage(_)));
             assert!(usage(check_not_input(
@@ -375,24 +382,40 @@ mod tests {
                 "OUTPUT",
                 true,
                 &[&b, &a],
-                force
+                force,
+                true
             )));
             assert!(usage(check_not_input(
                 &hard,
                 "--report",
                 false,
                 &[&a, &b],
-                force
+                force,
+                true
             )));
             assert!(usage(check_not_input(
                 &hard,
                 "--report",
                 false,
                 &[&b, &a],
-                force
+                force,
+                true
             )));
         }
-        assert!(check_not_input(&b, "OUTPUT", true, &[&a], false).is_ok());
+        assert!(check_not_input(&b, "OUTPUT", true, &[&a], false, true).is_ok());
+        // The hint about --force only where the command has a result mesh to allow.
+        for (has_result_mesh, hint) in [(true, true), (false, false)] {
+            let Err(CliError::Usage(message)) =
+                check_not_input(&hard, "--scalars", false, &[&a], true, has_result_mesh)
+            else {
+                panic!("not a usage error");
+            };
+            assert_eq!(message.contains("--force"), hint, "{message}");
+            assert!(
+                message.ends_with("give --scalars a file of its own"),
+                "{message}"
+            );
+        }
     }
 
     #[test]

@@ -72,7 +72,7 @@ pub(crate) struct RemeshArgs {
     /// settle within 10 to 20).
     #[arg(
         long,
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         value_name = "N",
         default_value_t = 10
     )]

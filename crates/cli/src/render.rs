@@ -308,6 +308,9 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
         args.out.display(),
         args.size,
     )?;
+    for line in loaded.read_notes(&args.mesh, false) {
+        writeln!(out, "{line}")?;
+    }
     Ok(())
 }
 

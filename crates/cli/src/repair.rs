@@ -44,7 +44,7 @@ pub(crate) struct RepairArgs {
         long,
         value_name = "RATIO",
         requires = "flat_faces",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     flat_ratio: Option<f64>,
     /// With --flat-faces: let a collapse move a vertex by up to this distance (in the
@@ -54,7 +54,7 @@ pub(crate) struct RepairArgs {
         long,
         value_name = "DISTANCE",
         requires = "flat_faces",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     flat_max_move: Option<f64>,
     #[command(flatten)]

@@ -18,7 +18,7 @@ use serde::Serialize;
 
 use crate::compare::{check_ply_path, load_input, metrics_error, pair_subject, stage_scalar_ply};
 use crate::error::CliError;
-use crate::load::{LoadedMesh, ReadArgs, height_map_note};
+use crate::load::{LoadedMesh, ReadArgs};
 use crate::output::{Outputs, Staged};
 use crate::text::{number, vector};
 
@@ -64,11 +64,11 @@ pub(crate) struct ResidualArgs {
     quadrature: QuadratureArg,
     /// Also report the areal material ratio Smr(c) at this height (length units, on the
     /// datum in use); repeatable.
-    #[arg(long, value_name = "HEIGHT", allow_negative_numbers = true)]
+    #[arg(long, value_name = "HEIGHT", allow_hyphen_values = true)]
     smr: Vec<f64>,
     /// Also report the inverse areal material ratio Smc(mr) at this material ratio (in
     /// percent, 0 to 100); repeatable.
-    #[arg(long, value_name = "PERCENT")]
+    #[arg(long, value_name = "PERCENT", allow_hyphen_values = true)]
     smc: Vec<f64>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -183,6 +183,9 @@ struct Summary {
     area: f64,
     /// The `--scalars` file, or null.
     scalars: Option<String>,
+    /// What reading the files did besides reading them (a height map's grid, a lenient
+    /// read's skipped lines, `--weld`, `--repair`), one line each; empty when nothing.
+    notes: Vec<String>,
 }
 
 /// A point of the material ratio curve.
@@ -250,7 +253,7 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
     inputs.extend(args.smoothed.as_ref());
     outputs.check(&inputs, args.force)?;
     let measured = load_input(&args.measured, &args.read, Some("residual"))?;
-    let grid = measured.height_map;
+    let mut notes = measured.read_notes(&args.measured, args.smoothed.is_some());
     // The grid's points, for a residual written back as a height map.
     let grid_points = height_map_out.then(|| (measured.positions.clone(), measured.faces.clone()));
 
@@ -260,6 +263,9 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
         form,
         subject,
     } = residual_and_reference(args, measured)?;
+    if let Some(smoothed) = &args.smoothed {
+        notes.extend(reference.read_notes(smoothed, true));
+    }
     let on_reference = |source: MetricsError| match (&subject, &source) {
         // The parameters are computed on the smoothed surface.
         (Subject::Pair(_), MetricsError::Topology(_) | MetricsError::Empty { .. }) => {
@@ -284,15 +290,17 @@ pub(crate) fn run(args: &ResidualArgs, out: &mut impl Write) -> Result<(), CliEr
             texture: &texture,
             scalars: written,
         },
+        notes,
     );
     if args.json {
         serde_json::to_writer_pretty(&mut *out, &summary).map_err(std::io::Error::from)?;
         writeln!(out)?;
     } else {
         write_table(&summary, out)?;
-        // What the reader made of a height map (its grid, its holes).
-        if let Some(grid) = &grid {
-            writeln!(out, "{}", height_map_note(&args.measured, grid))?;
+        // What the reader made of the files (a height map's grid and holes, a lenient
+        // read, --weld, --repair).
+        for line in &summary.notes {
+            writeln!(out, "{line}")?;
         }
     }
     Ok(())
@@ -474,7 +482,12 @@ struct Parts<'a> {
     scalars: Option<String>,
 }
 
-fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Parts<'_>) -> Summary {
+fn summarise(
+    args: &ResidualArgs,
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    p: Parts<'_>,
+    notes: Vec<String>,
+) -> Summary {
     let Parts {
         form,
         texture: t,
@@ -539,6 +552,7 @@ fn summarise(args: &ResidualArgs, mesh: &beltrami_halfedge::HalfedgeMesh, p: Par
         mean: s.mean,
         area: s.area,
         scalars,
+        notes,
     }
 }
 

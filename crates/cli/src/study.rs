@@ -57,11 +57,11 @@ pub(crate) struct StudyArgs {
     )]
     iterations: Vec<usize>,
     /// The step λ, in (0, 1].
-    #[arg(long, default_value_t = 0.8, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.8, allow_hyphen_values = true)]
     lambda: f64,
     /// The noise σ as a multiple of the mean edge length (or absolute with
     /// --absolute-noise), as in `generate`.
-    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.2, allow_hyphen_values = true)]
     noise: f64,
     /// Read --noise in the surfaces' length unit instead.
     #[arg(long)]
@@ -116,14 +116,14 @@ pub(crate) struct StudyArgs {
     /// Remeshing before smoothing (the paper's MeshLab step), reported beside the
     /// original meshes: the target edge length L in each surface's unit (default:
     /// each clean mesh's mean edge length, --remesh-relative 1).
-    #[arg(long, value_name = "L", conflicts_with_all = ["remesh_relative", "no_remesh"], allow_negative_numbers = true)]
+    #[arg(long, value_name = "L", conflicts_with_all = ["remesh_relative", "no_remesh"], allow_hyphen_values = true)]
     remesh: Option<f64>,
     /// The remeshing target edge length as R × each clean mesh's mean edge length.
     #[arg(
         long,
         value_name = "R",
         conflicts_with = "no_remesh",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     remesh_relative: Option<f64>,
     /// Skip the remeshing comparison.
@@ -158,7 +158,12 @@ pub(crate) struct StudyArgs {
     methods: Vec<String>,
     /// With --input: the implicit time steps, comma-separated, each run as one
     /// backward-Euler step (default 0.25, 0.5, 1, 2, 4, 8, 16, 32).
-    #[arg(long, value_delimiter = ',', requires = "input")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        requires = "input",
+        allow_hyphen_values = true
+    )]
     implicit_steps: Vec<f64>,
 }
 
@@ -255,6 +260,13 @@ fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), CliE
     })
 }
 
+/// Whether a study of either kind writes `name`: a directory holding the paper's study
+/// may take a study of a given surface, and the other way round (the directory is
+/// replaced as a whole).
+fn any_study_entry(name: &str) -> bool {
+    is_study_entry(name) || is_scan_entry(name)
+}
+
 /// A progress bar per run on a terminal; nothing otherwise.
 pub(crate) fn terminal_progress() -> impl FnMut(Progress<'_>) {
     let terminal = std::io::stderr().is_terminal();
@@ -298,8 +310,19 @@ pub(crate) fn run(
     if let Some(input) = &args.input {
         return run_input(args, input, registry, out);
     }
+    // With --input these select the methods; without it they would be ignored.
+    for (given, option) in [
+        (!args.methods.is_empty(), "--methods"),
+        (!args.implicit_steps.is_empty(), "--implicit-steps"),
+    ] {
+        if given {
+            return Err(CliError::Usage(format!(
+                "{option} applies to the study of a given surface: pass --input SCAN (the paper's study runs plain smoothing with its counter-measures)"
+            )));
+        }
+    }
     let config = config(args, registry)?;
-    check_out_dir(&args.out, is_study_entry)?;
+    check_out_dir(&args.out, any_study_entry)?;
     let mut progress = terminal_progress();
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
     let io = |source| CliError::Io {
@@ -416,7 +439,7 @@ fn run_input(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let config = scan_config(args, registry)?;
-    check_out_dir(&args.out, is_scan_entry)?;
+    check_out_dir(&args.out, any_study_entry)?;
     let scan = load_scan(input)?;
     let reference = args.reference.as_deref().map(load_scan).transpose()?;
     let mut progress = terminal_progress();
@@ -467,6 +490,8 @@ fn run_input(
                     sig(b.rms),
                     if b.rms < input_rms {
                         ""
+                    } else if b.rms == input_rms {
+                        " (no better than the input)"
                     } else {
                         " (worse than the input)"
                     },

@@ -90,7 +90,7 @@ fn compare_and_residual_refuse_to_overwrite_their_inputs() {
         assert_eq!(out.status.code(), Some(2));
         assert_eq!(
             error_line(&out, dir.path()),
-            "error: b.ply: --scalars is the input file b.ply, which it would replace (--force lets only the result mesh replace the input mesh); give --scalars a file of its own (see 'beltrami --help')"
+            "error: b.ply: --scalars is the input file b.ply, which it would replace; give --scalars a file of its own (see 'beltrami --help')"
         );
     }
     let out = beltrami(&["residual", s(&a), s(&b), "--out", s(&a)]);

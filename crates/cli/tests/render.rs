@@ -418,9 +418,8 @@ fn bad_input_and_usage_fail_with_one_line() {
     let before = std::fs::read(&noisy).unwrap();
     assert_eq!(
         failure(&["render", sphere, sphere], d, 2),
-        "error: noisy.ply: OUT is the input file noisy.ply, which it would replace (--force \
-         lets only the result mesh replace the input mesh); give OUT a file of its own (see \
-         'beltrami --help')"
+        "error: noisy.ply: OUT is the input file noisy.ply, which it would replace; give OUT \
+         a file of its own (see 'beltrami --help')"
     );
     assert_eq!(
         failure(
@@ -428,9 +427,8 @@ fn bad_input_and_usage_fail_with_one_line() {
             d,
             2
         ),
-        "error: clean.ply: OUT is the input file clean.ply, which it would replace (--force \
-         lets only the result mesh replace the input mesh); give OUT a file of its own (see \
-         'beltrami --help')"
+        "error: clean.ply: OUT is the input file clean.ply, which it would replace; give OUT \
+         a file of its own (see 'beltrami --help')"
     );
     assert_eq!(
         failure(&["render", sphere, s(&d.join("out.ply"))], d, 2),
@@ -446,9 +444,8 @@ fn bad_input_and_usage_fail_with_one_line() {
         args.extend_from_slice(force);
         assert_eq!(
             failure(&args, d, 2),
-            "error: link.png: OUT is the input file noisy.ply, which it would replace \
-             (--force lets only the result mesh replace the input mesh); give OUT a file of \
-             its own (see 'beltrami --help')"
+            "error: link.png: OUT is the input file noisy.ply, which it would replace; give OUT a \
+             file of its own (see 'beltrami --help')"
         );
     }
     assert_eq!(std::fs::read(&noisy).unwrap(), before);

@@ -459,6 +459,34 @@ fn spatial_parameters_of_a_closed_surface_are_unavailable() {
     );
 }
 
+/// Two small triangles far apart: the grid over their spread has fewer than four
+/// points inside them. The spatial parameters are unavailable (as for one triangle),
+/// and the rest is reported.
+#[test]
+fn spatial_parameters_of_pieces_far_apart_are_unavailable() {
+    let dir = tempfile::tempdir().unwrap();
+    let positions = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.1),
+        DVec3::new(0.0, 1.0, 0.0),
+        DVec3::new(5.0, 5.0, 0.0),
+        DVec3::new(6.0, 5.0, 0.0),
+        DVec3::new(5.0, 6.0, 0.2),
+    ];
+    let faces = PolygonList::from_triangles(&[[0, 1, 2], [3, 4, 5]]);
+    let measured = write(dir.path(), "pieces.ply", positions, faces);
+    let j = json(&["residual", s(&measured), "--form", "plane", "--json"]);
+    assert_eq!(j["sal"], Value::Null);
+    assert!(
+        j["spatial"]["unavailable"]
+            .as_str()
+            .is_some_and(|why| why.contains("height grid is empty")),
+        "{}",
+        j["spatial"]
+    );
+    assert!(f(&j["sq"]) > 0.0, "{j}");
+}
+
 #[test]
 fn residual_ply_holds_the_heights_on_the_smoothed_surface() {
     let dir = tempfile::tempdir().unwrap();

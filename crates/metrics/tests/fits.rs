@@ -474,6 +474,38 @@ fn bad_input_gives_typed_errors() {
     assert!(
         (circle.radius - 1.0).abs() < 1e-12 && (circle.center - DVec3::Z * 2.0).length() < 1e-12
     );
+    // A flat patch: the plane fits better than any cylinder (one standing on the patch
+    // was a local minimum, reported as the fit). With noise across it a cylinder of a
+    // large radius can fit better than the plane, and is then the fit.
+    {
+        let flat: Vec<DVec3> = (0..25)
+            .map(|i| DVec3::new(f64::from(i % 5), f64::from(i / 5), 0.0))
+            .collect();
+        let err = fit_cylinder(&FitPoints::new(&flat), None, &o).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                MetricsError::Degenerate {
+                    shape: "cylinder",
+                    reason
+                } if reason.contains("closer to a plane")
+            ),
+            "{err}"
+        );
+    }
+    // A slightly curved one (radius 100 across 4 units) is a cylinder.
+    let curved: Vec<DVec3> = (0..25)
+        .map(|i| {
+            let (x, y) = (f64::from(i % 5), f64::from(i / 5));
+            DVec3::new(
+                x,
+                y,
+                100.0 - (100.0f64 * 100.0 - (x - 2.0) * (x - 2.0)).sqrt(),
+            )
+        })
+        .collect();
+    let fit = fit_cylinder(&FitPoints::new(&curved), None, &o).unwrap();
+    assert!((fit.radius - 100.0).abs() < 1e-6, "{}", fit.radius);
     // Collinear points: no circle, no cylinder.
     let line: Vec<DVec3> = (0..10)
         .map(|i| DVec3::new(1.0, 2.0, 3.0) * f64::from(i))

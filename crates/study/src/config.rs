@@ -123,6 +123,15 @@ impl std::fmt::Debug for StudyConfig {
 /// The paper's three weight schemes, by registry name.
 pub const PAPER_SCHEMES: [&str; 3] = ["uniform", "distance", "cotangent"];
 
+/// The largest iteration count a study observes: a million (the paper's longest run is
+/// 200; each observed count keeps a row per surface and scheme).
+pub const MAX_STUDY_ITERATIONS: usize = 1_000_000;
+
+/// The largest relative noise level a study adds: σ of 10 mean edge lengths (the
+/// paper's is 0.2, mesh-denoising benchmarks go to 0.7); beyond it the noisy surface
+/// has nothing left of the clean one.
+pub const MAX_RELATIVE_NOISE: f64 = 10.0;
+
 /// The default number of noise seeds: 3, chosen so that the default study still takes
 /// about a minute on two cores (each further seed adds the scheme runs and their
 /// metrics, about a third of the study's time).
@@ -306,9 +315,11 @@ impl StudyConfig {
         self
     }
 
-    /// Checks the configuration: at least one surface and scheme, iteration counts
-    /// positive and strictly ascending, λ in (0, 1], a remeshing target length positive
-    /// and finite.
+    /// Checks the configuration: at least one surface and scheme, none given twice,
+    /// iteration counts positive, strictly ascending and at most
+    /// [`MAX_STUDY_ITERATIONS`], a noise level finite, not negative and (relative) at most
+    /// [`MAX_RELATIVE_NOISE`], λ in (0, 1], a remeshing target length positive and
+    /// finite.
     ///
     /// # Errors
     /// [`StudyError::Config`] saying what is wrong.
@@ -328,6 +339,45 @@ impl StudyConfig {
             return Err(StudyError::Config(
                 "iteration counts must be strictly ascending".into(),
             ));
+        }
+        if self.max_iterations() > MAX_STUDY_ITERATIONS {
+            return Err(StudyError::Config(format!(
+                "iteration counts must be at most {MAX_STUDY_ITERATIONS}, got {} (the paper's longest run is 200 iterations)",
+                self.max_iterations()
+            )));
+        }
+        for (i, s) in self.surfaces.iter().enumerate() {
+            if self.surfaces[..i].contains(s) {
+                return Err(StudyError::Config(format!(
+                    "surface '{}' given twice",
+                    s.name()
+                )));
+            }
+        }
+        for (i, s) in self.schemes.iter().enumerate() {
+            if self.schemes[..i].iter().any(|t| t.name() == s.name()) {
+                return Err(StudyError::Config(format!(
+                    "weight scheme '{}' given twice",
+                    s.name()
+                )));
+            }
+        }
+        match self.noise {
+            NoiseLevel::Absolute(sigma) | NoiseLevel::RelativeToMeanEdge(sigma)
+                if !(sigma.is_finite() && sigma >= 0.0) =>
+            {
+                return Err(StudyError::Config(format!(
+                    "the noise level must be finite and not negative, got {}",
+                    beltrami_halfedge::exact_number(sigma)
+                )));
+            }
+            NoiseLevel::RelativeToMeanEdge(sigma) if sigma > MAX_RELATIVE_NOISE => {
+                return Err(StudyError::Config(format!(
+                    "the noise level must be at most {MAX_RELATIVE_NOISE} mean edge lengths (the paper's is 0.2; more leaves nothing of the surface to recover), got {}",
+                    beltrami_halfedge::exact_number(sigma)
+                )));
+            }
+            _ => {}
         }
         if self.seeds == 0 {
             return Err(StudyError::Config(

@@ -35,7 +35,10 @@ mod units;
 
 pub use case::SurfaceCase;
 pub use closed_form::{predicted_radius, weighted_mean_edge_sq};
-pub use config::{DEFAULT_SEEDS, PAPER_SCHEMES, StudyConfig, paper_iterations};
+pub use config::{
+    DEFAULT_SEEDS, MAX_RELATIVE_NOISE, MAX_STUDY_ITERATIONS, PAPER_SCHEMES, StudyConfig,
+    paper_iterations,
+};
 pub use countermeasures::{Countermeasure, countermeasure_surface};
 pub use error::{PreservationError, StudyError};
 pub use figures::{Figure, OVERLAP_FRACTION, curves_overlap, differences, write_figures};

@@ -62,13 +62,26 @@ pub enum OutDirError {
         /// The entry's name.
         name: String,
     },
+    /// The directory holds only entries a study writes, but no study's `results.json`
+    /// (a directory of the user's own `report.md`, say): it is no earlier study.
+    #[error(
+        "{} holds '{name}' but no results.json of a study, so it is no earlier study (which would be replaced); give a new or empty directory",
+        .dir.display()
+    )]
+    NotAStudy {
+        /// The directory.
+        dir: PathBuf,
+        /// An entry it holds.
+        name: String,
+    },
 }
 
 /// Refuses an output directory that holds anything but an earlier study (which the new
-/// one replaces), before the study runs: `is_entry` names what the study writes there
+/// one replaces), before the study runs: `is_entry` names what a study writes there
 /// ([`is_study_entry`] for the paper's study, [`is_scan_entry`] for the study of a given
-/// surface). A directory that does not exist yet passes when its parent can be
-/// written.
+/// surface; either kind may replace the other, so a caller may accept both), and a
+/// directory that is not empty must hold a study's `results.json`. A directory that
+/// does not exist yet passes when its parent can be written.
 ///
 /// # Examples
 /// ```
@@ -83,8 +96,9 @@ pub enum OutDirError {
 ///
 /// # Errors
 /// [`OutDirError::Unwritable`] when the parent cannot be written to,
-/// [`OutDirError::NotADirectory`] when `dir` is a file, and [`OutDirError::Foreign`]
-/// for the first entry `is_entry` does not name.
+/// [`OutDirError::NotADirectory`] when `dir` is a file, [`OutDirError::Foreign`]
+/// for the first entry `is_entry` does not name, and [`OutDirError::NotAStudy`] for a
+/// directory of such entries without a study's `results.json`.
 pub fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), OutDirError> {
     let parent = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -99,6 +113,7 @@ pub fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), 
         }
         return Ok(());
     };
+    let mut first = None;
     for entry in entries.flatten() {
         let name = entry.file_name();
         let name = name.to_string_lossy();
@@ -108,6 +123,24 @@ pub fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), 
                 name: name.into_owned(),
             });
         }
+        first.get_or_insert_with(|| name.into_owned());
+    }
+    // Replacing a directory is for an earlier study: both kinds write a results.json
+    // holding their configuration.
+    if let Some(name) = first
+        && !holds_study_results(&dir.join("results.json"))
+    {
+        return Err(OutDirError::NotAStudy {
+            dir: dir.to_path_buf(),
+            name,
+        });
     }
     Ok(())
+}
+
+/// Whether `path` is a study's results.json: a JSON object with a `config` member.
+fn holds_study_results(path: &Path) -> bool {
+    std::fs::read(path).is_ok_and(|bytes| {
+        serde_json::from_slice::<serde_json::Value>(&bytes).is_ok_and(|v| v.get("config").is_some())
+    })
 }

@@ -19,7 +19,8 @@ pub(crate) fn padded_range(min: f64, max: f64, margin: f64) -> (f64, f64) {
 /// A step of 1, 2, 2.5 or 5 times a power of ten giving about `target` ticks over
 /// `[lo, hi]` (`lo < hi`, both finite).
 pub(crate) fn nice_step(lo: f64, hi: f64, target: usize) -> f64 {
-    let raw = (hi - lo) / target.max(1) as f64;
+    // Halves first: the span of [-1e308, 1e308] is beyond the largest finite number.
+    let raw = (hi / 2.0 - lo / 2.0) / target.max(1) as f64 * 2.0;
     let magnitude = 10f64.powf(raw.log10().floor());
     let normalised = raw / magnitude;
     let factor = if normalised <= 1.0 {

@@ -37,7 +37,7 @@ pub(crate) struct SmoothArgs {
     /// run must keep below its stability limit (checked before the run). Default 0.8;
     /// 0.6307 for --method taubin (Taubin's classic pair with μ = -0.6732, pass band
     /// 0.1).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) lambda: Option<f64>,
     /// The number of iterations (the upper limit with --until-change).
     #[arg(long, default_value_t = 10)]
@@ -101,15 +101,15 @@ pub(crate) struct SmoothArgs {
     pub(crate) solver: Option<SolverArg>,
     /// Taubin's negative step μ (--method taubin only; μ < -λ, pass band 1/λ + 1/μ).
     /// Default: the μ giving a pass band of 0.1.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) mu: Option<f64>,
     /// HC (--method hc only): the pull towards the input positions, in [0, 1].
     /// Default 0.1.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) hc_alpha: Option<f64>,
     /// HC (--method hc only): the weight of a vertex's own correction against its
     /// neighbours', in [0, 1]. Default 0.6.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) hc_beta: Option<f64>,
     /// Rescale about the centroid after every iteration so that the enclosed volume
     /// stays the input's (closed meshes only).
@@ -117,15 +117,15 @@ pub(crate) struct SmoothArgs {
     pub(crate) preserve_volume: bool,
     /// Diffuse for this time, in length² of the mesh's unit (e.g. mm²), instead of
     /// --iterations; --lambda is then the largest step and the iteration count follows.
-    #[arg(long, allow_negative_numbers = true, conflicts_with_all = ["cutoff", "iterations"])]
+    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["cutoff", "iterations"])]
     pub(crate) time: Option<f64>,
     /// Gaussian-filter cut-off wavelength λc in the mesh's length unit (50 % amplitude
     /// transmission; t = 0.017558 λc²), instead of --iterations.
-    #[arg(long, allow_negative_numbers = true, conflicts_with = "iterations")]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "iterations")]
     pub(crate) cutoff: Option<f64>,
     /// Stop once an iteration moves no vertex farther than this distance (mesh unit);
     /// --iterations stays the upper limit.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) until_change: Option<f64>,
     /// Vertices that never move, as 0-based indices: --pin 3,17,42.
     #[arg(long, value_delimiter = ',')]

@@ -108,8 +108,9 @@ const LIMIT: f64 = 1e8;
 ///
 /// # Errors
 /// - [`MetricsError::TooFewPoints`] for fewer than 5 points of positive weight;
-/// - [`MetricsError::Degenerate`] when the points are collinear or no start gives a
-///   circle;
+/// - [`MetricsError::Degenerate`] when the points are collinear, no start gives a
+///   circle, or the least-squares plane fits them better than the best cylinder found
+///   (a flat patch);
 /// - [`MetricsError::NoConvergence`] when every refinement runs off towards a plane;
 /// - [`MetricsError::NonFinite`] for a non-finite point,
 ///   [`MetricsError::InvalidParameter`] for a zero or non-finite `axis_guess` or invalid
@@ -159,6 +160,18 @@ pub fn fit_cylinder(
             }
             Err(d) => diverged = Some(d.iterations),
         }
+    }
+    // A plane is the limit of cylinders of growing radius: a best cylinder whose
+    // residual exceeds the least-squares plane's is a local minimum worse than that
+    // limit (a flat patch fitted by a cylinder standing on it), not the fit.
+    // (Points on a circle lie on both exactly: rounding decides nothing there.)
+    if let Some((c, _)) = &best
+        && *c > values[0] + 1e-12 * (values[0] + values[1] + values[2])
+    {
+        return Err(MetricsError::Degenerate {
+            shape: SHAPE,
+            reason: "the points lie closer to a plane than to any cylinder (the least-squares plane leaves a smaller residual than the best cylinder found)",
+        });
     }
     let Some((_, outcome)) = best else {
         return Err(match diverged {

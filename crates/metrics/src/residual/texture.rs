@@ -204,9 +204,12 @@ pub fn surface_texture(
     };
     let heights: Vec<f64> = residual.iter().map(|r| r - shift).collect();
     let threshold = options.spatial.threshold;
-    let spatial = match resample_to_grid(geometry, &heights, &options.resample) {
-        Ok(grid) => {
-            let p = spatial_parameters(&grid.grid, &options.spatial)?;
+    // A grid with too few points inside the surface (pieces far apart, small against
+    // their spread) is as unavailable as one that cannot be made.
+    let spatial = match resample_to_grid(geometry, &heights, &options.resample)
+        .and_then(|grid| Ok((spatial_parameters(&grid.grid, &options.spatial)?, grid)))
+    {
+        Ok((p, grid)) => {
             SpatialSummary {
                 step: Some(grid.step),
                 nx: Some(grid.grid.nx()),

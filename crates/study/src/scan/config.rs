@@ -234,7 +234,8 @@ impl ScanConfig {
     ///
     /// # Errors
     /// [`StudyError::Config`] naming the first invalid setting: no scheme or method, a
-    /// repeated one, λ outside (0, 1], no iteration, an implicit step that is not
+    /// repeated one, λ outside (0, 1], no iteration or more than
+    /// [`MAX_STUDY_ITERATIONS`](crate::MAX_STUDY_ITERATIONS), an implicit step that is not
     /// positive and finite, or the implicit method without a step.
     pub fn validate(&self) -> Result<(), StudyError> {
         let bad = |m: String| Err(StudyError::Config(m));
@@ -262,6 +263,13 @@ impl ScanConfig {
         }
         if self.max_iterations == 0 {
             return bad("the iteration limit must be at least 1".into());
+        }
+        if self.max_iterations > crate::MAX_STUDY_ITERATIONS {
+            return bad(format!(
+                "the iteration limit must be at most {}, got {}",
+                crate::MAX_STUDY_ITERATIONS,
+                self.max_iterations
+            ));
         }
         if let Some(t) = self
             .implicit_steps

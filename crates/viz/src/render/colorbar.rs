@@ -81,7 +81,7 @@ impl<'a> ColorBar<'a> {
             return vec![(map.min, label)];
         }
         // About one tick per four label widths, at least three.
-        let sample = ticks::format_tick(map.max, (map.max - map.min) / 4.0, map.max.abs());
+        let sample = ticks::format_tick(map.max, map.max / 4.0 - map.min / 4.0, map.max.abs());
         let room = (width as f32 / (4.0 * text.width(&sample).max(1.0))) as usize;
         // At least three ticks: a finer step when round values miss the ends.
         let mut target = room.clamp(3, 8);
@@ -123,9 +123,8 @@ impl<'a> ColorBar<'a> {
 
 /// The x pixel, within a bar `width` pixels long, of `value`.
 fn position(map: &ColorMap, width: i64, value: f64) -> i64 {
-    let span = map.max - map.min;
-    let t = if span > 0.0 {
-        (value - map.min) / span
+    let t = if map.max > map.min {
+        map.fraction(value)
     } else {
         0.5
     };
@@ -196,7 +195,7 @@ impl<'a> Bar<'a> {
     pub(crate) fn draw(&self, image: &mut Image, text: &TextStyle, x0: i64, top: i64) {
         for i in 0..self.width {
             let t = i as f64 / (self.width - 1).max(1) as f64;
-            let value = self.map.min + t * (self.map.max - self.map.min);
+            let value = self.map.value_at(t);
             image.fill_rect(x0 + i, top, 1, self.thickness, self.map.color(value));
         }
         image.outline_rect(x0 - 1, top - 1, self.width + 2, self.thickness + 2, OUTLINE);
@@ -341,6 +340,35 @@ mod tests {
         assert_eq!(
             labels(ColorMap::new(2.5e-4, 2.5e-4), ColorBarTicks::Ends, 600),
             ["2.5e-4"]
+        );
+    }
+
+    /// A range wider than the largest finite number (values of ±1e308) still has its
+    /// colours and labels: the bar runs blue to red, the labels are distinct and in
+    /// order, zero is white.
+    #[test]
+    fn a_range_beyond_the_largest_finite_span_is_drawn() {
+        let map = ColorMap::symmetric(1e308);
+        assert!((map.fraction(0.0) - 0.5).abs() < 1e-15);
+        assert_eq!(map.color(0.0), ColorMap::MID);
+        assert_eq!(map.color(-1e308), ColorMap::LOW);
+        assert_eq!(map.color(1e308), ColorMap::HIGH);
+        assert_eq!(map.value_at(0.0), -1e308);
+        assert_eq!(map.value_at(1.0), 1e308);
+        assert_eq!(map.value_at(0.5), 0.0);
+        let text = TextStyle::new(16.0).unwrap();
+        let ticks = ColorBar::new(map, "q")
+            .with_ticks(ColorBarTicks::Ends)
+            .tick_labels(600, &text);
+        assert!(ticks.len() >= 3, "{ticks:?}");
+        assert!(ticks.windows(2).all(|w| w[0].0 < w[1].0), "{ticks:?}");
+        assert!(ticks.iter().any(|(v, _)| *v == 0.0), "{ticks:?}");
+        assert!(ticks.iter().all(|(v, _)| v.is_finite()), "{ticks:?}");
+        // The ordinary ranges keep their bits: halving is exact for normal numbers.
+        let m = ColorMap::new(-0.3, 0.7);
+        assert_eq!(
+            m.fraction(0.2).to_bits(),
+            ((0.2_f64 - -0.3) / (0.7 - -0.3)).to_bits()
         );
     }
 }

@@ -96,7 +96,7 @@ impl ColorMap {
                 Self::MID
             };
         }
-        let t = ((value - self.min) / (self.max - self.min)).clamp(0.0, 1.0);
+        let t = self.fraction(value).clamp(0.0, 1.0);
         let t = if t.is_nan() { 0.5 } else { t };
         let f = t * (ANCHORS.len() - 1) as f64;
         let i = (f.floor() as usize).min(ANCHORS.len() - 2);
@@ -106,6 +106,31 @@ impl ColorMap {
             let (a, b) = (f64::from(a[k]), f64::from(b[k]));
             (a + (b - a) * frac).round().clamp(0.0, 255.0) as u8
         })
+    }
+
+    /// Where `value` lies in the range: 0 at `min`, 1 at `max` (beyond them outside
+    /// `[0, 1]`), NaN for an empty range. A range wider than the largest finite number
+    /// (`[-1e308, 1e308]`) is measured in halves, which is exact for normal numbers.
+    #[must_use]
+    pub fn fraction(&self, value: f64) -> f64 {
+        let span = self.max - self.min;
+        if span.is_finite() {
+            (value - self.min) / span
+        } else {
+            (value / 2.0 - self.min / 2.0) / (self.max / 2.0 - self.min / 2.0)
+        }
+    }
+
+    /// The value at fraction `t` of the range (`min` at 0, `max` at 1), without the
+    /// overflow of `min + t·(max − min)` for a range wider than the largest finite number.
+    #[must_use]
+    pub fn value_at(&self, t: f64) -> f64 {
+        let span = self.max - self.min;
+        if span.is_finite() {
+            self.min + t * span
+        } else {
+            self.min * (1.0 - t) + self.max * t
+        }
     }
 
     /// Checks that both ends are finite and `min ≤ max`.
