@@ -262,10 +262,28 @@ pub(crate) const SIGNAL_INTERVAL: Duration = Duration::from_millis(100);
 /// parallel pass of one chunk (a small mesh) runs where it is instead of being handed
 /// to a pool thread and waited for, which on meshes of a few thousand vertices is a
 /// large part of each smoothing iteration. Results do not depend on the pool's size.
-fn pool() -> Option<&'static rayon::ThreadPool> {
-    static POOL: std::sync::OnceLock<Option<rayon::ThreadPool>> = std::sync::OnceLock::new();
-    POOL.get_or_init(|| rayon::ThreadPoolBuilder::new().build().ok())
-        .as_ref()
+///
+/// The pool belongs to the process that built it. A child made by `fork` (the default
+/// start method of `multiprocessing` and `ProcessPoolExecutor` on Linux) inherits the
+/// pool's memory but none of its threads, and a call there would wait for them forever;
+/// so a call from another process id builds that process its own pool, and the copy is
+/// forgotten (dropping it would signal threads that do not exist in the child).
+fn pool() -> Option<std::sync::Arc<rayon::ThreadPool>> {
+    use std::sync::{Arc, Mutex, PoisonError};
+    static POOL: Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
+    let pid = std::process::id();
+    let mut slot = POOL.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some((owner, pool)) = slot.as_ref()
+        && *owner == pid
+    {
+        return Some(Arc::clone(pool));
+    }
+    if let Some(inherited) = slot.take() {
+        std::mem::forget(inherited);
+    }
+    let pool = Arc::new(rayon::ThreadPoolBuilder::new().build().ok()?);
+    *slot = Some((pid, Arc::clone(&pool)));
+    Some(pool)
 }
 
 /// `ValueError` for `triangulate=True` without `repair=True`, as the commands refuse

@@ -8,6 +8,10 @@ use pyo3::prelude::*;
 use crate::errors::no_panic;
 use crate::mesh::Mesh;
 
+/// The default hole radii in mean edge lengths, tried in turn: 3 (the command's
+/// default), then smaller ones for a surface too small for it.
+const DEFAULT_HOLE_RADII: [f64; 4] = [3.0, 2.0, 1.5, 1.0];
+
 /// The largest sphere level: 10 485 762 vertices.
 const MAX_SPHERE_LEVEL: u32 = 10;
 
@@ -23,7 +27,8 @@ const MAX_SPHERE_LEVEL: u32 = 10;
 /// `size="small"` gives a coarse version of the same shape (for tests and quick
 /// looks). `holes` cuts this many round holes into the surface, as a scan leaves
 /// them where the sensor saw nothing: each removes the faces whose centroid lies
-/// within `hole_radius` mean edge lengths (default 3) of a vertex drawn from `seed`
+/// within `hole_radius` mean edge lengths (default 3, or 2, 1.5 or 1 on a surface too
+/// small for it, such as `size="small"`'s F-lens) of a vertex drawn from `seed`
 /// away from the boundary and from the other holes; the vertices are renumbered, so
 /// `holes` and `shuffle` exclude each other. Generate the surface again without
 /// `noise` and `holes` for the clean reference.
@@ -63,7 +68,7 @@ pub(crate) fn generate(
                 "hole_radius must be positive and finite, got {r}"
             )));
         }
-        (_, r) => r.unwrap_or(3.0),
+        (_, r) => r,
     };
     if holes.is_some() && shuffle.is_some() {
         return Err(PyValueError::new_err(
@@ -138,9 +143,22 @@ pub(crate) fn generate(
                         PyValueError::new_err("internal: generated surface has no edges")
                     })?;
                 let noisy = MeshData::new(positions, surface.faces.clone());
-                let cut = cut_holes(&noisy, count, hole_radius * mean, seed)
-                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
-                return Ok((cut.data.positions, cut.data.faces));
+                // The default radius shrinks on a surface too small for it (the small
+                // F-lens takes 2); a radius given is kept, and its error raised.
+                let radii = match hole_radius {
+                    Some(r) => vec![r],
+                    None => DEFAULT_HOLE_RADII.to_vec(),
+                };
+                let mut last = None;
+                for r in radii {
+                    match cut_holes(&noisy, count, r * mean, seed) {
+                        Ok(cut) => return Ok((cut.data.positions, cut.data.faces)),
+                        Err(e) => last = Some(e),
+                    }
+                }
+                return Err(PyValueError::new_err(
+                    last.map_or_else(String::new, |e| e.to_string()),
+                ));
             }
             Ok(match shuffle {
                 None => (positions, surface.faces.clone()),

@@ -22,7 +22,8 @@ const _: () = assert!(Weld::DEFAULT_RELATIVE == 1e-6);
 /// already joins features of a coarse mesh.
 const MAX_WELD_TOLERANCE: f64 = 0.01;
 
-/// Reads a mesh file (.ply, .stl, .obj or .off) and builds its connectivity.
+/// Reads a mesh file (.ply, .stl, .obj or .off) or a height map (.x3p or .sdf, in
+/// metres, as a triangulated grid of its valid points) and builds its connectivity.
 ///
 /// `weld_tolerance` welds an STL's triangle corners closer than this fraction of the
 /// bounding-box diagonal (0 welds identical coordinates only; at most 0.01); indexed
@@ -30,7 +31,8 @@ const MAX_WELD_TOLERANCE: f64 = 0.01;
 /// header declares for what the header declares. `repair` repairs the faces (drops
 /// degenerate and duplicate faces, cuts non-manifold edges, re-orients, splits
 /// pinched vertices, removes unreferenced vertices) instead of failing; `info(mesh)`
-/// then lists what changed.
+/// then lists what changed; `triangulate` (with `repair`) also splits polygons into
+/// triangles by ear clipping in their plane.
 ///
 /// Raises `FileNotFoundError` (or another `OSError`) when the file cannot be read,
 /// `FormatError` when it cannot be decoded and `MeshError` when its faces are not an
@@ -95,7 +97,8 @@ fn read_inner(
     })
 }
 
-/// Writes a mesh file; the format follows the extension (.ply, .stl, .obj or .off).
+/// Writes a mesh file; the format follows the extension (.ply, .stl, .obj or .off, or
+/// .x3p or .sdf for a mesh that is a height map's grid, such as one read from one).
 ///
 /// PLY and STL are written binary unless `ascii`; PLY stores float64 coordinates, so
 /// a PLY round trip is exact. `scalars` (a mapping from names to one value per

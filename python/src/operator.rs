@@ -85,6 +85,7 @@ pub(crate) fn laplacian<'py>(
             let mut indices = Vec::new();
             let mut indptr = Vec::with_capacity(n + 1);
             indptr.push(0);
+            let stuck = lap.stuck_rows();
             for i in 0..n {
                 let v = VertexId::new(i as u32);
                 if let Some(scale) = lap.scale(v) {
@@ -101,7 +102,7 @@ pub(crate) fn laplacian<'py>(
                 }
                 indptr.push(indices.len() as i64);
             }
-            Ok((data, indices, indptr))
+            Ok((data, indices, indptr, stuck))
         })
     });
     // The scheme's own exception first (and taken in any case, so that it is not
@@ -110,7 +111,26 @@ pub(crate) fn laplacian<'py>(
     if let Some(e) = crate::scheme::take(failure.as_ref()) {
         return Err(e);
     }
-    csr_matrix(py, csr?, n)
+    let (data, indices, indptr, stuck) = csr?;
+    // Zero rows are what `smooth` warns of as vertices that cannot move.
+    if stuck > 0 {
+        let why = if mesh.mesh.is_triangle_mesh() {
+            "their weights sum to <= 0 or their area is 0".to_string()
+        } else {
+            format!(
+                "the mesh has polygon faces, on which {weights} weights are 0; use weights=\"uniform\" or \"distance\", or read it with repair=True, triangulate=True"
+            )
+        };
+        let message = std::ffi::CString::new(format!("{stuck} of the {n} rows are zero ({why})"))
+            .unwrap_or_else(|_| c"rows of the operator are zero".to_owned());
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    csr_matrix(py, (data, indices, indptr), n)
 }
 
 /// The lumped mass matrix: the diagonal (N, N) `scipy.sparse` CSR matrix of vertex

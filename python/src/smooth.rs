@@ -350,7 +350,37 @@ pub(crate) fn smooth<'py>(
     }
     let smoothed = smoothed?;
     let report = report(py, mesh, &options, &smoothed.report)?;
+    warn_stuck(py, mesh, &smoothed.report)?;
     Ok((mesh.with_positions(smoothed.positions), report))
+}
+
+/// A `UserWarning` when vertices could not move (the command's note): on a polygon mesh
+/// the cotangent scheme, the default, has no weights, and the run would otherwise look
+/// like a smoothing that changed nothing.
+fn warn_stuck(py: Python<'_>, mesh: &Mesh, r: &beltrami_smooth::SmoothReport) -> PyResult<()> {
+    if r.max_stuck_vertices == 0 {
+        return Ok(());
+    }
+    let why = if mesh.mesh.is_triangle_mesh() {
+        "weights summing to <= 0 or zero area".to_string()
+    } else {
+        format!(
+            "the mesh has polygon faces, on which {} weights are 0; use weights=\"uniform\" or \"distance\", or read it with repair=True, triangulate=True",
+            r.scheme
+        )
+    };
+    let message = std::ffi::CString::new(format!(
+        "up to {} {} per iteration could not move ({why}); the report's max_stuck_vertices counts them",
+        r.max_stuck_vertices,
+        if r.max_stuck_vertices == 1 { "vertex" } else { "vertices" },
+    ))
+    .unwrap_or_else(|_| c"vertices could not move".to_owned());
+    PyErr::warn(
+        py,
+        &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+        &message,
+        1,
+    )
 }
 
 /// `pin` as vertex indices.

@@ -55,6 +55,25 @@ def test_a_folder_gives_its_scans_in_name_order(scans):
         beltrami.batch.scans_in(folder / "notes.txt")
     with pytest.raises(ValueError, match="no scan files"):
         beltrami.batch.scans_in(folder.parent)
+    with pytest.raises(FileNotFoundError, match="no such directory"):
+        beltrami.batch.scans_in(folder / "missing")
+
+
+def test_a_missing_parquet_engine_is_reported_before_any_scan(scans, monkeypatch):
+    import importlib.util
+
+    folder, _ = scans
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util,
+        "find_spec",
+        lambda name, *a: None if name in ("pyarrow", "fastparquet") else real(name, *a),
+    )
+    ran = []
+    monkeypatch.setattr(beltrami.batch, "process_scan", lambda *a, **k: ran.append(a))
+    with pytest.raises(ImportError, match="no scan was run"):
+        beltrami.batch.run(folder, parquet=folder / "table.parquet")
+    assert ran == []
 
 
 def test_the_loop_collects_one_row_per_scan(scans, tmp_path):

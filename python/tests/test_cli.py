@@ -82,6 +82,16 @@ def test_generate_refuses_hole_options_that_make_no_sense():
     # More holes than fit on a coarse sphere: the library's own error.
     with pytest.raises(ValueError, match="hole"):
         bt.generate("sphere", level=1, holes=50)
+    # The default radius (3 mean edges) does not fit the small F-lens; the default
+    # shrinks (to 2 there) and gives what hole_radius=2 gives, while a radius given is
+    # kept and its error raised.
+    small = bt.generate("flens", size="small", holes=1, seed=4)
+    assert bt.info(small)["boundary_loops"] == 2
+    np.testing.assert_array_equal(
+        small.faces, bt.generate("flens", size="small", holes=1, seed=4, hole_radius=2.0).faces
+    )
+    with pytest.raises(ValueError, match="only 0 of 1 holes"):
+        bt.generate("flens", size="small", holes=1, hole_radius=3.0)
 
 
 def test_info_matches_the_cli(cli, noisy_file):

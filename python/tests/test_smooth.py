@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pathlib
 import threading
 
 import numpy as np
@@ -291,3 +292,47 @@ def test_the_gil_is_released_while_smoothing(sphere):
 def test_weight_schemes_lists_the_builtins():
     names = bt.weight_schemes()
     assert {"uniform", "distance", "cotangent"} <= set(names)
+
+
+def _smoothed_vertex_count(path: str) -> int:
+    smoothed, _ = bt.smooth(bt.read(path), iterations=3)
+    return smoothed.n_vertices
+
+
+@pytest.mark.skipif(
+    "fork" not in __import__("multiprocessing").get_all_start_methods(),
+    reason="no fork start method on this platform",
+)
+def test_a_forked_child_runs_after_the_parent_did():
+    # A child made by fork (multiprocessing's default on Linux) inherits the parent's
+    # thread pool without its threads; it used to wait for them forever.
+    import multiprocessing
+
+    path = str(pathlib.Path(__file__).resolve().parents[2] / "fixtures" / "icosphere_2.ply")
+    expected = _smoothed_vertex_count(path)
+    with multiprocessing.get_context("fork").Pool(2) as pool:
+        got = pool.map_async(_smoothed_vertex_count, [path, path]).get(timeout=120)
+    assert got == [expected, expected]
+    # And the parent still runs.
+    assert _smoothed_vertex_count(path) == expected
+
+
+def test_smoothing_that_moves_nothing_warns():
+    # A quad mesh has no cotangent weights: the default smoothing moves no vertex, and
+    # says so (as the command's note does) instead of looking like a finished run.
+    quads = bt.read(str(pathlib.Path(__file__).resolve().parents[2] / "fixtures" / "cube_quads.obj"))
+    with pytest.warns(UserWarning, match="polygon faces, on which cotangent weights are 0"):
+        smoothed, report = bt.smooth(quads)
+    assert report["max_stuck_vertices"] == 8
+    np.testing.assert_array_equal(smoothed.vertices, quads.vertices)
+    pytest.importorskip("scipy")
+    with pytest.warns(UserWarning, match="8 of the 8 rows are zero"):
+        assert bt.laplacian(quads).nnz == 0
+    # Uniform weights move it, without a warning.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        moved, report = bt.smooth(quads, weights="uniform", iterations=1)
+    assert report["max_stuck_vertices"] == 0
+    assert not np.array_equal(moved.vertices, quads.vertices)

@@ -323,6 +323,20 @@ pub enum IoError {
         value: f64,
     },
 
+    /// Two distinct corners of a face round to the same point in 32-bit floats, which
+    /// an STL reader would join into one vertex.
+    #[error(
+        "face {face}: vertices {a} and {b} round to the same point in 32-bit floats (closer together than single precision resolves, or below its range), so an STL file cannot keep them apart; write PLY or OBJ, or scale the mesh"
+    )]
+    CornersCoincide {
+        /// The face, 0-based.
+        face: usize,
+        /// Its first vertex of the pair.
+        a: u32,
+        /// Its second vertex of the pair.
+        b: u32,
+    },
+
     /// A coordinate is too large for a 32-bit float (STL, or single precision).
     #[error("vertex {vertex} has coordinate {value:e}, beyond the range of a 32-bit float")]
     CoordinateOutOfRange {

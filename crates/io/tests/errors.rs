@@ -654,6 +654,29 @@ fn write_mesh_errors() {
     assert!(write_mesh_to(&mut sink, &huge, MeshFormat::Ply, &single).is_err());
     assert!(write_mesh_to(&mut sink, &huge, MeshFormat::Ply, &WriteOptions::default()).is_ok());
 
+    // Corners that round to one point in f32 (below its range, or closer than it
+    // resolves) would be joined by a reader: refused for STL, with the face and the
+    // pair; PLY keeps them apart by index.
+    for (scale, offset) in [(1e-46, None), (1.0, Some(1e-12))] {
+        let mut close = triangle();
+        for p in &mut close.positions {
+            *p *= scale;
+        }
+        if let Some(offset) = offset {
+            close.positions[2] = close.positions[1] + DVec3::new(offset, 0.0, 0.0);
+        }
+        let e = write_mesh_to(&mut sink, &close, MeshFormat::Stl, &WriteOptions::default())
+            .expect_err("coincide");
+        assert!(
+            matches!(e, IoError::CornersCoincide { face: 0, .. }),
+            "{scale} {offset:?}: {e}"
+        );
+        assert!(e.to_string().starts_with("face 0: vertices "), "{e}");
+        assert!(
+            write_mesh_to(&mut sink, &close, MeshFormat::Ply, &WriteOptions::default()).is_ok()
+        );
+    }
+
     let big_endian = WriteOptions::default().encoding(Encoding::BinaryBigEndian);
     let e =
         write_mesh_to(&mut sink, &triangle(), MeshFormat::Stl, &big_endian).expect_err("encoding");

@@ -27,10 +27,16 @@ class Mesh:
     """Vertex positions, faces and their half-edge connectivity, validated when built."""
 
     def __init__(
-        self, vertices: npt.ArrayLike, faces: npt.ArrayLike, *, repair: bool = False
+        self,
+        vertices: npt.ArrayLike,
+        faces: npt.ArrayLike,
+        *,
+        repair: bool = False,
+        triangulate: bool = False,
     ) -> None:
         """`repair=True` repairs the faces (as `read(path, repair=True)`) instead of
-        raising MeshError for a non-manifold or inconsistently oriented face list."""
+        raising MeshError for a non-manifold or inconsistently oriented face list;
+        `triangulate=True` (with `repair=True`) also splits polygons into triangles."""
     @property
     def vertices(self) -> npt.NDArray[np.float64]:
         """The (N, 3) coordinates (a read-only copy)."""
@@ -58,8 +64,11 @@ def read(
     weld_tolerance: float = 1e-6,
     lenient: bool = False,
     repair: bool = False,
+    triangulate: bool = False,
 ) -> Mesh:
-    """Reads a .ply, .stl, .obj or .off file and builds its connectivity."""
+    """Reads a .ply, .stl, .obj or .off mesh, or a .x3p or .sdf height map (in metres,
+    as a triangulated grid), and builds its connectivity. `triangulate=True` (with
+    `repair=True`) splits polygons into triangles."""
 
 def write(
     path: _Path,
@@ -251,13 +260,13 @@ def register_weight(
 def weight_schemes() -> list[str]:
     """The names of the registered weight schemes."""
 
-def from_trimesh(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_trimesh(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A Mesh from a trimesh.Trimesh (anything with vertices and faces)."""
 
 def to_trimesh(mesh: Mesh) -> Any:
     """A trimesh.Trimesh with the mesh's vertices and faces, unprocessed."""
 
-def from_open3d(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_open3d(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A Mesh from an open3d.geometry.TriangleMesh."""
 
 def to_open3d(mesh: Mesh) -> Any:
@@ -266,7 +275,7 @@ def to_open3d(mesh: Mesh) -> Any:
 def to_pyvista(mesh: Mesh) -> Any:
     """A pyvista.PolyData with the mesh's vertices and faces."""
 
-def from_pyvista(mesh: Any, *, repair: bool = False) -> Mesh:
+def from_pyvista(mesh: Any, *, repair: bool = False, triangulate: bool = False) -> Mesh:
     """A Mesh from a pyvista.PolyData (its points and flat faces cell array)."""
 
 def study(

@@ -40,10 +40,12 @@ _NOT_PARAMETERS = {"heights", "measured", "smoothed", "form", "smr", "smc", "spa
 def scans_in(folder: Union[str, os.PathLike[str]]) -> list[str]:
     """The scan files directly in ``folder`` (extensions ``SUFFIXES``, any case), sorted by name.
 
-    Raises ``NotADirectoryError`` when ``folder`` is not a directory and ``ValueError``
-    when it holds no scan.
+    Raises ``FileNotFoundError`` when ``folder`` does not exist, ``NotADirectoryError``
+    when it is not a directory and ``ValueError`` when it holds no scan.
     """
     folder = os.fspath(folder)
+    if not os.path.exists(folder):
+        raise FileNotFoundError(f"{folder}: no such directory")
     if not os.path.isdir(folder):
         raise NotADirectoryError(f"{folder}: not a directory")
     names = sorted(
@@ -113,9 +115,19 @@ def run(
     each worker needs the memory of one scan per thread, see docs/python.md) and
     gathered. A failing scan raises its error here (the other tasks are cancelled).
     With ``parquet``, the table is also written there (``DataFrame.to_parquet``, which
-    needs pyarrow or fastparquet). Needs pandas.
+    needs pyarrow or fastparquet, checked before any scan runs: ``ImportError``
+    without either). Needs pandas.
     """
+    import importlib.util
+
     import pandas
+
+    if parquet is not None and not any(
+        importlib.util.find_spec(engine) for engine in ("pyarrow", "fastparquet")
+    ):
+        raise ImportError(
+            "parquet= needs pyarrow or fastparquet (pip install pyarrow); no scan was run"
+        )
 
     if isinstance(scans, (str, os.PathLike)):
         paths = scans_in(scans)

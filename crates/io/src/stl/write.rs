@@ -22,6 +22,7 @@ pub(crate) fn write_stl_to<W: Write>(
 ) -> Result<(), IoError> {
     check_positions(&mesh.positions, true)?;
     check_faces(mesh, None)?;
+    check_corners_apart(mesh)?;
     let count: usize = mesh.faces.iter().map(|f| f.len().saturating_sub(2)).sum();
     let mut out = BufWriter::new(writer);
     match encoding {
@@ -42,6 +43,33 @@ pub(crate) fn write_stl_to<W: Write>(
     }
     .and_then(|()| out.flush())
     .map_err(IoError::io("write the file"))
+}
+
+/// Every face's distinct corners stay apart in 32-bit floats: a reader joins corners
+/// of equal coordinates, so two that round to one point (closer together than `f32`
+/// resolves, or both below its smallest value) would come back as one vertex, and the
+/// face would name it twice.
+fn check_corners_apart(mesh: &MeshData) -> Result<(), IoError> {
+    #[allow(
+        clippy::cast_possible_truncation,
+        reason = "the rounding is what is checked"
+    )]
+    let single = |i: u32| {
+        mesh.positions[i as usize]
+            .as_vec3()
+            .to_array()
+            .map(f32::to_bits)
+    };
+    for (face, corners) in mesh.faces.iter().enumerate() {
+        for (k, &a) in corners.iter().enumerate() {
+            for &b in &corners[k + 1..] {
+                if a != b && single(a) == single(b) {
+                    return Err(IoError::CornersCoincide { face, a, b });
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The triangles of the fan around each face's first vertex, as corner positions.
