@@ -14,7 +14,7 @@ use beltrami_io::IoError;
 
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError,
-    PyRuntimeError, PyValueError,
+    PyRuntimeError, PyTypeError, PyValueError,
 };
 use pyo3::prelude::*;
 
@@ -272,18 +272,82 @@ fn pool() -> Option<std::sync::Arc<rayon::ThreadPool>> {
     use std::sync::{Arc, Mutex, PoisonError};
     static POOL: Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
     let pid = std::process::id();
-    let mut slot = POOL.lock().unwrap_or_else(PoisonError::into_inner);
-    if let Some((owner, pool)) = slot.as_ref()
-        && *owner == pid
-    {
-        return Some(Arc::clone(pool));
+    let current = |slot: &Option<(u32, Arc<rayon::ThreadPool>)>| {
+        slot.as_ref()
+            .filter(|(owner, _)| *owner == pid)
+            .map(|(_, pool)| Arc::clone(pool))
+    };
+    if let Some(pool) = current(&POOL.lock().unwrap_or_else(PoisonError::into_inner)) {
+        return Some(pool);
     }
-    if let Some(inherited) = slot.take() {
+    // Built without the lock held: a fork while the lock is held would leave the child
+    // a locked mutex, and building starts threads.
+    let built = Arc::new(rayon::ThreadPoolBuilder::new().build().ok()?);
+    let mut slot = POOL.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(pool) = current(&slot) {
+        // Another thread of this process built one meanwhile; this one goes unused.
+        return Some(pool);
+    }
+    if let Some(inherited) = slot.replace((pid, Arc::clone(&built))) {
         std::mem::forget(inherited);
     }
-    let pool = Arc::new(rayon::ThreadPoolBuilder::new().build().ok()?);
-    *slot = Some((pid, Arc::clone(&pool)));
-    Some(pool)
+    Some(built)
+}
+
+/// A path argument as Python's own file functions take one: `str`, `bytes` or an
+/// `os.PathLike` giving either (`os.fsdecode`, so undecodable bytes survive as on the
+/// file system). Anything else is a `TypeError` naming the argument.
+pub(crate) fn path_arg(name: &str, value: &Bound<'_, PyAny>) -> PyResult<std::path::PathBuf> {
+    let os = value.py().import("os")?;
+    os.call_method1("fsdecode", (value,))
+        .and_then(|text| text.extract::<std::path::PathBuf>())
+        .map_err(|_| {
+            PyTypeError::new_err(format!(
+                "{name}: expected str, bytes or os.PathLike, got {}",
+                type_name(value)
+            ))
+        })
+}
+
+/// Vertex indices given as a sequence of integers (a list, a tuple, a numpy array):
+/// `TypeError` naming the argument for a string or anything not a sequence of
+/// integers, `ValueError` for an integer that is no vertex index (negative, or beyond
+/// the 32-bit indices of a mesh).
+pub(crate) fn vertex_indices(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
+    let not_indices = || {
+        PyTypeError::new_err(format!(
+            "{name}: expected a sequence of vertex indices (integers), got {}",
+            type_name(value)
+        ))
+    };
+    if value.is_instance_of::<pyo3::types::PyString>()
+        || value.is_instance_of::<pyo3::types::PyBytes>()
+    {
+        return Err(not_indices());
+    }
+    let mut indices = Vec::new();
+    for item in value.try_iter().map_err(|_| not_indices())? {
+        let item = item?;
+        let v: i128 = item.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "{name}: expected integers, got {}",
+                type_name(&item)
+            ))
+        })?;
+        indices
+            .push(u32::try_from(v).map_err(|_| {
+                PyValueError::new_err(format!("{name}: {v} is not a vertex index"))
+            })?);
+    }
+    Ok(indices)
+}
+
+/// The name of `value`'s type, for messages.
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "an object".to_string(), |n| n.to_string())
 }
 
 /// `ValueError` for `triangulate=True` without `repair=True`, as the commands refuse

@@ -28,7 +28,8 @@ const MAX_SPHERE_LEVEL: u32 = 10;
 /// looks). `holes` cuts this many round holes into the surface, as a scan leaves
 /// them where the sensor saw nothing: each removes the faces whose centroid lies
 /// within `hole_radius` mean edge lengths (default 3, or 2, 1.5 or 1 on a surface too
-/// small for it, such as `size="small"`'s F-lens) of a vertex drawn from `seed`
+/// small for it, such as `size="small"`'s F-lens, with a `UserWarning` naming the
+/// radius) of a vertex drawn from `seed`
 /// away from the boundary and from the other holes; the vertices are renumbered, so
 /// `holes` and `shuffle` exclude each other. Generate the surface again without
 /// `noise` and `holes` for the clean reference.
@@ -111,7 +112,7 @@ pub(crate) fn generate(
             return Err(PyValueError::new_err("level applies to the sphere only"));
         }
     }
-    let (positions, faces) = py.detach(|| {
+    let (positions, faces, radius) = py.detach(|| {
         no_panic(|| {
             let surface = match level {
                 Some(level) => beltrami_surfaces::sphere(level),
@@ -149,26 +150,54 @@ pub(crate) fn generate(
                     Some(r) => vec![r],
                     None => DEFAULT_HOLE_RADII.to_vec(),
                 };
-                let mut last = None;
+                let mut first = None;
                 for r in radii {
                     match cut_holes(&noisy, count, r * mean, seed) {
-                        Ok(cut) => return Ok((cut.data.positions, cut.data.faces)),
-                        Err(e) => last = Some(e),
+                        Ok(cut) => {
+                            return Ok((cut.data.positions, cut.data.faces, Some(r)));
+                        }
+                        Err(e) => {
+                            first.get_or_insert(e);
+                        }
                     }
                 }
-                return Err(PyValueError::new_err(
-                    last.map_or_else(String::new, |e| e.to_string()),
-                ));
+                // The error of the radius asked for (the default's when none was).
+                return Err(PyValueError::new_err(first.map_or_else(String::new, |e| {
+                    if hole_radius.is_none() {
+                        format!(
+                            "{e} (the default hole_radius of {} mean edge lengths was tried down to {})",
+                            DEFAULT_HOLE_RADII[0],
+                            DEFAULT_HOLE_RADII[DEFAULT_HOLE_RADII.len() - 1]
+                        )
+                    } else {
+                        e.to_string()
+                    }
+                })));
             }
             Ok(match shuffle {
-                None => (positions, surface.faces.clone()),
+                None => (positions, surface.faces.clone(), None),
                 Some(seed) => {
                     let order = beltrami_surfaces::shuffle_order(positions.len(), seed);
                     let noisy = order.iter().map(|&old| positions[old as usize]).collect();
-                    (noisy, surface.shuffled(seed).faces.clone())
+                    (noisy, surface.shuffled(seed).faces.clone(), None)
                 }
             })
         })
     })?;
+    if hole_radius.is_none()
+        && let Some(used) = radius.filter(|&r| r != DEFAULT_HOLE_RADII[0])
+    {
+        let message = std::ffi::CString::new(format!(
+            "the default hole_radius of {} mean edge lengths does not fit this surface; the holes have radius {used}",
+            DEFAULT_HOLE_RADII[0]
+        ))
+        .unwrap_or_else(|_| c"the holes are smaller than the default".to_owned());
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
+    }
     Mesh::build(py, positions, faces, None)
 }

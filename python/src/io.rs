@@ -1,7 +1,5 @@
 //! `beltrami.read` and `beltrami.write`.
 
-use std::path::PathBuf;
-
 use beltrami_halfedge::{RepairOptions, repair};
 use beltrami_io::{
     Encoding, MeshFormat, ReadOptions, VertexAttributes, Weld, WriteOptions, read_mesh_with,
@@ -41,12 +39,13 @@ const MAX_WELD_TOLERANCE: f64 = 0.01;
 #[pyo3(signature = (path, *, weld_tolerance = 1e-6, lenient = false, repair = false, triangulate = false))]
 pub(crate) fn read(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     weld_tolerance: f64,
     lenient: bool,
     repair: bool,
     triangulate: bool,
 ) -> PyResult<Mesh> {
+    let path = crate::errors::path_arg("path", path)?;
     crate::errors::triangulate_needs_repair(repair, triangulate)?;
     let weld = if weld_tolerance == 0.0 {
         Weld::Exact
@@ -126,13 +125,14 @@ fn read_inner(
 #[pyo3(signature = (path, mesh, scalars = None, *, ascii = false, force = false, sync = true))]
 pub(crate) fn write(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     mesh: &Mesh,
     scalars: Option<&Bound<'_, PyAny>>,
     ascii: bool,
     force: bool,
     sync: bool,
 ) -> PyResult<()> {
+    let path = crate::errors::path_arg("path", path)?;
     if !force && std::fs::metadata(&path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
         return Err(pyo3::exceptions::PyPermissionError::new_err(format!(
             "{}: the file is write-protected (pass force=True to replace it)",

@@ -57,10 +57,12 @@ pub(crate) fn laplacian<'py>(
     py: Python<'py>,
     mesh: &Mesh,
     weights: &str,
-    normalize: &str,
+    normalize: Option<&str>,
     vertex_area: &str,
     cotangent_negative: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
+    // None is the default, as `smooth` takes it.
+    let normalize = normalize.unwrap_or("sum");
     let normalization = match normalize {
         "sum" => Normalization::WeightSum,
         "area" => Normalization::Area(area_kind(vertex_area)?),
@@ -114,7 +116,7 @@ pub(crate) fn laplacian<'py>(
     let (data, indices, indptr, stuck) = csr?;
     // Zero rows are what `smooth` warns of as vertices that cannot move.
     if stuck > 0 {
-        let why = if mesh.mesh.is_triangle_mesh() {
+        let why = if mesh.mesh.is_triangle_mesh() || matches!(weights, "uniform" | "distance") {
             "their weights sum to <= 0 or their area is 0".to_string()
         } else {
             format!(

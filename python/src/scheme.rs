@@ -182,12 +182,20 @@ pub(crate) fn take(slot: Option<&Slot>) -> Option<PyErr> {
 #[pyo3(signature = (name, function, *, description = "", depends_on_positions = true, replace = false))]
 pub(crate) fn register_weight(
     py: Python<'_>,
-    name: String,
+    name: &Bound<'_, PyAny>,
     function: Py<PyAny>,
     description: &str,
     depends_on_positions: bool,
     replace: bool,
 ) -> PyResult<()> {
+    let name: String = name.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "the scheme's name must be a str, got {}",
+            name.get_type()
+                .name()
+                .map_or_else(|_| "an object".to_string(), |n| n.to_string())
+        ))
+    })?;
     if !function.bind(py).is_callable() {
         return Err(pyo3::exceptions::PyTypeError::new_err(format!(
             "the weight function must be callable (it is called with a dict of per-halfedge arrays), got {}",

@@ -260,14 +260,17 @@ pub(crate) fn smooth<'py>(
     hc_alpha: Option<f64>,
     hc_beta: Option<f64>,
     solver: Option<&str>,
-    pin: Option<Vec<i64>>,
+    pin: Option<&Bound<'_, PyAny>>,
     preserve_volume: bool,
     on_iteration: Option<Py<PyAny>>,
     progress: bool,
     max_iterations: i128,
     step_stats: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
-    let pin = pin_indices(pin)?;
+    let pin = match pin {
+        Some(pin) => crate::errors::vertex_indices("pin", pin)?,
+        None => Vec::new(),
+    };
     let options = Options {
         weights: weights.to_string(),
         lambda: lam,
@@ -361,7 +364,9 @@ fn warn_stuck(py: Python<'_>, mesh: &Mesh, r: &beltrami_smooth::SmoothReport) ->
     if r.max_stuck_vertices == 0 {
         return Ok(());
     }
-    let why = if mesh.mesh.is_triangle_mesh() {
+    // Uniform and inverse-distance weights exist on polygons too.
+    let polygon_weights = matches!(r.scheme.as_str(), "uniform" | "distance");
+    let why = if mesh.mesh.is_triangle_mesh() || polygon_weights {
         "weights summing to <= 0 or zero area".to_string()
     } else {
         format!(
@@ -381,17 +386,6 @@ fn warn_stuck(py: Python<'_>, mesh: &Mesh, r: &beltrami_smooth::SmoothReport) ->
         &message,
         1,
     )
-}
-
-/// `pin` as vertex indices.
-fn pin_indices(pin: Option<Vec<i64>>) -> PyResult<Vec<u32>> {
-    pin.unwrap_or_default()
-        .into_iter()
-        .map(|v| {
-            u32::try_from(v)
-                .map_err(|_| PyValueError::new_err(format!("pin: {v} is not a vertex index")))
-        })
-        .collect()
 }
 
 /// Refuses a run whose step given directly is unstable (`SmoothError`; a time chooses

@@ -22,7 +22,9 @@ use crate::weights::{all_schemes, scheme};
 /// Refuses an output directory that holds anything but an earlier study, before the
 /// study runs (`ValueError`), and one that cannot be written (`OSError`).
 fn check_out_dir(dir: &Path) -> PyResult<()> {
-    beltrami_study::check_out_dir(dir, is_study_entry).map_err(|e| match e {
+    // Either kind of earlier study may be replaced, as on the command line.
+    let entry = |name: &str| is_study_entry(name) || beltrami_study::is_scan_entry(name);
+    beltrami_study::check_out_dir(dir, entry).map_err(|e| match e {
         OutDirError::Unwritable(source) => io_error(dir, &source),
         e => PyValueError::new_err(format!("out {e}")),
     })
@@ -109,7 +111,7 @@ const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
 /// before it ends.
 #[pyfunction]
 #[pyo3(signature = (
-    out = PathBuf::from("study"),
+    out = None,
     *,
     surfaces = vec!["flens".to_string(), "sphere".to_string(), "block".to_string(), "golfball".to_string()],
     weights = None,
@@ -139,7 +141,7 @@ text_signature = "(out='study', *, surfaces=('flens', 'sphere', 'block', 'golfba
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn study<'py>(
     py: Python<'py>,
-    out: PathBuf,
+    out: Option<&Bound<'py, PyAny>>,
     surfaces: Vec<String>,
     weights: Option<Vec<String>>,
     iterations: Vec<i128>,
@@ -161,6 +163,10 @@ pub(crate) fn study<'py>(
     no_remesh: bool,
     no_scan_example: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let out = match out {
+        Some(out) => crate::errors::path_arg("out", out)?,
+        None => PathBuf::from("study"),
+    };
     let iterations = iterations
         .into_iter()
         .map(|n| crate::errors::nonnegative::<usize>("iterations", n))

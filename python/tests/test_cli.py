@@ -85,7 +85,8 @@ def test_generate_refuses_hole_options_that_make_no_sense():
     # The default radius (3 mean edges) does not fit the small F-lens; the default
     # shrinks (to 2 there) and gives what hole_radius=2 gives, while a radius given is
     # kept and its error raised.
-    small = bt.generate("flens", size="small", holes=1, seed=4)
+    with pytest.warns(UserWarning, match="the holes have radius 2"):
+        small = bt.generate("flens", size="small", holes=1, seed=4)
     assert bt.info(small)["boundary_loops"] == 2
     np.testing.assert_array_equal(
         small.faces, bt.generate("flens", size="small", holes=1, seed=4, hole_radius=2.0).faces

@@ -149,3 +149,15 @@ def test_info_of_a_patch(patch):
     assert not info["closed"]
     assert info["boundary_loops"] == 1
     assert info["volume"] is None
+
+
+def test_paths_may_be_str_bytes_or_pathlike(sphere, tmp_path):
+    # As Python's own open(): bytes paths too; anything else names the argument.
+    target = tmp_path / "a.ply"
+    bt.write(bytes(target), sphere)
+    assert bt.read(bytes(target)).n_vertices == sphere.n_vertices
+    assert bt.read(str(target)).n_vertices == sphere.n_vertices
+    with pytest.raises(TypeError, match="path: expected str, bytes or os.PathLike, got int"):
+        bt.read(3)
+    with pytest.raises(TypeError, match="path: expected str, bytes or os.PathLike, got list"):
+        bt.write([str(target)], sphere)

@@ -127,3 +127,8 @@ def test_the_cli_mass_matrix_is_the_package_mass_matrix(cli, tmp_path):
     want = bt.mass_matrix(bt.read(scan), vertex_area="barycentric")
     got = scipy_sparse.load_npz(out)
     np.testing.assert_array_equal(got.toarray(), want.toarray())
+
+
+def test_normalize_none_is_the_default(sphere):
+    # As smooth takes normalize=None.
+    assert (bt.laplacian(sphere, normalize=None) != bt.laplacian(sphere)).nnz == 0

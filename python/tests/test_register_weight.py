@@ -149,3 +149,8 @@ def test_a_run_raises_its_own_schemes_exception_when_replaced_meanwhile(sphere):
     assert len(seen) == 1 and isinstance(seen[0], ArithmeticError), seen
     # The replacement works, and nothing is left over for it to raise.
     bt.smooth(sphere, weights="race_scheme", iterations=1)
+
+
+def test_a_name_that_is_no_string_is_a_type_error():
+    with pytest.raises(TypeError, match="the scheme's name must be a str, got int"):
+        bt.register_weight(5, lambda h: np.ones(len(h["from"])))

@@ -140,7 +140,7 @@ def test_preserve_volume_keeps_the_volume(sphere):
 
 
 def test_pinned_vertices_do_not_move(sphere):
-    out, report = bt.smooth(sphere, pin=[0, 5, 17])
+    out, report = bt.smooth(sphere, pin=np.array([0, 5, 17], dtype=np.int32))
     np.testing.assert_array_equal(out.vertices[[0, 5, 17]], sphere.vertices[[0, 5, 17]])
     assert report["parameters"]["pinned"] == 3
 
@@ -176,6 +176,10 @@ def test_runs_are_deterministic(sphere):
         ({"time": 1.0, "iterations": 5}, ValueError, "exclude each other"),
         ({"method": "implicit", "preserve_volume": True}, ValueError, "preserve_volume does not apply"),
         ({"pin": [-1]}, ValueError, "pin: -1 is not a vertex index"),
+        ({"pin": [2**70]}, ValueError, "pin: 1180591620717411303424 is not a vertex index"),
+        ({"pin": "12"}, TypeError, "pin: expected a sequence of vertex indices .integers., got str"),
+        ({"pin": 3}, TypeError, "pin: expected a sequence of vertex indices .integers., got int"),
+        ({"pin": [1.5]}, TypeError, "pin: expected integers, got float"),
         ({"lam": 1.5}, bt.SmoothError, "lambda"),
         ({"method": "taubin", "lam": 0.5, "mu": -0.4}, bt.SmoothError, "taubin|mu"),
         ({"pin": [100000]}, bt.SmoothError, "100000"),

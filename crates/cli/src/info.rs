@@ -265,7 +265,7 @@ fn summarise(args: &InfoArgs, loaded: &LoadedMesh, quality: Option<QualityJson>)
 
 /// The quality figures of `info --quality`, with the flipped faces against
 /// `--reference`.
-fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, CliError> {
+fn measure_quality(args: &InfoArgs, loaded: &mut LoadedMesh) -> Result<QualityJson, CliError> {
     let input_error = |path: &PathBuf, e: QualityError| CliError::Input {
         path: path.clone(),
         message: match e {
@@ -279,6 +279,7 @@ fn measure_quality(args: &InfoArgs, loaded: &LoadedMesh) -> Result<QualityJson, 
         None => None,
         Some(path) => {
             let reference = load(path, &args.read)?;
+            loaded.repair_lines.extend(reference.read_notes(path, true));
             if reference.faces != loaded.faces {
                 let (theirs, ours) = (reference.faces.len(), loaded.faces.len());
                 let how = match reference
@@ -343,7 +344,7 @@ pub(crate) fn run(args: &InfoArgs, out: &mut impl Write) -> Result<(), CliError>
         });
     }
     let quality = if args.quality {
-        Some(measure_quality(args, &loaded)?)
+        Some(measure_quality(args, &mut loaded)?)
     } else {
         None
     };

@@ -279,7 +279,8 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
     check_render_args(args)?;
 
     let loaded = load_surface(&args.mesh, &args.read)?;
-    let (values, label, range) = colour_values(args, &loaded)?;
+    let mut notes = loaded.read_notes(&args.mesh, args.distance_to.is_some());
+    let (values, label, range) = colour_values(args, &loaded, &mut notes)?;
     let scalars = values.as_deref().map(|values| VertexScalars {
         label: &label,
         values,
@@ -308,7 +309,7 @@ pub(crate) fn run(args: &RenderArgs, out: &mut impl Write) -> Result<(), CliErro
         args.out.display(),
         args.size,
     )?;
-    for line in loaded.read_notes(&args.mesh, false) {
+    for line in &notes {
         writeln!(out, "{line}")?;
     }
     Ok(())
@@ -350,6 +351,7 @@ fn check_render_args(args: &RenderArgs) -> Result<(), CliError> {
 fn colour_values(
     args: &RenderArgs,
     loaded: &LoadedMesh,
+    notes: &mut Vec<String>,
 ) -> Result<(Option<Vec<f64>>, String, ColorRange), CliError> {
     Ok(match (&args.scalar, &args.distance_to) {
         (Some(name), _) => {
@@ -364,7 +366,7 @@ fn colour_values(
             (Some(values), name.clone(), range)
         }
         (None, Some(reference)) => {
-            let values = signed_distances(loaded, &args.mesh, reference, &args.read)?;
+            let values = signed_distances(loaded, &args.mesh, reference, &args.read, notes)?;
             let name = reference.file_name().map_or_else(
                 || reference.display().to_string(),
                 |n| n.to_string_lossy().into_owned(),
@@ -410,14 +412,17 @@ fn load_surface(path: &Path, read: &ReadArgs) -> Result<LoadedMesh, CliError> {
 }
 
 /// The signed distance of every vertex of `loaded` (read from `path`) to the surface
-/// in the file `reference`, as `compare` measures it.
+/// in the file `reference`, as `compare` measures it; what reading `reference` did
+/// besides reading it goes into `notes`.
 fn signed_distances(
     loaded: &LoadedMesh,
     path: &Path,
     reference: &Path,
     read: &ReadArgs,
+    notes: &mut Vec<String>,
 ) -> Result<Vec<f64>, CliError> {
     let surface = load(reference, read)?;
+    notes.extend(surface.read_notes(reference, true));
     surface.require_faces(reference, "render --distance-to")?;
     let index =
         SurfaceIndex::new(&surface.mesh, &surface.positions).map_err(metrics_error(reference))?;

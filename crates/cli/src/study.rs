@@ -150,20 +150,15 @@ pub(crate) struct StudyArgs {
     /// With --input: the clean surface to measure against (any mesh of the part, in the
     /// same unit and position). Adds the RMS distance per iteration, the RMS-optimal
     /// count per scheme and method, and the best meshes (`best-<scheme>-<method>.ply`).
-    #[arg(long, value_name = "CLEAN", requires = "input")]
+    #[arg(long, value_name = "CLEAN")]
     reference: Option<PathBuf>,
     /// With --input: the methods, comma-separated: plain, taubin, hc, implicit
     /// (default: all four).
-    #[arg(long, value_delimiter = ',', requires = "input")]
+    #[arg(long, value_delimiter = ',')]
     methods: Vec<String>,
     /// With --input: the implicit time steps, comma-separated, each run as one
     /// backward-Euler step (default 0.25, 0.5, 1, 2, 4, 8, 16, 32).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        requires = "input",
-        allow_hyphen_values = true
-    )]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     implicit_steps: Vec<f64>,
 }
 
@@ -310,10 +305,13 @@ pub(crate) fn run(
     if let Some(input) = &args.input {
         return run_input(args, input, registry, out);
     }
-    // With --input these select the methods; without it they would be ignored.
+    // With --input these select the methods and the ground truth; without it they
+    // would be ignored. Checked here rather than by clap's `requires`, which clap skips
+    // when an option that conflicts with --input (such as --small) is given.
     for (given, option) in [
         (!args.methods.is_empty(), "--methods"),
         (!args.implicit_steps.is_empty(), "--implicit-steps"),
+        (args.reference.is_some(), "--reference"),
     ] {
         if given {
             return Err(CliError::Usage(format!(

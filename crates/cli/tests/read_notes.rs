@@ -81,7 +81,9 @@ fn negative_values_in_scientific_notation_are_values() {
     ]);
     assert_eq!(j["smr"][0]["height"], -1e-7);
     // A bad negative value gets the option's own message, not the parser's.
-    let out = beltrami(&["smooth", s(&reference), "out.ply", "--lambda", "-1e-3"]);
+    let dir = tempfile::tempdir().unwrap();
+    let out_path = dir.path().join("out.ply");
+    let out = beltrami(&["smooth", s(&reference), s(&out_path), "--lambda", "-1e-3"]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("lambda must be in (0, 1]"), "{stderr}");

@@ -123,6 +123,10 @@ fn options_a_study_cannot_use_are_usage_errors() {
             "--implicit-steps applies to the study of a given surface",
         ),
         (
+            &["--reference", "clean.ply"][..],
+            "--reference applies to the study of a given surface",
+        ),
+        (
             &["--iterations", "2000000"][..],
             "iteration counts must be at most 1000000",
         ),
@@ -163,6 +167,23 @@ fn options_a_study_cannot_use_are_usage_errors() {
             "{args:?}"
         );
         assert!(!out.exists(), "{args:?}");
+    }
+    // Without --small as well (an option that conflicts with --input made clap skip
+    // its own check).
+    for option in [
+        &["--methods", "plain"][..],
+        &["--reference", "clean.ply"][..],
+    ] {
+        let mut all = vec!["study", "--out", s(&out)];
+        all.extend_from_slice(option);
+        let run = beltrami(&all);
+        assert_eq!(run.status.code(), Some(2), "{option:?}: {run:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&run.stderr).lines().count(),
+            1,
+            "{run:?}"
+        );
+        assert!(!out.exists());
     }
     let input = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../fixtures/noisy_icosphere_4.ply");

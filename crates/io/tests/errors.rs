@@ -657,10 +657,16 @@ fn write_mesh_errors() {
     // Corners that round to one point in f32 (below its range, or closer than it
     // resolves) would be joined by a reader: refused for STL, with the face and the
     // pair; PLY keeps them apart by index.
-    for (scale, offset) in [(1e-46, None), (1.0, Some(1e-12))] {
+    for (scale, offset) in [(1e-46, None), (-1e-46, None), (1.0, Some(1e-12))] {
         let mut close = triangle();
         for p in &mut close.positions {
             *p *= scale;
+        }
+        if scale < 0.0 {
+            // Corners at −0 and +0 in f32 (vertex 1 at +1e-46, vertex 0 at 0): one
+            // point to a reader.
+            close.positions[0] = DVec3::new(-0.0, 0.0, 0.0);
+            close.positions[1] = -close.positions[1];
         }
         if let Some(offset) = offset {
             close.positions[2] = close.positions[1] + DVec3::new(offset, 0.0, 0.0);

@@ -488,7 +488,7 @@ fn bad_input_gives_typed_errors() {
                 MetricsError::Degenerate {
                     shape: "cylinder",
                     reason
-                } if reason.contains("closer to a plane")
+                } if reason.contains("better than their least-squares plane")
             ),
             "{err}"
         );

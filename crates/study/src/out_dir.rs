@@ -138,9 +138,17 @@ pub fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), 
     Ok(())
 }
 
-/// Whether `path` is a study's results.json: a JSON object with a `config` member.
+/// Whether `path` is a study's results.json: a regular file (not a pipe or a device,
+/// which could block or never end) holding a JSON object with a `config` member. The
+/// file is streamed and its values skipped, not held: a long study's is large.
 fn holds_study_results(path: &Path) -> bool {
-    std::fs::read(path).is_ok_and(|bytes| {
-        serde_json::from_slice::<serde_json::Value>(&bytes).is_ok_and(|v| v.get("config").is_some())
-    })
+    #[derive(serde::Deserialize)]
+    struct Probe {
+        #[allow(dead_code, reason = "its presence is the check")]
+        config: serde::de::IgnoredAny,
+    }
+    std::fs::metadata(path).is_ok_and(|m| m.is_file())
+        && std::fs::File::open(path).is_ok_and(|file| {
+            serde_json::from_reader::<_, Probe>(std::io::BufReader::new(file)).is_ok()
+        })
 }

@@ -9,7 +9,7 @@ from typing import Any, Literal, Optional, Union
 import numpy as np
 import numpy.typing as npt
 
-_Path = Union[str, os.PathLike[str]]
+_Path = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
 
 class MeshError(ValueError):
     """A mesh that is not a valid oriented 2-manifold, or arrays that do not describe one."""
@@ -110,7 +110,7 @@ def smooth(
     hc_alpha: Optional[float] = None,
     hc_beta: Optional[float] = None,
     solver: Optional[Literal["cg", "cholesky"]] = None,
-    pin: Optional[Sequence[int]] = None,
+    pin: Optional[Union[Sequence[int], npt.ArrayLike]] = None,
     preserve_volume: bool = False,
     on_iteration: Optional[Callable[[int, dict[str, Any]], Any]] = None,
     progress: bool = False,
@@ -237,7 +237,7 @@ def fill_holes(
 def laplacian(
     mesh: Mesh,
     weights: str = "cotangent",
-    normalize: Literal["sum", "area"] = "sum",
+    normalize: Optional[Literal["sum", "area"]] = "sum",
     *,
     vertex_area: Literal["mixed", "barycentric"] = "mixed",
     cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",

@@ -243,7 +243,8 @@ fn write_summary(
         )?;
     }
     if r.max_stuck_vertices > 0 {
-        let why = if shape.triangles {
+        // Uniform and inverse-distance weights exist on polygons too.
+        let why = if shape.triangles || matches!(r.scheme.as_str(), "uniform" | "distance") {
             "weights summing to <= 0 or zero area".to_string()
         } else {
             format!(

@@ -54,11 +54,12 @@ fn check_corners_apart(mesh: &MeshData) -> Result<(), IoError> {
         clippy::cast_possible_truncation,
         reason = "the rounding is what is checked"
     )]
+    // (`+ 0.0` makes −0 the reader's 0, as its welding does.)
     let single = |i: u32| {
         mesh.positions[i as usize]
             .as_vec3()
             .to_array()
-            .map(f32::to_bits)
+            .map(|c| (c + 0.0).to_bits())
     };
     for (face, corners) in mesh.faces.iter().enumerate() {
         for (k, &a) in corners.iter().enumerate() {

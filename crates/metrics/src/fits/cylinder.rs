@@ -170,7 +170,7 @@ pub fn fit_cylinder(
     {
         return Err(MetricsError::Degenerate {
             shape: SHAPE,
-            reason: "the points lie closer to a plane than to any cylinder (the least-squares plane leaves a smaller residual than the best cylinder found)",
+            reason: "no cylinder found fits the points better than their least-squares plane (a flat patch); fit a plane instead",
         });
     }
     let Some((_, outcome)) = best else {
