@@ -284,7 +284,26 @@ impl Drop for StagedFile {
 fn without_path(e: &std::io::Error) -> std::io::Error {
     match e.raw_os_error() {
         Some(code) => std::io::Error::from_raw_os_error(code),
-        None => std::io::Error::from(e.kind()),
+        // tempfile wraps the system's error as "<error> at path \"<temporary file>\"":
+        // its message without the temporary name (the bare kind said only "entity not
+        // found").
+        None => {
+            let text = e.to_string();
+            match text.find(" at path \"") {
+                Some(end) if end > 0 => std::io::Error::new(e.kind(), &text[..end]),
+                _ => std::io::Error::from(e.kind()),
+            }
+        }
+    }
+}
+
+/// The error of creating a temporary file in `dir`: the system's message, naming the
+/// directory (not the temporary file).
+fn temporary_file_error(dir: &Path, e: &std::io::Error) -> IoError {
+    let bare = without_path(e);
+    IoError::Io {
+        operation: "create a file in the output's directory",
+        source: std::io::Error::new(bare.kind(), format!("{}: {bare}", dir.display())),
     }
 }
 
@@ -390,10 +409,7 @@ pub fn check_writable(path: impl AsRef<Path>) -> Result<(), IoError> {
     temp_builder()
         .tempfile_in(&dir)
         .map(drop)
-        .map_err(|e| IoError::Io {
-            operation: "create a file in the output's directory",
-            source: without_path(&e),
-        })
+        .map_err(|e| temporary_file_error(&dir, &e))
 }
 
 fn temp_builder() -> tempfile::Builder<'static, 'static> {
@@ -427,10 +443,9 @@ pub fn stage_with(
     let dir = directory_of(&target);
     let mut registry = live();
     registry.check_open()?;
-    let mut file: NamedTempFile = temp_builder().tempfile_in(&dir).map_err(|e| IoError::Io {
-        operation: "create a file in the output's directory",
-        source: without_path(&e),
-    })?;
+    let mut file: NamedTempFile = temp_builder()
+        .tempfile_in(&dir)
+        .map_err(|e| temporary_file_error(&dir, &e))?;
     registry.paths.push(file.path().to_path_buf());
     drop(registry);
     let result = (|| {

@@ -31,6 +31,12 @@ fn writing_into_a_missing_directory_fails_and_leaves_nothing() {
             ..
         }
     ));
+    // The system's message and the directory, not the bare kind ("entity not found")
+    // or the temporary file's name.
+    let text = e.to_string();
+    assert!(text.contains("No such file or directory"), "{text}");
+    assert!(text.contains("missing"), "{text}");
+    assert!(!text.contains(".beltrami-"), "{text}");
     assert!(!target.exists());
     assert!(entries(dir.path()).is_empty());
 }
