@@ -51,9 +51,10 @@ pub fn address_space_left(limits: &str, status: &str) -> Option<u64> {
 /// group named by the `0::` line of `/proc/self/cgroup`), else v1 (`memory.limit_in_bytes`,
 /// `memory.usage_in_bytes` and `total_inactive_file` of the memory controller's group,
 /// or of the hierarchy's root where that group is not mounted, as in a container);
-/// `None` without a limit (`max`, or v1's huge default) or where the files cannot be
-/// read. `read` reads a file's text. A parent group's lower limit is not seen: the
-/// figure can only be too large, so no run is refused for it.
+/// with v2, the least left over the group and the groups above it (a parent's lower
+/// limit binds too); `None` without a limit (`max`, or v1's huge default) or where the
+/// files cannot be read. `read` reads a file's text. v1 parents are not read: the
+/// figure can then only be too large, so no run is refused for it.
 fn cgroup_memory_left(read: &dyn Fn(&str) -> Option<String>) -> Option<u64> {
     let number = |text: Option<String>| -> Option<u64> { text?.trim().parse().ok() };
     let stat = |path: &str, key: &str| -> u64 {
@@ -71,11 +72,25 @@ fn cgroup_memory_left(read: &dyn Fn(&str) -> Option<String>) -> Option<u64> {
     };
     let groups = read("/proc/self/cgroup").unwrap_or_default();
     if let Some(path) = groups.lines().find_map(|l| l.strip_prefix("0::")) {
-        let dir = format!("/sys/fs/cgroup{}", path.trim_end_matches('/'));
-        if let Some(max) = number(read(&format!("{dir}/memory.max"))) {
-            let current = number(read(&format!("{dir}/memory.current"))).unwrap_or(0);
-            let inactive = stat(&format!("{dir}/memory.stat"), "inactive_file");
-            return Some(left(max, current, inactive));
+        // The group and every group above it: a parent's limit binds its children too,
+        // and the least left of them is what a run can have.
+        let mut path = path.trim_end_matches('/').to_string();
+        let mut least: Option<u64> = None;
+        loop {
+            let dir = format!("/sys/fs/cgroup{path}");
+            if let Some(max) = number(read(&format!("{dir}/memory.max"))) {
+                let current = number(read(&format!("{dir}/memory.current"))).unwrap_or(0);
+                let inactive = stat(&format!("{dir}/memory.stat"), "inactive_file");
+                let here = left(max, current, inactive);
+                least = Some(least.map_or(here, |l| l.min(here)));
+            }
+            match path.rfind('/') {
+                Some(cut) if !path.is_empty() => path.truncate(cut),
+                _ => break,
+            }
+        }
+        if least.is_some() {
+            return least;
         }
     }
     // v1: the memory controller's line, `N:memory:/path` (or with other controllers).
@@ -193,6 +208,22 @@ mod tests {
             ("/sys/fs/cgroup/memory.current", "500000\n"),
         ];
         assert_eq!(with(&root), Some(1_500_000));
+        // A parent's lower limit binds the child (a job's step inside the job's group):
+        // the least left of the two; a parent without a limit changes nothing.
+        let nested = [
+            ("/proc/self/cgroup", "0::/job/step\n"),
+            ("/sys/fs/cgroup/job/step/memory.max", "max\n"),
+            ("/sys/fs/cgroup/job/step/memory.current", "100000\n"),
+            ("/sys/fs/cgroup/job/memory.max", "600000\n"),
+            ("/sys/fs/cgroup/job/memory.current", "350000\n"),
+        ];
+        assert_eq!(with(&nested), Some(250_000));
+        let mut child_lower = nested;
+        child_lower[1].1 = "200000\n";
+        assert_eq!(with(&child_lower), Some(100_000));
+        let mut parent_unlimited = nested;
+        parent_unlimited[3].1 = "max\n";
+        assert_eq!(with(&parent_unlimited), None);
         // v1: the memory controller's own group, with other controllers on its line.
         let v1 = [
             ("/proc/self/cgroup", "5:cpu,cpuacct:/a\n4:memory:/job/7\n"),
