@@ -342,6 +342,19 @@ pub(crate) fn vertex_indices(name: &str, value: &Bound<'_, PyAny>) -> PyResult<V
     Ok(indices)
 }
 
+/// Issues a `UserWarning` with `message` at the caller's line (a message holding a NUL
+/// byte, which no message of this package does, loses it).
+pub(crate) fn warn_user(py: Python<'_>, message: &str) -> PyResult<()> {
+    let text = std::ffi::CString::new(message.replace('\0', ""))
+        .unwrap_or_else(|_| c"beltrami".to_owned());
+    PyErr::warn(
+        py,
+        &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+        &text,
+        1,
+    )
+}
+
 /// The name of `value`'s type, for messages.
 fn type_name(value: &Bound<'_, PyAny>) -> String {
     value

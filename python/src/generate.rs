@@ -187,16 +187,12 @@ pub(crate) fn generate(
     if hole_radius.is_none()
         && let Some(used) = radius.filter(|&r| r != DEFAULT_HOLE_RADII[0])
     {
-        let message = std::ffi::CString::new(format!(
-            "the default hole_radius of {} mean edge lengths does not fit this surface; the holes have radius {used}",
-            DEFAULT_HOLE_RADII[0]
-        ))
-        .unwrap_or_else(|_| c"the holes are smaller than the default".to_owned());
-        PyErr::warn(
+        crate::errors::warn_user(
             py,
-            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-            &message,
-            1,
+            &format!(
+                "the default hole_radius of {} mean edge lengths does not fit this surface; the holes have radius {used}",
+                DEFAULT_HOLE_RADII[0]
+            ),
         )?;
     }
     Mesh::build(py, positions, faces, None)

@@ -208,14 +208,7 @@ pub(crate) fn write(
     })?;
     // Said once the file is written (a failed write has nothing to warn about).
     if let Some(note) = dropped {
-        let message = std::ffi::CString::new(format!("{}: {note}", path.display()))
-            .unwrap_or_else(|_| c"an STL file stores triangles only".to_owned());
-        PyErr::warn(
-            py,
-            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-            &message,
-            1,
-        )?;
+        crate::errors::warn_user(py, &format!("{}: {note}", path.display()))?;
     }
     Ok(())
 }

@@ -123,14 +123,7 @@ pub(crate) fn laplacian<'py>(
                 "the mesh has polygon faces, on which {weights} weights are 0; use weights=\"uniform\" or \"distance\", or read it with repair=True, triangulate=True"
             )
         };
-        let message = std::ffi::CString::new(format!("{stuck} of the {n} rows are zero ({why})"))
-            .unwrap_or_else(|_| c"rows of the operator are zero".to_owned());
-        PyErr::warn(
-            py,
-            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-            &message,
-            1,
-        )?;
+        crate::errors::warn_user(py, &format!("{stuck} of the {n} rows are zero ({why})"))?;
     }
     csr_matrix(py, (data, indices, indptr), n)
 }

@@ -374,17 +374,17 @@ fn warn_stuck(py: Python<'_>, mesh: &Mesh, r: &beltrami_smooth::SmoothReport) ->
             r.scheme
         )
     };
-    let message = std::ffi::CString::new(format!(
-        "up to {} {} per iteration could not move ({why}); the report's max_stuck_vertices counts them",
-        r.max_stuck_vertices,
-        if r.max_stuck_vertices == 1 { "vertex" } else { "vertices" },
-    ))
-    .unwrap_or_else(|_| c"vertices could not move".to_owned());
-    PyErr::warn(
+    crate::errors::warn_user(
         py,
-        &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-        &message,
-        1,
+        &format!(
+            "up to {} {} per iteration could not move ({why}); the report's max_stuck_vertices counts them",
+            r.max_stuck_vertices,
+            if r.max_stuck_vertices == 1 {
+                "vertex"
+            } else {
+                "vertices"
+            },
+        ),
     )
 }
 
