@@ -131,9 +131,13 @@ fn stage(
 /// Runs `beltrami generate`.
 pub(crate) fn run(args: &GenerateArgs, out: &mut impl Write) -> Result<(), CliError> {
     check_args(args)?;
-    crate::output::refuse_unknown_output(&args.output, "generate")?;
+    // A height map holds metres; the surfaces are in mm (the sphere has no unit), and
+    // written as one their lengths would be read a thousand times too large.
+    const WHY: &str =
+        "the surfaces are in mm (the sphere has no unit) and a height map holds metres";
+    crate::output::refuse_height_map_output(&args.output, "generate", WHY)?;
     if let Some(clean) = &args.clean {
-        crate::output::refuse_unknown_output(clean, "generate")?;
+        crate::output::refuse_height_map_output(clean, "generate", WHY)?;
     }
     let seed = args.seed.unwrap_or(1);
     let mut outputs = Outputs::new();

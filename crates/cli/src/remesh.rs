@@ -271,16 +271,12 @@ pub(crate) fn run(args: &RemeshArgs, out: &mut impl Write) -> Result<(), CliErro
     crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
     // The pairs name INPUT's vertices: a repair that renumbers them would make them name
     // other edges.
-    if given.is_some()
-        && let Some(r) = &loaded.repair
-        && !(r.merged_vertices.is_empty()
-            && r.removed_vertices.is_empty()
-            && r.split_vertices.is_empty())
-    {
-        return Err(CliError::Input {
-            path: args.input.clone(),
-            message: "--repair renumbered the vertices (merged, removed or split some), so --feature-edges would name other edges; repair the mesh first with `beltrami repair` and give the edges in the repaired file's numbering".to_string(),
-        });
+    if given.is_some() {
+        crate::repair::refuse_indices_after_renumbering(
+            "--feature-edges",
+            &args.input,
+            loaded.repair.as_ref(),
+        )?;
     }
     let start = std::time::Instant::now();
     // A bar on a terminal for meshes whose iterations take a noticeable time (about a

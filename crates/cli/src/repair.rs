@@ -190,6 +190,34 @@ pub(crate) fn refuse_stl_after_split(
     }
 }
 
+/// Refuses vertex indices given by `option` (numbering INPUT's vertices) after a
+/// `--repair` that renumbered the vertices (merged, removed or split some): they would
+/// name other vertices.
+///
+/// # Errors
+/// [`CliError::Input`] naming `input`.
+pub(crate) fn refuse_indices_after_renumbering(
+    option: &str,
+    input: &std::path::Path,
+    repair: Option<&RepairReport>,
+) -> Result<(), CliError> {
+    match repair {
+        Some(r)
+            if !(r.merged_vertices.is_empty()
+                && r.removed_vertices.is_empty()
+                && r.split_vertices.is_empty()) =>
+        {
+            Err(CliError::Input {
+                path: input.to_path_buf(),
+                message: format!(
+                    "--repair renumbered the vertices (merged, removed or split some), so {option} would name other vertices; repair the mesh first with `beltrami repair` and give {option} in the repaired file's numbering"
+                ),
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
 /// One line per kind of repair, naming the first elements: what `--repair` and
 /// `beltrami repair` print.
 pub(crate) fn describe(r: &RepairReport) -> Vec<String> {

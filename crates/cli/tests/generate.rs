@@ -90,6 +90,41 @@ fn bad_usage_is_exit_2() {
         stderr.contains("-1"),
         "a negative value reaches the check: {stderr}"
     );
+    // A height map holds metres and the surfaces are in mm: refused, before any work,
+    // for OUTPUT and --clean alike (a flens written as .x3p read back 1000 times too
+    // large).
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        vec!["generate", "flens", "a.x3p"],
+        vec!["generate", "sphere", "a.sdf"],
+        vec![
+            "generate", "flens", "a.ply", "--noise", "0.2", "--clean", "c.x3p",
+        ],
+    ] {
+        let args: Vec<String> = args
+            .iter()
+            .map(|a| {
+                if [".x3p", ".sdf", ".ply"].iter().any(|e| a.ends_with(e)) {
+                    dir.path().join(a).display().to_string()
+                } else {
+                    (*a).to_string()
+                }
+            })
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = beltrami(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert!(
+            stderr.contains("cannot write") && stderr.contains("a height map holds metres"),
+            "{stderr}"
+        );
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "{args:?}"
+        );
+    }
 }
 
 #[test]

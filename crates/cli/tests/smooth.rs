@@ -365,3 +365,90 @@ fn scatter_summation_is_the_librarys_and_says_when_it_did_not_apply() {
         assert!(!refused.exists());
     }
 }
+
+/// `--pin` numbers the input file's vertices: after a `--repair` that renumbered them
+/// (an unused vertex removed) the indices would pin other vertices, so the run is
+/// refused, as remesh refuses `--feature-edges`; without a renumbering it runs.
+#[test]
+fn pin_is_refused_after_a_repair_that_renumbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = primitives::icosphere(2);
+    let mut positions = vec![glam::DVec3::new(9.0, 9.0, 9.0)];
+    positions.extend(sphere.positions.iter().copied());
+    let triangles: Vec<[u32; 3]> = sphere
+        .faces
+        .iter()
+        .map(|f| [f[0] + 1, f[1] + 1, f[2] + 1])
+        .collect();
+    let input = dir.path().join("unused.ply");
+    write_mesh(
+        &input,
+        &MeshData::new(
+            positions,
+            beltrami_halfedge::PolygonList::from_triangles(&triangles),
+        ),
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&["smooth", s(&input), s(&out), "--repair", "--pin", "5"]);
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    let line = error_line(&o, dir.path());
+    assert!(
+        line.contains("--repair renumbered the vertices")
+            && line.contains("--pin would name other vertices"),
+        "{line}"
+    );
+    assert!(!out.exists());
+    let o = beltrami(&["smooth", s(&input), s(&out), "--repair"]);
+    assert!(o.status.success(), "{o:?}");
+    let clean = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/icosphere_2.ply");
+    let o = beltrami(&[
+        "smooth",
+        s(&clean),
+        s(&out),
+        "--repair",
+        "--pin",
+        "5",
+        "--force",
+    ]);
+    assert!(o.status.success(), "{o:?}");
+}
+
+/// `--preserve-volume` rescales about one centroid: on a mesh of separate parts it says
+/// that the parts keep their volume together and move apart; one part gets no note.
+#[test]
+fn preserving_the_volume_of_separate_parts_says_how() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = primitives::icosphere(2);
+    let n = sphere.positions.len() as u32;
+    let mut positions: Vec<glam::DVec3> = sphere
+        .positions
+        .iter()
+        .map(|&p| p - glam::DVec3::X * 3.0)
+        .collect();
+    positions.extend(sphere.positions.iter().map(|&p| p + glam::DVec3::X * 3.0));
+    let mut triangles: Vec<[u32; 3]> = sphere.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
+    triangles.extend(sphere.faces.iter().map(|f| [f[0] + n, f[1] + n, f[2] + n]));
+    let two = dir.path().join("two.ply");
+    write_mesh(
+        &two,
+        &MeshData::new(
+            positions,
+            beltrami_halfedge::PolygonList::from_triangles(&triangles),
+        ),
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let one = dir.path().join("one.ply");
+    write_mesh(&one, &sphere, &WriteOptions::default()).unwrap();
+    let out = dir.path().join("out.ply");
+    let note =
+        "note: --preserve-volume rescales the whole mesh about one centroid: its 2 separate parts";
+    for (input, expected) in [(&two, true), (&one, false)] {
+        let o = beltrami(&["smooth", s(input), s(&out), "--preserve-volume", "--force"]);
+        assert!(o.status.success(), "{o:?}");
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(stdout.contains(note), expected, "{stdout}");
+    }
+}

@@ -58,6 +58,13 @@ pub(crate) fn run(
     let (loaded, kept, kernel) = load_within_memory(args, scheme.as_ref())?;
     loaded.require_faces(&args.input, "smooth")?;
     crate::repair::refuse_stl_after_split(&args.output, loaded.repair.as_ref())?;
+    if !args.pin.is_empty() {
+        crate::repair::refuse_indices_after_renumbering(
+            "--pin",
+            &args.input,
+            loaded.repair.as_ref(),
+        )?;
+    }
     let read_seconds = t0.elapsed().as_secs_f64();
     let LoadedMesh {
         mesh,
@@ -73,7 +80,20 @@ pub(crate) fn run(
     // the same list), so the list as read is not kept through the run.
     faces.release();
     let shape = Shape::of(&mesh);
-    let notes = notes_for_output(&args.output, &repair_lines, &mesh);
+    let mut notes = notes_for_output(&args.output, &repair_lines, &mesh);
+    if args.preserve_volume {
+        let parts = mesh
+            .connected_components()
+            .summaries
+            .iter()
+            .filter(|c| c.faces > 0)
+            .count();
+        if parts > 1 {
+            notes.push(format!(
+                "note: --preserve-volume rescales the whole mesh about one centroid: its {parts} separate parts keep their volume together, not each its own, and move apart as they shrink (smooth each part alone to keep its own)"
+            ));
+        }
+    }
     let before = Before::of(&mesh, &positions, kept);
     let (smoothed, owned) = run_smoother(args, mesh, positions, scheme.as_ref(), kernel)?;
 
@@ -225,12 +245,20 @@ fn write_summary(
         number(change.mean_displacement),
         change
             .volume
-            .map(|(before, after)| format!(
-                ", volume {} -> {} ({:+.3} %)",
-                number(before),
-                number(after),
-                100.0 * (after - before) / before
-            ))
+            .map(|(before, after)| {
+                // A volume beyond the range of f64 (inf) has no percentage to show.
+                let change = 100.0 * (after - before) / before;
+                format!(
+                    ", volume {} -> {}{}",
+                    number(before),
+                    number(after),
+                    if change.is_finite() {
+                        format!(" ({change:+.3} %)")
+                    } else {
+                        String::new()
+                    }
+                )
+            })
             .unwrap_or_default(),
         args.output.display()
     )?;
