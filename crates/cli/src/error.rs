@@ -171,14 +171,6 @@ impl fmt::Display for CliError {
             Self::Smooth { source, .. } if is_usage(source) => {
                 write!(f, "{source} (see 'beltrami smooth --help')")
             }
-            Self::Smooth {
-                path,
-                source: source @ SmoothError::NotConverged { .. },
-            } => write!(
-                f,
-                "{}: {source}; a smaller --lambda (with --normalize area, a diffusion time in length² per iteration) or --solver cholesky",
-                path.display()
-            ),
             Self::Smooth { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Metrics { subject, source } => write!(f, "{subject}: {source}"),
             Self::NoFaces {

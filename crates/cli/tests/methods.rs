@@ -192,6 +192,10 @@ fn bad_method_parameters_are_one_line_errors() {
     assert_snapshot!(run(&["--mu", "-0.9"], &input, 2), @"error: --mu applies to --method taubin only, not to --method explicit (see 'beltrami --help')");
     assert_snapshot!(run(&["--method", "taubin", "--hc-alpha", "0.2"], &input, 2), @"error: --hc-alpha applies to --method hc only, not to --method taubin (see 'beltrami --help')");
     assert_snapshot!(run(&["--solver", "cholesky"], &input, 2), @"error: --solver applies to --method implicit only, not to --method explicit (see 'beltrami --help')");
+    assert_eq!(
+        run(&["--vertex-area", "barycentric"], &input, 2),
+        "error: --vertex-area applies to --normalize area only (weight-sum rows use no vertex area) (see 'beltrami --help')"
+    );
     // An explicit area-normalised step beyond the stability limit, with the limit.
     let o = run(&["--normalize", "area"], &input, 2);
     assert!(o.starts_with("error: lambda 0.8 is not a stable explicit step with area normalisation on this mesh: the largest stable step is "), "{o}");
@@ -498,7 +502,7 @@ fn an_implicit_step_that_does_not_converge_says_what_to_change() {
         "{line}"
     );
     assert!(
-        line.ends_with("; a smaller --lambda (with --normalize area, a diffusion time in length² per iteration) or --solver cholesky"),
+        line.ends_with("; the steps may have drawn the surface together until its system degenerated (with --normalize area, --lambda is a time step in length², here 0.8; mean-curvature flow shrinks a unit sphere to a point by t = 0.25): give a smaller --lambda, or --update once to keep the first step's weights"),
         "{line}"
     );
     // The smaller step the line suggests goes through.

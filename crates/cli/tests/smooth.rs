@@ -452,3 +452,43 @@ fn preserving_the_volume_of_separate_parts_says_how() {
         assert_eq!(stdout.contains(note), expected, "{stdout}");
     }
 }
+
+/// An implicit run whose steps draw the surface together (a time step of 0.8 length²
+/// on a unit sphere, which mean-curvature flow shrinks to a point by t = 0.25) fails
+/// in its solver; the error line says why and what to change, and a smaller step runs.
+#[test]
+fn an_implicit_run_that_collapses_the_surface_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/icosphere_2.ply");
+    let out = dir.path().join("out.ply");
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--normalize",
+        "area",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    let line = error_line(&o, dir.path());
+    assert!(
+        line.contains("the steps may have drawn the surface together")
+            && line.contains("--lambda is a time step in length², here 0.8")
+            && line.contains("give a smaller --lambda"),
+        "{line}"
+    );
+    assert!(!out.exists());
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--method",
+        "implicit",
+        "--normalize",
+        "area",
+        "--lambda",
+        "0.01",
+    ]);
+    assert!(o.status.success(), "{o:?}");
+}

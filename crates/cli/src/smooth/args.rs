@@ -82,9 +82,10 @@ pub(crate) struct SmoothArgs {
     /// --cutoff is converted to steps either way).
     #[arg(long, value_enum)]
     pub(crate) normalize: Option<NormalizeArg>,
-    /// The vertex area for --normalize area.
-    #[arg(long, value_enum, default_value_t = AreaArg::Mixed)]
-    pub(crate) vertex_area: AreaArg,
+    /// The vertex area for --normalize area (only): mixed (Meyer et al.'s mixed Voronoi
+    /// area, the default) or barycentric.
+    #[arg(long, value_enum)]
+    pub(crate) vertex_area: Option<AreaArg>,
     /// The method: explicit (plain diffusion, shrinks), taubin (λ|μ: a λ sweep then a
     /// μ sweep per iteration, keeps the form), hc (pushes each vertex back towards the
     /// input; for open patches), implicit (backward Euler, (M − λL) x' = M x per step,
@@ -296,6 +297,11 @@ impl SmoothArgs {
         if self.solver.is_some() && self.method != MethodArg::Implicit {
             return refuse("--solver", "implicit");
         }
+        if self.vertex_area.is_some() && self.normalize() != NormalizeArg::Area {
+            return Err(CliError::Usage(
+                "--vertex-area applies to --normalize area only (weight-sum rows use no vertex area)".into(),
+            ));
+        }
         if self.method == MethodArg::Implicit && self.preserve_volume {
             return Err(CliError::Usage(
                 "--preserve-volume does not apply to --method implicit".into(),
@@ -311,8 +317,13 @@ impl SmoothArgs {
         Ok(())
     }
 
+    /// `--vertex-area`, mixed when not given.
+    pub(crate) fn vertex_area(&self) -> AreaArg {
+        self.vertex_area.unwrap_or(AreaArg::Mixed)
+    }
+
     pub(crate) fn config(&self) -> SmoothConfig {
-        let normalization = normalization(self.normalize(), self.vertex_area);
+        let normalization = normalization(self.normalize(), self.vertex_area());
         let negative = self.cotangent_negative.policy();
         let mut config = SmoothConfig::new(self.lambda(), self.iterations)
             .boundary(match self.boundary {

@@ -389,6 +389,39 @@ fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
     CliError::Usage(format!("{source}; {hint}"))
 }
 
+/// The advice after an implicit step's solver failed (no convergence, or a system that
+/// is not positive definite): steps too long for the part draw the surface together
+/// until its system degenerates — with `--normalize area` the step is a time in
+/// length², and the default 0.8 shrinks a part a few units across to a point in a few
+/// steps (a unit sphere's mean-curvature flow ends at t = 0.25).
+fn implicit_hint(args: &SmoothArgs, e: CliError) -> CliError {
+    let CliError::Smooth {
+        path,
+        source:
+            source @ (SmoothError::NotConverged { .. } | SmoothError::NotPositiveDefinite { .. }),
+    } = &e
+    else {
+        return e;
+    };
+    if args.method != MethodArg::Implicit {
+        return e;
+    }
+    let step = if args.normalize() == NormalizeArg::Area {
+        format!(
+            "with --normalize area, --lambda is a time step in length², here {}; mean-curvature flow shrinks a unit sphere to a point by t = 0.25",
+            number(args.lambda())
+        )
+    } else {
+        format!("--lambda {}", number(args.lambda()))
+    };
+    CliError::Input {
+        path: path.clone(),
+        message: format!(
+            "{source}; the steps may have drawn the surface together until its system degenerated ({step}): give a smaller --lambda, or --update once to keep the first step's weights"
+        ),
+    }
+}
+
 /// Fails with [`CliError::MemoryLimit`] when `estimate` exceeds `--max-memory`, or,
 /// without it and on the `exact` counts of the data as read, the memory the machine
 /// has available; with `exact`, prints the estimate on stderr for a large run or with
@@ -457,12 +490,15 @@ fn run_smoother(
     kernel: CotangentKernel,
 ) -> Result<(Smoothed, OwnedFaces), CliError> {
     let smooth_error = |source| {
-        taubin_hint(
+        implicit_hint(
             args,
-            CliError::Smooth {
-                path: args.input.clone(),
-                source,
-            },
+            taubin_hint(
+                args,
+                CliError::Smooth {
+                    path: args.input.clone(),
+                    source,
+                },
+            ),
         )
     };
     let mut config = args.config();

@@ -131,7 +131,7 @@ pub(crate) fn build_report<'a>(
             cotangent_negative: args.cotangent_negative,
             summation: args.summation,
             normalize: args.normalize(),
-            vertex_area: args.vertex_area,
+            vertex_area: args.vertex_area(),
             pinned: args.pin.len(),
             method: args.method,
             mu: match r.config.method {
