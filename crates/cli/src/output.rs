@@ -120,6 +120,17 @@ pub(crate) fn notes_for_output(
     if let Some(note) = dropped {
         notes.push(format!("note: {note}"));
     }
+    // STL holds triangles: a polygon is written as the fan around its first corner.
+    if beltrami_io::MeshFormat::from_path(output).ok() == Some(beltrami_io::MeshFormat::Stl)
+        && !mesh.is_triangle_mesh()
+    {
+        let polygons = mesh.faces().filter(|&f| mesh.face_valence(f) != 3).count();
+        notes.push(format!(
+            "note: STL holds triangles only: {polygons} polygon {} written as triangle fans (PLY, OBJ and OFF keep {})",
+            if polygons == 1 { "face is" } else { "faces are" },
+            if polygons == 1 { "it" } else { "them" },
+        ));
+    }
     notes
 }
 

@@ -88,3 +88,19 @@ fn negative_values_in_scientific_notation_are_values() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("lambda must be in (0, 1]"), "{stderr}");
 }
+
+/// STL holds triangles: a polygon mesh written as STL says its faces became fans; the
+/// same run to OBJ says nothing of the kind.
+#[test]
+fn polygons_written_to_stl_are_said_to_become_fans() {
+    let dir = tempfile::tempdir().unwrap();
+    let quads = fixtures().join("cube_quads.obj");
+    let note = "note: STL holds triangles only: 6 polygon faces are written as triangle fans";
+    for (name, expected) in [("out.stl", true), ("out.obj", false)] {
+        let out = dir.path().join(name);
+        let o = beltrami(&["smooth", s(&quads), s(&out), "--weights", "uniform"]);
+        assert!(o.status.success(), "{o:?}");
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(stdout.contains(note), expected, "{stdout}");
+    }
+}
