@@ -322,18 +322,50 @@ pub(crate) fn vertex_indices(name: &str, value: &Bound<'_, PyAny>) -> PyResult<V
     };
     if value.is_instance_of::<pyo3::types::PyString>()
         || value.is_instance_of::<pyo3::types::PyBytes>()
+        || value.is_instance_of::<pyo3::types::PyByteArray>()
     {
         return Err(not_indices());
+    }
+    // A boolean mask (numpy's `z < 0`) is no list of indices: True would pin vertex 1.
+    if value
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract::<String>())
+        .is_ok_and(|k| k == "b")
+    {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected vertex indices, got a boolean mask (pass numpy.flatnonzero(mask))"
+        )));
     }
     let mut indices = Vec::new();
     for item in value.try_iter().map_err(|_| not_indices())? {
         let item = item?;
-        let v: i128 = item.extract().map_err(|_| {
-            PyTypeError::new_err(format!(
-                "{name}: expected integers, got {}",
-                type_name(&item)
-            ))
-        })?;
+        let is_bool = item.is_instance_of::<pyo3::types::PyBool>()
+            || item
+                .getattr("dtype")
+                .and_then(|d| d.getattr("kind"))
+                .and_then(|k| k.extract::<String>())
+                .is_ok_and(|k| k == "b");
+        if is_bool {
+            return Err(PyTypeError::new_err(format!(
+                "{name}: expected integers, got a boolean"
+            )));
+        }
+        let v: i128 = match item.extract() {
+            Ok(v) => v,
+            // An integer beyond 128 bits is an integer all the same: no vertex index.
+            Err(_) if item.is_instance_of::<pyo3::types::PyInt>() => {
+                return Err(PyValueError::new_err(format!(
+                    "{name}: {item} is not a vertex index"
+                )));
+            }
+            Err(_) => {
+                return Err(PyTypeError::new_err(format!(
+                    "{name}: expected integers, got {}",
+                    type_name(&item)
+                )));
+            }
+        };
         indices
             .push(u32::try_from(v).map_err(|_| {
                 PyValueError::new_err(format!("{name}: {v} is not a vertex index"))

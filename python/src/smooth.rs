@@ -199,8 +199,9 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 /// - `boundary`: `"fixed"` (never moves), `"free"`, `"curve"` (along the boundary).
 /// - `method`: `"explicit"`, `"taubin"`, `"hc"`, `"implicit"`.
 /// - `update`: `"every"` (weights recomputed each iteration) or `"once"`.
-/// - `normalize`: `"sum"` (None) or `"area"`; `vertex_area`: `"mixed"` or
-///   `"barycentric"`; `cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`.
+/// - `normalize`: `"sum"` (None) or `"area"`; `vertex_area` (with `"area"` only):
+///   `"mixed"` (None) or `"barycentric"`; `cotangent_negative`: `"keep"`, `"clamp"`,
+///   `"abs"`.
 /// - `summation`: `"rows"` (each vertex's weighted neighbours summed around its
 ///   one-ring, OpenMesh's bits; the default) or `"scatter"` (each triangle's
 ///   cotangents, or each edge's inverse distance, computed once and added into its
@@ -232,7 +233,7 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 #[pyfunction]
 #[pyo3(signature = (
     mesh, weights = "cotangent", lam = None, iterations = None, boundary = "fixed",
-    method = "explicit", update = "every", normalize = None, *, vertex_area = "mixed",
+    method = "explicit", update = "every", normalize = None, *, vertex_area = None,
     cotangent_negative = "keep", summation = "rows", time = None, cutoff = None,
     until_change = None,
     mu = None, hc_alpha = None, hc_beta = None, solver = None, pin = None,
@@ -250,7 +251,7 @@ pub(crate) fn smooth<'py>(
     method: &str,
     update: &str,
     normalize: Option<&str>,
-    vertex_area: &str,
+    vertex_area: Option<&str>,
     cotangent_negative: &str,
     summation: &str,
     time: Option<f64>,
@@ -267,6 +268,12 @@ pub(crate) fn smooth<'py>(
     max_iterations: i128,
     step_stats: bool,
 ) -> PyResult<(Mesh, Bound<'py, PyDict>)> {
+    // As `smooth --vertex-area` without `--normalize area`: given but unused.
+    if vertex_area.is_some() && normalize != Some("area") {
+        return Err(PyValueError::new_err(
+            "vertex_area applies to normalize=\"area\" only (weight-sum rows use no vertex area)",
+        ));
+    }
     let pin = match pin {
         Some(pin) => crate::errors::vertex_indices("pin", pin)?,
         None => Vec::new(),
@@ -279,7 +286,11 @@ pub(crate) fn smooth<'py>(
         method: choice("method", method, &["explicit", "taubin", "hc", "implicit"])?,
         update: choice("update", update, &["every", "once"])?,
         normalize: choice("normalize", normalize.unwrap_or("sum"), &["sum", "area"])?,
-        vertex_area: choice("vertex_area", vertex_area, &["mixed", "barycentric"])?,
+        vertex_area: choice(
+            "vertex_area",
+            vertex_area.unwrap_or("mixed"),
+            &["mixed", "barycentric"],
+        )?,
         cotangent_negative: choice(
             "cotangent_negative",
             cotangent_negative,

@@ -557,7 +557,7 @@ fn crease_edges(
                 .all(|v| at_vertex[v.index()] >= 2)
         })
         .count();
-    (chained >= 3 && 5 * chained >= n_sharp && bent <= n_sharp && flat >= 2 * bent)
+    (chained >= 3 && 5 * chained >= n_sharp && bent < n_sharp && flat >= 2 * bent)
         .then_some(chained)
 }
 

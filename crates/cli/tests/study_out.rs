@@ -105,6 +105,17 @@ fn an_earlier_study_of_either_kind_is_replaced_and_a_lookalike_is_not() {
             b"my own notes"
         );
     }
+    // A results.json that is no study's (an array, an object without `config`): the
+    // same.
+    for text in ["[0]", "{\"rows\": []}"] {
+        std::fs::write(out.join("results.json"), text).unwrap();
+        let run = beltrami(&paper);
+        assert_eq!(run.status.code(), Some(2), "{text}: {run:?}");
+        assert!(
+            error_line(&run, dir.path()).contains("no results.json of a study"),
+            "{text}"
+        );
+    }
 }
 
 /// Options of one kind of study are refused by the other, and values a study cannot

@@ -142,13 +142,12 @@ pub fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), 
 /// which could block or never end) holding a JSON object with a `config` member. The
 /// file is streamed and its values skipped, not held: a long study's is large.
 fn holds_study_results(path: &Path) -> bool {
-    #[derive(serde::Deserialize)]
-    struct Probe {
-        #[allow(dead_code, reason = "its presence is the check")]
-        config: serde::de::IgnoredAny,
-    }
+    // An object's members by name, their values skipped (a derived struct would also
+    // take an array).
+    type Members = std::collections::BTreeMap<String, serde::de::IgnoredAny>;
     std::fs::metadata(path).is_ok_and(|m| m.is_file())
         && std::fs::File::open(path).is_ok_and(|file| {
-            serde_json::from_reader::<_, Probe>(std::io::BufReader::new(file)).is_ok()
+            serde_json::from_reader::<_, Members>(std::io::BufReader::new(file))
+                .is_ok_and(|members| members.contains_key("config"))
         })
 }

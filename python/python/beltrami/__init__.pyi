@@ -100,7 +100,7 @@ def smooth(
     update: Literal["every", "once"] = "every",
     normalize: Optional[Literal["sum", "area"]] = None,
     *,
-    vertex_area: Literal["mixed", "barycentric"] = "mixed",
+    vertex_area: Optional[Literal["mixed", "barycentric"]] = None,
     cotangent_negative: Literal["keep", "clamp", "abs"] = "keep",
     summation: Literal["rows", "scatter"] = "rows",
     time: Optional[float] = None,

@@ -414,10 +414,18 @@ fn implicit_hint(args: &SmoothArgs, e: CliError) -> CliError {
     } else {
         format!("--lambda {}", number(args.lambda()))
     };
+    // A time given is the whole diffusion: smaller steps only split it.
+    let advice = if args.time.is_some() || args.cutoff.is_some() {
+        "give a shorter --time or --cutoff (smaller steps of the same time draw it together as well)"
+    } else if args.update == UpdateArg::Once {
+        "give a smaller --lambda"
+    } else {
+        "give a smaller --lambda, or --update once to keep the first step's weights"
+    };
     CliError::Input {
         path: path.clone(),
         message: format!(
-            "{source}; the steps may have drawn the surface together until its system degenerated ({step}): give a smaller --lambda, or --update once to keep the first step's weights"
+            "{source}; the steps may have drawn the surface together until its system degenerated ({step}): {advice}"
         ),
     }
 }
