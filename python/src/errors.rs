@@ -326,13 +326,15 @@ pub(crate) fn vertex_indices(name: &str, value: &Bound<'_, PyAny>) -> PyResult<V
     {
         return Err(not_indices());
     }
+    // A numpy array or scalar of booleans (dtype kind 'b').
+    let numpy_bool = |obj: &Bound<'_, PyAny>| {
+        obj.getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .and_then(|k| k.extract::<String>())
+            .is_ok_and(|k| k == "b")
+    };
     // A boolean mask (numpy's `z < 0`) is no list of indices: True would pin vertex 1.
-    if value
-        .getattr("dtype")
-        .and_then(|d| d.getattr("kind"))
-        .and_then(|k| k.extract::<String>())
-        .is_ok_and(|k| k == "b")
-    {
+    if numpy_bool(value) {
         return Err(PyTypeError::new_err(format!(
             "{name}: expected vertex indices, got a boolean mask (pass numpy.flatnonzero(mask))"
         )));
@@ -340,13 +342,7 @@ pub(crate) fn vertex_indices(name: &str, value: &Bound<'_, PyAny>) -> PyResult<V
     let mut indices = Vec::new();
     for item in value.try_iter().map_err(|_| not_indices())? {
         let item = item?;
-        let is_bool = item.is_instance_of::<pyo3::types::PyBool>()
-            || item
-                .getattr("dtype")
-                .and_then(|d| d.getattr("kind"))
-                .and_then(|k| k.extract::<String>())
-                .is_ok_and(|k| k == "b");
-        if is_bool {
+        if item.is_instance_of::<pyo3::types::PyBool>() || numpy_bool(&item) {
             return Err(PyTypeError::new_err(format!(
                 "{name}: expected integers, got a boolean"
             )));

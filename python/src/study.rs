@@ -7,8 +7,7 @@ use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_io::stage_dir;
 use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_study::{
-    Countermeasure, OutDirError, StudyConfig, StudyError, Verdict, is_study_entry, run_study,
-    write_study,
+    Countermeasure, OutDirError, StudyConfig, StudyError, Verdict, run_study, write_study,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{NegativeWeights, Normalization, WeightScheme};
@@ -23,8 +22,7 @@ use crate::weights::{all_schemes, scheme};
 /// study runs (`ValueError`), and one that cannot be written (`OSError`).
 fn check_out_dir(dir: &Path) -> PyResult<()> {
     // Either kind of earlier study may be replaced, as on the command line.
-    let entry = |name: &str| is_study_entry(name) || beltrami_study::is_scan_entry(name);
-    beltrami_study::check_out_dir(dir, entry).map_err(|e| match e {
+    beltrami_study::check_out_dir(dir, beltrami_study::is_any_study_entry).map_err(|e| match e {
         OutDirError::Unwritable(source) => io_error(dir, &source),
         e => PyValueError::new_err(format!("out {e}")),
     })

@@ -387,31 +387,19 @@ mod tests {
         ));
         assert!(check_not_input(&hard, "OUTPUT", true, &[&a, &b], true, true).is_ok());
         for force in [false, true] {
-            let usage = |r: Result<(), CliError>| matches!(r, Err(CliError::Usage(_)));
-            assert!(usage(check_not_input(
-                &hard,
-                "OUTPUT",
-                true,
-                &[&b, &a],
-                force,
-                true
-            )));
-            assert!(usage(check_not_input(
-                &hard,
-                "--report",
-                false,
-                &[&a, &b],
-                force,
-                true
-            )));
-            assert!(usage(check_not_input(
-                &hard,
-                "--report",
-                false,
-                &[&b, &a],
-                force,
-                true
-            )));
+            for (option, mesh, inputs) in [
+                ("OUTPUT", true, [&b, &a]),
+                ("--report", false, [&a, &b]),
+                ("--report", false, [&b, &a]),
+            ] {
+                assert!(
+                    matches!(
+                        check_not_input(&hard, option, mesh, &inputs, force, true),
+                        Err(CliError::Usage(_))
+                    ),
+                    "{option} {mesh} {force}"
+                );
+            }
         }
         assert!(check_not_input(&b, "OUTPUT", true, &[&a], false, true).is_ok());
         // The hint about --force only where the command has a result mesh to allow.

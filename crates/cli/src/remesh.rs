@@ -529,34 +529,33 @@ fn crease_edges(
 ) -> Option<usize> {
     let geometry = beltrami_halfedge::geometry::Geometry::new(mesh, positions).ok()?;
     let angles = beltrami_metrics::distortion::dihedral_angles(&geometry);
-    let sharp: Vec<bool> = mesh
-        .edges()
-        .map(|e| angles[e].is_some_and(|a| a > CREASE_DEGREES))
-        .collect();
+    // One pass over the angles: the sharp edges (and how many meet at each vertex),
+    // the nearly flat and the moderately bent ones.
+    let mut sharp = Vec::new();
     let mut at_vertex = vec![0u32; mesh.n_vertices()];
-    for e in mesh.edges().filter(|e| sharp[e.index()]) {
-        for v in mesh.edge_vertices(e) {
-            at_vertex[v.index()] += 1;
-        }
-    }
-    let n_sharp = sharp.iter().filter(|&&s| s).count();
     let (mut flat, mut bent) = (0, 0);
-    for a in mesh.edges().filter_map(|e| angles[e]) {
-        if a < 0.25 * CREASE_DEGREES {
-            flat += 1;
-        } else if a > 0.5 * CREASE_DEGREES && a <= CREASE_DEGREES {
-            bent += 1;
+    for e in mesh.edges() {
+        match angles[e] {
+            Some(a) if a > CREASE_DEGREES => {
+                for v in mesh.edge_vertices(e) {
+                    at_vertex[v.index()] += 1;
+                }
+                sharp.push(e);
+            }
+            Some(a) if a > 0.5 * CREASE_DEGREES => bent += 1,
+            Some(a) if a < 0.25 * CREASE_DEGREES => flat += 1,
+            _ => {}
         }
     }
-    let chained = mesh
-        .edges()
-        .filter(|e| sharp[e.index()])
-        .filter(|&e| {
+    let chained = sharp
+        .iter()
+        .filter(|&&e| {
             mesh.edge_vertices(e)
                 .iter()
                 .all(|v| at_vertex[v.index()] >= 2)
         })
         .count();
+    let n_sharp = sharp.len();
     (chained >= 3 && 5 * chained >= n_sharp && bent < n_sharp && flat >= 2 * bent)
         .then_some(chained)
 }

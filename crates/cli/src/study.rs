@@ -9,7 +9,7 @@ use beltrami_io::stage_dir;
 use beltrami_smooth::{Boundary, WeightUpdate};
 use beltrami_study::{
     Countermeasure, OutDirError, Progress, ScanConfig, ScanMethod, ScanSurface, StudyConfig,
-    Verdict, is_scan_entry, is_study_entry, run_scan, run_study, sig, write_scan, write_study,
+    Verdict, run_scan, run_study, sig, write_scan, write_study,
 };
 use beltrami_surfaces::{NoiseLevel, Size, SurfaceKind};
 use beltrami_weights::{WeightRegistry, WeightScheme};
@@ -255,13 +255,6 @@ fn check_out_dir(dir: &Path, is_entry: impl Fn(&str) -> bool) -> Result<(), CliE
     })
 }
 
-/// Whether a study of either kind writes `name`: a directory holding the paper's study
-/// may take a study of a given surface, and the other way round (the directory is
-/// replaced as a whole).
-fn any_study_entry(name: &str) -> bool {
-    is_study_entry(name) || is_scan_entry(name)
-}
-
 /// A progress bar per run on a terminal; nothing otherwise.
 pub(crate) fn terminal_progress() -> impl FnMut(Progress<'_>) {
     let terminal = std::io::stderr().is_terminal();
@@ -320,7 +313,7 @@ pub(crate) fn run(
         }
     }
     let config = config(args, registry)?;
-    check_out_dir(&args.out, any_study_entry)?;
+    check_out_dir(&args.out, beltrami_study::is_any_study_entry)?;
     let mut progress = terminal_progress();
     let results = run_study(&config, &mut progress).map_err(CliError::Study)?;
     let io = |source| CliError::Io {
@@ -437,7 +430,7 @@ fn run_input(
     out: &mut impl Write,
 ) -> Result<(), CliError> {
     let config = scan_config(args, registry)?;
-    check_out_dir(&args.out, any_study_entry)?;
+    check_out_dir(&args.out, beltrami_study::is_any_study_entry)?;
     let scan = load_scan(input)?;
     let reference = args.reference.as_deref().map(load_scan).transpose()?;
     let mut progress = terminal_progress();

@@ -11,7 +11,7 @@ use beltrami_weights::{Cotangent, InverseDistance, Uniform, WeightScheme};
 use insta::assert_snapshot;
 use serde_json::Value;
 
-use common::{beltrami, error_line, s};
+use common::{beltrami, error_line, s, write};
 
 /// A noisy icosphere written as binary PLY; returns its path and data.
 fn noisy_sphere(dir: &Path) -> (PathBuf, MeshData) {
@@ -380,16 +380,12 @@ fn pin_is_refused_after_a_repair_that_renumbers() {
         .iter()
         .map(|f| [f[0] + 1, f[1] + 1, f[2] + 1])
         .collect();
-    let input = dir.path().join("unused.ply");
-    write_mesh(
-        &input,
-        &MeshData::new(
-            positions,
-            beltrami_halfedge::PolygonList::from_triangles(&triangles),
-        ),
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = write(
+        dir.path(),
+        "unused.ply",
+        positions,
+        beltrami_halfedge::PolygonList::from_triangles(&triangles),
+    );
     let out = dir.path().join("out.ply");
     let o = beltrami(&["smooth", s(&input), s(&out), "--repair", "--pin", "5"]);
     assert_eq!(o.status.code(), Some(1), "{o:?}");
@@ -430,18 +426,18 @@ fn preserving_the_volume_of_separate_parts_says_how() {
     positions.extend(sphere.positions.iter().map(|&p| p + glam::DVec3::X * 3.0));
     let mut triangles: Vec<[u32; 3]> = sphere.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
     triangles.extend(sphere.faces.iter().map(|f| [f[0] + n, f[1] + n, f[2] + n]));
-    let two = dir.path().join("two.ply");
-    write_mesh(
-        &two,
-        &MeshData::new(
-            positions,
-            beltrami_halfedge::PolygonList::from_triangles(&triangles),
-        ),
-        &WriteOptions::default(),
-    )
-    .unwrap();
-    let one = dir.path().join("one.ply");
-    write_mesh(&one, &sphere, &WriteOptions::default()).unwrap();
+    let two = write(
+        dir.path(),
+        "two.ply",
+        positions,
+        beltrami_halfedge::PolygonList::from_triangles(&triangles),
+    );
+    let one = write(
+        dir.path(),
+        "one.ply",
+        sphere.positions.clone(),
+        sphere.faces.clone(),
+    );
     let out = dir.path().join("out.ply");
     let note =
         "note: --preserve-volume rescales the whole mesh about one centroid: its 2 separate parts";

@@ -49,7 +49,8 @@ pub use findings::{
 pub use measure::{FEATURE_THRESHOLD_DEG, Measured};
 pub use optimum::{Optimum, optima};
 pub use out_dir::{
-    OutDirError, SCAN_ENTRIES, STUDY_ENTRIES, check_out_dir, is_scan_entry, is_study_entry,
+    OutDirError, SCAN_ENTRIES, STUDY_ENTRIES, check_out_dir, is_any_study_entry, is_scan_entry,
+    is_study_entry,
 };
 pub use preservation::{
     EdgePreservation, EdgePreservationOptions, FlatRegion, Measures, SchemeOutcome,

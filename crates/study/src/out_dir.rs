@@ -37,6 +37,14 @@ pub fn is_scan_entry(name: &str) -> bool {
                 .is_some_and(|e| e.eq_ignore_ascii_case("ply")))
 }
 
+/// Whether a study of either kind writes `name`: a directory holding the paper's study
+/// may take a study of a given surface and the other way round (it is replaced as a
+/// whole), so both callers of [`check_out_dir`] pass this.
+#[must_use]
+pub fn is_any_study_entry(name: &str) -> bool {
+    is_study_entry(name) || is_scan_entry(name)
+}
+
 /// Why a directory cannot take a study (see [`check_out_dir`]). The messages start with
 /// the directory, so that a caller can put the name of its option in front.
 #[derive(Debug, thiserror::Error)]
