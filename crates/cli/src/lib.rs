@@ -239,15 +239,22 @@ fn parse_lean(args: &[OsString], registry: &WeightRegistry) -> Option<Cli> {
 #[must_use]
 pub fn main_with(registry: WeightRegistry) -> ExitCode {
     remove_temporary_files_on_signal();
+    let args: Vec<OsString> = std::env::args_os().collect();
+    // Help, version and usage errors need no threads.
+    let cli = match parse(&args, &registry) {
+        Ok(cli) => cli,
+        Err(code) => return code,
+    };
     // The command runs on a worker of its own thread pool, so that the parallel passes
     // of a small mesh (one chunk) run on that thread at once instead of being handed to
     // the pool and waited for: on meshes of a few thousand vertices that hand-over is a
-    // large part of each iteration. The same pool size as rayon's global default
-    // (`RAYON_NUM_THREADS`, else the number of logical cores); results do not depend
-    // on it.
-    match rayon::ThreadPoolBuilder::new().build() {
-        Ok(pool) => pool.install(|| run_with(std::env::args_os(), &registry)),
-        Err(_) => run_with(std::env::args_os(), &registry),
+    // large part of each iteration. This thread is one of the pool's workers (one
+    // thread fewer to start, and no hand-over of the command itself). The same pool
+    // size as rayon's global default (`RAYON_NUM_THREADS`, else the number of logical
+    // cores); results do not depend on it.
+    match rayon::ThreadPoolBuilder::new().use_current_thread().build() {
+        Ok(pool) => pool.install(|| execute(&cli, &registry)),
+        Err(_) => execute(&cli, &registry),
     }
 }
 
@@ -272,16 +279,26 @@ where
     T: Into<OsString> + Clone,
 {
     let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
-    let cli = match parse_lean(&args, registry) {
-        Some(cli) => cli,
-        None => match command(registry)
-            .try_get_matches_from(&args)
-            .and_then(|matches| Cli::from_arg_matches(&matches))
-        {
-            Ok(cli) => cli,
-            Err(err) => return usage_error(&err),
-        },
-    };
+    match parse(&args, registry) {
+        Ok(cli) => execute(&cli, registry),
+        Err(code) => code,
+    }
+}
+
+/// The parsed command line, or the exit code of help, version or a usage error (whose
+/// text is printed).
+fn parse(args: &[OsString], registry: &WeightRegistry) -> Result<Cli, ExitCode> {
+    if let Some(cli) = parse_lean(args, registry) {
+        return Ok(cli);
+    }
+    command(registry)
+        .try_get_matches_from(args)
+        .and_then(|matches| Cli::from_arg_matches(&matches))
+        .map_err(|err| usage_error(&err))
+}
+
+/// Runs a parsed command line, printing to stdout and stderr, and returns the exit code.
+fn execute(cli: &Cli, registry: &WeightRegistry) -> ExitCode {
     // Process-wide: every call sets it from its own command line.
     beltrami_io::set_flush_to_disk(!cli.global.no_sync);
     let mut stdout = std::io::stdout().lock();
