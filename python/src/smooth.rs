@@ -8,9 +8,9 @@ use beltrami_halfedge::geometry::VertexAreaKind;
 use beltrami_smooth::{
     Boundary, DEFAULT_LAMBDA, DiffusionTime, ImplicitSolver, Method, SmoothConfig,
     SmoothError as Error, SmoothReport, Smoother, Statistics, StepStats, Summation, TAUBIN_LAMBDA,
-    WeightUpdate,
+    TAUBIN_PASS_BAND, WeightUpdate, area_step,
 };
-use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization};
+use beltrami_weights::{LaplacianOptions, NegativeWeights, Normalization, WeightScheme};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -127,6 +127,29 @@ impl Options {
         }
     }
 
+    /// With `normalize="area"` and neither `lam` nor `time`/`cutoff`: the step scaled to
+    /// the mesh, as `beltrami smooth` does: the method's default λ taken as a fraction of
+    /// the largest stable explicit step on the input (`area_step`), and Taubin's μ with
+    /// it (the pass band scaled alike) unless `mu` was given.
+    fn scale_area_step(
+        &self,
+        mesh: &Mesh,
+        scheme: &dyn WeightScheme,
+        config: &mut SmoothConfig,
+    ) -> Result<(), Error> {
+        if self.lambda.is_some() || config.duration.is_some() || self.normalize != "area" {
+            return Ok(());
+        }
+        let fraction = self.lambda();
+        if let Some(step) = area_step(&mesh.mesh, &mesh.positions, scheme, config, fraction)? {
+            config.lambda = step;
+            if self.method == "taubin" && self.mu.is_none() {
+                config.method = Method::taubin_pass_band(step, TAUBIN_PASS_BAND * fraction / step);
+            }
+        }
+        Ok(())
+    }
+
     /// The configuration `beltrami smooth` builds from the same options.
     fn config(&self) -> SmoothConfig {
         let normalization = match (self.normalize, self.vertex_area) {
@@ -193,7 +216,9 @@ fn step_dict<'py>(py: Python<'py>, index: usize, s: &StepStats) -> PyResult<Boun
 ///
 /// - `weights`: `"cotangent"`, `"uniform"`, `"distance"` or another registered name
 ///   (see `weight_schemes()`).
-/// - `lam`: the step λ; None means 0.8, or 0.6307 with `method="taubin"`.
+/// - `lam`: the step λ; None means 0.8, or 0.6307 with `method="taubin"`; with
+///   `normalize="area"` (where λ is a time in length²), that fraction of the largest
+///   stable explicit step on the input (`report["parameters"]["lambda_used"]`).
 /// - `iterations`: the iteration count (None: 10); the upper limit with
 ///   `until_change`; excludes `time` and `cutoff`.
 /// - `boundary`: `"fixed"` (never moves), `"free"`, `"curve"` (along the boundary).
@@ -318,7 +343,7 @@ pub(crate) fn smooth<'py>(
             mesh.mesh.n_vertices()
         )));
     }
-    let config = options.config();
+    let mut config = options.config();
     if options.summation == "scatter"
         && let Some(needed) = config.scatter_unmet(scheme.as_ref())
     {
@@ -330,6 +355,9 @@ pub(crate) fn smooth<'py>(
     let stop = observer.stop();
     let smoothed = {
         crate::errors::interruptible(py, &stop, || {
+            options
+                .scale_area_step(mesh, scheme.as_ref(), &mut config)
+                .map_err(|e| smooth_error(&e))?;
             let smoother = Smoother::new(&mesh.mesh, &mesh.positions, scheme.as_ref(), config)
                 .map_err(|e| smooth_error(&e))?;
             let planned = check_planned_run(&smoother, options.max_iterations)?;

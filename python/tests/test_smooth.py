@@ -344,3 +344,28 @@ def test_smoothing_that_moves_nothing_warns():
         moved, report = bt.smooth(quads, weights="uniform", iterations=1)
     assert report["max_stuck_vertices"] == 0
     assert not np.array_equal(moved.vertices, quads.vertices)
+
+
+@pytest.mark.parametrize("method", ["explicit", "implicit", "taubin", "hc"])
+def test_area_normalisation_without_lam_scales_the_step_to_the_mesh(sphere, method):
+    # 0.8 length² is beyond the unit sphere's stability limit (and would collapse it
+    # implicitly): without `lam` the step is a share of that limit, as in the CLI.
+    with pytest.raises(bt.SmoothError, match="stab"):
+        bt.smooth(sphere, normalize="area", lam=0.8)
+    out, report = bt.smooth(sphere, normalize="area", method=method)
+    assert report["stop"] == "completed" and np.isfinite(out.vertices).all()
+    p = report["parameters"]
+    fraction = 0.6307 if method == "taubin" else 0.8
+    assert p["lambda"] == fraction
+    used = p["lambda_used"]
+    # Beyond the limit (used / fraction) a step given directly is refused; just below
+    # it runs.
+    limit = used / fraction
+    with pytest.raises(bt.SmoothError, match="stab"):
+        bt.smooth(sphere, normalize="area", lam=limit * 1.001, iterations=1)
+    bt.smooth(sphere, normalize="area", lam=limit * 0.999, iterations=1)
+    if method == "taubin":
+        assert p["mu"] == pytest.approx(-0.6732 * limit, rel=1e-4)
+    # The same step from the command line's rule: the same positions as given directly.
+    given, _ = bt.smooth(sphere, normalize="area", method=method, lam=used, mu=p["mu"])
+    np.testing.assert_array_equal(given.vertices, out.vertices)

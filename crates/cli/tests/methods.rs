@@ -197,7 +197,7 @@ fn bad_method_parameters_are_one_line_errors() {
         "error: --vertex-area applies to --normalize area only (weight-sum rows use no vertex area) (see 'beltrami --help')"
     );
     // An explicit area-normalised step beyond the stability limit, with the limit.
-    let o = run(&["--normalize", "area"], &input, 2);
+    let o = run(&["--normalize", "area", "--lambda", "0.8"], &input, 2);
     assert!(o.starts_with("error: lambda 0.8 is not a stable explicit step with area normalisation on this mesh: the largest stable step is "), "{o}");
     // A cut-off in the wrong unit: the plan is refused before it runs.
     let o = run(&["--cutoff", "10000"], &input, 2);
@@ -477,7 +477,7 @@ fn implicit_output_does_not_depend_on_the_thread_count() {
     }
 }
 
-/// An implicit step so long that conjugate gradient cannot finish it (λ = 0.8 is a
+/// An implicit step so long that conjugate gradient cannot finish it (λ = 0.8 given is a
 /// diffusion time of 0.8 length² with area normalisation: the unit sphere shrinks to a
 /// point) stops with exit 1, no output, and a line that says what to change.
 #[test]
@@ -493,7 +493,7 @@ fn an_implicit_step_that_does_not_converge_says_what_to_change() {
         args.extend_from_slice(extra);
         beltrami(&args)
     };
-    let out = implicit_area(&[]);
+    let out = implicit_area(&["--lambda", "0.8"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(!output.exists());
     let line = error_line(&out, dir.path());
@@ -511,5 +511,127 @@ fn an_implicit_step_that_does_not_converge_says_what_to_change() {
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn area_normalisation_without_lambda_takes_a_share_of_the_stable_step() {
+    use beltrami_halfedge::geometry::VertexAreaKind;
+    use beltrami_smooth::area_step;
+    use beltrami_weights::{LaplacianOptions, Normalization};
+    let dir = tempfile::tempdir().unwrap();
+    let (input, x, faces) = sphere(dir.path());
+    let mesh = beltrami_halfedge::HalfedgeMesh::from_polygons(x.len(), faces.iter()).unwrap();
+    let out = dir.path().join("out.ply");
+    let report = dir.path().join("report.json");
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::MixedVoronoi));
+    let config = SmoothConfig::new(0.8, 10).laplacian(area);
+    let limit = area_step(&mesh, &x, &Cotangent, &config, 1.0)
+        .unwrap()
+        .unwrap();
+    // The limit is the one a step given directly is refused beyond.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--normalize",
+        "area",
+        "--lambda",
+        "1",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let line = error_line(&o, dir.path());
+    let said: f64 = line
+        .split("the largest stable step is ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!((said / limit - 1.0).abs() < 1e-5, "{said} {limit}");
+    let mean_move = |y: &[DVec3]| {
+        x.iter()
+            .zip(y)
+            .map(|(a, b)| (*a - *b).length())
+            .sum::<f64>()
+            / x.len() as f64
+    };
+    // The weight-sum default's smoothing, for comparison.
+    ok(&["smooth", s(&input), s(&out), "--force"]);
+    let sum_move = mean_move(&smoothed(&out).0);
+    for (method, fraction) in [
+        ("explicit", 0.8),
+        ("implicit", 0.8),
+        ("taubin", 0.6307),
+        ("hc", 0.8),
+    ] {
+        let o = beltrami(&[
+            "smooth",
+            s(&input),
+            s(&out),
+            "--normalize",
+            "area",
+            "--method",
+            method,
+            "--report",
+            s(&report),
+            "--force",
+        ]);
+        assert!(
+            o.status.success(),
+            "{method}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let stderr = String::from_utf8(o.stderr).unwrap();
+        assert!(
+            stderr.contains("note: --normalize area without --lambda: lambda ")
+                && stderr.contains(&format!(
+                    "(length²), {fraction} of the largest stable explicit step"
+                )),
+            "{method}: {stderr}"
+        );
+        let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let used = r["parameters"]["lambda_used"].as_f64().unwrap();
+        let expected = area_step(&mesh, &x, &Cotangent, &config, fraction)
+            .unwrap()
+            .unwrap();
+        assert_eq!(used, expected, "{method}");
+        if method == "taubin" {
+            // μ and the pass band scale with λ: Taubin's classic pair times the limit.
+            let mu = r["parameters"]["mu"].as_f64().unwrap();
+            assert!((mu / limit + 0.6732).abs() < 1e-4, "{mu} {limit}");
+        }
+        // Plain diffusion shrinks the sphere about as much as the weight-sum default
+        // (on this near-regular mesh the two steps are the same); Taubin and HC keep it.
+        let (y, _) = smoothed(&out);
+        let moved = mean_move(&y);
+        let radii = || y.iter().map(|p| p.length());
+        if matches!(method, "explicit" | "implicit") {
+            assert!(radii().all(|r| r > 0.85 && r < 0.95), "{method}");
+            assert!(
+                moved > 0.8 * sum_move && moved < 1.25 * sum_move,
+                "{method}: {moved} against {sum_move}"
+            );
+        } else {
+            assert!(radii().all(|r| (r - 1.0).abs() < 0.01), "{method}");
+            assert!(moved > 0.0 && moved < 0.2 * sum_move, "{method}: {moved}");
+        }
+    }
+    // A λ given is the caller's: no note, and beyond the limit still refused.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--normalize",
+        "area",
+        "--lambda",
+        "1e-4",
+        "--force",
+    ]);
+    assert!(o.status.success());
+    assert!(
+        !String::from_utf8(o.stderr)
+            .unwrap()
+            .contains("note: --normalize area")
     );
 }

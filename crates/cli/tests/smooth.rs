@@ -450,8 +450,9 @@ fn preserving_the_volume_of_separate_parts_says_how() {
 }
 
 /// An implicit run whose steps draw the surface together (a time step of 0.8 length²
-/// on a unit sphere, which mean-curvature flow shrinks to a point by t = 0.25) fails
-/// in its solver; the error line says why and what to change, and a smaller step runs.
+/// given on a unit sphere, which mean-curvature flow shrinks to a point by t = 0.25)
+/// fails in its solver; the error line says why and what to change, and a smaller step
+/// runs.
 #[test]
 fn an_implicit_run_that_collapses_the_surface_says_why() {
     let dir = tempfile::tempdir().unwrap();
@@ -465,6 +466,8 @@ fn an_implicit_run_that_collapses_the_surface_says_why() {
         "implicit",
         "--normalize",
         "area",
+        "--lambda",
+        "0.8",
     ]);
     assert_eq!(o.status.code(), Some(1), "{o:?}");
     let line = error_line(&o, dir.path());

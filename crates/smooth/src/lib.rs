@@ -58,6 +58,7 @@ pub use config::{
     Boundary, DEFAULT_LAMBDA, DiffusionTime, HC_ALPHA, HC_BETA, ImplicitSolver, Method, Reorder,
     SmoothConfig, Statistics, Summation, TAUBIN_LAMBDA, TAUBIN_PASS_BAND, WeightUpdate,
 };
+pub use duration::area_step;
 pub use error::SmoothError;
 
 /// The range of the largest absolute coordinate a mesh may have for implicit smoothing,

@@ -424,3 +424,78 @@ fn until_change_stops_when_the_iterations_settle() {
     .unwrap_err();
     assert_eq!(err, SmoothError::InvalidUntilChange { value: 0.0 });
 }
+
+#[test]
+fn the_area_step_is_a_share_of_the_explicit_stability_limit() {
+    let area =
+        LaplacianOptions::new().normalization(Normalization::Area(VertexAreaKind::MixedVoronoi));
+    let config = |boundary| SmoothConfig::new(1.0, 3).laplacian(area).boundary(boundary);
+    // An open, irregular patch (noise in the plane) whose boundary rows differ from
+    // the interior ones, with one vertex pinned.
+    let g = primitives::grid(12, 9);
+    let mesh = g.mesh().unwrap();
+    let mut rng = SplitMix64::new(7);
+    let x: Vec<DVec3> = g
+        .positions
+        .iter()
+        .map(|p| *p + DVec3::new(rng.next_symmetric(), rng.next_symmetric(), 0.0) * 0.15)
+        .collect();
+    for (boundary, pinned) in [
+        (Boundary::Fixed, vec![]),
+        (Boundary::Free, vec![]),
+        (Boundary::Free, vec![beltrami_halfedge::VertexId::new(40)]),
+    ] {
+        let c = config(boundary).pinned(pinned.clone());
+        let step = beltrami_smooth::area_step(&mesh, &x, &Cotangent, &c, 1.0)
+            .unwrap()
+            .unwrap();
+        // Exactly the limit the explicit smoother checks a step against.
+        let smoother = Smoother::new(&mesh, &x, &Cotangent, c.clone()).unwrap();
+        assert_eq!(
+            Some(step),
+            smoother.stable_step_limit(),
+            "{boundary:?} {pinned:?}"
+        );
+        // A fraction of it is that fraction, and a run of it is stable.
+        let share = beltrami_smooth::area_step(&mesh, &x, &Cotangent, &c, 0.8)
+            .unwrap()
+            .unwrap();
+        assert!((share / step - 0.8).abs() < 1e-15, "{share} {step}");
+        let mut run = c.clone();
+        run.lambda = share;
+        let out = smooth(&mesh, &x, &Cotangent, run).unwrap();
+        assert!(out.positions.iter().all(|p| p.is_finite() && p.z == 0.0));
+    }
+    // On a near-regular mesh (the level-4 icosphere) it is about a quarter of the
+    // squared edge length: W/A = 4/h² on a regular triangle mesh.
+    let (sphere, y) = sphere(4);
+    let h2 = {
+        let g = Geometry::new(&sphere, &y).unwrap();
+        let lengths: Vec<f64> = sphere.edges().map(|e| g.edge_length(e)).collect();
+        lengths.iter().map(|l| l * l).sum::<f64>() / lengths.len() as f64
+    };
+    let step = beltrami_smooth::area_step(&sphere, &y, &Cotangent, &config(Boundary::Fixed), 1.0)
+        .unwrap()
+        .unwrap();
+    assert!(
+        step > 0.15 * h2 && step < 0.25 * h2,
+        "{step} against h² {h2}"
+    );
+    // Weight-sum rows have no such step; positions that do not fit are the operator's
+    // error.
+    let sum = SmoothConfig::new(0.8, 3);
+    assert_eq!(
+        beltrami_smooth::area_step(&sphere, &y, &Cotangent, &sum, 0.8),
+        Ok(None)
+    );
+    assert!(matches!(
+        beltrami_smooth::area_step(&sphere, &y[1..], &Cotangent, &config(Boundary::Fixed), 0.8),
+        Err(SmoothError::Weights(_))
+    ));
+    // Nothing moves (every vertex pinned): no step.
+    let all = config(Boundary::Fixed).pinned(sphere.vertices().collect());
+    assert_eq!(
+        beltrami_smooth::area_step(&sphere, &y, &Cotangent, &all, 0.8),
+        Ok(None)
+    );
+}

@@ -36,7 +36,9 @@ pub(crate) struct SmoothArgs {
     /// normalisation: a diffusion time per iteration, in length², which an explicit
     /// run must keep below its stability limit (checked before the run). Default 0.8;
     /// 0.6307 for --method taubin (Taubin's classic pair with μ = -0.6732, pass band
-    /// 0.1).
+    /// 0.1); with --normalize area, that fraction of the largest stable explicit step
+    /// on the input (about 0.2 h² on a regular mesh of edge length h; μ and the pass
+    /// band scaled alike), printed in a note.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) lambda: Option<f64>,
     /// The number of iterations (the upper limit with --until-change).

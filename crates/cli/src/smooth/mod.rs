@@ -7,7 +7,9 @@ use std::time::Instant;
 use beltrami_halfedge::geometry::{Geometry, TriangleGeometry};
 use beltrami_halfedge::{DVec3, HalfedgeMesh};
 use beltrami_io::{MeshData, declared_counts, stage_bytes};
-use beltrami_smooth::{OwnedFaces, SmoothError, SmoothReport, Smoothed, Smoother};
+use beltrami_smooth::{
+    Method, OwnedFaces, SmoothConfig, SmoothError, SmoothReport, Smoothed, Smoother, area_step,
+};
 use beltrami_weights::WeightRegistry;
 use beltrami_weights::{CotangentKernel, WeightScheme};
 
@@ -237,7 +239,7 @@ fn write_summary(
         args.input.display(),
         n_vertices,
         r.scheme,
-        method_label(args),
+        method_label(&r.config.method, args.preserve_volume),
         r.iterations,
         plural(r.iterations, "iteration", "iterations"),
         number(r.config.lambda),
@@ -366,6 +368,34 @@ impl Before {
     }
 }
 
+/// With `--normalize area` and neither `--lambda` nor `--time`/`--cutoff`: the step
+/// scaled to the mesh ([`area_step`]: the method's default λ, 0.8 or Taubin's 0.6307,
+/// taken as a fraction of the largest stable explicit step on the input, where 0.8
+/// length² would be unstable or collapse a small part), and Taubin's μ with it (the
+/// pass band scaled alike) unless `--mu` was given. Returns the step and the fraction;
+/// `None` (and `config` as it was) otherwise.
+fn default_area_step(
+    args: &SmoothArgs,
+    mesh: &HalfedgeMesh,
+    positions: &[DVec3],
+    scheme: &dyn WeightScheme,
+    config: &mut SmoothConfig,
+) -> Result<Option<(f64, f64)>, SmoothError> {
+    if args.lambda.is_some() || config.duration.is_some() || args.normalize() != NormalizeArg::Area
+    {
+        return Ok(None);
+    }
+    let fraction = args.lambda();
+    let Some(step) = area_step(mesh, positions, scheme, config, fraction)? else {
+        return Ok(None);
+    };
+    config.lambda = step;
+    if args.method == MethodArg::Taubin && args.mu.is_none() {
+        config.method = Method::taubin_pass_band(step, TAUBIN_PASS_BAND * fraction / step);
+    }
+    Ok(Some((step, fraction)))
+}
+
 /// An invalid Taubin pair, with a pair that works: Taubin's classic (0.6307, −0.6732),
 /// or with the μ given, the largest λ that keeps both conditions.
 fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
@@ -394,7 +424,7 @@ fn taubin_hint(args: &SmoothArgs, e: CliError) -> CliError {
 /// until its system degenerates — with `--normalize area` the step is a time in
 /// length², and the default 0.8 shrinks a part a few units across to a point in a few
 /// steps (a unit sphere's mean-curvature flow ends at t = 0.25).
-fn implicit_hint(args: &SmoothArgs, e: CliError) -> CliError {
+fn implicit_hint(args: &SmoothArgs, lambda: f64, e: CliError) -> CliError {
     let CliError::Smooth {
         path,
         source:
@@ -409,10 +439,10 @@ fn implicit_hint(args: &SmoothArgs, e: CliError) -> CliError {
     let step = if args.normalize() == NormalizeArg::Area {
         format!(
             "with --normalize area, --lambda is a time step in length², here {}; mean-curvature flow shrinks a unit sphere to a point by t = 0.25",
-            number(args.lambda())
+            number(lambda)
         )
     } else {
-        format!("--lambda {}", number(args.lambda()))
+        format!("--lambda {}", number(lambda))
     };
     // A time given is the whole diffusion: smaller steps only split it.
     let advice = if args.time.is_some() || args.cutoff.is_some() {
@@ -497,9 +527,14 @@ fn run_smoother(
     scheme: &dyn WeightScheme,
     kernel: CotangentKernel,
 ) -> Result<(Smoothed, OwnedFaces), CliError> {
+    let mut config = args.config();
+    config.laplacian = config.laplacian.cotangent_kernel(kernel);
+    let defaulted = default_area_step(args, &mesh, &positions, scheme, &mut config);
+    let lambda = config.lambda;
     let smooth_error = |source| {
         implicit_hint(
             args,
+            lambda,
             taubin_hint(
                 args,
                 CliError::Smooth {
@@ -509,8 +544,14 @@ fn run_smoother(
             ),
         )
     };
-    let mut config = args.config();
-    config.laplacian = config.laplacian.cotangent_kernel(kernel);
+    if let Some((step, fraction)) = defaulted.map_err(smooth_error)? {
+        eprintln!(
+            "note: --normalize area without --lambda: lambda {} (length²), {} of the largest stable explicit step on the input ({}); give --lambda, --time or --cutoff to choose",
+            number(step),
+            number(fraction),
+            number(step / fraction)
+        );
+    }
     let smoother = Smoother::from_owned(mesh, positions, scheme, config).map_err(smooth_error)?;
     // A step given directly must be stable; a time chooses its own stable step.
     if let Some(limit) = smoother.stable_step_limit()

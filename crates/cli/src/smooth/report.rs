@@ -4,6 +4,8 @@ use std::time::Duration;
 
 use beltrami_io::MeshData;
 use beltrami_smooth::{Method, SmoothReport};
+
+use crate::text::number;
 use serde::Serialize;
 
 use super::args::{
@@ -74,7 +76,9 @@ pub(crate) struct Parameters<'a> {
     /// The cut-off wavelength asked for (with --cutoff).
     pub(crate) cutoff: Option<f64>,
     pub(crate) until_change: Option<f64>,
-    /// The step actually used (differs from `lambda` with --time or --cutoff).
+    /// The step actually used (differs from `lambda` with --time or --cutoff, and with
+    /// --normalize area without --lambda, where `lambda` is the fraction of the largest
+    /// stable step that was taken).
     pub(crate) lambda_used: f64,
     /// The iteration count planned (differs from `iterations` with --time or --cutoff).
     pub(crate) iterations_planned: usize,
@@ -194,14 +198,14 @@ pub(crate) fn build_report<'a>(
 
 /// The method as printed: `explicit`, `taubin (mu -0.53)`, `hc (alpha 0.1, beta 0.6)`,
 /// with `+ volume` when the volume is preserved.
-pub(crate) fn method_label(args: &SmoothArgs) -> String {
-    let mut label = match args.method() {
-        Method::Taubin { mu } => format!("taubin (mu {mu:.6})"),
+pub(crate) fn method_label(method: &Method, preserve_volume: bool) -> String {
+    let mut label = match *method {
+        Method::Taubin { mu } => format!("taubin (mu {})", number(mu)),
         Method::Hc { alpha, beta } => format!("hc (alpha {alpha}, beta {beta})"),
         Method::Implicit { .. } => "implicit".to_string(),
         _ => "explicit".to_string(),
     };
-    if args.preserve_volume {
+    if preserve_volume {
         label.push_str(" + volume");
     }
     label
