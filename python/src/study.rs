@@ -88,7 +88,8 @@ const _: () = assert!(beltrami_study::DEFAULT_SEEDS == 3);
 /// with `countermeasure_weights` unless `no_countermeasures`; negative weights kept
 /// (`cotangent_negative`: `"keep"`, `"clamp"`, `"abs"`), rows normalised by the weight
 /// sum (`normalize="area"` divides by the `vertex_area`, `"mixed"` or
-/// `"barycentric"`), and the remeshing comparison at each clean mesh's mean edge
+/// `"barycentric"`, and takes `lam` as the fraction of each run's largest stable
+/// explicit step), and the remeshing comparison at each clean mesh's mean edge
 /// length (`remesh` in the surfaces' unit, `remesh_relative` as a multiple of the mean,
 /// `no_remesh=True` to skip it), and the worked example of `study --input` on the noisy
 /// block (`no_scan_example=True` to skip it).

@@ -56,7 +56,8 @@ pub(crate) struct StudyArgs {
         default_value_if("input", ArgPredicate::IsPresent, None)
     )]
     iterations: Vec<usize>,
-    /// The step λ, in (0, 1].
+    /// The step λ, in (0, 1]; with --normalize area, the fraction of each run's largest
+    /// stable explicit step (Taubin's μ scaled alike).
     #[arg(long, default_value_t = 0.8, allow_hyphen_values = true)]
     lambda: f64,
     /// The noise σ as a multiple of the mean edge length (or absolute with
@@ -96,8 +97,9 @@ pub(crate) struct StudyArgs {
     #[arg(long, value_enum, default_value_t = NegativeArg::Keep)]
     cotangent_negative: NegativeArg,
     /// Row normalisation: sum (divide by the weight sum, paper Eq. 2, the default) or
-    /// area (divide by the vertex area, paper Eq. 6: unstable with λ = 0.8 on fine
-    /// meshes, see the report's "Where this study differs"). As in `smooth`.
+    /// area (divide by the vertex area, paper Eq. 6, where a step is a time in length²
+    /// whose stable range follows each mesh's unit and density: --lambda is then the
+    /// fraction of each run's largest stable explicit step).
     #[arg(long, value_enum, default_value_t = NormalizeArg::Sum)]
     normalize: NormalizeArg,
     /// The vertex area for --normalize area.

@@ -58,8 +58,11 @@ pub struct StudyConfig {
     pub update: WeightUpdate,
     /// The negative-weight policy (default keep).
     pub negative: NegativeWeights,
-    /// The row normalisation (default the weight sum, paper Eq. 2; dividing by the
-    /// vertex area, paper Eq. 6, makes λ = 0.8 unstable on fine meshes).
+    /// The row normalisation (default the weight sum, paper Eq. 2). Dividing by the
+    /// vertex area (paper Eq. 6) makes λ a time in length², stable only below a limit
+    /// that follows each mesh's unit and density; the study then reads
+    /// [`lambda`](Self::lambda) (and a Taubin μ) as the fraction of each run's largest
+    /// stable explicit step.
     pub normalization: Normalization,
     /// Shrinkage counter-measures run beside plain diffusion on the sphere, the block
     /// and the F-lens (empty: none), with [`countermeasure_scheme`](Self::countermeasure_scheme).

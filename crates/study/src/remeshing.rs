@@ -275,6 +275,7 @@ fn cotangent_rms(
                 .normalization(config.normalization)
                 .negative(config.negative),
         );
+    let smooth = crate::run::with_area_steps(mesh, noisy, scheme, smooth).map_err(smooth_failed)?;
     let mut kept: Vec<(usize, Vec<DVec3>)> = Vec::new();
     Smoother::new(mesh, noisy, scheme, smooth)
         .map_err(smooth_failed)?

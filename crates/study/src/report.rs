@@ -361,7 +361,15 @@ fn setup_section(s: &mut String, results: &StudyResults) {
     let _ = writeln!(s, "| boundary | {} |", c.boundary);
     let _ = writeln!(s, "| weights computed | {} iteration |", c.update);
     let _ = writeln!(s, "| negative weights | {} |", c.negative_weights);
-    let _ = writeln!(s, "| normalisation | weight sum (paper Eq. 2) |");
+    let _ = writeln!(
+        s,
+        "| normalisation | {} |",
+        if results.config.normalization == beltrami_weights::Normalization::WeightSum {
+            "weight sum (paper Eq. 2)"
+        } else {
+            "vertex area (paper Eq. 6); λ is the fraction of each run's largest stable explicit step"
+        }
+    );
     let info = results
         .timings
         .as_ref()
@@ -627,7 +635,7 @@ fn stability_note(results: &StudyResults) -> String {
                 .map(|(_, l)| c.lambda / l)
                 .fold(0.0_f64, f64::max);
             format!(
-                "so λ exceeds it on {names} (up to {worst:.0}×) and the frequencies near the mesh's resolution would grow there (`smooth` and `study --normalize area` refuse such a step)"
+                "so λ exceeds it on {names} (up to {worst:.0}×) and the frequencies near the mesh's resolution would grow there (`smooth --normalize area --lambda 0.8` refuses such a step; `study --normalize area` takes λ as the fraction of each run's limit)"
             )
         };
         format!(

@@ -183,6 +183,33 @@ fn with_noise(
     })
 }
 
+/// `smooth` with its steps read as the study reads them under area normalisation: λ (in
+/// (0, 1], as with weight-sum rows) and a Taubin μ are fractions of the run's largest
+/// stable explicit step on `positions` ([`beltrami_smooth::area_step`]), so that every
+/// surface, whatever its unit and density, and every scheme take the same share of its
+/// stable range, as λ does of the weight sum's (stable up to 1). Unchanged with
+/// weight-sum rows, or when no row moves.
+///
+/// # Errors
+/// The operator's, as [`Smoother::new`] reports them.
+pub(crate) fn with_area_steps(
+    mesh: &beltrami_halfedge::HalfedgeMesh,
+    positions: &[DVec3],
+    scheme: &dyn beltrami_weights::WeightScheme,
+    mut smooth: SmoothConfig,
+) -> Result<SmoothConfig, beltrami_smooth::SmoothError> {
+    if smooth.laplacian.normalization == beltrami_weights::Normalization::WeightSum {
+        return Ok(smooth);
+    }
+    if let Some(limit) = beltrami_smooth::area_step(mesh, positions, scheme, &smooth, 1.0)? {
+        smooth.lambda *= limit;
+        if let beltrami_smooth::Method::Taubin { mu } = smooth.method {
+            smooth.method = beltrami_smooth::Method::Taubin { mu: mu * limit };
+        }
+    }
+    Ok(smooth)
+}
+
 fn smooth_config(config: &StudyConfig) -> SmoothConfig {
     SmoothConfig::new(config.lambda, config.max_iterations())
         .boundary(config.boundary)
@@ -608,9 +635,11 @@ fn run_one(
     // observer copies positions.
     let mut elapsed = 0.0;
     let mut resumed = Instant::now();
+    let smooth_config = with_area_steps(&case.mesh, &case.noisy, scheme, smooth_config)?;
     let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config)?;
     // An explicit step by the area normalisation beyond the stable limit makes the high
-    // frequencies grow: refused, as `smooth` refuses it.
+    // frequencies grow: refused, as `smooth` refuses it (a fraction in (0, 1] of the
+    // limit never is).
     if let Some(max_stable) = smoother.stable_step_limit() {
         let lambda = smoother.config().lambda;
         if lambda > max_stable {

@@ -155,6 +155,13 @@ pub(crate) fn time_schemes(
                 scheme: scheme.name().to_string(),
                 source,
             };
+            let smooth = crate::run::with_area_steps(
+                &case.mesh,
+                &case.noisy,
+                scheme.as_ref(),
+                smooth.clone(),
+            )
+            .map_err(failed)?;
             let (mut b, mut w, mut u, mut t) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for _ in 0..TIMING_REPEATS {
                 let start = Instant::now();
