@@ -431,16 +431,11 @@ fn warn_stuck(py: Python<'_>, mesh: &Mesh, r: &beltrami_smooth::SmoothReport) ->
 /// its own stable step) or that plans more than `max_iterations` iterations
 /// (`ValueError`); returns the planned iteration count.
 fn check_planned_run(smoother: &Smoother<'_>, max_iterations: usize) -> PyResult<usize> {
-    // A step given directly must be stable; a time chooses its own stable step.
-    if let Some(limit) = smoother.stable_step_limit()
-        && smoother.config().duration.is_none()
-        && smoother.config().lambda > limit
-    {
-        return Err(smooth_error(&Error::UnstableStep {
-            lambda: smoother.config().lambda,
-            max_stable: limit,
-        }));
-    }
+    // Steps given directly must be stable (a time chooses its own stable step); with
+    // area rows a Taubin pair is checked against the limit.
+    smoother
+        .check_stable_steps()
+        .map_err(|e| smooth_error(&e))?;
     let planned = smoother.config().iterations;
     if planned > max_iterations {
         return Err(PyValueError::new_err(format!(

@@ -366,6 +366,9 @@ def test_area_normalisation_without_lam_scales_the_step_to_the_mesh(sphere, meth
     bt.smooth(sphere, normalize="area", lam=limit * 0.999, iterations=1)
     if method == "taubin":
         assert p["mu"] == pytest.approx(-0.6732 * limit, rel=1e-4)
+        # A mu given alone is checked with the default step against the limit.
+        with pytest.raises(bt.SmoothError, match="must exceed -1"):
+            bt.smooth(sphere, normalize="area", method="taubin", mu=-0.53)
     # The same step from the command line's rule: the same positions as given directly.
     given, _ = bt.smooth(sphere, normalize="area", method=method, lam=used, mu=p["mu"])
     np.testing.assert_array_equal(given.vertices, out.vertices)

@@ -235,16 +235,19 @@ fn parse_lean(args: &[OsString], registry: &WeightRegistry) -> Option<Cli> {
     Cli::from_arg_matches(&matches).ok()
 }
 
-/// Runs the CLI on the process's arguments with the schemes of `registry`.
+/// Runs the CLI on the process's arguments with the schemes of `registry`: a program's
+/// `main`, and its last act. The command runs in a thread pool that takes the calling
+/// thread as one of its workers and stays registered with it; a program that goes on
+/// using rayon afterwards calls [`run_with`] instead.
 #[must_use]
 pub fn main_with(registry: WeightRegistry) -> ExitCode {
-    remove_temporary_files_on_signal();
     let args: Vec<OsString> = std::env::args_os().collect();
-    // Help, version and usage errors need no threads.
+    // Help, version and usage errors need no threads (the signal handler is one).
     let cli = match parse(&args, &registry) {
         Ok(cli) => cli,
         Err(code) => return code,
     };
+    remove_temporary_files_on_signal();
     // The command runs on a worker of its own thread pool, so that the parallel passes
     // of a small mesh (one chunk) run on that thread at once instead of being handed to
     // the pool and waited for: on meshes of a few thousand vertices that hand-over is a

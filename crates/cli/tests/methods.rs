@@ -585,9 +585,7 @@ fn area_normalisation_without_lambda_takes_a_share_of_the_stable_step() {
         let stderr = String::from_utf8(o.stderr).unwrap();
         assert!(
             stderr.contains("note: --normalize area without --lambda: lambda ")
-                && stderr.contains(&format!(
-                    "(length²), {fraction} of the largest stable explicit step"
-                )),
+                && stderr.contains(&format!(", {fraction} of the largest stable explicit step")),
             "{method}: {stderr}"
         );
         let r: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
@@ -617,6 +615,46 @@ fn area_normalisation_without_lambda_takes_a_share_of_the_stable_step() {
             assert!(moved > 0.0 && moved < 0.2 * sum_move, "{method}: {moved}");
         }
     }
+    // A Taubin μ given alone is a step of its own: the pair is checked against the
+    // limit (it would amplify), with the classic pair that fits.
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--normalize",
+        "area",
+        "--method",
+        "taubin",
+        "--mu",
+        "-0.53",
+        "--force",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let line = error_line(&o, dir.path());
+    assert!(
+        line.contains("(1 - 2 lambda/L)(1 - 2 mu/L) must exceed -1")
+            && line.contains("Taubin's classic pair is --lambda "),
+        "{line}"
+    );
+    // A run refused for another reason says only that (no note first).
+    let o = beltrami(&[
+        "smooth",
+        s(&input),
+        s(&out),
+        "--normalize",
+        "area",
+        "--hc-alpha",
+        "2",
+        "--method",
+        "hc",
+        "--force",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        !String::from_utf8(o.stderr.clone())
+            .unwrap()
+            .contains("note:")
+    );
     // A λ given is the caller's: no note, and beyond the limit still refused.
     let o = beltrami(&[
         "smooth",

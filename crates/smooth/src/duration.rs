@@ -7,11 +7,14 @@ use beltrami_weights::{Laplacian, Normalization, WeightScheme};
 use crate::config::{Boundary, SmoothConfig};
 use crate::error::SmoothError;
 
-/// A step for an area-normalised run whose caller gave none: `fraction` of the largest
-/// stable explicit step on `positions`, `1 / max_i (W_i / A_i)` (weight sum over vertex
-/// area) over the vertices that move (not isolated, not pinned, not on a boundary that
-/// `config.boundary` fixes; vertices of a curve boundary count, which can only lower
-/// the step), in length² of the positions' unit.
+/// A step for an area-normalised run whose caller gave none: `fraction` (a positive
+/// number; it is not checked, [`Smoother::new`](crate::Smoother::new) checks the step)
+/// of the largest stable explicit step on `positions`, `1 / max_i (W_i / A_i)` (weight
+/// sum over vertex area) over the vertices that move (not isolated, not pinned, not on a
+/// boundary that `config.boundary` fixes), the limit
+/// [`Smoother::stable_step_limit`](crate::Smoother::stable_step_limit) gives for the
+/// same configuration; in the unit of `A_i / W_i` (length² for cotangent and uniform
+/// weights).
 ///
 /// With weight-sum rows λ is a fraction (stable up to 1) and [`DEFAULT_LAMBDA`](
 /// crate::DEFAULT_LAMBDA) = 0.8 works on any mesh; with area rows λ is a time in length²,

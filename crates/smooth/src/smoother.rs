@@ -446,6 +446,43 @@ impl<'a> Smoother<'a> {
         }
     }
 
+    /// Refuses an explicit area-normalised run whose steps, given directly, would let the
+    /// highest frequencies grow: λ above [`stable_step_limit`](Self::stable_step_limit)
+    /// `L` ([`SmoothError::UnstableStep`]), or a Taubin pair with `(1 − 2λ/L)(1 − 2μ/L) ≤
+    /// −1` ([`SmoothError::InvalidTaubin`]; the test weight-sum pairs pass at
+    /// construction, with `L = 1`). `Ok` with weight-sum rows, for a run planned for a
+    /// [`duration`](SmoothConfig::duration) (which chooses its own stable step), an
+    /// implicit run, or when no vertex moves.
+    ///
+    /// # Errors
+    /// As above.
+    pub fn check_stable_steps(&self) -> Result<(), SmoothError> {
+        let config = self.config();
+        let Some(limit) = self.stable_step_limit() else {
+            return Ok(());
+        };
+        if config.duration.is_some() {
+            return Ok(());
+        }
+        let lambda = config.lambda;
+        if lambda > limit {
+            return Err(SmoothError::UnstableStep {
+                lambda,
+                max_stable: limit,
+            });
+        }
+        if let Method::Taubin { mu } = config.method
+            && (1.0 - 2.0 * lambda / limit) * (1.0 - 2.0 * mu / limit) <= -1.0
+        {
+            return Err(SmoothError::InvalidTaubin {
+                lambda,
+                mu,
+                reason: "the highest frequency would grow: with area normalisation (1 - 2 lambda/L)(1 - 2 mu/L) must exceed -1, L the largest stable explicit step",
+            });
+        }
+        Ok(())
+    }
+
     /// The configuration of the run; with a [`duration`](SmoothConfig::duration),
     /// `lambda` and `iterations` are the step and count the smoother chose.
     #[must_use]

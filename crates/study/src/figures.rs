@@ -169,7 +169,10 @@ pub fn differences(series: &[Series]) -> Vec<Series> {
 /// [`crate::closed_form`]).
 fn radius_series(results: &StudyResults, result: &SurfaceResult, rows: &[Row]) -> Vec<Series> {
     let mut series = series_by_scheme(result, rows, |r| r.sphere_radius);
-    if result.case.kind != SurfaceKind::Sphere {
+    // The closed form is that of weight-sum rows.
+    if result.case.kind != SurfaceKind::Sphere
+        || results.config.normalization != beltrami_weights::Normalization::WeightSum
+    {
         return series;
     }
     let last = results.config.max_iterations();

@@ -61,6 +61,9 @@ struct ConfigJson<'a> {
     boundary: String,
     update: String,
     negative_weights: String,
+    /// `sum`, or `area (mixed)` / `area (barycentric)`, where `lambda` is the fraction
+    /// of each run's largest stable explicit step.
+    normalization: String,
 }
 
 #[derive(Serialize)]
@@ -113,6 +116,13 @@ fn config_json(results: &StudyResults) -> ConfigJson<'_> {
         boundary: format!("{:?}", c.boundary).to_lowercase(),
         update: format!("{:?}", c.update).to_lowercase(),
         negative_weights: format!("{:?}", c.negative).to_lowercase(),
+        normalization: match c.normalization {
+            beltrami_weights::Normalization::Area(
+                beltrami_halfedge::geometry::VertexAreaKind::Barycentric,
+            ) => "area (barycentric)".to_string(),
+            beltrami_weights::Normalization::Area(_) => "area (mixed)".to_string(),
+            _ => "sum".to_string(),
+        },
     }
 }
 
@@ -227,7 +237,9 @@ fn findings_context(results: &StudyResults) -> FindingsContext {
         .surfaces
         .iter()
         .find(|s| s.case.kind == beltrami_surfaces::SurfaceKind::Sphere);
-    let sphere_mean_edge_sq = sphere.and_then(|s| {
+    // The closed form of the findings' evidence is that of weight-sum rows.
+    let weight_sum = results.config.normalization == beltrami_weights::Normalization::WeightSum;
+    let sphere_mean_edge_sq = sphere.filter(|_| weight_sum).and_then(|s| {
         let mesh = &s.case.mesh;
         let p = &s.case.clean.positions;
         let mut sum = vec![0.0; mesh.n_vertices()];
@@ -367,7 +379,7 @@ fn setup_section(s: &mut String, results: &StudyResults) {
         if results.config.normalization == beltrami_weights::Normalization::WeightSum {
             "weight sum (paper Eq. 2)"
         } else {
-            "vertex area (paper Eq. 6); λ is the fraction of each run's largest stable explicit step"
+            "vertex area (paper Eq. 6); λ is the fraction of each run's largest stable explicit step (the edge-preservation comparison and the worked example keep weight-sum rows)"
         }
     );
     let info = results
@@ -580,7 +592,11 @@ fn predicted_radii(
     r: &crate::run::SurfaceResult,
     shown: usize,
 ) -> Vec<(String, f64)> {
-    if r.case.kind != beltrami_surfaces::SurfaceKind::Sphere {
+    // The closed form is that of weight-sum rows (an area-normalised run's step is a
+    // share of its own stability limit, not λ).
+    if r.case.kind != beltrami_surfaces::SurfaceKind::Sphere
+        || results.config.normalization != beltrami_weights::Normalization::WeightSum
+    {
         return Vec::new();
     }
     results
@@ -635,7 +651,8 @@ fn stability_note(results: &StudyResults) -> String {
                 .map(|(_, l)| c.lambda / l)
                 .fold(0.0_f64, f64::max);
             format!(
-                "so λ exceeds it on {names} (up to {worst:.0}×) and the frequencies near the mesh's resolution would grow there (`smooth --normalize area --lambda 0.8` refuses such a step; `study --normalize area` takes λ as the fraction of each run's limit)"
+                "so λ exceeds it on {names} (up to {worst:.0}×) and the frequencies near the mesh's resolution would grow there (`smooth --normalize area --lambda {}` refuses such a step; `study --normalize area` takes λ as the fraction of each run's limit)",
+                c.lambda
             )
         };
         format!(

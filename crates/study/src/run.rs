@@ -631,21 +631,16 @@ fn run_one(
     let mut snapshots = Vec::with_capacity(iterations.len());
     let mut early = Vec::new();
     let mut wanted = iterations.iter().copied().peekable();
+    let smooth_config = with_area_steps(&case.mesh, &case.noisy, scheme, smooth_config)?;
     // Smoothing time only: the clock runs while the smoother works and stops while the
     // observer copies positions.
     let mut elapsed = 0.0;
     let mut resumed = Instant::now();
-    let smooth_config = with_area_steps(&case.mesh, &case.noisy, scheme, smooth_config)?;
     let smoother = Smoother::new(&case.mesh, &case.noisy, scheme, smooth_config)?;
     // An explicit step by the area normalisation beyond the stable limit makes the high
     // frequencies grow: refused, as `smooth` refuses it (a fraction in (0, 1] of the
     // limit never is).
-    if let Some(max_stable) = smoother.stable_step_limit() {
-        let lambda = smoother.config().lambda;
-        if lambda > max_stable {
-            return Err(beltrami_smooth::SmoothError::UnstableStep { lambda, max_stable });
-        }
-    }
+    smoother.check_stable_steps()?;
     elapsed += resumed.elapsed().as_secs_f64();
     resumed = Instant::now();
     smoother.run(|it| {

@@ -434,6 +434,7 @@ fn the_area_normalisation_takes_its_step_as_a_share_of_each_runs_limit() {
         report.contains("that limit is sphere") && report.contains("so λ exceeds it on sphere"),
         "no stability sentence"
     );
+    assert!(report.contains("predicted radius, closed form"));
     // With the area normalisation λ = 0.8 is 0.8 of each run's largest stable step (a
     // time of 0.8 length² would be far beyond it, above): every scheme runs, and on
     // this near-regular sphere takes about the weight-sum run's step, so it shrinks
@@ -471,7 +472,14 @@ fn the_area_normalisation_takes_its_step_as_a_share_of_each_runs_limit() {
     write_study(&area, dir.path()).unwrap();
     let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(
-        report.contains("| normalisation | vertex area (paper Eq. 6); λ is the fraction of each run's largest stable explicit step |"),
+        report.contains("| normalisation | vertex area (paper Eq. 6); λ is the fraction of each run's largest stable explicit step (the edge-preservation comparison and the worked example keep weight-sum rows) |"),
         "no normalisation row"
     );
+    let json = std::fs::read_to_string(dir.path().join("results.json")).unwrap();
+    assert!(
+        json.contains("\"normalization\": \"area (mixed)\""),
+        "{json:.400}"
+    );
+    // The closed-form radius is that of weight-sum rows: not shown for area rows.
+    assert!(!report.contains("predicted radius, closed form"));
 }

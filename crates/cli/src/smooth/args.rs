@@ -37,8 +37,8 @@ pub(crate) struct SmoothArgs {
     /// run must keep below its stability limit (checked before the run). Default 0.8;
     /// 0.6307 for --method taubin (Taubin's classic pair with μ = -0.6732, pass band
     /// 0.1); with --normalize area, that fraction of the largest stable explicit step
-    /// on the input (about 0.2 h² on a regular mesh of edge length h; μ and the pass
-    /// band scaled alike), printed in a note.
+    /// on the input (with cotangent weights about 0.2 h² on a regular mesh of edge
+    /// length h; μ and the pass band scaled alike), printed in a note.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) lambda: Option<f64>,
     /// The number of iterations (the upper limit with --until-change).
@@ -103,7 +103,8 @@ pub(crate) struct SmoothArgs {
     #[arg(long, value_enum)]
     pub(crate) solver: Option<SolverArg>,
     /// Taubin's negative step μ (--method taubin only; μ < -λ, pass band 1/λ + 1/μ).
-    /// Default: the μ giving a pass band of 0.1.
+    /// Default: the μ giving a pass band of 0.1 (with --normalize area and no --lambda,
+    /// 0.1 over the largest stable explicit step: μ = -0.6732 times that step).
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) mu: Option<f64>,
     /// HC (--method hc only): the pull towards the input positions, in [0, 1].

@@ -544,26 +544,37 @@ fn run_smoother(
             ),
         )
     };
-    if let Some((step, fraction)) = defaulted.map_err(smooth_error)? {
+    let defaulted = defaulted.map_err(smooth_error)?;
+    let smoother = Smoother::from_owned(mesh, positions, scheme, config).map_err(smooth_error)?;
+    // Steps given directly must be stable (a time chooses its own stable step); with area
+    // rows the Taubin pair is checked against the limit, with the pair that fits.
+    match smoother.check_stable_steps() {
+        Err(e @ SmoothError::InvalidTaubin { .. }) => {
+            let limit = smoother.stable_step_limit().unwrap_or(f64::NAN);
+            return Err(CliError::Usage(format!(
+                "{e}; with --normalize area the largest stable explicit step here is {}: Taubin's classic pair is --lambda {} --mu {} (leave both out to take it)",
+                number(limit),
+                number(TAUBIN_LAMBDA * limit),
+                number(
+                    match Method::taubin_pass_band(TAUBIN_LAMBDA * limit, TAUBIN_PASS_BAND / limit)
+                    {
+                        Method::Taubin { mu } => mu,
+                        _ => f64::NAN,
+                    }
+                )
+            )));
+        }
+        other => other.map_err(smooth_error)?,
+    }
+    check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
+    if let Some((step, fraction)) = defaulted {
         eprintln!(
-            "note: --normalize area without --lambda: lambda {} (length²), {} of the largest stable explicit step on the input ({}); give --lambda, --time or --cutoff to choose",
+            "note: --normalize area without --lambda: lambda {}, {} of the largest stable explicit step on the input ({}); give --lambda, --time or --cutoff to choose",
             number(step),
             number(fraction),
             number(step / fraction)
         );
     }
-    let smoother = Smoother::from_owned(mesh, positions, scheme, config).map_err(smooth_error)?;
-    // A step given directly must be stable; a time chooses its own stable step.
-    if let Some(limit) = smoother.stable_step_limit()
-        && smoother.config().duration.is_none()
-        && smoother.config().lambda > limit
-    {
-        return Err(smooth_error(SmoothError::UnstableStep {
-            lambda: smoother.config().lambda,
-            max_stable: limit,
-        }));
-    }
-    check_plan(args, smoother.config().iterations, smoother.config().lambda)?;
     // A bar on a terminal for runs of 20 iterations or more.
     let planned = smoother.config().iterations;
     let progress = crate::progress::bar(planned, "iterations", planned >= 20);
