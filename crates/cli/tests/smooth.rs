@@ -458,17 +458,20 @@ fn an_implicit_run_that_collapses_the_surface_says_why() {
     let dir = tempfile::tempdir().unwrap();
     let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/icosphere_2.ply");
     let out = dir.path().join("out.ply");
-    let o = beltrami(&[
-        "smooth",
-        s(&input),
-        s(&out),
-        "--method",
-        "implicit",
-        "--normalize",
-        "area",
-        "--lambda",
-        "0.8",
-    ]);
+    let implicit_area = |lambda: &str| {
+        beltrami(&[
+            "smooth",
+            s(&input),
+            s(&out),
+            "--method",
+            "implicit",
+            "--normalize",
+            "area",
+            "--lambda",
+            lambda,
+        ])
+    };
+    let o = implicit_area("0.8");
     assert_eq!(o.status.code(), Some(1), "{o:?}");
     let line = error_line(&o, dir.path());
     assert!(
@@ -478,16 +481,6 @@ fn an_implicit_run_that_collapses_the_surface_says_why() {
         "{line}"
     );
     assert!(!out.exists());
-    let o = beltrami(&[
-        "smooth",
-        s(&input),
-        s(&out),
-        "--method",
-        "implicit",
-        "--normalize",
-        "area",
-        "--lambda",
-        "0.01",
-    ]);
+    let o = implicit_area("0.01");
     assert!(o.status.success(), "{o:?}");
 }
